@@ -1,0 +1,49 @@
+// Experiment files (TOML): what to run. Parsing checks every key; a bad file is an InputError
+// naming the file and line.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "harness/heightfield.h"
+#include "harness/params.h"
+#include "methods/method.h"
+
+namespace pxh {
+
+struct HeightfieldSpec {
+    std::string name;       // as reported in results
+    std::string generator;  // either a generator ...
+    std::string file;       // ... or an image file (resolved path)
+    int width = 256, height = 256;
+    int channel = 0;
+    ParamValues gen_params;
+    double scale = 0.05, bias = 1.0;
+    std::string where;  // file:line of the entry, for errors
+};
+
+struct MethodSpec {
+    const MethodInfo* method = nullptr;
+    ParamValues params;
+};
+
+struct Experiment {
+    std::string name;
+    std::string path;  // the file it came from
+    std::string text;  // its content, recorded in provenance
+    int samples = 256;
+    std::vector<std::string> backends{"cpu"};
+    std::vector<std::string> precisions{"float"};
+    int timing_repeats = 5;
+    std::vector<double> theta_deg, phi_deg{0.0};
+    std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
+    std::vector<MethodSpec> methods;            // arrays of parameter values already expanded
+};
+
+Experiment load_experiment(const std::string& path);
+Experiment parse_experiment(const std::string& text, const std::string& path);
+
+// Materialises a height field (generates or loads); throws InputError.
+HeightField make_heightfield(const HeightfieldSpec& spec);
+
+}  // namespace pxh

@@ -1,0 +1,45 @@
+// Exact ground truth (spec section 4): the first hit of each eye ray with the bilinear surface
+// z = s (h - b), coming from the eye, traced per cell with the exact quadratic in double.
+#pragma once
+#include <vector>
+
+#include "harness/heightfield.h"
+#include "harness/vec.h"
+
+namespace pxh {
+
+// Sample points of an N x N grid over one tile: ((i + 0.5) / N, (j + 0.5) / N), row-major.
+std::vector<Vec2d> sample_grid(int n);
+
+// Unit vector toward the eye for polar angle theta and azimuth phi (degrees).
+Vec3d view_vector(double theta_deg, double phi_deg);
+
+struct TruthHit {
+    Vec2d uv;       // unwrapped texture coordinate of the visible point
+    double z = 0;   // its height z = s (h - b)
+    int cells = 0;  // cells the ray visited (cost)
+};
+
+class ExactTracer {
+  public:
+    ExactTracer(const HeightField& hf, double scale, double bias);
+    TruthHit trace(Vec2d P, Vec3d V) const;
+    double z_top() const { return s_ * (1 - b_); }
+    double z_bot() const { return -s_ * b_; }
+
+  private:
+    const HeightField& hf_;
+    double s_, b_;
+    std::vector<float> cell_max_;  // max of the 4 corners of cell (i, j), i, j in [0, W), [0, H)
+};
+
+struct GroundTruth {
+    std::vector<Vec2d> uv;  // per sample, unwrapped
+    std::vector<double> z;
+    double cells_mean = 0;
+};
+
+// Traces every sample of the N x N grid (in parallel; the result does not depend on threads).
+GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias, Vec3d V, int n);
+
+}  // namespace pxh

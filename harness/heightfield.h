@@ -1,0 +1,78 @@
+// Height fields (spec section 1): W x H texels in [0,1], bilinear between texel centres,
+// repeat wrapping, exactly what GL_LINEAR + GL_REPEAT computes.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "harness/vec.h"
+
+namespace pxh {
+
+struct HeightField {
+    int width = 0, height = 0;
+    std::vector<float> texels;  // row-major, row j = 0 is v near 0
+    std::string name;
+
+    HeightField() = default;
+    HeightField(int w, int h, std::string n = {});
+    float at(int i, int j) const { return texels[size_t(j) * width + i]; }
+    float& at(int i, int j) { return texels[size_t(j) * width + i]; }
+    // Texel (i, j) with repeat wrapping for any integer i, j.
+    float wrapped(int64_t i, int64_t j) const;
+    // Throws InputError(where, ...) unless every texel is finite and in [0,1].
+    void validate(const std::string& where) const;
+    float min_value() const;
+    float max_value() const;
+};
+
+inline int64_t wrap_index(int64_t i, int64_t n) {
+    int64_t r = i % n;
+    return r < 0 ? r + n : r;
+}
+
+inline float HeightField::wrapped(int64_t i, int64_t j) const {
+    return at(int(wrap_index(i, width)), int(wrap_index(j, height)));
+}
+
+// Bilinear height in precision T with a fetch counter (one fetch = one filtered lookup, as a
+// shader's texture() call). The scene's s and b turn height into surface z = s (h - b).
+template <typename T>
+class HeightSampler {
+  public:
+    HeightSampler(const HeightField& hf, T scale, T bias)
+        : hf_(&hf), w_(T(hf.width)), h_(T(hf.height)), s_(scale), b_(bias) {}
+
+    T height(Vec2<T> uv) {
+        ++fetches;
+        const T x = uv.x * w_ - T(0.5), y = uv.y * h_ - T(0.5);
+        const T fx0 = std::floor(x), fy0 = std::floor(y);
+        const T fx = x - fx0, fy = y - fy0;
+        // Float indices can exceed int range only for absurd offsets; clamp before converting.
+        const int64_t i0 = to_index(fx0), j0 = to_index(fy0);
+        const T h00 = T(hf_->wrapped(i0, j0)), h10 = T(hf_->wrapped(i0 + 1, j0));
+        const T h01 = T(hf_->wrapped(i0, j0 + 1)), h11 = T(hf_->wrapped(i0 + 1, j0 + 1));
+        const T a = h00 + (h10 - h00) * fx;
+        const T b = h01 + (h11 - h01) * fx;
+        return a + (b - a) * fy;
+    }
+    // Surface z = s (h - b) at uv.
+    T z(Vec2<T> uv) { return s_ * (height(uv) - b_); }
+    T scale() const { return s_; }
+    T bias() const { return b_; }
+    const HeightField& field() const { return *hf_; }
+
+    int fetches = 0;
+
+  private:
+    static int64_t to_index(T f) {
+        if (!(f == f)) return 0;  // NaN coordinate: any texel; the NaN propagates via fx
+        constexpr T lim = T(int64_t(1) << 52);
+        return int64_t(f < -lim ? -lim : (f > lim ? lim : f));
+    }
+    const HeightField* hf_;
+    T w_, h_, s_, b_;
+};
+
+}  // namespace pxh

@@ -1,0 +1,12 @@
+// Provenance recorded with every run (Google Benchmark's context): what ran, where, built how.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace pxh {
+
+// Commit, compiler, library versions, CPU, threads, date, host.
+nlohmann::json provenance(int threads);
+std::string utc_timestamp(const char* fmt = "%Y-%m-%dT%H:%M:%SZ");
+
+}  // namespace pxh

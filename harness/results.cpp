@@ -1,0 +1,88 @@
+#include "harness/results.h"
+
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <sstream>
+
+#include "harness/error.h"
+
+namespace pxh {
+namespace {
+
+std::string num(double v) {
+    if (std::isnan(v)) return "";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+}
+
+std::string quote(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+struct Column {
+    const char* name;
+    std::function<std::string(const ResultRow&)> get;
+};
+
+const std::vector<Column>& columns() {
+    static const std::vector<Column> cols = {
+        {"method", [](const ResultRow& r) { return r.method; }},
+        {"params", [](const ResultRow& r) { return r.params; }},
+        {"heightfield", [](const ResultRow& r) { return r.heightfield; }},
+        {"backend", [](const ResultRow& r) { return r.backend; }},
+        {"precision", [](const ResultRow& r) { return r.precision; }},
+        {"scale", [](const ResultRow& r) { return num(r.scale); }},
+        {"bias", [](const ResultRow& r) { return num(r.bias); }},
+        {"theta_deg", [](const ResultRow& r) { return num(r.theta_deg); }},
+        {"phi_deg", [](const ResultRow& r) { return num(r.phi_deg); }},
+        {"samples", [](const ResultRow& r) { return std::to_string(r.samples); }},
+        {"width", [](const ResultRow& r) { return std::to_string(r.width); }},
+        {"height", [](const ResultRow& r) { return std::to_string(r.height); }},
+        {"err_mean", [](const ResultRow& r) { return num(r.err.mean); }},
+        {"err_rms", [](const ResultRow& r) { return num(r.err.rms); }},
+        {"err_p50", [](const ResultRow& r) { return num(r.err.p50); }},
+        {"err_p95", [](const ResultRow& r) { return num(r.err.p95); }},
+        {"err_p99", [](const ResultRow& r) { return num(r.err.p99); }},
+        {"err_max", [](const ResultRow& r) { return num(r.err.max); }},
+        {"frac_gt_0_5", [](const ResultRow& r) { return num(r.err.frac_gt_0_5); }},
+        {"frac_gt_1", [](const ResultRow& r) { return num(r.err.frac_gt_1); }},
+        {"nonfinite", [](const ResultRow& r) { return std::to_string(r.err.nonfinite); }},
+        {"fetches_mean", [](const ResultRow& r) { return num(r.fetches_mean); }},
+        {"fetches_max", [](const ResultRow& r) { return num(r.fetches_max); }},
+        {"fetches_bound", [](const ResultRow& r) { return std::to_string(r.fetches_bound); }},
+        {"ns_per_sample", [](const ResultRow& r) { return num(r.ns_per_sample); }},
+        {"gt_cells_mean", [](const ResultRow& r) { return num(r.gt_cells_mean); }},
+        {"status", [](const ResultRow& r) { return r.status; }},
+        {"error", [](const ResultRow& r) { return r.error; }},
+    };
+    return cols;
+}
+
+}  // namespace
+
+std::vector<std::string> result_columns() {
+    std::vector<std::string> out;
+    for (const auto& c : columns()) out.push_back(c.name);
+    return out;
+}
+
+void write_results_csv(const std::vector<ResultRow>& rows, const std::string& path) {
+    std::ofstream f(path, std::ios::binary);
+    if (!f) throw InputError(path, "cannot write");
+    const auto& cols = columns();
+    for (size_t c = 0; c < cols.size(); ++c) f << (c ? "," : "") << cols[c].name;
+    f << "\n";
+    for (const auto& r : rows) {
+        for (size_t c = 0; c < cols.size(); ++c) f << (c ? "," : "") << quote(cols[c].get(r));
+        f << "\n";
+    }
+    if (!f) throw InputError(path, "write failed");
+}
+
+}  // namespace pxh

@@ -1,0 +1,29 @@
+// One flat row per (method, params, height field, s, b, view, backend, precision); reporters
+// only consume rows.
+#pragma once
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "harness/metrics.h"
+
+namespace pxh {
+
+struct ResultRow {
+    std::string method, params, heightfield, backend, precision;
+    double scale = 0, bias = 0, theta_deg = 0, phi_deg = 0;
+    int samples = 0, width = 0, height = 0;
+    ErrorStats err;
+    double fetches_mean = NAN, fetches_max = NAN;
+    int fetches_bound = 0;          // the method's declared bound for this view
+    double ns_per_sample = NAN;     // CPU: median single-thread time per sample
+    double gt_cells_mean = NAN;     // ground-truth cost: cells visited per ray
+    std::string status = "ok";      // ok | failed
+    std::string error;              // the message when failed
+};
+
+// CSV header and rows in a fixed column order (numbers with round-trip precision).
+std::vector<std::string> result_columns();
+void write_results_csv(const std::vector<ResultRow>& rows, const std::string& path);
+
+}  // namespace pxh

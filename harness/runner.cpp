@@ -1,0 +1,142 @@
+#include "harness/runner.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include "harness/error.h"
+
+namespace pxh {
+namespace {
+
+template <typename T>
+MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
+                           const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
+    const Scene<T> sc = scene_cast<T>(scene);
+    const size_t n = P.size();
+    std::vector<Vec2<T>> pts(n), uv(n);
+    for (size_t k = 0; k < n; ++k) pts[k] = Vec2<T>(P[k]);
+    MethodOutput out;
+    out.fetches.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+        fn(params, sc, hf, pts.data() + r.begin(), r.size(), uv.data() + r.begin(),
+           out.fetches.data() + r.begin());
+    });
+    out.uv.resize(n);
+    for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
+    if (repeats > 0 && n > 0) {
+        std::vector<Vec2<T>> scratch(n);
+        std::vector<int> fscratch(n);
+        std::vector<double> times;
+        for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 is the warm-up
+            const auto t0 = std::chrono::steady_clock::now();
+            fn(params, sc, hf, pts.data(), n, scratch.data(), fscratch.data());
+            const auto t1 = std::chrono::steady_clock::now();
+            if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+        }
+        std::sort(times.begin(), times.end());
+        const size_t m = times.size();
+        const double median = m % 2 ? times[m / 2] : 0.5 * (times[m / 2 - 1] + times[m / 2]);
+        out.ns_per_sample = median / double(n);
+    }
+    return out;
+}
+
+std::string fmt_angle(double a) {
+    std::ostringstream os;
+    os << a;
+    return os.str();
+}
+
+}  // namespace
+
+MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
+                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
+    if (precision == "double")
+        return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats);
+    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats);
+}
+
+ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height) {
+    ResultRow row;
+    const size_t n = out.uv.size();
+    std::vector<double> mag(n);
+    for (size_t k = 0; k < n; ++k) {
+        const Vec2d e = texel_error(out.uv[k], gt.uv[k], width, height);
+        mag[k] = std::hypot(e.x, e.y);
+    }
+    row.err = error_stats(mag);
+    double fsum = 0;
+    int fmax = 0;
+    for (int f : out.fetches) { fsum += f; fmax = std::max(fmax, f); }
+    row.fetches_mean = n ? fsum / double(n) : NAN;
+    row.fetches_max = n ? double(fmax) : NAN;
+    row.ns_per_sample = out.ns_per_sample;
+    return row;
+}
+
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt) {
+    const auto& backends = opt.backends.empty() ? ex.backends : opt.backends;
+    for (const auto& b : backends)
+        if (b != "cpu") throw InputError("--backend", "unknown backend '" + b + "' (known: cpu)");
+    // Materialise every height field first, so bad input fails before any work.
+    std::vector<HeightField> fields;
+    for (const auto& spec : ex.heightfields) fields.push_back(make_heightfield(spec));
+
+    const auto P = sample_grid(ex.samples);
+    std::vector<ResultRow> rows;
+    const size_t steps = fields.size() * ex.theta_deg.size() * ex.phi_deg.size();
+    size_t step = 0;
+    for (size_t h = 0; h < fields.size(); ++h) {
+        const HeightField& hf = fields[h];
+        const HeightfieldSpec& spec = ex.heightfields[h];
+        for (double phi : ex.phi_deg)
+            for (double theta : ex.theta_deg) {
+                ++step;
+                if (opt.progress) {
+                    std::ostringstream os;
+                    os << "[" << step << "/" << steps << "] " << spec.name << " s="
+                       << spec.scale << " b=" << spec.bias << " theta=" << fmt_angle(theta)
+                       << " phi=" << fmt_angle(phi);
+                    opt.progress(os.str());
+                }
+                Scene<double> scene{spec.scale, spec.bias, view_vector(theta, phi), hf.width,
+                                    hf.height};
+                const GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V,
+                                                          ex.samples);
+                for (const auto& m : ex.methods)
+                    for (const auto& backend : backends)
+                        for (const auto& precision : ex.precisions) {
+                            ResultRow row;
+                            try {
+                                const MethodOutput out =
+                                    run_cpu(m, precision, scene, hf, P, ex.timing_repeats);
+                                row = score(out, gt, hf.width, hf.height);
+                            } catch (const std::exception& e) {
+                                row.status = "failed";
+                                row.error = e.what();
+                            }
+                            row.method = m.method->name;
+                            row.params = m.params.canonical();
+                            row.heightfield = spec.name;
+                            row.backend = backend;
+                            row.precision = precision;
+                            row.scale = spec.scale;
+                            row.bias = spec.bias;
+                            row.theta_deg = theta;
+                            row.phi_deg = phi;
+                            row.samples = ex.samples;
+                            row.width = hf.width;
+                            row.height = hf.height;
+                            row.fetches_bound = m.method->max_fetches(m.params, scene);
+                            row.gt_cells_mean = gt.cells_mean;
+                            rows.push_back(std::move(row));
+                        }
+            }
+    }
+    return rows;
+}
+
+}  // namespace pxh

@@ -1,0 +1,35 @@
+// The pipeline: HeightField -> views -> GroundTruth (once per view) -> MethodOutput -> ResultRow.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "harness/experiment.h"
+#include "harness/ground_truth.h"
+#include "harness/results.h"
+
+namespace pxh {
+
+struct MethodOutput {
+    std::vector<Vec2d> uv;  // per sample (unwrapped)
+    std::vector<int> fetches;
+    double ns_per_sample = NAN;
+};
+
+// CPU reference: runs the method on every sample in the given precision ("float"/"double"),
+// in parallel (outputs do not depend on threads), then times `repeats` single-thread passes
+// after one warm-up pass; ns_per_sample is their median.
+MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
+                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats);
+
+// Scores one method output against the truth.
+ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height);
+
+struct RunOptions {
+    std::vector<std::string> backends;  // overrides the experiment's list when non-empty
+    std::function<void(const std::string&)> progress;  // one status line per step
+};
+
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt);
+
+}  // namespace pxh

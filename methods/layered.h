@@ -1,0 +1,94 @@
+// The layered search shared by steep, pom and relief (spec section 6).
+//   n fixed or n = mix(n_max, n_min, |V.z|); dz = s / n; duv = -V.xy / V.z * dz;
+//   uv_0 = P + V.xy / V.z * z_top; uv_k = uv_0 + k duv; z_k = z_top - k dz; g_k = z_k - z(uv_k);
+//   k = first index with g_k <= 0, and at most ceil(n).
+#pragma once
+#include <algorithm>
+#include <cmath>
+
+#include "harness/error.h"
+#include "methods/method.h"
+
+namespace pxh {
+
+inline std::vector<ParamSpec> layer_params() {
+    return {
+        {"layers", std::nullopt, 1, 4096, false,
+         "fixed layer count n (default 32 when neither layers_min nor layers_max is given)"},
+        {"layers_min", std::nullopt, 1, 4096, false,
+         "view-adaptive: n = mix(layers_max, layers_min, |V.z|) (default 8)"},
+        {"layers_max", std::nullopt, 1, 4096, false, "view-adaptive upper count (default 32)"},
+    };
+}
+
+struct LayerConfig {
+    bool adaptive = false;
+    double n = 32, n_min = 8, n_max = 32;
+};
+
+inline LayerConfig layer_config(const ParamValues& p, const std::string& where) {
+    LayerConfig c;
+    c.adaptive = p.has("layers_min") || p.has("layers_max");
+    if (c.adaptive && p.has("layers"))
+        throw InputError(where, "give either 'layers' (fixed) or 'layers_min'/'layers_max' "
+                                "(view-adaptive), not both");
+    c.n = p.get_or("layers", 32);
+    c.n_min = p.get_or("layers_min", 8);
+    c.n_max = p.get_or("layers_max", 32);
+    if (c.adaptive && c.n_min > c.n_max)
+        throw InputError(where, "layers_min must not exceed layers_max");
+    return c;
+}
+
+// Layer count n for this view, kept as a real number (the tutorial's mix()).
+template <typename T>
+T layer_count(const LayerConfig& c, const Scene<T>& sc) {
+    if (!c.adaptive) return T(c.n);
+    const T a = std::abs(sc.V.z);
+    return T(c.n_max) * (T(1) - a) + T(c.n_min) * a;
+}
+
+// Bound on the layer index: ceil(n) (layers 0..ceil(n), so ceil(n) + 1 fetches).
+inline int max_layer_index(const LayerConfig& c, const Scene<double>& sc) {
+    // Evaluate in float and double and take the larger ceil, so the bound holds for both.
+    const double nd = layer_count(c, sc);
+    const float nf = layer_count(c, scene_cast<float>(sc));
+    return int(std::max(std::ceil(nd), double(std::ceil(nf))));
+}
+
+template <typename T>
+struct LayerSearch {
+    T n;             // layer count
+    Vec2<T> uv0, duv;
+    T z0, dz;
+    int k;           // the stopping layer
+    T g_prev, g_k;   // g at k-1 (valid for k >= 1) and at k
+    bool crossed;    // g_k <= 0 (false only when stopped by the ceil(n) bound)
+    Vec2<T> uv_at(T layer) const { return uv0 + duv * layer; }
+    T z_at(T layer) const { return z0 - dz * layer; }
+};
+
+template <typename T>
+LayerSearch<T> layer_search(const LayerConfig& c, const Scene<T>& sc, HeightSampler<T>& hs,
+                            Vec2<T> P) {
+    LayerSearch<T> r;
+    r.n = layer_count(c, sc);
+    const Vec2<T> dir = sc.V.xy() * (T(1) / sc.V.z);  // V.xy / V.z
+    r.dz = sc.scale / r.n;
+    r.duv = dir * (-r.dz);
+    r.z0 = sc.z_top();
+    r.uv0 = P + dir * r.z0;
+    const int kmax = int(std::ceil(r.n));
+    r.g_prev = T(0);
+    r.g_k = r.z0 - hs.z(r.uv0);
+    r.k = 0;
+    while (r.g_k > T(0) && r.k < kmax) {
+        ++r.k;
+        r.g_prev = r.g_k;
+        r.g_k = r.z_at(T(r.k)) - hs.z(r.uv_at(T(r.k)));
+    }
+    r.crossed = !(r.g_k > T(0));
+    return r;
+}
+
+}  // namespace pxh

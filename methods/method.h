@@ -1,0 +1,85 @@
+// The method interface. A method is one folder methods/NAME/ with NAME.cpp (CPU reference,
+// generic over float/double) that ends in PXH_REGISTER_METHOD(Type); nothing else to edit.
+//
+// A method type M provides:
+//   static MethodInfo describe();                       name, citation, parameters
+//   struct Config; static Config configure(const ParamValues&, const std::string& where);
+//   static int max_fetches(const Config&, const Scene<double>&);   declared bound per sample
+//   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
+//                                             HeightSampler<T>&, Vec2<T> P);
+#pragma once
+#include <cmath>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "harness/heightfield.h"
+#include "harness/params.h"
+#include "harness/vec.h"
+
+namespace pxh {
+
+// Per-view constants (spec sections 2, 3), in the method's precision.
+template <typename T>
+struct Scene {
+    T scale = T(0.05), bias = T(1);  // s, b: surface z = s (h - b)
+    Vec3<T> V{T(0), T(0), T(1)};     // unit vector from the surface toward the eye
+    int width = 1, height = 1;       // texels of the height field
+    T z_top() const { return scale * (T(1) - bias); }
+    T z_bot() const { return -scale * bias; }
+};
+
+template <typename T>
+Scene<T> scene_cast(const Scene<double>& s) {
+    return {T(s.scale), T(s.bias), Vec3<T>(s.V), s.width, s.height};
+}
+
+template <typename T>
+using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const HeightField&, const Vec2<T>* P,
+                         size_t n, Vec2<T>* uv, int* fetches);
+
+struct MethodInfo {
+    std::string name;      // registry key = folder name = what users type
+    std::string citation;  // the source, one line
+    std::string summary;   // what it returns, one line
+    std::vector<ParamSpec> params;
+    bool exact_on_flat = false;  // returns the true point on any flat field
+    int order = 100;             // listing order
+    void (*check)(const ParamValues&, const std::string& where) = nullptr;
+    int (*max_fetches)(const ParamValues&, const Scene<double>&) = nullptr;
+    BatchFn<float> run_float = nullptr;
+    BatchFn<double> run_double = nullptr;
+};
+
+template <class M, typename T>
+void run_method_batch(const ParamValues& p, const Scene<T>& sc, const HeightField& hf,
+                      const Vec2<T>* P, size_t n, Vec2<T>* uv, int* fetches) {
+    const typename M::Config cfg = M::configure(p, "");
+    for (size_t i = 0; i < n; ++i) {
+        HeightSampler<T> sampler(hf, sc.scale, sc.bias);
+        uv[i] = M::template eval<T>(cfg, sc, sampler, P[i]);
+        fetches[i] = sampler.fetches;
+    }
+}
+
+template <class M>
+MethodInfo make_method_info() {
+    MethodInfo info = M::describe();
+    info.check = [](const ParamValues& p, const std::string& where) { M::configure(p, where); };
+    info.max_fetches = [](const ParamValues& p, const Scene<double>& sc) {
+        return M::max_fetches(M::configure(p, ""), sc);
+    };
+    info.run_float = &run_method_batch<M, float>;
+    info.run_double = &run_method_batch<M, double>;
+    return info;
+}
+
+bool register_method(MethodInfo info);
+// All registered methods, in listing order.
+const std::vector<MethodInfo>& all_methods();
+const MethodInfo* find_method(const std::string& name);
+
+#define PXH_REGISTER_METHOD(M) \
+    [[maybe_unused]] static const bool pxh_registered_##M = ::pxh::register_method(::pxh::make_method_info<M>())
+
+}  // namespace pxh

@@ -1,0 +1,32 @@
+// Cg programming wikibook, "Projection of Bumpy Surfaces": offset clamped per component to
+// +-MaxTexCoordOffset: P + clamp(z(P) V.xy / V.z, -m, +m).
+#include <algorithm>
+
+#include "methods/method.h"
+
+namespace pxh {
+
+struct ParallaxClamped {
+    struct Config { double max_offset; bool from_scale; };
+    static MethodInfo describe() {
+        return {"parallax_clamped",
+                "Cg wikibook 'Projection of Bumpy Surfaces' (_MaxTexCoordOffset)",
+                "uv = P + clamp(z(P) * V.xy / V.z, -m, +m) per component (one fetch)",
+                {{"max_offset", std::nullopt, 0, 1e6, false,
+                  "m in uv units (default: the scene's scale s)"}},
+                false, 30};
+    }
+    static Config configure(const ParamValues& p, const std::string&) {
+        return {p.get_or("max_offset", 0.0), !p.has("max_offset")};
+    }
+    static int max_fetches(const Config&, const Scene<double>&) { return 1; }
+    template <typename T>
+    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+        const T m = c.from_scale ? sc.scale : T(c.max_offset);
+        const Vec2<T> off = sc.V.xy() * (hs.z(P) / sc.V.z);
+        return P + Vec2<T>(std::clamp(off.x, -m, m), std::clamp(off.y, -m, m));
+    }
+};
+PXH_REGISTER_METHOD(ParallaxClamped);
+
+}  // namespace pxh

@@ -1,0 +1,36 @@
+// Tatarchuk 2006, "Parallax Occlusion Mapping"; tutorial "Parallax Occlusion Mapping":
+// linear interpolation between the layers around the crossing, w = g_k / (g_k - g_{k-1}).
+#include <algorithm>
+
+#include "methods/layered.h"
+
+namespace pxh {
+
+struct Pom {
+    using Config = LayerConfig;
+    static MethodInfo describe() {
+        return {"pom", "Tatarchuk 2006; tutorial 'Parallax Occlusion Mapping'",
+                "w uv_{k-1} + (1 - w) uv_k, w = g_k / (g_k - g_{k-1}) (k + 1 fetches)",
+                layer_params(), true, 70};
+    }
+    static Config configure(const ParamValues& p, const std::string& where) {
+        return layer_config(p, where);
+    }
+    static int max_fetches(const Config& c, const Scene<double>& sc) {
+        return max_layer_index(c, sc) + 1;
+    }
+    template <typename T>
+    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+        const LayerSearch<T> r = layer_search(c, sc, hs, P);
+        const Vec2<T> uv_k = r.uv_at(T(r.k));
+        // k = 0, or stopped by the bound without crossing: no bracket to interpolate in.
+        if (r.k == 0 || !r.crossed) return uv_k;
+        const T denom = r.g_k - r.g_prev;  // < 0 since g_{k-1} > 0 >= g_k
+        if (!(denom < T(0))) return uv_k;
+        const T w = std::clamp(r.g_k / denom, T(0), T(1));
+        return r.uv_at(T(r.k - 1)) * w + uv_k * (T(1) - w);
+    }
+};
+PXH_REGISTER_METHOD(Pom);
+
+}  // namespace pxh

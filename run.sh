@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# One-command set-up: installs missing Debian packages, builds build/pxh (Release), then
+#   ./run.sh            runs the default experiment and prints a summary
+#   ./run.sh test       runs the whole test suite through ctest
+#   ./run.sh build      only builds
+set -euo pipefail
+cd "$(dirname "$0")"
+
+PACKAGES=(
+  g++ cmake ninja-build pkg-config git
+  libembree-dev libopenimageio-dev openimageio-tools libeigen3-dev libgtest-dev
+  libosmesa6-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+)
+
+install_missing() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "run.sh: installing ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
+build() {
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev >/dev/null
+  cmake --build build -j "$(nproc)"
+}
+
+mode="${1:-run}"
+case "$mode" in
+  run|test|build) ;;
+  -h|--help) sed -n 2,6p "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  *) echo "run.sh: unknown mode '$mode' (run | test | build)" >&2; exit 2 ;;
+esac
+
+install_missing
+build
+case "$mode" in
+  run) ./build/pxh run results/experiments/default.toml ;;
+  test) ctest --test-dir build --output-on-failure -j "$(nproc)" ;;
+esac
