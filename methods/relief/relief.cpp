@@ -15,7 +15,7 @@ struct Relief {
         params.push_back({"binary_steps", 5.0, 0, 64, true, "n_binary bisection steps"});
         return {"relief", "Policarpo et al. 2005; tutorial 'Relief Parallax Mapping'",
                 "bisection on [k-1, k] after the layer search (k + 1 + n_binary fetches)",
-                params, true, 80};
+                params, false, 80};
     }
     static Config configure(const ParamValues& p, const std::string& where) {
         return {layer_config(p, where), p.get_int("binary_steps")};

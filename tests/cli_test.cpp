@@ -1,0 +1,166 @@
+// The pxh binary end to end: results on disk, exit codes, no half-written results,
+// thread-count independence.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result { int status; std::string out, err; };
+
+class Cli : public ::testing::Test {
+  protected:
+    fs::path dir = fs::temp_directory_path() / ("pxh_cli_test_" + std::to_string(::getpid()) +
+                                                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    void SetUp() override { fs::remove_all(dir); fs::create_directories(dir); }
+    void TearDown() override { fs::remove_all(dir); }
+
+    static std::string slurp(const fs::path& p) {
+        std::ifstream f(p);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        return ss.str();
+    }
+    std::string write(const std::string& name, const std::string& text) {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+    Result pxh(const std::string& args) {
+        const std::string cmd = std::string(PXH_BINARY) + " " + args + " >" +
+                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+        const int rc = std::system(cmd.c_str());
+        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"), slurp(dir / "err.txt")};
+    }
+};
+
+const char* kSmall = R"(
+name = "small"
+samples = 24
+timing_repeats = 1
+[views]
+theta_deg = [0, 60, 85]
+phi_deg = [0, 30]
+[[heightfields]]
+generator = "fbm"
+size = 32
+[[heightfields]]
+generator = "spikes"
+size = 16
+bias = 0.5
+[[methods]]
+name = "parallax"
+[[methods]]
+name = "pom"
+layers = [8, 32]
+)";
+
+TEST_F(Cli, RunWritesResultsAndProvenance) {
+    const auto exp = write("small.toml", kSmall);
+    const Result r = pxh("run " + exp + " --out " + (dir / "res").string() + " --quiet");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string csv = slurp(dir / "res" / "results.csv");
+    std::istringstream lines(csv);
+    std::string header;
+    std::getline(lines, header);
+    for (const char* col : {"method", "params", "heightfield", "backend", "scale", "bias",
+                            "theta_deg", "phi_deg", "samples", "width", "height", "err_mean",
+                            "err_rms", "err_p50", "err_p95", "err_p99", "err_max", "frac_gt_0_5",
+                            "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max",
+                            "ns_per_sample"})
+        EXPECT_NE(header.find(col), std::string::npos) << col;
+    int rows = 0;
+    for (std::string line; std::getline(lines, line);) ++rows;
+    EXPECT_EQ(rows, 3 * 2 * 2 * 3);  // methods x fields x phi x theta
+    const std::string run = slurp(dir / "res" / "run.json");
+    for (const char* key : {"git_commit", "compiler", "cpu_model", "threads", "date_utc",
+                            "embree", "openimageio", "experiment"})
+        EXPECT_NE(run.find(key), std::string::npos) << key;
+    EXPECT_NE(run.find("generator = \\\"spikes\\\""), std::string::npos);  // the file itself
+}
+
+// Same experiment, same numbers, whatever the thread count (timing columns aside).
+TEST_F(Cli, ThreadCountDoesNotChangeNumbers) {
+    const auto exp = write("small.toml", kSmall);
+    ASSERT_EQ(pxh("run " + exp + " --quiet --threads 1 --out " + (dir / "t1").string()).status, 0);
+    ASSERT_EQ(pxh("run " + exp + " --quiet --threads 2 --out " + (dir / "t2").string()).status, 0);
+    auto strip_timing = [](const std::string& csv) {
+        std::istringstream in(csv);
+        std::string line, out, header;
+        std::getline(in, header);
+        // Find the ns_per_sample column index.
+        int col = 0, ns_col = -1;
+        std::istringstream hs(header);
+        for (std::string c; std::getline(hs, c, ','); ++col)
+            if (c == "ns_per_sample") ns_col = col;
+        while (std::getline(in, line)) {
+            std::istringstream ls(line);
+            int i = 0;
+            for (std::string c; std::getline(ls, c, ','); ++i)
+                if (i != ns_col) out += c + ",";
+            out += "\n";
+        }
+        return out;
+    };
+    const std::string a = strip_timing(slurp(dir / "t1" / "results.csv"));
+    const std::string b = strip_timing(slurp(dir / "t2" / "results.csv"));
+    EXPECT_GT(a.size(), 100u);
+    EXPECT_EQ(a, b);
+}
+
+TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
+    const std::string good = kSmall;
+    auto variant = [&](const std::string& from, const std::string& to) {
+        std::string s = good;
+        s.replace(s.find(from), from.size(), to);
+        return s;
+    };
+    struct Case { std::string text, expect; };
+    const Case cases[] = {
+        {variant("name = \"pom\"", "name = \"nope\""), "unknown method 'nope'"},
+        {variant("generator = \"fbm\"", "generator = \"nope\""), "unknown generator 'nope'"},
+        {variant("theta_deg = [0, 60, 85]", "theta_deg = [0, 90]"), "is impossible"},
+        {variant("theta_deg = [0, 60, 85]", "theta_deg = [-1]"), "is impossible"},
+        {variant("size = 16\nbias = 0.5", "size = 16\nbias = 2"), "bias must lie in [0, 1]"},
+        {variant("size = 16\nbias = 0.5", "size = 16\nscale = -1"), "scale must be > 0"},
+        {variant("samples = 24", "samples = 0"), "'samples' = 0"},
+        {variant("generator = \"fbm\"\nsize = 32", "file = \"missing.png\""), "missing.png: no such file"},
+        {variant("generator = \"fbm\"\nsize = 32", "file = \"notimage.png\""), "notimage.png: not a readable image"},
+    };
+    write("notimage.png", "hello, not a png\n");
+    int k = 0;
+    for (const auto& c : cases) {
+        const auto exp = write("bad" + std::to_string(k) + ".toml", c.text);
+        const fs::path out = dir / ("res" + std::to_string(k++));
+        const Result r = pxh("run " + exp + " --out " + out.string());
+        EXPECT_EQ(r.status, 2) << c.expect;
+        EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
+        EXPECT_TRUE(r.err.find(".toml") != std::string::npos || r.err.find(".png") != std::string::npos) << "names no file: " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << "a results folder was left for a failed run";
+        for (const auto& e : fs::directory_iterator(dir))
+            EXPECT_EQ(e.path().string().find(".partial-"), std::string::npos) << e.path();
+    }
+    const Result missing = pxh("run " + (dir / "nope.toml").string());
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_NE(missing.err.find("nope.toml: no such file"), std::string::npos);
+}
+
+TEST_F(Cli, ListShowsMethodsAndGenerators) {
+    const Result m = pxh("list methods");
+    ASSERT_EQ(m.status, 0);
+    for (const char* name : {"parallax", "pom", "layers_min", "relief", "binary_steps"})
+        EXPECT_NE(m.out.find(name), std::string::npos) << name;
+    const Result h = pxh("list heightfields");
+    for (const char* name : {"flat", "sine", "bumps", "bricks", "pyramids", "terraces", "fbm", "spikes"})
+        EXPECT_NE(h.out.find(name), std::string::npos) << name;
+    EXPECT_EQ(pxh("list nothing").status, 2);
+}
+
+}  // namespace

@@ -1,0 +1,53 @@
+// Texel error and its statistics (spec section 5) against hand-computed values.
+#include "harness/metrics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace pxh {
+namespace {
+
+TEST(TexelError, WrapsToHalfOpenRangeAndScales) {
+    // 0.3 uv in x on a 10-texel map is 3 texels.
+    Vec2d e = texel_error({0.5, 0.5}, {0.2, 0.5}, 10, 20);
+    EXPECT_NEAR(e.x, 3.0, 1e-12);
+    EXPECT_NEAR(e.y, 0.0, 1e-12);
+    // One tile away is the same texel: zero error.
+    e = texel_error({1.25, -0.75}, {0.25, 0.25}, 10, 20);
+    EXPECT_NEAR(e.x, 0.0, 1e-12);
+    EXPECT_NEAR(e.y, 0.0, 1e-12);
+    // 0.7 wraps to -0.3; -0.5 stays -0.5 (range [-0.5, 0.5)); +0.5 wraps to -0.5.
+    EXPECT_NEAR(texel_error({0.7, 0}, {0, 0}, 1, 1).x, -0.3, 1e-12);
+    EXPECT_NEAR(texel_error({0.0, 0}, {0.5, 0}, 1, 1).x, -0.5, 1e-12);
+    EXPECT_NEAR(texel_error({0.5, 0}, {0.0, 0}, 1, 1).x, -0.5, 1e-12);
+    // Non-square maps scale per component.
+    e = texel_error({0.1, 0.1}, {0, 0}, 100, 10);
+    EXPECT_NEAR(std::hypot(e.x, e.y), std::hypot(10.0, 1.0), 1e-9);
+    EXPECT_TRUE(std::isnan(texel_error({NAN, 0}, {0, 0}, 4, 4).x));
+}
+
+TEST(ErrorStats, HandExample) {
+    // Magnitudes 0, 0.25, 0.5, 1, 2 (+ one NaN, one Inf counted as non-finite).
+    const ErrorStats s = error_stats({1.0, 0.0, 2.0, NAN, 0.25, 0.5, INFINITY});
+    EXPECT_EQ(s.count, 5);
+    EXPECT_EQ(s.nonfinite, 2);
+    EXPECT_DOUBLE_EQ(s.mean, 3.75 / 5);
+    EXPECT_DOUBLE_EQ(s.rms, std::sqrt((0 + 0.0625 + 0.25 + 1 + 4) / 5));
+    EXPECT_DOUBLE_EQ(s.p50, 0.5);
+    // p95: position 0.95 * 4 = 3.8 between 1 and 2 -> 1.8; p99: 3.96 -> 1.96.
+    EXPECT_DOUBLE_EQ(s.p95, 1.8);
+    EXPECT_DOUBLE_EQ(s.p99, 1.96);
+    EXPECT_DOUBLE_EQ(s.max, 2.0);
+    EXPECT_DOUBLE_EQ(s.frac_gt_0_5, 2.0 / 5);  // strictly greater: 1 and 2
+    EXPECT_DOUBLE_EQ(s.frac_gt_1, 1.0 / 5);
+}
+
+TEST(ErrorStats, AllNonFiniteGivesNaNStatsNotZero) {
+    const ErrorStats s = error_stats({NAN, NAN});
+    EXPECT_EQ(s.nonfinite, 2);
+    EXPECT_TRUE(std::isnan(s.mean));
+}
+
+}  // namespace
+}  // namespace pxh

@@ -1,0 +1,91 @@
+// Helpers shared by the tests: random fields, a brute-force ray march, method evaluation.
+#pragma once
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "harness/ground_truth.h"
+#include "harness/heightfield.h"
+#include "methods/method.h"
+
+namespace pxh::test {
+
+inline HeightField random_field(int w, int h, uint32_t seed, float lo = 0.0f, float hi = 1.0f) {
+    HeightField hf(w, h, "random");
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> d(lo, hi);
+    for (auto& t : hf.texels) t = d(rng);
+    return hf;
+}
+
+inline HeightField flat_field(int w, int h, float level) {
+    HeightField hf(w, h, "flat");
+    for (auto& t : hf.texels) t = level;
+    return hf;
+}
+
+// Brute force: march from the slab top along -V in steps of `step` (world units), first
+// point at or below the surface, refined by bisection. Independent of ExactTracer: it uses
+// HeightSampler (the method-side bilinear code) for heights.
+inline Vec2d brute_force_hit(const HeightField& hf, double s, double b, Vec2d P, Vec3d V,
+                             double step) {
+    HeightSampler<double> hs(hf, s, b);
+    const double zt = s * (1 - b);
+    const Vec2d E{P.x + V.x / V.z * zt, P.y + V.y / V.z * zt};
+    auto f = [&](double tau) { return (zt - tau * V.z) - hs.z({E.x - tau * V.x, E.y - tau * V.y}); };
+    const double tau_max = s / V.z;
+    double prev = 0;
+    if (f(0) <= 0) return E;
+    for (double tau = step;; tau += step) {
+        const double t = std::min(tau, tau_max);
+        if (f(t) <= 0) {
+            double lo = prev, hi = t;
+            for (int i = 0; i < 100; ++i) {
+                const double mid = 0.5 * (lo + hi);
+                (f(mid) > 0 ? lo : hi) = mid;
+            }
+            return {E.x - hi * V.x, E.y - hi * V.y};
+        }
+        if (t >= tau_max) return {E.x - tau_max * V.x, E.y - tau_max * V.y};
+        prev = t;
+    }
+}
+
+inline Scene<double> make_scene(const HeightField& hf, double s, double b, double theta,
+                                double phi = 0) {
+    return {s, b, view_vector(theta, phi), hf.width, hf.height};
+}
+
+// Runs a registered method on given points in precision T; returns uv (as double) and fetches.
+template <typename T>
+std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const Scene<double>& sc,
+                              const HeightField& hf, const std::vector<Vec2d>& P,
+                              std::vector<int>* fetches = nullptr) {
+    std::vector<Vec2<T>> pts(P.size()), uv(P.size());
+    std::vector<int> f(P.size());
+    for (size_t i = 0; i < P.size(); ++i) pts[i] = Vec2<T>(P[i]);
+    const Scene<T> st = scene_cast<T>(sc);
+    if constexpr (std::is_same_v<T, float>)
+        m.run_float(p, st, hf, pts.data(), pts.size(), uv.data(), f.data());
+    else
+        m.run_double(p, st, hf, pts.data(), pts.size(), uv.data(), f.data());
+    if (fetches) *fetches = f;
+    std::vector<Vec2d> out(P.size());
+    for (size_t i = 0; i < P.size(); ++i) out[i] = Vec2d(uv[i]);
+    return out;
+}
+
+inline ParamValues params_for(const MethodInfo& m, std::map<std::string, double> given = {}) {
+    return resolve_params(m.params, given, "test", m.name);
+}
+
+inline std::vector<Vec2d> random_points(int n, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> d(0.0, 1.0);
+    std::vector<Vec2d> p(n);
+    for (auto& q : p) q = {d(rng), d(rng)};
+    return p;
+}
+
+}  // namespace pxh::test
