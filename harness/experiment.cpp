@@ -237,7 +237,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     ex.name = fs::path(path).stem().string();
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
-                "views", "heightfields", "methods"},
+                "views", "heightfields", "methods", "light"},
                path, "the experiment");
     if (auto n = root.get("name")) ex.name = get_string(*n, path, "name");
     if (auto n = root.get("description")) get_string(*n, path, "description");
@@ -275,6 +275,24 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
         if (!std::isfinite(p))
             throw InputError(where_of(path, *vt.get("phi_deg")), "phi_deg must be finite");
 
+    if (auto n = root.get("light")) {
+        const auto* lt = n->as_table();
+        if (!lt) throw InputError(where_of(path, *n), "'light' must be a table ([light])");
+        check_keys(*lt, {"theta_deg", "phi_deg", "layers_min", "layers_max"}, path, "[light]");
+        LightSpec l;
+        if (auto v = lt->get("theta_deg")) l.theta_deg = get_number(*v, path, "theta_deg");
+        if (auto v = lt->get("phi_deg")) l.phi_deg = get_number(*v, path, "phi_deg");
+        if (auto v = lt->get("layers_min")) l.layers_min = get_number(*v, path, "layers_min");
+        if (auto v = lt->get("layers_max")) l.layers_max = get_number(*v, path, "layers_max");
+        if (!(l.theta_deg >= 0 && l.theta_deg < 90))
+            throw InputError(where_of(path, *n), "light theta_deg = " + format_number(l.theta_deg) +
+                                                     " is impossible: it must lie in [0, 90)");
+        if (!std::isfinite(l.phi_deg))
+            throw InputError(where_of(path, *n), "light phi_deg must be finite");
+        if (!(l.layers_min >= 1 && l.layers_max >= l.layers_min && l.layers_max <= 4096))
+            throw InputError(where_of(path, *n), "light layers need 1 <= layers_min <= layers_max <= 4096");
+        ex.light = l;
+    }
     auto tables_of = [&](const char* key) {
         const toml::node* n = root.get(key);
         if (!n) throw InputError(path, std::string("no [[") + key + "]] entries");

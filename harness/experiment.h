@@ -2,6 +2,7 @@
 // naming the file and line.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,12 @@ struct MethodSpec {
     ParamValues params;
 };
 
+// Optional directional light for the self-shadowing metrics.
+struct LightSpec {
+    double theta_deg = 45, phi_deg = 180;
+    double layers_min = 8, layers_max = 32;  // the shadow march's layer counts
+};
+
 struct Experiment {
     std::string name;
     std::string path;  // the file it came from
@@ -36,6 +43,7 @@ struct Experiment {
     std::vector<std::string> precisions{"float"};
     int timing_repeats = 5;
     std::vector<double> theta_deg, phi_deg{0.0};
+    std::optional<LightSpec> light;
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
     std::vector<MethodSpec> methods;            // arrays of parameter values already expanded
 };

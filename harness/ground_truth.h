@@ -1,6 +1,7 @@
 // Exact ground truth (spec section 4): the first hit of each eye ray with the bilinear surface
 // z = s (h - b), coming from the eye, traced per cell with the exact quadratic in double.
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "harness/heightfield.h"
@@ -24,6 +25,9 @@ class ExactTracer {
   public:
     ExactTracer(const HeightField& hf, double scale, double bias);
     TruthHit trace(Vec2d P, Vec3d V) const;
+    // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
+    // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
+    bool occluded(Vec2d uv, double z, Vec3d L) const;
     double z_top() const { return s_ * (1 - b_); }
     double z_bot() const { return -s_ * b_; }
 
@@ -36,10 +40,13 @@ class ExactTracer {
 struct GroundTruth {
     std::vector<Vec2d> uv;  // per sample, unwrapped
     std::vector<double> z;
+    std::vector<uint8_t> lit;  // per sample, when a light was given: true hard shadow state
     double cells_mean = 0;
 };
 
 // Traces every sample of the N x N grid (in parallel; the result does not depend on threads).
-GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias, Vec3d V, int n);
+// With a light L, also the true shadow state of every visible point.
+GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias, Vec3d V, int n,
+                               const Vec3d* L = nullptr);
 
 }  // namespace pxh

@@ -28,6 +28,7 @@ struct HeightField {
 };
 
 inline int64_t wrap_index(int64_t i, int64_t n) {
+    if (i >= 0 && i < n) return i;  // the common case: no division
     int64_t r = i % n;
     return r < 0 ? r + n : r;
 }
@@ -50,9 +51,12 @@ class HeightSampler {
         const T fx0 = std::floor(x), fy0 = std::floor(y);
         const T fx = x - fx0, fy = y - fy0;
         // Float indices can exceed int range only for absurd offsets; clamp before converting.
-        const int64_t i0 = to_index(fx0), j0 = to_index(fy0);
-        const T h00 = T(hf_->wrapped(i0, j0)), h10 = T(hf_->wrapped(i0 + 1, j0));
-        const T h01 = T(hf_->wrapped(i0, j0 + 1)), h11 = T(hf_->wrapped(i0 + 1, j0 + 1));
+        const int W = hf_->width, H = hf_->height;
+        const int i0 = int(wrap_index(to_index(fx0), W)), j0 = int(wrap_index(to_index(fy0), H));
+        const int i1 = i0 + 1 == W ? 0 : i0 + 1, j1 = j0 + 1 == H ? 0 : j0 + 1;
+        const float* row0 = hf_->texels.data() + size_t(j0) * W;
+        const float* row1 = hf_->texels.data() + size_t(j1) * W;
+        const T h00 = T(row0[i0]), h10 = T(row0[i1]), h01 = T(row1[i0]), h11 = T(row1[i1]);
         const T a = h00 + (h10 - h00) * fx;
         const T b = h01 + (h11 - h01) * fx;
         return a + (b - a) * fy;

@@ -41,7 +41,11 @@ void list_heightfields() {
 
 // Per method and backend: mean error over all rows, and the worst p95.
 void print_summary(const std::vector<ResultRow>& rows) {
-    struct Acc { double sum_mean = 0, worst_p95 = 0, fetches = 0, ns = 0; int n = 0, failed = 0; };
+    struct Acc {
+        double sum_mean = 0, worst_p95 = 0, fetches = 0, ns = 0, shadow = 0;
+        int n = 0, failed = 0;
+    };
+    bool any_shadow = false;
     std::vector<std::string> order;
     std::map<std::string, Acc> acc;
     for (const auto& r : rows) {
@@ -54,11 +58,13 @@ void print_summary(const std::vector<ResultRow>& rows) {
         a.worst_p95 = std::max(a.worst_p95, r.err.p95);
         a.fetches += r.fetches_mean;
         a.ns += std::isnan(r.ns_per_sample) ? 0 : r.ns_per_sample;
+        if (!std::isnan(r.shadow_err)) { a.shadow += r.shadow_err; any_shadow = true; }
         ++a.n;
     }
     std::cout << std::left << std::setw(44) << "method" << std::right << std::setw(12)
               << "mean err" << std::setw(12) << "worst p95" << std::setw(10) << "fetches"
-              << std::setw(10) << "ns/smp" << std::setw(8) << "failed" << "\n";
+              << std::setw(10) << "ns/smp" << std::setw(8) << "failed"
+              << (any_shadow ? "  shadow err" : "") << "\n";
     std::cout << std::fixed;
     for (const auto& k : order) {
         const Acc& a = acc[k];
@@ -66,10 +72,14 @@ void print_summary(const std::vector<ResultRow>& rows) {
         std::cout << std::left << std::setw(44) << k << std::right << std::setprecision(3)
                   << std::setw(12) << a.sum_mean / n << std::setw(12) << a.worst_p95
                   << std::setprecision(1) << std::setw(10) << a.fetches / n << std::setw(10)
-                  << a.ns / n << std::setw(8) << a.failed << "\n";
+                  << a.ns / n << std::setw(8) << a.failed;
+        if (any_shadow) std::cout << std::setprecision(3) << std::setw(12) << a.shadow / n;
+        std::cout << "\n";
     }
     std::cout << "(texel error: distance in texels between the sampled and the truly visible "
-                 "point; mean over views)\n";
+                 "point, mean over rows; worst p95: the largest per-row 95th percentile;\n"
+                 " ns/smp: single-thread CPU time per sample; shadow err: fraction of samples "
+                 "whose hard shadow is wrong)\n";
 }
 
 int cmd_run(const std::string& file, std::string out_dir, int threads,

@@ -58,6 +58,8 @@ const std::vector<Column>& columns() {
         {"fetches_bound", [](const ResultRow& r) { return std::to_string(r.fetches_bound); }},
         {"ns_per_sample", [](const ResultRow& r) { return num(r.ns_per_sample); }},
         {"gt_cells_mean", [](const ResultRow& r) { return num(r.gt_cells_mean); }},
+        {"shadow_err", [](const ResultRow& r) { return num(r.shadow_err); }},
+        {"shadow_soft_mae", [](const ResultRow& r) { return num(r.shadow_soft_mae); }},
         {"status", [](const ResultRow& r) { return r.status; }},
         {"error", [](const ResultRow& r) { return r.error; }},
     };

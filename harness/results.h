@@ -18,6 +18,8 @@ struct ResultRow {
     int fetches_bound = 0;          // the method's declared bound for this view
     double ns_per_sample = NAN;     // CPU: median single-thread time per sample
     double gt_cells_mean = NAN;     // ground-truth cost: cells visited per ray
+    double shadow_err = NAN;        // fraction of samples whose hard shadow state is wrong
+    double shadow_soft_mae = NAN;   // mean |soft factor - true hard factor|
     std::string status = "ok";      // ok | failed
     std::string error;              // the message when failed
 };

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "harness/error.h"
+#include "methods/shadow.h"
 
 namespace pxh {
 namespace {
@@ -59,6 +60,31 @@ MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Sc
     return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats);
 }
 
+template <typename T>
+static void add_shadows_typed(MethodOutput& out, const LightSpec& light,
+                              const Scene<double>& scene, const HeightField& hf) {
+    const Scene<T> sc = scene_cast<T>(scene);
+    const Vec3<T> L(view_vector(light.theta_deg, light.phi_deg));
+    const ShadowConfig cfg{light.layers_min, light.layers_max};
+    const size_t n = out.uv.size();
+    out.shadow_hard.resize(n);
+    out.shadow_soft.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            HeightSampler<T> hs(hf, sc.scale, sc.bias);
+            const auto f = shadow_factors(cfg, sc, L, hs, Vec2<T>(out.uv[k]));
+            out.shadow_hard[k] = float(f.hard);
+            out.shadow_soft[k] = float(f.soft);
+        }
+    });
+}
+
+void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
+                 const Scene<double>& scene, const HeightField& hf) {
+    if (precision == "double") add_shadows_typed<double>(out, light, scene, hf);
+    else add_shadows_typed<float>(out, light, scene, hf);
+}
+
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height) {
     ResultRow row;
     const size_t n = out.uv.size();
@@ -74,6 +100,16 @@ ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int h
     row.fetches_mean = n ? fsum / double(n) : NAN;
     row.fetches_max = n ? double(fmax) : NAN;
     row.ns_per_sample = out.ns_per_sample;
+    if (!gt.lit.empty() && out.shadow_hard.size() == n && n > 0) {
+        double wrong = 0, mae = 0;
+        for (size_t k = 0; k < n; ++k) {
+            const double truth = gt.lit[k] ? 1.0 : 0.0;
+            wrong += (out.shadow_hard[k] != truth);
+            mae += std::abs(double(out.shadow_soft[k]) - truth);
+        }
+        row.shadow_err = wrong / double(n);
+        row.shadow_soft_mae = mae / double(n);
+    }
     return row;
 }
 
@@ -104,15 +140,18 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
                 }
                 Scene<double> scene{spec.scale, spec.bias, view_vector(theta, phi), hf.width,
                                     hf.height};
+                const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg)
+                                         : Vec3d{};
                 const GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V,
-                                                          ex.samples);
+                                                          ex.samples, ex.light ? &L : nullptr);
                 for (const auto& m : ex.methods)
                     for (const auto& backend : backends)
                         for (const auto& precision : ex.precisions) {
                             ResultRow row;
                             try {
-                                const MethodOutput out =
+                                MethodOutput out =
                                     run_cpu(m, precision, scene, hf, P, ex.timing_repeats);
+                                if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
                                 row = score(out, gt, hf.width, hf.height);
                             } catch (const std::exception& e) {
                                 row.status = "failed";

@@ -13,6 +13,7 @@ namespace pxh {
 struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
+    std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
     double ns_per_sample = NAN;
 };
 
@@ -21,6 +22,10 @@ struct MethodOutput {
 // after one warm-up pass; ns_per_sample is their median.
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats);
+
+// The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
+void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
+                 const Scene<double>& scene, const HeightField& hf);
 
 // Scores one method output against the truth.
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height);
