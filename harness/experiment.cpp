@@ -237,6 +237,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     ex.name = fs::path(path).stem().string();
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
+                "texture_format",
                 "views", "heightfields", "methods", "light"},
                path, "the experiment");
     if (auto n = root.get("name")) ex.name = get_string(*n, path, "name");
@@ -247,8 +248,16 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     if (auto n = root.get("backends")) {
         ex.backends = get_strings(*n, path, "backends");
         for (const auto& b : ex.backends)
-            if (b != "cpu")
-                throw InputError(where_of(path, *n), "unknown backend '" + b + "' (known: cpu)");
+            if (b != "cpu" && b != "glsl")
+                throw InputError(where_of(path, *n),
+                                 "unknown backend '" + b + "' (known: cpu, glsl)");
+    }
+    if (auto n = root.get("texture_format")) {
+        ex.texture_formats = get_strings(*n, path, "texture_format");
+        for (const auto& f : ex.texture_formats)
+            if (f != "r32f" && f != "r16" && f != "r8")
+                throw InputError(where_of(path, *n),
+                                 "unknown texture_format '" + f + "' (known: r32f, r16, r8)");
     }
     if (auto n = root.get("precision")) {
         ex.precisions = get_strings(*n, path, "precision");

@@ -41,6 +41,7 @@ struct Experiment {
     int samples = 256;
     std::vector<std::string> backends{"cpu"};
     std::vector<std::string> precisions{"float"};
+    std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
     int timing_repeats = 5;
     std::vector<double> theta_deg, phi_deg{0.0};
     std::optional<LightSpec> light;

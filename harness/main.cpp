@@ -5,11 +5,13 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include "harness/error.h"
 #include "harness/experiment.h"
@@ -39,55 +41,61 @@ void list_heightfields() {
                  "PFM, ... through OpenImageIO)\n";
 }
 
-// Per method and backend: mean error over all rows, and the worst p95.
+// Per method, parameters and backend: mean error over all rows, the worst p95, cost.
 void print_summary(const std::vector<ResultRow>& rows) {
     struct Acc {
-        double sum_mean = 0, worst_p95 = 0, fetches = 0, ns = 0, shadow = 0;
-        int n = 0, failed = 0;
+        double sum_mean = 0, worst_p95 = 0, fetches = 0, ns = 0, ms = 0, shadow = 0;
+        int n = 0, n_ns = 0, n_ms = 0, n_shadow = 0, failed = 0;
     };
-    bool any_shadow = false;
     std::vector<std::string> order;
     std::map<std::string, Acc> acc;
     for (const auto& r : rows) {
         const std::string key = r.method + (r.params.empty() ? "" : " " + r.params) + " [" +
-                                r.backend + "/" + r.precision + "]";
+                                r.backend + "/" +
+                                (r.texture_format.empty() ? r.precision : r.texture_format) + "]";
         if (!acc.count(key)) order.push_back(key);
         Acc& a = acc[key];
         if (r.status != "ok") { ++a.failed; continue; }
         a.sum_mean += r.err.mean;
         a.worst_p95 = std::max(a.worst_p95, r.err.p95);
         a.fetches += r.fetches_mean;
-        a.ns += std::isnan(r.ns_per_sample) ? 0 : r.ns_per_sample;
-        if (!std::isnan(r.shadow_err)) { a.shadow += r.shadow_err; any_shadow = true; }
         ++a.n;
+        if (!std::isnan(r.ns_per_sample)) { a.ns += r.ns_per_sample; ++a.n_ns; }
+        if (!std::isnan(r.ms_per_frame)) { a.ms += r.ms_per_frame; ++a.n_ms; }
+        if (!std::isnan(r.shadow_err)) { a.shadow += r.shadow_err; ++a.n_shadow; }
     }
-    std::cout << std::left << std::setw(44) << "method" << std::right << std::setw(12)
-              << "mean err" << std::setw(12) << "worst p95" << std::setw(10) << "fetches"
-              << std::setw(10) << "ns/smp" << std::setw(8) << "failed"
-              << (any_shadow ? "  shadow err" : "") << "\n";
-    std::cout << std::fixed;
+    auto cell = [](double sum, int n, int prec) {
+        std::ostringstream os;
+        if (n == 0) os << "-"; else os << std::fixed << std::setprecision(prec) << sum / n;
+        return os.str();
+    };
+    std::cout << std::left << std::setw(46) << "method [backend/precision or texture]"
+              << std::right << std::setw(10) << "mean err" << std::setw(11) << "worst p95"
+              << std::setw(9) << "fetches" << std::setw(9) << "ns/smp" << std::setw(10)
+              << "ms/frame" << std::setw(8) << "shadow" << std::setw(8) << "failed" << "\n";
     for (const auto& k : order) {
         const Acc& a = acc[k];
-        const double n = std::max(a.n, 1);
-        std::cout << std::left << std::setw(44) << k << std::right << std::setprecision(3)
-                  << std::setw(12) << a.sum_mean / n << std::setw(12) << a.worst_p95
-                  << std::setprecision(1) << std::setw(10) << a.fetches / n << std::setw(10)
-                  << a.ns / n << std::setw(8) << a.failed;
-        if (any_shadow) std::cout << std::setprecision(3) << std::setw(12) << a.shadow / n;
-        std::cout << "\n";
+        std::cout << std::left << std::setw(46) << k << std::right << std::setw(10)
+                  << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95 * a.n, a.n, 3)
+                  << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(9)
+                  << cell(a.ns, a.n_ns, 1) << std::setw(10) << cell(a.ms, a.n_ms, 2)
+                  << std::setw(8) << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed
+                  << "\n";
     }
-    std::cout << "(texel error: distance in texels between the sampled and the truly visible "
-                 "point, mean over rows; worst p95: the largest per-row 95th percentile;\n"
-                 " ns/smp: single-thread CPU time per sample; shadow err: fraction of samples "
-                 "whose hard shadow is wrong)\n";
+    std::cout << "mean err: texel distance between the sampled and the truly visible point, "
+                 "averaged over rows; worst p95: largest per-row 95th percentile;\n"
+                 "ns/smp: single-thread CPU time per sample; ms/frame: GLSL frame time "
+                 "(llvmpipe); shadow: fraction of samples with a wrong hard shadow\n";
 }
 
 int cmd_run(const std::string& file, std::string out_dir, int threads,
-            const std::vector<std::string>& backends, bool quiet) {
+            const std::vector<std::string>& backends, const std::string& shader_dir, bool quiet) {
     const Experiment ex = load_experiment(file);
     if (out_dir.empty()) out_dir = "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S");
     const int nthreads = threads > 0 ? threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
+    // llvmpipe's rasteriser threads follow --threads unless LP_NUM_THREADS is set already.
+    setenv("LP_NUM_THREADS", std::to_string(nthreads).c_str(), 0);
 
     // Write into a temporary folder, renamed into place only when complete.
     const fs::path final_dir = fs::path(out_dir);
@@ -101,13 +109,15 @@ int cmd_run(const std::string& file, std::string out_dir, int threads,
     const bool tty = isatty(STDERR_FILENO);
     RunOptions opt;
     opt.backends = backends;
+    opt.shader_dir = shader_dir;
     if (!quiet)
         opt.progress = [tty](const std::string& line) {
             if (tty) std::cerr << "\r\033[K" << line << std::flush;
             else std::cerr << line << "\n";
         };
     const auto t0 = std::chrono::steady_clock::now();
-    const auto rows = run_experiment(ex, opt);
+    RunInfo info;
+    const auto rows = run_experiment(ex, opt, &info);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!quiet && tty) std::cerr << "\r\033[K";
 
@@ -116,6 +126,13 @@ int cmd_run(const std::string& file, std::string out_dir, int threads,
     run["experiment_file"] = ex.path;
     run["experiment"] = ex.text;
     run["experiment_name"] = ex.name;
+    if (!info.gl_renderer.empty()) {
+        run["gl_renderer"] = info.gl_renderer;
+        run["gl_version"] = info.gl_version;
+        const char* lp = std::getenv("LP_NUM_THREADS");
+        run["LP_NUM_THREADS"] = lp ? lp : "";
+        if (!shader_dir.empty()) run["shader_dir"] = shader_dir;
+    }
     run["rows"] = rows.size();
     size_t failed = 0;
     for (const auto& r : rows) failed += r.status != "ok";
@@ -155,7 +172,11 @@ int main(int argc, char** argv) {
     run->add_option("--out", out_dir, "results folder (default results/runs/NAME-DATE)");
     run->add_option("--threads", threads, "worker threads (default: all cores)")
         ->check(CLI::Range(1, 1024));
-    run->add_option("--backend", backends, "backends to run, overriding the file (cpu)");
+    run->add_option("--backend", backends, "backends to run, overriding the file (cpu, glsl)");
+    std::string shader_dir;
+    run->add_option("--shader-dir", shader_dir,
+                    "read GLSL from this folder (NAME.frag.glsl, common.glsl) instead of the "
+                    "embedded copies");
     run->add_flag("--quiet", quiet, "no progress or summary");
 
     auto* list = app.add_subcommand("list", "list registered methods or height-field generators");
@@ -170,7 +191,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     try {
-        if (*run) return cmd_run(file, out_dir, threads, backends, quiet);
+        if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet);
         if (*list) {
             if (what == "methods") list_methods(); else list_heightfields();
             return 0;
@@ -179,7 +200,7 @@ int main(int argc, char** argv) {
         std::cerr << "pxh: error: " << e.what() << "\n";
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "pxh: internal error: " << e.what() << "\n";
+        std::cerr << "pxh: error: " << e.what() << "\n";
         return 1;
     }
     return 0;

@@ -11,12 +11,17 @@ namespace pxh {
 
 struct ResultRow {
     std::string method, params, heightfield, backend, precision;
+    std::string texture_format;     // GLSL rows: r32f | r16 | r8
     double scale = 0, bias = 0, theta_deg = 0, phi_deg = 0;
     int samples = 0, width = 0, height = 0;
     ErrorStats err;
     double fetches_mean = NAN, fetches_max = NAN;
     int fetches_bound = 0;          // the method's declared bound for this view
     double ns_per_sample = NAN;     // CPU: median single-thread time per sample
+    double ms_per_frame = NAN;      // GLSL: median wall time of one N x N frame (glFinish)
+    double cpu_diff_max = NAN;      // GLSL: |uv_glsl - uv_cpu_float| in texels, max
+    double cpu_diff_p999 = NAN;     // ... and its 99.9th percentile
+    double decision_mismatch = NAN; // GLSL: samples whose fetch count (layer decision) differs
     double gt_cells_mean = NAN;     // ground-truth cost: cells visited per ray
     double shadow_err = NAN;        // fraction of samples whose hard shadow state is wrong
     double shadow_soft_mae = NAN;   // mean |soft factor - true hard factor|

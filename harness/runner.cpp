@@ -4,9 +4,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
+#include <optional>
 #include <sstream>
 
 #include "harness/error.h"
+#include "harness/glsl_backend.h"
 #include "methods/shadow.h"
 
 namespace pxh {
@@ -113,10 +116,38 @@ ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int h
     return row;
 }
 
-std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt) {
+void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu,
+                   int width, int height) {
+    const size_t n = std::min(glsl.uv.size(), cpu.uv.size());
+    std::vector<double> d;
+    d.reserve(n);
+    long long mismatch = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const Vec2d e = texel_error(glsl.uv[k], cpu.uv[k], width, height);
+        d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
+        mismatch += glsl.fetches[k] != cpu.fetches[k];
+    }
+    if (d.empty()) return;
+    std::sort(d.begin(), d.end());
+    row.cpu_diff_max = d.back();
+    row.cpu_diff_p999 = percentile_sorted(d, 0.999);
+    row.decision_mismatch = double(mismatch);
+}
+
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
+                                      RunInfo* info) {
     const auto& backends = opt.backends.empty() ? ex.backends : opt.backends;
     for (const auto& b : backends)
-        if (b != "cpu") throw InputError("--backend", "unknown backend '" + b + "' (known: cpu)");
+        if (b != "cpu" && b != "glsl")
+            throw InputError("--backend", "unknown backend '" + b + "' (known: cpu, glsl)");
+    std::unique_ptr<GlslBackend> gl;
+    if (std::find(backends.begin(), backends.end(), "glsl") != backends.end()) {
+        gl = std::make_unique<GlslBackend>(GlslOptions{opt.shader_dir, opt.gl_frames});
+        if (info) {
+            info->gl_renderer = gl->renderer();
+            info->gl_version = gl->version();
+        }
+    }
     // Materialise every height field first, so bad input fails before any work.
     std::vector<HeightField> fields;
     for (const auto& spec : ex.heightfields) fields.push_back(make_heightfield(spec));
@@ -144,35 +175,63 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
                                          : Vec3d{};
                 const GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V,
                                                           ex.samples, ex.light ? &L : nullptr);
-                for (const auto& m : ex.methods)
-                    for (const auto& backend : backends)
-                        for (const auto& precision : ex.precisions) {
-                            ResultRow row;
-                            try {
-                                MethodOutput out =
-                                    run_cpu(m, precision, scene, hf, P, ex.timing_repeats);
-                                if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
-                                row = score(out, gt, hf.width, hf.height);
-                            } catch (const std::exception& e) {
-                                row.status = "failed";
-                                row.error = e.what();
+                for (const auto& m : ex.methods) {
+                    std::optional<MethodOutput> cpu_float;  // GLSL agreement reference
+                    auto emit = [&](ResultRow row, const std::string& backend,
+                                    const std::string& precision, const std::string& format) {
+                        row.method = m.method->name;
+                        row.params = m.params.canonical();
+                        row.heightfield = spec.name;
+                        row.backend = backend;
+                        row.precision = precision;
+                        row.texture_format = format;
+                        row.scale = spec.scale;
+                        row.bias = spec.bias;
+                        row.theta_deg = theta;
+                        row.phi_deg = phi;
+                        row.samples = ex.samples;
+                        row.width = hf.width;
+                        row.height = hf.height;
+                        row.fetches_bound = m.method->max_fetches(m.params, scene);
+                        row.gt_cells_mean = gt.cells_mean;
+                        rows.push_back(std::move(row));
+                    };
+                    auto failed = [](const std::exception& e) {
+                        ResultRow row;
+                        row.status = "failed";
+                        row.error = e.what();
+                        return row;
+                    };
+                    for (const auto& backend : backends) {
+                        if (backend == "cpu") {
+                            for (const auto& precision : ex.precisions) {
+                                try {
+                                    MethodOutput out =
+                                        run_cpu(m, precision, scene, hf, P, ex.timing_repeats);
+                                    if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
+                                    emit(score(out, gt, hf.width, hf.height), backend, precision, "");
+                                    if (precision == "float") cpu_float = std::move(out);
+                                } catch (const std::exception& e) {
+                                    emit(failed(e), backend, precision, "");
+                                }
                             }
-                            row.method = m.method->name;
-                            row.params = m.params.canonical();
-                            row.heightfield = spec.name;
-                            row.backend = backend;
-                            row.precision = precision;
-                            row.scale = spec.scale;
-                            row.bias = spec.bias;
-                            row.theta_deg = theta;
-                            row.phi_deg = phi;
-                            row.samples = ex.samples;
-                            row.width = hf.width;
-                            row.height = hf.height;
-                            row.fetches_bound = m.method->max_fetches(m.params, scene);
-                            row.gt_cells_mean = gt.cells_mean;
-                            rows.push_back(std::move(row));
+                            continue;
                         }
+                        for (const auto& format : ex.texture_formats) {
+                            try {
+                                const MethodOutput out = gl->run(m, scene, hf, ex.samples, format,
+                                                                 ex.light ? &*ex.light : nullptr);
+                                ResultRow row = score(out, gt, hf.width, hf.height);
+                                row.ms_per_frame = out.ms_per_frame;
+                                if (!cpu_float) cpu_float = run_cpu(m, "float", scene, hf, P, 0);
+                                add_agreement(row, out, *cpu_float, hf.width, hf.height);
+                                emit(std::move(row), backend, "float", format);
+                            } catch (const std::exception& e) {
+                                emit(failed(e), backend, "float", format);
+                            }
+                        }
+                    }
+                }
             }
     }
     return rows;

@@ -13,6 +13,7 @@ namespace pxh {
 struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
+    double ms_per_frame = NAN;  // GLSL only
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
     double ns_per_sample = NAN;
 };
@@ -30,11 +31,23 @@ void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& p
 // Scores one method output against the truth.
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height);
 
+// GLSL vs CPU float on the same samples: max and p99.9 |uv difference| in texels, and the
+// number of samples whose fetch count (the layer/step decision) differs.
+void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
+                   int width, int height);
+
 struct RunOptions {
     std::vector<std::string> backends;  // overrides the experiment's list when non-empty
+    std::string shader_dir;             // GLSL sources override (development)
+    int gl_frames = 5;                  // timed GLSL frames per row
     std::function<void(const std::string&)> progress;  // one status line per step
 };
 
-std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt);
+struct RunInfo {
+    std::string gl_renderer, gl_version;  // when the GLSL backend ran
+};
+
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
+                                      RunInfo* info = nullptr);
 
 }  // namespace pxh

@@ -48,6 +48,13 @@ T layer_count(const LayerConfig& c, const Scene<T>& sc) {
     return T(c.n_max) * (T(1) - a) + T(c.n_min) * a;
 }
 
+inline GlUniforms layer_uniforms(const LayerConfig& c) {
+    return {{"p_layers_adaptive", c.adaptive ? 1.0 : 0.0},
+            {"p_layers", c.n},
+            {"p_layers_min", c.n_min},
+            {"p_layers_max", c.n_max}};
+}
+
 // Bound on the layer index: ceil(n) (layers 0..ceil(n), so ceil(n) + 1 fetches).
 inline int max_layer_index(const LayerConfig& c, const Scene<double>& sc) {
     // Evaluate in float and double and take the larger ceil, so the bound holds for both.

@@ -7,10 +7,13 @@
 //   static int max_fetches(const Config&, const Scene<double>&);   declared bound per sample
 //   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
 //                                             HeightSampler<T>&, Vec2<T> P);
+//   static GlUniforms gl_uniforms(const Config&);       the GLSL twin's p_* uniforms
+// and methods/NAME/NAME.frag.glsl defines vec2 pxh_method(vec2 P) (see methods/common.glsl).
 #pragma once
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "harness/heightfield.h"
@@ -34,6 +37,8 @@ Scene<T> scene_cast(const Scene<double>& s) {
     return {T(s.scale), T(s.bias), Vec3<T>(s.V), s.width, s.height};
 }
 
+using GlUniforms = std::vector<std::pair<std::string, double>>;
+
 template <typename T>
 using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const HeightField&, const Vec2<T>* P,
                          size_t n, Vec2<T>* uv, int* fetches);
@@ -47,6 +52,7 @@ struct MethodInfo {
     int order = 100;             // listing order
     void (*check)(const ParamValues&, const std::string& where) = nullptr;
     int (*max_fetches)(const ParamValues&, const Scene<double>&) = nullptr;
+    GlUniforms (*gl_uniforms)(const ParamValues&) = nullptr;
     BatchFn<float> run_float = nullptr;
     BatchFn<double> run_double = nullptr;
 };
@@ -69,6 +75,7 @@ MethodInfo make_method_info() {
     info.max_fetches = [](const ParamValues& p, const Scene<double>& sc) {
         return M::max_fetches(M::configure(p, ""), sc);
     };
+    info.gl_uniforms = [](const ParamValues& p) { return M::gl_uniforms(M::configure(p, "")); };
     info.run_float = &run_method_batch<M, float>;
     info.run_double = &run_method_batch<M, double>;
     return info;

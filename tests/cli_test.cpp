@@ -152,6 +152,39 @@ TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
     EXPECT_NE(missing.err.find("nope.toml: no such file"), std::string::npos);
 }
 
+// GLSL rows beside CPU rows; a broken shader fails only its own rows, with the driver's log.
+TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
+    std::string text = kSmall;
+    text.replace(text.find("timing_repeats = 1"), 18, "timing_repeats = 1\nbackends = [\"cpu\", \"glsl\"]");
+    const auto exp = write("gl.toml", text);
+    std::filesystem::create_directories(dir / "shaders");
+    write("shaders/pom.frag.glsl", "vec2 pxh_method(vec2 P) { return undefined_thing; }\n");
+    const Result r = pxh("run " + exp + " --quiet --shader-dir " + (dir / "shaders").string() +
+                         " --out " + (dir / "res").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string csv = slurp(dir / "res" / "results.csv");
+    std::istringstream lines(csv);
+    std::string line;
+    int glsl_ok = 0, glsl_failed = 0, cpu = 0;
+    while (std::getline(lines, line)) {
+        if (line.find(",glsl,") != std::string::npos) {
+            if (line.find(",failed,") != std::string::npos) {
+                ++glsl_failed;
+                EXPECT_NE(line.find("method 'pom'"), std::string::npos) << line;
+                EXPECT_NE(line.find("undefined_thing"), std::string::npos) << line;
+            } else {
+                ++glsl_ok;
+            }
+        } else if (line.find(",cpu,") != std::string::npos) {
+            ++cpu;
+        }
+    }
+    EXPECT_EQ(cpu, 36);
+    EXPECT_EQ(glsl_failed, 24);  // both pom settings x 2 fields x 2 phi x 3 theta
+    EXPECT_EQ(glsl_ok, 12);      // parallax
+    EXPECT_NE(slurp(dir / "res" / "run.json").find("llvmpipe"), std::string::npos);
+}
+
 TEST_F(Cli, ListShowsMethodsAndGenerators) {
     const Result m = pxh("list methods");
     ASSERT_EQ(m.status, 0);

@@ -19,6 +19,9 @@ struct ParallaxClamped {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_or("max_offset", 0.0), !p.has("max_offset")};
     }
+    static GlUniforms gl_uniforms(const Config& c) {
+        return {{"p_max_offset", c.from_scale ? -1.0 : c.max_offset}};
+    }
     static int max_fetches(const Config&, const Scene<double>&) { return 1; }
     template <typename T>
     static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {

@@ -20,6 +20,7 @@ struct PixelStep {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("max_steps")};
     }
+    static GlUniforms gl_uniforms(const Config& c) { return {{"p_max_steps", c.max_steps}}; }
     // Steps needed to rise through the slab: s W tan(theta), plus one for rounding.
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         const double vxy = std::hypot(sc.V.x, sc.V.y);

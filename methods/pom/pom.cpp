@@ -16,6 +16,7 @@ struct Pom {
     static Config configure(const ParamValues& p, const std::string& where) {
         return layer_config(p, where);
     }
+    static GlUniforms gl_uniforms(const Config& c) { return layer_uniforms(c); }
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         return max_layer_index(c, sc) + 1;
     }

@@ -20,6 +20,11 @@ struct Relief {
     static Config configure(const ParamValues& p, const std::string& where) {
         return {layer_config(p, where), p.get_int("binary_steps")};
     }
+    static GlUniforms gl_uniforms(const Config& c) {
+        GlUniforms u = layer_uniforms(c.layers);
+        u.emplace_back("p_binary_steps", c.binary_steps);
+        return u;
+    }
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         return max_layer_index(c.layers, sc) + 1 + c.binary_steps;
     }

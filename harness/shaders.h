@@ -1,0 +1,19 @@
+// GLSL sources: embedded at build time, overridable from a folder for development.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace pxh {
+
+struct EmbeddedShader {
+    const char* path;  // relative to the source tree, e.g. "methods/pom/pom.frag.glsl"
+    const char* source;
+};
+
+const std::vector<EmbeddedShader>& embedded_shaders();
+
+// The source of `path`: from override_dir (as DIR/path or DIR/basename) when that file
+// exists, else the embedded copy. Throws std::runtime_error naming the path when neither has it.
+std::string shader_source(const std::string& path, const std::string& override_dir);
+
+}  // namespace pxh

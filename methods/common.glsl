@@ -1,0 +1,106 @@
+// pxh common GLSL: uniforms, counted height fetches, the shared layer search, the shadow
+// march, and main(). The harness prepends "#version 450 core" and the method's file follows.
+// Every function mirrors the CPU reference's operation order (methods/*.h, methods/*/*.cpp).
+
+layout(location = 0) out vec4 pxh_out_uv;      // uv.x, uv.y, fetches, 0
+layout(location = 1) out vec4 pxh_out_shadow;  // hard, soft light factor (1 lit, 0 shadowed)
+
+uniform sampler2D u_height;  // GL_LINEAR + GL_REPEAT
+uniform float u_scale;       // s
+uniform float u_bias;        // b
+uniform vec3 u_view;         // V, toward the eye
+uniform ivec2 u_size;        // W, H
+uniform float u_samples;     // N
+uniform int u_light_on;
+uniform vec3 u_light;        // L, toward the light
+uniform float u_shadow_layers_min;
+uniform float u_shadow_layers_max;
+
+int pxh_fetches = 0;
+
+float pxh_height(vec2 uv) {
+    pxh_fetches += 1;
+    return textureLod(u_height, uv, 0.0).r;
+}
+float pxh_z(vec2 uv) { return u_scale * (pxh_height(uv) - u_bias); }
+float pxh_z_top() { return u_scale * (1.0 - u_bias); }
+float pxh_z_bot() { return -u_scale * u_bias; }
+
+// ---- Layer search (methods/layered.h) ----
+uniform float p_layers_adaptive;  // 1: n = mix(n_max, n_min, |V.z|); 0: n = p_layers
+uniform float p_layers;
+uniform float p_layers_min;
+uniform float p_layers_max;
+
+struct PxhLayers {
+    float n;
+    vec2 uv0, duv;
+    float z0, dz;
+    int k;
+    float g_prev, g_k;
+    bool crossed;
+};
+
+float pxh_layer_count() {
+    if (p_layers_adaptive == 0.0) return p_layers;
+    float a = abs(u_view.z);
+    return p_layers_max * (1.0 - a) + p_layers_min * a;
+}
+
+vec2 pxh_uv_at(PxhLayers r, float layer) { return r.uv0 + r.duv * layer; }
+float pxh_z_at(PxhLayers r, float layer) { return r.z0 - r.dz * layer; }
+
+PxhLayers pxh_layer_search(vec2 P) {
+    PxhLayers r;
+    r.n = pxh_layer_count();
+    vec2 dir = u_view.xy * (1.0 / u_view.z);
+    r.dz = u_scale / r.n;
+    r.duv = dir * (-r.dz);
+    r.z0 = pxh_z_top();
+    r.uv0 = P + dir * r.z0;
+    int kmax = int(ceil(r.n));
+    r.g_prev = 0.0;
+    r.g_k = r.z0 - pxh_z(r.uv0);
+    r.k = 0;
+    while (r.g_k > 0.0 && r.k < kmax) {
+        r.k += 1;
+        r.g_prev = r.g_k;
+        r.g_k = pxh_z_at(r, float(r.k)) - pxh_z(pxh_uv_at(r, float(r.k)));
+    }
+    r.crossed = !(r.g_k > 0.0);
+    return r;
+}
+
+// ---- Self-shadowing (methods/shadow.h): hard and soft light factors at uv ----
+vec2 pxh_shadow(vec2 uv) {
+    vec3 L = u_light;
+    if (!(L.z > 0.0)) return vec2(0.0, 0.0);
+    float z0 = pxh_z(uv);
+    float a = abs(L.z);
+    float n = u_shadow_layers_max * (1.0 - a) + u_shadow_layers_min * a;
+    float dz = (pxh_z_top() - z0) / n;
+    vec2 duv = L.xy * (dz / L.z);
+    float worst = 0.0;
+    bool below = false;
+    int count = int(ceil(n));
+    for (int i = 1; i < count; ++i) {
+        float zi = z0 + float(i) * dz;
+        float surf = pxh_z(uv + duv * float(i));
+        if (zi < surf) {
+            below = true;
+            worst = max(worst, (surf - zi) / u_scale * (1.0 - float(i) / n));
+        }
+    }
+    return below ? vec2(0.0, 1.0 - worst) : vec2(1.0, 1.0);
+}
+
+vec2 pxh_method(vec2 P);  // the method's file defines it
+
+void main() {
+    vec2 P = gl_FragCoord.xy / u_samples;
+    vec2 uv = pxh_method(P);
+    float fetches = float(pxh_fetches);
+    vec2 shadow = u_light_on != 0 ? pxh_shadow(uv) : vec2(1.0);
+    pxh_out_uv = vec4(uv, fetches, 0.0);
+    pxh_out_shadow = vec4(shadow, 0.0, 0.0);
+}

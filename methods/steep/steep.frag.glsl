@@ -1,0 +1,5 @@
+// McGuire 2005; tutorial "Steep Parallax Mapping": uv_k.
+vec2 pxh_method(vec2 P) {
+    PxhLayers r = pxh_layer_search(P);
+    return pxh_uv_at(r, float(r.k));
+}
