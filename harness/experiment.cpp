@@ -237,7 +237,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     ex.name = fs::path(path).stem().string();
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
-                "texture_format",
+                "texture_format", "ground_truth",
                 "views", "heightfields", "methods", "light"},
                path, "the experiment");
     if (auto n = root.get("name")) ex.name = get_string(*n, path, "name");
@@ -251,6 +251,12 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
             if (b != "cpu" && b != "glsl")
                 throw InputError(where_of(path, *n),
                                  "unknown backend '" + b + "' (known: cpu, glsl)");
+    }
+    if (auto n = root.get("ground_truth")) {
+        ex.ground_truth = get_string(*n, path, "ground_truth");
+        if (ex.ground_truth != "exact" && ex.ground_truth != "embree")
+            throw InputError(where_of(path, *n), "unknown ground_truth '" + ex.ground_truth +
+                                                     "' (known: exact, embree)");
     }
     if (auto n = root.get("texture_format")) {
         ex.texture_formats = get_strings(*n, path, "texture_format");

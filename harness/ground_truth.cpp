@@ -22,11 +22,40 @@ Vec3d view_vector(double theta_deg, double phi_deg) {
 
 ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
     : hf_(hf), s_(scale), b_(bias), cell_max_(hf.texels.size()) {
-    for (int j = 0; j < hf.height; ++j)
-        for (int i = 0; i < hf.width; ++i)
-            cell_max_[size_t(j) * hf.width + i] =
+    const int W = hf.width, H = hf.height;
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i)
+            cell_max_[size_t(j) * W + i] =
                 std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j), hf.wrapped(i, j + 1),
                           hf.wrapped(i + 1, j + 1)});
+    level_max_.push_back(cell_max_);
+    level_w_.push_back(W);
+    level_h_.push_back(H);
+    while (level_w_.back() > 1 || level_h_.back() > 1) {
+        const int pw = level_w_.back(), ph = level_h_.back();
+        const int w = (pw + 1) / 2, h = (ph + 1) / 2;
+        const auto& prev = level_max_.back();
+        std::vector<float> next(size_t(w) * h);
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) {
+                float m = prev[size_t(2 * j) * pw + 2 * i];
+                if (2 * i + 1 < pw) m = std::max(m, prev[size_t(2 * j) * pw + 2 * i + 1]);
+                if (2 * j + 1 < ph) {
+                    m = std::max(m, prev[size_t(2 * j + 1) * pw + 2 * i]);
+                    if (2 * i + 1 < pw) m = std::max(m, prev[size_t(2 * j + 1) * pw + 2 * i + 1]);
+                }
+                next[size_t(j) * w + i] = m;
+            }
+        level_max_.push_back(std::move(next));
+        level_w_.push_back(w);
+        level_h_.push_back(h);
+    }
+    // The same maxima as surface heights z = s (max - b), ready for the ray test.
+    for (const auto& lm : level_max_) {
+        std::vector<double> z(lm.size());
+        for (size_t k = 0; k < lm.size(); ++k) z[k] = scale * (double(lm[k]) - bias);
+        level_z_.push_back(std::move(z));
+    }
 }
 
 namespace {
@@ -65,54 +94,173 @@ double first_root(double c0, double c1, double c2, double len) {
     return best;
 }
 
+int64_t floor_div(int64_t a, int64_t n) {
+    int64_t q = a / n;
+    return (a % n != 0 && ((a < 0) != (n < 0))) ? q - 1 : q;
+}
+
 }  // namespace
 
-TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
-    const int W = hf_.width, H = hf_.height;
-    const double zt = z_top();
-    // Entry point E at z_top; the ray is E - tau V, tau in [0, tau_max] (tau_max: z_bot).
-    const double ex = P.x + V.x / V.z * zt, ey = P.y + V.y / V.z * zt;
-    const double tau_max = s_ / V.z;
-    // Grid coordinates: X = u W - 0.5, cell i spans X in [i, i + 1].
-    const double X0 = ex * W - 0.5, Y0 = ey * H - 0.5;
-    const double dX = -V.x * W, dY = -V.y * H;
-    int64_t ci = int64_t(std::floor(X0)), cj = int64_t(std::floor(Y0));
-    const int step_i = dX > 0 ? 1 : -1, step_j = dY > 0 ? 1 : -1;
-    const double inf = std::numeric_limits<double>::infinity();
-    const double tdx = dX != 0 ? 1.0 / std::abs(dX) : inf, tdy = dY != 0 ? 1.0 / std::abs(dY) : inf;
-    double tmx = dX > 0 ? (double(ci) + 1 - X0) / dX : (dX < 0 ? (X0 - double(ci)) / -dX : inf);
-    double tmy = dY > 0 ? (double(cj) + 1 - Y0) / dY : (dY < 0 ? (Y0 - double(cj)) / -dY : inf);
+// The eye ray: E - tau V from the slab top (tau = 0) to the slab bottom (tau_max), in grid
+// coordinates X = u W - 0.5 (cell i spans X in [i, i + 1]).
+struct ExactTracer::Ray {
+    double ex, ey, zt, vx, vy, vz, tau_max;
+    double X0, Y0, dX, dY, inv_dX, inv_dY;
+    int sx, sy;
+    // Closed-form parameters where the ray crosses grid line k (x) or l (y).
+    double tx(int64_t k) const { return (double(k) - X0) * inv_dX; }
+    double ty(int64_t l) const { return (double(l) - Y0) * inv_dY; }
+    double enter(int64_t ci, int64_t cj) const {
+        double t = 0;
+        if (dX != 0) t = std::max(t, tx(sx > 0 ? ci : ci + 1));
+        if (dY != 0) t = std::max(t, ty(sy > 0 ? cj : cj + 1));
+        return t;
+    }
+    // Exit parameters of the box [x0, x1) x [y0, y1) of cells.
+    double exit_x(int64_t x0, int64_t x1) const {
+        return dX != 0 ? tx(sx > 0 ? x1 : x0) : std::numeric_limits<double>::infinity();
+    }
+    double exit_y(int64_t y0, int64_t y1) const {
+        return dY != 0 ? ty(sy > 0 ? y1 : y0) : std::numeric_limits<double>::infinity();
+    }
+};
 
-    TruthHit hit;
-    double tau_in = 0;
-    auto make_hit = [&](double tau) {
-        hit.uv = {ex - tau * V.x, ey - tau * V.y};
-        hit.z = zt - tau * V.z;
-        return hit;
-    };
+ExactTracer::Ray ExactTracer::make_ray(Vec2d P, Vec3d V) const {
+    Ray r;
+    r.zt = z_top();
+    r.vx = V.x;
+    r.vy = V.y;
+    r.vz = V.z;
+    r.ex = P.x + V.x / V.z * r.zt;
+    r.ey = P.y + V.y / V.z * r.zt;
+    r.tau_max = s_ / V.z;
+    r.X0 = r.ex * hf_.width - 0.5;
+    r.Y0 = r.ey * hf_.height - 0.5;
+    r.dX = -V.x * hf_.width;
+    r.dY = -V.y * hf_.height;
+    r.inv_dX = r.dX != 0 ? 1 / r.dX : 0;
+    r.inv_dY = r.dY != 0 ? 1 / r.dY : 0;
+    r.sx = r.dX > 0 ? 1 : -1;
+    r.sy = r.dY > 0 ? 1 : -1;
+    return r;
+}
+
+TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
+    TruthHit h;
+    h.uv = {r.ex - tau * r.vx, r.ey - tau * r.vy};
+    h.z = r.zt - tau * r.vz;
+    h.cells = cells;
+    return h;
+}
+
+double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const {
+    const int W = hf_.width, H = hf_.height;
+    const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
+    if (r.zt - tau_out * r.vz > s_ * (double(cell_max_[size_t(wj) * W + wi]) - b_)) return -1;
+    const double tau_in = r.enter(ci, cj);
+    const double h00 = hf_.at(int(wi), int(wj));
+    const double h10 = hf_.wrapped(wi + 1, wj), h01 = hf_.wrapped(wi, wj + 1);
+    const double h11 = hf_.wrapped(wi + 1, wj + 1);
+    // Local parameter t = tau - tau_in; fractional cell position is linear in t.
+    const double fx0 = r.X0 + tau_in * r.dX - double(ci), fy0 = r.Y0 + tau_in * r.dY - double(cj);
+    const double A = h10 - h00, B = h01 - h00, C = h00 - h10 - h01 + h11;
+    const double h0 = h00 + A * fx0 + B * fy0 + C * fx0 * fy0;
+    const double h1 = A * r.dX + B * r.dY + C * (fx0 * r.dY + fy0 * r.dX);
+    const double h2 = C * r.dX * r.dY;
+    const double c0 = (r.zt - tau_in * r.vz) - s_ * (h0 - b_);
+    if (c0 <= 0) return tau_in;
+    const double t = first_root(c0, -r.vz - s_ * h1, -s_ * h2, tau_out - tau_in);
+    return t >= 0 ? tau_in + t : -1;
+}
+
+TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const {
+    const Ray r = make_ray(P, V);
+    int64_t ci = int64_t(std::floor(r.X0)), cj = int64_t(std::floor(r.Y0));
+    for (int cells = 1;; ++cells) {
+        const double ex = r.exit_x(ci, ci + 1), ey = r.exit_y(cj, cj + 1);
+        const double tau_out = std::min({ex, ey, r.tau_max});
+        const double t = solve_cell(r, ci, cj, tau_out);
+        if (t >= 0) return hit_at(r, t, cells);
+        if (tau_out >= r.tau_max) return hit_at(r, r.tau_max, cells);  // z_bot: on or below
+        if (ex <= ey) ci += r.sx; else cj += r.sy;
+    }
+}
+
+TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
+    const Ray r = make_ray(P, V);
+    const int W = hf_.width, H = hf_.height;
+    const int top = int(level_max_.size()) - 1;
+    const double inf = std::numeric_limits<double>::infinity();
+    const double inv_vz = 1 / r.vz;
+    const bool has_x = r.dX != 0, has_y = r.dY != 0;
+    // The current cell as tile (ti, tj) and tile-local (li, lj), kept without divisions;
+    // (ox, oy) is the ray's start in the current tile's local grid coordinates.
+    const int64_t ci0 = int64_t(std::floor(r.X0)), cj0 = int64_t(std::floor(r.Y0));
+    int64_t ti = floor_div(ci0, W), tj = floor_div(cj0, H);
+    int li = int(ci0 - ti * W), lj = int(cj0 - tj * H);
+    double ox = r.X0 - double(ti * W), oy = r.Y0 - double(tj * H);
+    const double* level_z[64];
+    int level_w[64];
+    for (int l = 0; l <= top; ++l) {
+        level_z[l] = level_z_[l].data();
+        level_w[l] = level_w_[l];
+    }
+    // Start at the level whose blocks are about half the ray's horizontal travel (in
+    // cells): coarser blocks hold most of the ray and their test rarely skips anything.
+    const double travel = r.tau_max * std::max(std::abs(r.dX), std::abs(r.dY));
+    int level = std::clamp(int(std::ceil(std::log2(std::max(travel, 1.0)))) - 1, 0, top);
+    int steps = 0;
+    double tau_cur = 0;  // the ray's parameter at the current cell
     for (;;) {
-        ++hit.cells;
-        const double tau_out = std::min({tmx, tmy, tau_max});
-        const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
-        const double z_out = zt - tau_out * V.z;  // the ray's lowest point in this cell
-        if (z_out <= s_ * (double(cell_max_[size_t(wj) * W + wi]) - b_)) {
-            const double h00 = hf_.at(int(wi), int(wj));
-            const double h10 = hf_.wrapped(wi + 1, wj), h01 = hf_.wrapped(wi, wj + 1);
-            const double h11 = hf_.wrapped(wi + 1, wj + 1);
-            // Local parameter t = tau - tau_in; fractional cell position is linear in t.
-            const double fx0 = X0 + tau_in * dX - double(ci), fy0 = Y0 + tau_in * dY - double(cj);
-            const double A = h10 - h00, B = h01 - h00, C = h00 - h10 - h01 + h11;
-            const double h0 = h00 + A * fx0 + B * fy0 + C * fx0 * fy0;
-            const double h1 = A * dX + B * dY + C * (fx0 * dY + fy0 * dX);
-            const double h2 = C * dX * dY;
-            const double c0 = (zt - tau_in * V.z) - s_ * (h0 - b_);
-            if (c0 <= 0) return make_hit(tau_in);
-            const double t = first_root(c0, -V.z - s_ * h1, -s_ * h2, tau_out - tau_in);
-            if (t >= 0) return make_hit(tau_in + t);
+        ++steps;
+        const int bi = li >> level, bj = lj >> level;
+        const int lx0 = bi << level, ly0 = bj << level;
+        const int lx1 = std::min(lx0 + (1 << level), W), ly1 = std::min(ly0 + (1 << level), H);
+        const double ex = has_x ? (double(r.sx > 0 ? lx1 : lx0) - ox) * r.inv_dX : inf;
+        const double ey = has_y ? (double(r.sy > 0 ? ly1 : ly0) - oy) * r.inv_dY : inf;
+        const double tau_out = std::min(std::min(ex, ey), r.tau_max);
+        const double z_block = level_z[level][size_t(bj) * size_t(level_w[level]) + size_t(bi)];
+        if (r.zt - tau_out * r.vz <= z_block) {
+            if (level > 0) {
+                // The surface may reach the ray in this block, but not before the ray has come
+                // down to the block's maximum: move there, then look closer.
+                const double t_cross = (r.zt - z_block) * inv_vz;
+                if (t_cross > tau_cur) {
+                    tau_cur = t_cross;
+                    li = std::clamp(int(std::floor(ox + t_cross * r.dX)), lx0, lx1 - 1);
+                    lj = std::clamp(int(std::floor(oy + t_cross * r.dY)), ly0, ly1 - 1);
+                }
+                --level;
+                continue;
+            }
+            const double t = solve_cell(r, ti * W + li, tj * H + lj, tau_out);
+            if (t >= 0) return hit_at(r, t, steps);
         }
-        if (tau_out >= tau_max) return make_hit(tau_max);  // at z_bot: on or below any surface
-        tau_in = tau_out;
-        if (tmx <= tmy) { ci += step_i; tmx += tdx; } else { cj += step_j; tmy += tdy; }
+        if (tau_out >= r.tau_max) return hit_at(r, r.tau_max, steps);
+        tau_cur = tau_out;
+        // Step into the neighbouring cell across the block's exit face (the naive DDA's
+        // choice on a tie).
+        int nli = li, nlj = lj;
+        if (ex <= ey) {
+            nli = r.sx > 0 ? lx1 : lx0 - 1;
+            if (level > 0) nlj = std::clamp(int(std::floor(oy + ex * r.dY)), ly0, ly1 - 1);
+        } else {
+            nlj = r.sy > 0 ? ly1 : ly0 - 1;
+            if (level > 0) nli = std::clamp(int(std::floor(ox + ey * r.dX)), lx0, lx1 - 1);
+        }
+        // Coarser levels are worth a test only once the ray has left their block (inside the
+        // same parent, the parent's test would fail again): the parents differ up to the
+        // highest bit in which the old and new cell indices differ.
+        const unsigned diff = unsigned(nli ^ li) | unsigned(nlj ^ lj);
+        li = nli;
+        lj = nlj;
+        bool new_tile = false;
+        if (li >= W) { li -= W; ++ti; ox -= W; new_tile = true; }
+        else if (li < 0) { li += W; --ti; ox += W; new_tile = true; }
+        if (lj >= H) { lj -= H; ++tj; oy -= H; new_tile = true; }
+        else if (lj < 0) { lj += H; --tj; oy += H; new_tile = true; }
+        if (new_tile) level = top;
+        else if (diff) level = std::max(level, std::min(31 - __builtin_clz(diff), top));
     }
 }
 

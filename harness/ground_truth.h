@@ -24,17 +24,36 @@ struct TruthHit {
 class ExactTracer {
   public:
     ExactTracer(const HeightField& hf, double scale, double bias);
+    // First hit from the eye, accelerated by a maximum mipmap over cell corners (Tevs, Ihrke
+    // and Seidel, I3D 2008: a bilinear patch's maximum lies at its corners, so block maxima
+    // bound the surface exactly). Same answer as trace_naive to rounding (tested: within
+    // 1e-9 texel on every ray): both solve the same cells with the same closed-form cell
+    // parameters; the hierarchy only skips cells whose maximum lies below the ray.
     TruthHit trace(Vec2d P, Vec3d V) const;
+    // The reference: a per-cell 2D DDA testing every cell the ray crosses.
+    TruthHit trace_naive(Vec2d P, Vec3d V) const;
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
     bool occluded(Vec2d uv, double z, Vec3d L) const;
     double z_top() const { return s_ * (1 - b_); }
     double z_bot() const { return -s_ * b_; }
+    int levels() const { return int(level_max_.size()); }
 
   private:
+    struct Ray;
+    Ray make_ray(Vec2d P, Vec3d V) const;
+    // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
+    double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
+    TruthHit hit_at(const Ray& r, double tau, int cells) const;
+
     const HeightField& hf_;
     double s_, b_;
     std::vector<float> cell_max_;  // max of the 4 corners of cell (i, j), i, j in [0, W), [0, H)
+    // level_max_[l]: max over tile-local blocks of 2^l x 2^l cells (level 0 = cell_max_);
+    // blocks at the tile's right/top edges are partial. The last level is one block.
+    std::vector<std::vector<float>> level_max_;
+    std::vector<std::vector<double>> level_z_;  // s (level_max_ - b)
+    std::vector<int> level_w_, level_h_;
 };
 
 struct GroundTruth {

@@ -13,6 +13,7 @@
 #include <map>
 #include <sstream>
 
+#include "harness/bench.h"
 #include "harness/error.h"
 #include "harness/experiment.h"
 #include "harness/provenance.h"
@@ -185,6 +186,22 @@ int main(int argc, char** argv) {
         ->required()
         ->check(CLI::IsMember({"methods", "heightfields"}));
 
+    auto* bench = app.add_subcommand(
+        "bench", "ground-truth throughput: exact tracer vs Embree on the same rays (medians)");
+    BenchOptions bo;
+    bench->add_option("--sizes", bo.sizes, "height field sizes (default 512 2048)")
+        ->check(CLI::Range(1, 16384));
+    bench->add_option("--theta", bo.thetas, "view angles in degrees (default 60 85)")
+        ->check(CLI::Range(0.0, 89.999));
+    bench->add_option("--phi", bo.phi, "azimuth in degrees (default 20)");
+    bench->add_option("--field", bo.field, "generator (default fbm)");
+    bench->add_option("--samples", bo.samples, "N: N x N rays (default 512)")
+        ->check(CLI::Range(1, 8192));
+    bench->add_option("--repeats", bo.repeats, "timed repeats (default 5)")->check(CLI::Range(1, 1000));
+    bench->add_option("--threads", bo.threads, "threads (default 2)")->check(CLI::Range(1, 1024));
+    bench->add_flag("--naive", bo.naive, "also time the per-cell DDA");
+    bench->add_option("--out", bo.out, "JSON output (default results/runs/bench-DATE.json)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -192,6 +209,7 @@ int main(int argc, char** argv) {
     }
     try {
         if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet);
+        if (*bench) return run_bench(bo);
         if (*list) {
             if (what == "methods") list_methods(); else list_heightfields();
             return 0;

@@ -22,7 +22,12 @@ struct ResultRow {
     double cpu_diff_max = NAN;      // GLSL: |uv_glsl - uv_cpu_float| in texels, max
     double cpu_diff_p999 = NAN;     // ... and its 99.9th percentile
     double decision_mismatch = NAN; // GLSL: samples whose fetch count (layer decision) differs
-    double gt_cells_mean = NAN;     // ground-truth cost: cells visited per ray
+    double gt_cells_mean = NAN;     // ground-truth cost: tracer steps per ray
+    std::string ground_truth;       // exact | embree: the reference of the err_* columns
+    double gt_agree_p50 = NAN;      // |hit_exact - hit_embree| in texels over the samples:
+    double gt_agree_p99 = NAN;      //   median, p99, max and fraction > 0.5 texel (the
+    double gt_agree_max = NAN;      //   reference's own uncertainty for this field and view)
+    double gt_agree_frac_gt_0_5 = NAN;
     double shadow_err = NAN;        // fraction of samples whose hard shadow state is wrong
     double shadow_soft_mae = NAN;   // mean |soft factor - true hard factor|
     std::string status = "ok";      // ok | failed

@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "harness/embree_truth.h"
 #include "harness/error.h"
 #include "harness/glsl_backend.h"
 #include "methods/shadow.h"
@@ -159,6 +160,7 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     for (size_t h = 0; h < fields.size(); ++h) {
         const HeightField& hf = fields[h];
         const HeightfieldSpec& spec = ex.heightfields[h];
+        const EmbreeTracer embree(hf, spec.scale, spec.bias);
         for (double phi : ex.phi_deg)
             for (double theta : ex.theta_deg) {
                 ++step;
@@ -173,8 +175,17 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
                                     hf.height};
                 const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg)
                                          : Vec3d{};
-                const GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V,
-                                                          ex.samples, ex.light ? &L : nullptr);
+                GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V,
+                                                    ex.samples, ex.light ? &L : nullptr);
+                // Both references on the same rays; their disagreement goes on every row.
+                std::vector<Vec2d> embree_uv = embree.trace(P, scene.V);
+                std::vector<double> gap(P.size());
+                for (size_t k = 0; k < P.size(); ++k) {
+                    const Vec2d e = texel_error(embree_uv[k], gt.uv[k], hf.width, hf.height);
+                    gap[k] = std::hypot(e.x, e.y);
+                }
+                const ErrorStats agree = error_stats(gap);
+                if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
                 for (const auto& m : ex.methods) {
                     std::optional<MethodOutput> cpu_float;  // GLSL agreement reference
                     auto emit = [&](ResultRow row, const std::string& backend,
@@ -194,6 +205,11 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
                         row.height = hf.height;
                         row.fetches_bound = m.method->max_fetches(m.params, scene);
                         row.gt_cells_mean = gt.cells_mean;
+                        row.ground_truth = ex.ground_truth;
+                        row.gt_agree_p50 = agree.p50;
+                        row.gt_agree_p99 = agree.p99;
+                        row.gt_agree_max = agree.max;
+                        row.gt_agree_frac_gt_0_5 = agree.frac_gt_0_5;
                         rows.push_back(std::move(row));
                     };
                     auto failed = [](const std::exception& e) {

@@ -114,6 +114,47 @@ TEST_F(Cli, ThreadCountDoesNotChangeNumbers) {
     EXPECT_EQ(a, b);
 }
 
+// ground_truth = "embree" measures against Embree's hits: numbers move by about the
+// references' disagreement, which both runs record identically.
+TEST_F(Cli, EmbreeGroundTruthSelectsTheReference) {
+    std::string text = kSmall;
+    const auto exact = write("exact.toml", text);
+    text.replace(text.find("samples = 24"), 12, "samples = 24\nground_truth = \"embree\"");
+    const auto embree = write("embree.toml", text);
+    ASSERT_EQ(pxh("run " + exact + " --quiet --out " + (dir / "a").string()).status, 0);
+    ASSERT_EQ(pxh("run " + embree + " --quiet --out " + (dir / "b").string()).status, 0);
+    auto column = [&](const fs::path& csv, const std::string& name) {
+        std::istringstream in(slurp(csv));
+        std::string header, line;
+        std::getline(in, header);
+        int idx = 0, col = -1;
+        std::istringstream hs(header);
+        for (std::string c; std::getline(hs, c, ','); ++idx)
+            if (c == name) col = idx;
+        std::vector<std::string> out;
+        while (std::getline(in, line)) {
+            std::istringstream ls(line);
+            std::string c;
+            for (int i = 0; i <= col; ++i) std::getline(ls, c, ',');
+            out.push_back(c);
+        }
+        return out;
+    };
+    const auto ea = column(dir / "a" / "results.csv", "err_mean");
+    const auto eb = column(dir / "b" / "results.csv", "err_mean");
+    const auto ga = column(dir / "a" / "results.csv", "gt_agree_p99");
+    const auto gb = column(dir / "b" / "results.csv", "gt_agree_p99");
+    ASSERT_EQ(ea.size(), eb.size());
+    int differ = 0;
+    for (size_t i = 0; i < ea.size(); ++i) {
+        differ += ea[i] != eb[i];
+        EXPECT_NEAR(std::stod(ea[i]), std::stod(eb[i]), 0.5) << i;
+        EXPECT_EQ(ga[i], gb[i]);
+    }
+    EXPECT_GT(differ, 0) << "the reference made no difference";
+    EXPECT_EQ(column(dir / "b" / "results.csv", "ground_truth")[0], "embree");
+}
+
 TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
     const std::string good = kSmall;
     auto variant = [&](const std::string& from, const std::string& to) {

@@ -74,6 +74,9 @@ TEST(Experiment, BadInputsNameFileLineAndProblem) {
         {"bias = 1.0", "bias = 1.5", "bad.toml:12: bias must lie in [0, 1]"},
         {"layers_max = 32", "layers_max = 32\nlayers = 4", "give either 'layers'"},
         {"samples = 16", "samples = [", "TOML syntax error"},
+        {"samples = 16", "samples = 16\nground_truth = \"embre\"", "unknown ground_truth 'embre'"},
+        {"samples = 16", "samples = 16\nbackends = [\"gpu\"]", "unknown backend 'gpu'"},
+        {"samples = 16", "samples = 16\ntexture_format = \"r4\"", "unknown texture_format 'r4'"},
     };
     for (const auto& c : cases) {
         const std::string err = error_of(replace(kGood, c.from, c.to));

@@ -1,0 +1,23 @@
+// `pxh bench`: ground-truth throughput, the exact tracer against Embree on the same rays.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace pxh {
+
+struct BenchOptions {
+    std::vector<int> sizes{512, 2048};
+    std::vector<double> thetas{60, 85};
+    double phi = 20;
+    std::string field = "fbm";
+    double scale = 0.05, bias = 1.0;
+    int samples = 512;  // N x N rays
+    int repeats = 5;
+    int threads = 2;
+    bool naive = false;  // also time the per-cell DDA (slow at grazing angles)
+    std::string out;     // JSON file (default: results/runs/bench-DATE.json)
+};
+
+int run_bench(const BenchOptions& opt);
+
+}  // namespace pxh
