@@ -237,7 +237,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     ex.name = fs::path(path).stem().string();
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
-                "texture_format", "ground_truth",
+                "texture_format", "ground_truth", "sweep_dt_deg", "maps",
                 "views", "heightfields", "methods", "light"},
                path, "the experiment");
     if (auto n = root.get("name")) ex.name = get_string(*n, path, "name");
@@ -251,6 +251,15 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
             if (b != "cpu" && b != "glsl")
                 throw InputError(where_of(path, *n),
                                  "unknown backend '" + b + "' (known: cpu, glsl)");
+    }
+    if (auto n = root.get("sweep_dt_deg")) {
+        ex.sweep_dt_deg = get_number(*n, path, "sweep_dt_deg");
+        if (!(ex.sweep_dt_deg > 0 && ex.sweep_dt_deg < 10))
+            throw InputError(where_of(path, *n), "sweep_dt_deg must lie in (0, 10)");
+    }
+    if (auto n = root.get("maps")) {
+        if (!n->is_boolean()) throw InputError(where_of(path, *n), "'maps' must be true or false");
+        ex.maps = *n->value<bool>();
     }
     if (auto n = root.get("ground_truth")) {
         ex.ground_truth = get_string(*n, path, "ground_truth");

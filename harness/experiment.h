@@ -43,7 +43,9 @@ struct Experiment {
     std::vector<std::string> precisions{"float"};
     std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
     int timing_repeats = 5;
-    std::string ground_truth = "exact";  // the reference the errors are measured against
+    std::string ground_truth = "exact";
+    double sweep_dt_deg = 0;  // > 0: sliding/shimmering from a companion view dt away
+    bool maps = false;        // write per-row error maps  // the reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
     std::optional<LightSpec> light;
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded

@@ -168,7 +168,8 @@ void GlslBackend::ensure_framebuffer(int n) {
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                               const HeightField& hf, int samples,
-                              const std::string& texture_format, const LightSpec* light) {
+                              const std::string& texture_format, const LightSpec* light,
+                              int frames) {
     ctx_->make_current();
     const GLuint prog = program_for(*m.method);
     upload(hf, texture_format);
@@ -198,7 +199,8 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     glViewport(0, 0, samples, samples);
     glBindVertexArray(vao_);
     std::vector<double> ms;
-    for (int frame = 0; frame <= opt_.frames; ++frame) {  // frame 0 absorbs the shader JIT
+    const int timed_frames = frames < 0 ? opt_.frames : frames;
+    for (int frame = 0; frame <= timed_frames; ++frame) {  // frame 0 absorbs the shader JIT
         const auto t0 = std::chrono::steady_clock::now();
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glFinish();

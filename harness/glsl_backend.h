@@ -27,8 +27,10 @@ class GlslBackend {
 
     // Renders the method; throws std::runtime_error (shader compile/link log included) when
     // the method cannot run. texture_format: "r32f" | "r16" | "r8".
+    // frames < 0: the configured number of timed frames; 0: render once, untimed.
     MethodOutput run(const MethodSpec& m, const Scene<double>& scene, const HeightField& hf,
-                     int samples, const std::string& texture_format, const LightSpec* light);
+                     int samples, const std::string& texture_format, const LightSpec* light,
+                     int frames = -1);
 
   private:
     unsigned program_for(const MethodInfo& m);

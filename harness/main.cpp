@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -15,7 +16,9 @@
 
 #include "harness/bench.h"
 #include "harness/error.h"
+#include "harness/error_maps.h"
 #include "harness/experiment.h"
+#include "harness/params.h"
 #include "harness/provenance.h"
 #include "harness/runner.h"
 #include "heightfields/heightfields.h"
@@ -90,8 +93,10 @@ void print_summary(const std::vector<ResultRow>& rows) {
 }
 
 int cmd_run(const std::string& file, std::string out_dir, int threads,
-            const std::vector<std::string>& backends, const std::string& shader_dir, bool quiet) {
-    const Experiment ex = load_experiment(file);
+            const std::vector<std::string>& backends, const std::string& shader_dir, bool quiet,
+            bool maps) {
+    Experiment ex = load_experiment(file);
+    ex.maps = ex.maps || maps;
     if (out_dir.empty()) out_dir = "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S");
     const int nthreads = threads > 0 ? threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
@@ -111,6 +116,29 @@ int cmd_run(const std::string& file, std::string out_dir, int threads,
     RunOptions opt;
     opt.backends = backends;
     opt.shader_dir = shader_dir;
+    if (ex.maps)
+        opt.on_view = [&](std::vector<ResultRow>& rows,
+                          const std::vector<std::vector<Vec2d>>& errors, size_t first) {
+            for (size_t i = 0; i < rows.size(); ++i) {
+                if (errors[i].empty()) continue;
+                const ResultRow& r = rows[i];
+                char stem[512];
+                std::snprintf(stem, sizeof stem, "%05zu_%s_%s_t%g_p%g_%s", first + i,
+                              r.method.c_str(), r.heightfield.c_str(), r.theta_deg, r.phi_deg,
+                              (r.texture_format.empty() ? r.backend + "-" + r.precision
+                                                        : r.backend + "-" + r.texture_format)
+                                  .c_str());
+                std::string safe = stem;
+                for (char& ch : safe)
+                    if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
+                const std::string title = r.method + (r.params.empty() ? "" : " " + r.params) +
+                                          " | " + r.heightfield + " | theta " +
+                                          format_number(r.theta_deg) + " phi " +
+                                          format_number(r.phi_deg) + " | " + r.backend;
+                rows[i].map = "maps/" + write_error_map(errors[i], ex.samples,
+                                                        (tmp_dir / "maps").string(), safe, title);
+            }
+        };
     if (!quiet)
         opt.progress = [tty](const std::string& line) {
             if (tty) std::cerr << "\r\033[K" << line << std::flush;
@@ -179,6 +207,8 @@ int main(int argc, char** argv) {
                     "read GLSL from this folder (NAME.frag.glsl, common.glsl) instead of the "
                     "embedded copies");
     run->add_flag("--quiet", quiet, "no progress or summary");
+    bool maps = false;
+    run->add_flag("--maps", maps, "write an error map (EXR + false-colour PNG) per row");
 
     auto* list = app.add_subcommand("list", "list registered methods or height-field generators");
     std::string what;
@@ -208,7 +238,7 @@ int main(int argc, char** argv) {
         return app.exit(e) == 0 ? 0 : 2;
     }
     try {
-        if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet);
+        if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet, maps);
         if (*bench) return run_bench(bo);
         if (*list) {
             if (what == "methods") list_methods(); else list_heightfields();

@@ -21,6 +21,31 @@ double percentile_sorted(const std::vector<double>& s, double q) {
     return s[i] + (s[i + 1] - s[i]) * f;
 }
 
+SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1,
+                           double dt_deg, int width, int height) {
+    SweepMetrics m;
+    const size_t n = std::min(e0.size(), e1.size());
+    std::vector<Vec2d> d;
+    d.reserve(n);
+    for (size_t k = 0; k < n; ++k) {
+        double dx = e1[k].x - e0[k].x, dy = e1[k].y - e0[k].y;
+        if (!std::isfinite(dx) || !std::isfinite(dy)) continue;
+        dx -= width * std::floor(dx / width + 0.5);  // an error crossing the wrap is one tile off
+        dy -= height * std::floor(dy / height + 0.5);
+        d.push_back({dx, dy});
+    }
+    if (d.empty() || !(dt_deg > 0)) return m;
+    double mx = 0, my = 0;
+    for (const Vec2d& v : d) { mx += v.x; my += v.y; }
+    mx /= double(d.size());
+    my /= double(d.size());
+    double spread = 0;
+    for (const Vec2d& v : d) spread += std::hypot(v.x - mx, v.y - my);
+    m.sliding = std::hypot(mx, my) / dt_deg;
+    m.shimmering = spread / double(d.size()) / dt_deg;
+    return m;
+}
+
 ErrorStats error_stats(const std::vector<double>& magnitudes) {
     ErrorStats st;
     std::vector<double> v;

@@ -22,6 +22,12 @@ struct ResultRow {
     double cpu_diff_max = NAN;      // GLSL: |uv_glsl - uv_cpu_float| in texels, max
     double cpu_diff_p999 = NAN;     // ... and its 99.9th percentile
     double decision_mismatch = NAN; // GLSL: samples whose fetch count (layer decision) differs
+    double double_diff_max = NAN;   // CPU float rows (when double ran too): |uv_f - uv_d|
+    double double_diff_p999 = NAN;  //   in texels, max and 99.9th percentile
+    double sliding = NAN;           // texels per degree: |mean change of e| / dt
+    double shimmering = NAN;        // texels per degree: mean |change of e - mean change| / dt
+    double sweep_dt_deg = NAN;      // the dt the two above were measured over
+    std::string map;                // error map (PNG) relative to the results folder
     double gt_cells_mean = NAN;     // ground-truth cost: tracer steps per ray
     std::string ground_truth;       // exact | embree: the reference of the err_* columns
     double gt_agree_p50 = NAN;      // |hit_exact - hit_embree| in texels over the samples:

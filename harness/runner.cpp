@@ -117,23 +117,168 @@ ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int h
     return row;
 }
 
-void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu,
-                   int width, int height) {
-    const size_t n = std::min(glsl.uv.size(), cpu.uv.size());
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height) {
+    OutputDiff r;
+    const size_t n = std::min(a.uv.size(), b.uv.size());
     std::vector<double> d;
     d.reserve(n);
-    long long mismatch = 0;
     for (size_t k = 0; k < n; ++k) {
-        const Vec2d e = texel_error(glsl.uv[k], cpu.uv[k], width, height);
+        const Vec2d e = texel_error(a.uv[k], b.uv[k], width, height);
         d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
-        mismatch += glsl.fetches[k] != cpu.fetches[k];
+        r.decision_mismatch += a.fetches[k] != b.fetches[k];
     }
-    if (d.empty()) return;
+    if (d.empty()) return r;
     std::sort(d.begin(), d.end());
-    row.cpu_diff_max = d.back();
-    row.cpu_diff_p999 = percentile_sorted(d, 0.999);
-    row.decision_mismatch = double(mismatch);
+    r.max = d.back();
+    r.p999 = percentile_sorted(d, 0.999);
+    return r;
 }
+
+void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu,
+                   int width, int height) {
+    const OutputDiff d = compare_outputs(glsl, cpu, width, height);
+    row.cpu_diff_max = d.max;
+    row.cpu_diff_p999 = d.p999;
+    row.decision_mismatch = double(d.decision_mismatch);
+}
+
+namespace {
+
+// Everything one view produces: its rows and, per row, the per-sample error vectors (empty
+// for a failed row), in a fixed order (methods x backends x precisions/formats).
+struct ViewRows {
+    std::vector<ResultRow> rows;
+    std::vector<std::vector<Vec2d>> errors;
+};
+
+struct ViewContext {
+    const Experiment& ex;
+    const std::vector<std::string>& backends;
+    GlslBackend* gl;
+    const std::vector<Vec2d>& P;
+    const HeightField& hf;
+    const HeightfieldSpec& spec;
+    const EmbreeTracer& embree;
+};
+
+std::vector<Vec2d> error_vectors(const MethodOutput& out, const GroundTruth& gt, int w, int h) {
+    std::vector<Vec2d> e(out.uv.size());
+    for (size_t k = 0; k < e.size(); ++k) e[k] = texel_error(out.uv[k], gt.uv[k], w, h);
+    return e;
+}
+
+// timed = false: no CPU timing passes and no timed GLSL frames (companion views of a sweep).
+ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool timed) {
+    const Experiment& ex = c.ex;
+    const HeightField& hf = c.hf;
+    const HeightfieldSpec& spec = c.spec;
+    const Scene<double> scene{spec.scale, spec.bias, view_vector(theta, phi), hf.width, hf.height};
+    const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg) : Vec3d{};
+    GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V, ex.samples,
+                                        ex.light ? &L : nullptr);
+    // Both references on the same rays; their disagreement goes on every row.
+    std::vector<Vec2d> embree_uv = c.embree.trace(c.P, scene.V);
+    std::vector<double> gap(c.P.size());
+    for (size_t k = 0; k < c.P.size(); ++k) {
+        const Vec2d e = texel_error(embree_uv[k], gt.uv[k], hf.width, hf.height);
+        gap[k] = std::hypot(e.x, e.y);
+    }
+    const ErrorStats agree = error_stats(gap);
+    if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
+
+    ViewRows view;
+    for (const auto& m : ex.methods) {
+        auto emit = [&](ResultRow row, std::vector<Vec2d> errs, const std::string& backend,
+                        const std::string& precision, const std::string& format) {
+            row.method = m.method->name;
+            row.params = m.params.canonical();
+            row.heightfield = spec.name;
+            row.backend = backend;
+            row.precision = precision;
+            row.texture_format = format;
+            row.scale = spec.scale;
+            row.bias = spec.bias;
+            row.theta_deg = theta;
+            row.phi_deg = phi;
+            row.samples = ex.samples;
+            row.width = hf.width;
+            row.height = hf.height;
+            row.fetches_bound = m.method->max_fetches(m.params, scene);
+            row.gt_cells_mean = gt.cells_mean;
+            row.ground_truth = ex.ground_truth;
+            row.gt_agree_p50 = agree.p50;
+            row.gt_agree_p99 = agree.p99;
+            row.gt_agree_max = agree.max;
+            row.gt_agree_frac_gt_0_5 = agree.frac_gt_0_5;
+            view.rows.push_back(std::move(row));
+            view.errors.push_back(std::move(errs));
+            return view.rows.size() - 1;
+        };
+        auto failed = [](const std::exception& e) {
+            ResultRow row;
+            row.status = "failed";
+            row.error = e.what();
+            return row;
+        };
+        std::optional<MethodOutput> cpu_float, cpu_double;
+        std::optional<size_t> float_row;
+        for (const auto& backend : c.backends) {
+            if (backend == "cpu") {
+                for (const auto& precision : ex.precisions) {
+                    try {
+                        MethodOutput out =
+                            run_cpu(m, precision, scene, hf, c.P, timed ? ex.timing_repeats : 0);
+                        if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
+                        const size_t i = emit(score(out, gt, hf.width, hf.height),
+                                              error_vectors(out, gt, hf.width, hf.height),
+                                              backend, precision, "");
+                        if (precision == "float") {
+                            float_row = i;
+                            cpu_float = std::move(out);
+                        } else {
+                            cpu_double = std::move(out);
+                        }
+                    } catch (const std::exception& e) {
+                        emit(failed(e), {}, backend, precision, "");
+                    }
+                }
+                if (float_row && cpu_double) {  // what float precision itself costs
+                    const OutputDiff d = compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height);
+                    view.rows[*float_row].double_diff_max = d.max;
+                    view.rows[*float_row].double_diff_p999 = d.p999;
+                }
+                continue;
+            }
+            for (const auto& format : ex.texture_formats) {
+                try {
+                    const MethodOutput out =
+                        c.gl->run(m, scene, hf, ex.samples, format,
+                                  ex.light ? &*ex.light : nullptr, timed ? -1 : 0);
+                    ResultRow row = score(out, gt, hf.width, hf.height);
+                    row.ms_per_frame = out.ms_per_frame;
+                    if (!cpu_float) cpu_float = run_cpu(m, "float", scene, hf, c.P, 0);
+                    add_agreement(row, out, *cpu_float, hf.width, hf.height);
+                    emit(std::move(row), error_vectors(out, gt, hf.width, hf.height), backend,
+                         "float", format);
+                } catch (const std::exception& e) {
+                    emit(failed(e), {}, backend, "float", format);
+                }
+            }
+        }
+    }
+    return view;
+}
+
+void set_sweep(ResultRow& row, const std::vector<Vec2d>& lo, const std::vector<Vec2d>& hi,
+               double dt) {
+    if (lo.empty() || hi.empty()) return;
+    const SweepMetrics sm = sweep_metrics(lo, hi, dt, row.width, row.height);
+    row.sliding = sm.sliding;
+    row.shimmering = sm.shimmering;
+    row.sweep_dt_deg = dt;
+}
+
+}  // namespace
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
                                       RunInfo* info) {
@@ -161,8 +306,12 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         const HeightField& hf = fields[h];
         const HeightfieldSpec& spec = ex.heightfields[h];
         const EmbreeTracer embree(hf, spec.scale, spec.bias);
-        for (double phi : ex.phi_deg)
-            for (double theta : ex.theta_deg) {
+        const ViewContext ctx{ex, backends, gl.get(), P, hf, spec, embree};
+        for (double phi : ex.phi_deg) {
+            ViewRows prev;  // the previous view of this sweep (same field and phi)
+            std::vector<size_t> prev_index;
+            for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
+                const double theta = ex.theta_deg[t];
                 ++step;
                 if (opt.progress) {
                     std::ostringstream os;
@@ -171,84 +320,31 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
                        << " phi=" << fmt_angle(phi);
                     opt.progress(os.str());
                 }
-                Scene<double> scene{spec.scale, spec.bias, view_vector(theta, phi), hf.width,
-                                    hf.height};
-                const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg)
-                                         : Vec3d{};
-                GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V,
-                                                    ex.samples, ex.light ? &L : nullptr);
-                // Both references on the same rays; their disagreement goes on every row.
-                std::vector<Vec2d> embree_uv = embree.trace(P, scene.V);
-                std::vector<double> gap(P.size());
-                for (size_t k = 0; k < P.size(); ++k) {
-                    const Vec2d e = texel_error(embree_uv[k], gt.uv[k], hf.width, hf.height);
-                    gap[k] = std::hypot(e.x, e.y);
+                ViewRows view = evaluate_view(ctx, theta, phi, true);
+                if (ex.sweep_dt_deg > 0) {
+                    // A companion view dt away (below when theta + dt would reach 90).
+                    const bool up = theta + ex.sweep_dt_deg < 90;
+                    const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
+                    const ViewRows comp = evaluate_view(ctx, other, phi, false);
+                    for (size_t i = 0; i < view.rows.size(); ++i)
+                        set_sweep(view.rows[i], up ? view.errors[i] : comp.errors[i],
+                                  up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg);
+                } else if (t > 0) {
+                    // Consecutive views: the pair (theta_{k-1}, theta_k) goes on row k-1.
+                    const double dt = theta - ex.theta_deg[t - 1];
+                    for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
+                        if (dt > 0)
+                            set_sweep(rows[prev_index[i]], prev.errors[i], view.errors[i], dt);
                 }
-                const ErrorStats agree = error_stats(gap);
-                if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
-                for (const auto& m : ex.methods) {
-                    std::optional<MethodOutput> cpu_float;  // GLSL agreement reference
-                    auto emit = [&](ResultRow row, const std::string& backend,
-                                    const std::string& precision, const std::string& format) {
-                        row.method = m.method->name;
-                        row.params = m.params.canonical();
-                        row.heightfield = spec.name;
-                        row.backend = backend;
-                        row.precision = precision;
-                        row.texture_format = format;
-                        row.scale = spec.scale;
-                        row.bias = spec.bias;
-                        row.theta_deg = theta;
-                        row.phi_deg = phi;
-                        row.samples = ex.samples;
-                        row.width = hf.width;
-                        row.height = hf.height;
-                        row.fetches_bound = m.method->max_fetches(m.params, scene);
-                        row.gt_cells_mean = gt.cells_mean;
-                        row.ground_truth = ex.ground_truth;
-                        row.gt_agree_p50 = agree.p50;
-                        row.gt_agree_p99 = agree.p99;
-                        row.gt_agree_max = agree.max;
-                        row.gt_agree_frac_gt_0_5 = agree.frac_gt_0_5;
-                        rows.push_back(std::move(row));
-                    };
-                    auto failed = [](const std::exception& e) {
-                        ResultRow row;
-                        row.status = "failed";
-                        row.error = e.what();
-                        return row;
-                    };
-                    for (const auto& backend : backends) {
-                        if (backend == "cpu") {
-                            for (const auto& precision : ex.precisions) {
-                                try {
-                                    MethodOutput out =
-                                        run_cpu(m, precision, scene, hf, P, ex.timing_repeats);
-                                    if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
-                                    emit(score(out, gt, hf.width, hf.height), backend, precision, "");
-                                    if (precision == "float") cpu_float = std::move(out);
-                                } catch (const std::exception& e) {
-                                    emit(failed(e), backend, precision, "");
-                                }
-                            }
-                            continue;
-                        }
-                        for (const auto& format : ex.texture_formats) {
-                            try {
-                                const MethodOutput out = gl->run(m, scene, hf, ex.samples, format,
-                                                                 ex.light ? &*ex.light : nullptr);
-                                ResultRow row = score(out, gt, hf.width, hf.height);
-                                row.ms_per_frame = out.ms_per_frame;
-                                if (!cpu_float) cpu_float = run_cpu(m, "float", scene, hf, P, 0);
-                                add_agreement(row, out, *cpu_float, hf.width, hf.height);
-                                emit(std::move(row), backend, "float", format);
-                            } catch (const std::exception& e) {
-                                emit(failed(e), backend, "float", format);
-                            }
-                        }
-                    }
+                if (opt.on_view) opt.on_view(view.rows, view.errors, rows.size());
+                prev_index.clear();
+                for (auto& r : view.rows) {
+                    prev_index.push_back(rows.size());
+                    rows.push_back(std::move(r));
                 }
+                prev = std::move(view);
             }
+        }
     }
     return rows;
 }

@@ -31,6 +31,14 @@ void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& p
 // Scores one method output against the truth.
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height);
 
+// Two outputs on the same samples: max and p99.9 |uv_a - uv_b| in texels, and the number of
+// samples whose fetch count (the layer/step decision) differs.
+struct OutputDiff {
+    double max = NAN, p999 = NAN;
+    long long decision_mismatch = 0;
+};
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height);
+
 // GLSL vs CPU float on the same samples: max and p99.9 |uv difference| in texels, and the
 // number of samples whose fetch count (the layer/step decision) differs.
 void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
@@ -40,6 +48,10 @@ struct RunOptions {
     std::vector<std::string> backends;  // overrides the experiment's list when non-empty
     std::string shader_dir;             // GLSL sources override (development)
     int gl_frames = 5;                  // timed GLSL frames per row
+    // Called once per view with its rows (before they join the run) and their per-sample
+    // error vectors; first_index is the index the view's first row will have.
+    std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&, size_t)>
+        on_view;
     std::function<void(const std::string&)> progress;  // one status line per step
 };
 

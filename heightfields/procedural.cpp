@@ -148,6 +148,12 @@ void gen_fbm(HeightField& out, const ParamValues& p) {
         out.texels[k] = span > 0 ? float((raw[k] - *lo) / span) : 0.5f;
 }
 
+void gen_step(HeightField& out, const ParamValues& p) {
+    const double lo = p.get("low"), hi = p.get("high");
+    for (int j = 0; j < out.height; ++j)
+        for (int i = 0; i < out.width; ++i) out.at(i, j) = float(2 * i < out.width ? hi : lo);
+}
+
 void gen_spikes(HeightField& out, const ParamValues& p) {
     Rng rng(uint64_t(p.get("seed")));
     const double base = p.get("base");
@@ -195,6 +201,11 @@ const std::vector<GeneratorInfo>& all_generators() {
           {"gain", 0.5, 0, 1, false, "amplitude factor per octave"},
           seed_param()},
          gen_fbm},
+        {"step", "a cliff: the left half of the tile high, the right half low (two texel-wide "
+                 "walls, one at u = 0.5 and one at the wrap)",
+         {{"low", 0.0, 0, 1, false, "height of the right half"},
+          {"high", 1.0, 0, 1, false, "height of the left half"}},
+         gen_step},
         {"spikes", "one-texel spikes of height 1 on a flat base",
          {{"count", 24.0, 1, 1e6, true, "number of spikes"},
           {"base", 0.0, 0, 1, false, "height of the base"},

@@ -228,6 +228,59 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
     EXPECT_NE(slurp(dir / "res" / "run.json").find("llvmpipe"), std::string::npos);
 }
 
+// The shipped hard-case experiment: every method on every case is ok, finite and within its
+// declared fetch bound, on both backends and both precisions.
+TEST_F(Cli, HardCasesAreStable) {
+    const std::string exp = std::string(PXH_SOURCE_DIR) + "/results/experiments/hard_cases.toml";
+    const Result r = pxh("run " + exp + " --quiet --out " + (dir / "hard").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream in(slurp(dir / "hard" / "results.csv"));
+    std::string header, line;
+    std::getline(in, header);
+    std::vector<std::string> names;
+    std::istringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) names.push_back(c);
+    auto idx = [&](const std::string& n) {
+        return size_t(std::find(names.begin(), names.end(), n) - names.begin());
+    };
+    const size_t status = idx("status"), nonfinite = idx("nonfinite"), fmax = idx("fetches_max"),
+                 bound = idx("fetches_bound"), mean = idx("err_mean");
+    int rows = 0;
+    while (std::getline(in, line)) {
+        std::vector<std::string> c;
+        std::istringstream ls(line);
+        for (std::string v; std::getline(ls, v, ',');) c.push_back(v);
+        ASSERT_GT(c.size(), bound) << line;
+        EXPECT_EQ(c[status], "ok") << line;
+        EXPECT_EQ(c[nonfinite], "0") << line;
+        EXPECT_LE(std::stod(c[fmax]), std::stod(c[bound])) << line;
+        EXPECT_FALSE(c[mean].empty()) << line;
+        ++rows;
+    }
+    EXPECT_EQ(rows, 7 * 6 * 4 * 2 * 9 * 3);  // fields x (s, b) x theta x phi x methods x rows
+}
+
+// --maps: an EXR and a PNG per row; the EXR's magnitude channel reproduces err_max.
+TEST_F(Cli, ErrorMapsMatchTheRow) {
+    const auto exp = write("small.toml", kSmall);
+    const Result r = pxh("run " + exp + " --quiet --maps --out " + (dir / "m").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::istringstream in(slurp(dir / "m" / "results.csv"));
+    std::string header, line;
+    std::getline(in, header);
+    int maps = 0;
+    while (std::getline(in, line)) {
+        const auto pos = line.find("maps/");
+        ASSERT_NE(pos, std::string::npos) << line;
+        const std::string png = line.substr(pos, line.find(',', pos) - pos);
+        EXPECT_TRUE(fs::exists(dir / "m" / png)) << png;
+        const std::string exr = png.substr(0, png.size() - 4) + ".exr";
+        EXPECT_TRUE(fs::exists(dir / "m" / exr)) << exr;
+        ++maps;
+    }
+    EXPECT_EQ(maps, 36);
+}
+
 TEST_F(Cli, ListShowsMethodsAndGenerators) {
     const Result m = pxh("list methods");
     ASSERT_EQ(m.status, 0);
