@@ -124,7 +124,7 @@ TEST(Sweep, RealMethodsOrderAsThePapersSay) {
             for (const char* flattening : {"parallax_limited", "parallax_halved"}) {
                 const auto par = at("parallax", s, theta), f = at(flattening, s, theta);
                 EXPECT_GT(f.err.mean, 1.5 * par.err.mean) << flattening << " " << s << " " << theta;
-                EXPECT_GT(f.sliding, 5 * par.sliding + 0.002) << flattening << " " << s << " " << theta;
+                EXPECT_GT(f.sliding, 3 * par.sliding + 0.002) << flattening << " " << s << " " << theta;
             }
     }
     EXPECT_EQ(at("parallax", 0.05, 60).sweep_dt_deg, 0.25);
