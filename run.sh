@@ -9,7 +9,7 @@ cd "$(dirname "$0")"
 PACKAGES=(
   g++ cmake ninja-build pkg-config git
   libembree-dev libopenimageio-dev openimageio-tools libeigen3-dev libgtest-dev
-  libosmesa6-dev python3-glad fonts-dejavu-core libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+  libosmesa6-dev python3-glad fonts-dejavu-core python3-matplotlib libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
 )
 
 install_missing() {

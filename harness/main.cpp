@@ -20,6 +20,7 @@
 #include "harness/experiment.h"
 #include "harness/params.h"
 #include "harness/provenance.h"
+#include "harness/report.h"
 #include "harness/runner.h"
 #include "heightfields/heightfields.h"
 
@@ -232,6 +233,20 @@ int main(int argc, char** argv) {
     bench->add_flag("--naive", bo.naive, "also time the per-cell DDA");
     bench->add_option("--out", bo.out, "JSON output (default results/runs/bench-DATE.json)");
 
+    auto* report = app.add_subcommand("report", "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG) "
+                                                 "from a results folder, into DIR/report/");
+    std::string report_dir;
+    bool no_plots = false;
+    report->add_option("dir", report_dir, "results folder (holding results.csv)")->required();
+    report->add_flag("--no-plots", no_plots, "tables only (no matplotlib needed)");
+
+    auto* check = app.add_subcommand("check", "check a results folder against accuracy limits; "
+                                              "exit 1 if any fails");
+    std::string check_dir, thresholds;
+    check->add_option("dir", check_dir, "results folder (holding results.csv)")->required();
+    check->add_option("--thresholds", thresholds, "thresholds file (TOML, [[limit]] tables)")
+        ->required();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -240,6 +255,8 @@ int main(int argc, char** argv) {
     try {
         if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet, maps);
         if (*bench) return run_bench(bo);
+        if (*report) return run_report(report_dir, !no_plots);
+        if (*check) return run_check(check_dir, thresholds);
         if (*list) {
             if (what == "methods") list_methods(); else list_heightfields();
             return 0;

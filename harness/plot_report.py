@@ -1,0 +1,194 @@
+#!/usr/bin/python3
+"""Draws the plots of `pxh report` from the numbers the harness computed (report/data/*.csv).
+
+Only drawing happens here: every value plotted was computed by pxh. Usage:
+    /usr/bin/python3 harness/plot_report.py RESULTS_DIR/report
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.image as mpimg  # noqa: E402
+import matplotlib.ticker  # noqa: E402
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def num(s):
+    try:
+        v = float(s)
+        return v if math.isfinite(v) else None
+    except (TypeError, ValueError):
+        return None
+
+
+def save(fig, out, name):
+    for ext in ("png", "svg"):
+        fig.savefig(os.path.join(out, f"{name}.{ext}"), dpi=130, bbox_inches="tight")
+    plt.close(fig)
+    print(f"plot: {os.path.join(out, name)}.png/.svg")
+
+
+def colours(series):
+    cmap = plt.get_cmap("tab20")
+    return {s: cmap(i % 20) for i, s in enumerate(series)}
+
+
+def panels(n):
+    cols = min(n, 2)
+    rows = (n + cols - 1) // cols
+    return rows, cols
+
+
+def vs_theta(out, rows):
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    series = list(dict.fromkeys(r["series"] for r in rows))
+    col = colours(series)
+    nr, nc = panels(len(fields))
+    fig, axes = plt.subplots(nr, nc, figsize=(7.5 * nc, 4.8 * nr), squeeze=False)
+    for ax, field in zip(axes.flat, fields):
+        for s in series:
+            pts = [(num(r["theta_deg"]), num(r["err_p50"]), num(r["err_p95"]))
+                   for r in rows if r["heightfield"] == field and r["series"] == s]
+            pts = [p for p in pts if p[0] is not None]
+            if not pts:
+                continue
+            th = [p[0] for p in pts]
+            ax.plot(th, [p[1] for p in pts], "-", color=col[s], label=s, lw=1.6)
+            ax.plot(th, [p[2] for p in pts], "--", color=col[s], lw=1.0)
+        ax.set_yscale("symlog", linthresh=0.01)
+        ax.set_title(field)
+        ax.set_xlabel("view angle θ from the normal (degrees)")
+        ax.set_ylabel("texel error (texels; solid p50, dashed p95)")
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[len(fields):]:
+        ax.axis("off")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=8,
+               bbox_to_anchor=(0.5, 1.0 + 0.03 * math.ceil(len(labels) / 3)))
+    fig.suptitle("Texel error against view angle", y=1.0 + 0.03 * math.ceil(len(labels) / 3) + 0.03)
+    fig.tight_layout()
+    save(fig, out, "error_vs_theta")
+
+
+def sweep_vs_theta(out, rows):
+    rows = [r for r in rows if num(r["shimmering"]) is not None]
+    if not rows:
+        return
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    series = list(dict.fromkeys(r["series"] for r in rows))
+    col = colours(series)
+    fig, axes = plt.subplots(2, len(fields), figsize=(6.5 * len(fields), 8), squeeze=False)
+    for c, field in enumerate(fields):
+        for r_i, (key, label) in enumerate((("sliding", "sliding"), ("shimmering", "shimmering"))):
+            ax = axes[r_i][c]
+            for s in series:
+                pts = [(num(r["theta_deg"]), num(r[key])) for r in rows
+                       if r["heightfield"] == field and r["series"] == s]
+                pts = [p for p in pts if p[0] is not None and p[1] is not None]
+                if pts:
+                    ax.plot([p[0] for p in pts], [p[1] for p in pts], "-o", ms=3, color=col[s],
+                            label=s, lw=1.4)
+            ax.set_yscale("symlog", linthresh=0.001)
+            ax.set_title(f"{label}: {field}")
+            ax.set_xlabel("view angle θ (degrees)")
+            ax.set_ylabel(f"{label} (texels per degree)")
+            ax.grid(True, which="both", alpha=0.3)
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="upper center", ncol=3, fontsize=8,
+               bbox_to_anchor=(0.5, 1.0 + 0.03 * math.ceil(len(labels) / 3)))
+    fig.tight_layout()
+    save(fig, out, "sweep_vs_theta")
+
+
+def cost_vs_error(out, rows):
+    axes_def = [("fetches_mean", "pareto_fetches", "height fetches per sample"),
+                ("ns_per_sample", "pareto_ns", "CPU time per sample (ns, single thread)"),
+                ("ms_per_frame", "pareto_ms", "GLSL time per frame (ms, llvmpipe)")]
+    axes_def = [a for a in axes_def if any(num(r[a[0]]) is not None for r in rows)]
+    series = [r["series"] for r in rows]
+    col = colours(series)
+    fig, axes = plt.subplots(1, len(axes_def), figsize=(6.5 * len(axes_def), 5.2), squeeze=False)
+    for ax, (cost, front, label) in zip(axes[0], axes_def):
+        pts = [(num(r[cost]), num(r["err_mean"]), r) for r in rows]
+        pts = [p for p in pts if p[0] is not None and p[1] is not None]
+        if cost == "fetches_mean":
+            # Fetches do not depend on the backend: one point per method setting (the first).
+            seen, unique = set(), []
+            for p in pts:
+                key = p[2]["series"].split(" [")[0]
+                if key not in seen:
+                    seen.add(key)
+                    unique.append(p)
+            pts = unique
+        for x, y, r in pts:
+            ax.scatter([x], [y], color=col[r["series"]], s=36, zorder=3)
+            ax.annotate(r["series"], (x, y), fontsize=6.5, xytext=(4, 3), textcoords="offset points")
+        fr = sorted((x, y) for x, y, r in pts if r[front] == "1")
+        if fr:
+            ax.step([p[0] for p in fr], [p[1] for p in fr], where="post", color="black", lw=1.2,
+                    ls=":", label="Pareto front", zorder=2)
+            ax.legend(fontsize=8)
+        xs = [p[0] for p in pts if p[0] > 0]
+        if cost == "fetches_mean":
+            ax.set_xscale("symlog", linthresh=1)
+        elif xs and max(xs) / min(xs) > 10:
+            ax.set_xscale("log")
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_yscale("symlog", linthresh=0.01)
+        ax.set_ylim(bottom=0)
+        ax.set_xlabel(label)
+        ax.set_ylabel("mean texel error (texels)")
+        ax.set_title(f"error against cost: {label.split(' (')[0]}")
+        ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    save(fig, out, "cost_vs_error")
+
+
+def montage(out, rows):
+    series = list(dict.fromkeys(r["series"] for r in rows))
+    thetas = sorted({num(r["theta_deg"]) for r in rows})
+    fig, axes = plt.subplots(len(series), len(thetas), figsize=(2.6 * len(thetas), 2.9 * len(series)),
+                             squeeze=False)
+    for i, s in enumerate(series):
+        for j, th in enumerate(thetas):
+            ax = axes[i][j]
+            ax.axis("off")
+            match = [r for r in rows if r["series"] == s and num(r["theta_deg"]) == th]
+            if match and os.path.exists(match[0]["map"]):
+                ax.imshow(mpimg.imread(match[0]["map"]))
+            if i == 0:
+                ax.set_title(f"θ = {th:g}°", fontsize=9)
+            if j == 0:
+                ax.text(-0.05, 0.5, s, transform=ax.transAxes, rotation=90, ha="right",
+                        va="center", fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / (2.9 * len(series))))
+    fig.suptitle("Error maps (each with its own legend: log texel error)", y=1.0)
+    save(fig, out, "error_maps_montage")
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: plot_report.py RESULTS_DIR/report")
+    out = sys.argv[1]
+    data = os.path.join(out, "data")
+    vt = read(os.path.join(data, "vs_theta.csv"))
+    vs_theta(out, vt)
+    sweep_vs_theta(out, vt)
+    cost_vs_error(out, read(os.path.join(data, "cost_vs_error.csv")))
+    maps = os.path.join(data, "maps.csv")
+    if os.path.exists(maps):
+        montage(out, read(maps))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,188 @@
+// pxh check and pxh report, through the binary, on a real small run.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "harness/csv_table.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class ReportCheck : public ::testing::Test {
+  protected:
+    static fs::path dir;
+    static void SetUpTestSuite() {
+        dir = fs::temp_directory_path() / ("pxh_report_test_" + std::to_string(::getpid()));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        std::ofstream(dir / "exp.toml") << R"(
+name = "small"
+samples = 32
+backends = ["cpu", "glsl"]
+timing_repeats = 1
+maps = true
+sweep_dt_deg = 0.5
+[views]
+theta_deg = [10, 45, 70, 80]
+[[heightfields]]
+generator = "bricks"
+size = 64
+[[heightfields]]
+generator = "sine"
+size = 64
+[[methods]]
+name = "parallax"
+[[methods]]
+name = "steep"
+layers = 8
+[[methods]]
+name = "pom"
+layers = [8, 32]
+)";
+        ASSERT_EQ(run("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "res").string()), 0);
+    }
+    static void TearDownTestSuite() { fs::remove_all(dir); }
+    static int run(const std::string& args) {
+        const std::string cmd = std::string(PXH_BINARY) + " " + args + " >" +
+                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+        const int rc = std::system(cmd.c_str());
+        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    }
+    static std::string slurp(const fs::path& p) {
+        std::ifstream f(p);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        return ss.str();
+    }
+    static std::string thresholds(const std::string& name, const std::string& text) {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+};
+fs::path ReportCheck::dir;
+
+TEST_F(ReportCheck, PassingLimitsExitZero) {
+    const auto t = thresholds("ok.toml", R"(
+[[limit]]
+method = "pom"
+params = "layers=32"
+theta_max = 70
+column = "err_p95"
+max = 1.0
+[[limit]]
+column = "nonfinite"
+max = 0
+)");
+    EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + t), 0) << slurp(dir / "err.txt");
+    EXPECT_NE(slurp(dir / "out.txt").find("2 passed, 0 failed"), std::string::npos);
+}
+
+// A tightened limit (half the measured worst) must fail.
+TEST_F(ReportCheck, TightenedLimitFails) {
+    const pxh::CsvTable t = pxh::read_csv((dir / "res" / "results.csv").string());
+    double worst = 0;
+    for (size_t r = 0; r < t.rows.size(); ++r)
+        if (t.get(r, "method") == "steep") worst = std::max(worst, t.number(r, "err_p95"));
+    ASSERT_GT(worst, 0);
+    const auto th = thresholds("tight.toml", "[[limit]]\nmethod = \"steep\"\ncolumn = \"err_p95\"\nmax = " +
+                                                 std::to_string(worst / 2) + "\n");
+    EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + th), 1);
+    EXPECT_NE(slurp(dir / "out.txt").find("FAIL"), std::string::npos);
+}
+
+// A perturbed method (a pom shader that shifts its answer by a tenth of a texel) fails the
+// accuracy gate that the real shader passes.
+TEST_F(ReportCheck, PerturbedMethodFailsTheGate) {
+    fs::create_directories(dir / "shaders");
+    std::ofstream(dir / "shaders" / "pom.frag.glsl") << R"(
+vec2 pxh_method(vec2 P) {
+    PxhLayers r = pxh_layer_search(P);
+    vec2 uv_k = pxh_uv_at(r, float(r.k));
+    if (r.k == 0 || !r.crossed) return uv_k;
+    float w = clamp(r.g_k / (r.g_k - r.g_prev), 0.0, 1.0);
+    return pxh_uv_at(r, float(r.k - 1)) * w + uv_k * (1.0 - w) + vec2(0.1 / float(u_size.x), 0.0);
+}
+)";
+    const auto th = thresholds("gate.toml", R"(
+[[limit]]
+method = "pom"
+backend = "glsl"
+column = "cpu_diff_p999"
+max = 0.001
+)");
+    EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + th), 0);
+    ASSERT_EQ(run("run " + (dir / "exp.toml").string() + " --quiet --shader-dir " +
+                  (dir / "shaders").string() + " --out " + (dir / "perturbed").string()), 0);
+    EXPECT_EQ(run("check " + (dir / "perturbed").string() + " --thresholds " + th), 1);
+}
+
+TEST_F(ReportCheck, MalformedOrEmptyLimitsExitTwo) {
+    const std::string res = (dir / "res").string();
+    struct Case { std::string text, expect; };
+    const Case cases[] = {
+        {"[[limit]]\nmethod = \"nope\"\ncolumn = \"err_p95\"\nmax = 1\n", "matches no row"},
+        {"[[limit]]\ncolumn = \"err_p96\"\nmax = 1\n", "no column 'err_p96'"},
+        {"[[limit]]\ncolumn = \"err_p95\"\n", "needs 'min' or 'max'"},
+        {"[[limit]]\ncolumn = \"err_p95\"\nmax = 1\nmethd = \"pom\"\n", "unknown key 'methd'"},
+        {"[[limit]]\ncolumn = \"err_p95\"\nmax = [\n", "TOML syntax error"},
+        {"limits = 3\n", "unknown key 'limits'"},
+    };
+    int k = 0;
+    for (const auto& c : cases) {
+        const auto th = thresholds("bad" + std::to_string(k++) + ".toml", c.text);
+        EXPECT_EQ(run("check " + res + " --thresholds " + th), 2) << c.text;
+        const std::string err = slurp(dir / "err.txt");
+        EXPECT_NE(err.find(c.expect), std::string::npos) << err;
+        EXPECT_NE(err.find(th), std::string::npos) << "names no file: " << err;
+    }
+    EXPECT_EQ(run("check " + (dir / "nowhere").string() + " --thresholds " + (dir / "bad0.toml").string()), 2);
+}
+
+// The report's numbers are the harness's: recompute two of them from results.csv here.
+TEST_F(ReportCheck, ReportTablesAndPlots) {
+    ASSERT_EQ(run("report " + (dir / "res").string()), 0) << slurp(dir / "err.txt");
+    const fs::path rep = dir / "res" / "report";
+    for (const char* f : {"summary.csv", "summary.md", "summary.tex", "budget.md", "budget.tex",
+                          "sweep.md", "error_vs_theta.png", "error_vs_theta.svg",
+                          "sweep_vs_theta.png", "cost_vs_error.png", "cost_vs_error.svg",
+                          "error_maps_montage.png"})
+        EXPECT_TRUE(fs::exists(rep / f)) << f;
+    const pxh::CsvTable res = pxh::read_csv((dir / "res" / "results.csv").string());
+    const pxh::CsvTable sum = pxh::read_csv((rep / "summary.csv").string());
+    // pom layers=32 on the CPU, band 60-75 (theta 70): mean of err_mean over its rows.
+    double s = 0;
+    int n = 0;
+    for (size_t r = 0; r < res.rows.size(); ++r)
+        if (res.get(r, "method") == "pom" && res.get(r, "params") == "layers=32" &&
+            res.get(r, "backend") == "cpu" && res.number(r, "theta_deg") == 70) {
+            s += res.number(r, "err_mean");
+            ++n;
+        }
+    ASSERT_EQ(n, 2);
+    bool found = false;
+    for (size_t r = 0; r < sum.rows.size(); ++r)
+        if (sum.get(r, "series") == "pom layers=32 [cpu/float]" && sum.get(r, "band") == "60-75") {
+            EXPECT_NEAR(sum.number(r, "err_mean"), s / n, 1e-6 * (1 + s / n));
+            found = true;
+        }
+    EXPECT_TRUE(found);
+    // Pareto flags: a point is flagged exactly when no other point dominates it.
+    const pxh::CsvTable cost = pxh::read_csv((rep / "data" / "cost_vs_error.csv").string());
+    for (size_t i = 0; i < cost.rows.size(); ++i) {
+        bool dominated = false;
+        for (size_t j = 0; j < cost.rows.size(); ++j) {
+            const double ci = cost.number(i, "fetches_mean"), ei = cost.number(i, "err_mean");
+            const double cj = cost.number(j, "fetches_mean"), ej = cost.number(j, "err_mean");
+            if (j != i && cj <= ci && ej <= ei && (cj < ci || ej < ei)) dominated = true;
+        }
+        EXPECT_EQ(cost.get(i, "pareto_fetches"), dominated ? "0" : "1") << cost.get(i, "series");
+    }
+    EXPECT_NE(slurp(rep / "summary.tex").find("\\toprule"), std::string::npos);
+}
+
+}  // namespace
