@@ -9,6 +9,7 @@
 
 #include "harness/error.h"
 #include "heightfields/heightfields.h"
+#include "heightfields/scanned.h"
 
 namespace pxh {
 namespace {
@@ -122,11 +123,13 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
                        Experiment& ex) {
     const std::string where = where_of(path, node);
     const bool has_gen = t.contains("generator"), has_file = t.contains("file");
-    if (has_gen == has_file)
-        throw InputError(where, "a [[heightfields]] entry needs exactly one of 'generator' or 'file'");
+    const bool has_scan = t.contains("scan");
+    if (int(has_gen) + int(has_file) + int(has_scan) != 1)
+        throw InputError(where, "a [[heightfields]] entry needs exactly one of 'generator', "
+                                "'file' or 'scan'");
     HeightfieldSpec base;
     base.where = where;
-    std::set<std::string> allowed{"name", "generator", "file", "size", "width",
+    std::set<std::string> allowed{"name", "generator", "file", "scan", "size", "width",
                                   "height", "scale", "bias", "channel"};
     const GeneratorInfo* gen = nullptr;
     if (has_gen) {
@@ -140,6 +143,10 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         }
         for (const auto& p : gen->params) allowed.insert(p.name);
         base.name = base.generator;
+    } else if (has_scan) {
+        base.scan = get_string(*t.get("scan"), path, "scan");
+        if (base.scan.rfind("scan:", 0) == 0) base.scan = base.scan.substr(5);
+        base.name = "scan:" + base.scan;
     } else {
         const std::string f = get_string(*t.get("file"), path, "file");
         fs::path fp(f);
@@ -153,8 +160,8 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     if (auto n = t.get("width")) base.width = get_int(*n, path, "width", 1, 16384);
     if (auto n = t.get("height")) base.height = get_int(*n, path, "height", 1, 16384);
     if (auto n = t.get("channel")) base.channel = get_int(*n, path, "channel", 0, 64);
-    if (has_file && (t.contains("size") || t.contains("width") || t.contains("height")))
-        throw InputError(where, "'size'/'width'/'height' apply to generators, not to files");
+    if (!has_gen && (t.contains("size") || t.contains("width") || t.contains("height")))
+        throw InputError(where, "'size'/'width'/'height' apply to generators, not to files or scans");
 
     std::vector<double> scales{0.05}, biases{1.0};
     if (auto n = t.get("scale")) scales = get_numbers(*n, path, "scale");
@@ -237,7 +244,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     ex.name = fs::path(path).stem().string();
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
-                "texture_format", "ground_truth", "sweep_dt_deg", "maps",
+                "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
                 "views", "heightfields", "methods", "light"},
                path, "the experiment");
     if (auto n = root.get("name")) ex.name = get_string(*n, path, "name");
@@ -260,6 +267,11 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     if (auto n = root.get("maps")) {
         if (!n->is_boolean()) throw InputError(where_of(path, *n), "'maps' must be true or false");
         ex.maps = *n->value<bool>();
+    }
+    if (auto n = root.get("exclude_filled")) {
+        if (!n->is_boolean())
+            throw InputError(where_of(path, *n), "'exclude_filled' must be true or false");
+        ex.exclude_filled = *n->value<bool>();
     }
     if (auto n = root.get("ground_truth")) {
         ex.ground_truth = get_string(*n, path, "ground_truth");
@@ -348,6 +360,8 @@ HeightField make_heightfield(const HeightfieldSpec& spec) {
         hf = generate_heightfield(*find_generator(spec.generator), spec.width, spec.height,
                                   spec.gen_params);
         hf.validate(spec.where);
+    } else if (!spec.scan.empty()) {
+        hf = load_scan(spec.scan, spec.where);
     } else {
         hf = load_heightfield_file(spec.file, spec.channel);
     }

@@ -16,6 +16,7 @@ struct HeightfieldSpec {
     std::string name;       // as reported in results
     std::string generator;  // either a generator ...
     std::string file;       // ... or an image file (resolved path)
+    std::string scan;       // ... or an imported scan (heightfields/scanned/NAME)
     int width = 256, height = 256;
     int channel = 0;
     ParamValues gen_params;
@@ -45,7 +46,8 @@ struct Experiment {
     int timing_repeats = 5;
     std::string ground_truth = "exact";
     double sweep_dt_deg = 0;  // > 0: sliding/shimmering from a companion view dt away
-    bool maps = false;        // write per-row error maps  // the reference the errors are measured against
+    bool maps = false;        // write per-row error maps
+    bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
     std::optional<LightSpec> light;
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded

@@ -13,6 +13,7 @@ namespace pxh {
 struct HeightField {
     int width = 0, height = 0;
     std::vector<float> texels;  // row-major, row j = 0 is v near 0
+    std::vector<uint8_t> filled;  // optional: 1 where a measured field's hole was filled
     std::string name;
 
     HeightField() = default;

@@ -23,6 +23,7 @@
 #include "harness/report.h"
 #include "harness/runner.h"
 #include "heightfields/heightfields.h"
+#include "heightfields/scanned.h"
 
 namespace fs = std::filesystem;
 using namespace pxh;
@@ -42,6 +43,12 @@ void list_heightfields() {
         std::cout << g.name << "  -- " << g.summary << "\n";
         for (const auto& p : g.params) std::cout << "    " << describe_param(p) << "\n";
     }
+    for (const auto& s : list_scans())
+        std::cout << "scan:" << s.name << "  -- " << s.description << "\n    measured, " << s.width
+                  << " x " << s.height << (s.periodic ? "" : ", mirrored to " + std::to_string(2 * s.width) +
+                                                             " x " + std::to_string(2 * s.height) + " when loaded")
+                  << "; use scan = \"" << s.name << "\" (provenance: heightfields/scanned/" << s.name
+                  << ".json)\n";
     std::cout << "(any image file: file = \"path\" in a [[heightfields]] entry; PNG, TIFF, EXR, "
                  "PFM, ... through OpenImageIO)\n";
 }
@@ -247,6 +254,14 @@ int main(int argc, char** argv) {
     check->add_option("--thresholds", thresholds, "thresholds file (TOML, [[limit]] tables)")
         ->required();
 
+    auto* import = app.add_subcommand("import", "import the scanned height fields from Debian "
+                                                 "packages into heightfields/scanned/");
+    ImportOptions io;
+    import->add_option("--out", io.out_dir, "output folder (default heightfields/scanned)");
+    import->add_option("--cache", io.cache_dir, "package cache (default build/scan-cache)");
+    import->add_flag("--check", io.check, "re-import and compare with the committed files (exit 1 "
+                                          "if they differ)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -256,6 +271,7 @@ int main(int argc, char** argv) {
         if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet, maps);
         if (*bench) return run_bench(bo);
         if (*report) return run_report(report_dir, !no_plots);
+        if (*import) return run_import(io);
         if (*check) return run_check(check_dir, thresholds);
         if (*list) {
             if (what == "methods") list_methods(); else list_heightfields();

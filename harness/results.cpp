@@ -68,6 +68,8 @@ const std::vector<Column>& columns() {
         {"shimmering", [](const ResultRow& r) { return num(r.shimmering); }},
         {"sweep_dt_deg", [](const ResultRow& r) { return num(r.sweep_dt_deg); }},
         {"map", [](const ResultRow& r) { return r.map; }},
+        {"gt_on_filled", [](const ResultRow& r) { return num(r.gt_on_filled); }},
+        {"excluded", [](const ResultRow& r) { return std::to_string(r.excluded); }},
         {"gt_cells_mean", [](const ResultRow& r) { return num(r.gt_cells_mean); }},
         {"ground_truth", [](const ResultRow& r) { return r.ground_truth; }},
         {"gt_agree_p50", [](const ResultRow& r) { return num(r.gt_agree_p50); }},

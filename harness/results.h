@@ -28,6 +28,9 @@ struct ResultRow {
     double shimmering = NAN;        // texels per degree: mean |change of e - mean change| / dt
     double sweep_dt_deg = NAN;      // the dt the two above were measured over
     std::string map;                // error map (PNG) relative to the results folder
+    double gt_on_filled = NAN;      // measured fields: fraction of samples whose true hit
+                                    //   depends on a filled hole texel
+    long long excluded = 0;         // samples left out of err_* (exclude_filled = true)
     double gt_cells_mean = NAN;     // ground-truth cost: tracer steps per ray
     std::string ground_truth;       // exact | embree: the reference of the err_* columns
     double gt_agree_p50 = NAN;      // |hit_exact - hit_embree| in texels over the samples:

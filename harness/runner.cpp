@@ -89,13 +89,19 @@ void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& p
     else add_shadows_typed<float>(out, light, scene, hf);
 }
 
-ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height) {
+ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
+                const std::vector<uint8_t>* exclude) {
     ResultRow row;
     const size_t n = out.uv.size();
-    std::vector<double> mag(n);
+    std::vector<double> mag;
+    mag.reserve(n);
     for (size_t k = 0; k < n; ++k) {
+        if (exclude && (*exclude)[k]) {
+            ++row.excluded;
+            continue;
+        }
         const Vec2d e = texel_error(out.uv[k], gt.uv[k], width, height);
-        mag[k] = std::hypot(e.x, e.y);
+        mag.push_back(std::hypot(e.x, e.y));
     }
     row.err = error_stats(mag);
     double fsum = 0;
@@ -185,6 +191,34 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
     }
     const ErrorStats agree = error_stats(gap);
     if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
+    // Measured fields: which true hits depend on a filled hole (any of the 4 texels the
+    // bilinear surface there interpolates).
+    std::vector<uint8_t> on_filled;
+    double filled_frac = NAN;
+    if (!hf.filled.empty()) {
+        on_filled.resize(gt.uv.size());
+        size_t count = 0;
+        for (size_t k = 0; k < gt.uv.size(); ++k) {
+            const double x = gt.uv[k].x * hf.width - 0.5, y = gt.uv[k].y * hf.height - 0.5;
+            const int64_t i = int64_t(std::floor(x)), j = int64_t(std::floor(y));
+            bool f = false;
+            for (int dj = 0; dj < 2; ++dj)
+                for (int di = 0; di < 2; ++di)
+                    f = f || hf.filled[size_t(wrap_index(j + dj, hf.height)) * hf.width +
+                                       size_t(wrap_index(i + di, hf.width))];
+            on_filled[k] = f;
+            count += f;
+        }
+        filled_frac = double(count) / double(gt.uv.size());
+    }
+    const std::vector<uint8_t>* exclude = ex.exclude_filled && !on_filled.empty() ? &on_filled : nullptr;
+    auto errors_of = [&](const MethodOutput& out) {
+        std::vector<Vec2d> e = error_vectors(out, gt, hf.width, hf.height);
+        if (exclude)
+            for (size_t k = 0; k < e.size(); ++k)
+                if ((*exclude)[k]) e[k] = {NAN, NAN};  // left out of the sweep metrics too
+        return e;
+    };
 
     ViewRows view;
     for (const auto& m : ex.methods) {
@@ -210,6 +244,7 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
             row.gt_agree_p99 = agree.p99;
             row.gt_agree_max = agree.max;
             row.gt_agree_frac_gt_0_5 = agree.frac_gt_0_5;
+            row.gt_on_filled = filled_frac;
             view.rows.push_back(std::move(row));
             view.errors.push_back(std::move(errs));
             return view.rows.size() - 1;
@@ -229,9 +264,8 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
                         MethodOutput out =
                             run_cpu(m, precision, scene, hf, c.P, timed ? ex.timing_repeats : 0);
                         if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
-                        const size_t i = emit(score(out, gt, hf.width, hf.height),
-                                              error_vectors(out, gt, hf.width, hf.height),
-                                              backend, precision, "");
+                        const size_t i = emit(score(out, gt, hf.width, hf.height, exclude),
+                                              errors_of(out), backend, precision, "");
                         if (precision == "float") {
                             float_row = i;
                             cpu_float = std::move(out);
@@ -254,12 +288,11 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
                     const MethodOutput out =
                         c.gl->run(m, scene, hf, ex.samples, format,
                                   ex.light ? &*ex.light : nullptr, timed ? -1 : 0);
-                    ResultRow row = score(out, gt, hf.width, hf.height);
+                    ResultRow row = score(out, gt, hf.width, hf.height, exclude);
                     row.ms_per_frame = out.ms_per_frame;
                     if (!cpu_float) cpu_float = run_cpu(m, "float", scene, hf, c.P, 0);
                     add_agreement(row, out, *cpu_float, hf.width, hf.height);
-                    emit(std::move(row), error_vectors(out, gt, hf.width, hf.height), backend,
-                         "float", format);
+                    emit(std::move(row), errors_of(out), backend, "float", format);
                 } catch (const std::exception& e) {
                     emit(failed(e), {}, backend, "float", format);
                 }

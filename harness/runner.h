@@ -28,8 +28,10 @@ MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Sc
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
                  const Scene<double>& scene, const HeightField& hf);
 
-// Scores one method output against the truth.
-ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height);
+// Scores one method output against the truth; samples flagged in `exclude` (when given) are
+// left out of the error statistics and counted in `excluded`.
+ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
+                const std::vector<uint8_t>* exclude = nullptr);
 
 // Two outputs on the same samples: max and p99.9 |uv_a - uv_b| in texels, and the number of
 // samples whose fetch count (the layer/step decision) differs.

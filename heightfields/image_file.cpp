@@ -1,21 +1,59 @@
 // Height maps from image files through OpenImageIO.
 #include <OpenImageIO/imageio.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
 #include <filesystem>
 
 #include "harness/error.h"
 #include "heightfields/heightfields.h"
 
 namespace pxh {
+namespace {
+
+// Image libraries (libpng) print to stderr on corrupt files before returning an error that
+// OpenImageIO also reports: silence the stream while reading so the user sees one line.
+class QuietStderr {
+  public:
+    QuietStderr() {
+        std::fflush(stderr);
+        saved_ = dup(STDERR_FILENO);
+        const int null = open("/dev/null", O_WRONLY);
+        if (saved_ >= 0 && null >= 0) dup2(null, STDERR_FILENO);
+        if (null >= 0) close(null);
+    }
+    ~QuietStderr() {
+        std::fflush(stderr);
+        if (saved_ >= 0) {
+            dup2(saved_, STDERR_FILENO);
+            close(saved_);
+        }
+    }
+
+  private:
+    int saved_ = -1;
+};
+
+std::string one_line(std::string s) {
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ';';
+    while (!s.empty() && (s.back() == ';' || s.back() == ' ')) s.pop_back();
+    return s;
+}
+
+}  // namespace
 
 HeightField load_heightfield_file(const std::string& path, int channel) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such file");
     if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a directory");
     if (std::filesystem::file_size(path, ec) == 0) throw InputError(path, "empty file");
+    QuietStderr quiet;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
-        std::string msg = OIIO::geterror();
+        std::string msg = one_line(OIIO::geterror());
         if (msg.empty()) msg = "unknown format";
         throw InputError(path, "not a readable image (" + msg + ")");
     }
@@ -33,7 +71,7 @@ HeightField load_heightfield_file(const std::string& path, int channel) {
     HeightField hf(int(w), int(h), std::filesystem::path(path).stem().string());
     // Integer formats are converted to float 0..max -> [0,1] by OpenImageIO; floats pass as is.
     if (!in->read_image(0, 0, channel, channel + 1, OIIO::TypeDesc::FLOAT, hf.texels.data())) {
-        std::string msg = in->geterror();
+        std::string msg = one_line(in->geterror());
         throw InputError(path, "cannot read pixels (truncated or corrupt?): " +
                                    (msg.empty() ? std::string("read failed") : msg));
     }
