@@ -229,6 +229,46 @@ int run_report(const std::string& dir, bool plots) {
         write_file(out / "sweep.md", sm.str());
     }
 
+    // precision.md: what float precision itself costs, per method and view angle (worst over
+    // the rows of each angle of |uv_float - uv_double|, texels), when both precisions ran.
+    if (t.index("double_diff_max") >= 0) {
+        std::vector<double> thetas;
+        std::map<std::string, std::map<double, double>> worst;
+        std::vector<std::string> order;
+        for (size_t r = 0; r < t.rows.size(); ++r) {
+            const double d = t.number(r, "double_diff_max");
+            if (!std::isfinite(d)) continue;
+            const double th = t.number(r, "theta_deg");
+            if (std::find(thetas.begin(), thetas.end(), th) == thetas.end()) thetas.push_back(th);
+            const std::string m = t.get(r, "method") + (t.get(r, "params").empty() ? "" : " " + t.get(r, "params"));
+            if (!worst.count(m)) order.push_back(m);
+            auto& w = worst[m][th];
+            w = std::max(w, d);
+        }
+        if (!order.empty()) {
+            std::sort(thetas.begin(), thetas.end());
+            std::ostringstream pm;
+            pm << "| method | ";
+            for (double th : thetas) pm << "θ " << format_number(th) << " | ";
+            pm << "\n|---|";
+            for (size_t i = 0; i < thetas.size(); ++i) pm << "---:|";
+            pm << "\n";
+            for (const auto& m : order) {
+                pm << "| " << m << " | ";
+                for (double th : thetas) {
+                    auto it = worst[m].find(th);
+                    char buf[32];
+                    std::snprintf(buf, sizeof buf, "%.2g", it == worst[m].end() ? NAN : it->second);
+                    pm << (it == worst[m].end() ? "-" : buf) << " | ";
+                }
+                pm << "\n";
+            }
+            pm << "\nLargest |uv_float - uv_double| over the samples, in texels (CPU reference in "
+                  "float vs double on the same samples).\n";
+            write_file(out / "precision.md", pm.str());
+        }
+    }
+
     // budget.md / budget.tex: per band, the cheapest setting (by fetches, then CPU time) whose
     // mean p95 error is within the budget.
     const double budgets[] = {0.1, 0.25, 0.5, 1, 2, 4};
