@@ -55,29 +55,28 @@ std::string get_string(const toml::node& n, const std::string& path, const std::
     throw InputError(where_of(path, n), "'" + key + "' must be a string");
 }
 
-// A number or an array of numbers (a sweep).
-std::vector<double> get_numbers(const toml::node& n, const std::string& path,
-                                const std::string& key) {
-    std::vector<double> out;
+// A value or an array of values (a sweep), each read by `one`.
+template <class T, class Get>
+std::vector<T> get_list(const toml::node& n, const std::string& path, const std::string& key,
+                        Get one) {
+    std::vector<T> out;
     if (const auto* arr = n.as_array()) {
         if (arr->empty()) throw InputError(where_of(path, n), "'" + key + "' is an empty list");
-        for (const auto& e : *arr) out.push_back(get_number(e, path, key));
+        for (const auto& e : *arr) out.push_back(one(e, path, key));
     } else {
-        out.push_back(get_number(n, path, key));
+        out.push_back(one(n, path, key));
     }
     return out;
 }
 
+std::vector<double> get_numbers(const toml::node& n, const std::string& path,
+                                const std::string& key) {
+    return get_list<double>(n, path, key, get_number);
+}
+
 std::vector<std::string> get_strings(const toml::node& n, const std::string& path,
                                      const std::string& key) {
-    std::vector<std::string> out;
-    if (const auto* arr = n.as_array()) {
-        if (arr->empty()) throw InputError(where_of(path, n), "'" + key + "' is an empty list");
-        for (const auto& e : *arr) out.push_back(get_string(e, path, key));
-    } else {
-        out.push_back(get_string(n, path, key));
-    }
-    return out;
+    return get_list<std::string>(n, path, key, get_string);
 }
 
 // Angles: a list, or { from, to, step } (inclusive of `to` within rounding).

@@ -28,6 +28,15 @@ std::string one_line(std::string s) {
     return s;
 }
 
+// The driver's log of a shader or program, on one line.
+std::string info_log(GLuint object, bool program) {
+    GLint len = 0;
+    (program ? glGetProgramiv : glGetShaderiv)(object, GL_INFO_LOG_LENGTH, &len);
+    std::string log(size_t(std::max(len, 1)), '\0');
+    (program ? glGetProgramInfoLog : glGetShaderInfoLog)(object, len, nullptr, log.data());
+    return one_line(log.c_str());
+}
+
 unsigned compile(GLenum type, const std::string& src, const std::string& what) {
     const GLuint sh = glCreateShader(type);
     const char* p = src.c_str();
@@ -36,12 +45,9 @@ unsigned compile(GLenum type, const std::string& src, const std::string& what) {
     GLint ok = 0;
     glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        GLint len = 0;
-        glGetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(std::max(len, 1)), '\0');
-        glGetShaderInfoLog(sh, len, nullptr, log.data());
+        const std::string log = info_log(sh, false);
         glDeleteShader(sh);
-        throw std::runtime_error(what + ": shader compile failed: " + one_line(log.c_str()));
+        throw std::runtime_error(what + ": shader compile failed: " + log);
     }
     return sh;
 }
@@ -109,12 +115,9 @@ unsigned GlslBackend::program_for(const MethodInfo& m) {
     GLint ok = 0;
     glGetProgramiv(prog, GL_LINK_STATUS, &ok);
     if (!ok) {
-        GLint len = 0;
-        glGetProgramiv(prog, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(std::max(len, 1)), '\0');
-        glGetProgramInfoLog(prog, len, nullptr, log.data());
+        const std::string log = info_log(prog, true);
         glDeleteProgram(prog);
-        throw std::runtime_error(what + ": program link failed: " + one_line(log.c_str()));
+        throw std::runtime_error(what + ": program link failed: " + log);
     }
     programs_[m.name] = prog;
     return prog;

@@ -19,6 +19,7 @@
 #include "harness/csv_table.h"
 #include "harness/error.h"
 #include "harness/params.h"
+#include "harness/results.h"
 
 namespace pxh {
 namespace {
@@ -67,13 +68,6 @@ std::string tex_escape(const std::string& s) {
         o += c;
     }
     return o;
-}
-
-std::string csv_quote(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string o = "\"";
-    for (char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return o + "\"";
 }
 
 void write_file(const fs::path& p, const std::string& text) {

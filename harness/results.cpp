@@ -18,13 +18,6 @@ std::string num(double v) {
     return buf;
 }
 
-std::string quote(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string out = "\"";
-    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
-
 struct Column {
     const char* name;
     std::function<std::string(const ResultRow&)> get;
@@ -86,6 +79,13 @@ const std::vector<Column>& columns() {
 
 }  // namespace
 
+std::string csv_quote(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
 std::vector<std::string> result_columns() {
     std::vector<std::string> out;
     for (const auto& c : columns()) out.push_back(c.name);
@@ -99,7 +99,7 @@ void write_results_csv(const std::vector<ResultRow>& rows, const std::string& pa
     for (size_t c = 0; c < cols.size(); ++c) f << (c ? "," : "") << cols[c].name;
     f << "\n";
     for (const auto& r : rows) {
-        for (size_t c = 0; c < cols.size(); ++c) f << (c ? "," : "") << quote(cols[c].get(r));
+        for (size_t c = 0; c < cols.size(); ++c) f << (c ? "," : "") << csv_quote(cols[c].get(r));
         f << "\n";
     }
     if (!f) throw InputError(path, "write failed");

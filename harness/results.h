@@ -43,6 +43,9 @@ struct ResultRow {
     std::string error;              // the message when failed
 };
 
+// A CSV field, quoted when it holds a comma, a quote or a newline (RFC 4180).
+std::string csv_quote(const std::string& s);
+
 // CSV header and rows in a fixed column order (numbers with round-trip precision).
 std::vector<std::string> result_columns();
 void write_results_csv(const std::vector<ResultRow>& rows, const std::string& path);

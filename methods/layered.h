@@ -63,6 +63,18 @@ inline int max_layer_index(const LayerConfig& c, const Scene<double>& sc) {
     return int(std::max(std::ceil(nd), double(std::ceil(nf))));
 }
 
+// What steep and pom share: the layer parameters, their checks, bound and GLSL uniforms.
+struct LayeredMethod {
+    using Config = LayerConfig;
+    static Config configure(const ParamValues& p, const std::string& where) {
+        return layer_config(p, where);
+    }
+    static int max_fetches(const Config& c, const Scene<double>& sc) {
+        return max_layer_index(c, sc) + 1;
+    }
+    static GlUniforms gl_uniforms(const Config& c) { return layer_uniforms(c); }
+};
+
 template <typename T>
 struct LayerSearch {
     T n;             // layer count

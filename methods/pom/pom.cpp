@@ -6,19 +6,11 @@
 
 namespace pxh {
 
-struct Pom {
-    using Config = LayerConfig;
+struct Pom : LayeredMethod {
     static MethodInfo describe() {
         return {"pom", "Tatarchuk 2006; tutorial 'Parallax Occlusion Mapping'",
                 "w uv_{k-1} + (1 - w) uv_k, w = g_k / (g_k - g_{k-1}) (k + 1 fetches)",
                 layer_params(), true, 70};
-    }
-    static Config configure(const ParamValues& p, const std::string& where) {
-        return layer_config(p, where);
-    }
-    static GlUniforms gl_uniforms(const Config& c) { return layer_uniforms(c); }
-    static int max_fetches(const Config& c, const Scene<double>& sc) {
-        return max_layer_index(c, sc) + 1;
     }
     template <typename T>
     static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
