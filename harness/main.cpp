@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
     bool maps = false;
     run->add_flag("--maps", maps, "write an error map (EXR + false-colour PNG) per row");
 
-    auto* list = app.add_subcommand("list", "list registered methods or height-field generators");
+    auto* list = app.add_subcommand("list", "list registered methods, or height fields (generators and imported scans)");
     std::string what;
     list->add_option("what", what, "methods | heightfields")
         ->required()
