@@ -28,13 +28,13 @@ ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
             cell_max_[size_t(j) * W + i] =
                 std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j), hf.wrapped(i, j + 1),
                           hf.wrapped(i + 1, j + 1)});
-    level_max_.push_back(cell_max_);
+    std::vector<std::vector<float>> level_max{cell_max_};  // max over each level's blocks
     level_w_.push_back(W);
     level_h_.push_back(H);
     while (level_w_.back() > 1 || level_h_.back() > 1) {
         const int pw = level_w_.back(), ph = level_h_.back();
         const int w = (pw + 1) / 2, h = (ph + 1) / 2;
-        const auto& prev = level_max_.back();
+        const auto& prev = level_max.back();
         std::vector<float> next(size_t(w) * h);
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) {
@@ -46,12 +46,12 @@ ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
                 }
                 next[size_t(j) * w + i] = m;
             }
-        level_max_.push_back(std::move(next));
+        level_max.push_back(std::move(next));
         level_w_.push_back(w);
         level_h_.push_back(h);
     }
     // The same maxima as surface heights z = s (max - b), ready for the ray test.
-    for (const auto& lm : level_max_) {
+    for (const auto& lm : level_max) {
         std::vector<double> z(lm.size());
         for (size_t k = 0; k < lm.size(); ++k) z[k] = scale * (double(lm[k]) - bias);
         level_z_.push_back(std::move(z));
@@ -189,7 +189,7 @@ TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const {
 TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
     const Ray r = make_ray(P, V);
     const int W = hf_.width, H = hf_.height;
-    const int top = int(level_max_.size()) - 1;
+    const int top = int(level_z_.size()) - 1;
     const double inf = std::numeric_limits<double>::infinity();
     const double inv_vz = 1 / r.vz;
     const bool has_x = r.dX != 0, has_y = r.dY != 0;

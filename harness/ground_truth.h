@@ -37,7 +37,7 @@ class ExactTracer {
     bool occluded(Vec2d uv, double z, Vec3d L) const;
     double z_top() const { return s_ * (1 - b_); }
     double z_bot() const { return -s_ * b_; }
-    int levels() const { return int(level_max_.size()); }
+    int levels() const { return int(level_z_.size()); }
 
   private:
     struct Ray;
@@ -49,10 +49,9 @@ class ExactTracer {
     const HeightField& hf_;
     double s_, b_;
     std::vector<float> cell_max_;  // max of the 4 corners of cell (i, j), i, j in [0, W), [0, H)
-    // level_max_[l]: max over tile-local blocks of 2^l x 2^l cells (level 0 = cell_max_);
+    // level_z_[l]: s (max - b) over tile-local blocks of 2^l x 2^l cells (level 0: cells);
     // blocks at the tile's right/top edges are partial. The last level is one block.
-    std::vector<std::vector<float>> level_max_;
-    std::vector<std::vector<double>> level_z_;  // s (level_max_ - b)
+    std::vector<std::vector<double>> level_z_;
     std::vector<int> level_w_, level_h_;
 };
 

@@ -88,7 +88,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
     for (const auto& k : order) {
         const Acc& a = acc[k];
         std::cout << std::left << std::setw(46) << k << std::right << std::setw(10)
-                  << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95 * a.n, a.n, 3)
+                  << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95, a.n ? 1 : 0, 3)
                   << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(9)
                   << cell(a.ns, a.n_ns, 1) << std::setw(10) << cell(a.ms, a.n_ms, 2)
                   << std::setw(8) << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed
