@@ -173,7 +173,8 @@ std::vector<Vec2d> error_vectors(const MethodOutput& out, const GroundTruth& gt,
     return e;
 }
 
-// timed = false: no CPU timing passes and no timed GLSL frames (companion views of a sweep).
+// timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
+// no timed GLSL frames, no agreement statistics.
 ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool timed) {
     const Experiment& ex = c.ex;
     const HeightField& hf = c.hf;
@@ -182,15 +183,19 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
     const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg) : Vec3d{};
     GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V, ex.samples,
                                         ex.light ? &L : nullptr);
-    // Both references on the same rays; their disagreement goes on every row.
-    std::vector<Vec2d> embree_uv = c.embree.trace(c.P, scene.V);
-    std::vector<double> gap(c.P.size());
-    for (size_t k = 0; k < c.P.size(); ++k) {
-        const Vec2d e = texel_error(embree_uv[k], gt.uv[k], hf.width, hf.height);
-        gap[k] = std::hypot(e.x, e.y);
+    // Both references on the same rays; their disagreement goes on every reported row (a
+    // sweep's companion view needs Embree only when it is the reference).
+    ErrorStats agree;
+    if (timed || ex.ground_truth == "embree") {
+        std::vector<Vec2d> embree_uv = c.embree.trace(c.P, scene.V);
+        std::vector<double> gap(c.P.size());
+        for (size_t k = 0; k < c.P.size(); ++k) {
+            const Vec2d e = texel_error(embree_uv[k], gt.uv[k], hf.width, hf.height);
+            gap[k] = std::hypot(e.x, e.y);
+        }
+        agree = error_stats(gap);
+        if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
     }
-    const ErrorStats agree = error_stats(gap);
-    if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
     // Measured fields: which true hits depend on a filled hole (any of the 4 texels the
     // bilinear surface there interpolates).
     std::vector<uint8_t> on_filled;

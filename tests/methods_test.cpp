@@ -24,24 +24,6 @@ const MethodInfo& method(const char* name) {
 
 double offset_length(Vec2d uv, Vec2d P) { return std::hypot(uv.x - P.x, uv.y - P.y); }
 
-TEST(Parallax, ExactOnFlatField) {
-    for (double b : {0.0, 0.5, 1.0})
-        for (double theta : {0.0, 20.0, 60.0, 85.0}) {
-            const HeightField hf = test::flat_field(32, 32, 0.4f);
-            const auto sc = make_scene(hf, 0.05, b, theta, 75);
-            const auto P = test::random_points(100, 1);
-            const auto uv = run_method<double>(method("parallax"), {}, sc, hf, P);
-            const ExactTracer tr(hf, 0.05, b);
-            for (size_t i = 0; i < P.size(); ++i) {
-                const Vec2d t = tr.trace(P[i], sc.V).uv;
-                EXPECT_NEAR(uv[i].x, t.x, 1e-12);
-                EXPECT_NEAR(uv[i].y, t.y, 1e-12);
-            }
-        }
-}
-
-// Planar slope h = g0 + k u (along the view, phi = 0). Truth offset d = z tan/(1 - g tan) with
-// g = s k, so the parallax offset's error relative to the true offset is |g| tan(theta).
 TEST(Parallax, PlanarSlopeRelativeErrorIsGradientTimesTan) {
     const int W = 512;
     HeightField hf(W, 4);
@@ -158,24 +140,6 @@ TEST(Pom, LayerSearchStopsAtFirstLayerAtOrBelowSurface) {
     }
 }
 
-TEST(Pom, ExactOnFlatFieldAnyBiasAndAngle) {
-    for (double b : {0.0, 0.3, 1.0})
-        for (double theta : {0.0, 45.0, 80.0, 89.0}) {
-            const HeightField hf = test::flat_field(32, 32, 0.37f);
-            const auto sc = make_scene(hf, 0.05, b, theta, 200);
-            const auto P = test::random_points(50, 8);
-            const auto uv = run_method<double>(method("pom"), params_for(method("pom")), sc, hf, P);
-            const ExactTracer tr(hf, 0.05, b);
-            for (size_t i = 0; i < P.size(); ++i) {
-                const Vec2d e = texel_error(uv[i], tr.trace(P[i], sc.V).uv, 32, 32);
-                EXPECT_LT(std::hypot(e.x, e.y), 1e-9) << theta << " " << b;
-            }
-        }
-}
-
-// Steep on a flat field at height h (b = 1): the true depth below the top is d = s (1 - h);
-// the first layer at or below it is k = ceil(d / dz), so the error is (k dz - d) tan(theta)
-// in uv along the view.
 TEST(Steep, FlatFieldErrorIsDistanceToFirstLayerBelow) {
     const float level = 0.61f;
     const HeightField hf = test::flat_field(64, 64, level);
