@@ -57,9 +57,8 @@ int run_bench(const BenchOptions& opt) {
             const Vec3d V = view_vector(theta, opt.phi);
             std::vector<Vec2d> ex_uv(P.size()), em_uv;
             auto run_exact = [&] {
-                tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& r) {
-                    for (size_t k = r.begin(); k < r.end(); ++k) ex_uv[k] = exact->trace(P[k], V).uv;
-                });
+                const std::vector<TruthHit> h = exact->trace_view(P, V);
+                for (size_t k = 0; k < P.size(); ++k) ex_uv[k] = h[k].uv;
             };
             auto run_embree = [&] { em_uv = embree->trace(P, V); };
             run_exact();  // warm-up

@@ -1,6 +1,7 @@
 #include "harness/ground_truth.h"
 
 #include <tbb/parallel_for.h>
+#include <xmmintrin.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +29,9 @@ ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
             cell_max_[size_t(j) * W + i] =
                 std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j), hf.wrapped(i, j + 1),
                           hf.wrapped(i + 1, j + 1)});
+    cell_max_t_.resize(cell_max_.size());
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) cell_max_t_[size_t(i) * H + j] = cell_max_[size_t(j) * W + i];
     std::vector<std::vector<float>> level_max{cell_max_};  // max over each level's blocks
     level_w_.push_back(W);
     level_h_.push_back(H);
@@ -145,6 +149,16 @@ ExactTracer::Ray ExactTracer::make_ray(Vec2d P, Vec3d V) const {
     return r;
 }
 
+ExactTracer::Ray ExactTracer::make_ray(Vec2d P, const Ray& like) const {
+    // Bit for bit what make_ray(P, V) computes, without repeating the direction's divisions.
+    Ray r = like;
+    r.ex = P.x + r.vx / r.vz * r.zt;
+    r.ey = P.y + r.vy / r.vz * r.zt;
+    r.X0 = r.ex * hf_.width - 0.5;
+    r.Y0 = r.ey * hf_.height - 0.5;
+    return r;
+}
+
 TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
     TruthHit h;
     h.uv = {r.ex - tau * r.vx, r.ey - tau * r.vy};
@@ -158,9 +172,10 @@ double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_
     const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
     if (r.zt - tau_out * r.vz > s_ * (double(cell_max_[size_t(wj) * W + wi]) - b_)) return -1;
     const double tau_in = r.enter(ci, cj);
-    const double h00 = hf_.at(int(wi), int(wj));
-    const double h10 = hf_.wrapped(wi + 1, wj), h01 = hf_.wrapped(wi, wj + 1);
-    const double h11 = hf_.wrapped(wi + 1, wj + 1);
+    const int64_t wi1 = wi + 1 == W ? 0 : wi + 1, wj1 = wj + 1 == H ? 0 : wj + 1;
+    const float* row0 = hf_.texels.data() + wj * W;
+    const float* row1 = hf_.texels.data() + wj1 * W;
+    const double h00 = row0[wi], h10 = row0[wi1], h01 = row1[wi], h11 = row1[wi1];
     // Local parameter t = tau - tau_in; fractional cell position is linear in t.
     const double fx0 = r.X0 + tau_in * r.dX - double(ci), fy0 = r.Y0 + tau_in * r.dY - double(cj);
     const double A = h10 - h00, B = h01 - h00, C = h00 - h10 - h01 + h11;
@@ -265,6 +280,301 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
     }
 }
 
+// ---- All rays of a view at once -------------------------------------------------------------
+//
+// Every eye ray of a view has the same direction, so its path across the grid is the same line
+// shifted sideways. Let the major axis be the one the ray crosses faster, p the coordinate along
+// it (increasing as the ray advances: column c spans p in [c, c + 1]), q the other one, and
+// eta = q - m p (m = dq/dp) the ray's lateral offset, constant along the ray. The ray's height
+// is z = C - k p with C = z_top + k p0 fixed per ray. Rays are grouped in bands of lateral
+// width w; in column c a band's rays cover q in [eta_lo + m p, eta_lo + w + m p], p in
+// [c, c + 1], so its cells there are known, and
+//     U(c) = s (max of their corner maxima - b) + k (c + 1)
+// bounds what any of its rays can meet: a ray reaches the surface in column c only if
+// U(c) >= C (its lowest point in the column is C - k (c + 1)). A ray scans U (with maxima over
+// blocks of 16 columns to skip fast) for the first such column, walks that column's cells as
+// trace_naive does (same cell order, same tie rule, same solve_cell), and resumes the scan if
+// the ray clears them. Columns skipped hold no cell trace_naive would solve (a margin of 1e-9
+// relative absorbs rounding), so the hits are trace_naive's own.
+namespace {
+// Maximum of p[0 .. n), n >= 1.
+inline float range_max(const float* p, int64_t n) {
+    if (n < 4) {
+        float mx = p[0];
+        for (int64_t q = 1; q < n; ++q) mx = std::max(mx, p[q]);
+        return mx;
+    }
+    __m128 m = _mm_loadu_ps(p);
+    for (int64_t q = 4; q + 4 <= n; q += 4) m = _mm_max_ps(m, _mm_loadu_ps(p + q));
+    m = _mm_max_ps(m, _mm_loadu_ps(p + n - 4));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    m = _mm_max_ss(m, _mm_shuffle_ps(m, m, 1));
+    return _mm_cvtss_f32(m);
+}
+}  // namespace
+
+class ViewTracer {
+  public:
+    using Ray = ExactTracer::Ray;
+
+    ViewTracer(const ExactTracer& tr, Vec2d P0, Vec3d V) : t_(tr), like_(tr.make_ray(P0, V)) {
+        const Ray& r = like_;
+        major_x_ = std::abs(r.dX) >= std::abs(r.dY);
+        const double dM = major_x_ ? r.dX : r.dY, dm = major_x_ ? r.dY : r.dX;
+        dmaj_ = std::abs(dM);
+        sa_ = dM > 0 ? 1 : -1;
+        m_ = dmaj_ > 0 ? dm / dmaj_ : 0;
+        k_ = dmaj_ > 0 ? r.vz / dmaj_ : 0;
+        z_max_ = tr.level_z_.back()[0];
+        nmaj_ = major_x_ ? tr.hf_.width : tr.hf_.height;
+        nmin_ = major_x_ ? tr.hf_.height : tr.hf_.width;
+        cmax_ = major_x_ ? tr.cell_max_t_.data() : tr.cell_max_.data();
+    }
+    // Worth it once a ray crosses a few columns; else the per-ray walk is as good.
+    bool useful() const { return dmaj_ * like_.tau_max >= 2; }
+    Ray ray(Vec2d P) const { return t_.make_ray(P, like_); }
+    double p0(const Ray& r) const { return sa_ * major(r); }
+    double eta(const Ray& r) const { return minor(r) - m_ * (sa_ * major(r)); }
+
+    struct Scan {
+        int64_t c0;       // the column trace_naive starts in
+        int64_t c_first;  // columns before lie wholly above the highest surface point
+        int64_t c_last;   // the column holding the slab bottom (plus one)
+        double Cm;        // C less the rounding margin
+    };
+    Scan scan(const Ray& r) const {
+        Scan sc;
+        const int64_t i0 = int64_t(std::floor(major(r)));
+        sc.c0 = sa_ > 0 ? i0 : -i0 - 1;
+        const double p0 = this->p0(r);
+        const double C = r.zt + k_ * p0;
+        sc.Cm = C - 1e-9 * (std::abs(C) + t_.s_);
+        sc.c_last = int64_t(std::floor(p0 + r.tau_max * dmaj_)) + 1;
+        const double first = std::ceil((sc.Cm - z_max_) / k_) - 2;
+        sc.c_first = first > double(sc.c0) ? (first < double(sc.c_last) ? int64_t(first) : sc.c_last)
+                                           : sc.c0;
+        return sc;
+    }
+
+    struct Band {
+        // U with maxima over blocks of 16 and 256 columns, built 256 columns at a time.
+        double eta_lo = 0, w = 1;
+        int64_t base = 0;          // column of U[0]
+        int64_t built = 0;         // U[0 .. built) are valid
+        std::vector<double> U;     // bound per column
+        std::vector<double> blk;   // max of U over blocks of 16 columns
+        std::vector<double> sblk;  // ... and of 256 columns
+    };
+
+    // Extends the band's U through the 256-column chunk holding offset `o`.
+    void build(Band& band, int64_t o) const {
+        const int64_t end = ((o >> 8) + 1) << 8;
+        band.U.resize(size_t(end));
+        band.blk.resize(size_t(end >> 4));
+        band.sblk.resize(size_t(end >> 8));
+        const double eps = 1e-6;  // grid units: cells touched only by rounding are included too
+        const double eta_hi = band.eta_lo + band.w;
+        int64_t i = wrap_index(sa_ > 0 ? band.base + band.built : -(band.base + band.built) - 1, nmaj_);
+        for (int64_t o = band.built; o < end; ++o) {
+            const int64_t c = band.base + o;
+            const double qa = m_ * double(c), qb = m_ * double(c + 1);
+            const int64_t j0 = int64_t(std::floor(band.eta_lo + std::min(qa, qb) - eps));
+            const int64_t j1 = int64_t(std::floor(eta_hi + std::max(qa, qb) + eps));
+            const float* col = cmax_ + i * nmin_;
+            const int64_t jw = wrap_index(j0, nmin_), n = j1 - j0 + 1;
+            float mx;
+            if (jw + n <= nmin_) {
+                mx = range_max(col + jw, n);
+            } else {
+                mx = col[jw];
+                for (int64_t q = 1, jq = jw; q < n; ++q) {
+                    if (++jq == nmin_) jq = 0;
+                    mx = std::max(mx, col[jq]);
+                }
+            }
+            band.U[size_t(o)] = t_.s_ * (double(mx) - t_.b_) + k_ * double(c + 1);
+            i += sa_;  // the next column's cells
+            if (i == nmaj_) i = 0;
+            else if (i < 0) i = nmaj_ - 1;
+        }
+        auto reduce = [](const double* u, int n) {
+            double mx = u[0];
+            for (int q = 1; q < n; ++q) mx = std::max(mx, u[q]);
+            return mx;
+        };
+        for (int64_t b = band.built >> 4; b < end >> 4; ++b) band.blk[size_t(b)] = reduce(&band.U[size_t(b << 4)], 16);
+        for (int64_t b = band.built >> 8; b < end >> 8; ++b) band.sblk[size_t(b)] = reduce(&band.blk[size_t(b << 4)], 16);
+        band.built = end;
+    }
+
+    // The first offset in [o, o_last] whose bound reaches Cm, or o_last + 1.
+    int64_t find(Band& band, int64_t o, int64_t o_last, double Cm) const {
+        while (o <= o_last) {
+            if (o >= band.built) build(band, o);
+            if (band.sblk[size_t(o >> 8)] < Cm) { o = (o | 255) + 1; continue; }
+            if (band.blk[size_t(o >> 4)] < Cm) { o = (o | 15) + 1; continue; }
+            const double* U = band.U.data();
+            for (const int64_t e = std::min(o | 15, o_last); o <= e; ++o)
+                if (U[o] >= Cm) return o;
+        }
+        return o_last + 1;
+    }
+
+    // Traces one ray; lb (in: a column no later than its first candidate, out: that candidate).
+    TruthHit trace(Band& band, const Ray& r, const Scan& sc, int64_t& lb) const {
+        const double Q0 = minor(r), dq = major_x_ ? r.dY : r.dX;
+        const int s_minor = major_x_ ? r.sy : r.sx;
+        const int64_t j_start = int64_t(std::floor(Q0));
+        auto exit_minor = [&](int64_t g) { return major_x_ ? r.exit_y(g, g + 1) : r.exit_x(g, g + 1); };
+        int cells = 0;
+        const int64_t o_last = sc.c_last - band.base;
+        int64_t o = find(band, std::max(sc.c_first, lb) - band.base, o_last, sc.Cm);
+        lb = band.base + o;
+        for (; o <= o_last; o = find(band, o + 1, o_last, sc.Cm)) {
+            const int64_t c = band.base + o;
+            // Walk column c as trace_naive does, from the cell it is in on entering it.
+            const int64_t i = sa_ > 0 ? c : -c - 1;
+            int64_t ci, cj;
+            if (c == sc.c0) {
+                ci = int64_t(std::floor(r.X0));
+                cj = int64_t(std::floor(r.Y0));
+            } else {
+                const double T = major_x_ ? r.tx(r.sx > 0 ? i : i + 1) : r.ty(r.sy > 0 ? i : i + 1);
+                if (T >= r.tau_max) return t_.hit_at(r, r.tau_max, cells);
+                // trace_naive's minor cell at T: the first from its start whose exit is not
+                // passed (on a tie trace_naive steps in x first).
+                int64_t g = int64_t(std::floor(Q0 + T * dq));
+                if (major_x_) {
+                    while (exit_minor(g) < T) g += s_minor;
+                    while (g != j_start && exit_minor(g - s_minor) >= T) g -= s_minor;
+                } else {
+                    while (exit_minor(g) <= T) g += s_minor;
+                    while (g != j_start && exit_minor(g - s_minor) > T) g -= s_minor;
+                }
+                ci = major_x_ ? i : g;
+                cj = major_x_ ? g : i;
+            }
+            for (;;) {
+                ++cells;
+                const double ex = r.exit_x(ci, ci + 1), ey = r.exit_y(cj, cj + 1);
+                const double tau_out = std::min({ex, ey, r.tau_max});
+                const double t = t_.solve_cell(r, ci, cj, tau_out);
+                if (t >= 0) return t_.hit_at(r, t, cells);
+                if (tau_out >= r.tau_max) return t_.hit_at(r, r.tau_max, cells);
+                if (ex <= ey) {
+                    if (major_x_) break;
+                    ci += r.sx;
+                } else {
+                    if (!major_x_) break;
+                    cj += r.sy;
+                }
+            }
+        }
+        return t_.hit_at(r, r.tau_max, cells);
+    }
+
+  private:
+    double major(const Ray& r) const { return major_x_ ? r.X0 : r.Y0; }
+    double minor(const Ray& r) const { return major_x_ ? r.Y0 : r.X0; }
+
+    const ExactTracer& t_;
+    Ray like_;  // the direction-dependent part of every ray
+    bool major_x_;
+    int sa_;
+    double dmaj_, m_, k_, z_max_;
+    int64_t nmaj_, nmin_;
+    const float* cmax_;  // cell maxima, minor-contiguous: [major * nmin + minor]
+};
+
+std::vector<TruthHit> ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V) const {
+    std::vector<TruthHit> out(P.size());
+    if (P.empty()) return out;
+    const ViewTracer vt(*this, P[0], V);
+    if (!vt.useful()) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& rg) {
+            for (size_t k = rg.begin(); k < rg.end(); ++k) out[k] = trace_naive(P[k], V);
+        });
+        return out;
+    }
+    // Each ray's lateral offset, and the extent of the rays and of their start points.
+    const size_t n = P.size(), chunk = 16384, chunks = (n + chunk - 1) / chunk;
+    struct Extent {
+        double eta_lo = std::numeric_limits<double>::infinity(), eta_hi = -eta_lo;
+        double x_lo = eta_lo, x_hi = -eta_lo, y_lo = eta_lo, y_hi = -eta_lo;
+        void add(const Extent& e) {
+            eta_lo = std::min(eta_lo, e.eta_lo), eta_hi = std::max(eta_hi, e.eta_hi);
+            x_lo = std::min(x_lo, e.x_lo), x_hi = std::max(x_hi, e.x_hi);
+            y_lo = std::min(y_lo, e.y_lo), y_hi = std::max(y_hi, e.y_hi);
+        }
+    };
+    std::vector<double> eta(n);
+    std::vector<Extent> ext(chunks);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        Extent& e = ext[c];
+        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
+            eta[k] = vt.eta(vt.ray(P[k]));
+            e.eta_lo = std::min(e.eta_lo, eta[k]), e.eta_hi = std::max(e.eta_hi, eta[k]);
+            e.x_lo = std::min(e.x_lo, P[k].x), e.x_hi = std::max(e.x_hi, P[k].x);
+            e.y_lo = std::min(e.y_lo, P[k].y), e.y_hi = std::max(e.y_hi, P[k].y);
+        }
+    });
+    Extent all;
+    for (const Extent& e : ext) all.add(e);
+    // Band width: about the rays' spacing (the side of the grid area per ray), so that a band
+    // holds a row of rays: narrower bands bound more tightly but cost a bound per column each.
+    const double area = std::max(1.0, (all.x_hi - all.x_lo) * hf_.width) *
+                        std::max(1.0, (all.y_hi - all.y_lo) * hf_.height);
+    double w = std::clamp(std::floor(std::sqrt(area / double(n))), 1.0, 8.0);
+    if (getenv("PXH_W")) w = atof(getenv("PXH_W"));
+    const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) / w)) + 1;
+    // Counting sort by band (per chunk, then scattered in parallel): rays keep their order.
+    std::vector<uint32_t> band_of(n), order(n), start(bands + 1, 0);
+    std::vector<uint32_t> count(chunks * bands, 0);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        uint32_t* cnt = count.data() + c * bands;
+        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
+            band_of[k] = uint32_t(std::min(bands - 1, size_t((eta[k] - all.eta_lo) / w)));
+            ++cnt[band_of[k]];
+        }
+    });
+    for (size_t b = 0, at = 0; b < bands; ++b) {
+        start[b] = uint32_t(at);
+        for (size_t c = 0; c < chunks; ++c) {
+            const uint32_t m = count[c * bands + b];
+            count[c * bands + b] = uint32_t(at);
+            at += m;
+        }
+    }
+    start[bands] = uint32_t(n);
+    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+        uint32_t* pos = count.data() + c * bands;
+        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) order[pos[band_of[k]]++] = uint32_t(k);
+    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, bands, 1), [&](const auto& rg) {
+        ViewTracer::Band band;
+        std::vector<std::pair<double, uint32_t>> sorted;
+        for (size_t b = rg.begin(); b < rg.end(); ++b) {
+            if (start[b] == start[b + 1]) continue;
+            // In order of p0, C and the first column only grow, and so does the first column
+            // whose bound reaches a ray (the columns before held nothing for a lower ray).
+            sorted.clear();
+            for (uint32_t q = start[b]; q < start[b + 1]; ++q)
+                sorted.push_back({vt.p0(vt.ray(P[order[q]])), order[q]});
+            std::sort(sorted.begin(), sorted.end());
+            band.eta_lo = all.eta_lo + double(b) * w;
+            band.w = w;
+            band.built = 0;
+            band.base = vt.scan(vt.ray(P[sorted.front().second])).c_first;  // the earliest
+            int64_t lb = band.base;
+            for (const auto& [p0, k] : sorted) {
+                const ExactTracer::Ray r = vt.ray(P[k]);
+                out[k] = vt.trace(band, r, vt.scan(r), lb);
+            }
+        }
+    });
+    return out;
+}
+
 bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
     if (!(L.z > 0)) return true;  // light at or below the horizon
     const int W = hf_.width, H = hf_.height;
@@ -320,19 +630,17 @@ GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias,
     GroundTruth gt;
     gt.uv.resize(P.size());
     gt.z.resize(P.size());
-    std::vector<int> cells(P.size());
+    const std::vector<TruthHit> hits = tracer.trace_view(P, V);
     if (L) gt.lit.resize(P.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
-            const TruthHit h = tracer.trace(P[k], V);
-            gt.uv[k] = h.uv;
-            gt.z[k] = h.z;
-            cells[k] = h.cells;
-            if (L) gt.lit[k] = !tracer.occluded(h.uv, h.z, *L);
+            gt.uv[k] = hits[k].uv;
+            gt.z[k] = hits[k].z;
+            if (L) gt.lit[k] = !tracer.occluded(hits[k].uv, hits[k].z, *L);
         }
     });
     double sum = 0;
-    for (int c : cells) sum += c;
+    for (const TruthHit& h : hits) sum += h.cells;
     gt.cells_mean = P.empty() ? 0 : sum / double(P.size());
     return gt;
 }

@@ -32,6 +32,13 @@ class ExactTracer {
     TruthHit trace(Vec2d P, Vec3d V) const;
     // The reference: a per-cell 2D DDA testing every cell the ray crosses.
     TruthHit trace_naive(Vec2d P, Vec3d V) const;
+    // Every ray of one view at once: rays P[k] - tau V, all parallel. Rays are grouped in
+    // narrow lateral bands; each band keeps, per grid column along the view direction, an
+    // exact upper bound of the surface the band's rays can meet there, so a ray skips to the
+    // first column where it could hit and solves only the cells trace_naive would solve
+    // there: the same cells, the same closed forms, hence the same hits (tested bit for bit).
+    // Runs in parallel (TBB); the result does not depend on the thread count.
+    std::vector<TruthHit> trace_view(const std::vector<Vec2d>& P, Vec3d V) const;
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
     bool occluded(Vec2d uv, double z, Vec3d L) const;
@@ -42,6 +49,8 @@ class ExactTracer {
   private:
     struct Ray;
     Ray make_ray(Vec2d P, Vec3d V) const;
+    Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
+    friend class ViewTracer;  // trace_view's machinery (ground_truth.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
@@ -49,6 +58,7 @@ class ExactTracer {
     const HeightField& hf_;
     double s_, b_;
     std::vector<float> cell_max_;  // max of the 4 corners of cell (i, j), i, j in [0, W), [0, H)
+    std::vector<float> cell_max_t_;  // the same, column-major: [i * H + j]
     // level_z_[l]: s (max - b) over tile-local blocks of 2^l x 2^l cells (level 0: cells);
     // blocks at the tile's right/top edges are partial. The last level is one block.
     std::vector<std::vector<double>> level_z_;

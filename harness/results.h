@@ -31,7 +31,7 @@ struct ResultRow {
     double gt_on_filled = NAN;      // measured fields: fraction of samples whose true hit
                                     //   depends on a filled hole texel
     long long excluded = 0;         // samples left out of err_* (exclude_filled = true)
-    double gt_cells_mean = NAN;     // ground-truth cost: tracer steps per ray
+    double gt_cells_mean = NAN;     // ground-truth cost: cells per ray given to the exact solver
     std::string ground_truth;       // exact | embree: the reference of the err_* columns
     double gt_agree_p50 = NAN;      // |hit_exact - hit_embree| in texels over the samples:
     double gt_agree_p99 = NAN;      //   median, p99, max and fraction > 0.5 texel (the

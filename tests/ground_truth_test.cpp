@@ -124,6 +124,40 @@ TEST(ExactTracer, HierarchicalEqualsNaiveOnEveryRay) {
     EXPECT_LE(worst, 1e-9) << "texel; " << differ << " of " << rays << " rays not bit-identical";
 }
 
+// The whole-view tracer (parallel rays in lateral bands) against the per-cell DDA, on every ray:
+// random fields of awkward sizes, azimuths on the axes and diagonals (ties between grid lines),
+// sample grids whose rays start exactly on grid lines, and random points far outside the tile.
+TEST(ExactTracer, ViewTracerEqualsNaiveOnEveryRay) {
+    struct Case { int w, h; double s, b; int n; };
+    const Case cases[] = {{64, 64, 0.05, 1.0, 64}, {300, 7, 0.1, 0.5, 30}, {37, 129, 0.3, 0.0, 37},
+                          {1, 1, 0.05, 1.0, 5},    {2, 2, 1.0, 0.5, 8},    {128, 96, 0.02, 0.7, 50},
+                          {256, 256, 1.0, 1.0, 32}};
+    long long rays = 0, differ = 0;
+    double worst = 0;
+    for (const Case& c : cases) {
+        const HeightField hf = test::random_field(c.w, c.h, uint32_t(c.w * 31 + c.h));
+        const ExactTracer tr(hf, c.s, c.b);
+        std::vector<Vec2d> P = sample_grid(c.n);  // n = w: starts on grid lines when b = 1
+        for (const Vec2d q : test::random_points(200, uint32_t(c.w + c.h)))
+            P.push_back({q.x * 7 - 3, q.y * 5 - 2});
+        for (double theta : {0.0, 10.0, 45.0, 60.0, 80.0, 85.0, 89.0, 89.9})
+            for (double phi : {0.0, 17.0, 45.0, 90.0, 135.0, 180.0, 251.0, 270.0, 315.0}) {
+                const Vec3d V = view_vector(theta, phi);
+                const std::vector<TruthHit> a = tr.trace_view(P, V);
+                ASSERT_EQ(a.size(), P.size());
+                for (size_t k = 0; k < P.size(); ++k) {
+                    const TruthHit b = tr.trace_naive(P[k], V);
+                    const double d = std::hypot((a[k].uv.x - b.uv.x) * c.w, (a[k].uv.y - b.uv.y) * c.h);
+                    worst = std::max(worst, d);
+                    differ += (a[k].uv.x != b.uv.x || a[k].uv.y != b.uv.y || a[k].z != b.z);
+                    ++rays;
+                }
+            }
+    }
+    EXPECT_EQ(differ, 0) << "of " << rays << " rays; worst " << worst << " texel";
+    EXPECT_LE(worst, 1e-9);
+}
+
 TEST(GroundTruth, IndependentOfThreadCount) {
     // Computed twice: the grid result must be identical, bit for bit (per-sample work only).
     const HeightField hf = test::random_field(32, 32, 2);
