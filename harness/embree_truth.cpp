@@ -133,7 +133,13 @@ void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) cons
 }
 
 std::vector<Vec2d> EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V) const {
-    std::vector<Vec2d> out(P.size());
+    std::vector<Vec2d> out;
+    trace(P, V, out);
+    return out;
+}
+
+void EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const {
+    out.resize(P.size());
     const size_t packets = (P.size() + 15) / 16;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, packets, 16), [&](const auto& r) {
         for (size_t p = r.begin(); p < r.end(); ++p) {
@@ -142,7 +148,6 @@ std::vector<Vec2d> EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V) con
             trace_packet(P.data() + first, n, V, out.data() + first);
         }
     });
-    return out;
 }
 
 }  // namespace pxh

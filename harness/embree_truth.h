@@ -19,6 +19,7 @@ class EmbreeTracer {
     // First hits of the eye rays of points P (coming down along -V from the slab top),
     // unwrapped uv; in parallel (TBB), 16 rays per packet.
     std::vector<Vec2d> trace(const std::vector<Vec2d>& P, Vec3d V) const;
+    void trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const;  // reuses out
     double build_ms() const { return build_ms_; }
 
   private:

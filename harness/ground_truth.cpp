@@ -2,10 +2,13 @@
 
 #include <tbb/parallel_for.h>
 #include <xmmintrin.h>
+#include <chrono>
+#include <cstdio>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 namespace pxh {
 
@@ -22,23 +25,26 @@ Vec3d view_vector(double theta_deg, double phi_deg) {
 }
 
 ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
-    : hf_(hf), s_(scale), b_(bias), cell_max_(hf.texels.size()) {
+    : hf_(hf), s_(scale), b_(bias), scratch_(std::make_unique<ViewScratch>()) {
     const int W = hf.width, H = hf.height;
+    column_pairs_.resize(2 * hf.texels.size());
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            column_pairs_[2 * (size_t(j) * W + i)] = hf.at(i, j);
+            column_pairs_[2 * (size_t(j) * W + i) + 1] = hf.wrapped(i, j + 1);
+        }
+    std::vector<float> cells(hf.texels.size());
     for (int j = 0; j < H; ++j)
         for (int i = 0; i < W; ++i)
-            cell_max_[size_t(j) * W + i] =
-                std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j), hf.wrapped(i, j + 1),
-                          hf.wrapped(i + 1, j + 1)});
-    cell_max_t_.resize(cell_max_.size());
-    for (int j = 0; j < H; ++j)
-        for (int i = 0; i < W; ++i) cell_max_t_[size_t(i) * H + j] = cell_max_[size_t(j) * W + i];
-    std::vector<std::vector<float>> level_max{cell_max_};  // max over each level's blocks
+            cells[size_t(j) * W + i] = std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j),
+                                                 hf.wrapped(i, j + 1), hf.wrapped(i + 1, j + 1)});
+    level_max_.push_back(std::move(cells));
     level_w_.push_back(W);
     level_h_.push_back(H);
     while (level_w_.back() > 1 || level_h_.back() > 1) {
         const int pw = level_w_.back(), ph = level_h_.back();
         const int w = (pw + 1) / 2, h = (ph + 1) / 2;
-        const auto& prev = level_max.back();
+        const auto& prev = level_max_.back();
         std::vector<float> next(size_t(w) * h);
         for (int j = 0; j < h; ++j)
             for (int i = 0; i < w; ++i) {
@@ -50,15 +56,16 @@ ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
                 }
                 next[size_t(j) * w + i] = m;
             }
-        level_max.push_back(std::move(next));
+        level_max_.push_back(std::move(next));
         level_w_.push_back(w);
         level_h_.push_back(h);
     }
-    // The same maxima as surface heights z = s (max - b), ready for the ray test.
-    for (const auto& lm : level_max) {
-        std::vector<double> z(lm.size());
-        for (size_t k = 0; k < lm.size(); ++k) z[k] = scale * (double(lm[k]) - bias);
-        level_z_.push_back(std::move(z));
+    for (size_t l = 0; l < std::min<size_t>(kBandLevels, level_max_.size()); ++l) {
+        const int w = level_w_[l], h = level_h_[l];
+        std::vector<float> t(level_max_[l].size());
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) t[size_t(i) * h + j] = level_max_[l][size_t(j) * w + i];
+        level_max_t_.push_back(std::move(t));
     }
 }
 
@@ -170,12 +177,14 @@ TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
 double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const {
     const int W = hf_.width, H = hf_.height;
     const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
-    if (r.zt - tau_out * r.vz > s_ * (double(cell_max_[size_t(wj) * W + wi]) - b_)) return -1;
+    const int64_t wi1 = wi + 1 == W ? 0 : wi + 1;
+    const float* row = column_pairs_.data() + 2 * wj * W;  // (h(i, j), h(i, j + 1)) pairs
+    const float f00 = row[2 * wi], f01 = row[2 * wi + 1], f10 = row[2 * wi1], f11 = row[2 * wi1 + 1];
+    // The cell's maximum (its corners' maximum, the value the hierarchy is built from).
+    const float top = std::max(std::max(f00, f10), std::max(f01, f11));
+    if (r.zt - tau_out * r.vz > s_ * (double(top) - b_)) return -1;
     const double tau_in = r.enter(ci, cj);
-    const int64_t wi1 = wi + 1 == W ? 0 : wi + 1, wj1 = wj + 1 == H ? 0 : wj + 1;
-    const float* row0 = hf_.texels.data() + wj * W;
-    const float* row1 = hf_.texels.data() + wj1 * W;
-    const double h00 = row0[wi], h10 = row0[wi1], h01 = row1[wi], h11 = row1[wi1];
+    const double h00 = f00, h10 = f10, h01 = f01, h11 = f11;
     // Local parameter t = tau - tau_in; fractional cell position is linear in t.
     const double fx0 = r.X0 + tau_in * r.dX - double(ci), fy0 = r.Y0 + tau_in * r.dY - double(cj);
     const double A = h10 - h00, B = h01 - h00, C = h00 - h10 - h01 + h11;
@@ -204,7 +213,7 @@ TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const {
 TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
     const Ray r = make_ray(P, V);
     const int W = hf_.width, H = hf_.height;
-    const int top = int(level_z_.size()) - 1;
+    const int top = int(level_max_.size()) - 1;
     const double inf = std::numeric_limits<double>::infinity();
     const double inv_vz = 1 / r.vz;
     const bool has_x = r.dX != 0, has_y = r.dY != 0;
@@ -214,10 +223,10 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
     int64_t ti = floor_div(ci0, W), tj = floor_div(cj0, H);
     int li = int(ci0 - ti * W), lj = int(cj0 - tj * H);
     double ox = r.X0 - double(ti * W), oy = r.Y0 - double(tj * H);
-    const double* level_z[64];
+    const float* level_max[64];
     int level_w[64];
     for (int l = 0; l <= top; ++l) {
-        level_z[l] = level_z_[l].data();
+        level_max[l] = level_max_[l].data();
         level_w[l] = level_w_[l];
     }
     // Start at the level whose blocks are about half the ray's horizontal travel (in
@@ -234,7 +243,8 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
         const double ex = has_x ? (double(r.sx > 0 ? lx1 : lx0) - ox) * r.inv_dX : inf;
         const double ey = has_y ? (double(r.sy > 0 ? ly1 : ly0) - oy) * r.inv_dY : inf;
         const double tau_out = std::min(std::min(ex, ey), r.tau_max);
-        const double z_block = level_z[level][size_t(bj) * size_t(level_w[level]) + size_t(bi)];
+        const double z_block =
+            s_ * (double(level_max[level][size_t(bj) * size_t(level_w[level]) + size_t(bi)]) - b_);
         if (r.zt - tau_out * r.vz <= z_block) {
             if (level > 0) {
                 // The surface may reach the ray in this block, but not before the ray has come
@@ -296,14 +306,16 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
 // trace_naive does (same cell order, same tie rule, same solve_cell), and resumes the scan if
 // the ray clears them. Columns skipped hold no cell trace_naive would solve (a margin of 1e-9
 // relative absorbs rounding), so the hits are trace_naive's own.
+#ifdef PXH_PROFILE
+#define PXH_NI __attribute__((noinline))
+#else
+#define PXH_NI
+#endif
+
 namespace {
 // Maximum of p[0 .. n), n >= 1.
 inline float range_max(const float* p, int64_t n) {
-    if (n < 4) {
-        float mx = p[0];
-        for (int64_t q = 1; q < n; ++q) mx = std::max(mx, p[q]);
-        return mx;
-    }
+    if (n < 4) return std::max(std::max(p[0], p[n / 2]), p[n - 1]);  // covers n = 1, 2, 3
     __m128 m = _mm_loadu_ps(p);
     for (int64_t q = 4; q + 4 <= n; q += 4) m = _mm_max_ps(m, _mm_loadu_ps(p + q));
     m = _mm_max_ps(m, _mm_loadu_ps(p + n - 4));
@@ -325,11 +337,18 @@ class ViewTracer {
         sa_ = dM > 0 ? 1 : -1;
         m_ = dmaj_ > 0 ? dm / dmaj_ : 0;
         k_ = dmaj_ > 0 ? r.vz / dmaj_ : 0;
-        z_max_ = tr.level_z_.back()[0];
+        z_max_ = tr.s_ * (double(tr.level_max_.back()[0]) - tr.b_);
         nmaj_ = major_x_ ? tr.hf_.width : tr.hf_.height;
         nmin_ = major_x_ ? tr.hf_.height : tr.hf_.width;
-        cmax_ = major_x_ ? tr.cell_max_t_.data() : tr.cell_max_.data();
+        use_level(0);
     }
+    // Bounds from the maximum mipmap's level l (blocks of 2^l cells): coarser, fewer misses.
+    void use_level(int l) {
+        l_ = std::min(l, int(t_.level_max_t_.size()) - 1);
+        nmin_l_ = major_x_ ? t_.level_h_[size_t(l_)] : t_.level_w_[size_t(l_)];
+        cmax_ = (major_x_ ? t_.level_max_t_ : t_.level_max_)[size_t(l_)].data();
+    }
+    int level() const { return l_; }
     // Worth it once a ray crosses a few columns; else the per-ray walk is as good.
     bool useful() const { return dmaj_ * like_.tau_max >= 2; }
     Ray ray(Vec2d P) const { return t_.make_ray(P, like_); }
@@ -357,123 +376,173 @@ class ViewTracer {
     }
 
     struct Band {
-        // U with maxima over blocks of 16 and 256 columns, built 256 columns at a time.
+        // U per run of 2^l columns (l: the mipmap level), with maxima over blocks of 16 and 256
+        // runs, built 256 runs at a time.
         double eta_lo = 0, w = 1;
-        int64_t base = 0;          // column of U[0]
-        int64_t built = 0;         // U[0 .. built) are valid
-        std::vector<double> U;     // bound per column
-        std::vector<double> blk;   // max of U over blocks of 16 columns
-        std::vector<double> sblk;  // ... and of 256 columns
+        int64_t base = 0;          // column where run 0 starts (a multiple of 2^l)
+        int64_t built = 0;         // runs [0, built) are valid
+        std::vector<double> U;     // bound per run
+        std::vector<double> blk;   // max of U over blocks of 16 runs
+        std::vector<double> sblk;  // ... and of 256 runs
     };
 
-    // Extends the band's U through the 256-column chunk holding offset `o`.
-    void build(Band& band, int64_t o) const {
-        const int64_t end = ((o >> 8) + 1) << 8;
+    // Extends the band's U through the 256-run chunk holding run q_need.
+    PXH_NI void build(Band& band, int64_t q_need) const {
+        const int64_t end = ((q_need >> 8) + 1) << 8;
         band.U.resize(size_t(end));
         band.blk.resize(size_t(end >> 4));
         band.sblk.resize(size_t(end >> 8));
-        const double eps = 1e-6;  // grid units: cells touched only by rounding are included too
-        const double eta_hi = band.eta_lo + band.w;
-        int64_t i = wrap_index(sa_ > 0 ? band.base + band.built : -(band.base + band.built) - 1, nmaj_);
-        for (int64_t o = band.built; o < end; ++o) {
-            const int64_t c = band.base + o;
-            const double qa = m_ * double(c), qb = m_ * double(c + 1);
-            const int64_t j0 = int64_t(std::floor(band.eta_lo + std::min(qa, qb) - eps));
-            const int64_t j1 = int64_t(std::floor(eta_hi + std::max(qa, qb) + eps));
-            const float* col = cmax_ + i * nmin_;
-            const int64_t jw = wrap_index(j0, nmin_), n = j1 - j0 + 1;
-            float mx;
-            if (jw + n <= nmin_) {
-                mx = range_max(col + jw, n);
-            } else {
-                mx = col[jw];
-                for (int64_t q = 1, jq = jw; q < n; ++q) {
-                    if (++jq == nmin_) jq = 0;
-                    mx = std::max(mx, col[jq]);
-                }
-            }
-            band.U[size_t(o)] = t_.s_ * (double(mx) - t_.b_) + k_ * double(c + 1);
-            i += sa_;  // the next column's cells
-            if (i == nmaj_) i = 0;
-            else if (i < 0) i = nmaj_ - 1;
+        // The band's cells over p in [ca, cb]: minor index in [lo0 + m p, hi0 + m p] (widened by
+        // 1e-6 grid units, so that cells touched only by rounding are included too).
+        const double eps = 1e-6;
+        const double lo0 = band.eta_lo - eps, hi0 = band.eta_lo + band.w + eps;
+        const double s = t_.s_, b = t_.b_;
+        const int64_t len = int64_t(1) << l_;
+        double* U = band.U.data();
+        for (int64_t q = band.built; q < end; ++q) {
+            const int64_t ca = band.base + (q << l_), cb = ca + len;  // columns [ca, cb)
+            const double qa = m_ * double(ca), qb = m_ * double(cb);
+            const int64_t j0 = int64_t(std::floor(lo0 + std::min(qa, qb)));
+            const int64_t n = int64_t(std::floor(hi0 + std::max(qa, qb))) - j0 + 1;
+            const int64_t ia = wrap_index(sa_ > 0 ? ca : -ca - 1, nmaj_);
+            const int64_t ib = wrap_index(sa_ > 0 ? cb - 1 : -cb, nmaj_);
+            float mx = block_column_max(ia >> l_, j0, n);
+            if ((ib >> l_) != (ia >> l_)) mx = std::max(mx, block_column_max(ib >> l_, j0, n));
+            U[q] = s * (double(mx) - b) + k_ * double(cb);
         }
-        auto reduce = [](const double* u, int n) {
+        auto reduce = [](const double* u) {
             double mx = u[0];
-            for (int q = 1; q < n; ++q) mx = std::max(mx, u[q]);
+            for (int k = 1; k < 16; ++k) mx = std::max(mx, u[k]);
             return mx;
         };
-        for (int64_t b = band.built >> 4; b < end >> 4; ++b) band.blk[size_t(b)] = reduce(&band.U[size_t(b << 4)], 16);
-        for (int64_t b = band.built >> 8; b < end >> 8; ++b) band.sblk[size_t(b)] = reduce(&band.blk[size_t(b << 4)], 16);
+        for (int64_t k = band.built >> 4; k < end >> 4; ++k) band.blk[size_t(k)] = reduce(&U[k << 4]);
+        for (int64_t k = band.built >> 8; k < end >> 8; ++k) band.sblk[size_t(k)] = reduce(&band.blk[size_t(k << 4)]);
         band.built = end;
     }
 
-    // The first offset in [o, o_last] whose bound reaches Cm, or o_last + 1.
-    int64_t find(Band& band, int64_t o, int64_t o_last, double Cm) const {
-        while (o <= o_last) {
-            if (o >= band.built) build(band, o);
-            if (band.sblk[size_t(o >> 8)] < Cm) { o = (o | 255) + 1; continue; }
-            if (band.blk[size_t(o >> 4)] < Cm) { o = (o | 15) + 1; continue; }
-            const double* U = band.U.data();
-            for (const int64_t e = std::min(o | 15, o_last); o <= e; ++o)
-                if (U[o] >= Cm) return o;
-        }
-        return o_last + 1;
+    // Maximum over the level-l blocks of block column I that hold cells j0 .. j0 + n - 1.
+    float block_column_max(int64_t I, int64_t j0, int64_t n) const {
+        const float* col = cmax_ + I * nmin_l_;
+        if (n >= nmin_) return range_max(col, nmin_l_);
+        const int64_t jw = wrap_index(j0, nmin_), jl = jw + n - 1;
+        if (jl < nmin_) return range_max(col + (jw >> l_), (jl >> l_) - (jw >> l_) + 1);
+        return std::max(range_max(col + (jw >> l_), nmin_l_ - (jw >> l_)),  // wraps once
+                        range_max(col, ((jl - nmin_) >> l_) + 1));
     }
 
-    // Traces one ray; lb (in: a column no later than its first candidate, out: that candidate).
-    TruthHit trace(Band& band, const Ray& r, const Scan& sc, int64_t& lb) const {
-        const double Q0 = minor(r), dq = major_x_ ? r.dY : r.dX;
-        const int s_minor = major_x_ ? r.sy : r.sx;
-        const int64_t j_start = int64_t(std::floor(Q0));
-        auto exit_minor = [&](int64_t g) { return major_x_ ? r.exit_y(g, g + 1) : r.exit_x(g, g + 1); };
+    // The first run in [q, q_last] whose bound reaches Cm, or q_last + 1.
+    PXH_NI int64_t find(Band& band, int64_t q, int64_t q_last, double Cm) const {
+        while (q <= q_last) {
+            if (q >= band.built) build(band, q);
+            if (band.sblk[size_t(q >> 8)] < Cm) { q = (q | 255) + 1; continue; }
+            if (band.blk[size_t(q >> 4)] < Cm) { q = (q | 15) + 1; continue; }
+            const double* U = band.U.data();
+            for (const int64_t e = std::min(q | 15, q_last); q <= e; ++q)
+                if (U[q] >= Cm) return q;
+        }
+        return q_last + 1;
+    }
+
+    // Traces one ray of the band. lb: a column no later than the ray's first candidate (rays
+    // taken in order of p0 pass on their own first candidate).
+    // A ray ready to walk: its first candidate run q and column offset o.
+    struct Start {
+        Ray r;
+        Scan sc;
+        int64_t q, o;
+    };
+    // Finds the ray's first candidate (lb: a column no later than it; rays taken in order of
+    // p0 pass on their own first candidate) and asks the memory system early for the texels
+    // of the cell the ray enters there, which it will most likely solve.
+    Start start(Band& band, Vec2d P, int64_t& lb) const {
+        Start st{ray(P), {}, 0, 0};
+        st.sc = scan(st.r);
+        const int64_t o_start = std::max(st.sc.c_first, lb) - band.base;
+        st.q = find(band, o_start >> l_, (st.sc.c_last - band.base) >> l_, st.sc.Cm);
+        st.o = std::max(st.q << l_, o_start);
+        lb = band.base + st.o;
+        const int64_t c = band.base + st.o, i = sa_ > 0 ? c : -c - 1;
+        const Ray& r = st.r;
+        const double T = major_x_ ? r.tx(r.sx > 0 ? i : i + 1) : r.ty(r.sy > 0 ? i : i + 1);
+        const double g = std::floor((major_x_ ? r.Y0 : r.X0) + T * (major_x_ ? r.dY : r.dX));
+        if (std::abs(g) < 1e15) {
+            const int64_t W = t_.hf_.width, H = t_.hf_.height;
+            const int64_t ci = wrap_index(major_x_ ? i : int64_t(g), W);
+            const int64_t cj = wrap_index(major_x_ ? int64_t(g) : i, H);
+            _mm_prefetch(reinterpret_cast<const char*>(t_.column_pairs_.data() + 2 * (cj * W + ci)), _MM_HINT_T0);
+        }
+        return st;
+    }
+    TruthHit trace(Band& band, const Start& st) const {
+        return major_x_ ? walk<true>(band, st) : walk<false>(band, st);
+    }
+
+  private:
+    // Each candidate column's cells as trace_naive walks them; the scan resumes when the ray
+    // clears a column.
+    template <bool MX>
+    PXH_NI TruthHit walk(Band& band, const Start& st) const {
+        const Ray& r = st.r;
+        const Scan& sc = st.sc;
+        const int64_t o_last = sc.c_last - band.base, q_last = o_last >> l_;
+        int64_t q = st.q, o = st.o;
         int cells = 0;
-        const int64_t o_last = sc.c_last - band.base;
-        int64_t o = find(band, std::max(sc.c_first, lb) - band.base, o_last, sc.Cm);
-        lb = band.base + o;
-        for (; o <= o_last; o = find(band, o + 1, o_last, sc.Cm)) {
+        int64_t ci = 0, cj = 0, o_next = -1;  // (ci, cj): the entry cell of column o_next
+        for (; o <= o_last; o = ((o + 1) >> l_) == q ? o + 1 : (q = find(band, (o + 1) >> l_, q_last, sc.Cm)) << l_) {
             const int64_t c = band.base + o;
-            // Walk column c as trace_naive does, from the cell it is in on entering it.
-            const int64_t i = sa_ > 0 ? c : -c - 1;
-            int64_t ci, cj;
-            if (c == sc.c0) {
-                ci = int64_t(std::floor(r.X0));
-                cj = int64_t(std::floor(r.Y0));
-            } else {
-                const double T = major_x_ ? r.tx(r.sx > 0 ? i : i + 1) : r.ty(r.sy > 0 ? i : i + 1);
-                if (T >= r.tau_max) return t_.hit_at(r, r.tau_max, cells);
-                // trace_naive's minor cell at T: the first from its start whose exit is not
-                // passed (on a tie trace_naive steps in x first).
-                int64_t g = int64_t(std::floor(Q0 + T * dq));
-                if (major_x_) {
-                    while (exit_minor(g) < T) g += s_minor;
-                    while (g != j_start && exit_minor(g - s_minor) >= T) g -= s_minor;
+            if (o != o_next) {
+                // trace_naive's cell on entering column c: the first from its start cell whose
+                // minor exit is not passed yet (on a tie trace_naive steps in x first).
+                const int64_t i = sa_ > 0 ? c : -c - 1;
+                const double Q0 = MX ? r.Y0 : r.X0;
+                const int64_t g0 = int64_t(std::floor(Q0));
+                int64_t g = g0;
+                if (c != sc.c0) {
+                    const double T = MX ? r.tx(r.sx > 0 ? i : i + 1) : r.ty(r.sy > 0 ? i : i + 1);
+                    if (T >= r.tau_max) return t_.hit_at(r, r.tau_max, cells);
+                    auto exit_minor = [&](int64_t q) { return MX ? r.exit_y(q, q + 1) : r.exit_x(q, q + 1); };
+                    const int sm = MX ? r.sy : r.sx;
+                    g = int64_t(std::floor(Q0 + T * (MX ? r.dY : r.dX)));
+                    if (MX) {
+                        while (exit_minor(g) < T) g += sm;
+                        while (g != g0 && exit_minor(g - sm) >= T) g -= sm;
+                    } else {
+                        while (exit_minor(g) <= T) g += sm;
+                        while (g != g0 && exit_minor(g - sm) > T) g -= sm;
+                    }
+                    ci = MX ? i : g;
+                    cj = MX ? g : i;
                 } else {
-                    while (exit_minor(g) <= T) g += s_minor;
-                    while (g != j_start && exit_minor(g - s_minor) > T) g -= s_minor;
+                    ci = int64_t(std::floor(r.X0));
+                    cj = int64_t(std::floor(r.Y0));
                 }
-                ci = major_x_ ? i : g;
-                cj = major_x_ ? g : i;
             }
             for (;;) {
                 ++cells;
                 const double ex = r.exit_x(ci, ci + 1), ey = r.exit_y(cj, cj + 1);
                 const double tau_out = std::min({ex, ey, r.tau_max});
-                const double t = t_.solve_cell(r, ci, cj, tau_out);
-                if (t >= 0) return t_.hit_at(r, t, cells);
+                // The cell's block maximum (the array the bounds come from, in cache) rejects
+                // most cells the ray clears before their texels are read; it bounds the cell's
+                // own maximum, so solve_cell would reject them too.
+                const int64_t bi = wrap_index(MX ? ci : cj, nmaj_) >> l_, bj = wrap_index(MX ? cj : ci, nmin_) >> l_;
+                if (!pre_ || r.zt - tau_out * r.vz <= t_.s_ * (double(cmax_[bi * nmin_l_ + bj]) - t_.b_)) {
+                    const double t = t_.solve_cell(r, ci, cj, tau_out);
+                    if (t >= 0) return t_.hit_at(r, t, cells);
+                }
                 if (tau_out >= r.tau_max) return t_.hit_at(r, r.tau_max, cells);
                 if (ex <= ey) {
-                    if (major_x_) break;
                     ci += r.sx;
+                    if (MX) break;
                 } else {
-                    if (!major_x_) break;
                     cj += r.sy;
+                    if (!MX) break;
                 }
             }
+            o_next = o + 1;  // left through the major face: (ci, cj) is column o + 1's entry cell
         }
         return t_.hit_at(r, r.tau_max, cells);
     }
 
-  private:
     double major(const Ray& r) const { return major_x_ ? r.X0 : r.Y0; }
     double minor(const Ray& r) const { return major_x_ ? r.Y0 : r.X0; }
 
@@ -482,20 +551,45 @@ class ViewTracer {
     bool major_x_;
     int sa_;
     double dmaj_, m_, k_, z_max_;
-    int64_t nmaj_, nmin_;
-    const float* cmax_;  // cell maxima, minor-contiguous: [major * nmin + minor]
+    int64_t nmaj_, nmin_;  // grid cells along the major / minor axis
+    int l_ = 0;            // the mipmap level the bounds are built from
+    bool pre_ = !getenv("PXH_PRE") || atoi(getenv("PXH_PRE"));
+    int64_t nmin_l_ = 0;   // its blocks along the minor axis
+    const float* cmax_;    // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
 
+struct ExactTracer::ViewScratch {
+    struct Rec {
+        double p0;  // start along the major axis: the order rays of a band are traced in
+        Vec2d P;
+        uint32_t k;
+        bool operator<(const Rec& o) const { return p0 < o.p0 || (p0 == o.p0 && k < o.k); }
+    };
+    std::vector<double> eta, p0;
+    std::vector<uint32_t> band_of;
+    std::vector<Rec> rec;
+};
+
+ExactTracer::~ExactTracer() = default;
+
 std::vector<TruthHit> ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V) const {
-    std::vector<TruthHit> out(P.size());
-    if (P.empty()) return out;
-    const ViewTracer vt(*this, P[0], V);
+    std::vector<TruthHit> out;
+    trace_view(P, V, out);
+    return out;
+}
+
+void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<TruthHit>& out) const {
+    out.resize(P.size());
+    if (P.empty()) return;
+    ViewTracer vt(*this, P[0], V);
     if (!vt.useful()) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& rg) {
             for (size_t k = rg.begin(); k < rg.end(); ++k) out[k] = trace_naive(P[k], V);
         });
-        return out;
+        return;
     }
+    auto T0 = std::chrono::steady_clock::now();
+    auto lap = [&](const char* what) { if (getenv("PXH_T")) { auto t = std::chrono::steady_clock::now(); fprintf(stderr, "%s %.2f ms\n", what, std::chrono::duration<double>(t - T0).count() * 1e3); T0 = t; } };
     // Each ray's lateral offset, and the extent of the rays and of their start points.
     const size_t n = P.size(), chunk = 16384, chunks = (n + chunk - 1) / chunk;
     struct Extent {
@@ -507,29 +601,46 @@ std::vector<TruthHit> ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d
             y_lo = std::min(y_lo, e.y_lo), y_hi = std::max(y_hi, e.y_hi);
         }
     };
-    std::vector<double> eta(n);
+    // Working memory kept from call to call (fresh pages cost more than the binning itself).
+    std::unique_lock<std::mutex> lock(scratch_mutex_, std::try_to_lock);
+    ViewScratch local;
+    ViewScratch& mem = lock.owns_lock() ? *scratch_ : local;
+    mem.eta.resize(n);
+    mem.p0.resize(n);
+    mem.band_of.resize(n);
+    mem.rec.resize(n);
+    double* const eta = mem.eta.data();
+    double* const p0 = mem.p0.data();
     std::vector<Extent> ext(chunks);
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
         Extent& e = ext[c];
         for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
-            eta[k] = vt.eta(vt.ray(P[k]));
+            const ExactTracer::Ray r = vt.ray(P[k]);
+            eta[k] = vt.eta(r);
+            p0[k] = vt.p0(r);
             e.eta_lo = std::min(e.eta_lo, eta[k]), e.eta_hi = std::max(e.eta_hi, eta[k]);
             e.x_lo = std::min(e.x_lo, P[k].x), e.x_hi = std::max(e.x_hi, P[k].x);
             e.y_lo = std::min(e.y_lo, P[k].y), e.y_hi = std::max(e.y_hi, P[k].y);
         }
     });
+    lap("eta");
     Extent all;
     for (const Extent& e : ext) all.add(e);
     // Band width: about the rays' spacing (the side of the grid area per ray), so that a band
     // holds a row of rays: narrower bands bound more tightly but cost a bound per column each.
     const double area = std::max(1.0, (all.x_hi - all.x_lo) * hf_.width) *
                         std::max(1.0, (all.y_hi - all.y_lo) * hf_.height);
-    double w = std::clamp(std::floor(std::sqrt(area / double(n))), 1.0, 8.0);
+    double w = std::clamp(std::round(std::sqrt(area / double(n))), 1.0, 8.0);
     if (getenv("PXH_W")) w = atof(getenv("PXH_W"));
+    vt.use_level(getenv("PXH_L") ? atoi(getenv("PXH_L")) : int(std::floor(std::log2(w))));
     const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) / w)) + 1;
     // Counting sort by band (per chunk, then scattered in parallel): rays keep their order.
-    std::vector<uint32_t> band_of(n), order(n), start(bands + 1, 0);
-    std::vector<uint32_t> count(chunks * bands, 0);
+    // Counting sort by band (per chunk, then scattered in parallel), into records that the
+    // bands then read in sequence.
+    using Rec = ViewScratch::Rec;
+    uint32_t* const band_of = mem.band_of.data();
+    Rec* const rec = mem.rec.data();
+    std::vector<uint32_t> start(bands + 1, 0), count(chunks * bands, 0);
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
         uint32_t* cnt = count.data() + c * bands;
         for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
@@ -548,31 +659,40 @@ std::vector<TruthHit> ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d
     start[bands] = uint32_t(n);
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
         uint32_t* pos = count.data() + c * bands;
-        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) order[pos[band_of[k]]++] = uint32_t(k);
+        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k)
+            rec[pos[band_of[k]]++] = {p0[k], P[k], uint32_t(k)};
     });
+    lap("bin");
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands, 1), [&](const auto& rg) {
         ViewTracer::Band band;
-        std::vector<std::pair<double, uint32_t>> sorted;
         for (size_t b = rg.begin(); b < rg.end(); ++b) {
             if (start[b] == start[b + 1]) continue;
             // In order of p0, C and the first column only grow, and so does the first column
             // whose bound reaches a ray (the columns before held nothing for a lower ray).
-            sorted.clear();
-            for (uint32_t q = start[b]; q < start[b + 1]; ++q)
-                sorted.push_back({vt.p0(vt.ray(P[order[q]])), order[q]});
-            std::sort(sorted.begin(), sorted.end());
+            Rec* const r0 = rec + start[b];
+            Rec* const r1 = rec + start[b + 1];
+            // Sample grids arrive sorted, or reversed (rays moving toward -x or -y).
+            if (std::is_sorted(std::make_reverse_iterator(r1), std::make_reverse_iterator(r0),
+                               [](const Rec& a, const Rec& b) { return a.p0 < b.p0; }))
+                std::reverse(r0, r1);
+            if (!std::is_sorted(r0, r1)) std::sort(r0, r1);
             band.eta_lo = all.eta_lo + double(b) * w;
             band.w = w;
             band.built = 0;
-            band.base = vt.scan(vt.ray(P[sorted.front().second])).c_first;  // the earliest
+            // Run 0 starts at the earliest first column, rounded down to whole runs.
+            band.base = vt.scan(vt.ray(r0->P)).c_first & ~((int64_t(1) << vt.level()) - 1);
+            // One ray ahead: its first candidate is found (and its texels requested) while
+            // the ray before walks.
             int64_t lb = band.base;
-            for (const auto& [p0, k] : sorted) {
-                const ExactTracer::Ray r = vt.ray(P[k]);
-                out[k] = vt.trace(band, r, vt.scan(r), lb);
+            ViewTracer::Start next = vt.start(band, r0->P, lb);
+            for (const Rec* it = r0; it != r1; ++it) {
+                const ViewTracer::Start cur = next;
+                if (it + 1 != r1) next = vt.start(band, (it + 1)->P, lb);
+                out[it->k] = vt.trace(band, cur);
             }
         }
     });
-    return out;
+    lap("bands");
 }
 
 bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
@@ -596,7 +716,7 @@ bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
         const double tau_out = std::min({tmx, tmy, tau_max});
         const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
         const double z_in = z0 + tau_in * L.z;  // the ray's lowest point in this cell
-        if (z_in < s_ * (double(cell_max_[size_t(wj) * W + wi]) - b_)) {
+        if (z_in < s_ * (double(level_max_[0][size_t(wj) * W + wi]) - b_)) {
             const double h00 = hf_.at(int(wi), int(wj));
             const double h10 = hf_.wrapped(wi + 1, wj), h01 = hf_.wrapped(wi, wj + 1);
             const double h11 = hf_.wrapped(wi + 1, wj + 1);

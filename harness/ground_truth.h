@@ -2,6 +2,8 @@
 // z = s (h - b), coming from the eye, traced per cell with the exact quadratic in double.
 #pragma once
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "harness/heightfield.h"
@@ -24,6 +26,7 @@ struct TruthHit {
 class ExactTracer {
   public:
     ExactTracer(const HeightField& hf, double scale, double bias);
+    ~ExactTracer();
     // First hit from the eye, accelerated by a maximum mipmap over cell corners (Tevs, Ihrke
     // and Seidel, I3D 2008: a bilinear patch's maximum lies at its corners, so block maxima
     // bound the surface exactly). Same answer as trace_naive to rounding (tested: within
@@ -39,12 +42,13 @@ class ExactTracer {
     // there: the same cells, the same closed forms, hence the same hits (tested bit for bit).
     // Runs in parallel (TBB); the result does not depend on the thread count.
     std::vector<TruthHit> trace_view(const std::vector<Vec2d>& P, Vec3d V) const;
+    void trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<TruthHit>& out) const;
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
     bool occluded(Vec2d uv, double z, Vec3d L) const;
     double z_top() const { return s_ * (1 - b_); }
     double z_bot() const { return -s_ * b_; }
-    int levels() const { return int(level_z_.size()); }
+    int levels() const { return int(level_max_.size()); }
 
   private:
     struct Ray;
@@ -57,11 +61,18 @@ class ExactTracer {
 
     const HeightField& hf_;
     double s_, b_;
-    std::vector<float> cell_max_;  // max of the 4 corners of cell (i, j), i, j in [0, W), [0, H)
-    std::vector<float> cell_max_t_;  // the same, column-major: [i * H + j]
-    // level_z_[l]: s (max - b) over tile-local blocks of 2^l x 2^l cells (level 0: cells);
-    // blocks at the tile's right/top edges are partial. The last level is one block.
-    std::vector<std::vector<double>> level_z_;
+    // level_max_[l]: the maximum of cell corners over tile-local blocks of 2^l x 2^l cells,
+    // row-major (level 0: cells, each the max of its 4 corners); blocks at the tile's right/top
+    // edges are partial. The last level is one block. level_max_t_[l]: the same, column-major,
+    // for the levels trace_view builds its bounds from.
+    std::vector<std::vector<float>> level_max_, level_max_t_;
+    // Texel (i, j) and (i, j + 1) side by side, row by row: a cell's four corners in 16
+    // consecutive bytes (one cache line, mostly), as the solver reads them.
+    std::vector<float> column_pairs_;
+    struct ViewScratch;  // trace_view's working memory, reused by the next call
+    std::unique_ptr<ViewScratch> scratch_;
+    mutable std::mutex scratch_mutex_;
+    static constexpr size_t kBandLevels = 4;
     std::vector<int> level_w_, level_h_;
 };
 
