@@ -73,6 +73,9 @@ namespace {
 
 // Smallest t in [0, len] with c0 + c1 t + c2 t^2 <= 0, given c0 > 0; -1 if none.
 double first_root(double c0, double c1, double c2, double len) {
+    // Most cells the ray clears end above the surface with no dip in between: f(len) > 0 and
+    // f has no minimum inside (concave, or its vertex outside [0, len]).
+    if (c0 + (c1 + c2 * len) * len > 0 && (c2 <= 0 || c1 >= 0 || c1 + 2 * c2 * len <= 0)) return -1;
     double best = -1;
     auto consider = [&](double t) {
         if (t >= 0 && t <= len && (best < 0 || t < best)) best = t;
@@ -175,8 +178,12 @@ TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
 }
 
 double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const {
-    const int W = hf_.width, H = hf_.height;
-    const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
+    return solve_cell(r, ci, cj, wrap_index(ci, hf_.width), wrap_index(cj, hf_.height), tau_out);
+}
+
+double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
+                               double tau_out) const {
+    const int64_t W = hf_.width;
     const int64_t wi1 = wi + 1 == W ? 0 : wi + 1;
     const float* row = column_pairs_.data() + 2 * wj * W;  // (h(i, j), h(i, j + 1)) pairs
     const float f00 = row[2 * wi], f01 = row[2 * wi + 1], f10 = row[2 * wi1], f11 = row[2 * wi1 + 1];
@@ -488,6 +495,13 @@ class ViewTracer {
         int64_t q = st.q, o = st.o;
         int cells = 0;
         int64_t ci = 0, cj = 0, o_next = -1;  // (ci, cj): the entry cell of column o_next
+        const double X0 = r.X0, Y0 = r.Y0, idx = r.inv_dX, idy = r.inv_dY;
+        const double tmax = r.tau_max;
+        const double inf = std::numeric_limits<double>::infinity();
+        const bool hx = r.dX != 0, hy = r.dY != 0;
+        const int sx = r.sx, sy = r.sy;
+        const int64_t ox = sx > 0 ? 1 : 0, oy = sy > 0 ? 1 : 0;
+        const int64_t W = t_.hf_.width, H = t_.hf_.height;
         for (; o <= o_last; o = ((o + 1) >> l_) == q ? o + 1 : (q = find(band, (o + 1) >> l_, q_last, sc.Cm)) << l_) {
             const int64_t c = band.base + o;
             if (o != o_next) {
@@ -517,24 +531,27 @@ class ViewTracer {
                     cj = int64_t(std::floor(r.Y0));
                 }
             }
+            int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
             for (;;) {
                 ++cells;
-                const double ex = r.exit_x(ci, ci + 1), ey = r.exit_y(cj, cj + 1);
-                const double tau_out = std::min({ex, ey, r.tau_max});
-                // The cell's block maximum (the array the bounds come from, in cache) rejects
-                // most cells the ray clears before their texels are read; it bounds the cell's
-                // own maximum, so solve_cell would reject them too.
-                const int64_t bi = wrap_index(MX ? ci : cj, nmaj_) >> l_, bj = wrap_index(MX ? cj : ci, nmin_) >> l_;
-                if (!pre_ || r.zt - tau_out * r.vz <= t_.s_ * (double(cmax_[bi * nmin_l_ + bj]) - t_.b_)) {
-                    const double t = t_.solve_cell(r, ci, cj, tau_out);
-                    if (t >= 0) return t_.hit_at(r, t, cells);
-                }
-                if (tau_out >= r.tau_max) return t_.hit_at(r, r.tau_max, cells);
+                // trace_naive's exit_x / exit_y, from locals.
+                const double ex = hx ? (double(ci + ox) - X0) * idx : inf;
+                const double ey = hy ? (double(cj + oy) - Y0) * idy : inf;
+                const double tau_out = std::min({ex, ey, tmax});
+                const double t = t_.solve_cell(r, ci, cj, wi, wj, tau_out);
+                if (t >= 0) return t_.hit_at(r, t, cells);
+                if (tau_out >= tmax) return t_.hit_at(r, tmax, cells);
                 if (ex <= ey) {
-                    ci += r.sx;
+                    ci += sx;
+                    wi += sx;
+                    if (wi == W) wi = 0;
+                    else if (wi < 0) wi = W - 1;
                     if (MX) break;
                 } else {
-                    cj += r.sy;
+                    cj += sy;
+                    wj += sy;
+                    if (wj == H) wj = 0;
+                    else if (wj < 0) wj = H - 1;
                     if (!MX) break;
                 }
             }
@@ -553,7 +570,6 @@ class ViewTracer {
     double dmaj_, m_, k_, z_max_;
     int64_t nmaj_, nmin_;  // grid cells along the major / minor axis
     int l_ = 0;            // the mipmap level the bounds are built from
-    bool pre_ = !getenv("PXH_PRE") || atoi(getenv("PXH_PRE"));
     int64_t nmin_l_ = 0;   // its blocks along the minor axis
     const float* cmax_;    // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
@@ -632,7 +648,7 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
                         std::max(1.0, (all.y_hi - all.y_lo) * hf_.height);
     double w = std::clamp(std::round(std::sqrt(area / double(n))), 1.0, 8.0);
     if (getenv("PXH_W")) w = atof(getenv("PXH_W"));
-    vt.use_level(getenv("PXH_L") ? atoi(getenv("PXH_L")) : int(std::floor(std::log2(w))));
+    vt.use_level(getenv("PXH_L") ? atoi(getenv("PXH_L")) : std::max(0, int(std::lround(std::log2(w / 2)))));
     const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) / w)) + 1;
     // Counting sort by band (per chunk, then scattered in parallel): rays keep their order.
     // Counting sort by band (per chunk, then scattered in parallel), into records that the

@@ -57,6 +57,8 @@ class ExactTracer {
     friend class ViewTracer;  // trace_view's machinery (ground_truth.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
+    // The same, given the cell's index wrapped into the tile (wi, wj).
+    double solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj, double tau_out) const;
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
 
     const HeightField& hf_;
