@@ -58,7 +58,7 @@ int run_bench(const BenchOptions& opt) {
             // Both write into buffers kept from run to run (so neither pays for fresh pages).
             std::vector<TruthHit> hits;
             std::vector<Vec2d> em_uv;
-            auto run_exact = [&] { exact->trace_view(P, V, hits); };
+            auto run_exact = [&] { exact->trace_grid(opt.samples, V, hits); };
             auto run_embree = [&] { embree->trace(P, V, em_uv); };
             run_exact();  // warm-up
             run_embree();

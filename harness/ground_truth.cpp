@@ -356,6 +356,9 @@ class ViewTracer {
         cmax_ = (major_x_ ? t_.level_max_t_ : t_.level_max_)[size_t(l_)].data();
     }
     int level() const { return l_; }
+    bool major_x() const { return major_x_; }
+    int sign() const { return sa_; }
+    double slope() const { return m_; }
     // Worth it once a ray crosses a few columns; else the per-ray walk is as good.
     bool useful() const { return dmaj_ * like_.tau_max >= 2; }
     Ray ray(Vec2d P) const { return t_.make_ray(P, like_); }
@@ -574,6 +577,69 @@ class ViewTracer {
     const float* cmax_;    // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
 
+namespace {
+
+// Traces the rays of one band, given in order of p0 (ties in order of k), one ray ahead: the
+// next ray's first candidate is found (and its texels requested) before the current one walks.
+class BandRun {
+  public:
+    BandRun(const ViewTracer& vt, ViewTracer::Band& band, TruthHit* out) : vt_(vt), band_(band), out_(out) {}
+    void begin(double eta_lo, double w) {
+        band_.eta_lo = eta_lo;
+        band_.w = w;
+        band_.built = 0;
+        any_ = false;
+    }
+    void add(Vec2d P, size_t k) {
+        if (!any_) {
+            // Run 0 starts at the earliest first column (the first ray's), in whole runs.
+            band_.base = vt_.scan(vt_.ray(P)).c_first & ~((int64_t(1) << vt_.level()) - 1);
+            lb_ = band_.base;
+            cur_ = vt_.start(band_, P, lb_);
+            k_ = k;
+            any_ = true;
+            return;
+        }
+        const ViewTracer::Start next = vt_.start(band_, P, lb_);
+        out_[k_] = vt_.trace(band_, cur_);
+        cur_ = next;
+        k_ = k;
+    }
+    void end() {
+        if (any_) out_[k_] = vt_.trace(band_, cur_);
+        any_ = false;
+    }
+
+  private:
+    const ViewTracer& vt_;
+    ViewTracer::Band& band_;
+    TruthHit* out_;
+    bool any_ = false;
+    ViewTracer::Start cur_{};
+    size_t k_ = 0;
+    int64_t lb_ = 0;
+};
+
+}  // namespace
+
+namespace {
+
+// Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
+// that a band holds a row of rays; narrower bands bound more tightly but cost a bound per run.
+double band_width(double area, size_t rays) {
+    if (getenv("PXH_W")) return atof(getenv("PXH_W"));
+    return std::clamp(std::round(std::sqrt(area / double(std::max<size_t>(rays, 1)))), 1.0, 8.0);
+}
+
+// The mipmap level the bounds come from: blocks about half the band's width (level 0, the
+// cells themselves, for bands one cell wide), small arrays that stay in cache.
+int band_level(double w) {
+    if (getenv("PXH_L")) return atoi(getenv("PXH_L"));
+    return std::max(0, int(std::lround(std::log2(w / 2))));
+}
+
+}  // namespace
+
 struct ExactTracer::ViewScratch {
     struct Rec {
         double p0;  // start along the major axis: the order rays of a band are traced in
@@ -646,9 +712,8 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
     // holds a row of rays: narrower bands bound more tightly but cost a bound per column each.
     const double area = std::max(1.0, (all.x_hi - all.x_lo) * hf_.width) *
                         std::max(1.0, (all.y_hi - all.y_lo) * hf_.height);
-    double w = std::clamp(std::round(std::sqrt(area / double(n))), 1.0, 8.0);
-    if (getenv("PXH_W")) w = atof(getenv("PXH_W"));
-    vt.use_level(getenv("PXH_L") ? atoi(getenv("PXH_L")) : std::max(0, int(std::lround(std::log2(w / 2)))));
+    const double w = band_width(area, n);
+    vt.use_level(band_level(w));
     const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) / w)) + 1;
     // Counting sort by band (per chunk, then scattered in parallel): rays keep their order.
     // Counting sort by band (per chunk, then scattered in parallel), into records that the
@@ -681,6 +746,7 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
     lap("bin");
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands, 1), [&](const auto& rg) {
         ViewTracer::Band band;
+        BandRun run(vt, band, out.data());
         for (size_t b = rg.begin(); b < rg.end(); ++b) {
             if (start[b] == start[b + 1]) continue;
             // In order of p0, C and the first column only grow, and so does the first column
@@ -692,23 +758,78 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
                                [](const Rec& a, const Rec& b) { return a.p0 < b.p0; }))
                 std::reverse(r0, r1);
             if (!std::is_sorted(r0, r1)) std::sort(r0, r1);
-            band.eta_lo = all.eta_lo + double(b) * w;
-            band.w = w;
-            band.built = 0;
-            // Run 0 starts at the earliest first column, rounded down to whole runs.
-            band.base = vt.scan(vt.ray(r0->P)).c_first & ~((int64_t(1) << vt.level()) - 1);
-            // One ray ahead: its first candidate is found (and its texels requested) while
-            // the ray before walks.
-            int64_t lb = band.base;
-            ViewTracer::Start next = vt.start(band, r0->P, lb);
-            for (const Rec* it = r0; it != r1; ++it) {
-                const ViewTracer::Start cur = next;
-                if (it + 1 != r1) next = vt.start(band, (it + 1)->P, lb);
-                out[it->k] = vt.trace(band, cur);
-            }
+            run.begin(all.eta_lo + double(b) * w, w);
+            for (const Rec* it = r0; it != r1; ++it) run.add(it->P, it->k);
+            run.end();
         }
     });
     lap("bands");
+}
+
+void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {
+    out.resize(size_t(n) * size_t(std::max(n, 0)));
+    if (n <= 0) return;
+    auto sample = [n](int64_t i, int64_t j) { return Vec2d{(double(i) + 0.5) / n, (double(j) + 0.5) / n}; };
+    ViewTracer vt(*this, sample(0, 0), V);
+    if (!vt.useful()) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 256), [&](const auto& rg) {
+            for (size_t k = rg.begin(); k < rg.end(); ++k) out[k] = trace_naive(sample(int64_t(k % n), int64_t(k / n)), V);
+        });
+        return;
+    }
+    // The same bands as trace_view, enumerated instead of sorted: a sample's start along the
+    // major axis (p0) depends only on its major index a, its lateral offset eta = q0 - m p0
+    // only grows with its minor index b, so band by band, for each a in order of p0, the
+    // band's samples are a run of b, followed from one a to the next.
+    const bool mx = vt.major_x();
+    auto ij = [mx](int64_t a, int64_t b) { return mx ? std::pair{a, b} : std::pair{b, a}; };
+    std::vector<double> maj(static_cast<size_t>(n)), mnr(static_cast<size_t>(n));  // X0 or Y0 by index
+    for (int64_t t = 0; t < n; ++t) {
+        const ExactTracer::Ray r = vt.ray(sample(t, t));
+        maj[size_t(t)] = mx ? r.X0 : r.Y0;
+        mnr[size_t(t)] = mx ? r.Y0 : r.X0;
+    }
+    auto eta = [&](int64_t a, int64_t b) { return mnr[size_t(b)] - vt.slope() * (vt.sign() * maj[size_t(a)]); };
+    // eta is monotone in a and in b: its extremes lie at the corners.
+    double eta_lo = std::numeric_limits<double>::infinity(), eta_hi = -eta_lo;
+    for (int64_t a : {int64_t(0), int64_t(n - 1)})
+        for (int64_t b : {int64_t(0), int64_t(n - 1)}) eta_lo = std::min(eta_lo, eta(a, b)), eta_hi = std::max(eta_hi, eta(a, b));
+    const double spacing = double(n - 1) / n;  // the samples' extent, in tiles
+    const double area = std::max(1.0, spacing * hf_.width) * std::max(1.0, spacing * hf_.height);
+    const double w = band_width(area, size_t(n) * size_t(n));
+    vt.use_level(band_level(w));
+    const int64_t bands = int64_t(std::floor((eta_hi - eta_lo) / w)) + 1;
+    auto band = [&](int64_t a, int64_t b) {
+        return std::min(bands - 1, int64_t((eta(a, b) - eta_lo) / w));
+    };
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, bands, 1), [&](const auto& rg) {
+        ViewTracer::Band mem;
+        BandRun run(vt, mem, out.data());
+        for (int64_t bd = rg.begin(); bd < rg.end(); ++bd) {
+            run.begin(eta_lo + double(bd) * w, w);
+            int64_t b0 = -1;  // the band's first b at the current a
+            for (int64_t step = 0; step < n; ++step) {
+                const int64_t a = vt.sign() > 0 ? step : n - 1 - step;  // p0 grows
+                if (b0 < 0) {  // first a: search (band grows with b)
+                    int64_t lo = 0, hi = n;
+                    while (lo < hi) {
+                        const int64_t mid = (lo + hi) / 2;
+                        if (band(a, mid) < bd) lo = mid + 1;
+                        else hi = mid;
+                    }
+                    b0 = lo;
+                } else {
+                    while (b0 < n && band(a, b0) < bd) ++b0;
+                    while (b0 > 0 && band(a, b0 - 1) >= bd) --b0;
+                }
+                for (int64_t b = b0; b < n && band(a, b) == bd; ++b) {
+                    const auto [i, j] = ij(a, b);
+                    run.add(sample(i, j), size_t(j) * size_t(n) + size_t(i));
+                }
+            }
+            run.end();
+        }
+    });
 }
 
 bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
@@ -766,7 +887,8 @@ GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias,
     GroundTruth gt;
     gt.uv.resize(P.size());
     gt.z.resize(P.size());
-    const std::vector<TruthHit> hits = tracer.trace_view(P, V);
+    std::vector<TruthHit> hits;
+    tracer.trace_grid(n, V, hits);
     if (L) gt.lit.resize(P.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {

@@ -43,6 +43,8 @@ class ExactTracer {
     // Runs in parallel (TBB); the result does not depend on the thread count.
     std::vector<TruthHit> trace_view(const std::vector<Vec2d>& P, Vec3d V) const;
     void trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<TruthHit>& out) const;
+    // trace_view of sample_grid(n), without sorting: the same rays, the same hits.
+    void trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const;
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
     bool occluded(Vec2d uv, double z, Vec3d L) const;

@@ -126,12 +126,15 @@ TEST(ExactTracer, HierarchicalEqualsNaiveOnEveryRay) {
 
 // The whole-view tracer (parallel rays in lateral bands) against the per-cell DDA, on every ray:
 // random fields of awkward sizes, azimuths on the axes and diagonals (ties between grid lines),
-// sample grids whose rays start exactly on grid lines, and random points far outside the tile.
+// sample grids whose rays start exactly on grid lines, and random points far outside the tile;
+// the grid also through trace_grid (bands enumerated instead of sorted).
 TEST(ExactTracer, ViewTracerEqualsNaiveOnEveryRay) {
     struct Case { int w, h; double s, b; int n; };
+    // n = w: one sample per cell (bands one cell wide, bounds from the cells themselves); fewer
+    // samples: wider bands, bounds from coarser mipmap levels (odd sizes: partial blocks).
     const Case cases[] = {{64, 64, 0.05, 1.0, 64}, {300, 7, 0.1, 0.5, 30}, {37, 129, 0.3, 0.0, 37},
                           {1, 1, 0.05, 1.0, 5},    {2, 2, 1.0, 0.5, 8},    {128, 96, 0.02, 0.7, 50},
-                          {256, 256, 1.0, 1.0, 32}};
+                          {256, 256, 1.0, 1.0, 32}, {64, 64, 0.1, 1.0, 16}, {129, 67, 0.05, 0.5, 20}};
     long long rays = 0, differ = 0;
     double worst = 0;
     for (const Case& c : cases) {
@@ -144,13 +147,20 @@ TEST(ExactTracer, ViewTracerEqualsNaiveOnEveryRay) {
             for (double phi : {0.0, 17.0, 45.0, 90.0, 135.0, 180.0, 251.0, 270.0, 315.0}) {
                 const Vec3d V = view_vector(theta, phi);
                 const std::vector<TruthHit> a = tr.trace_view(P, V);
+                std::vector<TruthHit> g;  // the grid alone, enumerated band by band
+                tr.trace_grid(c.n, V, g);
                 ASSERT_EQ(a.size(), P.size());
+                ASSERT_EQ(g.size(), size_t(c.n) * size_t(c.n));
+                auto check = [&](const TruthHit& x, const TruthHit& y) {
+                    const double d = std::hypot((x.uv.x - y.uv.x) * c.w, (x.uv.y - y.uv.y) * c.h);
+                    worst = std::max(worst, d);
+                    differ += (x.uv.x != y.uv.x || x.uv.y != y.uv.y || x.z != y.z);
+                    ++rays;
+                };
                 for (size_t k = 0; k < P.size(); ++k) {
                     const TruthHit b = tr.trace_naive(P[k], V);
-                    const double d = std::hypot((a[k].uv.x - b.uv.x) * c.w, (a[k].uv.y - b.uv.y) * c.h);
-                    worst = std::max(worst, d);
-                    differ += (a[k].uv.x != b.uv.x || a[k].uv.y != b.uv.y || a[k].z != b.z);
-                    ++rays;
+                    check(a[k], b);
+                    if (k < g.size()) check(g[k], b);
                 }
             }
     }
