@@ -14,7 +14,7 @@ struct BenchOptions {
     int samples = 512;  // N x N rays
     int repeats = 5;
     int threads = 2;
-    bool naive = false;  // also time the per-cell DDA (slow at grazing angles)
+    bool naive = false;  // also time the per-ray tracers: max-mipmap walk and per-cell DDA
     std::string out;     // JSON file (default: results/runs/bench-DATE.json)
 };
 

@@ -2,8 +2,6 @@
 
 #include <tbb/parallel_for.h>
 #include <xmmintrin.h>
-#include <chrono>
-#include <cstdio>
 
 #include <algorithm>
 #include <cmath>
@@ -313,12 +311,6 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
 // trace_naive does (same cell order, same tie rule, same solve_cell), and resumes the scan if
 // the ray clears them. Columns skipped hold no cell trace_naive would solve (a margin of 1e-9
 // relative absorbs rounding), so the hits are trace_naive's own.
-#ifdef PXH_PROFILE
-#define PXH_NI __attribute__((noinline))
-#else
-#define PXH_NI
-#endif
-
 namespace {
 // Maximum of p[0 .. n), n >= 1.
 inline float range_max(const float* p, int64_t n) {
@@ -397,7 +389,7 @@ class ViewTracer {
     };
 
     // Extends the band's U through the 256-run chunk holding run q_need.
-    PXH_NI void build(Band& band, int64_t q_need) const {
+    void build(Band& band, int64_t q_need) const {
         const int64_t end = ((q_need >> 8) + 1) << 8;
         band.U.resize(size_t(end));
         band.blk.resize(size_t(end >> 4));
@@ -414,10 +406,16 @@ class ViewTracer {
             const double qa = m_ * double(ca), qb = m_ * double(cb);
             const int64_t j0 = int64_t(std::floor(lo0 + std::min(qa, qb)));
             const int64_t n = int64_t(std::floor(hi0 + std::max(qa, qb))) - j0 + 1;
-            const int64_t ia = wrap_index(sa_ > 0 ? ca : -ca - 1, nmaj_);
-            const int64_t ib = wrap_index(sa_ > 0 ? cb - 1 : -cb, nmaj_);
-            float mx = block_column_max(ia >> l_, j0, n);
-            if ((ib >> l_) != (ia >> l_)) mx = std::max(mx, block_column_max(ib >> l_, j0, n));
+            // The run's cell columns: len consecutive ones from t (mod nmaj), through every
+            // block column they touch (one when nmaj is a multiple of 2^l: runs are aligned).
+            int64_t t = wrap_index(sa_ > 0 ? ca : -cb, nmaj_);
+            float mx = -std::numeric_limits<float>::infinity();
+            for (int64_t left = std::min(len, nmaj_); left > 0;) {
+                const int64_t I = t >> l_, next = std::min((I + 1) << l_, nmaj_);
+                mx = std::max(mx, block_column_max(I, j0, n));
+                left -= next - t;
+                t = next == nmaj_ ? 0 : next;
+            }
             U[q] = s * (double(mx) - b) + k_ * double(cb);
         }
         auto reduce = [](const double* u) {
@@ -441,7 +439,7 @@ class ViewTracer {
     }
 
     // The first run in [q, q_last] whose bound reaches Cm, or q_last + 1.
-    PXH_NI int64_t find(Band& band, int64_t q, int64_t q_last, double Cm) const {
+    int64_t find(Band& band, int64_t q, int64_t q_last, double Cm) const {
         while (q <= q_last) {
             if (q >= band.built) build(band, q);
             if (band.sblk[size_t(q >> 8)] < Cm) { q = (q | 255) + 1; continue; }
@@ -491,7 +489,7 @@ class ViewTracer {
     // Each candidate column's cells as trace_naive walks them; the scan resumes when the ray
     // clears a column.
     template <bool MX>
-    PXH_NI TruthHit walk(Band& band, const Start& st) const {
+    TruthHit walk(Band& band, const Start& st) const {
         const Ray& r = st.r;
         const Scan& sc = st.sc;
         const int64_t o_last = sc.c_last - band.base, q_last = o_last >> l_;
@@ -627,14 +625,12 @@ namespace {
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
 // that a band holds a row of rays; narrower bands bound more tightly but cost a bound per run.
 double band_width(double area, size_t rays) {
-    if (getenv("PXH_W")) return atof(getenv("PXH_W"));
     return std::clamp(std::round(std::sqrt(area / double(std::max<size_t>(rays, 1)))), 1.0, 8.0);
 }
 
 // The mipmap level the bounds come from: blocks about half the band's width (level 0, the
 // cells themselves, for bands one cell wide), small arrays that stay in cache.
 int band_level(double w) {
-    if (getenv("PXH_L")) return atoi(getenv("PXH_L"));
     return std::max(0, int(std::lround(std::log2(w / 2))));
 }
 
@@ -670,8 +666,6 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
         });
         return;
     }
-    auto T0 = std::chrono::steady_clock::now();
-    auto lap = [&](const char* what) { if (getenv("PXH_T")) { auto t = std::chrono::steady_clock::now(); fprintf(stderr, "%s %.2f ms\n", what, std::chrono::duration<double>(t - T0).count() * 1e3); T0 = t; } };
     // Each ray's lateral offset, and the extent of the rays and of their start points.
     const size_t n = P.size(), chunk = 16384, chunks = (n + chunk - 1) / chunk;
     struct Extent {
@@ -705,7 +699,6 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
             e.y_lo = std::min(e.y_lo, P[k].y), e.y_hi = std::max(e.y_hi, P[k].y);
         }
     });
-    lap("eta");
     Extent all;
     for (const Extent& e : ext) all.add(e);
     // Band width: about the rays' spacing (the side of the grid area per ray), so that a band
@@ -743,7 +736,6 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
         for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k)
             rec[pos[band_of[k]]++] = {p0[k], P[k], uint32_t(k)};
     });
-    lap("bin");
     tbb::parallel_for(tbb::blocked_range<size_t>(0, bands, 1), [&](const auto& rg) {
         ViewTracer::Band band;
         BandRun run(vt, band, out.data());
@@ -763,7 +755,6 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
             run.end();
         }
     });
-    lap("bands");
 }
 
 void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {

@@ -29,7 +29,9 @@ struct HeightField {
 };
 
 inline int64_t wrap_index(int64_t i, int64_t n) {
-    if (i >= 0 && i < n) return i;  // the common case: no division
+    if (i >= 0 && i < n) return i;  // the common cases: no division
+    if (i < 0 && i >= -n) return i + n;
+    if (i >= n && i < 2 * n) return i - n;
     int64_t r = i % n;
     return r < 0 ? r + n : r;
 }

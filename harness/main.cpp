@@ -237,7 +237,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 8192));
     bench->add_option("--repeats", bo.repeats, "timed repeats (default 5)")->check(CLI::Range(1, 1000));
     bench->add_option("--threads", bo.threads, "threads (default 2)")->check(CLI::Range(1, 1024));
-    bench->add_flag("--naive", bo.naive, "also time the per-cell DDA");
+    bench->add_flag("--naive", bo.naive,
+                    "also time the per-ray tracers (max-mipmap walk, per-cell DDA) on the same rays");
     bench->add_option("--out", bo.out, "JSON output (default results/runs/bench-DATE.json)");
 
     auto* report = app.add_subcommand("report", "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG) "

@@ -2,6 +2,7 @@
 #include "harness/ground_truth.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 
@@ -134,7 +135,8 @@ TEST(ExactTracer, ViewTracerEqualsNaiveOnEveryRay) {
     // samples: wider bands, bounds from coarser mipmap levels (odd sizes: partial blocks).
     const Case cases[] = {{64, 64, 0.05, 1.0, 64}, {300, 7, 0.1, 0.5, 30}, {37, 129, 0.3, 0.0, 37},
                           {1, 1, 0.05, 1.0, 5},    {2, 2, 1.0, 0.5, 8},    {128, 96, 0.02, 0.7, 50},
-                          {256, 256, 1.0, 1.0, 32}, {64, 64, 0.1, 1.0, 16}, {129, 67, 0.05, 0.5, 20}};
+                          {256, 256, 1.0, 1.0, 32}, {64, 64, 0.1, 1.0, 16}, {129, 67, 0.05, 0.5, 20},
+                          {129, 67, 0.3, 0.5, 10},  {3, 200, 0.5, 0.5, 2},  {200, 3, 0.5, 0.5, 2}};
     long long rays = 0, differ = 0;
     double worst = 0;
     for (const Case& c : cases) {
@@ -168,15 +170,55 @@ TEST(ExactTracer, ViewTracerEqualsNaiveOnEveryRay) {
     EXPECT_LE(worst, 1e-9);
 }
 
-TEST(GroundTruth, IndependentOfThreadCount) {
-    // Computed twice: the grid result must be identical, bit for bit (per-sample work only).
-    const HeightField hf = test::random_field(32, 32, 2);
-    const auto a = trace_ground_truth(hf, 0.05, 1.0, view_vector(70, 10), 64);
-    const auto b = trace_ground_truth(hf, 0.05, 1.0, view_vector(70, 10), 64);
-    for (size_t i = 0; i < a.uv.size(); ++i) {
-        ASSERT_EQ(a.uv[i].x, b.uv[i].x);
-        ASSERT_EQ(a.uv[i].y, b.uv[i].y);
+// Coarse bounds at a tile seam: with 129 columns, level-2 blocks end in a one-column block, so a
+// run of 4 columns crossing the seam touches three block columns. A wall standing on exactly
+// that column (and on the first row, for the other axis) must be seen by every ray.
+TEST(ExactTracer, ViewTracerSeesWallsOnPartialBlocksAtTheSeam) {
+    for (const bool along_x : {true, false}) {
+        const int W = along_x ? 129 : 64, H = along_x ? 64 : 129;
+        HeightField hf(W, H, "seam-wall");
+        for (int j = 0; j < H; ++j)
+            for (int i = 0; i < W; ++i)
+                hf.texels[size_t(j) * W + i] = (along_x ? i == W - 1 : j == H - 1) ? 1.0f : 0.05f * float((i * 7 + j * 3) % 5);
+        const ExactTracer tr(hf, 0.2, 1.0);
+        const int n = 12;  // sparse samples: wide bands, bounds from level 2
+        const auto P = sample_grid(n);
+        long long differ = 0;
+        for (double theta : {60.0, 80.0, 85.0})
+            for (double phi : {0.0, 17.0, 90.0, 163.0, 180.0, 197.0, 270.0, 343.0}) {
+                const Vec3d V = view_vector(theta, phi);
+                std::vector<TruthHit> g;
+                tr.trace_grid(n, V, g);
+                for (size_t k = 0; k < P.size(); ++k) {
+                    const TruthHit b = tr.trace_naive(P[k], V);
+                    differ += (g[k].uv.x != b.uv.x || g[k].uv.y != b.uv.y);
+                }
+            }
+        EXPECT_EQ(differ, 0) << (along_x ? "wall on the last column" : "wall on the last row");
     }
+}
+
+TEST(GroundTruth, IndependentOfThreadCount) {
+    // With 1, 2 and 3 threads (bands then land on different threads in different orders), and
+    // with dense and sparse samples (narrow and wide bands): identical, bit for bit.
+    const HeightField hf = test::random_field(96, 80, 2);
+    for (int n : {96, 24})
+        for (double theta : {70.0, 88.0}) {
+            std::vector<GroundTruth> runs;
+            for (int threads : {1, 2, 3}) {
+                tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+                runs.push_back(trace_ground_truth(hf, 0.05, 1.0, view_vector(theta, 10), n));
+            }
+            for (const GroundTruth& g : runs) {
+                ASSERT_EQ(g.uv.size(), runs[0].uv.size());
+                EXPECT_EQ(g.cells_mean, runs[0].cells_mean);
+                for (size_t i = 0; i < g.uv.size(); ++i) {
+                    ASSERT_EQ(g.uv[i].x, runs[0].uv[i].x);
+                    ASSERT_EQ(g.uv[i].y, runs[0].uv[i].y);
+                    ASSERT_EQ(g.z[i], runs[0].z[i]);
+                }
+            }
+        }
 }
 
 }  // namespace
