@@ -873,15 +873,17 @@ bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
 
 GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias, Vec3d V, int n,
                                const Vec3d* L) {
-    const ExactTracer tracer(hf, scale, bias);
-    const auto P = sample_grid(n);
-    GroundTruth gt;
-    gt.uv.resize(P.size());
-    gt.z.resize(P.size());
+    return trace_ground_truth(ExactTracer(hf, scale, bias), V, n, L);
+}
+
+GroundTruth trace_ground_truth(const ExactTracer& tracer, Vec3d V, int n, const Vec3d* L) {
     std::vector<TruthHit> hits;
     tracer.trace_grid(n, V, hits);
-    if (L) gt.lit.resize(P.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& r) {
+    GroundTruth gt;
+    gt.uv.resize(hits.size());
+    gt.z.resize(hits.size());
+    if (L) gt.lit.resize(hits.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, hits.size(), 256), [&](const auto& r) {
         for (size_t k = r.begin(); k < r.end(); ++k) {
             gt.uv[k] = hits[k].uv;
             gt.z[k] = hits[k].z;
@@ -890,7 +892,7 @@ GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias,
     });
     double sum = 0;
     for (const TruthHit& h : hits) sum += h.cells;
-    gt.cells_mean = P.empty() ? 0 : sum / double(P.size());
+    gt.cells_mean = hits.empty() ? 0 : sum / double(hits.size());
     return gt;
 }
 

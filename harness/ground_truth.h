@@ -91,5 +91,7 @@ struct GroundTruth {
 // With a light L, also the true shadow state of every visible point.
 GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias, Vec3d V, int n,
                                const Vec3d* L = nullptr);
+// The same with a tracer built once for the field (and s, b), shared by its views.
+GroundTruth trace_ground_truth(const ExactTracer& tracer, Vec3d V, int n, const Vec3d* L = nullptr);
 
 }  // namespace pxh

@@ -165,6 +165,7 @@ struct ViewContext {
     const HeightField& hf;
     const HeightfieldSpec& spec;
     const EmbreeTracer& embree;
+    const ExactTracer& exact;
 };
 
 std::vector<Vec2d> error_vectors(const MethodOutput& out, const GroundTruth& gt, int w, int h) {
@@ -181,8 +182,7 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
     const HeightfieldSpec& spec = c.spec;
     const Scene<double> scene{spec.scale, spec.bias, view_vector(theta, phi), hf.width, hf.height};
     const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg) : Vec3d{};
-    GroundTruth gt = trace_ground_truth(hf, spec.scale, spec.bias, scene.V, ex.samples,
-                                        ex.light ? &L : nullptr);
+    GroundTruth gt = trace_ground_truth(c.exact, scene.V, ex.samples, ex.light ? &L : nullptr);
     // Both references on the same rays; their disagreement goes on every reported row (a
     // sweep's companion view needs Embree only when it is the reference).
     ErrorStats agree;
@@ -343,8 +343,10 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     for (size_t h = 0; h < fields.size(); ++h) {
         const HeightField& hf = fields[h];
         const HeightfieldSpec& spec = ex.heightfields[h];
+        // Both references built once per field (and s, b), shared by all its views.
         const EmbreeTracer embree(hf, spec.scale, spec.bias);
-        const ViewContext ctx{ex, backends, gl.get(), P, hf, spec, embree};
+        const ExactTracer exact(hf, spec.scale, spec.bias);
+        const ViewContext ctx{ex, backends, gl.get(), P, hf, spec, embree, exact};
         for (double phi : ex.phi_deg) {
             ViewRows prev;  // the previous view of this sweep (same field and phi)
             std::vector<size_t> prev_index;
