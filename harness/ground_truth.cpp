@@ -175,11 +175,7 @@ TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
     return h;
 }
 
-double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const {
-    return solve_cell(r, ci, cj, wrap_index(ci, hf_.width), wrap_index(cj, hf_.height), tau_out);
-}
-
-double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
+[[gnu::always_inline]] inline double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
                                double tau_out) const {
     const int64_t W = hf_.width;
     const int64_t wi1 = wi + 1 == W ? 0 : wi + 1;
@@ -200,6 +196,10 @@ double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi,
     if (c0 <= 0) return tau_in;
     const double t = first_root(c0, -r.vz - s_ * h1, -s_ * h2, tau_out - tau_in);
     return t >= 0 ? tau_in + t : -1;
+}
+
+double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const {
+    return solve_cell(r, ci, cj, wrap_index(ci, hf_.width), wrap_index(cj, hf_.height), tau_out);
 }
 
 TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const {
