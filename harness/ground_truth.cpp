@@ -336,6 +336,7 @@ class ViewTracer {
         sa_ = dM > 0 ? 1 : -1;
         m_ = dmaj_ > 0 ? dm / dmaj_ : 0;
         k_ = dmaj_ > 0 ? r.vz / dmaj_ : 0;
+        inv_k_ = 1 / k_;
         z_max_ = tr.s_ * (double(tr.level_max_.back()[0]) - tr.b_);
         nmaj_ = major_x_ ? tr.hf_.width : tr.hf_.height;
         nmin_ = major_x_ ? tr.hf_.height : tr.hf_.width;
@@ -371,7 +372,7 @@ class ViewTracer {
         const double C = r.zt + k_ * p0;
         sc.Cm = C - 1e-9 * (std::abs(C) + t_.s_);
         sc.c_last = int64_t(std::floor(p0 + r.tau_max * dmaj_)) + 1;
-        const double first = std::ceil((sc.Cm - z_max_) / k_) - 2;
+        const double first = std::ceil((sc.Cm - z_max_) * inv_k_) - 2;  // 2 to spare for rounding
         sc.c_first = first > double(sc.c0) ? (first < double(sc.c_last) ? int64_t(first) : sc.c_last)
                                            : sc.c0;
         return sc;
@@ -568,7 +569,7 @@ class ViewTracer {
     Ray like_;  // the direction-dependent part of every ray
     bool major_x_;
     int sa_;
-    double dmaj_, m_, k_, z_max_;
+    double dmaj_, m_, k_, inv_k_, z_max_;
     int64_t nmaj_, nmin_;  // grid cells along the major / minor axis
     int l_ = 0;            // the mipmap level the bounds are built from
     int64_t nmin_l_ = 0;   // its blocks along the minor axis
@@ -707,7 +708,8 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
                         std::max(1.0, (all.y_hi - all.y_lo) * hf_.height);
     const double w = band_width(area, n);
     vt.use_level(band_level(w));
-    const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) / w)) + 1;
+    const double inv_w = 1 / w;
+    const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) * inv_w)) + 1;
     // Counting sort by band (per chunk, then scattered in parallel): rays keep their order.
     // Counting sort by band (per chunk, then scattered in parallel), into records that the
     // bands then read in sequence.
@@ -718,7 +720,7 @@ void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<T
     tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
         uint32_t* cnt = count.data() + c * bands;
         for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
-            band_of[k] = uint32_t(std::min(bands - 1, size_t((eta[k] - all.eta_lo) / w)));
+            band_of[k] = uint32_t(std::min(bands - 1, size_t((eta[k] - all.eta_lo) * inv_w)));
             ++cnt[band_of[k]];
         }
     });
@@ -789,9 +791,10 @@ void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {
     const double area = std::max(1.0, spacing * hf_.width) * std::max(1.0, spacing * hf_.height);
     const double w = band_width(area, size_t(n) * size_t(n));
     vt.use_level(band_level(w));
-    const int64_t bands = int64_t(std::floor((eta_hi - eta_lo) / w)) + 1;
+    const double inv_w = 1 / w;
+    const int64_t bands = int64_t(std::floor((eta_hi - eta_lo) * inv_w)) + 1;
     auto band = [&](int64_t a, int64_t b) {
-        return std::min(bands - 1, int64_t((eta(a, b) - eta_lo) / w));
+        return std::min(bands - 1, int64_t((eta(a, b) - eta_lo) * inv_w));
     };
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, bands, 1), [&](const auto& rg) {
         ViewTracer::Band mem;
