@@ -302,15 +302,16 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
 // it (increasing as the ray advances: column c spans p in [c, c + 1]), q the other one, and
 // eta = q - m p (m = dq/dp) the ray's lateral offset, constant along the ray. The ray's height
 // is z = C - k p with C = z_top + k p0 fixed per ray. Rays are grouped in bands of lateral
-// width w; in column c a band's rays cover q in [eta_lo + m p, eta_lo + w + m p], p in
-// [c, c + 1], so its cells there are known, and
-//     U(c) = s (max of their corner maxima - b) + k (c + 1)
-// bounds what any of its rays can meet: a ray reaches the surface in column c only if
-// U(c) >= C (its lowest point in the column is C - k (c + 1)). A ray scans U (with maxima over
-// blocks of 16 columns to skip fast) for the first such column, walks that column's cells as
-// trace_naive does (same cell order, same tie rule, same solve_cell), and resumes the scan if
-// the ray clears them. Columns skipped hold no cell trace_naive would solve (a margin of 1e-9
-// relative absorbs rounding), so the hits are trace_naive's own.
+// width w; over columns [ca, cb) a band's rays cover q in [eta_lo + m p, eta_lo + w + m p], so
+// the cells they can cross there are known, and with M the maximum of those cells' maxima
+// (read from the maximum mipmap's level l, blocks of 2^l cells, runs of 2^l columns)
+//     U = s (M - b) + k cb
+// bounds what any of its rays can meet: a ray reaches the surface in the run only if U >= C
+// (its lowest point there is C - k cb). A ray scans U (with maxima over blocks of 16 and 256
+// runs to skip fast) for the first such run, walks its cells as trace_naive does (same cell
+// order, same tie rule, same solve_cell), and resumes the scan if the ray clears them. Runs
+// skipped hold no cell trace_naive would solve (a margin of 1e-9 relative absorbs rounding, and
+// the band's cells are widened by 1e-6 grid units), so the hits are trace_naive's own.
 namespace {
 // Maximum of p[0 .. n), n >= 1.
 inline float range_max(const float* p, int64_t n) {

@@ -20,7 +20,7 @@ Vec3d view_vector(double theta_deg, double phi_deg);
 struct TruthHit {
     Vec2d uv;       // unwrapped texture coordinate of the visible point
     double z = 0;   // its height z = s (h - b)
-    int cells = 0;  // cells the ray visited (cost)
+    int cells = 0;  // cells handed to the exact cell solver (cost)
 };
 
 class ExactTracer {
@@ -36,14 +36,16 @@ class ExactTracer {
     // The reference: a per-cell 2D DDA testing every cell the ray crosses.
     TruthHit trace_naive(Vec2d P, Vec3d V) const;
     // Every ray of one view at once: rays P[k] - tau V, all parallel. Rays are grouped in
-    // narrow lateral bands; each band keeps, per grid column along the view direction, an
-    // exact upper bound of the surface the band's rays can meet there, so a ray skips to the
-    // first column where it could hit and solves only the cells trace_naive would solve
-    // there: the same cells, the same closed forms, hence the same hits (tested bit for bit).
-    // Runs in parallel (TBB); the result does not depend on the thread count.
+    // narrow lateral bands; each band keeps, per run of grid columns along the view direction,
+    // an exact upper bound (from the maximum mipmap) of the surface its rays can meet there, so
+    // a ray skips to the first run where it could hit and solves there only the cells
+    // trace_naive would solve: the same cells, the same closed forms, hence the same hits
+    // (tested bit for bit). Runs in parallel (TBB); the result does not depend on the thread
+    // count. The second form writes into `out` (resized), reusing its memory.
     std::vector<TruthHit> trace_view(const std::vector<Vec2d>& P, Vec3d V) const;
     void trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<TruthHit>& out) const;
-    // trace_view of sample_grid(n), without sorting: the same rays, the same hits.
+    // trace_view of sample_grid(n) (out[j * n + i]), the bands enumerated instead of sorted:
+    // the same rays, the same hits. The ground truth of every run and of pxh bench.
     void trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const;
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
