@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 
 namespace pxh {
 
@@ -23,7 +22,7 @@ Vec3d view_vector(double theta_deg, double phi_deg) {
 }
 
 ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
-    : hf_(hf), s_(scale), b_(bias), scratch_(std::make_unique<ViewScratch>()) {
+    : hf_(hf), s_(scale), b_(bias) {
     const int W = hf.width, H = hf.height;
     column_pairs_.resize(2 * hf.texels.size());
     for (int j = 0; j < H; ++j)
@@ -638,128 +637,6 @@ int band_level(double w) {
 
 }  // namespace
 
-struct ExactTracer::ViewScratch {
-    struct Rec {
-        double p0;  // start along the major axis: the order rays of a band are traced in
-        Vec2d P;
-        uint32_t k;
-        bool operator<(const Rec& o) const { return p0 < o.p0 || (p0 == o.p0 && k < o.k); }
-    };
-    std::vector<double> eta, p0;
-    std::vector<uint32_t> band_of;
-    std::vector<Rec> rec;
-};
-
-ExactTracer::~ExactTracer() = default;
-
-std::vector<TruthHit> ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V) const {
-    std::vector<TruthHit> out;
-    trace_view(P, V, out);
-    return out;
-}
-
-void ExactTracer::trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<TruthHit>& out) const {
-    out.resize(P.size());
-    if (P.empty()) return;
-    ViewTracer vt(*this, P[0], V);
-    if (!vt.useful()) {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& rg) {
-            for (size_t k = rg.begin(); k < rg.end(); ++k) out[k] = trace_naive(P[k], V);
-        });
-        return;
-    }
-    // Each ray's lateral offset, and the extent of the rays and of their start points.
-    const size_t n = P.size(), chunk = 16384, chunks = (n + chunk - 1) / chunk;
-    struct Extent {
-        double eta_lo = std::numeric_limits<double>::infinity(), eta_hi = -eta_lo;
-        double x_lo = eta_lo, x_hi = -eta_lo, y_lo = eta_lo, y_hi = -eta_lo;
-        void add(const Extent& e) {
-            eta_lo = std::min(eta_lo, e.eta_lo), eta_hi = std::max(eta_hi, e.eta_hi);
-            x_lo = std::min(x_lo, e.x_lo), x_hi = std::max(x_hi, e.x_hi);
-            y_lo = std::min(y_lo, e.y_lo), y_hi = std::max(y_hi, e.y_hi);
-        }
-    };
-    // Working memory kept from call to call (fresh pages cost more than the binning itself).
-    std::unique_lock<std::mutex> lock(scratch_mutex_, std::try_to_lock);
-    ViewScratch local;
-    ViewScratch& mem = lock.owns_lock() ? *scratch_ : local;
-    mem.eta.resize(n);
-    mem.p0.resize(n);
-    mem.band_of.resize(n);
-    mem.rec.resize(n);
-    double* const eta = mem.eta.data();
-    double* const p0 = mem.p0.data();
-    std::vector<Extent> ext(chunks);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-        Extent& e = ext[c];
-        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
-            const ExactTracer::Ray r = vt.ray(P[k]);
-            eta[k] = vt.eta(r);
-            p0[k] = vt.p0(r);
-            e.eta_lo = std::min(e.eta_lo, eta[k]), e.eta_hi = std::max(e.eta_hi, eta[k]);
-            e.x_lo = std::min(e.x_lo, P[k].x), e.x_hi = std::max(e.x_hi, P[k].x);
-            e.y_lo = std::min(e.y_lo, P[k].y), e.y_hi = std::max(e.y_hi, P[k].y);
-        }
-    });
-    Extent all;
-    for (const Extent& e : ext) all.add(e);
-    // Band width: about the rays' spacing (the side of the grid area per ray), so that a band
-    // holds a row of rays: narrower bands bound more tightly but cost a bound per column each.
-    const double area = std::max(1.0, (all.x_hi - all.x_lo) * hf_.width) *
-                        std::max(1.0, (all.y_hi - all.y_lo) * hf_.height);
-    const double w = band_width(area, n);
-    vt.use_level(band_level(w));
-    const double inv_w = 1 / w;
-    const size_t bands = size_t(std::floor((all.eta_hi - all.eta_lo) * inv_w)) + 1;
-    // Counting sort by band (per chunk, then scattered in parallel): rays keep their order.
-    // Counting sort by band (per chunk, then scattered in parallel), into records that the
-    // bands then read in sequence.
-    using Rec = ViewScratch::Rec;
-    uint32_t* const band_of = mem.band_of.data();
-    Rec* const rec = mem.rec.data();
-    std::vector<uint32_t> start(bands + 1, 0), count(chunks * bands, 0);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-        uint32_t* cnt = count.data() + c * bands;
-        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k) {
-            band_of[k] = uint32_t(std::min(bands - 1, size_t((eta[k] - all.eta_lo) * inv_w)));
-            ++cnt[band_of[k]];
-        }
-    });
-    for (size_t b = 0, at = 0; b < bands; ++b) {
-        start[b] = uint32_t(at);
-        for (size_t c = 0; c < chunks; ++c) {
-            const uint32_t m = count[c * bands + b];
-            count[c * bands + b] = uint32_t(at);
-            at += m;
-        }
-    }
-    start[bands] = uint32_t(n);
-    tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-        uint32_t* pos = count.data() + c * bands;
-        for (size_t k = c * chunk; k < std::min(n, (c + 1) * chunk); ++k)
-            rec[pos[band_of[k]]++] = {p0[k], P[k], uint32_t(k)};
-    });
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, bands, 1), [&](const auto& rg) {
-        ViewTracer::Band band;
-        BandRun run(vt, band, out.data());
-        for (size_t b = rg.begin(); b < rg.end(); ++b) {
-            if (start[b] == start[b + 1]) continue;
-            // In order of p0, C and the first column only grow, and so does the first column
-            // whose bound reaches a ray (the columns before held nothing for a lower ray).
-            Rec* const r0 = rec + start[b];
-            Rec* const r1 = rec + start[b + 1];
-            // Sample grids arrive sorted, or reversed (rays moving toward -x or -y).
-            if (std::is_sorted(std::make_reverse_iterator(r1), std::make_reverse_iterator(r0),
-                               [](const Rec& a, const Rec& b) { return a.p0 < b.p0; }))
-                std::reverse(r0, r1);
-            if (!std::is_sorted(r0, r1)) std::sort(r0, r1);
-            run.begin(all.eta_lo + double(b) * w, w);
-            for (const Rec* it = r0; it != r1; ++it) run.add(it->P, it->k);
-            run.end();
-        }
-    });
-}
-
 void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {
     out.resize(size_t(n) * size_t(std::max(n, 0)));
     if (n <= 0) return;
@@ -771,10 +648,10 @@ void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {
         });
         return;
     }
-    // The same bands as trace_view, enumerated instead of sorted: a sample's start along the
-    // major axis (p0) depends only on its major index a, its lateral offset eta = q0 - m p0
-    // only grows with its minor index b, so band by band, for each a in order of p0, the
-    // band's samples are a run of b, followed from one a to the next.
+    // Bands of rays, each traced in order of p0 (its start along the major axis), enumerated
+    // without sorting: a sample's p0 depends only on its major index a, its lateral offset
+    // eta = q0 - m p0 only grows with its minor index b, so band by band, for each a in order
+    // of p0, the band's samples are a run of b, followed from one a to the next.
     const bool mx = vt.major_x();
     auto ij = [mx](int64_t a, int64_t b) { return mx ? std::pair{a, b} : std::pair{b, a}; };
     std::vector<double> maj(static_cast<size_t>(n)), mnr(static_cast<size_t>(n));  // X0 or Y0 by index

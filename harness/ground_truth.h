@@ -2,8 +2,6 @@
 // z = s (h - b), coming from the eye, traced per cell with the exact quadratic in double.
 #pragma once
 #include <cstdint>
-#include <memory>
-#include <mutex>
 #include <vector>
 
 #include "harness/heightfield.h"
@@ -26,7 +24,6 @@ struct TruthHit {
 class ExactTracer {
   public:
     ExactTracer(const HeightField& hf, double scale, double bias);
-    ~ExactTracer();
     // First hit from the eye, accelerated by a maximum mipmap over cell corners (Tevs, Ihrke
     // and Seidel, I3D 2008: a bilinear patch's maximum lies at its corners, so block maxima
     // bound the surface exactly). Same answer as trace_naive to rounding (tested: within
@@ -35,17 +32,14 @@ class ExactTracer {
     TruthHit trace(Vec2d P, Vec3d V) const;
     // The reference: a per-cell 2D DDA testing every cell the ray crosses.
     TruthHit trace_naive(Vec2d P, Vec3d V) const;
-    // Every ray of one view at once: rays P[k] - tau V, all parallel. Rays are grouped in
-    // narrow lateral bands; each band keeps, per run of grid columns along the view direction,
-    // an exact upper bound (from the maximum mipmap) of the surface its rays can meet there, so
-    // a ray skips to the first run where it could hit and solves there only the cells
-    // trace_naive would solve: the same cells, the same closed forms, hence the same hits
-    // (tested bit for bit). Runs in parallel (TBB); the result does not depend on the thread
-    // count. The second form writes into `out` (resized), reusing its memory.
-    std::vector<TruthHit> trace_view(const std::vector<Vec2d>& P, Vec3d V) const;
-    void trace_view(const std::vector<Vec2d>& P, Vec3d V, std::vector<TruthHit>& out) const;
-    // trace_view of sample_grid(n) (out[j * n + i]), the bands enumerated instead of sorted:
-    // the same rays, the same hits. The ground truth of every run and of pxh bench.
+    // Every ray of one view at once: the rays through the N x N sample grid (sample_grid(n),
+    // out[j * n + i]), all parallel to V. Rays are grouped in narrow lateral bands; each band
+    // keeps, per run of grid columns along the view direction, an exact upper bound (from the
+    // maximum mipmap) of the surface its rays can meet there, so a ray skips to the first run
+    // where it could hit and solves there only the cells trace_naive would solve: the same
+    // cells, the same closed forms, hence the same hits (tested bit for bit). Runs in parallel
+    // (TBB); the result does not depend on the thread count. `out` is resized and reused.
+    // The ground truth of every run and of pxh bench.
     void trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const;
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
@@ -58,7 +52,7 @@ class ExactTracer {
     struct Ray;
     Ray make_ray(Vec2d P, Vec3d V) const;
     Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
-    friend class ViewTracer;  // trace_view's machinery (ground_truth.cpp)
+    friend class ViewTracer;  // trace_grid's machinery (ground_truth.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     // The same, given the cell's index wrapped into the tile (wi, wj).
@@ -70,14 +64,11 @@ class ExactTracer {
     // level_max_[l]: the maximum of cell corners over tile-local blocks of 2^l x 2^l cells,
     // row-major (level 0: cells, each the max of its 4 corners); blocks at the tile's right/top
     // edges are partial. The last level is one block. level_max_t_[l]: the same, column-major,
-    // for the levels trace_view builds its bounds from.
+    // for the levels trace_grid builds its bounds from.
     std::vector<std::vector<float>> level_max_, level_max_t_;
     // Texel (i, j) and (i, j + 1) side by side, row by row: a cell's four corners in 16
     // consecutive bytes (one cache line, mostly), as the solver reads them.
     std::vector<float> column_pairs_;
-    struct ViewScratch;  // trace_view's working memory, reused by the next call
-    std::unique_ptr<ViewScratch> scratch_;
-    mutable std::mutex scratch_mutex_;
     static constexpr size_t kBandLevels = 4;
     std::vector<int> level_w_, level_h_;
 };
