@@ -356,7 +356,6 @@ class ViewTracer {
     bool useful() const { return dmaj_ * like_.tau_max >= 2; }
     Ray ray(Vec2d P) const { return t_.make_ray(P, like_); }
     double p0(const Ray& r) const { return sa_ * major(r); }
-    double eta(const Ray& r) const { return minor(r) - m_ * (sa_ * major(r)); }
 
     struct Scan {
         int64_t c0;       // the column trace_naive starts in
@@ -452,8 +451,6 @@ class ViewTracer {
         return q_last + 1;
     }
 
-    // Traces one ray of the band. lb: a column no later than the ray's first candidate (rays
-    // taken in order of p0 pass on their own first candidate).
     // A ray ready to walk: its first candidate run q and column offset o.
     struct Start {
         Ray r;
@@ -563,7 +560,6 @@ class ViewTracer {
     }
 
     double major(const Ray& r) const { return major_x_ ? r.X0 : r.Y0; }
-    double minor(const Ray& r) const { return major_x_ ? r.Y0 : r.X0; }
 
     const ExactTracer& t_;
     Ray like_;  // the direction-dependent part of every ray
@@ -618,10 +614,6 @@ class BandRun {
     size_t k_ = 0;
     int64_t lb_ = 0;
 };
-
-}  // namespace
-
-namespace {
 
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
 // that a band holds a row of rays; narrower bands bound more tightly but cost a bound per run.
