@@ -46,7 +46,6 @@ class ExactTracer {
     bool occluded(Vec2d uv, double z, Vec3d L) const;
     double z_top() const { return s_ * (1 - b_); }
     double z_bot() const { return -s_ * b_; }
-    int levels() const { return int(level_max_.size()); }
 
   private:
     struct Ray;
