@@ -33,7 +33,7 @@ build() {
 mode="${1:-run}"
 case "$mode" in
   run|test|build) ;;
-  -h|--help) sed -n 2,6p "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n 2,5p "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   *) echo "run.sh: unknown mode '$mode' (run | test | build)" >&2; exit 2 ;;
 esac
 

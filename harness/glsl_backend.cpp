@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
+#include "harness/error.h"
 #include "harness/gl_context.h"
+#include "harness/sha256.h"
 #include "harness/shaders.h"
 
 namespace pxh {
@@ -55,6 +58,12 @@ unsigned compile(GLenum type, const std::string& src, const std::string& what) {
 }  // namespace
 
 GlslBackend::GlslBackend(GlslOptions opt) : opt_(std::move(opt)) {
+    if (!opt_.shader_dir.empty()) {
+        // A typo must not silently give the built-in shaders' numbers.
+        std::error_code ec;
+        if (!std::filesystem::is_directory(opt_.shader_dir, ec))
+            throw InputError("--shader-dir " + opt_.shader_dir, "no such folder");
+    }
     ctx_ = std::make_unique<OsmesaContext>();
     if (!gladLoadGL(reinterpret_cast<GLADloadfunc>(&OsmesaContext::proc_address)))
         throw std::runtime_error("OSMesa: cannot load the OpenGL 4.5 entry points");
@@ -78,26 +87,60 @@ GlslBackend::GlslBackend(GlslOptions opt) : opt_(std::move(opt)) {
 GlslBackend::~GlslBackend() {
     if (!ctx_) return;
     ctx_->make_current();
-    for (auto& [k, p] : programs_) glDeleteProgram(p);
+    for (auto& [k, p] : programs_) glDeleteProgram(p.id);
     glDeleteTextures(2, color_);
     glDeleteTextures(1, &texture_);
     glDeleteFramebuffers(1, &fbo_);
     glDeleteVertexArrays(1, &vao_);
 }
 
-unsigned GlslBackend::program_for(const MethodInfo& m) {
-    auto it = programs_.find(m.name);
-    if (it != programs_.end()) return it->second;
+namespace {
+
+struct MethodSources {
+    ShaderSource common, body;
+    std::string common_name, body_name;  // "builtin:PATH" or the file read
+    std::string description() const {    // the results' shader column
+        if (body.origin == "builtin" && common.origin == "builtin") return "builtin";
+        return body_name + (common.origin == "builtin" ? "" : " + " + common_name);
+    }
+};
+
+MethodSources method_sources(const MethodInfo& m, const std::string& shader_dir) {
     const std::string method_path = "methods/" + m.name + "/" + m.name + ".frag.glsl";
-    std::string common, body;
+    MethodSources s;
     try {
-        common = shader_source("methods/common.glsl", opt_.shader_dir);
-        body = shader_source(method_path, opt_.shader_dir);
+        s.common = shader_source("methods/common.glsl", shader_dir);
+        s.body = shader_source(method_path, shader_dir);
     } catch (const std::exception& e) {
         throw std::runtime_error("method '" + m.name + "': " + e.what());
     }
-    const std::string src = "#version 450 core\n#line 1 1\n" + common + "\n#line 1 2\n" + body;
-    const std::string what = "method '" + m.name + "' (" + method_path + ", with common.glsl)";
+    s.common_name = s.common.origin == "builtin" ? "builtin:methods/common.glsl" : s.common.origin;
+    s.body_name = s.body.origin == "builtin" ? "builtin:" + method_path : s.body.origin;
+    return s;
+}
+
+}  // namespace
+
+std::string GlslBackend::shader_description(const MethodInfo& m) const {
+    try {
+        return method_sources(m, opt_.shader_dir).description();
+    } catch (const std::exception&) {
+        return "";
+    }
+}
+
+const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
+    auto it = programs_.find(m.name);
+    if (it != programs_.end()) return it->second;
+    const MethodSources ms = method_sources(m, opt_.shader_dir);
+    const ShaderSource &common = ms.common, &body = ms.body;
+    const std::string &common_name = ms.common_name, &body_name = ms.body_name;
+    // Every source compiled is recorded with its sha256 (run.json), builtin or read from a file.
+    compiled_sources_[common_name] = sha256_hex(common.text);
+    compiled_sources_[body_name] = sha256_hex(body.text);
+    const std::string src = "#version 450 core\n#line 1 1\n" + common.text + "\n#line 1 2\n" + body.text;
+    // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
+    const std::string what = "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
     const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, "pxh vertex shader");
     GLuint fs = 0;
     try {
@@ -119,8 +162,10 @@ unsigned GlslBackend::program_for(const MethodInfo& m) {
         glDeleteProgram(prog);
         throw std::runtime_error(what + ": program link failed: " + log);
     }
-    programs_[m.name] = prog;
-    return prog;
+    Program& p = programs_[m.name];
+    p.id = prog;
+    p.shader = ms.description();
+    return p;
 }
 
 void GlslBackend::upload(const HeightField& hf, const std::string& format) {
@@ -174,7 +219,8 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                               const std::string& texture_format, const LightSpec* light,
                               int frames) {
     ctx_->make_current();
-    const GLuint prog = program_for(*m.method);
+    const Program& program = program_for(*m.method);
+    const GLuint prog = program.id;
     upload(hf, texture_format);
     ensure_framebuffer(samples);
     glUseProgram(prog);
@@ -235,10 +281,11 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
             out.shadow_soft[k] = sh[4 * k + 1];
         }
     }
-    std::sort(ms.begin(), ms.end());
-    if (!ms.empty())
-        out.ms_per_frame = ms.size() % 2 ? ms[ms.size() / 2]
-                                         : 0.5 * (ms[ms.size() / 2 - 1] + ms[ms.size() / 2]);
+    out.shader = program.shader;
+    const Spread t = spread(ms);
+    out.ms_per_frame = t.median;
+    out.ms_per_frame_min = t.min;
+    out.ms_per_frame_max = t.max;
     return out;
 }
 

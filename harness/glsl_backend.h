@@ -23,6 +23,8 @@ class GlslBackend {
     explicit GlslBackend(GlslOptions opt);
     ~GlslBackend();
     std::string renderer() const { return renderer_; }
+    // Every shader source compiled so far: "builtin:PATH" or the file read -> sha256.
+    const std::map<std::string, std::string>& compiled_sources() const { return compiled_sources_; }
     std::string version() const { return version_; }
 
     // Renders the method; throws std::runtime_error (shader compile/link log included) when
@@ -33,7 +35,15 @@ class GlslBackend {
                      int frames = -1);
 
   private:
-    unsigned program_for(const MethodInfo& m);
+    struct Program {
+        unsigned id = 0;
+        std::string shader;  // "builtin", or the file(s) read from the shader folder
+    };
+    const Program& program_for(const MethodInfo& m);
+  public:
+    // "builtin", or the shader file(s) the method's program is (or would be) compiled from.
+    std::string shader_description(const MethodInfo& m) const;
+  private:
     void upload(const HeightField& hf, const std::string& format);
     void ensure_framebuffer(int n);
 
@@ -42,7 +52,8 @@ class GlslBackend {
     std::string renderer_, version_;
     unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0;
     int fb_size_ = 0;
-    std::map<std::string, unsigned> programs_;
+    std::map<std::string, Program> programs_;
+    std::map<std::string, std::string> compiled_sources_;
 };
 
 }  // namespace pxh

@@ -12,6 +12,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "harness/bench.h"
@@ -21,6 +22,8 @@
 #include "harness/params.h"
 #include "harness/provenance.h"
 #include "harness/report.h"
+#include "harness/run_folder.h"
+#include "harness/sha256.h"
 #include "harness/runner.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
@@ -100,30 +103,48 @@ void print_summary(const std::vector<ResultRow>& rows) {
                  "(llvmpipe); shadow: fraction of samples with a wrong hard shadow\n";
 }
 
-int cmd_run(const std::string& file, std::string out_dir, int threads,
-            const std::vector<std::string>& backends, const std::string& shader_dir, bool quiet,
-            bool maps) {
-    Experiment ex = load_experiment(file);
-    ex.maps = ex.maps || maps;
-    if (out_dir.empty()) out_dir = "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S");
-    const int nthreads = threads > 0 ? threads : int(tbb::info::default_concurrency());
+std::string g_command_line;  // as typed (run.json records it)
+
+struct RunArgs {
+    std::string file, out_dir, shader_dir;
+    int threads = 0;
+    std::vector<std::string> backends;
+    bool quiet = false, maps = false, force = false;
+};
+
+// run.json's record of the inputs: every image a height field was read from, with its sha256.
+nlohmann::json input_records(const Experiment& ex) {
+    nlohmann::json inputs = nlohmann::json::array();
+    std::set<std::string> seen;
+    inputs.push_back({{"experiment", ex.path}, {"sha256", sha256_hex(ex.text)}});
+    for (const auto& h : ex.heightfields) {
+        std::string path = h.file;
+        if (!h.scan.empty()) path = std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/" + h.scan + ".png";
+        if (path.empty() || !seen.insert(path).second) continue;
+        inputs.push_back({{"heightfield", h.name}, {"path", path}, {"sha256", sha256_file(path)}});
+    }
+    return inputs;
+}
+
+int cmd_run(const RunArgs& a) {
+    Experiment ex = load_experiment(a.file);
+    ex.maps = ex.maps || a.maps;
+    const std::string out_dir =
+        a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S") : a.out_dir;
+    const int nthreads = a.threads > 0 ? a.threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
     // llvmpipe's rasteriser threads follow --threads unless LP_NUM_THREADS is set already.
     setenv("LP_NUM_THREADS", std::to_string(nthreads).c_str(), 0);
 
-    // Write into a temporary folder, renamed into place only when complete.
-    const fs::path final_dir = fs::path(out_dir);
-    const fs::path tmp_dir = final_dir.string() + ".partial-" + std::to_string(getpid());
-    fs::create_directories(tmp_dir);
-    struct Cleanup {
-        fs::path p; bool armed = true;
-        ~Cleanup() { if (armed) { std::error_code ec; fs::remove_all(p, ec); } }
-    } cleanup{tmp_dir};
+    // Written into DIR.partial-PID, renamed into place only when complete (before any worker
+    // thread exists: the folder's signal clean-up needs every thread to block the signals).
+    RunFolder folder(out_dir, a.force);
+    const fs::path tmp_dir = folder.partial();
 
     const bool tty = isatty(STDERR_FILENO);
     RunOptions opt;
-    opt.backends = backends;
-    opt.shader_dir = shader_dir;
+    opt.backends = a.backends;
+    opt.shader_dir = a.shader_dir;
     if (ex.maps)
         opt.on_view = [&](std::vector<ResultRow>& rows,
                           const std::vector<std::vector<Vec2d>>& errors, size_t first) {
@@ -147,7 +168,7 @@ int cmd_run(const std::string& file, std::string out_dir, int threads,
                                                         (tmp_dir / "maps").string(), safe, title);
             }
         };
-    if (!quiet)
+    if (!a.quiet)
         opt.progress = [tty](const std::string& line) {
             if (tty) std::cerr << "\r\033[K" << line << std::flush;
             else std::cerr << line << "\n";
@@ -156,39 +177,54 @@ int cmd_run(const std::string& file, std::string out_dir, int threads,
     RunInfo info;
     const auto rows = run_experiment(ex, opt, &info);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!quiet && tty) std::cerr << "\r\033[K";
+    if (!a.quiet && tty) std::cerr << "\r\033[K";
 
-    write_results_csv(rows, (tmp_dir / "results.csv").string());
+    write_file_synced(tmp_dir / "results.csv", results_csv(rows));
     nlohmann::json run = provenance(nthreads);
+    run["command_line"] = g_command_line;
     run["experiment_file"] = ex.path;
     run["experiment"] = ex.text;
     run["experiment_name"] = ex.name;
+    run["inputs"] = input_records(ex);
+    run["warnings"] = ex.warnings;
     if (!info.gl_renderer.empty()) {
         run["gl_renderer"] = info.gl_renderer;
         run["gl_version"] = info.gl_version;
         const char* lp = std::getenv("LP_NUM_THREADS");
         run["LP_NUM_THREADS"] = lp ? lp : "";
-        if (!shader_dir.empty()) run["shader_dir"] = shader_dir;
+        run["shader_dir"] = a.shader_dir.empty() ? "" : fs::absolute(a.shader_dir).string();
+        run["shaders"] = info.shaders;
     }
-    run["rows"] = rows.size();
     size_t failed = 0;
     for (const auto& r : rows) failed += r.status != "ok";
+    run["rows"] = rows.size();
     run["failed_rows"] = failed;
     run["seconds"] = secs;
-    {
-        std::ofstream f(tmp_dir / "run.json");
-        f << run.dump(2) << "\n";
-        if (!f) throw InputError((tmp_dir / "run.json").string(), "write failed");
-    }
-    std::error_code ec;
-    if (fs::exists(final_dir)) fs::remove_all(final_dir, ec);
-    fs::create_directories(final_dir.parent_path().empty() ? "." : final_dir.parent_path());
-    fs::rename(tmp_dir, final_dir);
-    cleanup.armed = false;
+    // Written last: the sha256 of every file above (pxh check and report verify them).
+    run["files"] = file_records(tmp_dir);
+    write_file_synced(tmp_dir / "run.json", run.dump(2) + "\n");
+    folder.commit();
 
-    if (!quiet) print_summary(rows);
+    if (!a.quiet) print_summary(rows);
     std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
-              << std::fixed << secs << " s -> " << final_dir.string() << "\n";
+              << std::fixed << secs << " s -> " << folder.final_dir().string() << "\n";
+    if (failed) {
+        // A failure is never a success: name the failed rows (their metrics are empty).
+        size_t shown = 0;
+        for (const auto& r : rows) {
+            if (r.status == "ok") continue;
+            if (++shown > 10) {
+                std::cerr << "pxh: ... and " << failed - 10 << " more failed rows (status=failed in results.csv)\n";
+                break;
+            }
+            std::cerr << "pxh: failed row: " << r.method << (r.params.empty() ? "" : " " + r.params)
+                      << " | " << r.heightfield << " | theta " << format_number(r.theta_deg)
+                      << " phi " << format_number(r.phi_deg) << " | " << r.backend << "/"
+                      << (r.texture_format.empty() ? r.precision : r.texture_format) << ": "
+                      << one_line(r.error) << "\n";
+        }
+        return 1;
+    }
     return 0;
 }
 
@@ -200,23 +236,24 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     app.set_version_flag("--version", "pxh 0.1.0");
 
-    auto* run = app.add_subcommand("run", "run an experiment file, write results.csv and run.json");
-    std::string file, out_dir;
-    int threads = 0;
-    bool quiet = false;
-    std::vector<std::string> backends;
-    run->add_option("experiment", file, "experiment file (TOML)")->required();
-    run->add_option("--out", out_dir, "results folder (default results/runs/NAME-DATE)");
-    run->add_option("--threads", threads, "worker threads (default: all cores)")
-        ->check(CLI::Range(1, 1024));
-    run->add_option("--backend", backends, "backends to run, overriding the file (cpu, glsl)");
-    std::string shader_dir;
-    run->add_option("--shader-dir", shader_dir,
+    auto* run = app.add_subcommand("run", "run an experiment file, write results.csv and run.json "
+                                          "(exit 0: all rows ok; 1: some row failed, results "
+                                          "written; 2: bad input, nothing written)");
+    RunArgs ra;
+    run->add_option("experiment", ra.file, "experiment file (TOML)")->required();
+    run->add_option("--out", ra.out_dir,
+                    "results folder (default results/runs/NAME-DATE); must not exist, be empty, "
+                    "or (with --force) hold earlier pxh results");
+    run->add_flag("--force", ra.force,
+                  "replace the earlier pxh results in --out (only pxh's own files there)");
+    run->add_option("--threads", ra.threads, "worker threads, >= 1 (default: all cores)");
+    run->add_option("--backend", ra.backends, "backends to run, overriding the file (cpu, glsl)");
+    run->add_option("--shader-dir", ra.shader_dir,
                     "read GLSL from this folder (NAME.frag.glsl, common.glsl) instead of the "
-                    "embedded copies");
-    run->add_flag("--quiet", quiet, "no progress or summary");
-    bool maps = false;
-    run->add_flag("--maps", maps, "write an error map (EXR + false-colour PNG) per row");
+                    "embedded copies; a file missing there is taken from the embedded copies, "
+                    "and the shader column says which ran");
+    run->add_flag("--quiet", ra.quiet, "no progress or summary (the final one-line count is still printed)");
+    run->add_flag("--maps", ra.maps, "write an error map (EXR + false-colour PNG) per row");
 
     auto* list = app.add_subcommand("list", "list registered methods, or height fields (generators and imported scans)");
     std::string what;
@@ -247,6 +284,11 @@ int main(int argc, char** argv) {
     bool no_plots = false;
     report->add_option("dir", report_dir, "results folder (holding results.csv)")->required();
     report->add_flag("--no-plots", no_plots, "tables only (no matplotlib needed)");
+    bool accept_edited = false;
+    const char* accept_help =
+        "use a results folder whose files differ from what its run recorded in run.json "
+        "(e.g. a post-processed results.csv); the output then says NOT VERIFIED";
+    report->add_flag("--accept-edited", accept_edited, accept_help);
 
     auto* check = app.add_subcommand("check", "check a results folder against accuracy limits; "
                                               "exit 1 if any fails");
@@ -254,6 +296,7 @@ int main(int argc, char** argv) {
     check->add_option("dir", check_dir, "results folder (holding results.csv)")->required();
     check->add_option("--thresholds", thresholds, "thresholds file (TOML, [[limit]] tables)")
         ->required();
+    check->add_flag("--accept-edited", accept_edited, accept_help);
 
     auto* import = app.add_subcommand("import", "import the scanned height fields from Debian "
                                                  "packages into heightfields/scanned/");
@@ -263,26 +306,50 @@ int main(int argc, char** argv) {
     import->add_flag("--check", io.check, "re-import and compare with the committed files (exit 1 "
                                           "if they differ)");
 
+    for (int i = 0; i < argc; ++i) g_command_line += (i ? " " : "") + std::string(argv[i]);
     try {
         app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e) == 0 ? 0 : 2;
+        // One line in pxh's own format, like every other error.
+        std::cerr << "pxh: error: " << one_line(e.what()) << " (see pxh --help)\n";
+        return 2;
     }
     try {
-        if (*run) return cmd_run(file, out_dir, threads, backends, shader_dir, quiet, maps);
+        if (*run) {
+            if (ra.threads < 0 || (run->count("--threads") && ra.threads == 0))
+                throw InputError("--threads", std::to_string(ra.threads) + " is not a thread count (>= 1)");
+            return cmd_run(ra);
+        }
         if (*bench) return run_bench(bo);
-        if (*report) return run_report(report_dir, !no_plots);
+        if (*report) {
+            std::cout << verify_results_folder(report_dir, accept_edited) << "\n";
+            return run_report(report_dir, !no_plots);
+        }
         if (*import) return run_import(io);
-        if (*check) return run_check(check_dir, thresholds);
+        if (*check) {
+            // A CI gate passes only on the results a run wrote (run.json's sha256 and rows).
+            const std::string verified = verify_results_folder(check_dir, accept_edited);
+            std::cout << verified << "\n";
+            const int rc = run_check(check_dir, thresholds);
+            if (verified.rfind("NOT VERIFIED", 0) == 0)
+                std::cout << "results NOT VERIFIED: " << check_dir << " differs from its run.json\n";
+            return rc;
+        }
         if (*list) {
             if (what == "methods") list_methods(); else list_heightfields();
             return 0;
         }
     } catch (const InputError& e) {
-        std::cerr << "pxh: error: " << e.what() << "\n";
+        std::cerr << "pxh: error: " << one_line(e.what()) << "\n";
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "pxh: error: " << e.what() << "\n";
+        std::cerr << "pxh: error: " << one_line(e.what()) << "\n";
         return 1;
     }
     return 0;

@@ -53,9 +53,12 @@ std::string utc_timestamp(const char* fmt) {
 nlohmann::json provenance(int threads) {
     nlohmann::json j;
     const std::string src = PXH_SOURCE_DIR;
+    j["pxh_version"] = std::string(PXH_VERSION) + " (" +
+                       run_command("git -C '" + src + "' describe --always --tags --dirty 2>/dev/null") + ")";
     j["git_commit"] = run_command("git -C '" + src + "' rev-parse HEAD 2>/dev/null");
     j["git_dirty"] = !run_command("git -C '" + src + "' status --porcelain 2>/dev/null").empty();
     j["compiler"] = std::string("g++ ") + __VERSION__;
+    j["compile_flags"] = PXH_COMPILE_FLAGS;
 #ifdef NDEBUG
     j["build_type"] = "release (NDEBUG)";
 #else

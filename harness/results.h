@@ -11,14 +11,19 @@ namespace pxh {
 
 struct ResultRow {
     std::string method, params, heightfield, backend, precision;
+    std::string heightfield_id;     // what identifies the field: generator + parameters, or
+                                    //   the file (path relative to the experiment) + sha256
     std::string texture_format;     // GLSL rows: r32f | r16 | r8
+    std::string shader;             // GLSL rows: "builtin" or the shader file(s) compiled
     double scale = 0, bias = 0, theta_deg = 0, phi_deg = 0;
     int samples = 0, width = 0, height = 0;
     ErrorStats err;
     double fetches_mean = NAN, fetches_max = NAN;
     int fetches_bound = 0;          // the method's declared bound for this view
     double ns_per_sample = NAN;     // CPU: median single-thread time per sample
+    double ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // ... fastest and slowest repeat
     double ms_per_frame = NAN;      // GLSL: median wall time of one N x N frame (glFinish)
+    double ms_per_frame_min = NAN, ms_per_frame_max = NAN;    // ... fastest and slowest frame
     double cpu_diff_max = NAN;      // GLSL: |uv_glsl - uv_cpu_float| in texels, max
     double cpu_diff_p999 = NAN;     // ... and its 99.9th percentile
     double decision_mismatch = NAN; // GLSL: samples whose fetch count (layer decision) differs
@@ -46,8 +51,9 @@ struct ResultRow {
 // A CSV field, quoted when it holds a comma, a quote or a newline (RFC 4180).
 std::string csv_quote(const std::string& s);
 
-// CSV header and rows in a fixed column order (numbers with round-trip precision).
+// CSV header and rows in a fixed column order (numbers with round-trip precision). A failed
+// row (status != ok) has every measured column empty: a failure is never a number.
 std::vector<std::string> result_columns();
-void write_results_csv(const std::vector<ResultRow>& rows, const std::string& path);
+std::string results_csv(const std::vector<ResultRow>& rows);
 
 }  // namespace pxh

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "harness/embree_truth.h"
@@ -41,10 +42,10 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
             const auto t1 = std::chrono::steady_clock::now();
             if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
         }
-        std::sort(times.begin(), times.end());
-        const size_t m = times.size();
-        const double median = m % 2 ? times[m / 2] : 0.5 * (times[m / 2 - 1] + times[m / 2]);
-        out.ns_per_sample = median / double(n);
+        const Spread t = spread(times);
+        out.ns_per_sample = t.median / double(n);
+        out.ns_per_sample_min = t.min / double(n);
+        out.ns_per_sample_max = t.max / double(n);
     }
     return out;
 }
@@ -56,6 +57,17 @@ std::string fmt_angle(double a) {
 }
 
 }  // namespace
+
+Spread spread(std::vector<double> times) {
+    Spread s;
+    if (times.empty()) return s;
+    std::sort(times.begin(), times.end());
+    const size_t m = times.size();
+    s.median = m % 2 ? times[m / 2] : 0.5 * (times[m / 2 - 1] + times[m / 2]);
+    s.min = times.front();
+    s.max = times.back();
+    return s;
+}
 
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
@@ -110,6 +122,8 @@ ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int h
     row.fetches_mean = n ? fsum / double(n) : NAN;
     row.fetches_max = n ? double(fmax) : NAN;
     row.ns_per_sample = out.ns_per_sample;
+    row.ns_per_sample_min = out.ns_per_sample_min;
+    row.ns_per_sample_max = out.ns_per_sample_max;
     if (!gt.lit.empty() && out.shadow_hard.size() == n && n > 0) {
         double wrong = 0, mae = 0;
         for (size_t k = 0; k < n; ++k) {
@@ -232,6 +246,7 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
             row.method = m.method->name;
             row.params = m.params.canonical();
             row.heightfield = spec.name;
+            row.heightfield_id = spec.identity;
             row.backend = backend;
             row.precision = precision;
             row.texture_format = format;
@@ -295,11 +310,16 @@ ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool time
                                   ex.light ? &*ex.light : nullptr, timed ? -1 : 0);
                     ResultRow row = score(out, gt, hf.width, hf.height, exclude);
                     row.ms_per_frame = out.ms_per_frame;
+                    row.ms_per_frame_min = out.ms_per_frame_min;
+                    row.ms_per_frame_max = out.ms_per_frame_max;
+                    row.shader = out.shader;
                     if (!cpu_float) cpu_float = run_cpu(m, "float", scene, hf, c.P, 0);
                     add_agreement(row, out, *cpu_float, hf.width, hf.height);
                     emit(std::move(row), errors_of(out), backend, "float", format);
                 } catch (const std::exception& e) {
-                    emit(failed(e), {}, backend, "float", format);
+                    ResultRow row = failed(e);
+                    row.shader = c.gl->shader_description(*m.method);
+                    emit(std::move(row), {}, backend, "float", format);
                 }
             }
         }
@@ -332,17 +352,34 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             info->gl_version = gl->version();
         }
     }
-    // Materialise every height field first, so bad input fails before any work.
-    std::vector<HeightField> fields;
-    for (const auto& spec : ex.heightfields) fields.push_back(make_heightfield(spec));
+    // Height fields are built one at a time (a sweep of thousands of fields, or of scales on
+    // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
+    // reuse it. Image files and scans are loaded once up front and dropped, so that a bad file
+    // fails before any work.
+    {
+        std::set<std::string> checked;
+        for (const auto& spec : ex.heightfields)
+            if (spec.generator.empty() && checked.insert(spec.file + "|" + spec.scan).second)
+                (void)make_heightfield(spec);
+    }
+    auto same_field = [](const HeightfieldSpec& a, const HeightfieldSpec& b) {
+        return a.generator == b.generator && a.file == b.file && a.scan == b.scan &&
+               a.width == b.width && a.height == b.height && a.channel == b.channel &&
+               a.gen_params.canonical() == b.gen_params.canonical() && a.name == b.name;
+    };
 
     const auto P = sample_grid(ex.samples);
     std::vector<ResultRow> rows;
-    const size_t steps = fields.size() * ex.theta_deg.size() * ex.phi_deg.size();
+    const size_t steps = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size();
     size_t step = 0;
-    for (size_t h = 0; h < fields.size(); ++h) {
-        const HeightField& hf = fields[h];
+    std::optional<HeightField> field;
+    for (size_t h = 0; h < ex.heightfields.size(); ++h) {
         const HeightfieldSpec& spec = ex.heightfields[h];
+        if (!field || !same_field(spec, ex.heightfields[h - 1])) {
+            field.reset();  // free the previous one first
+            field = make_heightfield(spec);
+        }
+        const HeightField& hf = *field;
         // Both references built once per field (and s, b), shared by all its views.
         const EmbreeTracer embree(hf, spec.scale, spec.bias);
         const ExactTracer exact(hf, spec.scale, spec.bias);
@@ -386,6 +423,7 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             }
         }
     }
+    if (info && gl) info->shaders = gl->compiled_sources();
     return rows;
 }
 

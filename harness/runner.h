@@ -1,6 +1,7 @@
 // The pipeline: HeightField -> views -> GroundTruth (once per view) -> MethodOutput -> ResultRow.
 #pragma once
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -13,10 +14,17 @@ namespace pxh {
 struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
-    double ms_per_frame = NAN;  // GLSL only
+    double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
-    double ns_per_sample = NAN;
+    double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
+    std::string shader;  // GLSL: "builtin" or the shader file(s) compiled
 };
+
+// Median, minimum and maximum of repeated timings (NaN when there are none).
+struct Spread {
+    double median = NAN, min = NAN, max = NAN;
+};
+Spread spread(std::vector<double> times);
 
 // CPU reference: runs the method on every sample in the given precision ("float"/"double"),
 // in parallel (outputs do not depend on threads), then times `repeats` single-thread passes
@@ -59,6 +67,7 @@ struct RunOptions {
 
 struct RunInfo {
     std::string gl_renderer, gl_version;  // when the GLSL backend ran
+    std::map<std::string, std::string> shaders;  // every GLSL source compiled -> sha256
 };
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,

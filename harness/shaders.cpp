@@ -7,7 +7,7 @@
 
 namespace pxh {
 
-std::string shader_source(const std::string& path, const std::string& override_dir) {
+ShaderSource shader_source(const std::string& path, const std::string& override_dir) {
     namespace fs = std::filesystem;
     if (!override_dir.empty()) {
         for (const fs::path& p : {fs::path(override_dir) / path,
@@ -17,12 +17,13 @@ std::string shader_source(const std::string& path, const std::string& override_d
                 std::ifstream f(p, std::ios::binary);
                 std::stringstream ss;
                 ss << f.rdbuf();
-                return ss.str();
+                if (!f && !f.eof()) throw std::runtime_error(p.string() + ": cannot read");
+                return {ss.str(), fs::absolute(p).lexically_normal().string()};
             }
         }
     }
     for (const auto& s : embedded_shaders())
-        if (path == s.path) return s.source;
+        if (path == s.path) return {s.source, "builtin"};
     throw std::runtime_error(path + ": no such shader (no GLSL implementation)");
 }
 

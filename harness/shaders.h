@@ -12,8 +12,16 @@ struct EmbeddedShader {
 
 const std::vector<EmbeddedShader>& embedded_shaders();
 
+// A shader's text and where it came from: "builtin" (the copy embedded at build time) or the
+// file read.
+struct ShaderSource {
+    std::string text;
+    std::string origin;
+};
+
 // The source of `path`: from override_dir (as DIR/path or DIR/basename) when that file
 // exists, else the embedded copy. Throws std::runtime_error naming the path when neither has it.
-std::string shader_source(const std::string& path, const std::string& override_dir);
+// The caller checks that override_dir itself exists (a missing folder is an input error).
+ShaderSource shader_source(const std::string& path, const std::string& override_dir);
 
 }  // namespace pxh

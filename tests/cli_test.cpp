@@ -1,6 +1,12 @@
 // The pxh binary end to end: results on disk, exit codes, no half-written results,
 // thread-count independence.
 #include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "harness/csv_table.h"
+#include "harness/sha256.h"
+#include "tests/cli_util.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,32 +19,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result { int status; std::string out, err; };
-
-class Cli : public ::testing::Test {
-  protected:
-    fs::path dir = fs::temp_directory_path() / ("pxh_cli_test_" + std::to_string(::getpid()) +
-                                                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    void SetUp() override { fs::remove_all(dir); fs::create_directories(dir); }
-    void TearDown() override { fs::remove_all(dir); }
-
-    static std::string slurp(const fs::path& p) {
-        std::ifstream f(p);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
-    }
-    std::string write(const std::string& name, const std::string& text) {
-        std::ofstream(dir / name) << text;
-        return (dir / name).string();
-    }
-    Result pxh(const std::string& args) {
-        const std::string cmd = std::string(PXH_BINARY) + " " + args + " >" +
-                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(cmd.c_str());
-        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"), slurp(dir / "err.txt")};
-    }
-};
+using Result = pxh::test::CliResult;
+class Cli : public pxh::test::CliTest {};
 
 const char* kSmall = R"(
 name = "small"
@@ -94,28 +76,20 @@ TEST_F(Cli, ThreadCountDoesNotChangeNumbers) {
     const auto exp = write("small.toml", text);
     ASSERT_EQ(pxh("run " + exp + " --quiet --threads 1 --out " + (dir / "t1").string()).status, 0);
     ASSERT_EQ(pxh("run " + exp + " --quiet --threads 2 --out " + (dir / "t2").string()).status, 0);
-    auto strip_timing = [](const std::string& csv) {
-        std::istringstream in(csv);
-        std::string line, out, header;
-        std::getline(in, header);
-        // Find the ns_per_sample column index.
-        int col = 0, ns_col = -1, ms_col = -1;
-        std::istringstream hs(header);
-        for (std::string c; std::getline(hs, c, ','); ++col) {
-            if (c == "ns_per_sample") ns_col = col;
-            if (c == "ms_per_frame") ms_col = col;
-        }
-        while (std::getline(in, line)) {
-            std::istringstream ls(line);
-            int i = 0;
-            for (std::string c; std::getline(ls, c, ','); ++i)
-                if (i != ns_col && i != ms_col) out += c + ",";
+    // Every column except the timings (ns_per_sample*, ms_per_frame*: medians and spread).
+    auto strip_timing = [](const fs::path& csv) {
+        const pxh::CsvTable t = pxh::read_csv(csv.string());
+        std::string out;
+        for (size_t r = 0; r < t.rows.size(); ++r) {
+            for (size_t c = 0; c < t.columns.size(); ++c)
+                if (t.columns[c].rfind("ns_per_sample", 0) != 0 && t.columns[c].rfind("ms_per_frame", 0) != 0)
+                    out += t.rows[r][c] + ",";
             out += "\n";
         }
         return out;
     };
-    const std::string a = strip_timing(slurp(dir / "t1" / "results.csv"));
-    const std::string b = strip_timing(slurp(dir / "t2" / "results.csv"));
+    const std::string a = strip_timing(dir / "t1" / "results.csv");
+    const std::string b = strip_timing(dir / "t2" / "results.csv");
     EXPECT_GT(a.size(), 100u);
     EXPECT_EQ(a, b);
 }
@@ -179,8 +153,8 @@ TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
         {variant("size = 16\nbias = 0.5", "size = 16\nbias = 2"), "bias must lie in [0, 1]"},
         {variant("size = 16\nbias = 0.5", "size = 16\nscale = -1"), "scale must be > 0"},
         {variant("samples = 24", "samples = 0"), "'samples' = 0"},
-        {variant("generator = \"fbm\"\nsize = 32", "file = \"missing.png\""), "missing.png: no such file"},
-        {variant("generator = \"fbm\"\nsize = 32", "file = \"notimage.png\""), "notimage.png: not a readable image"},
+        {variant("generator = \"fbm\"\nsize = 32", "file = \"missing.png\""), "missing.png' (paths are relative to the experiment file): no such file"},
+        {variant("generator = \"fbm\"\nsize = 32", "file = \"notimage.png\""), "notimage.png' (paths are relative to the experiment file): not a readable image"},
     };
     write("notimage.png", "hello, not a png\n");
     int k = 0;
@@ -210,7 +184,9 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
     write("shaders/pom.frag.glsl", "vec2 pxh_method(vec2 P) { return undefined_thing; }\n");
     const Result r = pxh("run " + exp + " --quiet --shader-dir " + (dir / "shaders").string() +
                          " --out " + (dir / "res").string());
-    ASSERT_EQ(r.status, 0) << r.err;
+    // Complete results are written, but a run with failed rows is not a success.
+    ASSERT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("pxh: failed row: pom"), std::string::npos) << r.err;
     const std::string csv = slurp(dir / "res" / "results.csv");
     std::istringstream lines(csv);
     std::string line;
@@ -221,6 +197,9 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
                 ++glsl_failed;
                 EXPECT_NE(line.find("method 'pom'"), std::string::npos) << line;
                 EXPECT_NE(line.find("undefined_thing"), std::string::npos) << line;
+                // The error names the file actually compiled, not the built-in path.
+                EXPECT_NE(line.find((dir / "shaders" / "pom.frag.glsl").string()), std::string::npos) << line;
+
             } else {
                 ++glsl_ok;
             }
@@ -232,6 +211,43 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
     EXPECT_EQ(glsl_failed, 24);  // both pom settings x 2 fields x 2 phi x 3 theta
     EXPECT_EQ(glsl_ok, 12);      // parallax
     EXPECT_NE(slurp(dir / "res" / "run.json").find("llvmpipe"), std::string::npos);
+    // Every measured cell of a failed row is empty (0 would read as a perfect method); the
+    // shader column says which source each GLSL row ran.
+    const pxh::CsvTable t = pxh::read_csv((dir / "res" / "results.csv").string());
+    int checked = 0;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        if (t.get(i, "backend") != "glsl") continue;
+        const bool failed = t.get(i, "status") == "failed";
+        EXPECT_EQ(t.get(i, "shader"), failed ? (dir / "shaders" / "pom.frag.glsl").string() : "builtin");
+        for (const char* c : {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean",
+                              "ms_per_frame", "cpu_diff_max", "excluded", "gt_agree_p50"})
+            if (failed) {
+                EXPECT_EQ(t.get(i, c), "") << c;
+                ++checked;
+            } else {
+                EXPECT_NE(t.get(i, c), "") << c;
+            }
+    }
+    EXPECT_EQ(checked, 24 * 10);
+    // run.json: the sha256 of every shader source compiled (the override and the built-ins).
+    const auto run = nlohmann::json::parse(slurp(dir / "res" / "run.json"));
+    const std::string pom_file = (dir / "shaders" / "pom.frag.glsl").string();
+    ASSERT_TRUE(run["shaders"].contains(pom_file)) << run["shaders"].dump();
+    EXPECT_EQ(run["shaders"][pom_file], pxh::sha256_file(pom_file));
+    EXPECT_TRUE(run["shaders"].contains("builtin:methods/parallax/parallax.frag.glsl"));
+    EXPECT_TRUE(run["shaders"].contains("builtin:methods/common.glsl"));
+}
+
+// A --shader-dir that does not exist is an error, not the built-in shaders' numbers.
+TEST_F(Cli, MissingShaderDirIsAnError) {
+    std::string text = kSmall;
+    text.replace(text.find("timing_repeats = 1"), 18, "timing_repeats = 1\nbackends = [\"glsl\"]");
+    const auto exp = write("gl.toml", text);
+    const Result r = pxh("run " + exp + " --quiet --shader-dir " + (dir / "shaderz").string() +
+                         " --out " + (dir / "res").string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("shaderz: no such folder"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "res"));
 }
 
 // The shipped hard-case experiment: every method on every case is ok, finite and within its
@@ -299,3 +315,12 @@ TEST_F(Cli, ListShowsMethodsAndGenerators) {
 }
 
 }  // namespace
+
+// ./run.sh --help prints its usage, and only that.
+TEST_F(Cli, RunShHelpIsTheUsage) {
+    const std::string cmd = std::string(PXH_SOURCE_DIR) + "/run.sh --help > " + (dir / "h.txt").string();
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const std::string help = slurp(dir / "h.txt");
+    EXPECT_NE(help.find("./run.sh test"), std::string::npos) << help;
+    EXPECT_EQ(help.find("set -e"), std::string::npos) << help;
+}
