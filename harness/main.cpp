@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cctype>
+#include <cmath>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -110,7 +111,38 @@ struct RunArgs {
     int threads = 0;
     std::vector<std::string> backends;
     bool quiet = false, maps = false, force = false;
+    size_t max_rows = kDefaultMaxRows;
+    std::string max_memory;  // e.g. "8G"; empty = kDefaultMaxMemoryBytes
 };
+
+// "123", "512M", "8G", "1.5T" (binary units) -> bytes.
+size_t parse_bytes(const std::string& text) {
+    size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &used);
+    } catch (...) {
+        used = 0;
+    }
+    std::string unit = text.substr(used);
+    for (auto& c : unit) c = char(std::toupper((unsigned char)c));
+    if (!unit.empty() && unit.back() == 'B') unit.pop_back();
+    if (unit.size() == 2 && unit[1] == 'I') unit.pop_back();  // GiB, MiB
+    const std::map<std::string, double> mult = {{"", 1.0}, {"K", 1024.0}, {"M", 1048576.0},
+                                                {"G", 1073741824.0}, {"T", 1099511627776.0}};
+    if (used == 0 || !mult.count(unit) || !(v > 0) || !std::isfinite(v * mult.at(unit)) ||
+        v * mult.at(unit) > 1e18)
+        throw InputError("--max-memory", "'" + text + "' is not a size (e.g. 512M, 8G)");
+    return size_t(v * mult.at(unit));
+}
+
+std::string mib(size_t bytes) {
+    std::ostringstream os;
+    os << std::fixed << std::setprecision(bytes < (size_t(10) << 30) ? 0 : 1);
+    if (bytes < (size_t(10) << 30)) os << double(bytes) / 1048576.0 << " MiB";
+    else os << double(bytes) / 1073741824.0 << " GiB";
+    return os.str();
+}
 
 // run.json's record of the inputs: every image a height field was read from, with its sha256.
 nlohmann::json input_records(const Experiment& ex) {
@@ -129,6 +161,17 @@ nlohmann::json input_records(const Experiment& ex) {
 int cmd_run(const RunArgs& a) {
     Experiment ex = load_experiment(a.file);
     ex.maps = ex.maps || a.maps;
+    // The run's size, estimated before any work: a small file must not take the machine.
+    const size_t max_memory = a.max_memory.empty() ? kDefaultMaxMemoryBytes : parse_bytes(a.max_memory);
+    const RunEstimate est = estimate_run(ex, a.backends);
+    if (est.rows > a.max_rows)
+        throw InputError(ex.path, "the run would write " + std::to_string(est.rows) +
+                                      " rows, over the limit of " + std::to_string(a.max_rows) +
+                                      " (raise it with --max-rows N)");
+    if (est.peak_bytes > max_memory)
+        throw InputError(ex.path, "the run would need about " + mib(est.peak_bytes) +
+                                      " of memory, over the limit of " + mib(max_memory) + " (" +
+                                      est.detail + "; raise it with --max-memory SIZE)");
     const std::string out_dir =
         a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S") : a.out_dir;
     const int nthreads = a.threads > 0 ? a.threads : int(tbb::info::default_concurrency());
@@ -254,6 +297,12 @@ int main(int argc, char** argv) {
                     "and the shader column says which ran");
     run->add_flag("--quiet", ra.quiet, "no progress or summary (the final one-line count is still printed)");
     run->add_flag("--maps", ra.maps, "write an error map (EXR + false-colour PNG) per row");
+    run->add_option("--max-rows", ra.max_rows,
+                    "refuse a run estimated to write more rows (default " +
+                        std::to_string(kDefaultMaxRows) + ")");
+    run->add_option("--max-memory", ra.max_memory,
+                    "refuse a run estimated to need more memory, e.g. 512M, 16G (default " +
+                        mib(kDefaultMaxMemoryBytes) + ")");
 
     auto* list = app.add_subcommand("list", "list registered methods, or height fields (generators and imported scans)");
     std::string what;
@@ -289,6 +338,14 @@ int main(int argc, char** argv) {
         "use a results folder whose files differ from what its run recorded in run.json "
         "(e.g. a post-processed results.csv); the output then says NOT VERIFIED";
     report->add_flag("--accept-edited", accept_edited, accept_help);
+    ReportOptions ro;
+    report->add_option("--bands", ro.bands,
+                       "view-angle band edges in degrees, ascending in [0, 90] (default "
+                       "0,30,60,75,85,90); bands are [lo, hi), the last one closed")
+        ->delimiter(',');
+    report->add_option("--budget-metric", ro.budget_metric,
+                       "error the budget table ranks by: p95, p99 (texels) or frac_gt_1 "
+                       "(fraction of samples more than 1 texel off); default p95");
 
     auto* check = app.add_subcommand("check", "check a results folder against accuracy limits; "
                                               "exit 1 if any fails");
@@ -329,7 +386,9 @@ int main(int argc, char** argv) {
         if (*bench) return run_bench(bo);
         if (*report) {
             std::cout << verify_results_folder(report_dir, accept_edited) << "\n";
-            return run_report(report_dir, !no_plots);
+            ro.plots = !no_plots;
+            ro.accept_edited = accept_edited;
+            return run_report(report_dir, ro);
         }
         if (*import) return run_import(io);
         if (*check) {

@@ -1,0 +1,59 @@
+// The run's size is estimated before any work and refused past --max-rows / --max-memory, with
+// the estimate in the message; nothing is written.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "harness/experiment.h"
+#include "tests/cli_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// 12 x 100 x 10 fbm parameter values: 12,000 fields from a 9-line file.
+const char* kHugeSweep = R"(
+samples = 64
+[views]
+theta_deg = [0, 45]
+[[heightfields]]
+generator = "fbm"
+size = 64
+octaves = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]
+seed = { from = 1, to = 100, step = 1 }
+gain = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95]
+[[methods]]
+name = "parallax"
+)";
+
+class RunLimits : public pxh::test::CliTest {};
+
+TEST_F(RunLimits, RowsAndMemoryAreBoundedBeforeAnyWork) {
+    std::string text = kHugeSweep;
+    std::string seeds = "seed = [";
+    for (int i = 1; i <= 100; ++i) seeds += std::to_string(i) + (i < 100 ? ", " : "]");
+    text.replace(text.find("seed = { from = 1, to = 100, step = 1 }"), 39, seeds);
+    const auto exp = write("huge.toml", text);
+    const pxh::Experiment ex = pxh::load_experiment(exp);
+    const pxh::RunEstimate est = pxh::estimate_run(ex, {});
+    EXPECT_EQ(est.rows, 12u * 100 * 10 * 2);  // fields x views x 1 method x cpu float
+
+    const auto t0 = std::chrono::steady_clock::now();
+    pxh::test::CliResult r = pxh("run " + exp + " --max-rows 1000 --out " + (dir / "res").string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("would write 24000 rows, over the limit of 1000 (raise it with --max-rows N)"),
+              std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    r = pxh("run " + exp + " --max-memory 1M --out " + (dir / "res").string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("of memory, over the limit of 1 MiB"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
+    r = pxh("run " + exp + " --max-memory 12parsecs --out " + (dir / "res").string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("is not a size"), std::string::npos) << r.err;
+    // Refused from the estimate alone: seconds, not the 12,000 fields.
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(60));
+    EXPECT_FALSE(fs::exists(dir / "res"));
+}
+
+}  // namespace
