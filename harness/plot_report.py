@@ -110,51 +110,55 @@ def sweep_vs_theta(out, rows):
 
 
 def cost_vs_error(out, rows):
-    axes_def = [("fetches_mean", "pareto_fetches", "height fetches per sample"),
-                ("ns_per_sample", "pareto_ns", "CPU time per sample (ns, single thread)"),
-                ("ms_per_frame", "pareto_ms", "GLSL time per frame (ms, llvmpipe)")]
-    axes_def = [a for a in axes_def if any(num(r[a[0]]) is not None for r in rows)]
-    series = [r["series"] for r in rows]
-    col = colours(series)
-    fig, axes = plt.subplots(1, len(axes_def), figsize=(6.5 * len(axes_def), 5.2), squeeze=False)
-    for ax, (cost, front, label) in zip(axes[0], axes_def):
-        pts = [(num(r[cost]), num(r["err_mean"]), r) for r in rows]
-        pts = [p for p in pts if p[0] is not None and p[1] is not None]
-        if cost == "fetches_mean":
-            # Fetches do not depend on the backend: one point per method setting (the first).
-            seen, unique = set(), []
-            for p in pts:
-                key = p[2]["series"].split(" [")[0]
-                if key not in seen:
-                    seen.add(key)
-                    unique.append(p)
-            pts = unique
-        for x, y, r in pts:
-            ax.scatter([x], [y], color=col[r["series"]], s=36, zorder=3)
-            ax.annotate(r["series"], (x, y), fontsize=6.5, xytext=(4, 3), textcoords="offset points")
-        fr = sorted((x, y) for x, y, r in pts if r[front] == "1")
-        if fr:
-            ax.step([p[0] for p in fr], [p[1] for p in fr], where="post", color="black", lw=1.2,
-                    ls=":", label="Pareto front", zorder=2)
-            ax.legend(fontsize=8)
-        xs = [p[0] for p in pts if p[0] > 0]
-        if cost == "fetches_mean":
-            ax.set_xscale("symlog", linthresh=1)
-        elif xs and max(xs) / min(xs) > 10:
-            ax.set_xscale("log")
-        ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.set_yscale("symlog", linthresh=0.01)
-        ax.set_ylim(bottom=0)
-        ax.set_xlabel(label)
-        ax.set_ylabel("mean texel error (texels)")
-        ax.set_title(f"error against cost: {label.split(' (')[0]}")
-        ax.grid(True, which="both", alpha=0.3)
+    """One row of panels per group (backend/precision or texture format), one panel per cost it
+    has. Each panel draws exactly the points its Pareto flags were computed over (by pxh): the
+    group's series with that cost."""
+    costs = [("fetches_mean", "pareto_fetches", "height fetches per sample"),
+             ("ns_per_sample", "pareto_ns", "CPU time per sample (ns, single thread)"),
+             ("ms_per_frame", "pareto_ms", "GLSL time per frame (ms, llvmpipe)")]
+    groups = list(dict.fromkeys(r["group"] for r in rows))
+    col = colours(list(dict.fromkeys(r["setting"] for r in rows)))
+    panels_of = {g: [c for c in costs if any(r["group"] == g and num(r[c[0]]) is not None
+                                            and num(r["err_mean"]) is not None for r in rows)]
+                 for g in groups}
+    ncols = max(len(p) for p in panels_of.values())
+    fig, axes = plt.subplots(len(groups), ncols, figsize=(6.5 * ncols, 5.2 * len(groups)),
+                             squeeze=False)
+    for g_i, group in enumerate(groups):
+        for ax in axes[g_i][len(panels_of[group]):]:
+            ax.axis("off")
+        for ax, (cost, front, label) in zip(axes[g_i], panels_of[group]):
+            pts = [(num(r[cost]), num(r["err_mean"]), r) for r in rows if r["group"] == group]
+            pts = [p for p in pts if p[0] is not None and p[1] is not None]
+            for x, y, r in pts:
+                ax.scatter([x], [y], color=col[r["setting"]], s=36, zorder=3)
+                ax.annotate(r["setting"], (x, y), fontsize=6.5, xytext=(4, 3),
+                            textcoords="offset points")
+            fr = sorted((x, y) for x, y, r in pts if r[front] == "1")
+            if fr:
+                ax.step([p[0] for p in fr], [p[1] for p in fr], where="post", color="black",
+                        lw=1.2, ls=":", label="Pareto front", zorder=2)
+                ax.legend(fontsize=8)
+            xs = [p[0] for p in pts if p[0] > 0]
+            if cost == "fetches_mean":
+                ax.set_xscale("symlog", linthresh=1)
+            elif xs and max(xs) / min(xs) > 10:
+                ax.set_xscale("log")
+            ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            ax.set_yscale("symlog", linthresh=0.01)
+            ax.set_ylim(bottom=0)
+            ax.set_xlabel(label)
+            ax.set_ylabel("mean texel error (texels)")
+            ax.set_title(f"[{group}] error against {label.split(' (')[0]}")
+            ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     save(fig, out, "cost_vs_error")
 
 
 def montage(out, rows):
+    # Map paths are relative to the results folder, the report folder's parent.
+    results = os.path.dirname(os.path.abspath(out))
     series = list(dict.fromkeys(r["series"] for r in rows))
     thetas = sorted({num(r["theta_deg"]) for r in rows})
     fig, axes = plt.subplots(len(series), len(thetas), figsize=(2.6 * len(thetas), 2.9 * len(series)),
@@ -164,8 +168,13 @@ def montage(out, rows):
             ax = axes[i][j]
             ax.axis("off")
             match = [r for r in rows if r["series"] == s and num(r["theta_deg"]) == th]
-            if match and os.path.exists(match[0]["map"]):
-                ax.imshow(mpimg.imread(match[0]["map"]))
+            if match:
+                path = os.path.join(results, match[0]["map"])
+                if os.path.exists(path):
+                    ax.imshow(mpimg.imread(path))
+                else:
+                    print(f"pxh: warning: error map not found: {path} (left blank)",
+                          file=sys.stderr)
             if i == 0:
                 ax.set_title(f"θ = {th:g}°", fontsize=9)
             if j == 0:

@@ -1,37 +1,64 @@
 #include "harness/report.h"
 
+#include <spawn.h>
+#include <sys/wait.h>
+
 #include <algorithm>
 #include <array>
-#include <optional>
-#include <tuple>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
+#include <tuple>
 
 #include "harness/csv_table.h"
 #include "harness/error.h"
 #include "harness/params.h"
 #include "harness/results.h"
 
+extern char** environ;
+
 namespace pxh {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Band {
-    const char* name;
-    double lo, hi;  // lo <= theta < hi (the last band also takes hi)
-};
-const Band kBands[] = {{"0-30", 0, 30}, {"30-60", 30, 60}, {"60-75", 60, 75},
-                       {"75-85", 75, 85.0000001}, {"85-90", 85.0000001, 90}};
+// ---- What a row is ----------------------------------------------------------------------
+
+bool is_ok(const CsvTable& t, size_t r) { return t.get(r, "status") == "ok"; }
+
+// A method setting: the method and its parameters ("pom layers=8").
+std::string setting_of(const CsvTable& t, size_t r) {
+    const std::string& params = t.get(r, "params");
+    return t.get(r, "method") + (params.empty() ? "" : " " + params);
+}
+
+// What computed it: backend and precision or texture format ("cpu/float", "glsl/r32f").
+std::string group_of(const CsvTable& t, size_t r) {
+    const std::string& fmt = t.get(r, "texture_format");
+    return t.get(r, "backend") + "/" + (fmt.empty() ? t.get(r, "precision") : fmt);
+}
+
+// A series: one setting on one backend/precision/format ("pom layers=8 [glsl/r32f]").
+std::string series_of(const CsvTable& t, size_t r) {
+    return setting_of(t, r) + " [" + group_of(t, r) + "]";
+}
+
+std::string field_of(const CsvTable& t, size_t r) {
+    return t.get(r, "heightfield") + " s=" + t.get(r, "scale") + " b=" + t.get(r, "bias");
+}
+
+// ---- Numbers ----------------------------------------------------------------------------
 
 // Mean of the finite values.
 struct Mean {
@@ -43,17 +70,7 @@ struct Mean {
     double get() const { return n ? sum / n : NAN; }
 };
 
-std::string series_of(const CsvTable& t, size_t r) {
-    const std::string& params = t.get(r, "params");
-    const std::string& fmt = t.get(r, "texture_format");
-    return t.get(r, "method") + (params.empty() ? "" : " " + params) + " [" + t.get(r, "backend") +
-           "/" + (fmt.empty() ? t.get(r, "precision") : fmt) + "]";
-}
-
-std::string field_of(const CsvTable& t, size_t r) {
-    return t.get(r, "heightfield") + " s=" + t.get(r, "scale") + " b=" + t.get(r, "bias");
-}
-
+// For tables: fixed decimals, "-" when missing.
 std::string fmt(double v, int prec = 3) {
     if (!std::isfinite(v)) return "-";
     std::ostringstream os;
@@ -61,23 +78,202 @@ std::string fmt(double v, int prec = 3) {
     return os.str();
 }
 
-std::string tex_escape(const std::string& s) {
+// For the report's CSVs: a missing value is an empty cell, as in results.csv.
+std::string csv_num(double v) { return std::isnan(v) ? "" : format_number(v); }
+
+// ---- Tables: one description, written as Markdown and LaTeX -----------------------------
+
+// A table cell in Markdown: one line, '|' escaped.
+std::string md_cell(const std::string& s) {
     std::string o;
-    for (char c : s) {
-        if (c == '_' || c == '%' || c == '&' || c == '#' || c == '$') o += '\\';
+    for (char c : one_line(s)) {
+        if (c == '|') o += '\\';
         o += c;
     }
     return o;
 }
 
-void write_file(const fs::path& p, const std::string& text) {
-    std::ofstream f(p, std::ios::binary);
-    f << text;
-    if (!f) throw InputError(p.string(), "cannot write");
+// Text (as written in the Markdown tables) for LaTeX text mode: TeX's special characters
+// escaped, θ, <=, <, > and † as math.
+std::string tex_text(const std::string& s) {
+    std::string o;
+    for (size_t i = 0; i < s.size(); ++i) {
+        const std::string rest = s.substr(i, 3);
+        if (rest.rfind("θ", 0) == 0) { o += "$\\theta$"; i += std::string("θ").size() - 1; }
+        else if (rest.rfind("†", 0) == 0) { o += "$^\\dagger$"; i += std::string("†").size() - 1; }
+        else if (rest.rfind("<=", 0) == 0) { o += "$\\le$"; ++i; }
+        else if (s[i] == '<' || s[i] == '>' || s[i] == '|') o += std::string("$") + s[i] + "$";
+        else if (std::strchr("_%&#${}", s[i])) o += std::string("\\") + s[i];
+        else if (s[i] == '\\') o += "\\textbackslash{}";
+        else if (s[i] == '~' || s[i] == '^') o += std::string("\\") + s[i] + "{}";
+        else o += s[i];
+    }
+    return o;
 }
 
+struct TextTable {
+    std::vector<std::string> header;
+    std::string align;  // 'l' or 'r' per column
+    std::vector<std::vector<std::string>> rows;
+    std::vector<std::string> notes;  // paragraphs under the table
+
+    std::string markdown() const {
+        std::ostringstream md;
+        md << "|";
+        for (const auto& h : header) md << " " << md_cell(h) << " |";
+        md << "\n|";
+        for (char a : align) md << (a == 'r' ? "---:|" : "---|");
+        md << "\n";
+        for (const auto& row : rows) {
+            md << "|";
+            for (const auto& c : row) md << " " << md_cell(c) << " |";
+            md << "\n";
+        }
+        for (const auto& n : notes) md << "\n" << n << "\n";
+        return md.str();
+    }
+    std::string latex(const std::string& source) const {
+        std::ostringstream tex;
+        tex << "% Generated by pxh report from " << one_line(source) << "\n"
+            << "\\begin{tabular}{" << align << "}\n\\toprule\n";
+        auto line = [&](const std::vector<std::string>& cells) {
+            for (size_t i = 0; i < cells.size(); ++i) tex << (i ? " & " : "") << tex_text(cells[i]);
+            tex << " \\\\\n";
+        };
+        line(header);
+        tex << "\\midrule\n";
+        for (const auto& row : rows) line(row);
+        tex << "\\bottomrule\n\\end{tabular}\n";
+        for (const auto& n : notes) tex << "\n" << tex_text(n) << "\n";
+        return tex.str();
+    }
+};
+
+// ---- Angle bands ------------------------------------------------------------------------
+
+const std::vector<double> kDefaultBandEdges = {0, 30, 60, 75, 85, 90};
+
+// Bands between ascending edges e_0 < ... < e_k: [e_i, e_i+1), the last one closed.
+class Bands {
+  public:
+    explicit Bands(std::vector<double> edges) : edges_(std::move(edges)) {
+        if (edges_.empty()) edges_ = kDefaultBandEdges;
+        bool ok = edges_.size() >= 2;
+        for (size_t i = 0; ok && i < edges_.size(); ++i)
+            ok = edges_[i] >= 0 && edges_[i] <= 90 && (i == 0 || edges_[i] > edges_[i - 1]);
+        if (!ok) {
+            std::string list;
+            for (double e : edges_) {
+                if (!list.empty()) list += ',';
+                list += format_number(e);
+            }
+            throw InputError("--bands", "'" + list + "': band edges must be at least 2 ascending "
+                                        "angles in [0, 90] degrees, e.g. 0,30,60,75,85,90");
+        }
+        thetas_.resize(size());
+    }
+    size_t size() const { return edges_.size() - 1; }
+    // The band holding theta, or -1 outside every band.
+    int of(double theta) const {
+        for (size_t i = 0; i < size(); ++i)
+            if (theta >= edges_[i] && (theta < edges_[i + 1] || (i + 1 == size() && theta == edges_[i + 1])))
+                return int(i);
+        return -1;
+    }
+    void add_view(int band, double theta) { thetas_[size_t(band)].insert(theta); }
+    bool present(size_t i) const { return !thetas_[i].empty(); }
+    bool single_view(size_t i) const { return thetas_[i].size() == 1; }
+    // The band's exact edges ("0 <= θ < 30", the last "85 <= θ <= 90"), † when it holds a
+    // single view.
+    std::string label(size_t i) const {
+        return format_number(edges_[i]) + " <= θ " + (i + 1 == size() ? "<= " : "< ") +
+               format_number(edges_[i + 1]) + (single_view(i) ? " †" : "");
+    }
+    double lo(size_t i) const { return edges_[i]; }
+    double hi(size_t i) const { return edges_[i + 1]; }
+    size_t views(size_t i) const { return thetas_[i].size(); }
+    // The footnote for the bands marked †, "" when none is.
+    std::string note() const {
+        std::string list;
+        for (size_t i = 0; i < size(); ++i)
+            if (single_view(i))
+                list += (list.empty() ? "" : ", ") + label(i).substr(0, label(i).size() - 4) +
+                        " holds only θ = " + format_number(*thetas_[i].begin());
+        return list.empty() ? "" : "† A single view in the band (" + list + "): its figures are "
+                                   "that one angle's, not the whole band's.";
+    }
+    std::string range() const {
+        return format_number(edges_.front()) + " to " + format_number(edges_.back()) + " degrees";
+    }
+
+  private:
+    std::vector<double> edges_;
+    std::vector<std::set<double>> thetas_;  // the distinct θ of the reported rows per band
+};
+
+// ---- Budget metrics ---------------------------------------------------------------------
+
+struct BudgetMetric {
+    const char* name;    // --budget-metric
+    const char* column;  // results.csv column, averaged over the rows of a band
+    const char* header;
+    const char* meaning;
+    std::vector<double> budgets;
+};
+
+const BudgetMetric kBudgetMetrics[] = {
+    {"p95", "err_p95", "p95 budget (texels)", "95th-percentile texel error",
+     {0.1, 0.25, 0.5, 1, 2, 4}},
+    {"p99", "err_p99", "p99 budget (texels)", "99th-percentile texel error",
+     {0.1, 0.25, 0.5, 1, 2, 4}},
+    {"frac_gt_1", "frac_gt_1", "frac_gt_1 budget (fraction of samples)",
+     "fraction of samples more than one texel off", {0.001, 0.003, 0.01, 0.03, 0.1}},
+};
+
+const BudgetMetric& budget_metric(const std::string& name) {
+    for (const auto& m : kBudgetMetrics)
+        if (name == m.name) return m;
+    throw InputError("--budget-metric", "'" + name + "' is not one of p95, p99, frac_gt_1");
+}
+
+// ---- Statistics -------------------------------------------------------------------------
+
+// Means over the ok rows of a series (or setting), overall or in one band.
+struct Acc {
+    Mean err_mean, err_p50, err_p95, fetches, ns, ms, sliding, shimmering, budget;
+    double worst_p95 = NAN;
+    bool nonfinite = false;  // some row had samples with NaN/Inf output
+    void add(const CsvTable& t, size_t r, const char* budget_column) {
+        err_mean.add(t.number(r, "err_mean"));
+        err_p50.add(t.number(r, "err_p50"));
+        const double p95 = t.number(r, "err_p95");
+        err_p95.add(p95);
+        if (std::isfinite(p95)) worst_p95 = std::isfinite(worst_p95) ? std::max(worst_p95, p95) : p95;
+        fetches.add(t.number(r, "fetches_mean"));
+        ns.add(t.number(r, "ns_per_sample"));
+        ms.add(t.number(r, "ms_per_frame"));
+        sliding.add(t.number(r, "sliding"));
+        shimmering.add(t.number(r, "shimmering"));
+        budget.add(t.number(r, budget_column));
+        nonfinite = nonfinite || t.number(r, "nonfinite") > 0;
+    }
+};
+
+struct Series {
+    std::string setting, method, group;
+    Acc all;
+    std::map<size_t, Acc> band;
+};
+
+struct Setting {
+    std::vector<std::string> series;  // its series, in order of appearance
+    std::map<size_t, Acc> band;       // all its ok rows of a band pooled (fetches, time)
+    std::set<size_t> failed_bands;    // bands where one of its rows failed
+};
+
 // Indices of the points on the lower-left Pareto front of (cost, error): no other point is
-// at most as costly and at most as wrong, and strictly better in one.
+// at most as costly and at most as wrong, and strictly better in one. Points with a
+// non-finite cost or error take no part.
 std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<double>& err) {
     std::vector<bool> front(cost.size(), false);
     for (size_t i = 0; i < cost.size(); ++i) {
@@ -92,303 +288,456 @@ std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<doub
     return front;
 }
 
-}  // namespace
+// harness/plot_report.py on the report folder, run by /usr/bin/python3 from an argument
+// vector (no shell: any folder name is passed as it is); waits and checks its exit status.
+void run_plotter(const fs::path& out) {
+    const std::string python = "/usr/bin/python3";
+    const std::string script = std::string(PXH_SOURCE_DIR) + "/harness/plot_report.py";
+    std::vector<std::string> args = {python, script, out.string()};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string advice = "; the tables are written. Is python3-matplotlib installed? "
+                               "(./run.sh installs it)";
+    std::cout << std::flush;
+    pid_t pid = 0;
+    if (const int e = posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ))
+        throw std::runtime_error("cannot start " + python + ": " + std::strerror(e) + advice);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw std::runtime_error(
+            "plotting failed (" + python + " " + script + ": " +
+            (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                               : "killed by signal " + std::to_string(WTERMSIG(status))) + ")" + advice);
+}
 
-int run_report(const std::string& dir, bool plots) {
-    const CsvTable t = read_csv((fs::path(dir) / "results.csv").string());
-    for (const char* c : {"method", "theta_deg", "err_mean", "err_p95", "status"})
-        if (t.index(c) < 0)
-            throw InputError((fs::path(dir) / "results.csv").string(),
-                             std::string("no column '") + c + "' (not a pxh results file?)");
-    const fs::path out = fs::path(dir) / "report";
-    fs::create_directories(out / "data");
+// ---- The report -------------------------------------------------------------------------
 
-    // Per series (and band): means over the ok rows.
-    struct Acc {
-        Mean err_mean, err_p50, err_p95, fetches, ns, ms, sliding, shimmering;
-        double worst_p95 = NAN;
-    };
-    std::vector<std::string> series_order;
-    std::map<std::string, std::map<std::string, Acc>> by_band;  // series -> band -> acc
-    std::map<std::string, Acc> overall;
-    std::map<std::string, std::string> series_method;
-    std::set<std::string> bands_present;
-    for (size_t r = 0; r < t.rows.size(); ++r) {
-        if (t.get(r, "status") != "ok") continue;
-        const std::string s = series_of(t, r);
-        if (!overall.count(s)) series_order.push_back(s);
-        series_method[s] = t.get(r, "method");
-        const double theta = t.number(r, "theta_deg");
-        const char* band = nullptr;
-        for (const Band& b : kBands)
-            if (theta >= b.lo && (theta < b.hi || (b.hi == 90 && theta <= 90))) band = b.name;
-        for (Acc* a : {&overall[s], band ? &by_band[s][band] : nullptr}) {
-            if (!a) continue;
-            a->err_mean.add(t.number(r, "err_mean"));
-            a->err_p50.add(t.number(r, "err_p50"));
-            a->err_p95.add(t.number(r, "err_p95"));
-            const double p95 = t.number(r, "err_p95");
-            if (std::isfinite(p95)) a->worst_p95 = std::isfinite(a->worst_p95) ? std::max(a->worst_p95, p95) : p95;
-            a->fetches.add(t.number(r, "fetches_mean"));
-            a->ns.add(t.number(r, "ns_per_sample"));
-            a->ms.add(t.number(r, "ms_per_frame"));
-            a->sliding.add(t.number(r, "sliding"));
-            a->shimmering.add(t.number(r, "shimmering"));
+class Report {
+  public:
+    Report(const std::string& dir, const ReportOptions& o)
+        : dir_(dir), out_(fs::path(dir) / "report"), bands_(o.bands),
+          metric_(budget_metric(o.budget_metric)),
+          t_(read_csv((fs::path(dir) / "results.csv").string())) {
+        for (const char* c : {"method", "theta_deg", "err_mean", "err_p95", "status"})
+            if (t_.index(c) < 0)
+                throw InputError(t_.path, std::string("no column '") + c + "' (not a pxh results file?)");
+        for (size_t r = 0; r < t_.rows.size(); ++r) (is_ok(t_, r) ? ok_ : failed_).push_back(r);
+        if (ok_.empty()) throw InputError(t_.path, "has no ok rows to report");
+        collect();
+    }
+
+    void write_tables() {
+        fs::create_directories(out_ / "data");
+        summary();
+        failed();
+        sweep();
+        precision();
+        budget();
+        plot_data();
+    }
+    const fs::path& out() const { return out_; }
+
+  private:
+    std::string dir_;
+    fs::path out_;
+    Bands bands_;
+    const BudgetMetric& metric_;
+    const CsvTable t_;
+    std::vector<size_t> ok_, failed_;  // row indices by status
+    std::vector<std::string> series_order_, setting_order_;
+    std::map<std::string, Series> series_;
+    std::map<std::string, Setting> settings_;
+
+    void write(const std::string& rel, const std::string& text) {
+        const fs::path p = out_ / rel;
+        std::ofstream f(p, std::ios::binary);
+        f << text;
+        if (!f) throw InputError(p.string(), "cannot write");
+        std::cout << "wrote " << p.string() << "\n";
+    }
+
+    // Means per series and band over the ok rows only; failed rows only mark their
+    // setting's band (no budget is met where a row failed).
+    void collect() {
+        size_t outside = 0;
+        for (size_t r : ok_) {
+            const int b = bands_.of(t_.number(r, "theta_deg"));
+            if (b >= 0) bands_.add_view(b, t_.number(r, "theta_deg"));
+            outside += b < 0;
         }
-        if (band) bands_present.insert(band);
-    }
-    if (series_order.empty()) throw InputError(dir, "results.csv has no ok rows to report");
-    std::vector<const Band*> bands;
-    for (const Band& b : kBands)
-        if (bands_present.count(b.name)) bands.push_back(&b);
-
-    // summary.csv
-    std::ostringstream csv;
-    csv << "series,method,band,err_mean,err_p50,err_p95,err_p95_worst,fetches_mean,"
-           "ns_per_sample,ms_per_frame,sliding,shimmering\n";
-    auto csv_line = [&](const std::string& s, const std::string& band, const Acc& a) {
-        csv << csv_quote(s) << "," << series_method[s] << "," << band << ","
-            << format_number(a.err_mean.get()) << "," << format_number(a.err_p50.get()) << ","
-            << format_number(a.err_p95.get()) << "," << format_number(a.worst_p95) << ","
-            << format_number(a.fetches.get()) << "," << format_number(a.ns.get()) << ","
-            << format_number(a.ms.get()) << "," << format_number(a.sliding.get()) << ","
-            << format_number(a.shimmering.get()) << "\n";
-    };
-    for (const auto& s : series_order) {
-        for (const Band* b : bands)
-            if (by_band[s].count(b->name)) csv_line(s, b->name, by_band[s][b->name]);
-        csv_line(s, "all", overall[s]);
-    }
-    write_file(out / "summary.csv", csv.str());
-
-    // summary.md / summary.tex: mean / p95 per band, cost.
-    std::ostringstream md, tex;
-    md << "| method | ";
-    for (const Band* b : bands) md << "θ " << b->name << " mean / p95 | ";
-    md << "fetches | CPU ns/sample | GLSL ms/frame |\n|---|";
-    for (size_t i = 0; i < bands.size() + 3; ++i) md << "---:|";
-    md << "\n";
-    tex << "% Generated by pxh report from " << dir << "/results.csv\n"
-        << "\\begin{tabular}{l" << std::string(bands.size() + 3, 'r') << "}\n\\toprule\n"
-        << "method";
-    for (const Band* b : bands) tex << " & $\\theta$ " << b->name << "$^\\circ$";
-    tex << " & fetches & ns/sample & ms/frame \\\\\n\\midrule\n";
-    for (const auto& s : series_order) {
-        md << "| " << s << " | ";
-        tex << tex_escape(s);
-        for (const Band* b : bands) {
-            auto it = by_band[s].find(b->name);
-            const std::string cell = it == by_band[s].end()
-                                         ? "-"
-                                         : fmt(it->second.err_mean.get()) + " / " +
-                                               fmt(it->second.err_p95.get());
-            md << cell << " | ";
-            tex << " & " << cell;
-        }
-        const Acc& a = overall[s];
-        md << fmt(a.fetches.get(), 1) << " | " << fmt(a.ns.get(), 1) << " | " << fmt(a.ms.get(), 2)
-           << " |\n";
-        tex << " & " << fmt(a.fetches.get(), 1) << " & " << fmt(a.ns.get(), 1) << " & "
-            << fmt(a.ms.get(), 2) << " \\\\\n";
-    }
-    tex << "\\bottomrule\n\\end{tabular}\n";
-    md << "\nTexel error, mean over rows of the per-row mean / 95th percentile, per band of the "
-          "view angle θ (degrees).\n";
-    write_file(out / "summary.md", md.str());
-    write_file(out / "summary.tex", tex.str());
-
-    // Sliding / shimmering table (when measured).
-    bool any_sweep = false;
-    for (const auto& s : series_order) any_sweep |= overall[s].shimmering.n > 0;
-    if (any_sweep) {
-        std::ostringstream sm;
-        sm << "| method | ";
-        for (const Band* b : bands) sm << "θ " << b->name << " sliding / shimmering | ";
-        sm << "\n|---|";
-        for (size_t i = 0; i < bands.size(); ++i) sm << "---:|";
-        sm << "\n";
-        for (const auto& s : series_order) {
-            sm << "| " << s << " | ";
-            for (const Band* b : bands) {
-                auto it = by_band[s].find(b->name);
-                sm << (it == by_band[s].end() ? "-"
-                                              : fmt(it->second.sliding.get()) + " / " +
-                                                    fmt(it->second.shimmering.get()))
-                   << " | ";
+        if (outside)
+            std::cerr << "pxh: warning: " << outside << " rows have θ outside the bands ("
+                      << bands_.range() << "): they count only in the 'all' figures\n";
+        for (size_t r : ok_) {
+            const std::string s = series_of(t_, r), set = setting_of(t_, r);
+            if (!series_.count(s)) {
+                series_order_.push_back(s);
+                series_[s] = {set, t_.get(r, "method"), group_of(t_, r), {}, {}};
+                if (!settings_.count(set)) setting_order_.push_back(set);
+                settings_[set].series.push_back(s);
             }
-            sm << "\n";
+            Series& ser = series_[s];
+            ser.all.add(t_, r, metric_.column);
+            const int b = bands_.of(t_.number(r, "theta_deg"));
+            if (b < 0) continue;
+            ser.band[size_t(b)].add(t_, r, metric_.column);
+            settings_[set].band[size_t(b)].add(t_, r, metric_.column);
         }
-        sm << "\nTexels per degree of view change (spec section 5): sliding = |mean change of "
-              "the error vector| / dt, shimmering = mean |change - mean change| / dt.\n";
-        write_file(out / "sweep.md", sm.str());
+        for (size_t r : failed_) {
+            const int b = bands_.of(t_.number(r, "theta_deg"));
+            if (b >= 0) settings_[setting_of(t_, r)].failed_bands.insert(size_t(b));
+        }
     }
 
-    // precision.md: what float precision itself costs, per method and view angle (worst over
-    // the rows of each angle of |uv_float - uv_double|, texels), when both precisions ran.
-    if (t.index("double_diff_max") >= 0) {
+    std::vector<size_t> present_bands() const {
+        std::vector<size_t> out;
+        for (size_t i = 0; i < bands_.size(); ++i)
+            if (bands_.present(i)) out.push_back(i);
+        return out;
+    }
+
+    // The notes every table with band columns carries: failed rows, single-view bands.
+    std::vector<std::string> band_notes() const {
+        std::vector<std::string> notes;
+        if (!failed_.empty())
+            notes.push_back(std::to_string(failed_.size()) + " failed rows (status not ok) are "
+                            "left out of every figure here; they are listed in failed.md.");
+        if (!bands_.note().empty()) notes.push_back(bands_.note());
+        return notes;
+    }
+
+    // summary.csv / .md / .tex: per series, mean / p95 per band, cost.
+    void summary() {
+        const auto bands = present_bands();
+        std::ostringstream csv;
+        csv << "series,setting,method,group,band,theta_lo,theta_hi,band_views,err_mean,err_p50,"
+               "err_p95,err_p95_worst,fetches_mean,ns_per_sample,ms_per_frame,sliding,shimmering\n";
+        auto csv_line = [&](const std::string& s, const std::string& band, double lo, double hi,
+                            size_t views, const Acc& a) {
+            const Series& ser = series_.at(s);
+            csv << csv_quote(s) << "," << csv_quote(ser.setting) << "," << csv_quote(ser.method)
+                << "," << csv_quote(ser.group) << "," << csv_quote(band) << "," << csv_num(lo)
+                << "," << csv_num(hi) << "," << (views ? std::to_string(views) : "") << ","
+                << csv_num(a.err_mean.get()) << "," << csv_num(a.err_p50.get()) << ","
+                << csv_num(a.err_p95.get()) << "," << csv_num(a.worst_p95) << ","
+                << csv_num(a.fetches.get()) << "," << csv_num(a.ns.get()) << ","
+                << csv_num(a.ms.get()) << "," << csv_num(a.sliding.get()) << ","
+                << csv_num(a.shimmering.get()) << "\n";
+        };
+        TextTable tt;
+        tt.header.push_back("method");
+        for (size_t b : bands) tt.header.push_back(bands_.label(b) + " mean / p95");
+        for (const char* h : {"fetches", "CPU ns/sample", "GLSL ms/frame"}) tt.header.push_back(h);
+        tt.align = "l" + std::string(bands.size() + 3, 'r');
+        for (const auto& s : series_order_) {
+            const Series& ser = series_.at(s);
+            std::vector<std::string> row = {s};
+            for (size_t b : bands) {
+                auto it = ser.band.find(b);
+                if (it == ser.band.end()) { row.push_back("-"); continue; }
+                row.push_back(fmt(it->second.err_mean.get()) + " / " + fmt(it->second.err_p95.get()));
+                csv_line(s, bands_.label(b), bands_.lo(b), bands_.hi(b), bands_.views(b), it->second);
+            }
+            csv_line(s, "all", NAN, NAN, 0, ser.all);
+            row.push_back(fmt(ser.all.fetches.get(), 1));
+            row.push_back(fmt(ser.all.ns.get(), 1));
+            row.push_back(fmt(ser.all.ms.get(), 2));
+            tt.rows.push_back(row);
+        }
+        tt.notes = band_notes();
+        tt.notes.push_back("Texel error, mean over rows of the per-row mean / 95th percentile, per "
+                           "band of the view angle θ (degrees); fetches and times over all angles.");
+        write("summary.csv", csv.str());
+        write("summary.md", tt.markdown());
+        write("summary.tex", tt.latex(dir_ + "/results.csv"));
+    }
+
+    // failed.md: every failed row, what it was and why (nothing else uses them).
+    void failed() {
+        if (failed_.empty()) return;
+        TextTable tt;
+        tt.header = {"method", "params", "height field", "θ", "φ", "backend/format", "error"};
+        tt.align = "llllrrl";
+        for (size_t r : failed_)
+            tt.rows.push_back({t_.get(r, "method"), t_.get(r, "params"), field_of(t_, r),
+                               t_.get(r, "theta_deg"), t_.get(r, "phi_deg"), group_of(t_, r),
+                               t_.get(r, "error")});
+        tt.notes.push_back("Rows with status not ok (" + t_.path + "): their metrics are left out "
+                           "of every table, budget and plot of this report.");
+        write("failed.md", tt.markdown());
+        const size_t shown = std::min<size_t>(failed_.size(), 20);
+        std::cout << failed_.size() << " failed rows, left out of every figure (report/failed.md):\n";
+        for (size_t i = 0; i < shown; ++i) {
+            const size_t r = failed_[i];
+            std::cout << "  " << setting_of(t_, r) << " | " << field_of(t_, r) << " | theta "
+                      << t_.get(r, "theta_deg") << " phi " << t_.get(r, "phi_deg") << " | "
+                      << group_of(t_, r) << ": " << one_line(t_.get(r, "error")) << "\n";
+        }
+        if (shown < failed_.size()) std::cout << "  ... and " << failed_.size() - shown << " more\n";
+    }
+
+    // sweep.md: sliding / shimmering per series and band (when measured).
+    void sweep() {
+        bool any = false;
+        for (const auto& s : series_order_) any |= series_.at(s).all.shimmering.n > 0;
+        if (!any) return;
+        const auto bands = present_bands();
+        TextTable tt;
+        tt.header.push_back("method");
+        for (size_t b : bands) tt.header.push_back(bands_.label(b) + " sliding / shimmering");
+        tt.align = "l" + std::string(bands.size(), 'r');
+        for (const auto& s : series_order_) {
+            std::vector<std::string> row = {s};
+            for (size_t b : bands) {
+                const auto& band = series_.at(s).band;
+                auto it = band.find(b);
+                row.push_back(it == band.end() ? "-"
+                                               : fmt(it->second.sliding.get()) + " / " +
+                                                     fmt(it->second.shimmering.get()));
+            }
+            tt.rows.push_back(row);
+        }
+        tt.notes = band_notes();
+        tt.notes.push_back("Texels per degree of view change (spec section 5): sliding = |mean "
+                           "change of the error vector| / dt, shimmering = mean |change - mean "
+                           "change| / dt.");
+        write("sweep.md", tt.markdown());
+    }
+
+    // precision.md: what float precision itself costs, per setting and view angle (worst over
+    // the ok rows of each angle of |uv_float - uv_double|, texels), when both precisions ran.
+    void precision() {
         std::vector<double> thetas;
         std::map<std::string, std::map<double, double>> worst;
         std::vector<std::string> order;
-        for (size_t r = 0; r < t.rows.size(); ++r) {
-            const double d = t.number(r, "double_diff_max");
+        for (size_t r : ok_) {
+            const double d = t_.number(r, "double_diff_max");
             if (!std::isfinite(d)) continue;
-            const double th = t.number(r, "theta_deg");
+            const double th = t_.number(r, "theta_deg");
             if (std::find(thetas.begin(), thetas.end(), th) == thetas.end()) thetas.push_back(th);
-            const std::string m = t.get(r, "method") + (t.get(r, "params").empty() ? "" : " " + t.get(r, "params"));
+            const std::string m = setting_of(t_, r);
             if (!worst.count(m)) order.push_back(m);
-            auto& w = worst[m][th];
-            w = std::max(w, d);
+            auto [it, fresh] = worst[m].emplace(th, d);
+            if (!fresh) it->second = std::max(it->second, d);
         }
-        if (!order.empty()) {
-            std::sort(thetas.begin(), thetas.end());
-            std::ostringstream pm;
-            pm << "| method | ";
-            for (double th : thetas) pm << "θ " << format_number(th) << " | ";
-            pm << "\n|---|";
-            for (size_t i = 0; i < thetas.size(); ++i) pm << "---:|";
-            pm << "\n";
-            for (const auto& m : order) {
-                pm << "| " << m << " | ";
-                for (double th : thetas) {
-                    auto it = worst[m].find(th);
-                    char buf[32];
-                    std::snprintf(buf, sizeof buf, "%.2g", it == worst[m].end() ? NAN : it->second);
-                    pm << (it == worst[m].end() ? "-" : buf) << " | ";
-                }
-                pm << "\n";
+        if (order.empty()) return;
+        std::sort(thetas.begin(), thetas.end());
+        TextTable tt;
+        tt.header.push_back("method");
+        for (double th : thetas) tt.header.push_back("θ = " + format_number(th));
+        tt.align = "l" + std::string(thetas.size(), 'r');
+        for (const auto& m : order) {
+            std::vector<std::string> row = {m};
+            for (double th : thetas) {
+                auto it = worst[m].find(th);
+                char buf[32];
+                std::snprintf(buf, sizeof buf, "%.2g", it == worst[m].end() ? NAN : it->second);
+                row.push_back(it == worst[m].end() ? "-" : buf);
             }
-            pm << "\nLargest |uv_float - uv_double| over the samples, in texels (CPU reference in "
-                  "float vs double on the same samples).\n";
-            write_file(out / "precision.md", pm.str());
+            tt.rows.push_back(row);
+        }
+        if (!failed_.empty()) tt.notes.push_back(band_notes().front());
+        tt.notes.push_back("Largest |uv_float - uv_double| over the samples, in texels (CPU "
+                           "reference in float vs double on the same samples).");
+        write("precision.md", tt.markdown());
+    }
+
+    // Does a setting meet a budget in a band? Only if no row of it failed there, none had
+    // non-finite outputs, and every one of its series (backend, precision, texture format)
+    // with rows there is within the budget: the conservative reading.
+    bool meets(const Setting& set, size_t band, double budget) const {
+        if (set.failed_bands.count(band)) return false;
+        bool any = false;
+        for (const auto& s : set.series) {
+            const auto& bands = series_.at(s).band;
+            auto it = bands.find(band);
+            if (it == bands.end()) continue;
+            if (it->second.nonfinite || !(it->second.budget.get() <= budget)) return false;
+            any = true;
+        }
+        return any;
+    }
+
+    // budget.md / budget.tex: per band and budget, the cheapest method setting meeting it
+    // (fewest fetches per sample over all its rows in the band, then CPU time).
+    void budget() {
+        const auto bands = present_bands();
+        TextTable tt;
+        tt.header.push_back(metric_.header);
+        for (size_t b : bands) tt.header.push_back(bands_.label(b));
+        tt.align = "r" + std::string(bands.size(), 'l');
+        for (double budget : metric_.budgets) {
+            std::vector<std::string> row = {format_number(budget)};
+            for (size_t b : bands) {
+                const std::string* best = nullptr;
+                double best_f = INFINITY, best_ns = INFINITY;  // missing counts as the dearest
+                for (const auto& name : setting_order_) {
+                    const Setting& set = settings_.at(name);
+                    if (!meets(set, b, budget)) continue;
+                    const Acc& a = set.band.at(b);
+                    const double f = std::isfinite(a.fetches.get()) ? a.fetches.get() : INFINITY;
+                    const double ns = std::isfinite(a.ns.get()) ? a.ns.get() : INFINITY;
+                    if (!best || f < best_f || (f == best_f && ns < best_ns)) {
+                        best = &name;
+                        best_f = f;
+                        best_ns = ns;
+                    }
+                }
+                row.push_back(best ? *best + " (" + fmt(best_f, 1) + " fetches)"
+                                   : "no setting meets this budget");
+            }
+            tt.rows.push_back(row);
+        }
+        tt.notes = band_notes();
+        tt.notes.push_back(std::string("Cheapest method setting (fewest height fetches per "
+                                       "sample, then CPU time, over its rows in the band) whose "
+                                       "mean ") + metric_.meaning + " (`" + metric_.column +
+                           "`) in the band is within the budget on every backend, precision and "
+                           "texture format it ran on, with no failed row and no non-finite "
+                           "output there.");
+        write("budget.md", tt.markdown());
+        write("budget.tex", tt.latex(dir_ + "/results.csv"));
+    }
+
+    // data/*.csv: what the plots draw.
+    void plot_data() {
+        // Error and sweeps vs theta per field and series (means over phi).
+        {
+            std::map<std::tuple<std::string, std::string, double>, std::array<Mean, 4>> acc;
+            std::vector<std::tuple<std::string, std::string, double>> order;
+            for (size_t r : ok_) {
+                const auto key = std::make_tuple(field_of(t_, r), series_of(t_, r), t_.number(r, "theta_deg"));
+                if (!acc.count(key)) order.push_back(key);
+                auto& a = acc[key];
+                a[0].add(t_.number(r, "err_p50"));
+                a[1].add(t_.number(r, "err_p95"));
+                a[2].add(t_.number(r, "sliding"));
+                a[3].add(t_.number(r, "shimmering"));
+            }
+            std::ostringstream d;
+            d << "heightfield,series,theta_deg,err_p50,err_p95,sliding,shimmering\n";
+            for (const auto& k : order) {
+                const auto& a = acc[k];
+                d << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
+                  << csv_num(std::get<2>(k)) << "," << csv_num(a[0].get()) << ","
+                  << csv_num(a[1].get()) << "," << csv_num(a[2].get()) << ","
+                  << csv_num(a[3].get()) << "\n";
+            }
+            write("data/vs_theta.csv", d.str());
+        }
+        cost_vs_error();
+        // Error maps for a montage: the first field and azimuth, every series x theta; paths
+        // relative to the results folder (as results.csv has them), so the folder can move.
+        {
+            std::ostringstream d;
+            d << "series,theta_deg,map\n";
+            std::string first_field, first_phi;
+            int n = 0;
+            for (size_t r : ok_) {
+                const std::string& map = t_.get(r, "map");
+                if (map.empty()) continue;
+                if (first_field.empty()) {
+                    first_field = field_of(t_, r);
+                    first_phi = t_.get(r, "phi_deg");
+                }
+                if (field_of(t_, r) != first_field || t_.get(r, "phi_deg") != first_phi) continue;
+                d << csv_quote(series_of(t_, r)) << "," << csv_quote(t_.get(r, "theta_deg")) << ","
+                  << csv_quote(map) << "\n";
+                ++n;
+            }
+            if (n) write("data/maps.csv", d.str());
         }
     }
 
-    // budget.md / budget.tex: per band, the cheapest setting (by fetches, then CPU time) whose
-    // mean p95 error is within the budget.
-    const double budgets[] = {0.1, 0.25, 0.5, 1, 2, 4};
-    std::ostringstream bm, bt;
-    bm << "| p95 budget (texels) | ";
-    for (const Band* b : bands) bm << "θ " << b->name << " | ";
-    bm << "\n|---:|";
-    for (size_t i = 0; i < bands.size(); ++i) bm << "---|";
-    bm << "\n";
-    bt << "\\begin{tabular}{r" << std::string(bands.size(), 'l') << "}\n\\toprule\nbudget";
-    for (const Band* b : bands) bt << " & $\\theta$ " << b->name << "$^\\circ$";
-    bt << " \\\\\n\\midrule\n";
-    for (double budget : budgets) {
-        bm << "| " << format_number(budget) << " | ";
-        bt << format_number(budget);
-        for (const Band* b : bands) {
-            std::string best;
-            double best_f = INFINITY, best_ns = INFINITY;
-            for (const auto& s : series_order) {
-                auto it = by_band[s].find(b->name);
-                if (it == by_band[s].end() || !(it->second.err_p95.get() <= budget)) continue;
-                const double f = it->second.fetches.get(), ns = it->second.ns.get();
-                const double nsk = std::isfinite(ns) ? ns : INFINITY;
-                if (f < best_f || (f == best_f && nsk < best_ns)) {
-                    best_f = f;
-                    best_ns = nsk;
-                    best = s + " (" + fmt(f, 1) + " fetches)";
-                }
-            }
-            bm << (best.empty() ? "none" : best) << " | ";
-            bt << " & " << tex_escape(best.empty() ? "none" : best);
+    // data/cost_vs_error.csv: per series, error against each cost, with the Pareto front per
+    // group (backend/precision or format) and cost, computed over exactly the points the
+    // plot draws in that panel: the group's series with a finite cost and error.
+    void cost_vs_error() {
+        const char* costs[] = {"fetches", "ns", "ms"};
+        std::map<std::string, std::vector<size_t>> by_group;  // group -> series indices
+        std::vector<std::array<double, 3>> cost(series_order_.size());
+        std::vector<double> err(series_order_.size());
+        for (size_t i = 0; i < series_order_.size(); ++i) {
+            const Series& s = series_.at(series_order_[i]);
+            by_group[s.group].push_back(i);
+            cost[i] = {s.all.fetches.get(), s.all.ns.get(), s.all.ms.get()};
+            err[i] = s.all.err_mean.get();
         }
-        bm << "\n";
-        bt << " \\\\\n";
+        // flag[i][c]: "1" on the front, "0" off it, "" when the point has no such cost.
+        std::vector<std::array<const char*, 3>> flag(series_order_.size());
+        for (const auto& [group, members] : by_group)
+            for (size_t c = 0; c < 3; ++c) {
+                std::vector<double> gc, ge;
+                for (size_t i : members) { gc.push_back(cost[i][c]); ge.push_back(err[i]); }
+                const auto front = pareto(gc, ge);
+                for (size_t k = 0; k < members.size(); ++k)
+                    flag[members[k]][c] = std::isfinite(gc[k]) && std::isfinite(ge[k])
+                                              ? (front[k] ? "1" : "0") : "";
+            }
+        std::ostringstream d;
+        d << "series,setting,method,group,err_mean,err_p95,fetches_mean,ns_per_sample,"
+             "ms_per_frame";
+        for (const char* c : costs) d << ",pareto_" << c;
+        d << "\n";
+        for (size_t i = 0; i < series_order_.size(); ++i) {
+            const Series& s = series_.at(series_order_[i]);
+            d << csv_quote(series_order_[i]) << "," << csv_quote(s.setting) << ","
+              << csv_quote(s.method) << "," << csv_quote(s.group) << "," << csv_num(err[i]) << ","
+              << csv_num(s.all.err_p95.get());
+            for (double c : cost[i]) d << "," << csv_num(c);
+            for (const char* f : flag[i]) d << "," << f;
+            d << "\n";
+        }
+        write("data/cost_vs_error.csv", d.str());
     }
-    bt << "\\bottomrule\n\\end{tabular}\n";
-    bm << "\nCheapest method setting (fewest height fetches per sample, then CPU time) whose mean "
-          "95th-percentile texel error in the band is within the budget.\n";
-    write_file(out / "budget.md", bm.str());
-    write_file(out / "budget.tex", bt.str());
+};
 
-    // Plot data: error and sweeps vs theta per field and series (means over phi).
-    {
-        std::map<std::tuple<std::string, std::string, double>, std::array<Mean, 4>> acc;
-        std::vector<std::tuple<std::string, std::string, double>> order;
-        for (size_t r = 0; r < t.rows.size(); ++r) {
-            if (t.get(r, "status") != "ok") continue;
-            const auto key = std::make_tuple(field_of(t, r), series_of(t, r), t.number(r, "theta_deg"));
-            if (!acc.count(key)) order.push_back(key);
-            auto& a = acc[key];
-            a[0].add(t.number(r, "err_p50"));
-            a[1].add(t.number(r, "err_p95"));
-            a[2].add(t.number(r, "sliding"));
-            a[3].add(t.number(r, "shimmering"));
-        }
-        std::ostringstream d;
-        d << "heightfield,series,theta_deg,err_p50,err_p95,sliding,shimmering\n";
-        for (const auto& k : order) {
-            const auto& a = acc[k];
-            d << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
-              << format_number(std::get<2>(k)) << "," << format_number(a[0].get()) << ","
-              << format_number(a[1].get()) << "," << format_number(a[2].get()) << ","
-              << format_number(a[3].get()) << "\n";
-        }
-        write_file(out / "data" / "vs_theta.csv", d.str());
+// ---- pxh check --------------------------------------------------------------------------
+
+// results.csv columns that hold text: a limit needs a number.
+const std::set<std::string> kTextColumns = {
+    "method", "params", "heightfield", "heightfield_id", "backend", "precision",
+    "texture_format", "shader", "map", "ground_truth", "status", "error"};
+
+// params with the spaces around '=' and ';' (and at the ends) removed: "layers = 16" in a
+// thresholds file is the canonical "layers=16" of results.csv.
+std::string canonical_params(const std::string& s) {
+    std::string out;
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (!std::isspace(static_cast<unsigned char>(s[i]))) { out += s[i]; continue; }
+        size_t j = i;
+        while (j < s.size() && std::isspace(static_cast<unsigned char>(s[j]))) ++j;
+        const bool separated = out.empty() || j == s.size() || out.back() == '=' ||
+                               out.back() == ';' || s[j] == '=' || s[j] == ';';
+        if (!separated) out += s.substr(i, j - i);
+        i = j - 1;
     }
-    // Cost against error, with the Pareto fronts per cost measure.
-    {
-        std::vector<double> err, fetches, ns, ms;
-        for (const auto& s : series_order) {
-            err.push_back(overall[s].err_mean.get());
-            fetches.push_back(overall[s].fetches.get());
-            ns.push_back(overall[s].ns.get());
-            ms.push_back(overall[s].ms.get());
-        }
-        const auto pf = pareto(fetches, err), pn = pareto(ns, err), pm = pareto(ms, err);
-        std::ostringstream d;
-        d << "series,method,err_mean,err_p95,fetches_mean,ns_per_sample,ms_per_frame,"
-             "pareto_fetches,pareto_ns,pareto_ms\n";
-        for (size_t i = 0; i < series_order.size(); ++i) {
-            const auto& s = series_order[i];
-            d << csv_quote(s) << "," << series_method[s] << "," << format_number(err[i]) << ","
-              << format_number(overall[s].err_p95.get()) << "," << format_number(fetches[i]) << ","
-              << format_number(ns[i]) << "," << format_number(ms[i]) << "," << int(pf[i]) << ","
-              << int(pn[i]) << "," << int(pm[i]) << "\n";
-        }
-        write_file(out / "data" / "cost_vs_error.csv", d.str());
-    }
-    // Error maps for a montage: the first field and azimuth, every series x theta.
-    {
-        std::ostringstream d;
-        d << "series,theta_deg,map\n";
-        std::string first_field, first_phi;
-        int n = 0;
-        for (size_t r = 0; r < t.rows.size(); ++r) {
-            const std::string& map = t.get(r, "map");
-            if (map.empty()) continue;
-            if (first_field.empty()) {
-                first_field = field_of(t, r);
-                first_phi = t.get(r, "phi_deg");
-            }
-            if (field_of(t, r) != first_field || t.get(r, "phi_deg") != first_phi) continue;
-            d << csv_quote(series_of(t, r)) << "," << t.get(r, "theta_deg") << ","
-              << csv_quote((fs::absolute(fs::path(dir)) / map).string()) << "\n";
-            ++n;
-        }
-        if (n) write_file(out / "data" / "maps.csv", d.str());
-    }
-    std::cout << "tables: " << (out / "summary.md").string() << ", summary.tex, summary.csv, "
-              << "budget.md, budget.tex" << (any_sweep ? ", sweep.md" : "") << "\n";
-    std::cout << std::flush;
-    if (!plots) return 0;
-    const std::string script = std::string(PXH_SOURCE_DIR) + "/harness/plot_report.py";
-    const std::string cmd = "/usr/bin/python3 '" + script + "' '" + out.string() + "'";
-    const int rc = std::system(cmd.c_str());
-    if (rc != 0)
-        throw std::runtime_error("plotting failed (" + cmd + "); the tables are written. Is "
-                                 "python3-matplotlib installed? (./run.sh installs it)");
+    return out;
+}
+
+}  // namespace
+
+int run_report(const std::string& dir, const ReportOptions& options) {
+    Report report(dir, options);
+    report.write_tables();
+    if (options.plots) run_plotter(report.out());
     return 0;
+}
+
+int run_report(const std::string& dir, bool plots) {
+    ReportOptions o;
+    o.plots = plots;
+    return run_report(dir, o);
 }
 
 int run_check(const std::string& dir, const std::string& file) {
     const CsvTable t = read_csv((fs::path(dir) / "results.csv").string());
     toml::table root;
     try {
-        root = toml::parse_file(file);
+        root = toml::parse(read_regular_file(file), file);
     } catch (const toml::parse_error& e) {
         throw InputError(file + ":" + std::to_string(e.source().begin.line),
                          "TOML syntax error: " + std::string(e.description()));
@@ -417,9 +766,9 @@ int run_check(const std::string& dir, const std::string& file) {
                 key != "theta_min" && key != "theta_max" && key != "note")
                 throw InputError(where, "unknown key '" + key + "' in [[limit]]");
         }
-        auto str = [&](const char* key) -> std::optional<std::string> {
+        auto str = [&](const std::string& key) -> std::optional<std::string> {
             if (auto n = lt.get(key)) {
-                if (!n->is_string()) throw InputError(where, std::string("'") + key + "' must be a string");
+                if (!n->is_string()) throw InputError(where, "'" + key + "' must be a string");
                 return *n->value<std::string>();
             }
             return std::nullopt;
@@ -428,28 +777,38 @@ int run_check(const std::string& dir, const std::string& file) {
             if (auto n = lt.get(key)) {
                 if (!(n->is_integer() || n->is_floating_point()))
                     throw InputError(where, std::string("'") + key + "' must be a number");
-                return *n->value<double>();
+                const double v = *n->value<double>();
+                // nan compares false with everything: such a limit would pass every row.
+                if (std::isnan(v)) throw InputError(where, std::string("'") + key + "' is nan, not a limit");
+                return v;
             }
             return std::nullopt;
         };
         const auto column = str("column");
         if (!column) throw InputError(where, "[[limit]] needs 'column'");
         if (t.index(*column) < 0) throw InputError(where, "results.csv has no column '" + *column + "'");
+        if (kTextColumns.count(*column))
+            throw InputError(where, "column '" + *column + "' is not numeric (it holds text): a "
+                                    "limit needs a numeric column");
         const auto lo = num("min"), hi = num("max");
         if (!lo && !hi) throw InputError(where, "[[limit]] needs 'min' or 'max'");
         const double tmin = num("theta_min").value_or(-1), tmax = num("theta_max").value_or(1e9);
         std::string what;
-        std::vector<size_t> match;
+        std::vector<std::pair<std::string, std::string>> wanted;  // filter -> value
         for (const auto& f : filters)
-            if (auto v = str(f.c_str())) what += (what.empty() ? "" : " ") + f + "=" + *v;
+            if (auto v = str(f)) {
+                what += (what.empty() ? "" : " ") + f + "=" + *v;
+                wanted.emplace_back(f, f == "params" ? canonical_params(*v) : *v);
+            }
         if (lt.contains("theta_min") || lt.contains("theta_max"))
             what += std::string(what.empty() ? "" : " ") + "theta in [" +
                     format_number(tmin < 0 ? 0 : tmin) + ", " +
                     (tmax > 1e8 ? std::string("90") : format_number(tmax)) + "]";
+        std::vector<size_t> match;
         for (size_t r = 0; r < t.rows.size(); ++r) {
             bool ok = true;
-            for (const auto& f : filters)
-                if (auto v = str(f.c_str())) ok = ok && t.get(r, f) == *v;
+            for (const auto& [f, v] : wanted)
+                ok = ok && (f == "params" ? canonical_params(t.get(r, f)) : t.get(r, f)) == v;
             const double th = t.number(r, "theta_deg");
             ok = ok && th >= tmin && th <= tmax;
             if (ok) match.push_back(r);
@@ -461,23 +820,24 @@ int run_check(const std::string& dir, const std::string& file) {
         o.limit = (lo ? ">= " + format_number(*lo) : "") + (lo && hi ? ", " : "") +
                   (hi ? "<= " + format_number(*hi) : "");
         double worst_hi = -INFINITY, worst_lo = INFINITY;
+        size_t failed = 0, nonfinite = 0;
+        std::string first_error;
         for (size_t r : match) {
-            if (t.get(r, "status") != "ok") {
-                o.pass = false;
-                o.note = "a matching row failed: " + t.get(r, "error");
+            // A failed row fails every limit that matches it: it has no value to pass with.
+            if (!is_ok(t, r)) {
+                if (!failed++) first_error = one_line(t.get(r, "error"));
                 continue;
             }
             const double v = t.number(r, *column);
-            if (!std::isfinite(v)) {
-                o.pass = false;
-                o.note = "non-finite or empty value";
-                continue;
-            }
+            if (!std::isfinite(v)) { ++nonfinite; continue; }
             worst_hi = std::max(worst_hi, v);
             worst_lo = std::min(worst_lo, v);
         }
-        if (hi && worst_hi > *hi) o.pass = false;
-        if (lo && worst_lo < *lo) o.pass = false;
+        if (failed) o.note = std::to_string(failed) + " matching rows failed: " + first_error;
+        if (nonfinite)
+            o.note += (o.note.empty() ? "" : "; ") + std::to_string(nonfinite) +
+                      " matching rows have a non-finite or empty value";
+        o.pass = !failed && !nonfinite && !(hi && worst_hi > *hi) && !(lo && worst_lo < *lo);
         o.worst = hi ? worst_hi : worst_lo;
         outcomes.push_back(o);
     }
@@ -492,8 +852,9 @@ int run_check(const std::string& dir, const std::string& file) {
         std::snprintf(worst, sizeof worst, "%.4g", o.worst);
         std::cout << std::left << std::setw(4) << i + 1 << std::setw(72) << o.what
                   << std::setw(22) << o.column << std::setw(12) << o.limit << std::setw(12)
-                  << worst << std::setw(6) << o.rows << (o.pass ? "pass" : "FAIL")
-                  << (o.note.empty() ? "" : "  (" + o.note + ")") << "\n";
+                  << (std::isfinite(o.worst) ? worst : "-") << std::setw(6) << o.rows
+                  << (o.pass ? "pass" : "FAIL") << (o.note.empty() ? "" : "  (" + o.note + ")")
+                  << "\n";
     }
     std::cout << outcomes.size() - failed << " passed, " << failed << " failed\n";
     return failed ? 1 : 0;

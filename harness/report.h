@@ -1,17 +1,35 @@
 // `pxh report DIR` and `pxh check DIR --thresholds FILE`: consumers of results.csv only.
 #pragma once
 #include <string>
+#include <vector>
 
 namespace pxh {
 
-// Writes DIR/report/: summary.csv/.md/.tex (per method setting and angle band), budget.md/.tex
-// (cheapest method under error budgets), data/*.csv (plot-ready numbers, Pareto fronts
-// included), and the plots (PNG + SVG) drawn by harness/plot_report.py unless plots = false.
-int run_report(const std::string& dir, bool plots);
+struct ReportOptions {
+    bool plots = true;                  // false: tables and data only (no matplotlib needed)
+    std::vector<double> bands;          // angle band edges in degrees, ascending, in [0, 90],
+                                        //   at least 2; empty = 0,30,60,75,85,90. Bands are
+                                        //   [e_i, e_i+1), the last one closed [e_k-1, e_k].
+    std::string budget_metric = "p95";  // the budget table's error: p95 | p99 (texels, mean
+                                        //   over rows of err_p95 / err_p99) | frac_gt_1
+                                        //   (mean fraction of samples more than 1 texel off)
+    bool accept_edited = false;         // for the caller's verify_results_folder (main.cpp
+                                        //   verifies the folder before run_report; run_report
+                                        //   itself does not read run.json)
+};
 
-// Checks every limit of a thresholds file against DIR/results.csv; prints a table.
-// Returns 0 if all pass, 1 if any fails; throws InputError (exit 2) on a malformed file or a
-// limit that matches no row.
+// Writes DIR/report/: summary.csv/.md/.tex (per series and angle band), budget.md/.tex
+// (cheapest method setting under error budgets), sweep.md and precision.md (when measured),
+// failed.md (when rows failed: they are listed, and left out of every number), data/*.csv
+// (plot-ready numbers, Pareto fronts included), and the plots (PNG + SVG) drawn by
+// harness/plot_report.py unless plots = false. Prints every file it writes. Throws
+// InputError (exit 2) on bad options or an unreadable results.csv.
+int run_report(const std::string& dir, const ReportOptions& options);
+int run_report(const std::string& dir, bool plots);  // default options but plots
+
+// Checks every limit of a thresholds file against DIR/results.csv; prints a table. A failed
+// row (status != ok) fails every limit that matches it. Returns 0 if all pass, 1 if any
+// fails; throws InputError (exit 2) on a malformed file or a limit that matches no row.
 int run_check(const std::string& dir, const std::string& thresholds_file);
 
 }  // namespace pxh

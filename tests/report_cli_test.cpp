@@ -1,0 +1,469 @@
+// pxh report and pxh check on small hand-made results folders (and a few tiny real runs): failed
+// rows, angle bands, budgets per method setting, Pareto fronts per group, params matching,
+// whole-cell numbers, NaN limits, text columns, non-regular files, folder names with quotes.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/csv_table.h"
+#include "harness/error.h"
+#include "harness/report.h"
+#include "harness/results.h"
+#include "tests/cli_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Cells = std::map<std::string, std::string>;
+
+// The results.csv columns the report and check read.
+const std::vector<std::string> kColumns = {
+    "method", "params", "heightfield", "scale", "bias", "backend", "precision", "texture_format",
+    "theta_deg", "phi_deg", "err_mean", "err_p50", "err_p95", "err_p99", "frac_gt_1", "nonfinite",
+    "fetches_mean", "ns_per_sample", "ms_per_frame", "double_diff_max", "sliding", "shimmering",
+    "map", "status", "error"};
+
+// One row: an ok CPU float row of pom layers=8 at theta 0, overridden by `cells`.
+Cells row(const Cells& cells) {
+    Cells r = {{"method", "pom"}, {"params", "layers=8"}, {"heightfield", "bricks"},
+               {"scale", "0.05"}, {"bias", "1"}, {"backend", "cpu"}, {"precision", "float"},
+               {"theta_deg", "0"}, {"phi_deg", "0"}, {"err_mean", "0.1"}, {"err_p50", "0.1"},
+               {"err_p95", "0.2"}, {"err_p99", "0.3"}, {"frac_gt_1", "0"}, {"nonfinite", "0"},
+               {"fetches_mean", "8"}, {"ns_per_sample", "10"}, {"status", "ok"}};
+    for (const auto& [k, v] : cells) r[k] = v;
+    return r;
+}
+
+// A GLSL row in texture format `fmt` (no CPU time, a frame time instead).
+Cells glsl(const std::string& fmt, Cells cells) {
+    cells.emplace("backend", "glsl");
+    cells.emplace("texture_format", fmt);
+    cells.emplace("ns_per_sample", "");
+    cells.emplace("ms_per_frame", "0.5");
+    return row(cells);
+}
+
+class ReportFolder : public pxh::test::CliTest {
+  protected:
+    // Writes DIR/res/results.csv from the rows; returns DIR/res.
+    std::string results(const std::vector<Cells>& rows) {
+        const fs::path res = dir / "res";
+        fs::create_directories(res);
+        std::string text;
+        for (size_t c = 0; c < kColumns.size(); ++c) text += (c ? "," : "") + kColumns[c];
+        text += "\n";
+        for (const auto& r : rows) {
+            for (size_t c = 0; c < kColumns.size(); ++c) {
+                auto it = r.find(kColumns[c]);
+                text += (c ? "," : "") + pxh::csv_quote(it == r.end() ? "" : it->second);
+            }
+            text += "\n";
+        }
+        std::ofstream(res / "results.csv", std::ios::binary) << text;
+        return res.string();
+    }
+    // What `f` prints on stdout (exceptions pass through).
+    template <class F> static std::string captured(F f) {
+        testing::internal::CaptureStdout();
+        try {
+            f();
+        } catch (...) {
+            testing::internal::GetCapturedStdout();
+            throw;
+        }
+        return testing::internal::GetCapturedStdout();
+    }
+    // run_report on a folder, its stdout returned (plots off unless asked).
+    std::string report(const std::string& res, pxh::ReportOptions o = no_plots()) {
+        return captured([&] { pxh::run_report(res, o); });
+    }
+    static pxh::ReportOptions no_plots() {
+        pxh::ReportOptions o;
+        o.plots = false;
+        return o;
+    }
+    // run_check with a thresholds text: {exit code, stdout}.
+    std::pair<int, std::string> check(const std::string& res, const std::string& limits) {
+        const std::string file = write("limits.toml", limits);
+        int rc = -1;
+        const std::string out = captured([&] { rc = pxh::run_check(res, file); });
+        return {rc, out};
+    }
+    // The message of the InputError `f` throws ("" if it throws none).
+    template <class F> static std::string input_error(F f) {
+        try {
+            f();
+        } catch (const pxh::InputError& e) {
+            return e.what();
+        }
+        return "";
+    }
+    // The cells of the Markdown table row whose first cell is `first`.
+    static std::vector<std::string> md_row(const std::string& md, const std::string& first) {
+        std::istringstream in(md);
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line.rfind("| " + first + " |", 0) != 0) continue;
+            std::vector<std::string> cells;
+            size_t at = 1;
+            for (size_t bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 2)
+                cells.push_back(line.substr(at + 1, bar - at - 1));
+            return cells;
+        }
+        return {};
+    }
+    // The summary.csv value of `column` for a series and band.
+    static double summary(const fs::path& rep, const std::string& series, const std::string& band,
+                          const std::string& column) {
+        const pxh::CsvTable t = pxh::read_csv((rep / "summary.csv").string());
+        for (size_t r = 0; r < t.rows.size(); ++r)
+            if (t.get(r, "series") == series && t.get(r, "band") == band) return t.number(r, column);
+        ADD_FAILURE() << "no summary row " << series << " / " << band;
+        return NAN;
+    }
+};
+
+// Failed rows are listed (printed, failed.md, a line in summary.md) and kept out of every
+// statistic: here they carry numbers (as an old or edited results.csv may) that would show.
+TEST_F(ReportFolder, FailedRowsListedAndLeftOutOfEveryFigure) {
+    const Cells poison = {{"err_mean", "1000"}, {"err_p50", "1000"}, {"err_p95", "1000"},
+                          {"err_p99", "1000"}, {"fetches_mean", "1000"}, {"ns_per_sample", "1000"},
+                          {"double_diff_max", "1000"}, {"sliding", "1000"}, {"shimmering", "1000"},
+                          {"map", "maps/failed.png"}, {"status", "failed"}};
+    Cells failed_pom = poison, failed_relief = poison;
+    failed_pom.insert({{"theta_deg", "60"}, {"phi_deg", "45"}, {"error", "timed out"}});
+    failed_relief.insert({{"method", "relief"}, {"params", "layers=4"}, {"theta_deg", "60"},
+                          {"error", "shader did not compile"}});
+    const std::string res = results({
+        row({{"theta_deg", "0"}, {"double_diff_max", "2e-06"}, {"sliding", "0.01"},
+             {"shimmering", "0.02"}, {"map", "maps/a.png"}}),
+        row({{"theta_deg", "60"}, {"err_mean", "0.4"}, {"err_p50", "0.3"}, {"err_p95", "0.45"},
+             {"double_diff_max", "3e-06"}, {"sliding", "0.01"}, {"shimmering", "0.02"},
+             {"map", "maps/b.png"}}),
+        row(failed_pom),
+        glsl("r32f", failed_relief),
+    });
+    const std::string out = report(res);
+    const fs::path rep = fs::path(res) / "report";
+    // Listed: printed, in failed.md, and summary.md says so.
+    EXPECT_NE(out.find("2 failed rows"), std::string::npos) << out;
+    EXPECT_NE(out.find("relief layers=4"), std::string::npos) << out;
+    EXPECT_NE(out.find("shader did not compile"), std::string::npos) << out;
+    const std::string failed = slurp(rep / "failed.md");
+    EXPECT_NE(failed.find("| relief | layers=4 | bricks s=0.05 b=1 | 60 | 0 | glsl/r32f | shader did not compile |"),
+              std::string::npos) << failed;
+    EXPECT_NE(failed.find("| pom | layers=8 | bricks s=0.05 b=1 | 60 | 45 | cpu/float | timed out |"),
+              std::string::npos) << failed;
+    EXPECT_NE(slurp(rep / "summary.md").find("2 failed rows"), std::string::npos);
+    // Out of every figure: the band 60-75 is the ok row alone, and no "1000" or relief (whose
+    // only row failed) anywhere else.
+    EXPECT_DOUBLE_EQ(summary(rep, "pom layers=8 [cpu/float]", "60 <= θ < 75 †", "err_mean"), 0.4);
+    EXPECT_DOUBLE_EQ(summary(rep, "pom layers=8 [cpu/float]", "all", "fetches_mean"), 8);
+    for (const auto& e : fs::recursive_directory_iterator(rep)) {
+        if (!e.is_regular_file() || e.path().filename() == "failed.md") continue;
+        const std::string text = slurp(e.path());
+        EXPECT_EQ(text.find("1000"), std::string::npos) << e.path();
+        EXPECT_EQ(text.find("1e+03"), std::string::npos) << e.path();
+        EXPECT_EQ(text.find("failed.png"), std::string::npos) << e.path();
+        EXPECT_EQ(text.find("relief"), std::string::npos) << e.path();
+    }
+    EXPECT_NE(slurp(rep / "precision.md").find("3e-06"), std::string::npos);
+    EXPECT_NE(slurp(rep / "data" / "maps.csv").find("maps/b.png"), std::string::npos);
+    // A setting with a failed row in a band is no budget candidate there (its ok row at 60
+    // would meet 0.5 texel), but is where it did not fail.
+    const std::string budget = slurp(rep / "budget.md");
+    EXPECT_EQ(md_row(budget, "0.5"), (std::vector<std::string>{
+                                         "0.5", "pom layers=8 (8.0 fetches)", "no setting meets this budget"}))
+        << budget;
+}
+
+// pxh check: a failed row fails every limit that matches it, whatever the column.
+TEST_F(ReportFolder, CheckFailsEveryLimitMatchingAFailedRow) {
+    const std::string res = results({
+        row({}),
+        row({{"method", "parallax"}, {"params", ""}}),
+        glsl("r32f", {{"theta_deg", "30"}, {"status", "failed"}, {"error", "link error"},
+                      {"err_p95", ""}, {"fetches_mean", ""}, {"nonfinite", ""}}),
+    });
+    const auto [rc, out] = check(res, R"(
+[[limit]]
+method = "pom"
+column = "err_p95"
+max = 1
+[[limit]]
+column = "nonfinite"
+max = 0
+[[limit]]
+method = "pom"
+backend = "cpu"
+column = "fetches_mean"
+max = 8
+[[limit]]
+method = "parallax"
+column = "err_p95"
+max = 1
+)");
+    EXPECT_EQ(rc, 1);
+    EXPECT_NE(out.find("2 passed, 2 failed"), std::string::npos) << out;
+    EXPECT_NE(out.find("1 matching rows failed: link error"), std::string::npos) << out;
+}
+
+// Bands: exact edges in every table, a θ on an edge in the band above it, the last band
+// closed, a band holding one view flagged; settable edges, validated.
+TEST_F(ReportFolder, BandsWrittenExactlyAndSingleViewsFlagged) {
+    std::vector<Cells> rows;
+    for (const char* th : {"0", "30", "60", "85", "89.5"}) rows.push_back(row({{"theta_deg", th}}));
+    const std::string res = results(rows);
+    report(res);
+    const fs::path rep = fs::path(res) / "report";
+    const std::string md = slurp(rep / "summary.md");
+    for (const char* label : {"0 <= θ < 30 †", "30 <= θ < 60 †", "60 <= θ < 75 †"})
+        EXPECT_NE(md.find(label), std::string::npos) << label << "\n" << md;
+    EXPECT_NE(md.find("| 85 <= θ <= 90 mean / p95 |"), std::string::npos) << md;  // 2 views
+    EXPECT_NE(md.find("0 <= θ < 30 holds only θ = 0"), std::string::npos) << md;
+    EXPECT_NE(slurp(rep / "budget.md").find("| 30 <= θ < 60 † |"), std::string::npos);
+    EXPECT_NE(slurp(rep / "summary.tex").find("0 $\\le$ $\\theta$ $<$ 30 $^\\dagger$"), std::string::npos);
+    EXPECT_EQ(summary(rep, "pom layers=8 [cpu/float]", "85 <= θ <= 90", "band_views"), 2);
+    EXPECT_EQ(summary(rep, "pom layers=8 [cpu/float]", "30 <= θ < 60 †", "theta_lo"), 30);
+
+    pxh::ReportOptions o = no_plots();
+    o.bands = {0, 45, 90};
+    report(res, o);
+    const std::string md2 = slurp(rep / "summary.md");
+    EXPECT_NE(md2.find("| 0 <= θ < 45 mean / p95 | 45 <= θ <= 90 mean / p95 |"), std::string::npos) << md2;
+    EXPECT_EQ(md2.find("†"), std::string::npos) << md2;
+
+    for (const auto& edges : std::vector<std::vector<double>>{{30, 0}, {0}, {0, 100}, {-5, 30}, {0, 30, 30}, {0, NAN}}) {
+        o.bands = edges;
+        EXPECT_NE(input_error([&] { report(res, o); }).find("--bands"), std::string::npos);
+    }
+    o.bands = {};
+    o.budget_metric = "p50";
+    EXPECT_NE(input_error([&] { report(res, o); }).find("--budget-metric"), std::string::npos);
+}
+
+// Budgets rank method settings, not series: a setting meets a budget only if every backend /
+// format series of it does, has no non-finite output there, and the metric is selectable.
+TEST_F(ReportFolder, BudgetPerSettingConservativeWithSelectableMetric) {
+    const std::string res = results({
+        // pom layers=8: cheap, within 0.5 on the CPU but not on GLSL.
+        row({{"theta_deg", "70"}, {"err_p95", "0.3"}, {"err_p99", "0.4"}}),
+        glsl("r32f", {{"theta_deg", "70"}, {"err_p95", "0.7"}, {"err_p99", "0.8"}}),
+        // pom layers=16: within 0.25 everywhere; float noise in its GLSL fetches.
+        row({{"params", "layers=16"}, {"theta_deg", "70"}, {"fetches_mean", "16"}, {"err_p95", "0.2"},
+             {"err_p99", "0.3"}}),
+        glsl("r32f", {{"params", "layers=16"}, {"theta_deg", "70"}, {"fetches_mean", "16.0001"},
+                      {"err_p95", "0.2"}, {"err_p99", "0.3"}}),
+        glsl("r8", {{"params", "layers=16"}, {"theta_deg", "70"}, {"fetches_mean", "15.9999"},
+                    {"err_p95", "0.2"}, {"err_p99", "0.3"}}),
+        // relief layers=4: cheaper, fine at p95, a long tail (p99, frac_gt_1).
+        row({{"method", "relief"}, {"params", "layers=4"}, {"theta_deg", "70"}, {"fetches_mean", "12"},
+             {"err_p95", "0.15"}, {"err_p99", "40"}, {"frac_gt_1", "0.02"}}),
+        // steep layers=4: cheapest and accurate, but some outputs were NaN.
+        row({{"method", "steep"}, {"params", "layers=4"}, {"theta_deg", "70"}, {"fetches_mean", "4"},
+             {"err_p95", "0.01"}, {"err_p99", "0.01"}, {"nonfinite", "3"}}),
+    });
+    const fs::path rep = fs::path(res) / "report";
+    auto budget_row = [&](const std::string& metric, const std::string& budget) {
+        pxh::ReportOptions o = no_plots();
+        o.budget_metric = metric;
+        report(res, o);
+        const auto cells = md_row(slurp(rep / "budget.md"), budget);
+        return cells.size() == 2 ? cells[1] : "(no row " + budget + ")";
+    };
+    EXPECT_EQ(budget_row("p95", "0.1"), "no setting meets this budget");
+    EXPECT_EQ(budget_row("p95", "0.25"), "relief layers=4 (12.0 fetches)");
+    EXPECT_EQ(budget_row("p95", "1"), "pom layers=8 (8.0 fetches)");
+    EXPECT_EQ(budget_row("p99", "0.5"), "pom layers=16 (16.0 fetches)");
+    EXPECT_EQ(budget_row("p99", "1"), "pom layers=8 (8.0 fetches)");
+    EXPECT_EQ(budget_row("frac_gt_1", "0.001"), "pom layers=8 (8.0 fetches)");
+    EXPECT_EQ(budget_row("frac_gt_1", "0.01"), "pom layers=8 (8.0 fetches)");
+    const std::string md = slurp(rep / "budget.md");
+    EXPECT_NE(md.find("| frac_gt_1 budget (fraction of samples) |"), std::string::npos) << md;
+    EXPECT_EQ(md.find("steep"), std::string::npos) << md;
+    EXPECT_EQ(md.find("| none"), std::string::npos) << md;
+}
+
+// The Pareto front of each panel comes from the points drawn in it: one group (backend /
+// precision or format) and one cost. Globally, the GLSL point of pom layers=8 would dominate
+// the CPU point of pom layers=16 and push it off the CPU front.
+TEST_F(ReportFolder, ParetoFrontPerGroup) {
+    const std::string res = results({
+        row({{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.30"}, {"ns_per_sample", "10"}}),
+        row({{"params", "layers=16"}, {"fetches_mean", "16"}, {"err_mean", "0.25"}, {"ns_per_sample", "20"}}),
+        glsl("r32f", {{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.20"}}),
+        glsl("r32f", {{"params", "layers=16"}, {"fetches_mean", "16"}, {"err_mean", "0.40"}}),
+    });
+    report(res);
+    const pxh::CsvTable t = pxh::read_csv((fs::path(res) / "report" / "data" / "cost_vs_error.csv").string());
+    std::map<std::string, std::string> flags;
+    for (size_t r = 0; r < t.rows.size(); ++r)
+        flags[t.get(r, "series")] = t.get(r, "group") + " " + t.get(r, "pareto_fetches") +
+                                    t.get(r, "pareto_ns") + t.get(r, "pareto_ms");
+    EXPECT_EQ(flags["pom layers=8 [cpu/float]"], "cpu/float 11");
+    EXPECT_EQ(flags["pom layers=16 [cpu/float]"], "cpu/float 11");
+    EXPECT_EQ(flags["pom layers=8 [glsl/r32f]"], "glsl/r32f 11");
+    EXPECT_EQ(flags["pom layers=16 [glsl/r32f]"], "glsl/r32f 00");
+}
+
+// check matches params whatever the spaces around '=' and ';'.
+TEST_F(ReportFolder, CheckParamsIgnoresSpacesAroundSeparators) {
+    const std::string res = results({row({{"params", "layers=16;binary_steps=5"}}), row({{"params", "layers=8"}})});
+    for (const char* p : {"layers = 16; binary_steps = 5", " layers=16 ;binary_steps=5 ", "layers=16;binary_steps=5"}) {
+        const auto [rc, out] = check(res, std::string("[[limit]]\nparams = \"") + p +
+                                              "\"\ncolumn = \"err_p95\"\nmax = 1\n");
+        EXPECT_EQ(rc, 0) << p;
+        EXPECT_NE(out.find("1 passed, 0 failed"), std::string::npos) << out;
+    }
+    EXPECT_NE(input_error([&] { check(res, "[[limit]]\nparams = \"layers=1 6\"\ncolumn = \"err_p95\"\nmax = 1\n"); })
+                  .find("matches no row"),
+              std::string::npos);
+}
+
+// The report names every file it writes; missing values are empty CSV cells (never "nan");
+// map paths stay relative to the results folder.
+TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
+    const std::string res = results({
+        row({{"double_diff_max", "2e-06"}, {"sliding", "0.1"}, {"shimmering", "0.2"}, {"map", "maps/a.png"}}),
+        glsl("r8", {{"map", "maps/b.png"}}),
+        row({{"status", "failed"}, {"error", "x"}, {"theta_deg", "40"}, {"err_p95", ""}}),
+    });
+    const std::string out = report(res);
+    const fs::path rep = fs::path(res) / "report";
+    size_t files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(rep)) {
+        if (!e.is_regular_file()) continue;
+        ++files;
+        EXPECT_NE(out.find("wrote " + e.path().string() + "\n"), std::string::npos) << e.path() << "\n" << out;
+        if (e.path().extension() == ".csv")
+            EXPECT_EQ(slurp(e.path()).find("nan"), std::string::npos) << e.path();
+    }
+    EXPECT_EQ(files, 11u);  // summary x3, failed, sweep, precision, budget x2, data x3
+    EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "ns_per_sample")));
+    const pxh::CsvTable maps = pxh::read_csv((rep / "data" / "maps.csv").string());
+    ASSERT_EQ(maps.rows.size(), 2u);
+    EXPECT_EQ(maps.get(0, "map"), "maps/a.png");
+    EXPECT_EQ(maps.get(1, "map"), "maps/b.png");
+}
+
+// Numbers are whole cells: the parser, and the report naming results.csv:LINE and the column.
+TEST(CsvNumbers, WholeCellsOnly) {
+    for (const char* bad : {"0.5garbage", "0x0 broken", "0x0", " 1", "1 ", "+1", "--1", "1,5", "one"})
+        EXPECT_FALSE(pxh::parse_number(bad).has_value()) << bad;
+    EXPECT_FALSE(pxh::parse_number("").has_value());
+    EXPECT_EQ(*pxh::parse_number("inf"), INFINITY);
+    EXPECT_EQ(*pxh::parse_number("-inf"), -INFINITY);
+    EXPECT_TRUE(std::isnan(*pxh::parse_number("nan")));
+    EXPECT_EQ(*pxh::parse_number("2.5e-3"), 2.5e-3);
+    EXPECT_EQ(*pxh::parse_number("-7"), -7);
+}
+
+TEST_F(ReportFolder, MalformedNumberNamesLineAndColumn) {
+    // A quoted newline in row 1: row 2 starts on line 4.
+    const std::string res = results({row({{"error", "two\nlines"}}), row({{"err_p95", "0.5garbage"}})});
+    const pxh::CsvTable t = pxh::read_csv(res + "/results.csv");
+    EXPECT_EQ(t.number(0, "err_p95"), 0.2);
+    EXPECT_TRUE(std::isnan(t.number(0, "map")));
+    EXPECT_TRUE(std::isnan(t.number(0, "no such column")));
+    const std::string e = input_error([&] { report(res); });
+    EXPECT_NE(e.find("results.csv:4: column 'err_p95': '0.5garbage' is not a number"), std::string::npos) << e;
+    results({row({{"fetches_mean", "0x0 broken"}})});
+    EXPECT_NE(input_error([&] { report(res); }).find("results.csv:2: column 'fetches_mean'"), std::string::npos);
+}
+
+// A limit of nan would pass every row; a text column cannot be limited (exit 2, not 1).
+TEST_F(ReportFolder, NanLimitsAndTextColumnsRefused) {
+    const std::string res = results({row({})});
+    for (const char* limit : {"max = nan", "min = nan", "max = 1\ntheta_max = nan", "min = -nan"}) {
+        const std::string e = input_error([&] {
+            check(res, std::string("\n[[limit]]\ncolumn = \"err_p95\"\n") + limit + "\n");
+        });
+        EXPECT_NE(e.find("limits.toml:2: '"), std::string::npos) << e;
+        EXPECT_NE(e.find("' is nan, not a limit"), std::string::npos) << e;
+    }
+    const std::string e = input_error([&] { check(res, "[[limit]]\ncolumn = \"method\"\nmax = 1\n"); });
+    EXPECT_NE(e.find("column 'method' is not numeric"), std::string::npos) << e;
+    const auto r = pxh("check " + res + " --accept-edited --thresholds " + write("t.toml", "[[limit]]\ncolumn = \"method\"\nmax = 1\n"));
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("pxh: error: " + (dir / "t.toml").string() + ":1: column 'method' is not numeric"),
+              std::string::npos) << r.err;
+}
+
+// A FIFO (or anything not a regular file) as thresholds file or results.csv is refused at once
+// instead of blocking on the read.
+TEST_F(ReportFolder, NonRegularFilesRefused) {
+    const std::string res = results({row({})});
+    const std::string fifo = (dir / "limits.fifo").string();
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    // The binary runs under `timeout 20`: a blocking read must not hang the test.
+    auto run = [&](const std::string& args) {
+        const std::string cmd = "timeout 20 " + std::string(PXH_BINARY) + " " + args + " >" +
+                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
+        const int rc = std::system(cmd.c_str());
+        return pxh::test::CliResult{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"),
+                                    slurp(dir / "err.txt")};
+    };
+    auto r = run("check " + res + " --accept-edited --thresholds " + fifo);
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("pxh: error: " + fifo + ": is not a regular file"), std::string::npos) << r.err;
+    r = run("check " + res + " --accept-edited --thresholds " + dir.string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("is not a regular file"), std::string::npos) << r.err;
+    fs::remove(fs::path(res) / "results.csv");
+    ASSERT_EQ(mkfifo((fs::path(res) / "results.csv").c_str(), 0600), 0);
+    r = run("report --no-plots --accept-edited " + res);
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("results.csv: is not a regular file"), std::string::npos) << r.err;
+}
+
+// Plots are drawn by /usr/bin/python3 from an argument vector: folder names with quotes and
+// shell syntax are passed as they are (nothing injected, nothing broken).
+TEST_F(ReportFolder, FolderNamesReachThePlotterAsTheyAre) {
+    const std::string exp = write("exp.toml", R"(
+name = "tiny"
+samples = 8
+backends = ["cpu"]
+timing_repeats = 0
+maps = true
+[views]
+theta_deg = [0, 60]
+[[heightfields]]
+generator = "sine"
+size = 16
+[[methods]]
+name = "parallax"
+)");
+    auto quote = [](const std::string& s) {  // for the shell that runs the binary
+        std::string q = "'";
+        for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        return q + "'";
+    };
+    for (const std::string name : {"x'; touch INJECTED; echo '", "it's here"}) {
+        const fs::path res = dir / name;
+        ASSERT_EQ(pxh("run " + exp + " --quiet --out " + quote(res.string())).status, 0) << name;
+        const std::string cmd = "cd " + quote(dir.string()) + " && " + PXH_BINARY + " report " +
+                                quote(name) + " >" + quote((dir / "out.txt").string()) + " 2>" +
+                                quote((dir / "err.txt").string());
+        const int rc = std::system(cmd.c_str());
+        EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << name << ": " << slurp(dir / "err.txt");
+        EXPECT_FALSE(fs::exists(dir / "INJECTED")) << name;
+        EXPECT_TRUE(fs::exists(res / "report" / "cost_vs_error.png")) << name;
+        EXPECT_TRUE(fs::exists(res / "report" / "error_maps_montage.png")) << name;
+        EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos) << slurp(dir / "err.txt");
+    }
+    // The report of a moved folder still finds its error maps (paths relative to the folder).
+    fs::rename(dir / "it's here", dir / "moved");
+    const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) + "/harness/plot_report.py " +
+                            quote((dir / "moved" / "report").string()) + " >/dev/null 2>" +
+                            quote((dir / "err.txt").string());
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos) << slurp(dir / "err.txt");
+}
+
+}  // namespace
