@@ -94,19 +94,24 @@ std::string md_cell(const std::string& s) {
 }
 
 // Text (as written in the Markdown tables) for LaTeX text mode: TeX's special characters
-// escaped, θ, <=, <, > and † as math.
+// escaped, θ, <=, <, >, | and † as math.
 std::string tex_text(const std::string& s) {
+    static const std::pair<const char*, const char*> kTokens[] = {
+        {"θ", "$\\theta$"}, {"†", "$^\\dagger$"}, {"<=", "$\\le$"}, {"<", "$<$"}, {">", "$>$"},
+        {"|", "$|$"}, {"\\", "\\textbackslash{}"}, {"~", "\\~{}"}, {"^", "\\^{}"}, {"_", "\\_"},
+        {"%", "\\%"}, {"&", "\\&"}, {"#", "\\#"}, {"$", "\\$"}, {"{", "\\{"}, {"}", "\\}"}};
     std::string o;
-    for (size_t i = 0; i < s.size(); ++i) {
-        const std::string rest = s.substr(i, 3);
-        if (rest.rfind("θ", 0) == 0) { o += "$\\theta$"; i += std::string("θ").size() - 1; }
-        else if (rest.rfind("†", 0) == 0) { o += "$^\\dagger$"; i += std::string("†").size() - 1; }
-        else if (rest.rfind("<=", 0) == 0) { o += "$\\le$"; ++i; }
-        else if (s[i] == '<' || s[i] == '>' || s[i] == '|') o += std::string("$") + s[i] + "$";
-        else if (std::strchr("_%&#${}", s[i])) o += std::string("\\") + s[i];
-        else if (s[i] == '\\') o += "\\textbackslash{}";
-        else if (s[i] == '~' || s[i] == '^') o += std::string("\\") + s[i] + "{}";
-        else o += s[i];
+    for (size_t i = 0; i < s.size();) {
+        bool replaced = false;
+        for (const auto& [from, to] : kTokens) {
+            const size_t n = std::strlen(from);
+            if (s.compare(i, n, from) != 0) continue;
+            o += to;
+            i += n;
+            replaced = true;
+            break;
+        }
+        if (!replaced) o += s[i++];
     }
     return o;
 }
@@ -183,12 +188,13 @@ class Bands {
     void add_view(int band, double theta) { thetas_[size_t(band)].insert(theta); }
     bool present(size_t i) const { return !thetas_[i].empty(); }
     bool single_view(size_t i) const { return thetas_[i].size() == 1; }
-    // The band's exact edges ("0 <= θ < 30", the last "85 <= θ <= 90"), † when it holds a
-    // single view.
-    std::string label(size_t i) const {
+    // The band's exact edges: "0 <= θ < 30", the last one "85 <= θ <= 90".
+    std::string edges(size_t i) const {
         return format_number(edges_[i]) + " <= θ " + (i + 1 == size() ? "<= " : "< ") +
-               format_number(edges_[i + 1]) + (single_view(i) ? " †" : "");
+               format_number(edges_[i + 1]);
     }
+    // Its label in the tables: the edges, marked † when the band holds a single view.
+    std::string label(size_t i) const { return edges(i) + (single_view(i) ? " †" : ""); }
     double lo(size_t i) const { return edges_[i]; }
     double hi(size_t i) const { return edges_[i + 1]; }
     size_t views(size_t i) const { return thetas_[i].size(); }
@@ -197,8 +203,8 @@ class Bands {
         std::string list;
         for (size_t i = 0; i < size(); ++i)
             if (single_view(i))
-                list += (list.empty() ? "" : ", ") + label(i).substr(0, label(i).size() - 4) +
-                        " holds only θ = " + format_number(*thetas_[i].begin());
+                list += (list.empty() ? "" : ", ") + edges(i) + " holds only θ = " +
+                        format_number(*thetas_[i].begin());
         return list.empty() ? "" : "† A single view in the band (" + list + "): its figures are "
                                    "that one angle's, not the whole band's.";
     }
@@ -399,13 +405,13 @@ class Report {
         return out;
     }
 
-    // The notes every table with band columns carries: failed rows, single-view bands.
-    std::vector<std::string> band_notes() const {
+    // The notes every table carries: failed rows, and with band columns single-view bands.
+    std::vector<std::string> notes(bool with_bands = true) const {
         std::vector<std::string> notes;
         if (!failed_.empty())
             notes.push_back(std::to_string(failed_.size()) + " failed rows (status not ok) are "
                             "left out of every figure here; they are listed in failed.md.");
-        if (!bands_.note().empty()) notes.push_back(bands_.note());
+        if (with_bands && !bands_.note().empty()) notes.push_back(bands_.note());
         return notes;
     }
 
@@ -447,7 +453,7 @@ class Report {
             row.push_back(fmt(ser.all.ms.get(), 2));
             tt.rows.push_back(row);
         }
-        tt.notes = band_notes();
+        tt.notes = notes();
         tt.notes.push_back("Texel error, mean over rows of the per-row mean / 95th percentile, per "
                            "band of the view angle θ (degrees); fetches and times over all angles.");
         write("summary.csv", csv.str());
@@ -500,7 +506,7 @@ class Report {
             }
             tt.rows.push_back(row);
         }
-        tt.notes = band_notes();
+        tt.notes = notes();
         tt.notes.push_back("Texels per degree of view change (spec section 5): sliding = |mean "
                            "change of the error vector| / dt, shimmering = mean |change - mean "
                            "change| / dt.");
@@ -539,7 +545,7 @@ class Report {
             }
             tt.rows.push_back(row);
         }
-        if (!failed_.empty()) tt.notes.push_back(band_notes().front());
+        tt.notes = notes(/*with_bands=*/false);
         tt.notes.push_back("Largest |uv_float - uv_double| over the samples, in texels (CPU "
                            "reference in float vs double on the same samples).");
         write("precision.md", tt.markdown());
@@ -591,7 +597,7 @@ class Report {
             }
             tt.rows.push_back(row);
         }
-        tt.notes = band_notes();
+        tt.notes = notes();
         tt.notes.push_back(std::string("Cheapest method setting (fewest height fetches per "
                                        "sample, then CPU time, over its rows in the band) whose "
                                        "mean ") + metric_.meaning + " (`" + metric_.column +

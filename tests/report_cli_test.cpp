@@ -238,6 +238,13 @@ TEST_F(ReportFolder, BandsWrittenExactlyAndSingleViewsFlagged) {
     const std::string md2 = slurp(rep / "summary.md");
     EXPECT_NE(md2.find("| 0 <= θ < 45 mean / p95 | 45 <= θ <= 90 mean / p95 |"), std::string::npos) << md2;
     EXPECT_EQ(md2.find("†"), std::string::npos) << md2;
+    // Views outside the bands count only in "all".
+    o.bands = {0, 45};
+    report(res, o);
+    const pxh::CsvTable sum = pxh::read_csv((rep / "summary.csv").string());
+    ASSERT_EQ(sum.rows.size(), 2u);
+    EXPECT_EQ(sum.get(0, "band"), "0 <= θ <= 45");
+    EXPECT_EQ(sum.get(1, "band"), "all");
 
     for (const auto& edges : std::vector<std::vector<double>>{{30, 0}, {0}, {0, 100}, {-5, 30}, {0, 30, 30}, {0, NAN}}) {
         o.bands = edges;
