@@ -1,4 +1,4 @@
-// Height fields (spec section 1): W x H texels in [0,1], bilinear between texel centres,
+// Height fields (docs/conventions.md section 1): W x H texels in [0,1], bilinear between texel centres,
 // repeat wrapping, exactly what GL_LINEAR + GL_REPEAT computes.
 #pragma once
 #include <cmath>

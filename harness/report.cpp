@@ -507,7 +507,7 @@ class Report {
             tt.rows.push_back(row);
         }
         tt.notes = notes();
-        tt.notes.push_back("Texels per degree of view change (spec section 5): sliding = |mean "
+        tt.notes.push_back("Texels per degree of view change (docs/conventions.md section 5.3): sliding = |mean "
                            "change of the error vector| / dt, shimmering = mean |change - mean "
                            "change| / dt.");
         write("sweep.md", tt.markdown());

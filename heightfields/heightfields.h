@@ -21,7 +21,7 @@ const GeneratorInfo* find_generator(const std::string& name);
 HeightField generate_heightfield(const GeneratorInfo& g, int width, int height,
                                  const ParamValues& p);
 
-// Reads a height map (spec section 1) from a regular file: PNG, TIFF, OpenEXR or JPEG through
+// Reads a height map (docs/conventions.md section 1) from a regular file: PNG, TIFF, OpenEXR or JPEG through
 // OpenImageIO, PGM/PPM/PBM/PFM read directly; the size limits are in harness/heightfield.h.
 // First stored row is j = 0; integers map 0..max (maxval for netpbm) to [0,1]; float data is
 // taken as is and must lie in [0,1]. `channel` picks the height channel (default 0: gray, or

@@ -1,4 +1,4 @@
-// Bilinear sampling (spec section 1), generators, and image loading.
+// Bilinear sampling (docs/conventions.md section 1), generators, and image loading.
 #include "harness/heightfield.h"
 
 #include <gtest/gtest.h>
@@ -164,7 +164,7 @@ TEST_F(ImageFiles, TiffExrAndChannelChoice) {
     EXPECT_FLOAT_EQ(load_heightfield_file(exr).at(2, 0), 0.3f);
 }
 
-// PFM stores the bottom row first; the spec takes the first stored row as j = 0.
+// PFM stores the bottom row first; docs/conventions.md section 1 takes the first stored row as j = 0.
 TEST_F(ImageFiles, PfmFirstStoredRowIsRowZero) {
     std::string bytes = "Pf\n2 2\n-1.0\n";
     const float vals[4] = {0.125f, 0.25f, 0.5f, 0.75f};  // stored order

@@ -203,7 +203,7 @@ TEST(Layered, AdaptiveLayerCountIsTutorialMix) {
     EXPECT_DOUBLE_EQ(layer_count(c, Scene<double>{}), 8.0);  // straight down: n_min
 }
 
-// Fetch counts match the spec table: pom/steep k + 1, relief k + 1 + n_binary (k >= 1).
+// Fetch counts match the table in docs/conventions.md section 8: pom/steep k + 1, relief k + 1 + n_binary (k >= 1).
 TEST(Layered, FetchCountsMatchTable) {
     const HeightField hf = test::random_field(64, 64, 12, 0.0f, 0.9f);  // never k = 0
     const auto sc = make_scene(hf, 0.05, 1.0, 60, 0);
@@ -302,7 +302,7 @@ TEST(Layered, MatchTutorialGlslTranscription) {
             ++total;
         }
     }
-    // The tutorial accumulates uv and depth incrementally, the spec computes uv_0 + k duv:
+    // The tutorial accumulates uv and depth incrementally, docs/conventions.md section 6.3 computes uv_0 + k duv:
     // float rounding differs, and at near-ties a layer decision can flip. Allow 0.1%.
     for (int m = 0; m < 3; ++m) EXPECT_LE(off[m], total / 1000) << "method " << m << " worst " << worst[m];
 }

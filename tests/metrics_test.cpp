@@ -1,4 +1,4 @@
-// Texel error and its statistics (spec section 5) against hand-computed values.
+// Texel error and its statistics (docs/conventions.md section 5) against hand-computed values.
 #include "harness/metrics.h"
 
 #include <gtest/gtest.h>

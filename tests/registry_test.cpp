@@ -60,7 +60,7 @@ TEST_P(EveryMethod, FiniteAndWithinFetchBoundOnHardInputs) {
                 }
 }
 
-// The exact_on_flat flag is checked both ways (parallax and pom, the spec's flat-field closed
+// The exact_on_flat flag is checked both ways (parallax and pom, the flat-field closed
 // forms, are covered here for every bias and angle): a claim that fails, or an exact method that
 // does not claim it, is a defect.
 TEST_P(EveryMethod, ExactOnFlatFieldExactlyWhenClaimed) {

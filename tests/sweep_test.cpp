@@ -1,4 +1,4 @@
-// Sliding and shimmering (spec section 5) on synthetic methods that exist only here, then the
+// Sliding and shimmering (docs/conventions.md section 5.3) on synthetic methods that exist only here, then the
 // real methods' ordering on a rough field.
 #include <gtest/gtest.h>
 
