@@ -1,13 +1,20 @@
 #include "harness/experiment.h"
 
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
+#include <tuple>
 
 #include "harness/error.h"
+#include "harness/ground_truth.h"
+#include "harness/sha256.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
 
@@ -101,6 +108,52 @@ std::vector<double> get_angles(const toml::node& n, const std::string& path,
     return get_numbers(n, path, key);
 }
 
+// Names that become path components: the experiment's name is the default output folder
+// (results/runs/NAME-DATE), a height field's name goes into map file names. Refused: empty,
+// '/', '\\', control characters, over 100 characters, and for folders a leading '.' ('.', '..',
+// hidden folders).
+void check_safe_name(const std::string& name, const std::string& where, const std::string& what,
+                     bool folder) {
+    std::string problem;
+    if (name.empty()) problem = "is empty";
+    else if (name.size() > 100) problem = "is longer than 100 characters";
+    else if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+        problem = "contains '/' or '\\'";
+    else if (std::any_of(name.begin(), name.end(),
+                         [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+        problem = "contains control characters";
+    else if (folder && name[0] == '.') problem = "starts with '.'";
+    if (!problem.empty())
+        throw InputError(where, what + " '" + name + "' " + problem + ": it names " +
+                                    (folder ? "the output folder" : "files") +
+                                    ", so it must be a plain file name");
+}
+
+// The experiment's default name, from its file name: made safe rather than refused.
+std::string safe_default_name(const std::string& stem) {
+    std::string out;
+    for (unsigned char c : stem) out += (c < 0x20 || c == 0x7f || c == '\\') ? '_' : char(c);
+    while (!out.empty() && out[0] == '.') out[0] = '_';
+    if (out.size() > 100) out.resize(100);
+    return out.empty() ? "experiment" : out;
+}
+
+// "heightfield file 'PATH' (paths are relative to the experiment file): REASON", REASON being
+// the loader's message without its leading "PATH: ".
+std::string file_problem(const std::string& file, std::string reason) {
+    if (reason.rfind(file + ": ", 0) == 0) reason = reason.substr(file.size() + 2);
+    return "heightfield file '" + file + "' (paths are relative to the experiment file): " +
+           reason;
+}
+
+// An identity without its hash, for messages: the part a reader tells fields apart by.
+std::string describe_field(const HeightfieldSpec& h) {
+    return h.identity.substr(0, h.identity.find(" sha256:"));
+}
+
+// A warning, "FILE:LINE: ..." on one line.
+void warn(Experiment& ex, const std::string& text) { ex.warnings.push_back(one_line(text)); }
+
 // Cartesian product of parameter sweeps: {a: [1,2], b: [3]} -> [{a:1,b:3}, {a:2,b:3}].
 std::vector<std::map<std::string, double>> expand(
     const std::vector<std::pair<std::string, std::vector<double>>>& sweeps) {
@@ -118,8 +171,12 @@ std::vector<std::map<std::string, double>> expand(
     return out;
 }
 
+// Scales whose errors saturate, with the file:line of each entry that uses them (one
+// warning per scale value, however many entries share it).
+using LargeScales = std::map<double, std::vector<std::string>>;
+
 void parse_heightfield(const toml::table& t, const toml::node& node, const std::string& path,
-                       Experiment& ex) {
+                       Experiment& ex, LargeScales& large_scales) {
     const std::string where = where_of(path, node);
     const bool has_gen = t.contains("generator"), has_file = t.contains("file");
     const bool has_scan = t.contains("scan");
@@ -145,22 +202,64 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     } else if (has_scan) {
         base.scan = get_string(*t.get("scan"), path, "scan");
         if (base.scan.rfind("scan:", 0) == 0) base.scan = base.scan.substr(5);
+        // Only an imported scan (its name also picks files in heightfields/scanned/).
+        std::string names;
+        bool known = false;
+        for (const auto& sc : list_scans()) {
+            names += (names.empty() ? "" : ", ") + sc.name;
+            known |= sc.name == base.scan;
+        }
+        if (!known)
+            throw InputError(where_of(path, *t.get("scan")),
+                             "unknown scan '" + base.scan + "' (known: " + names + ")");
         base.name = "scan:" + base.scan;
+        const std::string png =
+            std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/" + base.scan + ".png";
+        base.identity = "scan:" + base.scan + " sha256:" + sha256_file(png);
     } else {
         const std::string f = get_string(*t.get("file"), path, "file");
         fs::path fp(f);
         if (fp.is_relative()) fp = fs::path(path).parent_path() / fp;
         base.file = fp.lexically_normal().string();
+        base.file_written = fs::path(f).lexically_normal().string();
         base.name = fp.stem().string();
     }
     check_keys(t, allowed, path, "[[heightfields]]");
-    if (auto n = t.get("name")) base.name = get_string(*n, path, "name");
-    if (auto n = t.get("size")) base.width = base.height = get_int(*n, path, "size", 1, 16384);
-    if (auto n = t.get("width")) base.width = get_int(*n, path, "width", 1, 16384);
-    if (auto n = t.get("height")) base.height = get_int(*n, path, "height", 1, 16384);
+    if (auto n = t.get("name")) {
+        base.name = get_string(*n, path, "name");
+        check_safe_name(base.name, where_of(path, *n), "heightfield name", false);
+    }
+    const int max_side = int(kMaxImageSide);
+    if (auto n = t.get("size")) base.width = base.height = get_int(*n, path, "size", 1, max_side);
+    if (auto n = t.get("width")) base.width = get_int(*n, path, "width", 1, max_side);
+    if (auto n = t.get("height")) base.height = get_int(*n, path, "height", 1, max_side);
     if (auto n = t.get("channel")) base.channel = get_int(*n, path, "channel", 0, 64);
     if (!has_gen && (t.contains("size") || t.contains("width") || t.contains("height")))
         throw InputError(where, "'size'/'width'/'height' apply to generators, not to files or scans");
+    // Generated fields obey the image loader's limit (a 16384^2 field is 1 GiB of floats
+    // before its truths and Embree's copy).
+    if ((long long)base.width * base.height > kMaxImageTexels)
+        throw InputError(where, "generated field " + std::to_string(base.width) + " x " +
+                                    std::to_string(base.height) + " has more than " +
+                                    std::to_string(kMaxImageTexels) +
+                                    " texels, the limit for height fields (as for image files)");
+    if (has_file) {
+        // The file is identified by its bytes; read now, so a missing or unreadable file is
+        // named before any work (and a FIFO is not opened: it would block).
+        std::error_code ec;
+        const auto st = fs::status(base.file, ec);
+        std::string problem;
+        if (!fs::exists(st)) problem = "no such file";
+        else if (!fs::is_regular_file(st)) problem = "not a regular file";
+        if (!problem.empty())
+            throw InputError(where, file_problem(base.file, problem));
+        try {
+            base.identity = "file:" + base.file_written + " channel:" +
+                            std::to_string(base.channel) + " sha256:" + sha256_file(base.file);
+        } catch (const InputError& e) {
+            throw InputError(where, file_problem(base.file, e.what()));
+        }
+    }
 
     std::vector<double> scales{0.05}, biases{1.0};
     if (auto n = t.get("scale")) scales = get_numbers(*n, path, "scale");
@@ -173,6 +272,14 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         if (!(b >= 0 && b <= 1))
             throw InputError(where_of(path, *t.get("bias")), "bias must lie in [0, 1] (got " +
                                                                  format_number(b) + ")");
+    // Errors are measured modulo one tile, so they saturate once the true hit can lie half a
+    // tile from its sample: the parallax offset s tan(theta) reaches 0.5 at theta =
+    // atan(0.5 / s). Warn when that happens within the experiment's views and at or below
+    // 45 degrees (s >= 0.5): grazing views with an ordinary scale are a deliberate study.
+    const double theta_max = ex.theta_deg.empty() ? 0 : ex.theta_deg.back();
+    for (double s : scales)
+        if (s >= 0.5 && theta_max >= std::atan(0.5 / s) * 180 / M_PI)
+            large_scales[s].push_back(where_of(path, *t.get("scale")));
     std::vector<std::pair<std::string, std::vector<double>>> sweeps;
     if (gen)
         for (const auto& p : gen->params)
@@ -180,7 +287,11 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     const auto combos = expand(sweeps);
     for (const auto& given : combos) {
         HeightfieldSpec hs = base;
-        if (gen) hs.gen_params = resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
+        if (gen) {
+            hs.gen_params = resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
+            hs.identity = "generator:" + gen->name + " " + std::to_string(hs.width) + "x" +
+                          std::to_string(hs.height) + " [" + hs.gen_params.canonical() + "]";
+        }
         if (combos.size() > 1) hs.name = base.name + "[" + hs.gen_params.canonical() + "]";
         for (double s : scales)
             for (double b : biases) {
@@ -219,14 +330,49 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         }
         sweeps.emplace_back(key, get_numbers(v, path, key));
     }
-    for (const auto& given : expand(sweeps)) {
-        MethodSpec ms{m, resolve_params(m->params, given, where, "method '" + name + "'")};
-        m->check(ms.params, where);
-        ex.methods.push_back(std::move(ms));
+    for (const auto& given : expand(sweeps))
+        ex.methods.push_back(MethodSpec{m, resolve_method_params(*m, given, where)});
+}
+
+// One name, one field: a name shared by different fields would merge them into one series
+// of the report. The same field at the same scale and bias twice (under any names) would
+// repeat rows. One entry swept over scale/bias keeps its name (the columns tell rows apart).
+void check_heightfield_names(const Experiment& ex) {
+    std::map<std::string, size_t> by_name;
+    std::map<std::tuple<std::string, double, double>, size_t> by_field;
+    for (size_t k = 0; k < ex.heightfields.size(); ++k) {
+        const HeightfieldSpec& h = ex.heightfields[k];
+        const auto [named, fresh_name] = by_name.emplace(h.name, k);
+        const HeightfieldSpec& a = ex.heightfields[named->second];
+        if (!fresh_name && a.identity != h.identity)
+            throw InputError(h.where, "heightfield name '" + h.name + "' is given to two different fields: " +
+                                          describe_field(a) + " (" + a.where + ") and " +
+                                          describe_field(h) + " (" + h.where +
+                                          "); give one of them its own name = \"...\"");
+        const auto [same, fresh_field] = by_field.emplace(std::make_tuple(h.identity, h.scale, h.bias), k);
+        if (fresh_field) continue;
+        const HeightfieldSpec& b = ex.heightfields[same->second];
+        const std::string what = describe_field(h) + " at scale " + format_number(h.scale) +
+                                 ", bias " + format_number(h.bias);
+        if (b.where == h.where)
+            throw InputError(h.where, "this entry lists " + what + " twice (a repeated value)");
+        throw InputError(h.where, "duplicate height field: " + what + " is also the entry at " +
+                                      b.where + " (as '" + b.name + "'); its rows would repeat");
     }
 }
 
 }  // namespace
+
+ParamValues resolve_method_params(const MethodInfo& m, const std::map<std::string, double>& given,
+                                  const std::string& where) {
+    ParamValues p = resolve_params(m.params, given, where, "method '" + m.name + "'");
+    m.check(p, where);
+    if (m.complete_params) {
+        m.complete_params(p);
+        m.check(p, where);
+    }
+    return p;
+}
 
 Experiment parse_experiment(const std::string& text, const std::string& path) {
     toml::table root;
@@ -240,13 +386,16 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     Experiment ex;
     ex.path = path;
     ex.text = text;
-    ex.name = fs::path(path).stem().string();
+    ex.name = safe_default_name(fs::path(path).stem().string());
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
                 "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
                 "views", "heightfields", "methods", "light"},
                path, "the experiment");
-    if (auto n = root.get("name")) ex.name = get_string(*n, path, "name");
+    if (auto n = root.get("name")) {
+        ex.name = get_string(*n, path, "name");
+        check_safe_name(ex.name, where_of(path, *n), "experiment name", true);
+    }
     if (auto n = root.get("description")) get_string(*n, path, "description");
     if (auto n = root.get("samples")) ex.samples = get_int(*n, path, "samples", 1, 8192);
     if (auto n = root.get("timing_repeats"))
@@ -300,15 +449,57 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     check_keys(vt, {"theta_deg", "phi_deg"}, path, "[views]");
     if (!vt.contains("theta_deg")) throw InputError(where_of(path, *views), "[views] needs theta_deg");
     ex.theta_deg = get_angles(*vt.get("theta_deg"), path, "theta_deg");
+    const std::string theta_where = where_of(path, *vt.get("theta_deg"));
     for (double t : ex.theta_deg)
         if (!(t >= 0 && t < 90))
-            throw InputError(where_of(path, *vt.get("theta_deg")),
-                             "theta_deg = " + format_number(t) +
-                                 " is impossible: the polar angle must lie in [0, 90)");
-    if (auto n = vt.get("phi_deg")) ex.phi_deg = get_angles(*n, path, "phi_deg");
-    for (double p : ex.phi_deg)
-        if (!std::isfinite(p))
-            throw InputError(where_of(path, *vt.get("phi_deg")), "phi_deg must be finite");
+            throw InputError(theta_where, "theta_deg = " + format_number(t) +
+                                              " is impossible: the polar angle must lie in [0, 90)");
+    const bool all_small = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
+                                       [](double t) { return t < 1.6; });
+    const bool all_whole = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
+                                       [](double t) { return t == std::floor(t); });
+    if (all_small && !all_whole)
+        warn(ex, theta_where + ": theta_deg values are all below 1.6 and not all whole "
+                                            "numbers: they look like radians, but theta_deg is in degrees");
+    // Sweeps (sliding, shimmering) pair consecutive views: increasing, each view once.
+    if (!std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end()) ||
+        std::adjacent_find(ex.theta_deg.begin(), ex.theta_deg.end()) != ex.theta_deg.end()) {
+        const bool sorted = std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end());
+        const size_t before = ex.theta_deg.size();
+        std::sort(ex.theta_deg.begin(), ex.theta_deg.end());
+        ex.theta_deg.erase(std::unique(ex.theta_deg.begin(), ex.theta_deg.end()), ex.theta_deg.end());
+        const size_t dropped = before - ex.theta_deg.size();
+        std::string what = sorted ? "" : "is not in increasing order (sorted";
+        if (dropped)
+            what += std::string(sorted ? "repeats values (" : ", ") + std::to_string(dropped) +
+                    " duplicate(s) dropped";
+        warn(ex, theta_where + ": theta_deg " + what +
+                              "): views are measured in increasing theta, each once");
+    }
+    if (auto n = vt.get("phi_deg")) {
+        ex.phi_deg = get_angles(*n, path, "phi_deg");
+        const std::string phi_where = where_of(path, *n);
+        std::string changed;
+        for (double& p : ex.phi_deg) {
+            if (!std::isfinite(p)) throw InputError(phi_where, "phi_deg must be finite");
+            if (p >= 0 && p < 360) continue;
+            double q = std::fmod(p, 360.0);
+            if (q < 0) q += 360;
+            if (q >= 360) q = 0;  // -1e-20 + 360 rounds to 360
+            changed += (changed.empty() ? "" : ", ") + format_number(p) + " -> " + format_number(q);
+            p = q;
+        }
+        if (!changed.empty())
+            warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
+        std::vector<double> unique;
+        for (double p : ex.phi_deg)
+            if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
+        if (unique.size() != ex.phi_deg.size())
+            warn(ex, phi_where + ": phi_deg repeats an azimuth (" +
+                                  std::to_string(ex.phi_deg.size() - unique.size()) +
+                                  " duplicate(s) dropped): each view is measured once");
+        ex.phi_deg = std::move(unique);
+    }
 
     if (auto n = root.get("light")) {
         const auto* lt = n->as_table();
@@ -337,20 +528,58 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
                                                      "' must be a list of tables ([[" + key + "]])");
         return arr;
     };
-    for (const auto& e : *tables_of("heightfields")) parse_heightfield(*e.as_table(), e, path, ex);
+    LargeScales large_scales;
+    for (const auto& e : *tables_of("heightfields"))
+        parse_heightfield(*e.as_table(), e, path, ex, large_scales);
+    for (const auto& [s, wheres] : large_scales) {
+        std::string also;
+        for (size_t k = 1; k < wheres.size(); ++k)
+            also += (k == 1 ? " (also on lines " : ", ") + wheres[k].substr(wheres[k].rfind(':') + 1);
+        if (!also.empty()) also += ")";
+        const double onset = std::atan(0.5 / s) * 180 / M_PI;
+        warn(ex, wheres[0] + ": scale = " + format_number(s) + also +
+                     ": the parallax offset s*tan(theta) reaches half a tile at theta = " +
+                     format_number(std::round(onset * 10) / 10) +
+                     " deg (<= 45, and within the views up to " +
+                     format_number(ex.theta_deg.back()) +
+                     "); beyond it errors, measured modulo one tile, saturate near half the "
+                     "field's size and searches take huge step counts: use a scale below 0.5");
+    }
+    check_heightfield_names(ex);
     for (const auto& e : *tables_of("methods")) parse_method(*e.as_table(), e, path, ex);
+    // Every eye ray (views, sweep companions) and light ray within the ground truths' travel
+    // limit (kMaxRayTravelTiles, harness/ground_truth.h), reported at the field's entry.
+    for (const HeightfieldSpec& h : ex.heightfields) {
+        auto check = [&](double theta, const std::string& what) {
+            if (const std::string why = ray_travel_problem(h.scale, theta); !why.empty())
+                throw InputError(h.where, what + why);
+        };
+        for (double t : ex.theta_deg) {
+            check(t, "");
+            if (ex.sweep_dt_deg > 0 && t + ex.sweep_dt_deg < 90)
+                check(t + ex.sweep_dt_deg, "sweep companion view: ");
+        }
+        if (ex.light) check(ex.light->theta_deg, "light: ");
+    }
     return ex;
 }
 
 Experiment load_experiment(const std::string& path) {
     std::error_code ec;
-    if (!fs::exists(path, ec)) throw InputError(path, "no such file");
-    if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not an experiment file");
+    const auto st = fs::status(path, ec);  // follows symlinks
+    if (!fs::exists(st)) throw InputError(path, "no such file");
+    if (fs::is_directory(st)) throw InputError(path, "is a directory, not an experiment file");
+    // A FIFO or device would block or never end: only regular files are read.
+    if (!fs::is_regular_file(st))
+        throw InputError(path, "not a regular file (a FIFO, socket or device?): an experiment "
+                               "must be a regular file");
     std::ifstream f(path, std::ios::binary);
     if (!f) throw InputError(path, "cannot open");
     std::stringstream ss;
     ss << f.rdbuf();
-    return parse_experiment(ss.str(), path);
+    Experiment ex = parse_experiment(ss.str(), path);
+    for (const auto& w : ex.warnings) std::cerr << "pxh: warning: " << one_line(w) << "\n";
+    return ex;
 }
 
 HeightField make_heightfield(const HeightfieldSpec& spec) {
@@ -362,10 +591,87 @@ HeightField make_heightfield(const HeightfieldSpec& spec) {
     } else if (!spec.scan.empty()) {
         hf = load_scan(spec.scan, spec.where);
     } else {
-        hf = load_heightfield_file(spec.file, spec.channel);
+        try {
+            hf = load_heightfield_file(spec.file, spec.channel);
+        } catch (const std::exception& e) {
+            throw InputError(spec.where, file_problem(spec.file, e.what()));
+        }
     }
     hf.name = spec.name;
     return hf;
+}
+
+
+namespace {
+
+// Width and height of a field before it is built (files: from the header).
+struct FieldSize {
+    size_t width, height;
+    bool mask;  // a filled-hole mask (scans)
+};
+
+FieldSize field_size(const HeightfieldSpec& spec) {
+    if (!spec.generator.empty()) return {size_t(spec.width), size_t(spec.height), false};
+    if (!spec.scan.empty()) {
+        for (const auto& sc : list_scans())
+            if (sc.name == spec.scan) {
+                const size_t k = sc.periodic ? 1 : 2;  // mirrored to 2W x 2H
+                return {k * size_t(sc.width), k * size_t(sc.height), true};
+            }
+    } else if (auto in = OIIO::ImageInput::open(spec.file)) {
+        const size_t w = size_t(std::max(in->spec().width, 0)), h = size_t(std::max(in->spec().height, 0));
+        in->close();
+        return {w, h, false};
+    }
+    // Unknown (the run will refuse it): the largest field the loader accepts.
+    return {size_t(kMaxImageSide), size_t(kMaxImageTexels / kMaxImageSide), false};
+}
+
+std::string mib(size_t bytes) {
+    std::ostringstream os;
+    os.precision(1);
+    os << std::fixed << double(bytes) / double(1 << 20) << " MiB";
+    return os.str();
+}
+
+}  // namespace
+
+RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
+    // The model's constants (see experiment.h), measured on this project's machine (peak
+    // RSS of pxh run, fbm, samples 8: 181 MiB at 16^2; +52 to +55 bytes per texel from 1024^2
+    // to 8192^2, of which 10 are the field and its mipmap; samples 2048, 6 rows per view:
+    // 290 bytes per sample, which the terms below overestimate by a third).
+    constexpr size_t kBaseBytes = size_t(192) << 20;
+    constexpr size_t kEmbreeBytesPerTexel = 45;
+    constexpr size_t kViewBytesPerSample = 16 + 40 + 16 + 8;  // P, exact hits, Embree hits, gap
+    constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring
+    constexpr size_t kBytesPerRow = 1024;
+    const auto& backends = backends_override.empty() ? ex.backends : backends_override;
+    const bool cpu = std::find(backends.begin(), backends.end(), "cpu") != backends.end();
+    const bool glsl = std::find(backends.begin(), backends.end(), "glsl") != backends.end();
+    const size_t per_method = (cpu ? ex.precisions.size() : 0) + (glsl ? ex.texture_formats.size() : 0);
+    const size_t rows_per_view = ex.methods.size() * per_method;
+    RunEstimate est;
+    est.rows = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size() * rows_per_view;
+
+    size_t field = 0;  // the largest field's own bytes, its truths' and Embree's
+    std::set<std::string> seen;
+    for (const auto& spec : ex.heightfields) {
+        if (!seen.insert(spec.identity).second) continue;  // scale/bias sweeps: same size
+        const FieldSize sz = field_size(spec);
+        const size_t texels = sz.width * sz.height;
+        field = std::max(field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel));
+    }
+    const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
+    const size_t views_alive = ex.sweep_dt_deg > 0 ? 3 : 2;
+    const size_t view = n2 * (kViewBytesPerSample + rows_per_view * 16 * views_alive +
+                              3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
+    const size_t results = est.rows * kBytesPerRow;
+    est.peak_bytes = kBaseBytes + field + view + results;
+    est.detail = "process " + mib(kBaseBytes) + " + largest field with its truths and Embree " +
+                 mib(field) + " + one view's sample buffers " + mib(view) + " + result rows " +
+                 mib(results);
+    return est;
 }
 
 }  // namespace pxh

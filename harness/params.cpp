@@ -25,16 +25,33 @@ void ParamValues::set(const std::string& name, double v) {
         for (auto& kv : order_)
             if (kv.first == name) kv.second = v;
     } else {
-        order_.emplace_back(name, v);
+        // Keep declaration order: insert before the first parameter listed after this one.
+        size_t listed = 0;
+        while (listed < listed_.size() && listed_[listed].first != name) ++listed;
+        if (listed == listed_.size()) listed_.emplace_back(name, "");
+        listed_[listed].second.clear();
+        size_t pos = 0;
+        for (size_t k = 0; k < listed; ++k) pos += values_.count(listed_[k].first);
+        order_.insert(order_.begin() + std::ptrdiff_t(pos), {name, v});
     }
     values_[name] = v;
 }
 
+void ParamValues::declare_unset(const std::string& name, const std::string& spelling) {
+    if (values_.count(name)) throw std::logic_error("parameter already set: " + name);
+    for (auto& kv : listed_)
+        if (kv.first == name) {
+            kv.second = spelling;
+            return;
+        }
+    listed_.emplace_back(name, spelling);
+}
+
 std::string ParamValues::canonical() const {
     std::string out;
-    for (const auto& [k, v] : order_) {
+    for (const auto& [k, unset] : listed_) {
         if (!out.empty()) out += ';';
-        out += k + "=" + format_number(v);
+        out += k + "=" + (values_.count(k) ? format_number(values_.at(k)) : unset);
     }
     return out;
 }
@@ -58,6 +75,7 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs,
         auto it = given.find(s.name);
         if (it == given.end()) {
             if (s.default_value) out.set(s.name, *s.default_value);
+            else out.declare_unset(s.name, s.unset_spelling.empty() ? "unset" : s.unset_spelling);
             continue;
         }
         const double v = it->second;
@@ -79,7 +97,8 @@ std::string describe_param(const ParamSpec& s) {
     if (s.default_value)
         os << "default " << format_number(*s.default_value);
     else
-        os << "unset by default";
+        os << "unset by default (params: " << s.name << "="
+           << (s.unset_spelling.empty() ? "unset" : s.unset_spelling) << ")";
     os << ", " << (s.integer ? "integer" : "number") << " in [" << format_number(s.min) << ", "
        << format_number(s.max) << "]): " << s.help;
     return os.str();

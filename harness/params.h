@@ -14,9 +14,13 @@ struct ParamSpec {
     double min = -1e300, max = 1e300;
     bool integer = false;
     std::string help;
+    // How `params` spells this parameter when it is neither given nor defaulted (an optional
+    // parameter whose absence means something, e.g. "adaptive"); empty: "unset".
+    std::string unset_spelling;
 };
 
-// Resolved values in declaration order: given ones, then defaults.
+// Resolved values in declaration order: given ones, then defaults. A declared parameter left
+// unset is listed too (declare_unset), so canonical() names every parameter of its owner.
 class ParamValues {
   public:
     bool has(const std::string& name) const { return values_.count(name) != 0; }
@@ -26,13 +30,20 @@ class ParamValues {
         return has(name) ? get(name) : fallback;
     }
     void set(const std::string& name, double v);
-    // "a=1;b=2.5" in declaration order; "" when empty.
+    // Records a declared parameter without a value: canonical() writes it as name=SPELLING
+    // (a later set() gives it a value in the same place).
+    void declare_unset(const std::string& name, const std::string& spelling);
+    // "a=1;b=2.5;c=adaptive" in declaration order, every declared parameter, numbers as
+    // format_number writes them; "" when there are none.
     std::string canonical() const;
+    // The parameters that have a value, in declaration order.
     const std::vector<std::pair<std::string, double>>& items() const { return order_; }
 
   private:
     std::map<std::string, double> values_;
     std::vector<std::pair<std::string, double>> order_;
+    // Every parameter in declaration order, with its spelling when unset ("" when set).
+    std::vector<std::pair<std::string, std::string>> listed_;
 };
 
 // Checks given values against specs and fills defaults. `where` names the file (and entry).

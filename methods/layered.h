@@ -11,13 +11,18 @@
 
 namespace pxh {
 
+// In `params` (complete_layer_params fills the defaults): fixed n is
+// "layers=32;layers_min=off;layers_max=off", view-adaptive "layers=adaptive;layers_min=8;
+// layers_max=32" (the values in use, never both modes at once).
 inline std::vector<ParamSpec> layer_params() {
     return {
         {"layers", std::nullopt, 1, 4096, false,
-         "fixed layer count n (default 32 when neither layers_min nor layers_max is given)"},
+         "fixed layer count n (default 32 when neither layers_min nor layers_max is given)",
+         "adaptive"},
         {"layers_min", std::nullopt, 1, 4096, false,
-         "view-adaptive: n = mix(layers_max, layers_min, |V.z|) (default 8)"},
-        {"layers_max", std::nullopt, 1, 4096, false, "view-adaptive upper count (default 32)"},
+         "view-adaptive: n = mix(layers_max, layers_min, |V.z|) (default 8)", "off"},
+        {"layers_max", std::nullopt, 1, 4096, false, "view-adaptive upper count (default 32)",
+         "off"},
     };
 }
 
@@ -38,6 +43,18 @@ inline LayerConfig layer_config(const ParamValues& p, const std::string& where) 
     if (c.adaptive && c.n_min > c.n_max)
         throw InputError(where, "layers_min must not exceed layers_max");
     return c;
+}
+
+// The resolved set: the defaults the search uses written in (fixed: layers = 32; adaptive:
+// layers_min = 8, layers_max = 32), so `params` says exactly what ran. Call after
+// layer_config accepted the given values.
+inline void complete_layer_params(ParamValues& p) {
+    if (p.has("layers_min") || p.has("layers_max")) {
+        if (!p.has("layers_min")) p.set("layers_min", 8);
+        if (!p.has("layers_max")) p.set("layers_max", 32);
+    } else if (!p.has("layers")) {
+        p.set("layers", 32);
+    }
 }
 
 // Layer count n for this view, kept as a real number (the tutorial's mix()).
@@ -73,6 +90,7 @@ struct LayeredMethod {
         return max_layer_index(c, sc) + 1;
     }
     static GlUniforms gl_uniforms(const Config& c) { return layer_uniforms(c); }
+    static void complete_params(ParamValues& p) { complete_layer_params(p); }
 };
 
 template <typename T>

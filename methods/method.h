@@ -8,6 +8,8 @@
 //   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
 //                                             HeightSampler<T>&, Vec2<T> P);
 //   static GlUniforms gl_uniforms(const Config&);       the GLSL twin's p_* uniforms
+//   optionally static void complete_params(ParamValues&); writes in the values an unset
+//                                                       optional parameter stands for
 // and methods/NAME/NAME.frag.glsl defines vec2 pxh_method(vec2 P) (see methods/common.glsl).
 #pragma once
 #include <cmath>
@@ -55,6 +57,9 @@ struct MethodInfo {
     GlUniforms (*gl_uniforms)(const ParamValues&) = nullptr;
     BatchFn<float> run_float = nullptr;
     BatchFn<double> run_double = nullptr;
+    // Fills in the values that unset optional parameters stand for (checked values in), so
+    // that `params` lists what ran; nullptr: nothing to fill.
+    void (*complete_params)(ParamValues&) = nullptr;
 };
 
 template <class M, typename T>
@@ -78,6 +83,8 @@ MethodInfo make_method_info() {
     info.gl_uniforms = [](const ParamValues& p) { return M::gl_uniforms(M::configure(p, "")); };
     info.run_float = &run_method_batch<M, float>;
     info.run_double = &run_method_batch<M, double>;
+    if constexpr (requires(ParamValues& p) { M::complete_params(p); })
+        info.complete_params = [](ParamValues& p) { M::complete_params(p); };
     return info;
 }
 

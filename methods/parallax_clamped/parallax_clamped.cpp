@@ -13,7 +13,7 @@ struct ParallaxClamped {
                 "Cg wikibook 'Projection of Bumpy Surfaces' (_MaxTexCoordOffset)",
                 "uv = P + clamp(z(P) * V.xy / V.z, -m, +m) per component (one fetch)",
                 {{"max_offset", std::nullopt, 0, 1e6, false,
-                  "m in uv units (default: the scene's scale s)"}},
+                  "m in uv units (default: the scene's scale s)", "scale"}},
                 false, 30};
     }
     static Config configure(const ParamValues& p, const std::string&) {

@@ -20,6 +20,7 @@ struct Relief {
     static Config configure(const ParamValues& p, const std::string& where) {
         return {layer_config(p, where), p.get_int("binary_steps")};
     }
+    static void complete_params(ParamValues& p) { complete_layer_params(p); }
     static GlUniforms gl_uniforms(const Config& c) {
         GlUniforms u = layer_uniforms(c.layers);
         u.emplace_back("p_binary_steps", c.binary_steps);
