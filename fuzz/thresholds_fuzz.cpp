@@ -1,0 +1,64 @@
+// Fuzz target: thresholds files (TOML [[limit]] tables) through pxh::run_check, as
+// `pxh check DIR --thresholds FILE` reads them, against a fixed tiny results folder written
+// once by pxh's own results writer (so its columns follow the current results.csv).
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "fuzz/fuzz_target.h"
+#include "harness/report.h"
+#include "harness/results.h"
+
+namespace {
+
+// Four rows: two methods, CPU and GLSL, three angles, one failed row, one NaN metric, so that
+// filters, theta ranges, failed rows and non-finite values all have something to match.
+std::string results_dir() {
+    static const std::string dir = [] {
+        const std::filesystem::path d = std::filesystem::path(pxh::fuzz::scratch_dir()) / "results";
+        std::filesystem::create_directories(d);
+        std::vector<pxh::ResultRow> rows(4);
+        const char* methods[] = {"pom", "pom", "parallax", "relief"};
+        const double thetas[] = {0, 60, 80, 45};
+        for (size_t k = 0; k < rows.size(); ++k) {
+            pxh::ResultRow& r = rows[k];
+            r.method = methods[k];
+            r.params = k < 2 ? "layers=32" : "";
+            r.heightfield = "bricks";
+            r.backend = k == 1 ? "glsl" : "cpu";
+            r.precision = "float";
+            r.texture_format = k == 1 ? "r32f" : "";
+            r.scale = 0.05;
+            r.bias = 1.0;
+            r.theta_deg = thetas[k];
+            r.samples = 16;
+            r.width = r.height = 64;
+            r.ground_truth = "exact";
+            r.fetches_mean = 10.0 + double(k);
+            r.fetches_max = 33;
+            r.ns_per_sample = k == 2 ? NAN : 40.0;
+        }
+        rows[3].status = "failed";
+        rows[3].error = "shader did not compile";
+        std::ofstream(d / "results.csv", std::ios::binary) << pxh::results_csv(rows);
+        return d.string();
+    }();
+    return dir;
+}
+
+}  // namespace
+
+PXH_FUZZ_TARGET(thresholds) {
+    pxh::fuzz::silence_stdout();  // run_check prints its table
+    const std::string dir = results_dir();
+    const std::string file = pxh::fuzz::write_scratch("thresholds.toml", data, size);
+    try {
+        (void)pxh::run_check(dir, file);
+    } catch (const std::exception&) {
+        // A malformed thresholds file is refused (InputError): expected.
+    }
+    return 0;
+}
