@@ -280,7 +280,19 @@ Converted convert_bunny(const Package& pkg, const std::string& cache) {
             rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
             rtcIntersect1(scene, &ctx, &rh);
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-                const double z = top - double(rh.ray.tfar);
+                // Embree finds the triangle; the height is that triangle's plane at the texel
+                // centre, in double: Embree's float hit distance depends on the kernel it picks
+                // for the CPU (SSE, AVX2, AVX-512 round differently), this does not, so the
+                // import reproduces the committed file on any x86-64 machine.
+                const auto& tri = m.triangles[rh.hit.primID];
+                const auto &A = m.vertices[tri[0]], &B = m.vertices[tri[1]], &C = m.vertices[tri[2]];
+                const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+                const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+                const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
+                             nz = e1[0] * e2[1] - e1[1] * e2[0];
+                const double x = lo[0] + (i + 0.5) * spacing, y = lo[1] + (j + 0.5) * spacing;
+                const double z = nz != 0 ? A[2] - (nx * (x - A[0]) + ny * (y - A[1])) / nz
+                                         : top - double(rh.ray.tfar);  // edge-on: Embree's hit
                 c.grid.v[size_t(j) * W + i] = z;
                 zmin = std::min(zmin, z);
             }
