@@ -1,4 +1,4 @@
-// The layered search shared by steep, pom and relief (spec section 6).
+// The layered search shared by steep, pom and relief (docs/conventions.md section 6.3).
 //   n fixed or n = mix(n_max, n_min, |V.z|); dz = s / n; duv = -V.xy / V.z * dz;
 //   uv_0 = P + V.xy / V.z * z_top; uv_k = uv_0 + k duv; z_k = z_top - k dz; g_k = z_k - z(uv_k);
 //   k = first index with g_k <= 0, and at most ceil(n).

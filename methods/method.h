@@ -24,7 +24,7 @@
 
 namespace pxh {
 
-// Per-view constants (spec sections 2, 3), in the method's precision.
+// Per-view constants (docs/conventions.md sections 2, 3), in the method's precision.
 template <typename T>
 struct Scene {
     T scale = T(0.05), bias = T(1);  // s, b: surface z = s (h - b)

@@ -10,7 +10,7 @@ struct ParallaxClamped {
     struct Config { double max_offset; bool from_scale; };
     static MethodInfo describe() {
         return {"parallax_clamped",
-                "Cg wikibook 'Projection of Bumpy Surfaces' (_MaxTexCoordOffset)",
+                "Wikibooks contributors: Cg Programming/Unity/Projection of Bumpy Surfaces (_MaxTexCoordOffset), https://en.wikibooks.org/wiki/Cg_Programming/Unity/Projection_of_Bumpy_Surfaces",
                 "uv = P + clamp(z(P) * V.xy / V.z, -m, +m) per component (one fetch)",
                 {{"max_offset", std::nullopt, 0, 1e6, false,
                   "m in uv units (default: the scene's scale s)", "scale"}},

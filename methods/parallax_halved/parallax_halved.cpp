@@ -1,4 +1,4 @@
-// "Detail rendering based on pixel offset", sec. 3.2: half the classic offset,
+// Zhao, Wu, Gao 2012, "Realistic and Detail Rendering of Village Virtual Scene Based on Pixel Offset", sec. 3.2: half the classic offset,
 // P + 0.5 z(P) V.xy / V.z.
 #include "methods/method.h"
 
@@ -7,7 +7,7 @@ namespace pxh {
 struct ParallaxHalved {
     struct Config {};
     static MethodInfo describe() {
-        return {"parallax_halved", "pixel-offset paper sec. 3.2 (halved offset)",
+        return {"parallax_halved", "Zhao, Wu, Gao: Realistic and Detail Rendering of Village Virtual Scene Based on Pixel Offset, Appl. Math. Inf. Sci. 6(3S), pp. 769-775, 2012, sec. 3.2 (halved offset)",
                 "uv = P + 0.5 * z(P) * V.xy / V.z (one fetch)", {}, false, 40};
     }
     static Config configure(const ParamValues&, const std::string&) { return {}; }

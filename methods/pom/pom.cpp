@@ -8,7 +8,7 @@ namespace pxh {
 
 struct Pom : LayeredMethod {
     static MethodInfo describe() {
-        return {"pom", "Tatarchuk 2006; tutorial 'Parallax Occlusion Mapping'",
+        return {"pom", "Tatarchuk: Dynamic Parallax Occlusion Mapping with Approximate Soft Shadows, I3D 2006, pp. 63-69, doi:10.1145/1111411.1111423; de Vries: Parallax Mapping, LearnOpenGL",
                 "w uv_{k-1} + (1 - w) uv_k, w = g_k / (g_k - g_{k-1}) (k + 1 fetches)",
                 layer_params(), true, 70};
     }

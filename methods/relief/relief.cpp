@@ -13,7 +13,7 @@ struct Relief {
     static MethodInfo describe() {
         auto params = layer_params();
         params.push_back({"binary_steps", 5.0, 0, 64, true, "n_binary bisection steps"});
-        return {"relief", "Policarpo et al. 2005; tutorial 'Relief Parallax Mapping'",
+        return {"relief", "Policarpo, Oliveira, Comba: Real-Time Relief Mapping on Arbitrary Polygonal Surfaces, I3D 2005, pp. 155-162, doi:10.1145/1053427.1053453; LearnOpenGL Parallax Mapping (Habr translation, relief section)",
                 "bisection on [k-1, k] after the layer search (k + 1 + n_binary fetches)",
                 params, false, 80};
     }

@@ -6,7 +6,7 @@ namespace pxh {
 
 struct Steep : LayeredMethod {
     static MethodInfo describe() {
-        return {"steep", "McGuire 2005; tutorial 'Steep Parallax Mapping'",
+        return {"steep", "McGuire, McGuire: Steep Parallax Mapping, I3D 2005 poster; de Vries: Parallax Mapping, LearnOpenGL, https://learnopengl.com/Advanced-Lighting/Parallax-Mapping",
                 "uv_k of the first layer at or below the surface (k + 1 fetches)",
                 layer_params(), false, 60};
     }
