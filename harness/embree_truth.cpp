@@ -8,10 +8,22 @@
 #include <limits>
 #include <stdexcept>
 
+#include "harness/ground_truth.h"
+
 namespace pxh {
 
 EmbreeTracer::EmbreeTracer(const HeightField& hf, double scale, double bias)
     : W_(hf.width), H_(hf.height), s_(scale), b_(bias) {
+    if (const std::string why = ray_travel_problem(scale, Vec3d{0, 0, 1}); !why.empty())
+        throw std::invalid_argument(why);  // the scale itself (not finite, or <= 0)
+    // Heights in units of zs_: 1 (no change at all) for every scale up to 2^32; above, the
+    // power of two just under s, so that single-precision geometry and ray parameters stay in
+    // range for any finite scale (Embree then traces z / zs_ along t / zs_).
+    if (scale > 0x1p32) {
+        int e = 0;
+        std::frexp(scale, &e);
+        zs_ = std::ldexp(1.0, e - 1);
+    }
     const auto t0 = std::chrono::steady_clock::now();
     RTCDevice dev = rtcNewDevice(nullptr);
     if (!dev) throw std::runtime_error("Embree: cannot create a device");
@@ -27,7 +39,7 @@ EmbreeTracer::EmbreeTracer(const HeightField& hf, double scale, double bias)
             float* p = v + 3 * (size_t(j) * vw + i);
             p[0] = float((i + 0.5) / W_);
             p[1] = float((j + 0.5) / H_);
-            p[2] = float(scale * (double(hf.wrapped(i, j)) - bias));
+            p[2] = float(scale / zs_ * (double(hf.wrapped(i, j)) - bias));
         }
     auto* g = static_cast<RTCGrid*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_GRID, 0,
                                                             RTC_FORMAT_GRID, sizeof(RTCGrid), 1));
@@ -72,8 +84,10 @@ EmbreeTracer::~EmbreeTracer() {
 }
 
 // Per ray: segments of less than one tile in u and v (one segment for most rays), each
-// traced with its origin moved into the base tile of the 3 x 3 instance block.
+// traced with its origin moved into the base tile of the 3 x 3 instance block. Embree's ray
+// parameter is tau / zs (z in units of zs, see the constructor; zs = 1 for ordinary scales).
 void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) const {
+    const double zs = zs_;
     const double zt = s_ * (1 - b_), tau_max = s_ / V.z;
     const double u0 = 0.5 / W_, v0 = 0.5 / H_;
     const double reach = std::max(std::abs(V.x), std::abs(V.y));
@@ -91,25 +105,42 @@ void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) cons
         bool any = false;
         for (int k = 0; k < 16; ++k) {
             valid[k] = 0;
-            if (k >= n || st[k].done) continue;
+            if (k >= n || st[k].done) {
+                // An inactive lane (beyond a partial packet's rays, or finished) still holds a
+                // well-formed empty ray, whatever Embree reads of it: tnear > tfar, mask 0.
+                rh.ray.org_x[k] = rh.ray.org_y[k] = rh.ray.org_z[k] = 0;
+                rh.ray.dir_x[k] = rh.ray.dir_y[k] = 0;
+                rh.ray.dir_z[k] = -1;
+                rh.ray.tnear[k] = std::numeric_limits<float>::infinity();
+                rh.ray.tfar[k] = -std::numeric_limits<float>::infinity();
+                rh.ray.time[k] = 0;
+                rh.ray.mask[k] = 0;
+                rh.ray.id[k] = unsigned(k);
+                rh.ray.flags[k] = 0;
+                rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                continue;
+            }
             const State& s = st[k];
             t_out[k] = std::min(s.t_in + seg, tau_max);
+            // A walk that cannot advance (t_in + seg == t_in: only far beyond the travel limit,
+            // which trace refuses) ends in one last segment instead of looping forever.
+            if (!(t_out[k] > s.t_in)) t_out[k] = tau_max;
             // Tile of the segment's start, then the ray shifted by whole tiles into the base.
             const double ox = std::floor(s.ex - s.t_in * V.x - u0);
             const double oy = std::floor(s.ey - s.t_in * V.y - v0);
             rh.ray.org_x[k] = float(s.ex - ox);
             rh.ray.org_y[k] = float(s.ey - oy);
-            rh.ray.org_z[k] = float(zt);
-            rh.ray.dir_x[k] = float(-V.x);
-            rh.ray.dir_y[k] = float(-V.y);
+            rh.ray.org_z[k] = float(zt / zs);
+            rh.ray.dir_x[k] = float(-V.x * zs);
+            rh.ray.dir_y[k] = float(-V.y * zs);
             rh.ray.dir_z[k] = float(-V.z);
-            rh.ray.tnear[k] = float(s.t_in);
-            rh.ray.tfar[k] = float(t_out[k] * (1 + 1e-6) + 1e-9);
+            rh.ray.tnear[k] = float(s.t_in / zs);
+            rh.ray.tfar[k] = float(t_out[k] / zs * (1 + 1e-6) + 1e-9);
             rh.ray.time[k] = 0;
             rh.ray.mask[k] = 0xFFFFFFFF;
             rh.ray.id[k] = unsigned(k);
             rh.ray.flags[k] = 0;
-            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
             valid[k] = -1;
             any = true;
         }
@@ -119,7 +150,7 @@ void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) cons
             if (!valid[k]) continue;
             State& s = st[k];
             if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) {
-                const double t = rh.ray.tfar[k];
+                const double t = double(rh.ray.tfar[k]) * zs;
                 out[k] = {s.ex - t * V.x, s.ey - t * V.y};
                 s.done = true;
             } else if (t_out[k] >= tau_max) {  // reached z_bot: on or below any surface
@@ -139,6 +170,9 @@ std::vector<Vec2d> EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V) con
 }
 
 void EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const {
+    // Beyond the travel limit (or not above the surface) nothing is traced: the tile-by-tile
+    // walk would take a packet call per tile of the travel.
+    if (const std::string why = ray_travel_problem(s_, V); !why.empty()) throw std::invalid_argument(why);
     out.resize(P.size());
     const size_t packets = (P.size() + 15) / 16;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, packets, 16), [&](const auto& r) {

@@ -11,13 +11,15 @@ namespace pxh {
 
 class EmbreeTracer {
   public:
+    // Throws std::invalid_argument unless the scale is finite and positive.
     EmbreeTracer(const HeightField& hf, double scale, double bias);
     ~EmbreeTracer();
     EmbreeTracer(const EmbreeTracer&) = delete;
     EmbreeTracer& operator=(const EmbreeTracer&) = delete;
 
     // First hits of the eye rays of points P (coming down along -V from the slab top),
-    // unwrapped uv; in parallel (TBB), 16 rays per packet.
+    // unwrapped uv; in parallel (TBB), 16 rays per packet. Throws std::invalid_argument
+    // (ray_travel_problem's reason) for a V beyond the travel limit, before any work.
     std::vector<Vec2d> trace(const std::vector<Vec2d>& P, Vec3d V) const;
     void trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const;  // reuses out
     double build_ms() const { return build_ms_; }
@@ -26,6 +28,7 @@ class EmbreeTracer {
     void trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) const;
     int W_, H_;
     double s_, b_;
+    double zs_ = 1;  // heights in units of zs_ (1 up to s = 2^32; see the constructor)
     void* device_ = nullptr;
     void* scene_ = nullptr;       // 3 x 3 instances of the tile
     void* tile_scene_ = nullptr;  // the GRID geometry of one tile

@@ -5,9 +5,57 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 namespace pxh {
+
+namespace {
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+std::string scale_problem(double scale) {
+    if (std::isfinite(scale) && scale > 0) return "";
+    return "scale = " + number(scale) + " is not a finite positive number";
+}
+
+std::string travel_problem(double scale, double theta_deg, double travel) {
+    return "scale " + number(scale) + " at theta " + number(theta_deg) +
+           " deg: the rays travel s tan(theta) = " + number(travel) +
+           " tiles sideways through the relief, more than the ground truths' limit of " +
+           number(kMaxRayTravelTiles) + " tiles (kMaxRayTravelTiles); lower the scale or the angle";
+}
+
+// Throws std::invalid_argument with the reason, if any.
+void require(const std::string& problem) {
+    if (!problem.empty()) throw std::invalid_argument(problem);
+}
+
+}  // namespace
+
+std::string ray_travel_problem(double scale, double theta_deg) {
+    if (std::string p = scale_problem(scale); !p.empty()) return p;
+    if (!(theta_deg >= 0 && theta_deg < 90))
+        return "theta = " + number(theta_deg) + " deg lies outside [0, 90)";
+    const double travel = scale * std::tan(theta_deg * M_PI / 180.0);  // view_vector's radians
+    return travel <= kMaxRayTravelTiles ? "" : travel_problem(scale, theta_deg, travel);
+}
+
+std::string ray_travel_problem(double scale, Vec3d D) {
+    if (std::string p = scale_problem(scale); !p.empty()) return p;
+    if (!(D.z > 0 && std::isfinite(D.x) && std::isfinite(D.y)))
+        return "the ray direction (" + number(D.x) + ", " + number(D.y) + ", " + number(D.z) +
+               ") does not point above the surface (theta must lie in [0, 90))";
+    const double side = std::sqrt(D.x * D.x + D.y * D.y);
+    const double travel = scale * (side / D.z);  // NaN or inf for absurd inputs: refused
+    if (travel <= kMaxRayTravelTiles * (1 + 1e-9)) return "";
+    return travel_problem(scale, std::atan2(side, D.z) * 180 / M_PI, travel);
+}
 
 std::vector<Vec2d> sample_grid(int n) {
     std::vector<Vec2d> p(size_t(n) * n);
@@ -23,6 +71,7 @@ Vec3d view_vector(double theta_deg, double phi_deg) {
 
 ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
     : hf_(hf), s_(scale), b_(bias) {
+    require(scale_problem(scale));
     const int W = hf.width, H = hf.height;
     column_pairs_.resize(2 * hf.texels.size());
     for (int j = 0; j < H; ++j)
@@ -137,6 +186,9 @@ struct ExactTracer::Ray {
 };
 
 ExactTracer::Ray ExactTracer::make_ray(Vec2d P, Vec3d V) const {
+    // Within the travel limit every grid coordinate below (start, exits, the slab bottom) is a
+    // few times W x kMaxRayTravelTiles at most: all conversions to integers are in range.
+    require(ray_travel_problem(s_, V));
     Ray r;
     r.zt = z_top();
     r.vx = V.x;
@@ -347,6 +399,9 @@ class ViewTracer {
         l_ = std::min(l, int(t_.level_max_t_.size()) - 1);
         nmin_l_ = major_x_ ? t_.level_h_[size_t(l_)] : t_.level_w_[size_t(l_)];
         cmax_ = (major_x_ ? t_.level_max_t_ : t_.level_max_)[size_t(l_)].data();
+        // Blocks a quarter of a chunk long (256 runs of 2^l columns): a chunk's coarse bound
+        // reads about 4 block columns by the few block rows its band crosses there.
+        coarse_ = std::min(l_ + 6, int(t_.level_max_.size()) - 1);
     }
     int level() const { return l_; }
     bool major_x() const { return major_x_; }
@@ -379,33 +434,90 @@ class ViewTracer {
 
     struct Band {
         // U per run of 2^l columns (l: the mipmap level), with maxima over blocks of 16 and 256
-        // runs, built 256 runs at a time.
+        // runs, built a chunk of 256 runs at a time when a ray first needs it. Until then the
+        // chunk's sblk holds a coarser bound (from a coarser mipmap level), and a chunk whose
+        // coarse bound no ray reaches is never built: rays that skim low ground for thousands
+        // of tiles (grazing views) cost a bound per chunk there, not one per run, and memory
+        // only for the chunks built.
         double eta_lo = 0, w = 1;
-        int64_t base = 0;          // column where run 0 starts (a multiple of 2^l)
-        int64_t built = 0;         // runs [0, built) are valid
-        std::vector<double> U;     // bound per run
-        std::vector<double> blk;   // max of U over blocks of 16 runs
-        std::vector<double> sblk;  // ... and of 256 runs
+        int64_t base = 0;            // column where run 0 starts (a multiple of 2^l)
+        int64_t chunks = 0;          // chunks [0, chunks) have a bound in sblk
+        std::vector<double> sblk;    // per chunk of 256 runs: the max of its U once built, else
+                                     // the coarse bound (never below that max)
+        std::vector<int32_t> slot;   // per chunk: where U and blk hold it once built, else -1
+        int32_t used = 0;            // chunks held in U and blk
+        std::vector<double> U;       // bound per run, chunk by chunk (slot k: U[256 k ..])
+        std::vector<double> blk;     // max of U over blocks of 16 runs (slot k: blk[16 k ..])
     };
 
-    // Extends the band's U through the 256-run chunk holding run q_need.
-    void build(Band& band, int64_t q_need) const {
-        const int64_t end = ((q_need >> 8) + 1) << 8;
-        band.U.resize(size_t(end));
-        band.blk.resize(size_t(end >> 4));
-        band.sblk.resize(size_t(end >> 8));
-        // The band's cells over p in [ca, cb]: minor index in [lo0 + m p, hi0 + m p] (widened by
-        // 1e-6 grid units, so that cells touched only by rounding are included too).
+    // The band's cells over p in [ca, cb]: minor index in [lo0 + m p, hi0 + m p] (widened by
+    // 1e-6 grid units, so that cells touched only by rounding are included too); the first
+    // such index and their count, for columns [ca, cb).
+    std::pair<int64_t, int64_t> minor_cells(const Band& band, int64_t ca, int64_t cb) const {
         const double eps = 1e-6;
         const double lo0 = band.eta_lo - eps, hi0 = band.eta_lo + band.w + eps;
+        const double qa = m_ * double(ca), qb = m_ * double(cb);
+        const int64_t j0 = int64_t(std::floor(lo0 + std::min(qa, qb)));
+        return {j0, int64_t(std::floor(hi0 + std::max(qa, qb))) - j0 + 1};
+    }
+
+    // Coarse bounds for chunks [band.chunks, c]: the maximum over the coarse mipmap level's
+    // blocks holding the chunk's cells (they hold every level-l block its runs read, so the
+    // bound is never below the chunk's U, in floating point too), at the chunk's last column.
+    void extend(Band& band, int64_t c) const {
+        band.sblk.resize(size_t(c + 1));
+        band.slot.resize(size_t(c + 1));
+        const int64_t len = int64_t(256) << l_;  // a chunk's columns
+        for (int64_t k = band.chunks; k <= c; ++k) {
+            const int64_t ca = band.base + k * len, cb = ca + len;
+            const auto [j0, n] = minor_cells(band, ca, cb);
+            const float mx = region_max(sa_ > 0 ? ca : -cb, len, j0, n);
+            band.sblk[size_t(k)] = t_.s_ * (double(mx) - t_.b_) + k_ * double(cb);
+            band.slot[size_t(k)] = -1;
+        }
+        band.chunks = c + 1;
+    }
+
+    // Maximum over the blocks of the coarse level holding cells [a0, a0 + na) along the major
+    // axis and [b0, b0 + nb) along the minor one (both taken modulo the field).
+    float region_max(int64_t a0, int64_t na, int64_t b0, int64_t nb) const {
+        const int L = coarse_;
+        // Block index ranges along one axis: one, or two where the cells wrap.
+        auto ranges = [L](int64_t c0, int64_t n, int64_t cells, int64_t r[4]) {
+            if (n >= cells) { r[0] = 0; r[1] = (cells - 1) >> L; return 1; }
+            const int64_t s = wrap_index(c0, cells), e = s + n - 1;
+            if (e < cells) { r[0] = s >> L; r[1] = e >> L; return 1; }
+            r[0] = s >> L; r[1] = (cells - 1) >> L; r[2] = 0; r[3] = (e - cells) >> L;
+            return 2;
+        };
+        int64_t ra[4], rb[4];
+        const int na_r = ranges(a0, na, nmaj_, ra), nb_r = ranges(b0, nb, nmin_, rb);
+        const float* lv = t_.level_max_[size_t(L)].data();
+        const int64_t lw = t_.level_w_[size_t(L)];
+        float mx = -std::numeric_limits<float>::infinity();
+        for (int x = 0; x < na_r; ++x)
+            for (int y = 0; y < nb_r; ++y)
+                for (int64_t A = ra[2 * x]; A <= ra[2 * x + 1]; ++A)
+                    for (int64_t B = rb[2 * y]; B <= rb[2 * y + 1]; ++B)
+                        mx = std::max(mx, major_x_ ? lv[B * lw + A] : lv[A * lw + B]);
+        return mx;
+    }
+
+    // Builds chunk c's U and blk (c < band.chunks); its sblk becomes their maximum.
+    void build(Band& band, int64_t c) const {
+        const int32_t k = band.used++;
+        band.slot[size_t(c)] = k;
+        if (band.U.size() < size_t(band.used) << 8) {
+            band.U.resize(size_t(band.used) << 8);
+            band.blk.resize(size_t(band.used) << 4);
+        }
         const double s = t_.s_, b = t_.b_;
         const int64_t len = int64_t(1) << l_;
-        double* U = band.U.data();
-        for (int64_t q = band.built; q < end; ++q) {
+        double* U = band.U.data() + (size_t(k) << 8);  // run q at U[q - begin]
+        const int64_t begin = c << 8, end = begin + 256;
+        for (int64_t q = begin; q < end; ++q) {
             const int64_t ca = band.base + (q << l_), cb = ca + len;  // columns [ca, cb)
-            const double qa = m_ * double(ca), qb = m_ * double(cb);
-            const int64_t j0 = int64_t(std::floor(lo0 + std::min(qa, qb)));
-            const int64_t n = int64_t(std::floor(hi0 + std::max(qa, qb))) - j0 + 1;
+            const auto [j0, n] = minor_cells(band, ca, cb);
             // The run's cell columns: len consecutive ones from t (mod nmaj), through every
             // block column they touch (one when nmaj is a multiple of 2^l: runs are aligned).
             int64_t t = wrap_index(sa_ > 0 ? ca : -cb, nmaj_);
@@ -416,16 +528,16 @@ class ViewTracer {
                 left -= next - t;
                 t = next == nmaj_ ? 0 : next;
             }
-            U[q] = s * (double(mx) - b) + k_ * double(cb);
+            U[q - begin] = s * (double(mx) - b) + k_ * double(cb);
         }
         auto reduce = [](const double* u) {
             double mx = u[0];
             for (int k = 1; k < 16; ++k) mx = std::max(mx, u[k]);
             return mx;
         };
-        for (int64_t k = band.built >> 4; k < end >> 4; ++k) band.blk[size_t(k)] = reduce(&U[k << 4]);
-        for (int64_t k = band.built >> 8; k < end >> 8; ++k) band.sblk[size_t(k)] = reduce(&band.blk[size_t(k << 4)]);
-        band.built = end;
+        double* blk = band.blk.data() + (size_t(k) << 4);
+        for (int i = 0; i < 16; ++i) blk[i] = reduce(U + 16 * i);
+        band.sblk[size_t(c)] = reduce(blk);
     }
 
     // Maximum over the level-l blocks of block column I that hold cells j0 .. j0 + n - 1.
@@ -441,12 +553,19 @@ class ViewTracer {
     // The first run in [q, q_last] whose bound reaches Cm, or q_last + 1.
     int64_t find(Band& band, int64_t q, int64_t q_last, double Cm) const {
         while (q <= q_last) {
-            if (q >= band.built) build(band, q);
-            if (band.sblk[size_t(q >> 8)] < Cm) { q = (q | 255) + 1; continue; }
-            if (band.blk[size_t(q >> 4)] < Cm) { q = (q | 15) + 1; continue; }
-            const double* U = band.U.data();
+            const int64_t c = q >> 8;
+            if (c >= band.chunks) extend(band, c);
+            if (band.sblk[size_t(c)] < Cm) { q = (q | 255) + 1; continue; }
+            const int32_t k = band.slot[size_t(c)];
+            if (k < 0) {
+                build(band, c);  // then test the chunk's own maximum
+                continue;
+            }
+            const size_t at = size_t(k) << 8;  // the chunk's run 0 in U
+            if (band.blk[(at + size_t(q & 255)) >> 4] < Cm) { q = (q | 15) + 1; continue; }
+            const double* U = band.U.data() + at;  // run q at U[q & 255]
             for (const int64_t e = std::min(q | 15, q_last); q <= e; ++q)
-                if (U[q] >= Cm) return q;
+                if (U[q & 255] >= Cm) return q;
         }
         return q_last + 1;
     }
@@ -568,6 +687,7 @@ class ViewTracer {
     double dmaj_, m_, k_, inv_k_, z_max_;
     int64_t nmaj_, nmin_;  // grid cells along the major / minor axis
     int l_ = 0;            // the mipmap level the bounds are built from
+    int coarse_ = 0;       // the level of the chunks' coarse bounds
     int64_t nmin_l_ = 0;   // its blocks along the minor axis
     const float* cmax_;    // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
@@ -582,7 +702,8 @@ class BandRun {
     void begin(double eta_lo, double w) {
         band_.eta_lo = eta_lo;
         band_.w = w;
-        band_.built = 0;
+        band_.chunks = 0;
+        band_.used = 0;
         any_ = false;
     }
     void add(Vec2d P, size_t k) {
@@ -630,6 +751,7 @@ int band_level(double w) {
 }  // namespace
 
 void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {
+    require(ray_travel_problem(s_, V));  // before any band's bounds grow with the travel
     out.resize(size_t(n) * size_t(std::max(n, 0)));
     if (n <= 0) return;
     auto sample = [n](int64_t i, int64_t j) { return Vec2d{(double(i) + 0.5) / n, (double(j) + 0.5) / n}; };
@@ -698,6 +820,7 @@ void ExactTracer::trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const {
 
 bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
     if (!(L.z > 0)) return true;  // light at or below the horizon
+    require(ray_travel_problem(s_, L));  // the walk below is as long as the travel
     const int W = hf_.width, H = hf_.height;
     const double zt = z_top();
     if (z0 >= zt) return false;
@@ -712,11 +835,15 @@ bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
     double tmy = dY > 0 ? (double(cj) + 1 - Y0) / dY : (dY < 0 ? (Y0 - double(cj)) / -dY : inf);
     // The start lies on the surface (f = 0 there): only a clear dip below counts.
     const double eps = 1e-12 * std::max(s_, 1e-300);
+    // The highest surface point: once the ray is at or above it, no later cell's test below can
+    // pass (the ray only rises), so the answer is known without walking the rest of the travel.
+    const double z_max = s_ * (double(level_max_.back()[0]) - b_);
     double tau_in = 0;
     for (;;) {
         const double tau_out = std::min({tmx, tmy, tau_max});
         const int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
         const double z_in = z0 + tau_in * L.z;  // the ray's lowest point in this cell
+        if (z_in >= z_max) return false;
         if (z_in < s_ * (double(level_max_[0][size_t(wj) * W + wi]) - b_)) {
             const double h00 = hf_.at(int(wi), int(wj));
             const double h10 = hf_.wrapped(wi + 1, wj), h01 = hf_.wrapped(wi, wj + 1);
@@ -750,6 +877,7 @@ GroundTruth trace_ground_truth(const HeightField& hf, double scale, double bias,
 }
 
 GroundTruth trace_ground_truth(const ExactTracer& tracer, Vec3d V, int n, const Vec3d* L) {
+    if (L && L->z > 0) require(ray_travel_problem(tracer.scale(), *L));  // before any tracing
     std::vector<TruthHit> hits;
     tracer.trace_grid(n, V, hits);
     GroundTruth gt;
