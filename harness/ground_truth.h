@@ -1,4 +1,4 @@
-// Exact ground truth (spec section 4): the first hit of each eye ray with the bilinear surface
+// Exact ground truth (docs/conventions.md section 4): the first hit of each eye ray with the bilinear surface
 // z = s (h - b), coming from the eye, traced per cell with the exact quadratic in double.
 #pragma once
 #include <cstdint>

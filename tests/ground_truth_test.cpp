@@ -1,4 +1,4 @@
-// Exact tracer (spec section 4) against closed forms and an independent brute-force march.
+// Exact tracer (docs/conventions.md section 4) against closed forms and an independent brute-force march.
 #include "harness/ground_truth.h"
 
 #include <gtest/gtest.h>
