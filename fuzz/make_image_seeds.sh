@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Writes the seed corpus of the image fuzz target, fuzz/corpus/image/ (committed; rerun only to
-# change it). Each seed is one selector byte then the file (see fuzz/image_fuzz.cpp): low 4 bits
-# the extension (0 .png, 1 .pgm, 2 .pfm, 3 .exr, 4 .tif, 5 .hdr, 15 none), bits 4-5 the channel.
-# Valid tiny height maps in every format pxh documents, plus invalid ones: truncated, NaN,
-# out of range, oversized header, not an image, wrong extension. Needs oiiotool and python3.
+# change it). Each seed is one byte, the requested channel, then the file (see
+# fuzz/image_fuzz.cpp). Valid tiny height maps in every format pxh reads (PNG 8/16-bit, gray
+# and RGB, PGM binary and ASCII, PFM, OpenEXR float and half, TIFF, JPEG), plus invalid ones:
+# truncated, NaN, out of range, oversized header, zero width, Radiance HDR (not accepted), not
+# an image. Needs oiiotool and python3.
 set -euo pipefail
 cd "$(dirname "$0")"
 out=corpus/image
@@ -11,7 +12,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$out"
 
-# seed NAME SELECTOR FILE: the selector byte (decimal) followed by FILE's bytes.
+# seed NAME CHANNEL FILE: the channel byte (decimal) followed by FILE's bytes.
 seed() { { printf "\\$(printf '%03o' "$2")"; cat "$3"; } > "$out/$1"; }
 
 oiiotool --pattern fill:top=0:bottom=1 4x3 1 -d uint8 -o "$tmp/gray8.png"
@@ -21,6 +22,7 @@ oiiotool --pattern fill:top=0.25:bottom=0.75 4x4 1 -d float -o "$tmp/float.exr"
 oiiotool --pattern fill:top=0:bottom=1 4x4 1 -d half -o "$tmp/half.exr"
 oiiotool --pattern fill:top=0:bottom=1 4x4 1 -d uint16 -o "$tmp/gray16.tif"
 oiiotool --pattern fill:top=0.1:bottom=0.9 3x3 3 -d float -o "$tmp/rgb.hdr"
+oiiotool --pattern fill:top=0:bottom=1 8x8 1 -d uint8 -o "$tmp/gray.jpg"
 /usr/bin/python3 - "$tmp" <<'PY'
 import struct, sys
 d = sys.argv[1]
@@ -40,21 +42,20 @@ head -c 40 "$tmp/gray8.png" > "$tmp/truncated.png"
 
 seed png_gray8 0 "$tmp/gray8.png"
 seed png_gray16 0 "$tmp/gray16.png"
-seed png_rgb_channel1 16 "$tmp/rgb.png"
-seed png_rgb_channel3 48 "$tmp/rgb.png"
+seed png_rgb_channel1 1 "$tmp/rgb.png"
+seed png_rgb_channel3 3 "$tmp/rgb.png"
 seed png_truncated 0 "$tmp/truncated.png"
-seed png_no_extension 15 "$tmp/gray8.png"
-seed pgm_p5 1 "$tmp/p5.pgm"
-seed pgm_p2_16bit 1 "$tmp/p2_16.pgm"
-seed pgm_huge_header 1 "$tmp/huge.pgm"
-seed pgm_zero_width 1 "$tmp/zero.pgm"
-seed pfm_gray 2 "$tmp/gray.pfm"
-seed pfm_nan 2 "$tmp/nan.pfm"
-seed pfm_out_of_range 2 "$tmp/range.pfm"
-seed exr_float 3 "$tmp/float.exr"
-seed exr_half 3 "$tmp/half.exr"
-seed tif_gray16 4 "$tmp/gray16.tif"
-seed hdr_rgb 5 "$tmp/rgb.hdr"
-seed jpg_text 9 "$tmp/text.txt"
-seed png_as_pfm 2 "$tmp/gray8.png"
+seed pgm_p5 0 "$tmp/p5.pgm"
+seed pgm_p2_16bit 0 "$tmp/p2_16.pgm"
+seed pgm_huge_header 0 "$tmp/huge.pgm"
+seed pgm_zero_width 0 "$tmp/zero.pgm"
+seed pfm_gray 0 "$tmp/gray.pfm"
+seed pfm_nan 0 "$tmp/nan.pfm"
+seed pfm_out_of_range 0 "$tmp/range.pfm"
+seed exr_float 0 "$tmp/float.exr"
+seed exr_half 0 "$tmp/half.exr"
+seed tif_gray16 0 "$tmp/gray16.tif"
+seed jpg_gray 0 "$tmp/gray.jpg"
+seed hdr_rgb 0 "$tmp/rgb.hdr"
+seed text 0 "$tmp/text.txt"
 ls -l "$out"
