@@ -65,6 +65,15 @@ TEST_F(Cli, RunWritesResultsAndProvenance) {
                             "embree", "openimageio", "experiment"})
         EXPECT_NE(run.find(key), std::string::npos) << key;
     EXPECT_NE(run.find("generator = \\\"spikes\\\""), std::string::npos);  // the file itself
+    // Every timing comes with the spread of its repeats: min <= median <= max.
+    const pxh::CsvTable t = pxh::read_csv((dir / "res" / "results.csv").string());
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const double lo = t.number(i, "ns_per_sample_min"), mid = t.number(i, "ns_per_sample"),
+                     hi = t.number(i, "ns_per_sample_max");
+        ASSERT_TRUE(std::isfinite(lo) && std::isfinite(hi)) << i;
+        EXPECT_LE(lo, mid);
+        EXPECT_LE(mid, hi);
+    }
 }
 
 // Same experiment, same numbers, whatever the thread count (timing columns aside).
