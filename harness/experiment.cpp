@@ -97,10 +97,13 @@ std::vector<double> get_angles(const toml::node& n, const std::string& path,
         const double from = get_number(*t->get("from"), path, "from");
         const double to = get_number(*t->get("to"), path, "to");
         const double step = get_number(*t->get("step"), path, "step");
+        if (!std::isfinite(from) || !std::isfinite(to) || !std::isfinite(step))
+            throw InputError(where_of(path, n), "'" + key + "' range needs finite from, to and step");
         if (!(step > 0)) throw InputError(where_of(path, n), "'" + key + "' step must be > 0");
         if (!(to >= from)) throw InputError(where_of(path, n), "'" + key + "' needs to >= from");
-        const long long count = (long long)std::floor((to - from) / step + 1e-9) + 1;
-        if (count > 100000) throw InputError(where_of(path, n), "'" + key + "' has too many angles");
+        const double span = std::floor((to - from) / step + 1e-9) + 1;  // counted in double first
+        if (!(span <= 100000)) throw InputError(where_of(path, n), "'" + key + "' has too many angles");
+        const long long count = (long long)span;
         std::vector<double> out;
         for (long long k = 0; k < count; ++k) out.push_back(from + double(k) * step);
         return out;
@@ -289,6 +292,9 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         HeightfieldSpec hs = base;
         if (gen) {
             hs.gen_params = resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
+        if (gen && gen->problem)
+            if (const std::string why = gen->problem(hs.gen_params); !why.empty())
+                throw InputError(where, "generator '" + gen->name + "' [" + hs.gen_params.canonical() + "]: " + why);
             hs.identity = "generator:" + gen->name + " " + std::to_string(hs.width) + "x" +
                           std::to_string(hs.height) + " [" + hs.gen_params.canonical() + "]";
         }

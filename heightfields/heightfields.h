@@ -14,6 +14,9 @@ struct GeneratorInfo {
     std::vector<ParamSpec> params;
     // Fills a W x H field (texel centres) from resolved parameters; values in [0,1].
     void (*generate)(HeightField& out, const ParamValues& p);
+    // Optional: "" when the parameters can be generated within bounded memory and time, else
+    // the reason (checked when the experiment is read).
+    std::string (*problem)(const ParamValues& p) = nullptr;
 };
 
 const std::vector<GeneratorInfo>& all_generators();

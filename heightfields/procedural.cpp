@@ -108,6 +108,17 @@ void gen_terraces(HeightField& out, const ParamValues& p) {
 }
 
 // Periodic value noise: lattice of period `freq`, quintic interpolation.
+// fbm keeps one value lattice of (base_freq 2^o)^2 doubles per octave o: the finest must stay
+// within the image side limit (4096^2 doubles = 128 MiB), or a 12-octave sweep at base_freq 256
+// asks for terabytes.
+constexpr long long kMaxLatticeSide = 4096;
+std::string fbm_problem(const ParamValues& p) {
+    const long long finest = (long long)p.get_int("base_freq") << (p.get_int("octaves") - 1);
+    if (finest <= kMaxLatticeSide) return "";
+    return "its finest octave has a " + std::to_string(finest) + "^2 lattice (base_freq * 2^(octaves-1)), over the limit of " +
+           std::to_string(kMaxLatticeSide) + "; lower base_freq or octaves";
+}
+
 struct ValueNoise {
     int freq;
     std::vector<double> lattice;
@@ -200,7 +211,7 @@ const std::vector<GeneratorInfo>& all_generators() {
           {"base_freq", 4.0, 1, 256, true, "lattice cells per tile of the first octave"},
           {"gain", 0.5, 0, 1, false, "amplitude factor per octave"},
           seed_param()},
-         gen_fbm},
+         gen_fbm, fbm_problem},
         {"step", "a cliff: the left half of the tile high, the right half low (two texel-wide "
                  "walls, one at u = 0.5 and one at the wrap)",
          {{"low", 0.0, 0, 1, false, "height of the right half"},

@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "harness/error.h"
 #include "harness/experiment.h"
 #include "tests/cli_util.h"
 
@@ -19,6 +20,7 @@ theta_deg = [0, 45]
 [[heightfields]]
 generator = "fbm"
 size = 64
+base_freq = 1
 octaves = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]
 seed = { from = 1, to = 100, step = 1 }
 gain = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95]
@@ -54,6 +56,31 @@ TEST_F(RunLimits, RowsAndMemoryAreBoundedBeforeAnyWork) {
     // Refused from the estimate alone: seconds, not the 12,000 fields.
     EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(60));
     EXPECT_FALSE(fs::exists(dir / "res"));
+}
+
+}  // namespace
+
+namespace {
+
+// Fuzzer findings (fuzz/corpus/experiment/range_to_inf.toml, fbm_huge_lattice.toml): an
+// infinite angle range ran as an empty successful run, and a fine fbm lattice asked for
+// terabytes. Both are refused when the file is read.
+TEST(RunLimitsParse, InfiniteRangesAndHugeLatticesAreRefused) {
+    const std::string tail = "[[heightfields]]\ngenerator = \"sine\"\nsize = 4\n[[methods]]\nname = \"parallax\"\n";
+    for (const std::string to : {"inf", "nan", "1e300"})
+        EXPECT_THROW(pxh::parse_experiment("[views]\ntheta_deg = { from = 0, to = " + to + ", step = 1 }\n" + tail, "x.toml"),
+                     pxh::InputError) << to;
+    EXPECT_EQ(pxh::parse_experiment("[views]\ntheta_deg = { from = 0, to = 80, step = 10 }\n" + tail, "x.toml").theta_deg.size(), 9u);
+    const std::string fbm = "[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = \"fbm\"\nsize = 8\n";
+    try {
+        pxh::parse_experiment(fbm + "base_freq = 256\noctaves = 12\n[[methods]]\nname = \"none\"\n", "x.toml");
+        ADD_FAILURE() << "accepted";
+    } catch (const pxh::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("524288^2 lattice"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind("x.toml:", 0), 0u) << e.what();
+    }
+    // The largest accepted: base_freq 128, 6 octaves = 4096.
+    EXPECT_NO_THROW(pxh::parse_experiment(fbm + "base_freq = 128\noctaves = 6\n[[methods]]\nname = \"none\"\n", "x.toml"));
 }
 
 }  // namespace
