@@ -624,10 +624,14 @@ FieldSize field_size(const HeightfieldSpec& spec) {
                 const size_t k = sc.periodic ? 1 : 2;  // mirrored to 2W x 2H
                 return {k * size_t(sc.width), k * size_t(sc.height), true};
             }
-    } else if (auto in = OIIO::ImageInput::open(spec.file)) {
-        const size_t w = size_t(std::max(in->spec().width, 0)), h = size_t(std::max(in->spec().height, 0));
-        in->close();
-        return {w, h, false};
+    } else {
+        // Through pxh's hardened loader (never OpenImageIO on the raw file: a hostile header
+        // can make a library allocate gigabytes); bounded by the image limits, freed at once.
+        try {
+            const HeightField hf = load_heightfield_file(spec.file, spec.channel);
+            return {size_t(hf.width), size_t(hf.height), false};
+        } catch (const std::exception&) {
+        }
     }
     // Unknown (the run will refuse it): the largest field the loader accepts.
     return {size_t(kMaxImageSide), size_t(kMaxImageTexels / kMaxImageSide), false};

@@ -488,6 +488,22 @@ HeightField read_netpbm(Reader& r, const std::string& name, int channel) {
     return hf;
 }
 
+// PNG: every chunk's length must fit in the file before libpng sees it (libpng allocates what
+// a tEXt/zTXt/iTXt/iCCP chunk's length claims: a 344-byte file claiming 2 GB made it allocate
+// 2 GB; found by scripts/fuzz.sh, fuzz/corpus/image/png_text_chunk_length_2gb).
+void check_png_chunks(Reader& r) {
+    r.skip(8, "PNG signature");
+    while (r.left() > 0) {
+        unsigned char h[8];
+        r.read(h, 8, "PNG chunk header");
+        const unsigned long long len = (unsigned long long)h[0] << 24 | h[1] << 16 | h[2] << 8 | h[3];
+        const std::string type(reinterpret_cast<const char*>(h + 4), 4);
+        if (len > 0x7fffffffULL) r.fail("PNG chunk '" + one_line(type) + "' has an impossible length");
+        r.skip((long long)len + 4, "PNG chunk '" + one_line(type) + "' (" + std::to_string(len) + " bytes)");
+        if (type == "IEND") break;
+    }
+}
+
 // ---- PNG, TIFF, OpenEXR, JPEG through OpenImageIO ----
 
 HeightField read_with_oiio(FILE* f, const char* format, const std::string& path,
@@ -591,6 +607,7 @@ HeightField load_heightfield_file(const std::string& path, int channel) {
             pnm_space(m[2])) {
             hf = read_netpbm(reader, name, channel);
         } else if (starts("\x89PNG\r\n\x1a\n", 8)) {
+            check_png_chunks(reader);
             hf = read_with_oiio(file.get(), "png", path, where, name, channel);
         } else if (starts("II*\0", 4) || starts("MM\0*", 4) || starts("II+\0", 4) ||
                    starts("MM\0+", 4)) {

@@ -2,6 +2,9 @@
 // the estimate in the message; nothing is written.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+
 #include <chrono>
 
 #include "harness/error.h"
@@ -81,6 +84,38 @@ TEST(RunLimitsParse, InfiniteRangesAndHugeLatticesAreRefused) {
     }
     // The largest accepted: base_freq 128, 6 octaves = 4096.
     EXPECT_NO_THROW(pxh::parse_experiment(fbm + "base_freq = 128\noctaves = 6\n[[methods]]\nname = \"none\"\n", "x.toml"));
+}
+
+}  // namespace
+
+namespace {
+
+// Fuzzer finding (fuzz/corpus/image/png_text_chunk_length_2gb): a 344-byte PNG whose tEXt chunk
+// claims 2 GB made libpng allocate 2 GB (through the run-size estimate and the loader) before
+// failing. Now refused from the chunk walk, within a small peak memory.
+class RunLimitsImages : public pxh::test::CliTest {};
+
+TEST_F(RunLimitsImages, PngChunkLengthsAreCheckedBeforeLibpng) {
+    const std::string seed = slurp(std::string(PXH_SOURCE_DIR) + "/fuzz/corpus/image/png_text_chunk_length_2gb");
+    ASSERT_GT(seed.size(), 100u);
+    write("evil.png", seed.substr(1));  // the fuzz input's first byte picks the channel
+    const auto exp = write("e.toml", "[views]\ntheta_deg = [0]\n[[heightfields]]\nfile = \"evil.png\"\n"
+                                     "[[methods]]\nname = \"none\"\n");
+    const std::string cmd = std::string(PXH_BINARY) + " run " + exp + " --quiet --out " +
+                            (dir / "res").string() + " 2> " + (dir / "err.txt").string();
+    const pid_t pid = fork();
+    if (pid == 0) {
+        execl("/bin/sh", "sh", "-c", cmd.c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    int status = 0;
+    struct rusage ru {};
+    ASSERT_EQ(wait4(pid, &status, 0, &ru), pid);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << status;
+    const std::string err = slurp(dir / "err.txt");
+    EXPECT_NE(err.find("PNG chunk 'tEXt'"), std::string::npos) << err;
+    EXPECT_LT(ru.ru_maxrss, 600 * 1024) << "peak RSS in KiB";  // was about 2 GB
+    EXPECT_FALSE(fs::exists(dir / "res"));
 }
 
 }  // namespace

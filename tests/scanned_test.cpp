@@ -135,7 +135,7 @@ TEST_F(ScanFiles, HostileImagesAreRefusedWithTheFileNamed) {
     std::ifstream in(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/jacksboro.png", std::ios::binary);
     std::string data((std::istreambuf_iterator<char>(in)), {});
     const std::string trunc = error_of(bytes("trunc.png", data.substr(0, data.size() / 2)));
-    EXPECT_NE(trunc.find("trunc.png: cannot read pixels"), std::string::npos) << trunc;
+    EXPECT_NE(trunc.find("trunc.png: PNG chunk 'IDAT'"), std::string::npos) << trunc;
     EXPECT_EQ(trunc.find('\n'), std::string::npos) << trunc;
 }
 
