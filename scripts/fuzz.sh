@@ -11,7 +11,9 @@
 # Reproduce one: build-fuzz/fuzz_TARGET FILE (or, in the gcc build, pxh_fuzz_replay TARGET FILE).
 # Once the bug is fixed, copy the input into fuzz/corpus/TARGET/ as a regression seed: the
 # normal build's ctest entry fuzz_corpus_replay feeds every corpus file to its target.
-# JOBS=N sets the build parallelism (default: the number of cores).
+# JOBS=N sets the build parallelism (default: the number of cores). FUZZ_ARGS adds libFuzzer
+# options, e.g. FUZZ_ARGS="-fork=1 -ignore_ooms=1 -ignore_timeouts=1" to keep fuzzing past a
+# known out-of-memory or hang (each one still leaves its input in artifacts/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -37,19 +39,25 @@ cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
 
 failed=()
 for t in "${targets[@]}"; do
-  mkdir -p "$build/corpus/$t" "$build/artifacts/$t"
+  art="$build/artifacts/$t"
+  mkdir -p "$build/corpus/$t" "$art"
+  touch "$art/.start"  # inputs written after this are this run's findings
   dict=()
   [ -f "fuzz/$t.dict" ] && dict=("-dict=fuzz/$t.dict")
   echo "fuzz.sh: $t for ${seconds} s" >&2
   status=0
   "$build/fuzz_$t" "$build/corpus/$t" "fuzz/corpus/$t" "${dict[@]}" \
     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$build/artifacts/$t/" 2>"$build/fuzz_$t.log" || status=$?
-  grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb|#[0-9]+ +DONE)' "$build/fuzz_$t.log" >&2 || true
-  if [ $status -ne 0 ]; then
+    -artifact_prefix="$art/" ${FUZZ_ARGS:-} 2>"$build/fuzz_$t.log" || status=$?
+  grep -E '^(stat::number_of_executed_units|stat::peak_rss_mb)' "$build/fuzz_$t.log" >&2 || true
+  # Each finding is one file named by its kind: crash-, leak-, timeout-, oom-, slow-unit-.
+  # (The log can lack the message: the image loader silences stderr while a library reads.)
+  found=$(find "$art" -type f -newer "$art/.start" ! -name .start | sort)
+  if [ $status -ne 0 ] || [ -n "$found" ]; then
     failed+=("$t")
-    echo "fuzz.sh: $t FOUND A PROBLEM (exit $status): see $build/fuzz_$t.log and $build/artifacts/$t/" >&2
+    echo "fuzz.sh: $t FOUND A PROBLEM (exit $status; log $build/fuzz_$t.log):" >&2
     grep -m1 -E 'ERROR: (AddressSanitizer|LeakSanitizer|libFuzzer)|runtime error' "$build/fuzz_$t.log" >&2 || true
+    [ -n "$found" ] && echo "$found" >&2
   fi
 done
 if [ ${#failed[@]} -gt 0 ]; then
