@@ -475,7 +475,7 @@ HeightField read_netpbm(Reader& r, const std::string& name, int channel) {
             for (; c != EOF && !pnm_space(c); c = r.get()) {
                 if (t.size() < 12) t += char(c);
                 digits = digits && c >= '0' && c <= '9';
-                v = std::min(v * 10 + (c - '0'), 1ll << 40);
+                if (digits) v = std::min(v * 10 + (c - '0'), 1ll << 40);  // digits only: no overflow
             }
             if (!digits)
                 r.fail("sample '" + t + "' at " + pnm_texel(k, w, nch) + " is not a number");
