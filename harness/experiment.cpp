@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -218,7 +219,9 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         base.name = "scan:" + base.scan;
         const std::string png =
             std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/" + base.scan + ".png";
-        base.identity = "scan:" + base.scan + " sha256:" + sha256_file(png);
+        base.source_path = png;
+        base.source_sha256 = sha256_file(png);
+        base.identity = "scan:" + base.scan + " sha256:" + base.source_sha256;
     } else {
         const std::string f = get_string(*t.get("file"), path, "file");
         fs::path fp(f);
@@ -257,8 +260,10 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         if (!problem.empty())
             throw InputError(where, file_problem(base.file, problem));
         try {
+            base.source_path = base.file;
+            base.source_sha256 = sha256_file(base.file);
             base.identity = "file:" + base.file_written + " channel:" +
-                            std::to_string(base.channel) + " sha256:" + sha256_file(base.file);
+                            std::to_string(base.channel) + " sha256:" + base.source_sha256;
         } catch (const InputError& e) {
             throw InputError(where, file_problem(base.file, e.what()));
         }
@@ -292,9 +297,10 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         HeightfieldSpec hs = base;
         if (gen) {
             hs.gen_params = resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
-        if (gen && gen->problem)
-            if (const std::string why = gen->problem(hs.gen_params); !why.empty())
-                throw InputError(where, "generator '" + gen->name + "' [" + hs.gen_params.canonical() + "]: " + why);
+            if (gen->problem)
+                if (const std::string why = gen->problem(hs.gen_params); !why.empty())
+                    throw InputError(where, "generator '" + gen->name + "' [" +
+                                                hs.gen_params.canonical() + "]: " + why);
             hs.identity = "generator:" + gen->name + " " + std::to_string(hs.width) + "x" +
                           std::to_string(hs.height) + " [" + hs.gen_params.canonical() + "]";
         }
@@ -637,14 +643,17 @@ FieldSize field_size(const HeightfieldSpec& spec) {
     return {size_t(kMaxImageSide), size_t(kMaxImageTexels / kMaxImageSide), false};
 }
 
-std::string mib(size_t bytes) {
-    std::ostringstream os;
-    os.precision(1);
-    os << std::fixed << double(bytes) / double(1 << 20) << " MiB";
-    return os.str();
-}
+std::string mib(size_t bytes) { return format_bytes(bytes); }
 
 }  // namespace
+
+std::string format_bytes(size_t bytes) {
+    std::ostringstream os;
+    os << std::fixed;
+    if (bytes < (size_t(1) << 30)) os << std::setprecision(1) << double(bytes) / double(1 << 20) << " MiB";
+    else os << std::setprecision(1) << double(bytes) / double(size_t(1) << 30) << " GiB";
+    return os.str();
+}
 
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
     // The model's constants (see experiment.h), measured on this project's machine (peak

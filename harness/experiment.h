@@ -29,6 +29,7 @@ struct HeightfieldSpec {
     //   file:PATH channel:C sha256:HEX   (PATH as written, relative to the experiment file)
     //   scan:NAME sha256:HEX             (of the committed heightfields/scanned/NAME.png)
     std::string identity;
+    std::string source_path, source_sha256;  // files and scans: the image read and its sha256
 };
 
 struct MethodSpec {
@@ -103,6 +104,9 @@ struct RunEstimate {
     std::string detail;  // one line: the terms above, in MiB
 };
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override);
+
+// "512 MiB", "12.5 GiB": sizes in messages.
+std::string format_bytes(size_t bytes);
 
 constexpr size_t kDefaultMaxRows = 1000000;
 constexpr size_t kDefaultMaxMemoryBytes = size_t(8) << 30;  // 8 GiB

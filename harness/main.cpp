@@ -136,25 +136,14 @@ size_t parse_bytes(const std::string& text) {
     return size_t(v * mult.at(unit));
 }
 
-std::string mib(size_t bytes) {
-    std::ostringstream os;
-    os << std::fixed << std::setprecision(bytes < (size_t(10) << 30) ? 0 : 1);
-    if (bytes < (size_t(10) << 30)) os << double(bytes) / 1048576.0 << " MiB";
-    else os << double(bytes) / 1073741824.0 << " GiB";
-    return os.str();
-}
-
 // run.json's record of the inputs: every image a height field was read from, with its sha256.
 nlohmann::json input_records(const Experiment& ex) {
     nlohmann::json inputs = nlohmann::json::array();
     std::set<std::string> seen;
     inputs.push_back({{"experiment", ex.path}, {"sha256", sha256_hex(ex.text)}});
-    for (const auto& h : ex.heightfields) {
-        std::string path = h.file;
-        if (!h.scan.empty()) path = std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/" + h.scan + ".png";
-        if (path.empty() || !seen.insert(path).second) continue;
-        inputs.push_back({{"heightfield", h.name}, {"path", path}, {"sha256", sha256_file(path)}});
-    }
+    for (const auto& h : ex.heightfields)  // hashed once, when the experiment was read
+        if (!h.source_path.empty() && seen.insert(h.source_path).second)
+            inputs.push_back({{"heightfield", h.name}, {"path", h.source_path}, {"sha256", h.source_sha256}});
     return inputs;
 }
 
@@ -169,8 +158,8 @@ int cmd_run(const RunArgs& a) {
                                       " rows, over the limit of " + std::to_string(a.max_rows) +
                                       " (raise it with --max-rows N)");
     if (est.peak_bytes > max_memory)
-        throw InputError(ex.path, "the run would need about " + mib(est.peak_bytes) +
-                                      " of memory, over the limit of " + mib(max_memory) + " (" +
+        throw InputError(ex.path, "the run would need about " + format_bytes(est.peak_bytes) +
+                                      " of memory, over the limit of " + format_bytes(max_memory) + " (" +
                                       est.detail + "; raise it with --max-memory SIZE)");
     const std::string out_dir =
         a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S") : a.out_dir;
@@ -302,7 +291,7 @@ int main(int argc, char** argv) {
                         std::to_string(kDefaultMaxRows) + ")");
     run->add_option("--max-memory", ra.max_memory,
                     "refuse a run estimated to need more memory, e.g. 512M, 16G (default " +
-                        mib(kDefaultMaxMemoryBytes) + ")");
+                        format_bytes(kDefaultMaxMemoryBytes) + ")");
 
     auto* list = app.add_subcommand("list", "list registered methods, or height fields (generators and imported scans)");
     std::string what;

@@ -51,7 +51,7 @@ TEST_F(RunLimits, RowsAndMemoryAreBoundedBeforeAnyWork) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     r = pxh("run " + exp + " --max-memory 1M --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_NE(r.err.find("of memory, over the limit of 1 MiB"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("of memory, over the limit of 1.0 MiB"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
     r = pxh("run " + exp + " --max-memory 12parsecs --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
