@@ -6,8 +6,8 @@
 #include <string>
 
 #include "fuzz/fuzz_target.h"
-#include "harness/csv_table.h"
-#include "harness/report.h"
+#include "harness/results/csv_table.h"
+#include "harness/report/report.h"
 
 PXH_FUZZ_TARGET(csv) {
     pxh::fuzz::silence_stdout();  // the report prints where it wrote

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "fuzz/fuzz_target.h"
-#include "harness/experiment.h"
+#include "harness/experiment/experiment.h"
 
 PXH_FUZZ_TARGET(experiment) {
     const std::string text(reinterpret_cast<const char*>(data), size);

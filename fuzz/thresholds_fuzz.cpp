@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "fuzz/fuzz_target.h"
-#include "harness/report.h"
-#include "harness/results.h"
+#include "harness/report/report.h"
+#include "harness/results/results.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 // - it must be a regular file (after following symlinks): a FIFO would block forever and
 //   /dev/zero would be read forever;
 // - its format is recognised from its first bytes, not its name;
-// - the size it claims is checked against the limits in harness/heightfield.h. OpenImageIO
+// - the size it claims is checked against the limits in harness/scene/heightfield.h. OpenImageIO
 //   reports the header of PNG, TIFF and JPEG without allocating pixels; OpenEXR believes the
 //   sizes its header states (an attribute claiming 2 GB is allocated before the read fails),
 //   so an OpenEXR header is walked here first, every size checked against the file's length.
@@ -30,7 +30,7 @@
 #include <memory>
 #include <vector>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 
 namespace pxh {
@@ -79,7 +79,7 @@ std::string flat(const std::string& s) {
 
 std::string num(long long v) { return std::to_string(v); }
 
-// The size limits of harness/heightfield.h for a W x H image of `channels` channels taking
+// The size limits of harness/scene/heightfield.h for a W x H image of `channels` channels taking
 // `pixel_bytes` bytes per pixel (all channels, as stored). `what` is "image" or "tile".
 void check_size(const std::string& where, const char* what, long long w, long long h,
                 long long channels, long long pixel_bytes) {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 
 namespace pxh {

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 
 namespace pxh {
 namespace {

@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scan_io.h"
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/heightfield.h"
+#include "harness/scene/heightfield.h"
 
 namespace pxh {
 

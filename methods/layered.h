@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "methods/method.h"
 
 namespace pxh {

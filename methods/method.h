@@ -18,9 +18,9 @@
 #include <utility>
 #include <vector>
 
-#include "harness/heightfield.h"
-#include "harness/params.h"
-#include "harness/vec.h"
+#include "harness/scene/heightfield.h"
+#include "harness/core/params.h"
+#include "harness/core/vec.h"
 
 namespace pxh {
 

@@ -4,8 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "harness/csv_table.h"
-#include "harness/sha256.h"
+#include "harness/results/csv_table.h"
+#include "harness/core/sha256.h"
 #include "tests/cli_util.h"
 #include <sys/wait.h>
 #include <unistd.h>

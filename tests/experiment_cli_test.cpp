@@ -8,7 +8,7 @@
 
 #include <algorithm>
 
-#include "harness/experiment.h"
+#include "harness/experiment/experiment.h"
 #include "tests/cli_util.h"
 
 extern char** environ;

@@ -1,5 +1,5 @@
 // Experiment files: what parses, and every bad input named with file and line.
-#include "harness/experiment.h"
+#include "harness/experiment/experiment.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -13,8 +13,8 @@
 #include <sstream>
 #include <thread>
 
-#include "harness/error.h"
-#include "harness/sha256.h"
+#include "harness/core/error.h"
+#include "harness/core/sha256.h"
 #include "heightfields/heightfields.h"
 
 namespace pxh {

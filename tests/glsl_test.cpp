@@ -1,13 +1,13 @@
 // The GLSL backend, rendered for real through OSMesa (llvmpipe): every registered method's
 // shader against its CPU float reference, shader errors, and texture quantisation.
-#include "harness/glsl_backend.h"
+#include "harness/backends/glsl_backend.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "harness/metrics.h"
+#include "harness/metrics/metrics.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
 

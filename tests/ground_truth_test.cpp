@@ -1,5 +1,5 @@
 // Exact tracer (docs/conventions.md section 4) against closed forms and an independent brute-force march.
-#include "harness/ground_truth.h"
+#include "harness/truth/ground_truth.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>

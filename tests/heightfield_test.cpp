@@ -1,5 +1,5 @@
 // Bilinear sampling (docs/conventions.md section 1), generators, and image loading.
-#include "harness/heightfield.h"
+#include "harness/scene/heightfield.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
 

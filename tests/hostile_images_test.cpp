@@ -16,7 +16,7 @@
 #include <functional>
 #include <sstream>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 #include "tests/cli_util.h"
 

@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "harness/ground_truth.h"
-#include "harness/metrics.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/metrics/metrics.h"
 #include "methods/layered.h"
 #include "tests/test_util.h"
 

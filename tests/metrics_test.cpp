@@ -1,5 +1,5 @@
 // Texel error and its statistics (docs/conventions.md section 5) against hand-computed values.
-#include "harness/metrics.h"
+#include "harness/metrics/metrics.h"
 
 #include <gtest/gtest.h>
 

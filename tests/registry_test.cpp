@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "harness/ground_truth.h"
-#include "harness/metrics.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/metrics/metrics.h"
 #include "tests/test_util.h"
 
 namespace pxh {

@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "harness/csv_table.h"
-#include "harness/error.h"
-#include "harness/report.h"
-#include "harness/results.h"
+#include "harness/results/csv_table.h"
+#include "harness/core/error.h"
+#include "harness/report/report.h"
+#include "harness/results/results.h"
 #include "tests/cli_util.h"
 
 namespace {
@@ -466,7 +466,7 @@ name = "parallax"
     }
     // The report of a moved folder still finds its error maps (paths relative to the folder).
     fs::rename(dir / "it's here", dir / "moved");
-    const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) + "/harness/plot_report.py " +
+    const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) + "/harness/report/plot_report.py " +
                             quote((dir / "moved" / "report").string()) + " >/dev/null 2>" +
                             quote((dir / "err.txt").string());
     EXPECT_EQ(std::system(cmd.c_str()), 0);

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "harness/csv_table.h"
+#include "harness/results/csv_table.h"
 
 namespace {
 

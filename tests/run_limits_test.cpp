@@ -7,8 +7,8 @@
 
 #include <chrono>
 
-#include "harness/error.h"
-#include "harness/experiment.h"
+#include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
 #include "tests/cli_util.h"
 
 namespace {

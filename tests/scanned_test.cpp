@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "harness/error.h"
+#include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scan_io.h"
 

@@ -1,7 +1,7 @@
 // SHA-256 against the FIPS 180-4 example digests (NIST CSRC examples).
 #include <gtest/gtest.h>
 
-#include "harness/sha256.h"
+#include "harness/core/sha256.h"
 
 using namespace pxh;
 

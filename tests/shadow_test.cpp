@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "harness/ground_truth.h"
+#include "harness/truth/ground_truth.h"
 #include "methods/shadow.h"
 #include "tests/test_util.h"
 

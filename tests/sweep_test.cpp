@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
-#include "harness/ground_truth.h"
-#include "harness/metrics.h"
-#include "harness/runner.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/metrics/metrics.h"
+#include "harness/run/runner.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
 

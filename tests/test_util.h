@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/ground_truth.h"
-#include "harness/heightfield.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/scene/heightfield.h"
 #include "methods/method.h"
 
 namespace pxh::test {

@@ -11,12 +11,12 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "harness/bench.h"
-#include "harness/embree_truth.h"
-#include "harness/error.h"
-#include "harness/experiment.h"
-#include "harness/ground_truth.h"
-#include "harness/metrics.h"
+#include "harness/commands/bench.h"
+#include "harness/truth/embree_truth.h"
+#include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/metrics/metrics.h"
 #include "heightfields/heightfields.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"

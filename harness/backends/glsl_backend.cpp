@@ -1,0 +1,292 @@
+#include "harness/backends/glsl_backend.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "harness/core/error.h"
+#include "harness/gl/gl_context.h"
+#include "harness/core/sha256.h"
+#include "harness/backends/shaders.h"
+
+namespace pxh {
+namespace {
+
+const char* kVertexShader = R"(#version 450 core
+// A full-screen triangle; the fragment shader derives P from gl_FragCoord.
+void main() {
+    vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0);
+    gl_Position = vec4(p, 0.0, 1.0);
+}
+)";
+
+std::string one_line(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ';';
+    return s;
+}
+
+// The driver's log of a shader or program, on one line.
+std::string info_log(GLuint object, bool program) {
+    GLint len = 0;
+    (program ? glGetProgramiv : glGetShaderiv)(object, GL_INFO_LOG_LENGTH, &len);
+    std::string log(size_t(std::max(len, 1)), '\0');
+    (program ? glGetProgramInfoLog : glGetShaderInfoLog)(object, len, nullptr, log.data());
+    return one_line(log.c_str());
+}
+
+unsigned compile(GLenum type, const std::string& src, const std::string& what) {
+    const GLuint sh = glCreateShader(type);
+    const char* p = src.c_str();
+    glShaderSource(sh, 1, &p, nullptr);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        const std::string log = info_log(sh, false);
+        glDeleteShader(sh);
+        throw std::runtime_error(what + ": shader compile failed: " + log);
+    }
+    return sh;
+}
+
+}  // namespace
+
+GlslBackend::GlslBackend(GlslOptions opt) : opt_(std::move(opt)) {
+    if (!opt_.shader_dir.empty()) {
+        // A typo must not silently give the built-in shaders' numbers.
+        std::error_code ec;
+        if (!std::filesystem::is_directory(opt_.shader_dir, ec))
+            throw InputError("--shader-dir " + opt_.shader_dir, "no such folder");
+    }
+    ctx_ = std::make_unique<OsmesaContext>();
+    if (!gladLoadGL(reinterpret_cast<GLADloadfunc>(&OsmesaContext::proc_address)))
+        throw std::runtime_error("OSMesa: cannot load the OpenGL 4.5 entry points");
+    const auto* r = glGetString(GL_RENDERER);
+    const auto* v = glGetString(GL_VERSION);
+    renderer_ = r ? reinterpret_cast<const char*>(r) : "unknown";
+    version_ = v ? reinterpret_cast<const char*>(v) : "unknown";
+    glGenVertexArrays(1, &vao_);  // a core context needs a bound VAO even without attributes
+    glBindVertexArray(vao_);
+    glGenTextures(1, &texture_);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    glGenFramebuffers(1, &fbo_);
+    glGenTextures(2, color_);
+}
+
+GlslBackend::~GlslBackend() {
+    if (!ctx_) return;
+    ctx_->make_current();
+    for (auto& [k, p] : programs_) glDeleteProgram(p.id);
+    glDeleteTextures(2, color_);
+    glDeleteTextures(1, &texture_);
+    glDeleteFramebuffers(1, &fbo_);
+    glDeleteVertexArrays(1, &vao_);
+}
+
+namespace {
+
+struct MethodSources {
+    ShaderSource common, body;
+    std::string common_name, body_name;  // "builtin:PATH" or the file read
+    std::string description() const {    // the results' shader column
+        if (body.origin == "builtin" && common.origin == "builtin") return "builtin";
+        return body_name + (common.origin == "builtin" ? "" : " + " + common_name);
+    }
+};
+
+MethodSources method_sources(const MethodInfo& m, const std::string& shader_dir) {
+    const std::string method_path = "methods/" + m.name + "/" + m.name + ".frag.glsl";
+    MethodSources s;
+    try {
+        s.common = shader_source("methods/common.glsl", shader_dir);
+        s.body = shader_source(method_path, shader_dir);
+    } catch (const std::exception& e) {
+        throw std::runtime_error("method '" + m.name + "': " + e.what());
+    }
+    s.common_name = s.common.origin == "builtin" ? "builtin:methods/common.glsl" : s.common.origin;
+    s.body_name = s.body.origin == "builtin" ? "builtin:" + method_path : s.body.origin;
+    return s;
+}
+
+}  // namespace
+
+std::string GlslBackend::shader_description(const MethodInfo& m) const {
+    try {
+        return method_sources(m, opt_.shader_dir).description();
+    } catch (const std::exception&) {
+        return "";
+    }
+}
+
+const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
+    auto it = programs_.find(m.name);
+    if (it != programs_.end()) return it->second;
+    const MethodSources ms = method_sources(m, opt_.shader_dir);
+    const ShaderSource &common = ms.common, &body = ms.body;
+    const std::string &common_name = ms.common_name, &body_name = ms.body_name;
+    // Every source compiled is recorded with its sha256 (run.json), builtin or read from a file.
+    compiled_sources_[common_name] = sha256_hex(common.text);
+    compiled_sources_[body_name] = sha256_hex(body.text);
+    const std::string src = "#version 450 core\n#line 1 1\n" + common.text + "\n#line 1 2\n" + body.text;
+    // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
+    const std::string what = "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
+    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, "pxh vertex shader");
+    GLuint fs = 0;
+    try {
+        fs = compile(GL_FRAGMENT_SHADER, src, what);
+    } catch (...) {
+        glDeleteShader(vs);
+        throw;
+    }
+    const GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glAttachShader(prog, fs);
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        const std::string log = info_log(prog, true);
+        glDeleteProgram(prog);
+        throw std::runtime_error(what + ": program link failed: " + log);
+    }
+    Program& p = programs_[m.name];
+    p.id = prog;
+    p.shader = ms.description();
+    return p;
+}
+
+void GlslBackend::upload(const HeightField& hf, const std::string& format) {
+    // Uploaded on every call: a cache keyed on the data pointer can see a freed field's
+    // address reused by the next one, and an upload costs little next to rendering.
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // Rows go up unchanged: row j = 0 of the field is texture row 0 (v near 0).
+    if (format == "r32f") {
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, hf.width, hf.height, 0, GL_RED, GL_FLOAT,
+                     hf.texels.data());
+    } else if (format == "r16") {
+        std::vector<uint16_t> q(hf.texels.size());
+        for (size_t i = 0; i < q.size(); ++i) q[i] = uint16_t(std::lround(hf.texels[i] * 65535.0));
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_R16, hf.width, hf.height, 0, GL_RED,
+                     GL_UNSIGNED_SHORT, q.data());
+    } else if (format == "r8") {
+        std::vector<uint8_t> q(hf.texels.size());
+        for (size_t i = 0; i < q.size(); ++i) q[i] = uint8_t(std::lround(hf.texels[i] * 255.0));
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, hf.width, hf.height, 0, GL_RED, GL_UNSIGNED_BYTE,
+                     q.data());
+    } else {
+        throw std::runtime_error("unknown texture format '" + format + "'");
+    }
+    if (glGetError() != GL_NO_ERROR)
+        throw std::runtime_error("cannot upload a " + std::to_string(hf.width) + " x " +
+                                 std::to_string(hf.height) + " " + format + " texture");
+}
+
+void GlslBackend::ensure_framebuffer(int n) {
+    if (fb_size_ == n) return;
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    for (int i = 0; i < 2; ++i) {
+        glBindTexture(GL_TEXTURE_2D, color_[i]);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, n, n, 0, GL_RGBA, GL_FLOAT, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_TEXTURE_2D,
+                               color_[i], 0);
+    }
+    const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, bufs);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw std::runtime_error("cannot create a " + std::to_string(n) + " x " +
+                                 std::to_string(n) + " RGBA32F framebuffer");
+    fb_size_ = n;
+}
+
+MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
+                              const HeightField& hf, int samples,
+                              const std::string& texture_format, const LightSpec* light,
+                              int frames) {
+    ctx_->make_current();
+    const Program& program = program_for(*m.method);
+    const GLuint prog = program.id;
+    upload(hf, texture_format);
+    ensure_framebuffer(samples);
+    glUseProgram(prog);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    auto loc = [&](const char* n) { return glGetUniformLocation(prog, n); };
+    const Scene<float> sc = scene_cast<float>(scene);
+    glUniform1i(loc("u_height"), 0);
+    glUniform1f(loc("u_scale"), sc.scale);
+    glUniform1f(loc("u_bias"), sc.bias);
+    glUniform3f(loc("u_view"), sc.V.x, sc.V.y, sc.V.z);
+    glUniform2i(loc("u_size"), hf.width, hf.height);
+    glUniform1f(loc("u_samples"), float(samples));
+    glUniform1i(loc("u_light_on"), light ? 1 : 0);
+    if (light) {
+        const Vec3<float> L(view_vector(light->theta_deg, light->phi_deg));
+        glUniform3f(loc("u_light"), L.x, L.y, L.z);
+        glUniform1f(loc("u_shadow_layers_min"), float(light->layers_min));
+        glUniform1f(loc("u_shadow_layers_max"), float(light->layers_max));
+    }
+    for (const auto& [name, value] : m.method->gl_uniforms(m.params))
+        glUniform1f(loc(name.c_str()), float(value));  // -1 (unused) is ignored by GL
+
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glViewport(0, 0, samples, samples);
+    glBindVertexArray(vao_);
+    std::vector<double> ms;
+    const int timed_frames = frames < 0 ? opt_.frames : frames;
+    for (int frame = 0; frame <= timed_frames; ++frame) {  // frame 0 absorbs the shader JIT
+        const auto t0 = std::chrono::steady_clock::now();
+        glDrawArrays(GL_TRIANGLES, 0, 3);
+        glFinish();
+        const auto t1 = std::chrono::steady_clock::now();
+        if (frame > 0) ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    }
+    if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+        throw std::runtime_error("method '" + m.method->name + "': GL error " +
+                                 std::to_string(err) + " while rendering");
+    const size_t n = size_t(samples) * samples;
+    std::vector<float> px(n * 4), sh(n * 4);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, px.data());
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, sh.data());
+
+    MethodOutput out;
+    out.uv.resize(n);
+    out.fetches.resize(n);
+    for (size_t k = 0; k < n; ++k) {  // row 0 of the read-back is gl_FragCoord.y = 0.5: j = 0
+        out.uv[k] = {px[4 * k], px[4 * k + 1]};
+        out.fetches[k] = int(px[4 * k + 2]);
+    }
+    if (light) {
+        out.shadow_hard.resize(n);
+        out.shadow_soft.resize(n);
+        for (size_t k = 0; k < n; ++k) {
+            out.shadow_hard[k] = sh[4 * k];
+            out.shadow_soft[k] = sh[4 * k + 1];
+        }
+    }
+    out.shader = program.shader;
+    const Spread t = spread(ms);
+    out.ms_per_frame = t.median;
+    out.ms_per_frame_min = t.min;
+    out.ms_per_frame_max = t.max;
+    return out;
+}
+
+}  // namespace pxh

@@ -1,0 +1,59 @@
+// The GLSL backend: each method's fragment shader rendered offscreen through OSMesa over an
+// N x N RGBA32F framebuffer, read back and scored by the same metrics as the CPU reference.
+#pragma once
+#include <map>
+#include <memory>
+#include <string>
+
+#include "harness/experiment/experiment.h"
+#include "harness/run/runner.h"
+
+namespace pxh {
+
+class OsmesaContext;
+
+struct GlslOptions {
+    std::string shader_dir;  // overrides the embedded shaders when non-empty
+    int frames = 5;          // timed frames (median), after one warm-up frame
+};
+
+class GlslBackend {
+  public:
+    // Creates the context and loads GL; throws std::runtime_error with a one-line reason.
+    explicit GlslBackend(GlslOptions opt);
+    ~GlslBackend();
+    std::string renderer() const { return renderer_; }
+    // Every shader source compiled so far: "builtin:PATH" or the file read -> sha256.
+    const std::map<std::string, std::string>& compiled_sources() const { return compiled_sources_; }
+    std::string version() const { return version_; }
+
+    // Renders the method; throws std::runtime_error (shader compile/link log included) when
+    // the method cannot run. texture_format: "r32f" | "r16" | "r8".
+    // frames < 0: the configured number of timed frames; 0: render once, untimed.
+    MethodOutput run(const MethodSpec& m, const Scene<double>& scene, const HeightField& hf,
+                     int samples, const std::string& texture_format, const LightSpec* light,
+                     int frames = -1);
+
+  private:
+    struct Program {
+        unsigned id = 0;
+        std::string shader;  // "builtin", or the file(s) read from the shader folder
+    };
+    const Program& program_for(const MethodInfo& m);
+  public:
+    // "builtin", or the shader file(s) the method's program is (or would be) compiled from.
+    std::string shader_description(const MethodInfo& m) const;
+  private:
+    void upload(const HeightField& hf, const std::string& format);
+    void ensure_framebuffer(int n);
+
+    GlslOptions opt_;
+    std::unique_ptr<OsmesaContext> ctx_;
+    std::string renderer_, version_;
+    unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0;
+    int fb_size_ = 0;
+    std::map<std::string, Program> programs_;
+    std::map<std::string, std::string> compiled_sources_;
+};
+
+}  // namespace pxh

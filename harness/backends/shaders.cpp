@@ -1,0 +1,30 @@
+#include "harness/backends/shaders.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace pxh {
+
+ShaderSource shader_source(const std::string& path, const std::string& override_dir) {
+    namespace fs = std::filesystem;
+    if (!override_dir.empty()) {
+        for (const fs::path& p : {fs::path(override_dir) / path,
+                                  fs::path(override_dir) / fs::path(path).filename()}) {
+            std::error_code ec;
+            if (fs::is_regular_file(p, ec)) {
+                std::ifstream f(p, std::ios::binary);
+                std::stringstream ss;
+                ss << f.rdbuf();
+                if (!f && !f.eof()) throw std::runtime_error(p.string() + ": cannot read");
+                return {ss.str(), fs::absolute(p).lexically_normal().string()};
+            }
+        }
+    }
+    for (const auto& s : embedded_shaders())
+        if (path == s.path) return {s.source, "builtin"};
+    throw std::runtime_error(path + ": no such shader (no GLSL implementation)");
+}
+
+}  // namespace pxh

@@ -1,0 +1,696 @@
+#include "harness/experiment/experiment.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+#include <tuple>
+
+#include "harness/core/error.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/core/sha256.h"
+#include "heightfields/heightfields.h"
+#include "heightfields/scanned.h"
+
+namespace pxh {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string where_of(const std::string& path, const toml::node& n) {
+    const auto& src = n.source();
+    if (src.begin.line == 0) return path;
+    return path + ":" + std::to_string(src.begin.line);
+}
+
+void check_keys(const toml::table& t, const std::set<std::string>& allowed,
+                const std::string& path, const std::string& context) {
+    for (const auto& [k, v] : t) {
+        const std::string key(k.str());
+        if (!allowed.count(key)) {
+            std::string names;
+            for (const auto& a : allowed) names += (names.empty() ? "" : ", ") + a;
+            throw InputError(where_of(path, v),
+                             "unknown key '" + key + "' in " + context + " (known: " + names + ")");
+        }
+    }
+}
+
+double get_number(const toml::node& n, const std::string& path, const std::string& key) {
+    if (auto v = n.value<double>(); v && (n.is_integer() || n.is_floating_point())) return *v;
+    throw InputError(where_of(path, n), "'" + key + "' must be a number");
+}
+
+int get_int(const toml::node& n, const std::string& path, const std::string& key, int lo, int hi) {
+    if (!n.is_integer()) throw InputError(where_of(path, n), "'" + key + "' must be an integer");
+    const int64_t v = *n.value<int64_t>();
+    if (v < lo || v > hi)
+        throw InputError(where_of(path, n), "'" + key + "' = " + std::to_string(v) +
+                                                " is outside [" + std::to_string(lo) + ", " +
+                                                std::to_string(hi) + "]");
+    return int(v);
+}
+
+std::string get_string(const toml::node& n, const std::string& path, const std::string& key) {
+    if (auto v = n.value<std::string>(); v && n.is_string()) return *v;
+    throw InputError(where_of(path, n), "'" + key + "' must be a string");
+}
+
+// A value or an array of values (a sweep), each read by `one`.
+template <class T, class Get>
+std::vector<T> get_list(const toml::node& n, const std::string& path, const std::string& key,
+                        Get one) {
+    std::vector<T> out;
+    if (const auto* arr = n.as_array()) {
+        if (arr->empty()) throw InputError(where_of(path, n), "'" + key + "' is an empty list");
+        for (const auto& e : *arr) out.push_back(one(e, path, key));
+    } else {
+        out.push_back(one(n, path, key));
+    }
+    return out;
+}
+
+std::vector<double> get_numbers(const toml::node& n, const std::string& path,
+                                const std::string& key) {
+    return get_list<double>(n, path, key, get_number);
+}
+
+std::vector<std::string> get_strings(const toml::node& n, const std::string& path,
+                                     const std::string& key) {
+    return get_list<std::string>(n, path, key, get_string);
+}
+
+// Angles: a list, or { from, to, step } (inclusive of `to` within rounding).
+std::vector<double> get_angles(const toml::node& n, const std::string& path,
+                               const std::string& key) {
+    if (const auto* t = n.as_table()) {
+        check_keys(*t, {"from", "to", "step"}, path, "'" + key + "'");
+        for (const char* k : {"from", "to", "step"})
+            if (!t->contains(k))
+                throw InputError(where_of(path, n), "'" + key + "' range needs '" + k + "'");
+        const double from = get_number(*t->get("from"), path, "from");
+        const double to = get_number(*t->get("to"), path, "to");
+        const double step = get_number(*t->get("step"), path, "step");
+        if (!std::isfinite(from) || !std::isfinite(to) || !std::isfinite(step))
+            throw InputError(where_of(path, n), "'" + key + "' range needs finite from, to and step");
+        if (!(step > 0)) throw InputError(where_of(path, n), "'" + key + "' step must be > 0");
+        if (!(to >= from)) throw InputError(where_of(path, n), "'" + key + "' needs to >= from");
+        const double span = std::floor((to - from) / step + 1e-9) + 1;  // counted in double first
+        if (!(span <= 100000)) throw InputError(where_of(path, n), "'" + key + "' has too many angles");
+        const long long count = (long long)span;
+        std::vector<double> out;
+        for (long long k = 0; k < count; ++k) out.push_back(from + double(k) * step);
+        return out;
+    }
+    return get_numbers(n, path, key);
+}
+
+// Names that become path components: the experiment's name is the default output folder
+// (results/runs/NAME-DATE), a height field's name goes into map file names. Refused: empty,
+// '/', '\\', control characters, over 100 characters, and for folders a leading '.' ('.', '..',
+// hidden folders).
+void check_safe_name(const std::string& name, const std::string& where, const std::string& what,
+                     bool folder) {
+    std::string problem;
+    if (name.empty()) problem = "is empty";
+    else if (name.size() > 100) problem = "is longer than 100 characters";
+    else if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+        problem = "contains '/' or '\\'";
+    else if (std::any_of(name.begin(), name.end(),
+                         [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+        problem = "contains control characters";
+    else if (folder && name[0] == '.') problem = "starts with '.'";
+    if (!problem.empty())
+        throw InputError(where, what + " '" + name + "' " + problem + ": it names " +
+                                    (folder ? "the output folder" : "files") +
+                                    ", so it must be a plain file name");
+}
+
+// The experiment's default name, from its file name: made safe rather than refused.
+std::string safe_default_name(const std::string& stem) {
+    std::string out;
+    for (unsigned char c : stem) out += (c < 0x20 || c == 0x7f || c == '\\') ? '_' : char(c);
+    while (!out.empty() && out[0] == '.') out[0] = '_';
+    if (out.size() > 100) out.resize(100);
+    return out.empty() ? "experiment" : out;
+}
+
+// "heightfield file 'PATH' (paths are relative to the experiment file): REASON", REASON being
+// the loader's message without its leading "PATH: ".
+std::string file_problem(const std::string& file, std::string reason) {
+    if (reason.rfind(file + ": ", 0) == 0) reason = reason.substr(file.size() + 2);
+    return "heightfield file '" + file + "' (paths are relative to the experiment file): " +
+           reason;
+}
+
+// An identity without its hash, for messages: the part a reader tells fields apart by.
+std::string describe_field(const HeightfieldSpec& h) {
+    return h.identity.substr(0, h.identity.find(" sha256:"));
+}
+
+// A warning, "FILE:LINE: ..." on one line.
+void warn(Experiment& ex, const std::string& text) { ex.warnings.push_back(one_line(text)); }
+
+// Cartesian product of parameter sweeps: {a: [1,2], b: [3]} -> [{a:1,b:3}, {a:2,b:3}].
+std::vector<std::map<std::string, double>> expand(
+    const std::vector<std::pair<std::string, std::vector<double>>>& sweeps) {
+    std::vector<std::map<std::string, double>> out{{}};
+    for (const auto& [key, values] : sweeps) {
+        std::vector<std::map<std::string, double>> next;
+        for (const auto& partial : out)
+            for (double v : values) {
+                auto m = partial;
+                m[key] = v;
+                next.push_back(std::move(m));
+            }
+        out = std::move(next);
+    }
+    return out;
+}
+
+// Scales whose errors saturate, with the file:line of each entry that uses them (one
+// warning per scale value, however many entries share it).
+using LargeScales = std::map<double, std::vector<std::string>>;
+
+void parse_heightfield(const toml::table& t, const toml::node& node, const std::string& path,
+                       Experiment& ex, LargeScales& large_scales) {
+    const std::string where = where_of(path, node);
+    const bool has_gen = t.contains("generator"), has_file = t.contains("file");
+    const bool has_scan = t.contains("scan");
+    if (int(has_gen) + int(has_file) + int(has_scan) != 1)
+        throw InputError(where, "a [[heightfields]] entry needs exactly one of 'generator', "
+                                "'file' or 'scan'");
+    HeightfieldSpec base;
+    base.where = where;
+    std::set<std::string> allowed{"name", "generator", "file", "scan", "size", "width",
+                                  "height", "scale", "bias", "channel"};
+    const GeneratorInfo* gen = nullptr;
+    if (has_gen) {
+        base.generator = get_string(*t.get("generator"), path, "generator");
+        gen = find_generator(base.generator);
+        if (!gen) {
+            std::string names;
+            for (const auto& g : all_generators()) names += (names.empty() ? "" : ", ") + g.name;
+            throw InputError(where_of(path, *t.get("generator")),
+                             "unknown generator '" + base.generator + "' (known: " + names + ")");
+        }
+        for (const auto& p : gen->params) allowed.insert(p.name);
+        base.name = base.generator;
+    } else if (has_scan) {
+        base.scan = get_string(*t.get("scan"), path, "scan");
+        if (base.scan.rfind("scan:", 0) == 0) base.scan = base.scan.substr(5);
+        // Only an imported scan (its name also picks files in heightfields/scanned/).
+        std::string names;
+        bool known = false;
+        for (const auto& sc : list_scans()) {
+            names += (names.empty() ? "" : ", ") + sc.name;
+            known |= sc.name == base.scan;
+        }
+        if (!known)
+            throw InputError(where_of(path, *t.get("scan")),
+                             "unknown scan '" + base.scan + "' (known: " + names + ")");
+        base.name = "scan:" + base.scan;
+        const std::string png =
+            std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/" + base.scan + ".png";
+        base.source_path = png;
+        base.source_sha256 = sha256_file(png);
+        base.identity = "scan:" + base.scan + " sha256:" + base.source_sha256;
+    } else {
+        const std::string f = get_string(*t.get("file"), path, "file");
+        fs::path fp(f);
+        if (fp.is_relative()) fp = fs::path(path).parent_path() / fp;
+        base.file = fp.lexically_normal().string();
+        base.file_written = fs::path(f).lexically_normal().string();
+        base.name = fp.stem().string();
+    }
+    check_keys(t, allowed, path, "[[heightfields]]");
+    if (auto n = t.get("name")) {
+        base.name = get_string(*n, path, "name");
+        check_safe_name(base.name, where_of(path, *n), "heightfield name", false);
+    }
+    const int max_side = int(kMaxImageSide);
+    if (auto n = t.get("size")) base.width = base.height = get_int(*n, path, "size", 1, max_side);
+    if (auto n = t.get("width")) base.width = get_int(*n, path, "width", 1, max_side);
+    if (auto n = t.get("height")) base.height = get_int(*n, path, "height", 1, max_side);
+    if (auto n = t.get("channel")) base.channel = get_int(*n, path, "channel", 0, 64);
+    if (!has_gen && (t.contains("size") || t.contains("width") || t.contains("height")))
+        throw InputError(where, "'size'/'width'/'height' apply to generators, not to files or scans");
+    // Generated fields obey the image loader's limit (a 16384^2 field is 1 GiB of floats
+    // before its truths and Embree's copy).
+    if ((long long)base.width * base.height > kMaxImageTexels)
+        throw InputError(where, "generated field " + std::to_string(base.width) + " x " +
+                                    std::to_string(base.height) + " has more than " +
+                                    std::to_string(kMaxImageTexels) +
+                                    " texels, the limit for height fields (as for image files)");
+    if (has_file) {
+        // The file is identified by its bytes; read now, so a missing or unreadable file is
+        // named before any work (and a FIFO is not opened: it would block).
+        std::error_code ec;
+        const auto st = fs::status(base.file, ec);
+        std::string problem;
+        if (!fs::exists(st)) problem = "no such file";
+        else if (!fs::is_regular_file(st)) problem = "not a regular file";
+        if (!problem.empty())
+            throw InputError(where, file_problem(base.file, problem));
+        try {
+            base.source_path = base.file;
+            base.source_sha256 = sha256_file(base.file);
+            base.identity = "file:" + base.file_written + " channel:" +
+                            std::to_string(base.channel) + " sha256:" + base.source_sha256;
+        } catch (const InputError& e) {
+            throw InputError(where, file_problem(base.file, e.what()));
+        }
+    }
+
+    std::vector<double> scales{0.05}, biases{1.0};
+    if (auto n = t.get("scale")) scales = get_numbers(*n, path, "scale");
+    if (auto n = t.get("bias")) biases = get_numbers(*n, path, "bias");
+    for (double s : scales)
+        if (!(s > 0) || !std::isfinite(s))
+            throw InputError(where_of(path, *t.get("scale")), "scale must be > 0 (got " +
+                                                                  format_number(s) + ")");
+    for (double b : biases)
+        if (!(b >= 0 && b <= 1))
+            throw InputError(where_of(path, *t.get("bias")), "bias must lie in [0, 1] (got " +
+                                                                 format_number(b) + ")");
+    // Errors are measured modulo one tile, so they saturate once the true hit can lie half a
+    // tile from its sample: the parallax offset s tan(theta) reaches 0.5 at theta =
+    // atan(0.5 / s). Warn when that happens within the experiment's views and at or below
+    // 45 degrees (s >= 0.5): grazing views with an ordinary scale are a deliberate study.
+    const double theta_max = ex.theta_deg.empty() ? 0 : ex.theta_deg.back();
+    for (double s : scales)
+        if (s >= 0.5 && theta_max >= std::atan(0.5 / s) * 180 / M_PI)
+            large_scales[s].push_back(where_of(path, *t.get("scale")));
+    std::vector<std::pair<std::string, std::vector<double>>> sweeps;
+    if (gen)
+        for (const auto& p : gen->params)
+            if (auto n = t.get(p.name)) sweeps.emplace_back(p.name, get_numbers(*n, path, p.name));
+    const auto combos = expand(sweeps);
+    for (const auto& given : combos) {
+        HeightfieldSpec hs = base;
+        if (gen) {
+            hs.gen_params = resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
+            if (gen->problem)
+                if (const std::string why = gen->problem(hs.gen_params); !why.empty())
+                    throw InputError(where, "generator '" + gen->name + "' [" +
+                                                hs.gen_params.canonical() + "]: " + why);
+            hs.identity = "generator:" + gen->name + " " + std::to_string(hs.width) + "x" +
+                          std::to_string(hs.height) + " [" + hs.gen_params.canonical() + "]";
+        }
+        if (combos.size() > 1) hs.name = base.name + "[" + hs.gen_params.canonical() + "]";
+        for (double s : scales)
+            for (double b : biases) {
+                hs.scale = s;
+                hs.bias = b;
+                ex.heightfields.push_back(hs);
+            }
+    }
+}
+
+void parse_method(const toml::table& t, const toml::node& node, const std::string& path,
+                  Experiment& ex) {
+    const std::string where = where_of(path, node);
+    if (!t.contains("name")) throw InputError(where, "a [[methods]] entry needs 'name'");
+    const std::string name = get_string(*t.get("name"), path, "name");
+    const MethodInfo* m = find_method(name);
+    if (!m) {
+        std::string names;
+        for (const auto& mi : all_methods()) names += (names.empty() ? "" : ", ") + mi.name;
+        throw InputError(where_of(path, *t.get("name")),
+                         "unknown method '" + name + "' (known: " + names + ")");
+    }
+    std::vector<std::pair<std::string, std::vector<double>>> sweeps;
+    for (const auto& [k, v] : t) {
+        const std::string key(k.str());
+        if (key == "name") continue;
+        bool known = false;
+        for (const auto& p : m->params) known |= p.name == key;
+        if (!known) {
+            std::string names;
+            for (const auto& p : m->params) names += (names.empty() ? "" : ", ") + p.name;
+            throw InputError(where_of(path, v), "unknown parameter '" + key + "' for method '" +
+                                                    name + "'" +
+                                                    (names.empty() ? " (it takes none)"
+                                                                   : " (known: " + names + ")"));
+        }
+        sweeps.emplace_back(key, get_numbers(v, path, key));
+    }
+    for (const auto& given : expand(sweeps))
+        ex.methods.push_back(MethodSpec{m, resolve_method_params(*m, given, where)});
+}
+
+// One name, one field: a name shared by different fields would merge them into one series
+// of the report. The same field at the same scale and bias twice (under any names) would
+// repeat rows. One entry swept over scale/bias keeps its name (the columns tell rows apart).
+void check_heightfield_names(const Experiment& ex) {
+    std::map<std::string, size_t> by_name;
+    std::map<std::tuple<std::string, double, double>, size_t> by_field;
+    for (size_t k = 0; k < ex.heightfields.size(); ++k) {
+        const HeightfieldSpec& h = ex.heightfields[k];
+        const auto [named, fresh_name] = by_name.emplace(h.name, k);
+        const HeightfieldSpec& a = ex.heightfields[named->second];
+        if (!fresh_name && a.identity != h.identity)
+            throw InputError(h.where, "heightfield name '" + h.name + "' is given to two different fields: " +
+                                          describe_field(a) + " (" + a.where + ") and " +
+                                          describe_field(h) + " (" + h.where +
+                                          "); give one of them its own name = \"...\"");
+        const auto [same, fresh_field] = by_field.emplace(std::make_tuple(h.identity, h.scale, h.bias), k);
+        if (fresh_field) continue;
+        const HeightfieldSpec& b = ex.heightfields[same->second];
+        const std::string what = describe_field(h) + " at scale " + format_number(h.scale) +
+                                 ", bias " + format_number(h.bias);
+        if (b.where == h.where)
+            throw InputError(h.where, "this entry lists " + what + " twice (a repeated value)");
+        throw InputError(h.where, "duplicate height field: " + what + " is also the entry at " +
+                                      b.where + " (as '" + b.name + "'); its rows would repeat");
+    }
+}
+
+}  // namespace
+
+ParamValues resolve_method_params(const MethodInfo& m, const std::map<std::string, double>& given,
+                                  const std::string& where) {
+    ParamValues p = resolve_params(m.params, given, where, "method '" + m.name + "'");
+    m.check(p, where);
+    if (m.complete_params) {
+        m.complete_params(p);
+        m.check(p, where);
+    }
+    return p;
+}
+
+Experiment parse_experiment(const std::string& text, const std::string& path) {
+    toml::table root;
+    try {
+        root = toml::parse(text, path);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream os;
+        os << path << ":" << e.source().begin.line;
+        throw InputError(os.str(), "TOML syntax error: " + std::string(e.description()));
+    }
+    Experiment ex;
+    ex.path = path;
+    ex.text = text;
+    ex.name = safe_default_name(fs::path(path).stem().string());
+    check_keys(root,
+               {"name", "description", "samples", "backends", "precision", "timing_repeats",
+                "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
+                "views", "heightfields", "methods", "light"},
+               path, "the experiment");
+    if (auto n = root.get("name")) {
+        ex.name = get_string(*n, path, "name");
+        check_safe_name(ex.name, where_of(path, *n), "experiment name", true);
+    }
+    if (auto n = root.get("description")) get_string(*n, path, "description");
+    if (auto n = root.get("samples")) ex.samples = get_int(*n, path, "samples", 1, 8192);
+    if (auto n = root.get("timing_repeats"))
+        ex.timing_repeats = get_int(*n, path, "timing_repeats", 0, 1000);
+    if (auto n = root.get("backends")) {
+        ex.backends = get_strings(*n, path, "backends");
+        for (const auto& b : ex.backends)
+            if (b != "cpu" && b != "glsl")
+                throw InputError(where_of(path, *n),
+                                 "unknown backend '" + b + "' (known: cpu, glsl)");
+    }
+    if (auto n = root.get("sweep_dt_deg")) {
+        ex.sweep_dt_deg = get_number(*n, path, "sweep_dt_deg");
+        if (!(ex.sweep_dt_deg > 0 && ex.sweep_dt_deg < 10))
+            throw InputError(where_of(path, *n), "sweep_dt_deg must lie in (0, 10)");
+    }
+    if (auto n = root.get("maps")) {
+        if (!n->is_boolean()) throw InputError(where_of(path, *n), "'maps' must be true or false");
+        ex.maps = *n->value<bool>();
+    }
+    if (auto n = root.get("exclude_filled")) {
+        if (!n->is_boolean())
+            throw InputError(where_of(path, *n), "'exclude_filled' must be true or false");
+        ex.exclude_filled = *n->value<bool>();
+    }
+    if (auto n = root.get("ground_truth")) {
+        ex.ground_truth = get_string(*n, path, "ground_truth");
+        if (ex.ground_truth != "exact" && ex.ground_truth != "embree")
+            throw InputError(where_of(path, *n), "unknown ground_truth '" + ex.ground_truth +
+                                                     "' (known: exact, embree)");
+    }
+    if (auto n = root.get("texture_format")) {
+        ex.texture_formats = get_strings(*n, path, "texture_format");
+        for (const auto& f : ex.texture_formats)
+            if (f != "r32f" && f != "r16" && f != "r8")
+                throw InputError(where_of(path, *n),
+                                 "unknown texture_format '" + f + "' (known: r32f, r16, r8)");
+    }
+    if (auto n = root.get("precision")) {
+        ex.precisions = get_strings(*n, path, "precision");
+        for (const auto& p : ex.precisions)
+            if (p != "float" && p != "double")
+                throw InputError(where_of(path, *n),
+                                 "unknown precision '" + p + "' (known: float, double)");
+    }
+
+    const toml::node* views = root.get("views");
+    if (!views || !views->is_table())
+        throw InputError(path, "missing [views] table (theta_deg = [...])");
+    const auto& vt = *views->as_table();
+    check_keys(vt, {"theta_deg", "phi_deg"}, path, "[views]");
+    if (!vt.contains("theta_deg")) throw InputError(where_of(path, *views), "[views] needs theta_deg");
+    ex.theta_deg = get_angles(*vt.get("theta_deg"), path, "theta_deg");
+    const std::string theta_where = where_of(path, *vt.get("theta_deg"));
+    for (double t : ex.theta_deg)
+        if (!(t >= 0 && t < 90))
+            throw InputError(theta_where, "theta_deg = " + format_number(t) +
+                                              " is impossible: the polar angle must lie in [0, 90)");
+    const bool all_small = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
+                                       [](double t) { return t < 1.6; });
+    const bool all_whole = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
+                                       [](double t) { return t == std::floor(t); });
+    if (all_small && !all_whole)
+        warn(ex, theta_where + ": theta_deg values are all below 1.6 and not all whole "
+                                            "numbers: they look like radians, but theta_deg is in degrees");
+    // Sweeps (sliding, shimmering) pair consecutive views: increasing, each view once.
+    if (!std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end()) ||
+        std::adjacent_find(ex.theta_deg.begin(), ex.theta_deg.end()) != ex.theta_deg.end()) {
+        const bool sorted = std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end());
+        const size_t before = ex.theta_deg.size();
+        std::sort(ex.theta_deg.begin(), ex.theta_deg.end());
+        ex.theta_deg.erase(std::unique(ex.theta_deg.begin(), ex.theta_deg.end()), ex.theta_deg.end());
+        const size_t dropped = before - ex.theta_deg.size();
+        std::string what = sorted ? "" : "is not in increasing order (sorted";
+        if (dropped)
+            what += std::string(sorted ? "repeats values (" : ", ") + std::to_string(dropped) +
+                    " duplicate(s) dropped";
+        warn(ex, theta_where + ": theta_deg " + what +
+                              "): views are measured in increasing theta, each once");
+    }
+    if (auto n = vt.get("phi_deg")) {
+        ex.phi_deg = get_angles(*n, path, "phi_deg");
+        const std::string phi_where = where_of(path, *n);
+        std::string changed;
+        for (double& p : ex.phi_deg) {
+            if (!std::isfinite(p)) throw InputError(phi_where, "phi_deg must be finite");
+            if (p >= 0 && p < 360) continue;
+            double q = std::fmod(p, 360.0);
+            if (q < 0) q += 360;
+            if (q >= 360) q = 0;  // -1e-20 + 360 rounds to 360
+            changed += (changed.empty() ? "" : ", ") + format_number(p) + " -> " + format_number(q);
+            p = q;
+        }
+        if (!changed.empty())
+            warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
+        std::vector<double> unique;
+        for (double p : ex.phi_deg)
+            if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
+        if (unique.size() != ex.phi_deg.size())
+            warn(ex, phi_where + ": phi_deg repeats an azimuth (" +
+                                  std::to_string(ex.phi_deg.size() - unique.size()) +
+                                  " duplicate(s) dropped): each view is measured once");
+        ex.phi_deg = std::move(unique);
+    }
+
+    if (auto n = root.get("light")) {
+        const auto* lt = n->as_table();
+        if (!lt) throw InputError(where_of(path, *n), "'light' must be a table ([light])");
+        check_keys(*lt, {"theta_deg", "phi_deg", "layers_min", "layers_max"}, path, "[light]");
+        LightSpec l;
+        if (auto v = lt->get("theta_deg")) l.theta_deg = get_number(*v, path, "theta_deg");
+        if (auto v = lt->get("phi_deg")) l.phi_deg = get_number(*v, path, "phi_deg");
+        if (auto v = lt->get("layers_min")) l.layers_min = get_number(*v, path, "layers_min");
+        if (auto v = lt->get("layers_max")) l.layers_max = get_number(*v, path, "layers_max");
+        if (!(l.theta_deg >= 0 && l.theta_deg < 90))
+            throw InputError(where_of(path, *n), "light theta_deg = " + format_number(l.theta_deg) +
+                                                     " is impossible: it must lie in [0, 90)");
+        if (!std::isfinite(l.phi_deg))
+            throw InputError(where_of(path, *n), "light phi_deg must be finite");
+        if (!(l.layers_min >= 1 && l.layers_max >= l.layers_min && l.layers_max <= 4096))
+            throw InputError(where_of(path, *n), "light layers need 1 <= layers_min <= layers_max <= 4096");
+        ex.light = l;
+    }
+    auto tables_of = [&](const char* key) {
+        const toml::node* n = root.get(key);
+        if (!n) throw InputError(path, std::string("no [[") + key + "]] entries");
+        const auto* arr = n->as_array();
+        if (!arr || arr->empty() || !arr->is_array_of_tables())
+            throw InputError(where_of(path, *n), std::string("'") + key +
+                                                     "' must be a list of tables ([[" + key + "]])");
+        return arr;
+    };
+    LargeScales large_scales;
+    for (const auto& e : *tables_of("heightfields"))
+        parse_heightfield(*e.as_table(), e, path, ex, large_scales);
+    for (const auto& [s, wheres] : large_scales) {
+        std::string also;
+        for (size_t k = 1; k < wheres.size(); ++k)
+            also += (k == 1 ? " (also on lines " : ", ") + wheres[k].substr(wheres[k].rfind(':') + 1);
+        if (!also.empty()) also += ")";
+        const double onset = std::atan(0.5 / s) * 180 / M_PI;
+        warn(ex, wheres[0] + ": scale = " + format_number(s) + also +
+                     ": the parallax offset s*tan(theta) reaches half a tile at theta = " +
+                     format_number(std::round(onset * 10) / 10) +
+                     " deg (<= 45, and within the views up to " +
+                     format_number(ex.theta_deg.back()) +
+                     "); beyond it errors, measured modulo one tile, saturate near half the "
+                     "field's size and searches take huge step counts: use a scale below 0.5");
+    }
+    check_heightfield_names(ex);
+    for (const auto& e : *tables_of("methods")) parse_method(*e.as_table(), e, path, ex);
+    // Every eye ray (views, sweep companions) and light ray within the ground truths' travel
+    // limit (kMaxRayTravelTiles, harness/truth/ground_truth.h), reported at the field's entry.
+    for (const HeightfieldSpec& h : ex.heightfields) {
+        auto check = [&](double theta, const std::string& what) {
+            if (const std::string why = ray_travel_problem(h.scale, theta); !why.empty())
+                throw InputError(h.where, what + why);
+        };
+        for (double t : ex.theta_deg) {
+            check(t, "");
+            if (ex.sweep_dt_deg > 0 && t + ex.sweep_dt_deg < 90)
+                check(t + ex.sweep_dt_deg, "sweep companion view: ");
+        }
+        if (ex.light) check(ex.light->theta_deg, "light: ");
+    }
+    return ex;
+}
+
+Experiment load_experiment(const std::string& path) {
+    std::error_code ec;
+    const auto st = fs::status(path, ec);  // follows symlinks
+    if (!fs::exists(st)) throw InputError(path, "no such file");
+    if (fs::is_directory(st)) throw InputError(path, "is a directory, not an experiment file");
+    // A FIFO or device would block or never end: only regular files are read.
+    if (!fs::is_regular_file(st))
+        throw InputError(path, "not a regular file (a FIFO, socket or device?): an experiment "
+                               "must be a regular file");
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw InputError(path, "cannot open");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    Experiment ex = parse_experiment(ss.str(), path);
+    for (const auto& w : ex.warnings) std::cerr << "pxh: warning: " << one_line(w) << "\n";
+    return ex;
+}
+
+HeightField make_heightfield(const HeightfieldSpec& spec) {
+    HeightField hf;
+    if (!spec.generator.empty()) {
+        hf = generate_heightfield(*find_generator(spec.generator), spec.width, spec.height,
+                                  spec.gen_params);
+        hf.validate(spec.where);
+    } else if (!spec.scan.empty()) {
+        hf = load_scan(spec.scan, spec.where);
+    } else {
+        try {
+            hf = load_heightfield_file(spec.file, spec.channel);
+        } catch (const std::exception& e) {
+            throw InputError(spec.where, file_problem(spec.file, e.what()));
+        }
+    }
+    hf.name = spec.name;
+    return hf;
+}
+
+
+namespace {
+
+// Width and height of a field before it is built (files: from the header).
+struct FieldSize {
+    size_t width, height;
+    bool mask;  // a filled-hole mask (scans)
+};
+
+FieldSize field_size(const HeightfieldSpec& spec) {
+    if (!spec.generator.empty()) return {size_t(spec.width), size_t(spec.height), false};
+    if (!spec.scan.empty()) {
+        for (const auto& sc : list_scans())
+            if (sc.name == spec.scan) {
+                const size_t k = sc.periodic ? 1 : 2;  // mirrored to 2W x 2H
+                return {k * size_t(sc.width), k * size_t(sc.height), true};
+            }
+    } else {
+        // Through pxh's hardened loader (never OpenImageIO on the raw file: a hostile header
+        // can make a library allocate gigabytes); bounded by the image limits, freed at once.
+        try {
+            const HeightField hf = load_heightfield_file(spec.file, spec.channel);
+            return {size_t(hf.width), size_t(hf.height), false};
+        } catch (const std::exception&) {
+        }
+    }
+    // Unknown (the run will refuse it): the largest field the loader accepts.
+    return {size_t(kMaxImageSide), size_t(kMaxImageTexels / kMaxImageSide), false};
+}
+
+std::string mib(size_t bytes) { return format_bytes(bytes); }
+
+}  // namespace
+
+std::string format_bytes(size_t bytes) {
+    std::ostringstream os;
+    os << std::fixed;
+    if (bytes < (size_t(1) << 30)) os << std::setprecision(1) << double(bytes) / double(1 << 20) << " MiB";
+    else os << std::setprecision(1) << double(bytes) / double(size_t(1) << 30) << " GiB";
+    return os.str();
+}
+
+RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
+    // The model's constants (see experiment.h), measured on this project's machine (peak
+    // RSS of pxh run, fbm, samples 8: 181 MiB at 16^2; +52 to +55 bytes per texel from 1024^2
+    // to 8192^2, of which 10 are the field and its mipmap; samples 2048, 6 rows per view:
+    // 290 bytes per sample, which the terms below overestimate by a third).
+    constexpr size_t kBaseBytes = size_t(192) << 20;
+    constexpr size_t kEmbreeBytesPerTexel = 45;
+    constexpr size_t kViewBytesPerSample = 16 + 40 + 16 + 8;  // P, exact hits, Embree hits, gap
+    constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring
+    constexpr size_t kBytesPerRow = 1024;
+    const auto& backends = backends_override.empty() ? ex.backends : backends_override;
+    const bool cpu = std::find(backends.begin(), backends.end(), "cpu") != backends.end();
+    const bool glsl = std::find(backends.begin(), backends.end(), "glsl") != backends.end();
+    const size_t per_method = (cpu ? ex.precisions.size() : 0) + (glsl ? ex.texture_formats.size() : 0);
+    const size_t rows_per_view = ex.methods.size() * per_method;
+    RunEstimate est;
+    est.rows = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size() * rows_per_view;
+
+    size_t field = 0;  // the largest field's own bytes, its truths' and Embree's
+    std::set<std::string> seen;
+    for (const auto& spec : ex.heightfields) {
+        if (!seen.insert(spec.identity).second) continue;  // scale/bias sweeps: same size
+        const FieldSize sz = field_size(spec);
+        const size_t texels = sz.width * sz.height;
+        field = std::max(field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel));
+    }
+    const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
+    const size_t views_alive = ex.sweep_dt_deg > 0 ? 3 : 2;
+    const size_t view = n2 * (kViewBytesPerSample + rows_per_view * 16 * views_alive +
+                              3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
+    const size_t results = est.rows * kBytesPerRow;
+    est.peak_bytes = kBaseBytes + field + view + results;
+    est.detail = "process " + mib(kBaseBytes) + " + largest field with its truths and Embree " +
+                 mib(field) + " + one view's sample buffers " + mib(view) + " + result rows " +
+                 mib(results);
+    return est;
+}
+
+}  // namespace pxh

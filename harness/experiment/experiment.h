@@ -1,0 +1,114 @@
+// Experiment files (TOML): what to run. Parsing checks every key; a bad file is an InputError
+// naming the file and line.
+#pragma once
+#include <cstddef>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "harness/scene/heightfield.h"
+#include "harness/core/params.h"
+#include "methods/method.h"
+
+namespace pxh {
+
+struct HeightfieldSpec {
+    std::string name;       // as reported in results: unique within a run (one name, one field)
+    std::string generator;  // either a generator ...
+    std::string file;       // ... or an image file (resolved path)
+    std::string file_written;  // the file's path as written in the experiment
+    std::string scan;       // ... or an imported scan (heightfields/scanned/NAME)
+    int width = 256, height = 256;
+    int channel = 0;
+    ParamValues gen_params;
+    double scale = 0.05, bias = 1.0;
+    std::string where;  // file:line of the entry, for errors
+    // What identifies the field (results column heightfield_id), one line:
+    //   generator:NAME WxH [canonical resolved parameters]
+    //   file:PATH channel:C sha256:HEX   (PATH as written, relative to the experiment file)
+    //   scan:NAME sha256:HEX             (of the committed heightfields/scanned/NAME.png)
+    std::string identity;
+    std::string source_path, source_sha256;  // files and scans: the image read and its sha256
+};
+
+struct MethodSpec {
+    const MethodInfo* method = nullptr;
+    ParamValues params;
+};
+
+// Optional directional light for the self-shadowing metrics.
+struct LightSpec {
+    double theta_deg = 45, phi_deg = 180;
+    double layers_min = 8, layers_max = 32;  // the shadow march's layer counts
+};
+
+struct Experiment {
+    std::string name;
+    std::string path;  // the file it came from
+    std::string text;  // its content, recorded in provenance
+    int samples = 256;
+    std::vector<std::string> backends{"cpu"};
+    std::vector<std::string> precisions{"float"};
+    std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
+    int timing_repeats = 5;
+    std::string ground_truth = "exact";
+    double sweep_dt_deg = 0;  // > 0: sliding/shimmering from a companion view dt away
+    bool maps = false;        // write per-row error maps
+    bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the reference the errors are measured against
+    std::vector<double> theta_deg, phi_deg{0.0};
+    std::optional<LightSpec> light;
+    std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
+    std::vector<MethodSpec> methods;            // arrays of parameter values already expanded
+    // "FILE:LINE: ..." one line each (radian-looking theta, phi normalised, theta sorted or
+    // deduplicated, a scale whose errors saturate); load_experiment prints them to stderr as
+    // "pxh: warning: ..." (parse_experiment prints nothing).
+    std::vector<std::string> warnings;
+};
+
+// Reads a regular file (anything else, e.g. a FIFO, is refused without opening it), parses
+// it, and prints the warnings to stderr.
+Experiment load_experiment(const std::string& path);
+Experiment parse_experiment(const std::string& text, const std::string& path);
+
+// A method's resolved parameter set: given values checked against its declarations (an
+// InputError naming `where` otherwise), defaults and the values unset optional parameters
+// stand for filled in; canonical() then names every declared parameter.
+ParamValues resolve_method_params(const MethodInfo& m, const std::map<std::string, double>& given,
+                                  const std::string& where);
+
+// Materialises a height field (generates or loads); throws InputError. Errors from an image
+// file read "EXPERIMENT:LINE: heightfield file 'PATH' (paths are relative to the experiment
+// file): REASON".
+HeightField make_heightfield(const HeightfieldSpec& spec);
+
+// What a run will take, estimated before any work (the lead's --max-rows / --max-memory).
+//   rows = height field entries (scale/bias expanded) x theta x phi x method settings x
+//          (precisions if cpu runs + texture formats if glsl runs)
+//   peak_bytes, with fields built one at a time (only the largest matters):
+//     kBaseBytes (the process: libraries, Embree's and TBB's threads; 192 MiB)
+//     + per texel of the largest field: 4 (its floats) + 1 (filled mask, scans only)
+//       + 6 (the exact tracer's maximum mipmap: 4/3 of a float per cell)
+//       + kEmbreeBytesPerTexel (Embree's GRID vertices and BVH, measured)
+//     + per sample of a view (samples^2): kViewBytesPerSample (sample points, both truths'
+//       hits, their gap) + 16 bytes per row of the view (error vectors) x 2, or 3 with
+//       sweep_dt_deg (the previous and the companion view) + kOutputBytesPerSample per
+//       method output alive at once (CPU float, CPU double and the current one: 3)
+//       + with maps, one error image being written (16 bytes per sample)
+//     + kBytesPerRow per result row (the rows are kept until results.csv is written).
+// `backends_override` (pxh run --backend) replaces the experiment's backends when non-empty.
+// File fields' sizes are read from their headers (the loader's limit when unreadable).
+struct RunEstimate {
+    size_t rows = 0;
+    size_t peak_bytes = 0;
+    std::string detail;  // one line: the terms above, in MiB
+};
+RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override);
+
+// "512 MiB", "12.5 GiB": sizes in messages.
+std::string format_bytes(size_t bytes);
+
+constexpr size_t kDefaultMaxRows = 1000000;
+constexpr size_t kDefaultMaxMemoryBytes = size_t(8) << 30;  // 8 GiB
+
+}  // namespace pxh

@@ -1,0 +1,83 @@
+#include "harness/metrics/metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pxh {
+
+static double wrap_half(double e) { return e - std::floor(e + 0.5); }
+
+Vec2d texel_error(Vec2d uv_method, Vec2d uv_true, int width, int height) {
+    const double ex = uv_method.x - uv_true.x, ey = uv_method.y - uv_true.y;
+    if (!std::isfinite(ex) || !std::isfinite(ey)) return {NAN, NAN};
+    return {wrap_half(ex) * width, wrap_half(ey) * height};
+}
+
+double percentile_sorted(const std::vector<double>& s, double q) {
+    const double pos = q * double(s.size() - 1);
+    const size_t i = size_t(std::floor(pos));
+    if (i + 1 >= s.size()) return s.back();
+    const double f = pos - double(i);
+    return s[i] + (s[i + 1] - s[i]) * f;
+}
+
+SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1,
+                           double dt_deg, int width, int height) {
+    SweepMetrics m;
+    const size_t n = std::min(e0.size(), e1.size());
+    std::vector<Vec2d> d;
+    d.reserve(n);
+    for (size_t k = 0; k < n; ++k) {
+        double dx = e1[k].x - e0[k].x, dy = e1[k].y - e0[k].y;
+        if (!std::isfinite(dx) || !std::isfinite(dy)) continue;
+        dx -= width * std::floor(dx / width + 0.5);  // an error crossing the wrap is one tile off
+        dy -= height * std::floor(dy / height + 0.5);
+        d.push_back({dx, dy});
+    }
+    if (d.empty() || !(dt_deg > 0)) return m;
+    double mx = 0, my = 0;
+    for (const Vec2d& v : d) { mx += v.x; my += v.y; }
+    mx /= double(d.size());
+    my /= double(d.size());
+    double spread = 0;
+    for (const Vec2d& v : d) spread += std::hypot(v.x - mx, v.y - my);
+    m.sliding = std::hypot(mx, my) / dt_deg;
+    m.shimmering = spread / double(d.size()) / dt_deg;
+    return m;
+}
+
+ErrorStats error_stats(const std::vector<double>& magnitudes) {
+    ErrorStats st;
+    std::vector<double> v;
+    v.reserve(magnitudes.size());
+    for (double m : magnitudes) {
+        if (std::isfinite(m)) v.push_back(m); else ++st.nonfinite;
+    }
+    st.count = (long long)v.size();
+    if (v.empty()) {
+        st.mean = st.rms = st.p50 = st.p95 = st.p99 = st.max = NAN;
+        st.frac_gt_0_5 = st.frac_gt_1 = NAN;
+        return st;
+    }
+    double sum = 0, sum2 = 0;
+    long long gt05 = 0, gt1 = 0;
+    for (double m : v) {  // fixed order: the sums do not depend on threads
+        sum += m;
+        sum2 += m * m;
+        gt05 += m > 0.5;
+        gt1 += m > 1.0;
+    }
+    const double n = double(v.size());
+    st.mean = sum / n;
+    st.rms = std::sqrt(sum2 / n);
+    st.frac_gt_0_5 = double(gt05) / n;
+    st.frac_gt_1 = double(gt1) / n;
+    std::sort(v.begin(), v.end());
+    st.p50 = percentile_sorted(v, 0.50);
+    st.p95 = percentile_sorted(v, 0.95);
+    st.p99 = percentile_sorted(v, 0.99);
+    st.max = v.back();
+    return st;
+}
+
+}  // namespace pxh

@@ -1,0 +1,92 @@
+#include "harness/results/error_maps.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+namespace pxh {
+namespace {
+
+// A perceptual ramp (samples of matplotlib's viridis).
+constexpr float kRamp[9][3] = {{0.267f, 0.005f, 0.329f}, {0.283f, 0.141f, 0.458f},
+                               {0.254f, 0.265f, 0.530f}, {0.207f, 0.372f, 0.553f},
+                               {0.164f, 0.471f, 0.558f}, {0.128f, 0.567f, 0.551f},
+                               {0.135f, 0.659f, 0.518f}, {0.478f, 0.821f, 0.318f},
+                               {0.993f, 0.906f, 0.144f}};
+
+void ramp(double t, float rgb[3]) {
+    t = std::clamp(t, 0.0, 1.0) * 8;
+    const int i = std::min(int(t), 7);
+    const float f = float(t - i);
+    for (int c = 0; c < 3; ++c) rgb[c] = kRamp[i][c] + (kRamp[i + 1][c] - kRamp[i][c]) * f;
+}
+
+const char* kFont = "DejaVuSans";
+
+}  // namespace
+
+void error_colour(double e, float rgb[3]) {
+    if (!std::isfinite(e)) {
+        rgb[0] = 1; rgb[1] = 0; rgb[2] = 1;
+        return;
+    }
+    ramp(e <= 0 ? 0.0 : (std::log2(e) + 4) / 8, rgb);
+}
+
+std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
+                            const std::string& stem, const std::string& title) {
+    namespace fs = std::filesystem;
+    fs::create_directories(dir);
+    // Data: N x N x 3 floats.
+    OIIO::ImageBuf data(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::FLOAT));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const Vec2d e = errors[size_t(j) * n + i];
+            const float px[3] = {float(e.x), float(e.y), float(std::hypot(e.x, e.y))};
+            data.setpixel(i, j, px);
+        }
+    const std::string exr = (fs::path(dir) / (stem + ".exr")).string();
+    if (!data.write(exr)) throw std::runtime_error(exr + ": " + data.geterror());
+
+    // Picture: the map scaled up (nearest) to at least 384 px, a title above, legend below.
+    const int k = std::max(1, (384 + n - 1) / n), side = n * k;
+    const int width = std::max(side, 420), top = 28, legend = 64;
+    OIIO::ImageBuf pic(OIIO::ImageSpec(width, top + side + legend, 3, OIIO::TypeDesc::UINT8));
+    const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0};
+    OIIO::ImageBufAlgo::fill(pic, white);
+    const int x0 = (width - side) / 2;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const Vec2d e = errors[size_t(j) * n + i];
+            float rgb[3];
+            error_colour(std::hypot(e.x, e.y), rgb);
+            OIIO::ImageBufAlgo::fill(pic, rgb, OIIO::ROI(x0 + i * k, x0 + (i + 1) * k,
+                                                         top + j * k, top + (j + 1) * k));
+        }
+    OIIO::ImageBufAlgo::render_text(pic, 6, 19, title, 14, kFont, black);
+    // Legend: the colour bar from 1/16 to 16 texels (log2), ticks labelled.
+    const int bx0 = 30, bx1 = width - 30, by0 = top + side + 10, by1 = by0 + 14;
+    for (int x = bx0; x < bx1; ++x) {
+        float rgb[3];
+        ramp(double(x - bx0) / double(bx1 - bx0 - 1), rgb);
+        OIIO::ImageBufAlgo::fill(pic, rgb, OIIO::ROI(x, x + 1, by0, by1));
+    }
+    const char* labels[] = {"1/16", "1/4", "1", "4", "16"};
+    for (int t = 0; t < 5; ++t) {
+        const int x = bx0 + int(std::lround(double(t) / 4 * (bx1 - bx0 - 1)));
+        OIIO::ImageBufAlgo::fill(pic, black, OIIO::ROI(x, x + 1, by1, by1 + 4));
+        OIIO::ImageBufAlgo::render_text(pic, x - 8, by1 + 17, labels[t], 12, kFont, black);
+    }
+    OIIO::ImageBufAlgo::render_text(pic, bx0, by1 + 34,
+                                    "texel error (log scale; magenta: non-finite)", 12, kFont,
+                                    black);
+    const std::string png = (fs::path(dir) / (stem + ".png")).string();
+    if (!pic.write(png)) throw std::runtime_error(png + ": " + pic.geterror());
+    return stem + ".png";
+}
+
+}  // namespace pxh

@@ -1,0 +1,20 @@
+// Error maps: per row, an EXR with the error vector and its magnitude per sample, and a
+// false-colour PNG with a title and a legend (through OpenImageIO).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "harness/core/vec.h"
+
+namespace pxh {
+
+// Texel error to colour: log2 scale from 1/16 to 16 texels (viridis-like ramp); exactly 0
+// is the darkest colour, non-finite is magenta.
+void error_colour(double texels, float rgb[3]);
+
+// Writes DIR/STEM.exr (channels e_x, e_y, |e| in texels; row j of the sample grid is file row
+// j, as for height maps) and DIR/STEM.png; returns the PNG's file name.
+std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
+                            const std::string& stem, const std::string& title);
+
+}  // namespace pxh

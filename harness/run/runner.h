@@ -1,0 +1,76 @@
+// The pipeline: HeightField -> views -> GroundTruth (once per view) -> MethodOutput -> ResultRow.
+#pragma once
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "harness/experiment/experiment.h"
+#include "harness/truth/ground_truth.h"
+#include "harness/results/results.h"
+
+namespace pxh {
+
+struct MethodOutput {
+    std::vector<Vec2d> uv;  // per sample (unwrapped)
+    std::vector<int> fetches;
+    double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
+    std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
+    double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
+    std::string shader;  // GLSL: "builtin" or the shader file(s) compiled
+};
+
+// Median, minimum and maximum of repeated timings (NaN when there are none).
+struct Spread {
+    double median = NAN, min = NAN, max = NAN;
+};
+Spread spread(std::vector<double> times);
+
+// CPU reference: runs the method on every sample in the given precision ("float"/"double"),
+// in parallel (outputs do not depend on threads), then times `repeats` single-thread passes
+// after one warm-up pass; ns_per_sample is their median.
+MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
+                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats);
+
+// The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
+void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
+                 const Scene<double>& scene, const HeightField& hf);
+
+// Scores one method output against the truth; samples flagged in `exclude` (when given) are
+// left out of the error statistics and counted in `excluded`.
+ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
+                const std::vector<uint8_t>* exclude = nullptr);
+
+// Two outputs on the same samples: max and p99.9 |uv_a - uv_b| in texels, and the number of
+// samples whose fetch count (the layer/step decision) differs.
+struct OutputDiff {
+    double max = NAN, p999 = NAN;
+    long long decision_mismatch = 0;
+};
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height);
+
+// GLSL vs CPU float on the same samples: max and p99.9 |uv difference| in texels, and the
+// number of samples whose fetch count (the layer/step decision) differs.
+void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
+                   int width, int height);
+
+struct RunOptions {
+    std::vector<std::string> backends;  // overrides the experiment's list when non-empty
+    std::string shader_dir;             // GLSL sources override (development)
+    int gl_frames = 5;                  // timed GLSL frames per row
+    // Called once per view with its rows (before they join the run) and their per-sample
+    // error vectors; first_index is the index the view's first row will have.
+    std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&, size_t)>
+        on_view;
+    std::function<void(const std::string&)> progress;  // one status line per step
+};
+
+struct RunInfo {
+    std::string gl_renderer, gl_version;  // when the GLSL backend ran
+    std::map<std::string, std::string> shaders;  // every GLSL source compiled -> sha256
+};
+
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
+                                      RunInfo* info = nullptr);
+
+}  // namespace pxh

@@ -1,0 +1,95 @@
+// Height fields (docs/conventions.md section 1): W x H texels in [0,1], bilinear between texel centres,
+// repeat wrapping, exactly what GL_LINEAR + GL_REPEAT computes.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "harness/core/vec.h"
+
+namespace pxh {
+
+// Largest accepted height field image (any source that reads a W x H field from a file should
+// apply the same limits). Refused from the header, before the pixels are read:
+// more than kMaxImageSide texels per side or kMaxImageTexels in all; more than
+// kMaxImageChannels channels; more than kMaxImageBytes for all channels uncompressed, as stored
+// (a tile, in tiled files, must fit the same limits). The largest field is 256 MiB of floats.
+constexpr long long kMaxImageSide = 16384;
+constexpr long long kMaxImageTexels = 64ll * 1024 * 1024;
+constexpr long long kMaxImageChannels = 64;
+constexpr long long kMaxImageBytes = 1024ll * 1024 * 1024;
+
+struct HeightField {
+    int width = 0, height = 0;
+    std::vector<float> texels;  // row-major, row j = 0 is v near 0
+    std::vector<uint8_t> filled;  // optional: 1 where a measured field's hole was filled
+    std::string name;
+
+    HeightField() = default;
+    HeightField(int w, int h, std::string n = {});
+    float at(int i, int j) const { return texels[size_t(j) * width + i]; }
+    float& at(int i, int j) { return texels[size_t(j) * width + i]; }
+    // Texel (i, j) with repeat wrapping for any integer i, j.
+    float wrapped(int64_t i, int64_t j) const;
+    // Throws InputError(where, ...) unless every texel is finite and in [0,1].
+    void validate(const std::string& where) const;
+    float min_value() const;
+    float max_value() const;
+};
+
+inline int64_t wrap_index(int64_t i, int64_t n) {
+    if (i >= 0 && i < n) return i;  // the common cases: no division
+    if (i < 0 && i >= -n) return i + n;
+    if (i >= n && i < 2 * n) return i - n;
+    int64_t r = i % n;
+    return r < 0 ? r + n : r;
+}
+
+inline float HeightField::wrapped(int64_t i, int64_t j) const {
+    return at(int(wrap_index(i, width)), int(wrap_index(j, height)));
+}
+
+// Bilinear height in precision T with a fetch counter (one fetch = one filtered lookup, as a
+// shader's texture() call). The scene's s and b turn height into surface z = s (h - b).
+template <typename T>
+class HeightSampler {
+  public:
+    HeightSampler(const HeightField& hf, T scale, T bias)
+        : hf_(&hf), w_(T(hf.width)), h_(T(hf.height)), s_(scale), b_(bias) {}
+
+    T height(Vec2<T> uv) {
+        ++fetches;
+        const T x = uv.x * w_ - T(0.5), y = uv.y * h_ - T(0.5);
+        const T fx0 = std::floor(x), fy0 = std::floor(y);
+        const T fx = x - fx0, fy = y - fy0;
+        // Float indices can exceed int range only for absurd offsets; clamp before converting.
+        const int W = hf_->width, H = hf_->height;
+        const int i0 = int(wrap_index(to_index(fx0), W)), j0 = int(wrap_index(to_index(fy0), H));
+        const int i1 = i0 + 1 == W ? 0 : i0 + 1, j1 = j0 + 1 == H ? 0 : j0 + 1;
+        const float* row0 = hf_->texels.data() + size_t(j0) * W;
+        const float* row1 = hf_->texels.data() + size_t(j1) * W;
+        const T h00 = T(row0[i0]), h10 = T(row0[i1]), h01 = T(row1[i0]), h11 = T(row1[i1]);
+        const T a = h00 + (h10 - h00) * fx;
+        const T b = h01 + (h11 - h01) * fx;
+        return a + (b - a) * fy;
+    }
+    // Surface z = s (h - b) at uv.
+    T z(Vec2<T> uv) { return s_ * (height(uv) - b_); }
+    T scale() const { return s_; }
+    T bias() const { return b_; }
+    const HeightField& field() const { return *hf_; }
+
+    int fetches = 0;
+
+  private:
+    static int64_t to_index(T f) {
+        if (!(f == f)) return 0;  // NaN coordinate: any texel; the NaN propagates via fx
+        constexpr T lim = T(int64_t(1) << 52);
+        return int64_t(f < -lim ? -lim : (f > lim ? lim : f));
+    }
+    const HeightField* hf_;
+    T w_, h_, s_, b_;
+};
+
+}  // namespace pxh

@@ -1,0 +1,38 @@
+// Embree as an independent second ground truth: the same height samples as a GRID geometry
+// (vertices at texel centres, two triangles per cell), the periodic tiling handled by walking
+// each ray tile by tile, each segment traced in the base tile with packets of 16 rays.
+#pragma once
+#include <vector>
+
+#include "harness/scene/heightfield.h"
+#include "harness/core/vec.h"
+
+namespace pxh {
+
+class EmbreeTracer {
+  public:
+    // Throws std::invalid_argument unless the scale is finite and positive.
+    EmbreeTracer(const HeightField& hf, double scale, double bias);
+    ~EmbreeTracer();
+    EmbreeTracer(const EmbreeTracer&) = delete;
+    EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+
+    // First hits of the eye rays of points P (coming down along -V from the slab top),
+    // unwrapped uv; in parallel (TBB), 16 rays per packet. Throws std::invalid_argument
+    // (ray_travel_problem's reason) for a V beyond the travel limit, before any work.
+    std::vector<Vec2d> trace(const std::vector<Vec2d>& P, Vec3d V) const;
+    void trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const;  // reuses out
+    double build_ms() const { return build_ms_; }
+
+  private:
+    void trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) const;
+    int W_, H_;
+    double s_, b_;
+    double zs_ = 1;  // heights in units of zs_ (1 up to s = 2^32; see the constructor)
+    void* device_ = nullptr;
+    void* scene_ = nullptr;       // 3 x 3 instances of the tile
+    void* tile_scene_ = nullptr;  // the GRID geometry of one tile
+    double build_ms_ = 0;
+};
+
+}  // namespace pxh
