@@ -1,0 +1,239 @@
+// `pxh run FILE`: runs an experiment, writes results.csv and run.json into a results folder.
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "harness/commands/commands.h"
+#include "harness/commands/summary.h"
+#include "harness/core/error.h"
+#include "harness/core/params.h"
+#include "harness/core/sha256.h"
+#include "harness/experiment/experiment.h"
+#include "harness/results/error_maps.h"
+#include "harness/results/provenance.h"
+#include "harness/results/run_folder.h"
+#include "harness/run/runner.h"
+
+namespace fs = std::filesystem;
+
+namespace pxh {
+namespace {
+
+struct RunArgs {
+    std::string file, out_dir, shader_dir;
+    int threads = 0;
+    std::vector<std::string> backends;
+    bool quiet = false, maps = false, force = false;
+    size_t max_rows = kDefaultMaxRows;
+    std::string max_memory;  // e.g. "8G"; empty = kDefaultMaxMemoryBytes
+};
+
+// "123", "512M", "8G", "1.5T" (binary units) -> bytes.
+size_t parse_bytes(const std::string& text) {
+    size_t used = 0;
+    double v = 0;
+    try {
+        v = std::stod(text, &used);
+    } catch (...) {
+        used = 0;
+    }
+    std::string unit = text.substr(used);
+    for (auto& c : unit) c = char(std::toupper((unsigned char)c));
+    if (!unit.empty() && unit.back() == 'B') unit.pop_back();
+    if (unit.size() == 2 && unit[1] == 'I') unit.pop_back();  // GiB, MiB
+    const std::map<std::string, double> mult = {{"", 1.0}, {"K", 1024.0}, {"M", 1048576.0},
+                                                {"G", 1073741824.0}, {"T", 1099511627776.0}};
+    if (used == 0 || !mult.count(unit) || !(v > 0) || !std::isfinite(v * mult.at(unit)) ||
+        v * mult.at(unit) > 1e18)
+        throw InputError("--max-memory", "'" + text + "' is not a size (e.g. 512M, 8G)");
+    return size_t(v * mult.at(unit));
+}
+
+// The run's size, estimated before any work: a small file must not take the machine.
+void check_run_size(const Experiment& ex, const RunArgs& a) {
+    const size_t max_memory = a.max_memory.empty() ? kDefaultMaxMemoryBytes : parse_bytes(a.max_memory);
+    const RunEstimate est = estimate_run(ex, a.backends);
+    if (est.rows > a.max_rows)
+        throw InputError(ex.path, "the run would write " + std::to_string(est.rows) +
+                                      " rows, over the limit of " + std::to_string(a.max_rows) +
+                                      " (raise it with --max-rows N)");
+    if (est.peak_bytes > max_memory)
+        throw InputError(ex.path, "the run would need about " + format_bytes(est.peak_bytes) +
+                                      " of memory, over the limit of " + format_bytes(max_memory) + " (" +
+                                      est.detail + "; raise it with --max-memory SIZE)");
+}
+
+// run.json's record of the inputs: every image a height field was read from, with its sha256.
+nlohmann::json input_records(const Experiment& ex) {
+    nlohmann::json inputs = nlohmann::json::array();
+    std::set<std::string> seen;
+    inputs.push_back({{"experiment", ex.path}, {"sha256", sha256_hex(ex.text)}});
+    for (const auto& h : ex.heightfields)  // hashed once, when the experiment was read
+        if (!h.source_path.empty() && seen.insert(h.source_path).second)
+            inputs.push_back({{"heightfield", h.name}, {"path", h.source_path}, {"sha256", h.source_sha256}});
+    return inputs;
+}
+
+// --maps: one error map per row (EXR + PNG) under DIR/maps, named in the row's map column.
+void write_view_maps(const Experiment& ex, const fs::path& tmp_dir, std::vector<ResultRow>& rows,
+                     const std::vector<std::vector<Vec2d>>& errors, size_t first) {
+    for (size_t i = 0; i < rows.size(); ++i) {
+        if (errors[i].empty()) continue;
+        const ResultRow& r = rows[i];
+        char stem[512];
+        std::snprintf(stem, sizeof stem, "%05zu_%s_%s_t%g_p%g_%s", first + i,
+                      r.method.c_str(), r.heightfield.c_str(), r.theta_deg, r.phi_deg,
+                      (r.texture_format.empty() ? r.backend + "-" + r.precision
+                                                : r.backend + "-" + r.texture_format)
+                          .c_str());
+        std::string safe = stem;
+        for (char& ch : safe)
+            if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
+        const std::string title = r.method + (r.params.empty() ? "" : " " + r.params) +
+                                  " | " + r.heightfield + " | theta " +
+                                  format_number(r.theta_deg) + " phi " +
+                                  format_number(r.phi_deg) + " | " + r.backend;
+        rows[i].map = "maps/" + write_error_map(errors[i], ex.samples,
+                                                (tmp_dir / "maps").string(), safe, title);
+    }
+}
+
+nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo& info,
+                          const std::string& command_line, int nthreads) {
+    nlohmann::json run = provenance(nthreads);
+    run["command_line"] = command_line;
+    run["experiment_file"] = ex.path;
+    run["experiment"] = ex.text;
+    run["experiment_name"] = ex.name;
+    run["inputs"] = input_records(ex);
+    run["warnings"] = ex.warnings;
+    if (!info.gl_renderer.empty()) {
+        run["gl_renderer"] = info.gl_renderer;
+        run["gl_version"] = info.gl_version;
+        const char* lp = std::getenv("LP_NUM_THREADS");
+        run["LP_NUM_THREADS"] = lp ? lp : "";
+        run["shader_dir"] = a.shader_dir.empty() ? "" : fs::absolute(a.shader_dir).string();
+        run["shaders"] = info.shaders;
+    }
+    return run;
+}
+
+// A failure is never a success: name the failed rows (their metrics are empty).
+void print_failed_rows(const std::vector<ResultRow>& rows, size_t failed) {
+    size_t shown = 0;
+    for (const auto& r : rows) {
+        if (r.status == "ok") continue;
+        if (++shown > 10) {
+            std::cerr << "pxh: ... and " << failed - 10 << " more failed rows (status=failed in results.csv)\n";
+            break;
+        }
+        std::cerr << "pxh: failed row: " << r.method << (r.params.empty() ? "" : " " + r.params)
+                  << " | " << r.heightfield << " | theta " << format_number(r.theta_deg)
+                  << " phi " << format_number(r.phi_deg) << " | " << r.backend << "/"
+                  << (r.texture_format.empty() ? r.precision : r.texture_format) << ": "
+                  << one_line(r.error) << "\n";
+    }
+}
+
+int cmd_run(const RunArgs& a, const std::string& command_line) {
+    Experiment ex = load_experiment(a.file);
+    ex.maps = ex.maps || a.maps;
+    check_run_size(ex, a);
+    const std::string out_dir =
+        a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S") : a.out_dir;
+    const int nthreads = a.threads > 0 ? a.threads : int(tbb::info::default_concurrency());
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
+    // llvmpipe's rasteriser threads follow --threads unless LP_NUM_THREADS is set already.
+    setenv("LP_NUM_THREADS", std::to_string(nthreads).c_str(), 0);
+
+    // Written into DIR.partial-PID, renamed into place only when complete (before any worker
+    // thread exists: the folder's signal clean-up needs every thread to block the signals).
+    RunFolder folder(out_dir, a.force);
+    const fs::path tmp_dir = folder.partial();
+
+    const bool tty = isatty(STDERR_FILENO);
+    RunOptions opt;
+    opt.backends = a.backends;
+    opt.shader_dir = a.shader_dir;
+    if (ex.maps)
+        opt.on_view = [&](std::vector<ResultRow>& rows,
+                          const std::vector<std::vector<Vec2d>>& errors, size_t first) {
+            write_view_maps(ex, tmp_dir, rows, errors, first);
+        };
+    if (!a.quiet)
+        opt.progress = [tty](const std::string& line) {
+            if (tty) std::cerr << "\r\033[K" << line << std::flush;
+            else std::cerr << line << "\n";
+        };
+    const auto t0 = std::chrono::steady_clock::now();
+    RunInfo info;
+    const auto rows = run_experiment(ex, opt, &info);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!a.quiet && tty) std::cerr << "\r\033[K";
+
+    write_file_synced(tmp_dir / "results.csv", results_csv(rows));
+    nlohmann::json run = run_record(ex, a, info, command_line, nthreads);
+    size_t failed = 0;
+    for (const auto& r : rows) failed += r.status != "ok";
+    run["rows"] = rows.size();
+    run["failed_rows"] = failed;
+    run["seconds"] = secs;
+    // Written last: the sha256 of every file above (pxh check and report verify them).
+    run["files"] = file_records(tmp_dir);
+    write_file_synced(tmp_dir / "run.json", run.dump(2) + "\n");
+    folder.commit();
+
+    if (!a.quiet) print_summary(rows);
+    std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
+              << std::fixed << secs << " s -> " << folder.final_dir().string() << "\n";
+    if (failed) print_failed_rows(rows, failed);
+    return failed ? 1 : 0;
+}
+
+}  // namespace
+
+Command add_run_command(CLI::App& app, const std::string& command_line) {
+    auto* run = app.add_subcommand("run", "run an experiment file, write results.csv and run.json "
+                                          "(exit 0: all rows ok; 1: some row failed, results "
+                                          "written; 2: bad input, nothing written)");
+    auto ra = std::make_shared<RunArgs>();
+    run->add_option("experiment", ra->file, "experiment file (TOML)")->required();
+    run->add_option("--out", ra->out_dir,
+                    "results folder (default results/runs/NAME-DATE); must not exist, be empty, "
+                    "or (with --force) hold earlier pxh results");
+    run->add_flag("--force", ra->force,
+                  "replace the earlier pxh results in --out (only pxh's own files there)");
+    run->add_option("--threads", ra->threads, "worker threads, >= 1 (default: all cores)");
+    run->add_option("--backend", ra->backends, "backends to run, overriding the file (cpu, glsl)");
+    run->add_option("--shader-dir", ra->shader_dir,
+                    "read GLSL from this folder (NAME.frag.glsl, common.glsl) instead of the "
+                    "embedded copies; a file missing there is taken from the embedded copies, "
+                    "and the shader column says which ran");
+    run->add_flag("--quiet", ra->quiet, "no progress or summary (the final one-line count is still printed)");
+    run->add_flag("--maps", ra->maps, "write an error map (EXR + false-colour PNG) per row");
+    run->add_option("--max-rows", ra->max_rows,
+                    "refuse a run estimated to write more rows (default " +
+                        std::to_string(kDefaultMaxRows) + ")");
+    run->add_option("--max-memory", ra->max_memory,
+                    "refuse a run estimated to need more memory, e.g. 512M, 16G (default " +
+                        format_bytes(kDefaultMaxMemoryBytes) + ")");
+    return {run, [run, ra, &command_line] {
+                if (ra->threads < 0 || (run->count("--threads") && ra->threads == 0))
+                    throw InputError("--threads", std::to_string(ra->threads) + " is not a thread count (>= 1)");
+                return cmd_run(*ra, command_line);
+            }};
+}
+
+}  // namespace pxh

@@ -1,0 +1,59 @@
+#include "harness/commands/summary.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+
+namespace pxh {
+
+void print_summary(const std::vector<ResultRow>& rows) {
+    struct Acc {
+        double sum_mean = 0, worst_p95 = 0, fetches = 0, ns = 0, ms = 0, shadow = 0;
+        int n = 0, n_ns = 0, n_ms = 0, n_shadow = 0, failed = 0;
+    };
+    std::vector<std::string> order;
+    std::map<std::string, Acc> acc;
+    for (const auto& r : rows) {
+        const std::string key = r.method + (r.params.empty() ? "" : " " + r.params) + " [" +
+                                r.backend + "/" +
+                                (r.texture_format.empty() ? r.precision : r.texture_format) + "]";
+        if (!acc.count(key)) order.push_back(key);
+        Acc& a = acc[key];
+        if (r.status != "ok") { ++a.failed; continue; }
+        a.sum_mean += r.err.mean;
+        a.worst_p95 = std::max(a.worst_p95, r.err.p95);
+        a.fetches += r.fetches_mean;
+        ++a.n;
+        if (!std::isnan(r.ns_per_sample)) { a.ns += r.ns_per_sample; ++a.n_ns; }
+        if (!std::isnan(r.ms_per_frame)) { a.ms += r.ms_per_frame; ++a.n_ms; }
+        if (!std::isnan(r.shadow_err)) { a.shadow += r.shadow_err; ++a.n_shadow; }
+    }
+    auto cell = [](double sum, int n, int prec) {
+        std::ostringstream os;
+        if (n == 0) os << "-"; else os << std::fixed << std::setprecision(prec) << sum / n;
+        return os.str();
+    };
+    std::cout << std::left << std::setw(46) << "method [backend/precision or texture]"
+              << std::right << std::setw(10) << "mean err" << std::setw(11) << "worst p95"
+              << std::setw(9) << "fetches" << std::setw(9) << "ns/smp" << std::setw(10)
+              << "ms/frame" << std::setw(8) << "shadow" << std::setw(8) << "failed" << "\n";
+    for (const auto& k : order) {
+        const Acc& a = acc[k];
+        std::cout << std::left << std::setw(46) << k << std::right << std::setw(10)
+                  << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95, a.n ? 1 : 0, 3)
+                  << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(9)
+                  << cell(a.ns, a.n_ns, 1) << std::setw(10) << cell(a.ms, a.n_ms, 2)
+                  << std::setw(8) << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed
+                  << "\n";
+    }
+    std::cout << "mean err: texel distance between the sampled and the truly visible point, "
+                 "averaged over rows; worst p95: largest per-row 95th percentile;\n"
+                 "ns/smp: single-thread CPU time per sample; ms/frame: GLSL frame time "
+                 "(llvmpipe); shadow: fraction of samples with a wrong hard shadow\n";
+}
+
+}  // namespace pxh
