@@ -19,25 +19,11 @@
 #include <vector>
 
 #include "harness/scene/heightfield.h"
+#include "harness/scene/scene.h"
 #include "harness/core/params.h"
 #include "harness/core/vec.h"
 
 namespace pxh {
-
-// Per-view constants (docs/conventions.md sections 2, 3), in the method's precision.
-template <typename T>
-struct Scene {
-    T scale = T(0.05), bias = T(1);  // s, b: surface z = s (h - b)
-    Vec3<T> V{T(0), T(0), T(1)};     // unit vector from the surface toward the eye
-    int width = 1, height = 1;       // texels of the height field
-    T z_top() const { return scale * (T(1) - bias); }
-    T z_bot() const { return -scale * bias; }
-};
-
-template <typename T>
-Scene<T> scene_cast(const Scene<double>& s) {
-    return {T(s.scale), T(s.bias), Vec3<T>(s.V), s.width, s.height};
-}
 
 using GlUniforms = std::vector<std::pair<std::string, double>>;
 
@@ -92,6 +78,12 @@ bool register_method(MethodInfo info);
 // All registered methods, in listing order.
 const std::vector<MethodInfo>& all_methods();
 const MethodInfo* find_method(const std::string& name);
+
+// One method setting of an experiment: the method and its resolved parameters.
+struct MethodSpec {
+    const MethodInfo* method = nullptr;
+    ParamValues params;
+};
 
 #define PXH_REGISTER_METHOD(M) \
     [[maybe_unused]] static const bool pxh_registered_##M = ::pxh::register_method(::pxh::make_method_info<M>())

@@ -1,6 +1,7 @@
 // The GLSL backend, rendered for real through OSMesa (llvmpipe): every registered method's
 // shader against its CPU float reference, shader errors, and texture quantisation.
 #include "harness/backends/glsl_backend.h"
+#include "harness/run/runner.h"
 
 #include <gtest/gtest.h>
 

@@ -10,6 +10,7 @@
 
 #include "harness/core/error.h"
 #include "harness/gl/gl_context.h"
+#include "harness/truth/ground_truth.h"
 #include "harness/core/sha256.h"
 #include "harness/backends/shaders.h"
 
@@ -287,6 +288,25 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     out.ms_per_frame_min = t.min;
     out.ms_per_frame_max = t.max;
     return out;
+}
+
+std::vector<Variant> GlslBackend::variants() const {
+    std::vector<Variant> out;
+    for (const auto& f : opt_.texture_formats) out.push_back({"float", f});
+    return out;
+}
+
+MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
+    return run(m, view.scene, view.hf, view.samples, v.texture_format, view.light,
+               view.timed ? -1 : 0);
+}
+
+std::map<std::string, std::string> GlslBackend::facts() const {
+    return {{"gl_renderer", renderer_}, {"gl_version", version_}};
+}
+
+std::unique_ptr<Backend> make_glsl_backend(const BackendSettings& s) {
+    return std::make_unique<GlslBackend>(GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats});
 }
 
 }  // namespace pxh

@@ -5,8 +5,7 @@
 #include <memory>
 #include <string>
 
-#include "harness/experiment/experiment.h"
-#include "harness/run/runner.h"
+#include "harness/backends/backend.h"
 
 namespace pxh {
 
@@ -15,9 +14,10 @@ class OsmesaContext;
 struct GlslOptions {
     std::string shader_dir;  // overrides the embedded shaders when non-empty
     int frames = 5;          // timed frames (median), after one warm-up frame
+    std::vector<std::string> texture_formats{"r32f"};  // the variants, in row order
 };
 
-class GlslBackend {
+class GlslBackend : public Backend {
   public:
     // Creates the context and loads GL; throws std::runtime_error with a one-line reason.
     explicit GlslBackend(GlslOptions opt);
@@ -26,6 +26,14 @@ class GlslBackend {
     // Every shader source compiled so far: "builtin:PATH" or the file read -> sha256.
     const std::map<std::string, std::string>& compiled_sources() const { return compiled_sources_; }
     std::string version() const { return version_; }
+
+    // The Backend interface: one variant per texture format, timed frames when the view is.
+    std::string name() const override { return "glsl"; }
+    std::vector<Variant> variants() const override;
+    MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
+    std::string shader_of(const MethodInfo& m) const override { return shader_description(m); }
+    std::map<std::string, std::string> facts() const override;
+    std::map<std::string, std::string> sources() const override { return compiled_sources_; }
 
     // Renders the method; throws std::runtime_error (shader compile/link log included) when
     // the method cannot run. texture_format: "r32f" | "r16" | "r8".

@@ -13,6 +13,7 @@
 #include <toml++/toml.h>
 #include <tuple>
 
+#include "harness/backends/backend.h"
 #include "harness/core/error.h"
 #include "harness/truth/ground_truth.h"
 #include "harness/core/sha256.h"
@@ -414,10 +415,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
         ex.timing_repeats = get_int(*n, path, "timing_repeats", 0, 1000);
     if (auto n = root.get("backends")) {
         ex.backends = get_strings(*n, path, "backends");
-        for (const auto& b : ex.backends)
-            if (b != "cpu" && b != "glsl")
-                throw InputError(where_of(path, *n),
-                                 "unknown backend '" + b + "' (known: cpu, glsl)");
+        for (const auto& b : ex.backends) check_backend_name(b, where_of(path, *n));
     }
     if (auto n = root.get("sweep_dt_deg")) {
         ex.sweep_dt_deg = get_number(*n, path, "sweep_dt_deg");

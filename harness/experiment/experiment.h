@@ -32,17 +32,6 @@ struct HeightfieldSpec {
     std::string source_path, source_sha256;  // files and scans: the image read and its sha256
 };
 
-struct MethodSpec {
-    const MethodInfo* method = nullptr;
-    ParamValues params;
-};
-
-// Optional directional light for the self-shadowing metrics.
-struct LightSpec {
-    double theta_deg = 45, phi_deg = 180;
-    double layers_min = 8, layers_max = 32;  // the shadow march's layer counts
-};
-
 struct Experiment {
     std::string name;
     std::string path;  // the file it came from

@@ -1,7 +1,5 @@
 #include "harness/run/runner.h"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <chrono>
 #include <memory>
@@ -11,44 +9,9 @@
 
 #include "harness/truth/embree_truth.h"
 #include "harness/core/error.h"
-#include "harness/backends/glsl_backend.h"
-#include "methods/shadow.h"
 
 namespace pxh {
 namespace {
-
-template <typename T>
-MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
-                           const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
-    const Scene<T> sc = scene_cast<T>(scene);
-    const size_t n = P.size();
-    std::vector<Vec2<T>> pts(n), uv(n);
-    for (size_t k = 0; k < n; ++k) pts[k] = Vec2<T>(P[k]);
-    MethodOutput out;
-    out.fetches.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-        fn(params, sc, hf, pts.data() + r.begin(), r.size(), uv.data() + r.begin(),
-           out.fetches.data() + r.begin());
-    });
-    out.uv.resize(n);
-    for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
-    if (repeats > 0 && n > 0) {
-        std::vector<Vec2<T>> scratch(n);
-        std::vector<int> fscratch(n);
-        std::vector<double> times;
-        for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 is the warm-up
-            const auto t0 = std::chrono::steady_clock::now();
-            fn(params, sc, hf, pts.data(), n, scratch.data(), fscratch.data());
-            const auto t1 = std::chrono::steady_clock::now();
-            if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
-        }
-        const Spread t = spread(times);
-        out.ns_per_sample = t.median / double(n);
-        out.ns_per_sample_min = t.min / double(n);
-        out.ns_per_sample_max = t.max / double(n);
-    }
-    return out;
-}
 
 std::string fmt_angle(double a) {
     std::ostringstream os;
@@ -57,49 +20,6 @@ std::string fmt_angle(double a) {
 }
 
 }  // namespace
-
-Spread spread(std::vector<double> times) {
-    Spread s;
-    if (times.empty()) return s;
-    std::sort(times.begin(), times.end());
-    const size_t m = times.size();
-    s.median = m % 2 ? times[m / 2] : 0.5 * (times[m / 2 - 1] + times[m / 2]);
-    s.min = times.front();
-    s.max = times.back();
-    return s;
-}
-
-MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
-                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
-    if (precision == "double")
-        return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats);
-    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats);
-}
-
-template <typename T>
-static void add_shadows_typed(MethodOutput& out, const LightSpec& light,
-                              const Scene<double>& scene, const HeightField& hf) {
-    const Scene<T> sc = scene_cast<T>(scene);
-    const Vec3<T> L(view_vector(light.theta_deg, light.phi_deg));
-    const ShadowConfig cfg{light.layers_min, light.layers_max};
-    const size_t n = out.uv.size();
-    out.shadow_hard.resize(n);
-    out.shadow_soft.resize(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-        for (size_t k = r.begin(); k < r.end(); ++k) {
-            HeightSampler<T> hs(hf, sc.scale, sc.bias);
-            const auto f = shadow_factors(cfg, sc, L, hs, Vec2<T>(out.uv[k]));
-            out.shadow_hard[k] = float(f.hard);
-            out.shadow_soft[k] = float(f.soft);
-        }
-    });
-}
-
-void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
-                 const Scene<double>& scene, const HeightField& hf) {
-    if (precision == "double") add_shadows_typed<double>(out, light, scene, hf);
-    else add_shadows_typed<float>(out, light, scene, hf);
-}
 
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
                 const std::vector<uint8_t>* exclude) {
@@ -165,16 +85,17 @@ void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput&
 namespace {
 
 // Everything one view produces: its rows and, per row, the per-sample error vectors (empty
-// for a failed row), in a fixed order (methods x backends x precisions/formats).
+// for a failed row), in a fixed order (methods x backends x variants).
 struct ViewRows {
     std::vector<ResultRow> rows;
     std::vector<std::vector<Vec2d>> errors;
 };
 
-struct ViewContext {
+// One field (with its s, b) and what every view of it shares.
+struct FieldContext {
     const Experiment& ex;
-    const std::vector<std::string>& backends;
-    GlslBackend* gl;
+    const std::vector<std::unique_ptr<Backend>>& backends;
+    CpuBackend& reference;  // the CPU float run other backends are compared with
     const std::vector<Vec2d>& P;
     const HeightField& hf;
     const HeightfieldSpec& spec;
@@ -182,149 +103,178 @@ struct ViewContext {
     const ExactTracer& exact;
 };
 
-std::vector<Vec2d> error_vectors(const MethodOutput& out, const GroundTruth& gt, int w, int h) {
-    std::vector<Vec2d> e(out.uv.size());
-    for (size_t k = 0; k < e.size(); ++k) e[k] = texel_error(out.uv[k], gt.uv[k], w, h);
-    return e;
-}
+// The truth stage of one view: the reference hits and the two references' disagreement.
+struct ViewTruth {
+    GroundTruth gt;
+    ErrorStats agree;  // |hit_exact - hit_embree| in texels (NaN when Embree did not run)
+};
 
-// timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
-// no timed GLSL frames, no agreement statistics.
-ViewRows evaluate_view(const ViewContext& c, double theta, double phi, bool timed) {
+// A sweep's companion view (timed = false) needs Embree only when it is the reference.
+ViewTruth truth_stage(const FieldContext& c, const Scene<double>& scene, bool timed) {
     const Experiment& ex = c.ex;
-    const HeightField& hf = c.hf;
-    const HeightfieldSpec& spec = c.spec;
-    const Scene<double> scene{spec.scale, spec.bias, view_vector(theta, phi), hf.width, hf.height};
     const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg) : Vec3d{};
-    GroundTruth gt = trace_ground_truth(c.exact, scene.V, ex.samples, ex.light ? &L : nullptr);
-    // Both references on the same rays; their disagreement goes on every reported row (a
-    // sweep's companion view needs Embree only when it is the reference).
-    ErrorStats agree;
+    ViewTruth t;
+    t.gt = trace_ground_truth(c.exact, scene.V, ex.samples, ex.light ? &L : nullptr);
+    t.agree.p50 = t.agree.p99 = t.agree.max = t.agree.frac_gt_0_5 = NAN;
     if (timed || ex.ground_truth == "embree") {
         std::vector<Vec2d> embree_uv = c.embree.trace(c.P, scene.V);
         std::vector<double> gap(c.P.size());
         for (size_t k = 0; k < c.P.size(); ++k) {
-            const Vec2d e = texel_error(embree_uv[k], gt.uv[k], hf.width, hf.height);
+            const Vec2d e = texel_error(embree_uv[k], t.gt.uv[k], c.hf.width, c.hf.height);
             gap[k] = std::hypot(e.x, e.y);
         }
-        agree = error_stats(gap);
-        if (ex.ground_truth == "embree") gt.uv = std::move(embree_uv);
+        t.agree = error_stats(gap);
+        if (ex.ground_truth == "embree") t.gt.uv = std::move(embree_uv);
     }
-    // Measured fields: which true hits depend on a filled hole (any of the 4 texels the
-    // bilinear surface there interpolates).
-    std::vector<uint8_t> on_filled;
-    double filled_frac = NAN;
-    if (!hf.filled.empty()) {
-        on_filled.resize(gt.uv.size());
-        size_t count = 0;
-        for (size_t k = 0; k < gt.uv.size(); ++k) {
-            const double x = gt.uv[k].x * hf.width - 0.5, y = gt.uv[k].y * hf.height - 0.5;
-            const int64_t i = int64_t(std::floor(x)), j = int64_t(std::floor(y));
-            bool f = false;
-            for (int dj = 0; dj < 2; ++dj)
-                for (int di = 0; di < 2; ++di)
-                    f = f || hf.filled[size_t(wrap_index(j + dj, hf.height)) * hf.width +
-                                       size_t(wrap_index(i + di, hf.width))];
-            on_filled[k] = f;
-            count += f;
-        }
-        filled_frac = double(count) / double(gt.uv.size());
-    }
-    const std::vector<uint8_t>* exclude = ex.exclude_filled && !on_filled.empty() ? &on_filled : nullptr;
-    auto errors_of = [&](const MethodOutput& out) {
-        std::vector<Vec2d> e = error_vectors(out, gt, hf.width, hf.height);
-        if (exclude)
-            for (size_t k = 0; k < e.size(); ++k)
-                if ((*exclude)[k]) e[k] = {NAN, NAN};  // left out of the sweep metrics too
-        return e;
-    };
+    return t;
+}
 
-    ViewRows view;
-    for (const auto& m : ex.methods) {
-        auto emit = [&](ResultRow row, std::vector<Vec2d> errs, const std::string& backend,
-                        const std::string& precision, const std::string& format) {
-            row.method = m.method->name;
-            row.params = m.params.canonical();
-            row.heightfield = spec.name;
-            row.heightfield_id = spec.identity;
-            row.backend = backend;
-            row.precision = precision;
-            row.texture_format = format;
-            row.scale = spec.scale;
-            row.bias = spec.bias;
-            row.theta_deg = theta;
-            row.phi_deg = phi;
-            row.samples = ex.samples;
-            row.width = hf.width;
-            row.height = hf.height;
-            row.fetches_bound = m.method->max_fetches(m.params, scene);
-            row.gt_cells_mean = gt.cells_mean;
-            row.ground_truth = ex.ground_truth;
-            row.gt_agree_p50 = agree.p50;
-            row.gt_agree_p99 = agree.p99;
-            row.gt_agree_max = agree.max;
-            row.gt_agree_frac_gt_0_5 = agree.frac_gt_0_5;
-            row.gt_on_filled = filled_frac;
-            view.rows.push_back(std::move(row));
-            view.errors.push_back(std::move(errs));
-            return view.rows.size() - 1;
-        };
-        auto failed = [](const std::exception& e) {
-            ResultRow row;
-            row.status = "failed";
-            row.error = e.what();
-            return row;
-        };
-        std::optional<MethodOutput> cpu_float, cpu_double;
-        std::optional<size_t> float_row;
-        for (const auto& backend : c.backends) {
-            if (backend == "cpu") {
-                for (const auto& precision : ex.precisions) {
-                    try {
-                        MethodOutput out =
-                            run_cpu(m, precision, scene, hf, c.P, timed ? ex.timing_repeats : 0);
-                        if (ex.light) add_shadows(out, *ex.light, precision, scene, hf);
-                        const size_t i = emit(score(out, gt, hf.width, hf.height, exclude),
-                                              errors_of(out), backend, precision, "");
-                        if (precision == "float") {
-                            float_row = i;
-                            cpu_float = std::move(out);
-                        } else {
-                            cpu_double = std::move(out);
-                        }
-                    } catch (const std::exception& e) {
-                        emit(failed(e), {}, backend, precision, "");
+// Measured fields: which true hits depend on a filled hole (any of the 4 texels the bilinear
+// surface there interpolates).
+struct HoleMask {
+    std::vector<uint8_t> on_filled;  // empty for fields without holes
+    double frac = NAN;
+};
+
+HoleMask hole_mask(const HeightField& hf, const GroundTruth& gt) {
+    HoleMask m;
+    if (hf.filled.empty()) return m;
+    m.on_filled.resize(gt.uv.size());
+    size_t count = 0;
+    for (size_t k = 0; k < gt.uv.size(); ++k) {
+        const double x = gt.uv[k].x * hf.width - 0.5, y = gt.uv[k].y * hf.height - 0.5;
+        const int64_t i = int64_t(std::floor(x)), j = int64_t(std::floor(y));
+        bool f = false;
+        for (int dj = 0; dj < 2; ++dj)
+            for (int di = 0; di < 2; ++di)
+                f = f || hf.filled[size_t(wrap_index(j + dj, hf.height)) * hf.width +
+                                   size_t(wrap_index(i + di, hf.width))];
+        m.on_filled[k] = f;
+        count += f;
+    }
+    m.frac = double(count) / double(gt.uv.size());
+    return m;
+}
+
+// One view being evaluated: its scene, truth, holes, and the rows it has produced so far.
+struct ViewJob {
+    const FieldContext& c;
+    double theta, phi;
+    bool timed;
+    Scene<double> scene;
+    ViewTruth truth;
+    HoleMask holes;
+    const std::vector<uint8_t>* exclude = nullptr;  // samples left out of the errors
+    ViewRows out;
+
+    ViewInput input() const {
+        return {scene, c.hf, c.P, c.ex.samples, c.ex.light ? &*c.ex.light : nullptr, timed};
+    }
+
+    // Per-sample error vectors; excluded samples are NaN (left out of the sweep metrics too).
+    std::vector<Vec2d> errors_of(const MethodOutput& o) const {
+        std::vector<Vec2d> e(o.uv.size());
+        for (size_t k = 0; k < e.size(); ++k)
+            e[k] = exclude && (*exclude)[k] ? Vec2d{NAN, NAN}
+                                            : texel_error(o.uv[k], truth.gt.uv[k], c.hf.width,
+                                                          c.hf.height);
+        return e;
+    }
+
+    // The keys and the view-wide columns of a row; returns its index in the view.
+    size_t emit(ResultRow row, std::vector<Vec2d> errs, const MethodSpec& m,
+                const std::string& backend, const Variant& v) {
+        row.method = m.method->name;
+        row.params = m.params.canonical();
+        row.heightfield = c.spec.name;
+        row.heightfield_id = c.spec.identity;
+        row.backend = backend;
+        row.precision = v.precision;
+        row.texture_format = v.texture_format;
+        row.scale = c.spec.scale;
+        row.bias = c.spec.bias;
+        row.theta_deg = theta;
+        row.phi_deg = phi;
+        row.samples = c.ex.samples;
+        row.width = c.hf.width;
+        row.height = c.hf.height;
+        row.fetches_bound = m.method->max_fetches(m.params, scene);
+        row.gt_cells_mean = truth.gt.cells_mean;
+        row.ground_truth = c.ex.ground_truth;
+        row.gt_agree_p50 = truth.agree.p50;
+        row.gt_agree_p99 = truth.agree.p99;
+        row.gt_agree_max = truth.agree.max;
+        row.gt_agree_frac_gt_0_5 = truth.agree.frac_gt_0_5;
+        row.gt_on_filled = holes.frac;
+        out.rows.push_back(std::move(row));
+        out.errors.push_back(std::move(errs));
+        return out.rows.size() - 1;
+    }
+};
+
+ResultRow failed_row(const std::exception& e) {
+    ResultRow row;
+    row.status = "failed";
+    row.error = e.what();
+    return row;
+}
+
+// One method setting on every backend and variant of one view. The CPU float output is kept:
+// the float row gets its distance to double, other backends their agreement with it.
+void run_method(ViewJob& job, const MethodSpec& m) {
+    const HeightField& hf = job.c.hf;
+    const ViewInput in = job.input();
+    std::optional<MethodOutput> cpu_float, cpu_double;
+    std::optional<size_t> float_row;
+    for (const auto& backend : job.c.backends) {
+        const bool is_cpu = backend->name() == "cpu";
+        for (const Variant& v : backend->variants()) {
+            try {
+                MethodOutput o = backend->run(m, in, v);
+                ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude);
+                if (is_cpu) {
+                    const size_t i = job.emit(std::move(row), job.errors_of(o), m, "cpu", v);
+                    if (v.precision == "float") {
+                        float_row = i;
+                        cpu_float = std::move(o);
+                    } else {
+                        cpu_double = std::move(o);
                     }
+                    continue;
                 }
-                if (float_row && cpu_double) {  // what float precision itself costs
-                    const OutputDiff d = compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height);
-                    view.rows[*float_row].double_diff_max = d.max;
-                    view.rows[*float_row].double_diff_p999 = d.p999;
-                }
-                continue;
-            }
-            for (const auto& format : ex.texture_formats) {
-                try {
-                    const MethodOutput out =
-                        c.gl->run(m, scene, hf, ex.samples, format,
-                                  ex.light ? &*ex.light : nullptr, timed ? -1 : 0);
-                    ResultRow row = score(out, gt, hf.width, hf.height, exclude);
-                    row.ms_per_frame = out.ms_per_frame;
-                    row.ms_per_frame_min = out.ms_per_frame_min;
-                    row.ms_per_frame_max = out.ms_per_frame_max;
-                    row.shader = out.shader;
-                    if (!cpu_float) cpu_float = run_cpu(m, "float", scene, hf, c.P, 0);
-                    add_agreement(row, out, *cpu_float, hf.width, hf.height);
-                    emit(std::move(row), errors_of(out), backend, "float", format);
-                } catch (const std::exception& e) {
-                    ResultRow row = failed(e);
-                    row.shader = c.gl->shader_description(*m.method);
-                    emit(std::move(row), {}, backend, "float", format);
-                }
+                row.ms_per_frame = o.ms_per_frame;
+                row.ms_per_frame_min = o.ms_per_frame_min;
+                row.ms_per_frame_max = o.ms_per_frame_max;
+                row.shader = o.shader;
+                if (!cpu_float)
+                    cpu_float = job.c.reference.run(m, {in.scene, in.hf, in.P, in.samples,
+                                                        nullptr, false}, {"float", ""});
+                add_agreement(row, o, *cpu_float, hf.width, hf.height);
+                job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
+            } catch (const std::exception& e) {
+                ResultRow row = failed_row(e);
+                row.shader = backend->shader_of(*m.method);
+                job.emit(std::move(row), {}, m, backend->name(), v);
             }
         }
+        if (is_cpu && float_row && cpu_double) {  // what float precision itself costs
+            const OutputDiff d = compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height);
+            job.out.rows[*float_row].double_diff_max = d.max;
+            job.out.rows[*float_row].double_diff_p999 = d.p999;
+        }
     }
-    return view;
+}
+
+// timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
+// no timed GLSL frames, no agreement statistics.
+ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool timed) {
+    const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
+                              c.hf.height};
+    ViewJob job{c, theta, phi, timed, scene, truth_stage(c, scene, timed), {}, nullptr, {}};
+    job.holes = hole_mask(c.hf, job.truth.gt);
+    if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
+    for (const auto& m : c.ex.methods) run_method(job, m);
+    return std::move(job.out);
 }
 
 void set_sweep(ResultRow& row, const std::vector<Vec2d>& lo, const std::vector<Vec2d>& hi,
@@ -336,38 +286,94 @@ void set_sweep(ResultRow& row, const std::vector<Vec2d>& lo, const std::vector<V
     row.sweep_dt_deg = dt;
 }
 
+// The backends a run uses, created in the experiment's order (GLSL creates its GL context).
+std::vector<std::unique_ptr<Backend>> make_backends(const Experiment& ex, const RunOptions& opt,
+                                                    const BackendSettings& settings) {
+    const auto& names = opt.backends.empty() ? ex.backends : opt.backends;
+    for (const auto& b : names) check_backend_name(b, "--backend");
+    std::vector<std::unique_ptr<Backend>> out;
+    for (const auto& b : names) out.push_back(make_backend(b, settings));
+    return out;
+}
+
+// Image files and scans are loaded once up front and dropped, so that a bad file fails before
+// any work.
+void check_field_files(const Experiment& ex) {
+    std::set<std::string> checked;
+    for (const auto& spec : ex.heightfields)
+        if (spec.generator.empty() && checked.insert(spec.file + "|" + spec.scan).second)
+            (void)make_heightfield(spec);
+}
+
+bool same_field(const HeightfieldSpec& a, const HeightfieldSpec& b) {
+    return a.generator == b.generator && a.file == b.file && a.scan == b.scan &&
+           a.width == b.width && a.height == b.height && a.channel == b.channel &&
+           a.gen_params.canonical() == b.gen_params.canonical() && a.name == b.name;
+}
+
+// Runs the theta sweep of one field and azimuth; rows join `rows` view by view.
+void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_t& step,
+               size_t steps, std::vector<ResultRow>& rows) {
+    const Experiment& ex = ctx.ex;
+    ViewRows prev;  // the previous view of this sweep (same field and phi)
+    std::vector<size_t> prev_index;
+    for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
+        const double theta = ex.theta_deg[t];
+        ++step;
+        if (opt.progress) {
+            std::ostringstream os;
+            os << "[" << step << "/" << steps << "] " << ctx.spec.name << " s=" << ctx.spec.scale
+               << " b=" << ctx.spec.bias << " theta=" << fmt_angle(theta)
+               << " phi=" << fmt_angle(phi);
+            opt.progress(os.str());
+        }
+        ViewRows view = evaluate_view(ctx, theta, phi, true);
+        if (ex.sweep_dt_deg > 0) {
+            // A companion view dt away (below when theta + dt would reach 90).
+            const bool up = theta + ex.sweep_dt_deg < 90;
+            const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
+            const ViewRows comp = evaluate_view(ctx, other, phi, false);
+            for (size_t i = 0; i < view.rows.size(); ++i)
+                set_sweep(view.rows[i], up ? view.errors[i] : comp.errors[i],
+                          up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg);
+        } else if (t > 0) {
+            // Consecutive views: the pair (theta_{k-1}, theta_k) goes on row k-1.
+            const double dt = theta - ex.theta_deg[t - 1];
+            for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
+                if (dt > 0) set_sweep(rows[prev_index[i]], prev.errors[i], view.errors[i], dt);
+        }
+        if (opt.on_view) opt.on_view(view.rows, view.errors, rows.size());
+        prev_index.clear();
+        for (auto& r : view.rows) {
+            prev_index.push_back(rows.size());
+            rows.push_back(std::move(r));
+        }
+        prev = std::move(view);
+    }
+}
+
 }  // namespace
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
                                       RunInfo* info) {
-    const auto& backends = opt.backends.empty() ? ex.backends : opt.backends;
-    for (const auto& b : backends)
-        if (b != "cpu" && b != "glsl")
-            throw InputError("--backend", "unknown backend '" + b + "' (known: cpu, glsl)");
-    std::unique_ptr<GlslBackend> gl;
-    if (std::find(backends.begin(), backends.end(), "glsl") != backends.end()) {
-        gl = std::make_unique<GlslBackend>(GlslOptions{opt.shader_dir, opt.gl_frames});
-        if (info) {
-            info->gl_renderer = gl->renderer();
-            info->gl_version = gl->version();
-        }
-    }
+    BackendSettings settings;
+    settings.precisions = ex.precisions;
+    settings.texture_formats = ex.texture_formats;
+    settings.timing_repeats = ex.timing_repeats;
+    settings.gl_frames = opt.gl_frames;
+    settings.shader_dir = opt.shader_dir;
+    const auto backends = make_backends(ex, opt, settings);
+    CpuBackend reference(settings);
+    if (info)
+        for (const auto& b : backends)
+            for (const auto& [k, v] : b->facts()) {
+                if (k == "gl_renderer") info->gl_renderer = v;
+                if (k == "gl_version") info->gl_version = v;
+            }
     // Height fields are built one at a time (a sweep of thousands of fields, or of scales on
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
-    // reuse it. Image files and scans are loaded once up front and dropped, so that a bad file
-    // fails before any work.
-    {
-        std::set<std::string> checked;
-        for (const auto& spec : ex.heightfields)
-            if (spec.generator.empty() && checked.insert(spec.file + "|" + spec.scan).second)
-                (void)make_heightfield(spec);
-    }
-    auto same_field = [](const HeightfieldSpec& a, const HeightfieldSpec& b) {
-        return a.generator == b.generator && a.file == b.file && a.scan == b.scan &&
-               a.width == b.width && a.height == b.height && a.channel == b.channel &&
-               a.gen_params.canonical() == b.gen_params.canonical() && a.name == b.name;
-    };
-
+    // reuse it.
+    check_field_files(ex);
     const auto P = sample_grid(ex.samples);
     std::vector<ResultRow> rows;
     const size_t steps = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size();
@@ -379,51 +385,15 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             field.reset();  // free the previous one first
             field = make_heightfield(spec);
         }
-        const HeightField& hf = *field;
         // Both references built once per field (and s, b), shared by all its views.
-        const EmbreeTracer embree(hf, spec.scale, spec.bias);
-        const ExactTracer exact(hf, spec.scale, spec.bias);
-        const ViewContext ctx{ex, backends, gl.get(), P, hf, spec, embree, exact};
-        for (double phi : ex.phi_deg) {
-            ViewRows prev;  // the previous view of this sweep (same field and phi)
-            std::vector<size_t> prev_index;
-            for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
-                const double theta = ex.theta_deg[t];
-                ++step;
-                if (opt.progress) {
-                    std::ostringstream os;
-                    os << "[" << step << "/" << steps << "] " << spec.name << " s="
-                       << spec.scale << " b=" << spec.bias << " theta=" << fmt_angle(theta)
-                       << " phi=" << fmt_angle(phi);
-                    opt.progress(os.str());
-                }
-                ViewRows view = evaluate_view(ctx, theta, phi, true);
-                if (ex.sweep_dt_deg > 0) {
-                    // A companion view dt away (below when theta + dt would reach 90).
-                    const bool up = theta + ex.sweep_dt_deg < 90;
-                    const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
-                    const ViewRows comp = evaluate_view(ctx, other, phi, false);
-                    for (size_t i = 0; i < view.rows.size(); ++i)
-                        set_sweep(view.rows[i], up ? view.errors[i] : comp.errors[i],
-                                  up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg);
-                } else if (t > 0) {
-                    // Consecutive views: the pair (theta_{k-1}, theta_k) goes on row k-1.
-                    const double dt = theta - ex.theta_deg[t - 1];
-                    for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
-                        if (dt > 0)
-                            set_sweep(rows[prev_index[i]], prev.errors[i], view.errors[i], dt);
-                }
-                if (opt.on_view) opt.on_view(view.rows, view.errors, rows.size());
-                prev_index.clear();
-                for (auto& r : view.rows) {
-                    prev_index.push_back(rows.size());
-                    rows.push_back(std::move(r));
-                }
-                prev = std::move(view);
-            }
-        }
+        const EmbreeTracer embree(*field, spec.scale, spec.bias);
+        const ExactTracer exact(*field, spec.scale, spec.bias);
+        const FieldContext ctx{ex, backends, reference, P, *field, spec, embree, exact};
+        for (double phi : ex.phi_deg) run_sweep(ctx, phi, opt, step, steps, rows);
     }
-    if (info && gl) info->shaders = gl->compiled_sources();
+    if (info)
+        for (const auto& b : backends)
+            for (const auto& [k, v] : b->sources()) info->shaders[k] = v;
     return rows;
 }
 

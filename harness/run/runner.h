@@ -5,36 +5,13 @@
 #include <string>
 #include <vector>
 
+#include "harness/backends/backend.h"
+#include "harness/backends/cpu_backend.h"
 #include "harness/experiment/experiment.h"
-#include "harness/truth/ground_truth.h"
 #include "harness/results/results.h"
+#include "harness/truth/ground_truth.h"
 
 namespace pxh {
-
-struct MethodOutput {
-    std::vector<Vec2d> uv;  // per sample (unwrapped)
-    std::vector<int> fetches;
-    double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
-    std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
-    double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
-    std::string shader;  // GLSL: "builtin" or the shader file(s) compiled
-};
-
-// Median, minimum and maximum of repeated timings (NaN when there are none).
-struct Spread {
-    double median = NAN, min = NAN, max = NAN;
-};
-Spread spread(std::vector<double> times);
-
-// CPU reference: runs the method on every sample in the given precision ("float"/"double"),
-// in parallel (outputs do not depend on threads), then times `repeats` single-thread passes
-// after one warm-up pass; ns_per_sample is their median.
-MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
-                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats);
-
-// The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
-void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
-                 const Scene<double>& scene, const HeightField& hf);
 
 // Scores one method output against the truth; samples flagged in `exclude` (when given) are
 // left out of the error statistics and counted in `excluded`.

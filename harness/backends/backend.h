@@ -1,0 +1,86 @@
+// The backend stage: runs one method setting over every sample of one view and returns the
+// per-sample output (uv, fetches, shadow factors, timing). Scoring is the metrics' job.
+//
+// Adding a backend: one file harness/backends/NAME_backend.cpp defining a Backend subclass and
+// a factory, plus one line in harness/backends/registry.cpp.
+#pragma once
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/scene/heightfield.h"
+#include "harness/scene/scene.h"
+#include "methods/method.h"
+
+namespace pxh {
+
+struct MethodOutput {
+    std::vector<Vec2d> uv;  // per sample (unwrapped)
+    std::vector<int> fetches;
+    double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
+    std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
+    double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
+    std::string shader;  // GLSL: "builtin" or the shader file(s) compiled
+};
+
+// Median, minimum and maximum of repeated timings (NaN when there are none).
+struct Spread {
+    double median = NAN, min = NAN, max = NAN;
+};
+Spread spread(std::vector<double> times);
+
+// What a run asks of its backends (the experiment's keys and the command line's overrides).
+struct BackendSettings {
+    std::vector<std::string> precisions{"float"};      // CPU: float | double
+    std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
+    int timing_repeats = 5;                            // CPU: timed passes (median)
+    int gl_frames = 5;                                 // GLSL: timed frames (median)
+    std::string shader_dir;                            // GLSL sources override (development)
+};
+
+// The variant a row of a backend runs in: its precision and (GLSL) height texture format.
+struct Variant {
+    std::string precision, texture_format;
+};
+
+// One view, as every backend gets it.
+struct ViewInput {
+    const Scene<double>& scene;    // s, b, V, field size
+    const HeightField& hf;
+    const std::vector<Vec2d>& P;   // the N x N sample points, row-major
+    int samples;                   // N
+    const LightSpec* light;        // when given: hard and soft light factors at the output uv
+    bool timed;                    // false: no timing passes (a sweep's companion view)
+};
+
+class Backend {
+  public:
+    virtual ~Backend() = default;
+    virtual std::string name() const = 0;
+    // The variants each method setting runs in, in row order.
+    virtual std::vector<Variant> variants() const = 0;
+    // Throws std::exception (the row fails with its message) when the method cannot run.
+    virtual MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) = 0;
+    // The results' shader column for this method ("" where there is no shader).
+    virtual std::string shader_of(const MethodInfo&) const { return ""; }
+    // Facts for run.json (e.g. gl_renderer, gl_version); empty by default.
+    virtual std::map<std::string, std::string> facts() const { return {}; }
+    // Every source compiled so far -> sha256 (run.json); empty by default.
+    virtual std::map<std::string, std::string> sources() const { return {}; }
+};
+
+// The registry (harness/backends/registry.cpp): one line per backend.
+struct BackendEntry {
+    const char* name;
+    std::unique_ptr<Backend> (*make)(const BackendSettings&);
+};
+const std::vector<BackendEntry>& backend_registry();
+std::vector<std::string> backend_names();  // in registry order
+// Throws InputError(where, "unknown backend 'x' (known: cpu, glsl)") for an unknown name.
+void check_backend_name(const std::string& name, const std::string& where);
+// Creates it (a GL backend creates its context here; its failure is a std::runtime_error).
+std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings);
+
+}  // namespace pxh

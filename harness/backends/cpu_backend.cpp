@@ -1,0 +1,97 @@
+#include "harness/backends/cpu_backend.h"
+
+#include <tbb/parallel_for.h>
+
+#include <chrono>
+
+#include "harness/truth/ground_truth.h"
+#include "methods/shadow.h"
+
+namespace pxh {
+namespace {
+
+template <typename T>
+MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
+                           const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
+    const Scene<T> sc = scene_cast<T>(scene);
+    const size_t n = P.size();
+    std::vector<Vec2<T>> pts(n), uv(n);
+    for (size_t k = 0; k < n; ++k) pts[k] = Vec2<T>(P[k]);
+    MethodOutput out;
+    out.fetches.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+        fn(params, sc, hf, pts.data() + r.begin(), r.size(), uv.data() + r.begin(),
+           out.fetches.data() + r.begin());
+    });
+    out.uv.resize(n);
+    for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
+    if (repeats > 0 && n > 0) {
+        std::vector<Vec2<T>> scratch(n);
+        std::vector<int> fscratch(n);
+        std::vector<double> times;
+        for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 is the warm-up
+            const auto t0 = std::chrono::steady_clock::now();
+            fn(params, sc, hf, pts.data(), n, scratch.data(), fscratch.data());
+            const auto t1 = std::chrono::steady_clock::now();
+            if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+        }
+        const Spread t = spread(times);
+        out.ns_per_sample = t.median / double(n);
+        out.ns_per_sample_min = t.min / double(n);
+        out.ns_per_sample_max = t.max / double(n);
+    }
+    return out;
+}
+
+template <typename T>
+void add_shadows_typed(MethodOutput& out, const LightSpec& light, const Scene<double>& scene,
+                       const HeightField& hf) {
+    const Scene<T> sc = scene_cast<T>(scene);
+    const Vec3<T> L(view_vector(light.theta_deg, light.phi_deg));
+    const ShadowConfig cfg{light.layers_min, light.layers_max};
+    const size_t n = out.uv.size();
+    out.shadow_hard.resize(n);
+    out.shadow_soft.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+        for (size_t k = r.begin(); k < r.end(); ++k) {
+            HeightSampler<T> hs(hf, sc.scale, sc.bias);
+            const auto f = shadow_factors(cfg, sc, L, hs, Vec2<T>(out.uv[k]));
+            out.shadow_hard[k] = float(f.hard);
+            out.shadow_soft[k] = float(f.soft);
+        }
+    });
+}
+
+}  // namespace
+
+MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
+                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
+    if (precision == "double")
+        return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats);
+    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats);
+}
+
+void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
+                 const Scene<double>& scene, const HeightField& hf) {
+    if (precision == "double") add_shadows_typed<double>(out, light, scene, hf);
+    else add_shadows_typed<float>(out, light, scene, hf);
+}
+
+std::vector<Variant> CpuBackend::variants() const {
+    std::vector<Variant> out;
+    for (const auto& p : settings_.precisions) out.push_back({p, ""});
+    return out;
+}
+
+MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
+    MethodOutput out = run_cpu(m, v.precision, view.scene, view.hf, view.P,
+                               view.timed ? settings_.timing_repeats : 0);
+    if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
+    return out;
+}
+
+std::unique_ptr<Backend> make_cpu_backend(const BackendSettings& settings) {
+    return std::make_unique<CpuBackend>(settings);
+}
+
+}  // namespace pxh
