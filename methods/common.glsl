@@ -27,7 +27,7 @@ float pxh_z_top() { return u_scale * (1.0 - u_bias); }
 float pxh_z_bot() { return -u_scale * u_bias; }
 
 // ---- Layer search (methods/layered.h) ----
-uniform float p_layers_adaptive;  // 1: n = mix(n_max, n_min, |V.z|); 0: n = p_layers
+uniform bool p_layers_adaptive;  // true: n = mix(n_max, n_min, |V.z|); false: n = p_layers
 uniform float p_layers;
 uniform float p_layers_min;
 uniform float p_layers_max;
@@ -42,7 +42,7 @@ struct PxhLayers {
 };
 
 float pxh_layer_count() {
-    if (p_layers_adaptive == 0.0) return p_layers;
+    if (!p_layers_adaptive) return p_layers;
     float a = abs(u_view.z);
     return p_layers_max * (1.0 - a) + p_layers_min * a;
 }

@@ -11,18 +11,27 @@
 
 namespace pxh {
 
-// In `params` (complete_layer_params fills the defaults): fixed n is
-// "layers=32;layers_min=off;layers_max=off", view-adaptive "layers=adaptive;layers_min=8;
-// layers_max=32" (the values in use, never both modes at once).
+// Two modes: fixed n (layers = a number) or view-adaptive (layers = "adaptive", or
+// layers_min / layers_max given). In `params` (complete_layer_params fills the defaults):
+// fixed n is "layers=32;layers_min=off;layers_max=off", view-adaptive "layers=adaptive;
+// layers_min=8;layers_max=32" (the values in use, never both modes at once). The names are
+// accepted as input too, so a `params` value read back means the same setting.
 inline std::vector<ParamSpec> layer_params() {
     return {
-        {"layers", std::nullopt, 1, 4096, false,
-         "fixed layer count n (default 32 when neither layers_min nor layers_max is given)",
-         "adaptive"},
-        {"layers_min", std::nullopt, 1, 4096, false,
-         "view-adaptive: n = mix(layers_max, layers_min, |V.z|) (default 8)", "off"},
-        {"layers_max", std::nullopt, 1, 4096, false, "view-adaptive upper count (default 32)",
-         "off"},
+        ParamSpec::real("layers", std::nullopt, 1, 4096,
+                        "fixed layer count n (default 32 when neither layers_min nor layers_max "
+                        "is given); \"adaptive\": view-adaptive")
+            .or_names({"adaptive"})
+            .unset_as("adaptive"),
+        ParamSpec::real("layers_min", std::nullopt, 1, 4096,
+                        "view-adaptive: n = mix(layers_max, layers_min, |V.z|) (default 8); "
+                        "\"off\": fixed n")
+            .or_names({"off"})
+            .unset_as("off"),
+        ParamSpec::real("layers_max", std::nullopt, 1, 4096,
+                        "view-adaptive upper count (default 32); \"off\": fixed n")
+            .or_names({"off"})
+            .unset_as("off"),
     };
 }
 
@@ -33,27 +42,35 @@ struct LayerConfig {
 
 inline LayerConfig layer_config(const ParamValues& p, const std::string& where) {
     LayerConfig c;
-    c.adaptive = p.has("layers_min") || p.has("layers_max");
-    if (c.adaptive && p.has("layers"))
+    const bool says_fixed = p.is_number("layers") || p.is_name("layers_min", "off") ||
+                            p.is_name("layers_max", "off");
+    c.adaptive = p.is_name("layers", "adaptive") || p.is_number("layers_min") ||
+                 p.is_number("layers_max");
+    if (c.adaptive && says_fixed)
         throw InputError(where, "give either 'layers' (fixed) or 'layers_min'/'layers_max' "
                                 "(view-adaptive), not both");
-    c.n = p.get_or("layers", 32);
-    c.n_min = p.get_or("layers_min", 8);
-    c.n_max = p.get_or("layers_max", 32);
+    c.n = p.is_number("layers") ? p.get("layers") : 32;
+    c.n_min = p.is_number("layers_min") ? p.get("layers_min") : 8;
+    c.n_max = p.is_number("layers_max") ? p.get("layers_max") : 32;
     if (c.adaptive && c.n_min > c.n_max)
         throw InputError(where, "layers_min must not exceed layers_max");
     return c;
 }
 
-// The resolved set: the defaults the search uses written in (fixed: layers = 32; adaptive:
-// layers_min = 8, layers_max = 32), so `params` says exactly what ran. Call after
-// layer_config accepted the given values.
+// The resolved set: the mode and the defaults the search uses written in (fixed: layers = 32,
+// layers_min = layers_max = "off"; adaptive: layers = "adaptive", layers_min = 8,
+// layers_max = 32), so `params` says exactly what ran. Call after layer_config accepted the
+// given values.
 inline void complete_layer_params(ParamValues& p) {
-    if (p.has("layers_min") || p.has("layers_max")) {
-        if (!p.has("layers_min")) p.set("layers_min", 8);
-        if (!p.has("layers_max")) p.set("layers_max", 32);
-    } else if (!p.has("layers")) {
-        p.set("layers", 32);
+    const LayerConfig c = layer_config(p, "");
+    if (c.adaptive) {
+        p.set("layers", "adaptive");
+        p.set("layers_min", c.n_min);
+        p.set("layers_max", c.n_max);
+    } else {
+        p.set("layers", c.n);
+        p.set("layers_min", "off");
+        p.set("layers_max", "off");
     }
 }
 
@@ -65,11 +82,10 @@ T layer_count(const LayerConfig& c, const Scene<T>& sc) {
     return T(c.n_max) * (T(1) - a) + T(c.n_min) * a;
 }
 
+// The uniforms of common.glsl's pxh_layer_search.
 inline GlUniforms layer_uniforms(const LayerConfig& c) {
-    return {{"p_layers_adaptive", c.adaptive ? 1.0 : 0.0},
-            {"p_layers", c.n},
-            {"p_layers_min", c.n_min},
-            {"p_layers_max", c.n_max}};
+    return {GlUniform::boolean("p_layers_adaptive", c.adaptive), GlUniform::real("p_layers", c.n),
+            GlUniform::real("p_layers_min", c.n_min), GlUniform::real("p_layers_max", c.n_max)};
 }
 
 // Bound on the layer index: ceil(n) (layers 0..ceil(n), so ceil(n) + 1 fetches).

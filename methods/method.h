@@ -7,10 +7,20 @@
 //   static int max_fetches(const Config&, const Scene<double>&);   declared bound per sample
 //   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
 //                                             HeightSampler<T>&, Vec2<T> P);
-//   static GlUniforms gl_uniforms(const Config&);       the GLSL twin's p_* uniforms
+//   optionally static GlUniforms gl_uniforms(const Config&);  the GLSL twin's uniforms that
+//                                                       are not one parameter's value (a
+//                                                       parameter that reaches the shader as
+//                                                       it is names its uniform in its
+//                                                       ParamSpec: ParamSpec::to_uniform)
 //   optionally static void complete_params(ParamValues&); writes in the values an unset
 //                                                       optional parameter stands for
 // and methods/NAME/NAME.frag.glsl defines vec2 pxh_method(vec2 P) (see methods/common.glsl).
+//
+// The shader interface (checked by the GLSL backend after linking, an error naming the method,
+// the uniform and the shader file otherwise): the method's uniforms (method_uniforms(): the
+// parameters' and gl_uniforms()) are exactly the program's active uniforms besides the
+// harness's u_* ones, each with the declared GLSL type (real: float, integer: int, bool: bool,
+// choice: int, the index of the name).
 #pragma once
 #include <cmath>
 #include <cstddef>
@@ -25,7 +35,18 @@
 
 namespace pxh {
 
-using GlUniforms = std::vector<std::pair<std::string, double>>;
+// A uniform the method's shader reads, with its GLSL type and value.
+enum class GlslType { Float, Int, Bool };
+struct GlUniform {
+    std::string name;
+    GlslType type = GlslType::Float;
+    double value = 0;
+    static GlUniform real(std::string n, double v) { return {std::move(n), GlslType::Float, v}; }
+    static GlUniform integer(std::string n, int v) { return {std::move(n), GlslType::Int, double(v)}; }
+    static GlUniform boolean(std::string n, bool v) { return {std::move(n), GlslType::Bool, v ? 1.0 : 0.0}; }
+};
+using GlUniforms = std::vector<GlUniform>;
+const char* glsl_type_name(GlslType t);  // "float", "int", "bool"
 
 template <typename T>
 using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const HeightField&, const Vec2<T>* P,
@@ -40,6 +61,8 @@ struct MethodInfo {
     int order = 100;             // listing order
     void (*check)(const ParamValues&, const std::string& where) = nullptr;
     int (*max_fetches)(const ParamValues&, const Scene<double>&) = nullptr;
+    // The uniforms the method computes (M::gl_uniforms); nullptr: none. The backend sets
+    // method_uniforms(), which adds the parameters that name a uniform.
     GlUniforms (*gl_uniforms)(const ParamValues&) = nullptr;
     BatchFn<float> run_float = nullptr;
     BatchFn<double> run_double = nullptr;
@@ -66,7 +89,8 @@ MethodInfo make_method_info() {
     info.max_fetches = [](const ParamValues& p, const Scene<double>& sc) {
         return M::max_fetches(M::configure(p, ""), sc);
     };
-    info.gl_uniforms = [](const ParamValues& p) { return M::gl_uniforms(M::configure(p, "")); };
+    if constexpr (requires(const typename M::Config& c) { M::gl_uniforms(c); })
+        info.gl_uniforms = [](const ParamValues& p) { return M::gl_uniforms(M::configure(p, "")); };
     info.run_float = &run_method_batch<M, float>;
     info.run_double = &run_method_batch<M, double>;
     if constexpr (requires(ParamValues& p) { M::complete_params(p); })
@@ -74,6 +98,13 @@ MethodInfo make_method_info() {
     return info;
 }
 
+// Every uniform the method's shader gets, in declaration order: each parameter that names a
+// uniform (its value, typed by the parameter's type), then the method's computed ones.
+GlUniforms method_uniforms(const MethodInfo& m, const ParamValues& p);
+
+// Checks the declarations (throws std::logic_error naming the method: a parameter's uniform
+// without the "p_" prefix, on a parameter that can be a name or unset, or given twice) and
+// adds the method to the registry.
 bool register_method(MethodInfo info);
 // All registered methods, in listing order.
 const std::vector<MethodInfo>& all_methods();

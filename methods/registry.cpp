@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <set>
 #include <stdexcept>
 
 #include "methods/method.h"
@@ -10,7 +11,58 @@ static std::vector<MethodInfo>& registry() {
     return methods;
 }
 
+const char* glsl_type_name(GlslType t) {
+    switch (t) {
+        case GlslType::Float: return "float";
+        case GlslType::Int: return "int";
+        case GlslType::Bool: return "bool";
+    }
+    return "?";
+}
+
+GlUniforms method_uniforms(const MethodInfo& m, const ParamValues& p) {
+    GlUniforms out;
+    for (const ParamSpec& s : m.params) {
+        if (s.uniform.empty()) continue;
+        const ParamValue& v = p.value(s.name);
+        switch (s.type) {
+            case ParamType::Real: out.push_back(GlUniform::real(s.uniform, v.number())); break;
+            case ParamType::Integer:
+                out.push_back(GlUniform::integer(s.uniform, int(v.number())));
+                break;
+            case ParamType::Bool: out.push_back(GlUniform::boolean(s.uniform, v.boolean())); break;
+            case ParamType::Choice: {
+                const auto it = std::find(s.names.begin(), s.names.end(), v.name());
+                out.push_back(GlUniform::integer(s.uniform, int(it - s.names.begin())));
+                break;
+            }
+        }
+    }
+    if (m.gl_uniforms)
+        for (GlUniform& u : m.gl_uniforms(p)) out.push_back(std::move(u));
+    return out;
+}
+
+static void check_declarations(const MethodInfo& info) {
+    auto fail = [&](const std::string& why) {
+        throw std::logic_error("method '" + info.name + "': " + why);
+    };
+    std::set<std::string> names;
+    for (const ParamSpec& s : info.params) {
+        if (!names.insert(s.name).second) fail("parameter '" + s.name + "' declared twice");
+        if (s.uniform.empty()) continue;
+        if (s.uniform.rfind("p_", 0) != 0)
+            fail("parameter '" + s.name + "': uniform '" + s.uniform + "' must start with p_");
+        if (!s.default_value)
+            fail("parameter '" + s.name + "' reaches the shader, so it needs a default");
+        if (s.type != ParamType::Choice && !s.names.empty())
+            fail("parameter '" + s.name + "' can be a name, so its uniform must be computed "
+                 "(gl_uniforms), not declared on the parameter");
+    }
+}
+
 bool register_method(MethodInfo info) {
+    check_declarations(info);
     auto& r = registry();
     for (const auto& m : r)
         if (m.name == info.name) throw std::logic_error("method registered twice: " + info.name);

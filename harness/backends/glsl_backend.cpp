@@ -166,6 +166,8 @@ const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
     Program& p = programs_[m.name];
     p.id = prog;
     p.shader = ms.description();
+    p.what = what;
+    p.active = active_uniforms(prog);
     return p;
 }
 
@@ -242,8 +244,15 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
         glUniform1f(loc("u_shadow_layers_min"), float(light->layers_min));
         glUniform1f(loc("u_shadow_layers_max"), float(light->layers_max));
     }
-    for (const auto& [name, value] : m.method->gl_uniforms(m.params))
-        glUniform1f(loc(name.c_str()), float(value));  // -1 (unused) is ignored by GL
+    // The method's uniforms: checked against the program's active ones (a misspelt or unused
+    // uniform is an error, not a value GL drops), then set with the call for their type.
+    const GlUniforms uniforms = method_uniforms(*m.method, m.params);
+    std::vector<DeclaredUniform> declared;
+    for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
+    if (const std::string why = interface_problem(program.active, declared, program.what);
+        !why.empty())
+        throw std::runtime_error(why);
+    set_method_uniforms(prog, uniforms);
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glViewport(0, 0, samples, samples);

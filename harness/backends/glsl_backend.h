@@ -6,6 +6,7 @@
 #include <string>
 
 #include "harness/backends/backend.h"
+#include "harness/backends/shader_interface.h"
 
 namespace pxh {
 
@@ -46,6 +47,8 @@ class GlslBackend : public Backend {
     struct Program {
         unsigned id = 0;
         std::string shader;  // "builtin", or the file(s) read from the shader folder
+        std::string what;    // "method 'NAME' (its shader files)", for messages
+        std::map<std::string, ActiveUniform> active;  // the linked program's uniforms
     };
     const Program& program_for(const MethodInfo& m);
   public:

@@ -1,7 +1,9 @@
 #include "harness/core/params.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "harness/core/error.h"
 
@@ -14,13 +16,149 @@ std::string format_number(double v) {
     return os.str();
 }
 
-double ParamValues::get(const std::string& name) const {
+// ---- ParamValue ----
+
+double ParamValue::number() const {
+    if (kind_ != Kind::Number) throw std::logic_error("parameter value is not a number: " + spelled());
+    return number_;
+}
+
+bool ParamValue::boolean() const {
+    if (kind_ != Kind::Bool) throw std::logic_error("parameter value is not a bool: " + spelled());
+    return number_ != 0;
+}
+
+const std::string& ParamValue::name() const {
+    if (kind_ != Kind::Name) throw std::logic_error("parameter value is not a name: " + spelled());
+    return name_;
+}
+
+std::string ParamValue::spelled() const {
+    switch (kind_) {
+        case Kind::Number: return format_number(number_);
+        case Kind::Bool: return number_ != 0 ? "true" : "false";
+        case Kind::Name: return name_;
+    }
+    return "";
+}
+
+std::string ParamValue::kind_name() const {
+    switch (kind_) {
+        case Kind::Number: return "a number";
+        case Kind::Bool: return "a bool";
+        case Kind::Name: return "a string";
+    }
+    return "";
+}
+
+// ---- ParamSpec ----
+
+ParamSpec::ParamSpec(std::string name_, std::optional<double> default_, double min_, double max_,
+                     bool integer_, std::string help_, std::string unset_spelling_)
+    : name(std::move(name_)),
+      type(integer_ ? ParamType::Integer : ParamType::Real),
+      min(min_),
+      max(max_),
+      help(std::move(help_)),
+      unset_spelling(std::move(unset_spelling_)) {
+    if (default_) default_value = ParamValue(*default_);
+}
+
+ParamSpec ParamSpec::real(std::string name, std::optional<double> def, double lo, double hi,
+                          std::string help) {
+    return ParamSpec(std::move(name), def, lo, hi, false, std::move(help));
+}
+
+ParamSpec ParamSpec::integer(std::string name, std::optional<double> def, double lo, double hi,
+                             std::string help) {
+    return ParamSpec(std::move(name), def, lo, hi, true, std::move(help));
+}
+
+ParamSpec ParamSpec::boolean(std::string name, bool def, std::string help) {
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::Bool;
+    s.default_value = ParamValue(def);
+    s.help = std::move(help);
+    return s;
+}
+
+ParamSpec ParamSpec::choice(std::string name, std::vector<std::string> names,
+                            std::optional<std::string> def, std::string help) {
+    ParamSpec s;
+    s.name = std::move(name);
+    s.type = ParamType::Choice;
+    s.names = std::move(names);
+    if (def) {
+        if (std::find(s.names.begin(), s.names.end(), *def) == s.names.end())
+            throw std::logic_error("choice parameter '" + s.name + "': default '" + *def +
+                                   "' is not one of its names");
+        s.default_value = ParamValue(*def);
+    }
+    s.help = std::move(help);
+    return s;
+}
+
+std::string ParamSpec::type_name() const {
+    switch (type) {
+        case ParamType::Real: return "real";
+        case ParamType::Integer: return "integer";
+        case ParamType::Bool: return "bool";
+        case ParamType::Choice: return "choice";
+    }
+    return "";
+}
+
+namespace {
+
+std::string quoted_names(const std::vector<std::string>& names, const char* last) {
+    std::string out;
+    for (size_t k = 0; k < names.size(); ++k) {
+        if (k) out += k + 1 == names.size() ? last : ", ";
+        out += "\"" + names[k] + "\"";
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string ParamSpec::accepted() const {
+    switch (type) {
+        case ParamType::Bool: return "true or false";
+        case ParamType::Choice: return "one of " + quoted_names(names, ", ");
+        case ParamType::Real:
+        case ParamType::Integer: {
+            std::string out = std::string(type == ParamType::Integer ? "an integer" : "a number") +
+                              " in [" + format_number(min) + ", " + format_number(max) + "]";
+            if (!names.empty()) out += " or " + quoted_names(names, " or ");
+            return out;
+        }
+    }
+    return "";
+}
+
+std::string ParamSpec::problem(const ParamValue& v) const {
+    const bool named = v.is_name() && std::find(names.begin(), names.end(), v.name()) != names.end();
+    bool ok = false;
+    switch (type) {
+        case ParamType::Real:
+        case ParamType::Integer: ok = v.is_number() || named; break;
+        case ParamType::Bool: ok = v.is_bool(); break;
+        case ParamType::Choice: ok = named; break;
+    }
+    if (ok) return "";
+    return "must be " + accepted() + " (got " + v.kind_name() + ")";
+}
+
+// ---- ParamValues ----
+
+const ParamValue& ParamValues::value(const std::string& name) const {
     auto it = values_.find(name);
     if (it == values_.end()) throw std::logic_error("parameter not set: " + name);
     return it->second;
 }
 
-void ParamValues::set(const std::string& name, double v) {
+void ParamValues::set(const std::string& name, ParamValue v) {
     if (values_.count(name)) {
         for (auto& kv : order_)
             if (kv.first == name) kv.second = v;
@@ -34,7 +172,7 @@ void ParamValues::set(const std::string& name, double v) {
         for (size_t k = 0; k < listed; ++k) pos += values_.count(listed_[k].first);
         order_.insert(order_.begin() + std::ptrdiff_t(pos), {name, v});
     }
-    values_[name] = v;
+    values_[name] = std::move(v);
 }
 
 void ParamValues::declare_unset(const std::string& name, const std::string& spelling) {
@@ -51,14 +189,23 @@ std::string ParamValues::canonical() const {
     std::string out;
     for (const auto& [k, unset] : listed_) {
         if (!out.empty()) out += ';';
-        out += k + "=" + (values_.count(k) ? format_number(values_.at(k)) : unset);
+        out += k + "=" + (values_.count(k) ? values_.at(k).spelled() : unset);
     }
     return out;
 }
 
-ParamValues resolve_params(const std::vector<ParamSpec>& specs,
-                           const std::map<std::string, double>& given, const std::string& where,
-                           const std::string& owner) {
+// ---- resolving ----
+
+void check_param_kind(const ParamSpec& spec, const ParamValue& v, const std::string& where,
+                      const std::string& owner) {
+    const std::string why = spec.problem(v);
+    if (why.empty()) return;
+    const std::string shown = v.is_name() ? "\"" + v.name() + "\"" : v.spelled();
+    throw InputError(where, owner + " parameter '" + spec.name + "' = " + shown + " " + why);
+}
+
+ParamValues resolve_params(const std::vector<ParamSpec>& specs, const GivenParams& given,
+                           const std::string& where, const std::string& owner) {
     for (const auto& [key, value] : given) {
         bool known = false;
         for (const auto& s : specs) known |= (s.name == key);
@@ -78,14 +225,19 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs,
             else out.declare_unset(s.name, s.unset_spelling.empty() ? "unset" : s.unset_spelling);
             continue;
         }
-        const double v = it->second;
-        if (!std::isfinite(v) || v < s.min || v > s.max)
-            throw InputError(where, owner + " parameter '" + s.name + "' = " + format_number(v) +
-                                        " is outside [" + format_number(s.min) + ", " +
-                                        format_number(s.max) + "]");
-        if (s.integer && v != std::floor(v))
-            throw InputError(where, owner + " parameter '" + s.name + "' = " +
-                                        format_number(v) + " must be an integer");
+        const ParamValue& v = it->second;
+        check_param_kind(s, v, where, owner);
+        if (v.is_number()) {
+            const double x = v.number();
+            if (!std::isfinite(x) || x < s.min || x > s.max)
+                throw InputError(where, owner + " parameter '" + s.name + "' = " +
+                                            format_number(x) + " is outside [" +
+                                            format_number(s.min) + ", " + format_number(s.max) +
+                                            "]");
+            if (s.type == ParamType::Integer && x != std::floor(x))
+                throw InputError(where, owner + " parameter '" + s.name + "' = " +
+                                            format_number(x) + " must be an integer");
+        }
         out.set(s.name, v);
     }
     return out;
@@ -95,12 +247,21 @@ std::string describe_param(const ParamSpec& s) {
     std::ostringstream os;
     os << s.name << " (";
     if (s.default_value)
-        os << "default " << format_number(*s.default_value);
+        os << "default " << s.default_value->spelled();
     else
         os << "unset by default (params: " << s.name << "="
            << (s.unset_spelling.empty() ? "unset" : s.unset_spelling) << ")";
-    os << ", " << (s.integer ? "integer" : "number") << " in [" << format_number(s.min) << ", "
-       << format_number(s.max) << "]): " << s.help;
+    switch (s.type) {
+        case ParamType::Real:
+        case ParamType::Integer:
+            os << ", " << (s.type == ParamType::Integer ? "integer" : "number") << " in ["
+               << format_number(s.min) << ", " << format_number(s.max) << "]";
+            if (!s.names.empty()) os << " or " << quoted_names(s.names, " or ");
+            break;
+        case ParamType::Bool: os << ", bool"; break;
+        case ParamType::Choice: os << ", one of " << quoted_names(s.names, ", "); break;
+    }
+    os << "): " << s.help;
     return os.str();
 }
 

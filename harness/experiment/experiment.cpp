@@ -160,13 +160,13 @@ std::string describe_field(const HeightfieldSpec& h) {
 void warn(Experiment& ex, const std::string& text) { ex.warnings.push_back(one_line(text)); }
 
 // Cartesian product of parameter sweeps: {a: [1,2], b: [3]} -> [{a:1,b:3}, {a:2,b:3}].
-std::vector<std::map<std::string, double>> expand(
-    const std::vector<std::pair<std::string, std::vector<double>>>& sweeps) {
-    std::vector<std::map<std::string, double>> out{{}};
+std::vector<GivenParams> expand(
+    const std::vector<std::pair<std::string, std::vector<ParamValue>>>& sweeps) {
+    std::vector<GivenParams> out{{}};
     for (const auto& [key, values] : sweeps) {
-        std::vector<std::map<std::string, double>> next;
+        std::vector<GivenParams> next;
         for (const auto& partial : out)
-            for (double v : values) {
+            for (const ParamValue& v : values) {
                 auto m = partial;
                 m[key] = v;
                 next.push_back(std::move(m));
@@ -174,6 +174,25 @@ std::vector<std::map<std::string, double>> expand(
         out = std::move(next);
     }
     return out;
+}
+
+// A parameter's value or sweep: numbers, bools or strings, each checked against the
+// parameter's type where it is written (the accepted values in the message).
+std::vector<ParamValue> get_param_values(const toml::node& n, const std::string& path,
+                                         const ParamSpec& spec, const std::string& owner) {
+    auto one = [&](const toml::node& e, const std::string&, const std::string&) {
+        ParamValue v;
+        if (e.is_integer()) v = ParamValue((long long)*e.value<int64_t>());
+        else if (e.is_floating_point()) v = ParamValue(*e.value<double>());
+        else if (e.is_boolean()) v = ParamValue(*e.value<bool>());
+        else if (e.is_string()) v = ParamValue(*e.value<std::string>());
+        else
+            throw InputError(where_of(path, e), owner + " parameter '" + spec.name +
+                                                    "' must be " + spec.accepted());
+        check_param_kind(spec, v, where_of(path, e), owner);
+        return v;
+    };
+    return get_list<ParamValue>(n, path, spec.name, one);
 }
 
 // Scales whose errors saturate, with the file:line of each entry that uses them (one
@@ -289,10 +308,11 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     for (double s : scales)
         if (s >= 0.5 && theta_max >= std::atan(0.5 / s) * 180 / M_PI)
             large_scales[s].push_back(where_of(path, *t.get("scale")));
-    std::vector<std::pair<std::string, std::vector<double>>> sweeps;
+    std::vector<std::pair<std::string, std::vector<ParamValue>>> sweeps;
     if (gen)
         for (const auto& p : gen->params)
-            if (auto n = t.get(p.name)) sweeps.emplace_back(p.name, get_numbers(*n, path, p.name));
+            if (auto n = t.get(p.name))
+                sweeps.emplace_back(p.name, get_param_values(*n, path, p, "generator '" + gen->name + "'"));
     const auto combos = expand(sweeps);
     for (const auto& given : combos) {
         HeightfieldSpec hs = base;
@@ -327,13 +347,14 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         throw InputError(where_of(path, *t.get("name")),
                          "unknown method '" + name + "' (known: " + names + ")");
     }
-    std::vector<std::pair<std::string, std::vector<double>>> sweeps;
+    std::vector<std::pair<std::string, std::vector<ParamValue>>> sweeps;
     for (const auto& [k, v] : t) {
         const std::string key(k.str());
         if (key == "name") continue;
-        bool known = false;
-        for (const auto& p : m->params) known |= p.name == key;
-        if (!known) {
+        const ParamSpec* spec = nullptr;
+        for (const auto& p : m->params)
+            if (p.name == key) spec = &p;
+        if (!spec) {
             std::string names;
             for (const auto& p : m->params) names += (names.empty() ? "" : ", ") + p.name;
             throw InputError(where_of(path, v), "unknown parameter '" + key + "' for method '" +
@@ -341,7 +362,7 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
                                                     (names.empty() ? " (it takes none)"
                                                                    : " (known: " + names + ")"));
         }
-        sweeps.emplace_back(key, get_numbers(v, path, key));
+        sweeps.emplace_back(key, get_param_values(v, path, *spec, "method '" + name + "'"));
     }
     for (const auto& given : expand(sweeps))
         ex.methods.push_back(MethodSpec{m, resolve_method_params(*m, given, where)});
@@ -376,7 +397,7 @@ void check_heightfield_names(const Experiment& ex) {
 
 }  // namespace
 
-ParamValues resolve_method_params(const MethodInfo& m, const std::map<std::string, double>& given,
+ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
                                   const std::string& where) {
     ParamValues p = resolve_params(m.params, given, where, "method '" + m.name + "'");
     m.check(p, where);

@@ -63,7 +63,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path);
 // A method's resolved parameter set: given values checked against its declarations (an
 // InputError naming `where` otherwise), defaults and the values unset optional parameters
 // stand for filled in; canonical() then names every declared parameter.
-ParamValues resolve_method_params(const MethodInfo& m, const std::map<std::string, double>& given,
+ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
                                   const std::string& where);
 
 // Materialises a height field (generates or loads); throws InputError. Errors from an image

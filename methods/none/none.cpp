@@ -9,7 +9,6 @@ struct None {
         return {"none", "plain texture mapping (baseline)", "uv = P", {}, false, 0};
     }
     static Config configure(const ParamValues&, const std::string&) { return {}; }
-    static GlUniforms gl_uniforms(const Config&) { return {}; }
     static int max_fetches(const Config&, const Scene<double>&) { return 0; }
     template <typename T>
     static Vec2<T> eval(const Config&, const Scene<T>&, HeightSampler<T>&, Vec2<T> P) {

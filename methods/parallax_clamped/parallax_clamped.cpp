@@ -12,15 +12,19 @@ struct ParallaxClamped {
         return {"parallax_clamped",
                 "Wikibooks contributors: Cg Programming/Unity/Projection of Bumpy Surfaces (_MaxTexCoordOffset), https://en.wikibooks.org/wiki/Cg_Programming/Unity/Projection_of_Bumpy_Surfaces",
                 "uv = P + clamp(z(P) * V.xy / V.z, -m, +m) per component (one fetch)",
-                {{"max_offset", std::nullopt, 0, 1e6, false,
-                  "m in uv units (default: the scene's scale s)", "scale"}},
+                {ParamSpec::real("max_offset", std::nullopt, 0, 1e6,
+                                 "m in uv units; \"scale\" (the default): the scene's scale s")
+                     .or_names({"scale"})
+                     .defaults_to("scale")},
                 false, 30};
     }
     static Config configure(const ParamValues& p, const std::string&) {
-        return {p.get_or("max_offset", 0.0), !p.has("max_offset")};
+        const bool from_scale = p.is_name("max_offset", "scale");
+        return {from_scale ? 0.0 : p.get("max_offset"), from_scale};
     }
     static GlUniforms gl_uniforms(const Config& c) {
-        return {{"p_max_offset", c.from_scale ? -1.0 : c.max_offset}};
+        return {GlUniform::boolean("p_max_offset_is_scale", c.from_scale),
+                GlUniform::real("p_max_offset", c.max_offset)};
     }
     static int max_fetches(const Config&, const Scene<double>&) { return 1; }
     template <typename T>

@@ -11,7 +11,6 @@ struct ParallaxHalved {
                 "uv = P + 0.5 * z(P) * V.xy / V.z (one fetch)", {}, false, 40};
     }
     static Config configure(const ParamValues&, const std::string&) { return {}; }
-    static GlUniforms gl_uniforms(const Config&) { return {}; }
     static int max_fetches(const Config&, const Scene<double>&) { return 1; }
     template <typename T>
     static Vec2<T> eval(const Config&, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {

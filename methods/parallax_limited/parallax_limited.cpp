@@ -10,7 +10,6 @@ struct ParallaxLimited {
                 "uv = P + z(P) * V.xy (one fetch; offset never longer than |z|)", {}, false, 20};
     }
     static Config configure(const ParamValues&, const std::string&) { return {}; }
-    static GlUniforms gl_uniforms(const Config&) { return {}; }
     static int max_fetches(const Config&, const Scene<double>&) { return 1; }
     template <typename T>
     static Vec2<T> eval(const Config&, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {

@@ -13,14 +13,15 @@ struct PixelStep {
     static MethodInfo describe() {
         return {"pixel_step", "Zhao, Wu, Gao: Realistic and Detail Rendering of Village Virtual Scene Based on Pixel Offset, Appl. Math. Inf. Sci. 6(3S), pp. 769-775, 2012, sec. 3.2.2 (pixel offset translation)",
                 "march one texel at a time from the slab bottom toward the eye (k + 1 fetches)",
-                {{"max_steps", 16384.0, 1, 1e8, true,
-                  "loop bound; the march needs ceil(s W tan(theta)) steps to leave the slab"}},
+                {ParamSpec::integer("max_steps", 16384, 1, 1e8,
+                                    "loop bound; the march needs ceil(s W tan(theta)) steps to "
+                                    "leave the slab")
+                     .to_uniform("p_max_steps")},
                 false, 50};
     }
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("max_steps")};
     }
-    static GlUniforms gl_uniforms(const Config& c) { return {{"p_max_steps", c.max_steps}}; }
     // Steps needed to rise through the slab: s W tan(theta), plus one for rounding.
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         const double vxy = std::hypot(sc.V.x, sc.V.y);

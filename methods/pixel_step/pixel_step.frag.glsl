@@ -1,5 +1,5 @@
 // Pixel-offset paper sec. 3.2.2 (pixel offset translation), from the slab bottom.
-uniform float p_max_steps;
+uniform int p_max_steps;
 vec2 pxh_method(vec2 P) {
     float vxy = sqrt(u_view.x * u_view.x + u_view.y * u_view.y);
     if (vxy == 0.0) return P;
@@ -9,7 +9,7 @@ vec2 pxh_method(vec2 P) {
     float rise = texel * u_view.z / vxy;
     float zb = pxh_z_bot();
     float need = ceil(u_scale * float(u_size.x) * vxy / u_view.z) + 1.0;
-    int kmax = int(min(need, p_max_steps));
+    int kmax = int(min(need, float(p_max_steps)));
     int k = 0;
     vec2 q = q0;
     while (zb + float(k) * rise < pxh_z(q) && k < kmax) {

@@ -12,7 +12,8 @@ struct Relief {
     };
     static MethodInfo describe() {
         auto params = layer_params();
-        params.push_back({"binary_steps", 5.0, 0, 64, true, "n_binary bisection steps"});
+        params.push_back(ParamSpec::integer("binary_steps", 5, 0, 64, "n_binary bisection steps")
+                             .to_uniform("p_binary_steps"));
         return {"relief", "Policarpo, Oliveira, Comba: Real-Time Relief Mapping on Arbitrary Polygonal Surfaces, I3D 2005, pp. 155-162, doi:10.1145/1053427.1053453; LearnOpenGL Parallax Mapping (Habr translation, relief section)",
                 "bisection on [k-1, k] after the layer search (k + 1 + n_binary fetches)",
                 params, false, 80};
@@ -21,11 +22,7 @@ struct Relief {
         return {layer_config(p, where), p.get_int("binary_steps")};
     }
     static void complete_params(ParamValues& p) { complete_layer_params(p); }
-    static GlUniforms gl_uniforms(const Config& c) {
-        GlUniforms u = layer_uniforms(c.layers);
-        u.emplace_back("p_binary_steps", c.binary_steps);
-        return u;
-    }
+    static GlUniforms gl_uniforms(const Config& c) { return layer_uniforms(c.layers); }
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         return max_layer_index(c.layers, sc) + 1 + c.binary_steps;
     }

@@ -1,0 +1,87 @@
+#include "harness/backends/shader_interface.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <set>
+
+namespace pxh {
+
+const std::vector<std::string>& harness_uniforms() {
+    static const std::vector<std::string> names = {
+        "u_height", "u_scale",    "u_bias",  "u_view",
+        "u_size",   "u_samples",  "u_light_on", "u_light",
+        "u_shadow_layers_min", "u_shadow_layers_max"};
+    return names;
+}
+
+std::map<std::string, ActiveUniform> active_uniforms(unsigned program) {
+    std::map<std::string, ActiveUniform> out;
+    GLint count = 0, longest = 0;
+    glGetProgramiv(program, GL_ACTIVE_UNIFORMS, &count);
+    glGetProgramiv(program, GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest);
+    std::string name(size_t(std::max(longest, 1)), '\0');
+    for (GLint i = 0; i < count; ++i) {
+        GLsizei len = 0;
+        GLint size = 0;
+        GLenum type = 0;
+        glGetActiveUniform(program, GLuint(i), GLsizei(name.size()), &len, &size, &type,
+                           name.data());
+        out[name.substr(0, size_t(len))] = {unsigned(type), int(size)};
+    }
+    return out;
+}
+
+std::string gl_type_name(unsigned t) {
+    switch (t) {
+        case GL_FLOAT: return "float";
+        case GL_FLOAT_VEC2: return "vec2";
+        case GL_FLOAT_VEC3: return "vec3";
+        case GL_FLOAT_VEC4: return "vec4";
+        case GL_INT: return "int";
+        case GL_INT_VEC2: return "ivec2";
+        case GL_INT_VEC3: return "ivec3";
+        case GL_INT_VEC4: return "ivec4";
+        case GL_UNSIGNED_INT: return "uint";
+        case GL_BOOL: return "bool";
+        case GL_SAMPLER_2D: return "sampler2D";
+        default: return "GL type " + std::to_string(t);
+    }
+}
+
+std::string interface_problem(const std::map<std::string, ActiveUniform>& active,
+                              const std::vector<DeclaredUniform>& declared,
+                              const std::string& what) {
+    std::set<std::string> seen;
+    for (const auto& d : declared) {
+        if (!seen.insert(d.name).second)
+            return what + ": uniform '" + d.name + "' is declared twice by the method";
+        const auto it = active.find(d.name);
+        if (it == active.end())
+            return what + ": the method declares " + d.glsl_type + " uniform '" + d.name +
+                   "' but the shader does not use it (no active uniform of that name: "
+                   "misspelt, undeclared, or optimised away)";
+        if (gl_type_name(it->second.gl_type) != d.glsl_type)
+            return what + ": uniform '" + d.name + "' is " + gl_type_name(it->second.gl_type) +
+                   " in the shader but the method declares it " + d.glsl_type;
+    }
+    for (const auto& h : harness_uniforms()) seen.insert(h);
+    for (const auto& [name, u] : active)
+        if (!seen.count(name))
+            return what + ": the shader reads " + gl_type_name(u.gl_type) + " uniform '" + name +
+                   "' but nothing sets it (not declared by the method, not the harness's)";
+    return "";
+}
+
+void set_method_uniforms(unsigned program, const GlUniforms& uniforms) {
+    for (const GlUniform& u : uniforms) {
+        const GLint loc = glGetUniformLocation(program, u.name.c_str());
+        switch (u.type) {
+            case GlslType::Float: glUniform1f(loc, float(u.value)); break;
+            case GlslType::Int: glUniform1i(loc, int(u.value)); break;
+            case GlslType::Bool: glUniform1i(loc, u.value != 0 ? 1 : 0); break;
+        }
+    }
+}
+
+}  // namespace pxh
