@@ -14,7 +14,7 @@
 #include "harness/truth/embree_truth.h"
 #include "harness/core/error.h"
 #include "harness/truth/ground_truth.h"
-#include "harness/metrics/metrics.h"
+#include "harness/metrics/agreement.h"
 #include "harness/results/provenance.h"
 #include "heightfields/heightfields.h"
 
@@ -59,12 +59,13 @@ int run_bench(const BenchOptions& opt) {
         std::unique_ptr<EmbreeTracer> embree;
         embree_build = seconds([&] { embree = std::make_unique<EmbreeTracer>(hf, opt.scale, opt.bias); });
         for (double theta : opt.thetas) {
-            const Vec3d V = view_vector(theta, opt.phi);
+            const OrthographicCamera camera(theta, opt.phi, opt.samples);
+            const View view = camera.view();
+            const Vec3d V = camera.direction();
             // Both write into buffers kept from run to run (so neither pays for fresh pages).
-            std::vector<TruthHit> hits;
-            std::vector<Vec2d> em_uv;
-            auto run_exact = [&] { exact->trace_grid(opt.samples, V, hits); };
-            auto run_embree = [&] { embree->trace(P, V, em_uv); };
+            Hits hits, em;
+            auto run_exact = [&] { exact->trace(view, hits); };  // trace_grid: on the sample grid
+            auto run_embree = [&] { embree->trace(view, em); };
             run_exact();  // warm-up
             run_embree();
             std::vector<double> t_exact, t_embree, t_naive, t_per_ray;
@@ -89,12 +90,7 @@ int run_bench(const BenchOptions& opt) {
                     t_naive.push_back(per_ray([&](Vec2d p) { return exact->trace_naive(p, V); }));
                 }
             }
-            std::vector<double> d(P.size());
-            for (size_t k = 0; k < P.size(); ++k) {
-                const Vec2d e = texel_error(em_uv[k], hits[k].uv, size, size);
-                d[k] = std::hypot(e.x, e.y);
-            }
-            const ErrorStats agree = error_stats(d);
+            const ErrorStats agree = reference_agreement(em.uv, hits.uv, size, size);
             const double exact_mrays = rays / median(t_exact) / 1e6;
             const double embree_mrays = rays / median(t_embree) / 1e6;
             std::printf("%-6d %-6g %12.2f %12.2f %8.2f", size, theta, exact_mrays, embree_mrays,

@@ -15,7 +15,7 @@
 
 #include "harness/backends/backend.h"
 #include "harness/core/error.h"
-#include "harness/truth/ground_truth.h"
+#include "harness/truth/travel_limit.h"
 #include "harness/core/sha256.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
@@ -579,7 +579,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     check_heightfield_names(ex);
     for (const auto& e : *tables_of("methods")) parse_method(*e.as_table(), e, path, ex);
     // Every eye ray (views, sweep companions) and light ray within the ground truths' travel
-    // limit (kMaxRayTravelTiles, harness/truth/ground_truth.h), reported at the field's entry.
+    // limit (kMaxRayTravelTiles, harness/truth/travel_limit.h), reported at the field's entry.
     for (const HeightfieldSpec& h : ex.heightfields) {
         auto check = [&](double theta, const std::string& what) {
             if (const std::string why = ray_travel_problem(h.scale, theta); !why.empty())

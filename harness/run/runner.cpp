@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "harness/metrics/agreement.h"
 #include "harness/truth/embree_truth.h"
 #include "harness/core/error.h"
 
@@ -113,18 +114,15 @@ struct ViewTruth {
 ViewTruth truth_stage(const FieldContext& c, const Scene<double>& scene, bool timed) {
     const Experiment& ex = c.ex;
     const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg) : Vec3d{};
+    const View rays = orthographic_view(scene.V, ex.samples);
     ViewTruth t;
-    t.gt = trace_ground_truth(c.exact, scene.V, ex.samples, ex.light ? &L : nullptr);
+    t.gt = trace_ground_truth(c.exact, rays, ex.light ? &L : nullptr);
     t.agree.p50 = t.agree.p99 = t.agree.max = t.agree.frac_gt_0_5 = NAN;
     if (timed || ex.ground_truth == "embree") {
-        std::vector<Vec2d> embree_uv = c.embree.trace(c.P, scene.V);
-        std::vector<double> gap(c.P.size());
-        for (size_t k = 0; k < c.P.size(); ++k) {
-            const Vec2d e = texel_error(embree_uv[k], t.gt.uv[k], c.hf.width, c.hf.height);
-            gap[k] = std::hypot(e.x, e.y);
-        }
-        t.agree = error_stats(gap);
-        if (ex.ground_truth == "embree") t.gt.uv = std::move(embree_uv);
+        Hits embree;
+        c.embree.trace(rays, embree);
+        t.agree = reference_agreement(embree.uv, t.gt.uv, c.hf.width, c.hf.height);
+        if (ex.ground_truth == "embree") t.gt.uv = std::move(embree.uv);
     }
     return t;
 }

@@ -3,19 +3,20 @@
 #include <embree3/rtcore.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
-#include "harness/truth/ground_truth.h"
+#include "harness/truth/travel_limit.h"
 
 namespace pxh {
 
 EmbreeTracer::EmbreeTracer(const HeightField& hf, double scale, double bias)
     : W_(hf.width), H_(hf.height), s_(scale), b_(bias) {
-    if (const std::string why = ray_travel_problem(scale, Vec3d{0, 0, 1}); !why.empty())
-        throw std::invalid_argument(why);  // the scale itself (not finite, or <= 0)
+    throw_if_problem(scale_problem(scale));
     // Heights in units of zs_: 1 (no change at all) for every scale up to 2^32; above, the
     // power of two just under s, so that single-precision geometry and ray parameters stay in
     // range for any finite scale (Embree then traces z / zs_ along t / zs_).
@@ -83,19 +84,75 @@ EmbreeTracer::~EmbreeTracer() {
     if (device_) rtcReleaseDevice(static_cast<RTCDevice>(device_));
 }
 
+namespace {
+
+// One ray's walk, tile by tile: from the slab top at (ex, ey) along -V, up to tau_max (the slab
+// bottom), in segments of at most seg (less than one tile in u and v).
+struct Lane {
+    Vec3d V;
+    double ex, ey, t_in, tau_max, seg;
+    bool done;
+};
+
+Lane start_lane(Vec2d P, Vec3d V, double zt, double s) {
+    const double tau_max = s / V.z;
+    const double reach = std::max(std::abs(V.x), std::abs(V.y));
+    const double seg = reach > 0 ? 0.999 / reach : tau_max;  // < 1 tile per segment
+    return {V, P.x + V.x / V.z * zt, P.y + V.y / V.z * zt, 0.0, tau_max, seg, false};
+}
+
+// An inactive lane (beyond a partial packet's rays, or finished) still holds a well-formed
+// empty ray, whatever Embree reads of it: tnear > tfar, mask 0.
+void set_empty_ray(RTCRayHit16& rh, int k) {
+    rh.ray.org_x[k] = rh.ray.org_y[k] = rh.ray.org_z[k] = 0;
+    rh.ray.dir_x[k] = rh.ray.dir_y[k] = 0;
+    rh.ray.dir_z[k] = -1;
+    rh.ray.tnear[k] = std::numeric_limits<float>::infinity();
+    rh.ray.tfar[k] = -std::numeric_limits<float>::infinity();
+    rh.ray.time[k] = 0;
+    rh.ray.mask[k] = 0;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// The lane's next segment, [t_in, t_out], with its origin moved by whole tiles into the base
+// tile (u0, v0: the first texel centre); returns t_out. Embree's ray parameter is tau / zs.
+double set_segment(RTCRayHit16& rh, int k, const Lane& s, double zt, double zs, double u0, double v0) {
+    const Vec3d& V = s.V;
+    double t_out = std::min(s.t_in + s.seg, s.tau_max);
+    // A walk that cannot advance (t_in + seg == t_in: only far beyond the travel limit,
+    // which trace refuses) ends in one last segment instead of looping forever.
+    if (!(t_out > s.t_in)) t_out = s.tau_max;
+    const double ox = std::floor(s.ex - s.t_in * V.x - u0);
+    const double oy = std::floor(s.ey - s.t_in * V.y - v0);
+    rh.ray.org_x[k] = float(s.ex - ox);
+    rh.ray.org_y[k] = float(s.ey - oy);
+    rh.ray.org_z[k] = float(zt / zs);
+    rh.ray.dir_x[k] = float(-V.x * zs);
+    rh.ray.dir_y[k] = float(-V.y * zs);
+    rh.ray.dir_z[k] = float(-V.z);
+    rh.ray.tnear[k] = float(s.t_in / zs);
+    rh.ray.tfar[k] = float(t_out / zs * (1 + 1e-6) + 1e-9);
+    rh.ray.time[k] = 0;
+    rh.ray.mask[k] = 0xFFFFFFFF;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    return t_out;
+}
+
+}  // namespace
+
 // Per ray: segments of less than one tile in u and v (one segment for most rays), each
 // traced with its origin moved into the base tile of the 3 x 3 instance block. Embree's ray
 // parameter is tau / zs (z in units of zs, see the constructor; zs = 1 for ordinary scales).
-void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) const {
+void EmbreeTracer::trace_packet(const Vec2d* P, const Vec3d* V, size_t v_step, int n, Vec2d* out) const {
     const double zs = zs_;
-    const double zt = s_ * (1 - b_), tau_max = s_ / V.z;
+    const double zt = s_ * (1 - b_);
     const double u0 = 0.5 / W_, v0 = 0.5 / H_;
-    const double reach = std::max(std::abs(V.x), std::abs(V.y));
-    const double seg = reach > 0 ? 0.999 / reach : tau_max;  // < 1 tile per segment
-    struct State { double ex, ey, t_in; bool done; };
-    State st[16];
-    for (int k = 0; k < n; ++k)
-        st[k] = {P[k].x + V.x / V.z * zt, P[k].y + V.y / V.z * zt, 0.0, false};
+    Lane st[16];
+    for (int k = 0; k < n; ++k) st[k] = start_lane(P[k], V[size_t(k) * v_step], zt, s_);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (;;) {
@@ -106,41 +163,10 @@ void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) cons
         for (int k = 0; k < 16; ++k) {
             valid[k] = 0;
             if (k >= n || st[k].done) {
-                // An inactive lane (beyond a partial packet's rays, or finished) still holds a
-                // well-formed empty ray, whatever Embree reads of it: tnear > tfar, mask 0.
-                rh.ray.org_x[k] = rh.ray.org_y[k] = rh.ray.org_z[k] = 0;
-                rh.ray.dir_x[k] = rh.ray.dir_y[k] = 0;
-                rh.ray.dir_z[k] = -1;
-                rh.ray.tnear[k] = std::numeric_limits<float>::infinity();
-                rh.ray.tfar[k] = -std::numeric_limits<float>::infinity();
-                rh.ray.time[k] = 0;
-                rh.ray.mask[k] = 0;
-                rh.ray.id[k] = unsigned(k);
-                rh.ray.flags[k] = 0;
-                rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+                set_empty_ray(rh, k);
                 continue;
             }
-            const State& s = st[k];
-            t_out[k] = std::min(s.t_in + seg, tau_max);
-            // A walk that cannot advance (t_in + seg == t_in: only far beyond the travel limit,
-            // which trace refuses) ends in one last segment instead of looping forever.
-            if (!(t_out[k] > s.t_in)) t_out[k] = tau_max;
-            // Tile of the segment's start, then the ray shifted by whole tiles into the base.
-            const double ox = std::floor(s.ex - s.t_in * V.x - u0);
-            const double oy = std::floor(s.ey - s.t_in * V.y - v0);
-            rh.ray.org_x[k] = float(s.ex - ox);
-            rh.ray.org_y[k] = float(s.ey - oy);
-            rh.ray.org_z[k] = float(zt / zs);
-            rh.ray.dir_x[k] = float(-V.x * zs);
-            rh.ray.dir_y[k] = float(-V.y * zs);
-            rh.ray.dir_z[k] = float(-V.z);
-            rh.ray.tnear[k] = float(s.t_in / zs);
-            rh.ray.tfar[k] = float(t_out[k] / zs * (1 + 1e-6) + 1e-9);
-            rh.ray.time[k] = 0;
-            rh.ray.mask[k] = 0xFFFFFFFF;
-            rh.ray.id[k] = unsigned(k);
-            rh.ray.flags[k] = 0;
-            rh.hit.geomID[k] = rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+            t_out[k] = set_segment(rh, k, st[k], zt, zs, u0, v0);
             valid[k] = -1;
             any = true;
         }
@@ -148,13 +174,13 @@ void EmbreeTracer::trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) cons
         rtcIntersect16(valid, static_cast<RTCScene>(scene_), &ctx, &rh);
         for (int k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            State& s = st[k];
+            Lane& s = st[k];
             if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) {
                 const double t = double(rh.ray.tfar[k]) * zs;
-                out[k] = {s.ex - t * V.x, s.ey - t * V.y};
+                out[k] = {s.ex - t * s.V.x, s.ey - t * s.V.y};
                 s.done = true;
-            } else if (t_out[k] >= tau_max) {  // reached z_bot: on or below any surface
-                out[k] = {s.ex - tau_max * V.x, s.ey - tau_max * V.y};
+            } else if (t_out[k] >= s.tau_max) {  // reached z_bot: on or below any surface
+                out[k] = {s.ex - s.tau_max * s.V.x, s.ey - s.tau_max * s.V.y};
                 s.done = true;
             } else {
                 s.t_in = t_out[k];
@@ -172,16 +198,32 @@ std::vector<Vec2d> EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V) con
 void EmbreeTracer::trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const {
     // Beyond the travel limit (or not above the surface) nothing is traced: the tile-by-tile
     // walk would take a packet call per tile of the travel.
-    if (const std::string why = ray_travel_problem(s_, V); !why.empty()) throw std::invalid_argument(why);
+    throw_if_problem(ray_travel_problem(s_, V));
+    trace_all(P, &V, 0, out);
+}
+
+void EmbreeTracer::trace(const View& view, Hits& out) const {
+    throw_if_problem(view_travel_problem(s_, view));  // every ray, before any work
+    out.z.clear();
+    out.cells.clear();
+    trace_all(view.P, view.V.data(), view.parallel ? 0 : 1, out.uv);
+}
+
+void EmbreeTracer::trace_all(const std::vector<Vec2d>& P, const Vec3d* V, size_t v_step,
+                             std::vector<Vec2d>& out) const {
     out.resize(P.size());
     const size_t packets = (P.size() + 15) / 16;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, packets, 16), [&](const auto& r) {
         for (size_t p = r.begin(); p < r.end(); ++p) {
             const size_t first = p * 16;
             const int n = int(std::min<size_t>(16, P.size() - first));
-            trace_packet(P.data() + first, n, V, out.data() + first);
+            trace_packet(P.data() + first, V + first * v_step, v_step, n, out.data() + first);
         }
     });
+}
+
+std::unique_ptr<Tracer> make_embree_tracer(const HeightField& hf, double scale, double bias) {
+    return std::make_unique<EmbreeTracer>(hf, scale, bias);
 }
 
 }  // namespace pxh

@@ -4,18 +4,25 @@
 #pragma once
 #include <vector>
 
-#include "harness/scene/heightfield.h"
 #include "harness/core/vec.h"
+#include "harness/scene/heightfield.h"
+#include "harness/truth/tracer.h"
 
 namespace pxh {
 
-class EmbreeTracer {
+class EmbreeTracer final : public Tracer {
   public:
     // Throws std::invalid_argument unless the scale is finite and positive.
     EmbreeTracer(const HeightField& hf, double scale, double bias);
     ~EmbreeTracer();
     EmbreeTracer(const EmbreeTracer&) = delete;
     EmbreeTracer& operator=(const EmbreeTracer&) = delete;
+
+    // The Tracer interface ("embree"): every ray P_k along V_k (uv only: no heights, no cell
+    // counts, no shadow query).
+    std::string name() const override { return "embree"; }
+    double scale() const override { return s_; }
+    void trace(const View& view, Hits& out) const override;
 
     // First hits of the eye rays of points P (coming down along -V from the slab top),
     // unwrapped uv; in parallel (TBB), 16 rays per packet. Throws std::invalid_argument
@@ -25,7 +32,9 @@ class EmbreeTracer {
     double build_ms() const { return build_ms_; }
 
   private:
-    void trace_packet(const Vec2d* P, int n, Vec3d V, Vec2d* out) const;
+    // n <= 16 rays: P[k] along V[k * v_step] (v_step 0: one direction for all).
+    void trace_packet(const Vec2d* P, const Vec3d* V, size_t v_step, int n, Vec2d* out) const;
+    void trace_all(const std::vector<Vec2d>& P, const Vec3d* V, size_t v_step, std::vector<Vec2d>& out) const;
     int W_, H_;
     double s_, b_;
     double zs_ = 1;  // heights in units of zs_ (1 up to s = 2^32; see the constructor)

@@ -1,0 +1,75 @@
+#include "harness/scene/view.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "harness/core/error.h"
+
+namespace pxh {
+
+std::vector<Vec2d> sample_grid(int n) {
+    std::vector<Vec2d> p(size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) p[size_t(j) * n + i] = {(i + 0.5) / n, (j + 0.5) / n};
+    return p;
+}
+
+Vec3d view_vector(double theta_deg, double phi_deg) {
+    const double t = theta_deg * M_PI / 180.0, p = phi_deg * M_PI / 180.0;
+    return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
+}
+
+View orthographic_view(Vec3d V, int n) {
+    View v;
+    if (n > 0) v.P = sample_grid(n);
+    v.V = {V};
+    v.parallel = true;
+    v.grid = std::max(n, 0);
+    return v;
+}
+
+std::string view_problem(const View& view) {
+    const size_t want = view.parallel ? 1 : view.P.size();
+    if (view.V.size() != want)
+        return "a view of " + std::to_string(view.P.size()) + " samples has " +
+               std::to_string(view.V.size()) + " ray directions (expected " + std::to_string(want) +
+               (view.parallel ? ": parallel rays share one)" : ": one per sample)");
+    if (view.grid > 0 && view.P.size() != size_t(view.grid) * size_t(view.grid))
+        return "a view marked as a " + std::to_string(view.grid) + " x " + std::to_string(view.grid) +
+               " sample grid has " + std::to_string(view.P.size()) + " samples";
+    return "";
+}
+
+OrthographicCamera::OrthographicCamera(double theta_deg, double phi_deg, int n)
+    : V_(view_vector(theta_deg, phi_deg)), n_(n) {}
+
+namespace {
+
+std::unique_ptr<Camera> make_orthographic_camera(const CameraSpec& s) {
+    return std::make_unique<OrthographicCamera>(s.theta_deg, s.phi_deg, s.samples);
+}
+
+}  // namespace
+
+const std::vector<CameraEntry>& camera_registry() {
+    static const std::vector<CameraEntry> entries = {
+        {"orthographic", &make_orthographic_camera},
+    };
+    return entries;
+}
+
+std::vector<std::string> camera_names() {
+    std::vector<std::string> out;
+    for (const auto& e : camera_registry()) out.push_back(e.name);
+    return out;
+}
+
+std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec) {
+    for (const auto& e : camera_registry())
+        if (name == e.name) return e.make(spec);
+    std::string known;
+    for (const auto& n : camera_names()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError("camera", "unknown camera '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace pxh

@@ -1,0 +1,94 @@
+// The exact tracer's maximum mipmap (construction) and its Tracer interface.
+#include "harness/truth/exact_tracer.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <memory>
+
+#include "harness/truth/travel_limit.h"
+
+namespace pxh {
+
+namespace {
+
+// The next level of a maximum mipmap: each block the maximum of the (up to) 2 x 2 blocks of
+// `prev` (pw x ph) it covers.
+std::vector<float> coarser_level(const std::vector<float>& prev, int pw, int ph, int w, int h) {
+    std::vector<float> next(size_t(w) * h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            float m = prev[size_t(2 * j) * pw + 2 * i];
+            if (2 * i + 1 < pw) m = std::max(m, prev[size_t(2 * j) * pw + 2 * i + 1]);
+            if (2 * j + 1 < ph) {
+                m = std::max(m, prev[size_t(2 * j + 1) * pw + 2 * i]);
+                if (2 * i + 1 < pw) m = std::max(m, prev[size_t(2 * j + 1) * pw + 2 * i + 1]);
+            }
+            next[size_t(j) * w + i] = m;
+        }
+    return next;
+}
+
+// A w x h row-major level, column-major.
+std::vector<float> transposed(const std::vector<float>& level, int w, int h) {
+    std::vector<float> t(level.size());
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) t[size_t(i) * h + j] = level[size_t(j) * w + i];
+    return t;
+}
+
+}  // namespace
+
+ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
+    : hf_(hf), s_(scale), b_(bias) {
+    throw_if_problem(scale_problem(scale));
+    const int W = hf.width, H = hf.height;
+    column_pairs_.resize(2 * hf.texels.size());
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            column_pairs_[2 * (size_t(j) * W + i)] = hf.at(i, j);
+            column_pairs_[2 * (size_t(j) * W + i) + 1] = hf.wrapped(i, j + 1);
+        }
+    build_levels();
+}
+
+void ExactTracer::build_levels() {
+    const HeightField& hf = hf_;
+    const int W = hf.width, H = hf.height;
+    std::vector<float> cells(hf.texels.size());
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i)
+            cells[size_t(j) * W + i] = std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j),
+                                                 hf.wrapped(i, j + 1), hf.wrapped(i + 1, j + 1)});
+    level_max_.push_back(std::move(cells));
+    level_w_.push_back(W);
+    level_h_.push_back(H);
+    while (level_w_.back() > 1 || level_h_.back() > 1) {
+        const int pw = level_w_.back(), ph = level_h_.back();
+        const int w = (pw + 1) / 2, h = (ph + 1) / 2;
+        level_max_.push_back(coarser_level(level_max_.back(), pw, ph, w, h));
+        level_w_.push_back(w);
+        level_h_.push_back(h);
+    }
+    for (size_t l = 0; l < std::min<size_t>(kBandLevels, level_max_.size()); ++l)
+        level_max_t_.push_back(transposed(level_max_[l], level_w_[l], level_h_[l]));
+}
+
+void ExactTracer::trace(const View& view, Hits& out) const {
+    throw_if_problem(view_travel_problem(s_, view));  // every ray, before any work
+    if (view.orthographic_grid()) trace_grid(view.grid, view.V[0], out);
+    else trace_rays(view, out);
+}
+
+void ExactTracer::trace_rays(const View& view, Hits& out) const {
+    out.resize_all(view.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, view.size(), 256), [&](const auto& rg) {
+        for (size_t k = rg.begin(); k < rg.end(); ++k) out.set(k, trace_naive(view.P[k], view.dir(k)));
+    });
+}
+
+std::unique_ptr<Tracer> make_exact_tracer(const HeightField& hf, double scale, double bias) {
+    return std::make_unique<ExactTracer>(hf, scale, bias);
+}
+
+}  // namespace pxh

@@ -1,0 +1,62 @@
+#include "harness/truth/travel_limit.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace pxh {
+
+namespace {
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+std::string travel_problem(double scale, double theta_deg, double travel) {
+    return "scale " + number(scale) + " at theta " + number(theta_deg) +
+           " deg: the rays travel s tan(theta) = " + number(travel) +
+           " tiles sideways through the relief, more than the ground truths' limit of " +
+           number(kMaxRayTravelTiles) + " tiles (kMaxRayTravelTiles); lower the scale or the angle";
+}
+
+}  // namespace
+
+std::string scale_problem(double scale) {
+    if (std::isfinite(scale) && scale > 0) return "";
+    return "scale = " + number(scale) + " is not a finite positive number";
+}
+
+void throw_if_problem(const std::string& problem) {
+    if (!problem.empty()) throw std::invalid_argument(problem);
+}
+
+std::string ray_travel_problem(double scale, double theta_deg) {
+    if (std::string p = scale_problem(scale); !p.empty()) return p;
+    if (!(theta_deg >= 0 && theta_deg < 90))
+        return "theta = " + number(theta_deg) + " deg lies outside [0, 90)";
+    const double travel = scale * std::tan(theta_deg * M_PI / 180.0);  // view_vector's radians
+    return travel <= kMaxRayTravelTiles ? "" : travel_problem(scale, theta_deg, travel);
+}
+
+std::string ray_travel_problem(double scale, Vec3d D) {
+    if (std::string p = scale_problem(scale); !p.empty()) return p;
+    if (!(D.z > 0 && std::isfinite(D.x) && std::isfinite(D.y)))
+        return "the ray direction (" + number(D.x) + ", " + number(D.y) + ", " + number(D.z) +
+               ") does not point above the surface (theta must lie in [0, 90))";
+    const double side = std::sqrt(D.x * D.x + D.y * D.y);
+    const double travel = scale * (side / D.z);  // NaN or inf for absurd inputs: refused
+    if (travel <= kMaxRayTravelTiles * (1 + 1e-9)) return "";
+    return travel_problem(scale, std::atan2(side, D.z) * 180 / M_PI, travel);
+}
+
+std::string view_travel_problem(double scale, const View& view) {
+    if (std::string p = view_problem(view); !p.empty()) return p;
+    if (std::string p = scale_problem(scale); !p.empty()) return p;
+    for (const Vec3d& D : view.V)
+        if (std::string p = ray_travel_problem(scale, D); !p.empty()) return p;
+    return "";
+}
+
+}  // namespace pxh

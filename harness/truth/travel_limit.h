@@ -1,0 +1,43 @@
+// The travel limit: how far sideways, in tiles, an eye or light ray may travel through the
+// relief before the ground truths refuse it.
+#pragma once
+#include <string>
+
+#include "harness/core/vec.h"
+#include "harness/scene/view.h"
+
+namespace pxh {
+
+// The longest horizontal path, in tiles, an eye or light ray may travel through the relief:
+// s tan(theta) (the ray drops through the slab's height s and moves tan(theta) sideways per
+// unit of drop). Near 90 degrees it grows without bound, and with it the work of both ground
+// truths whenever a ray skims the relief and meets it late (at worst only at the slab bottom):
+// Embree walks the path one tile per packet call, the exact tracer keeps bounds per band of
+// rays along it, and the true-shadow walk steps through its cells. 6000 tiles keeps every
+// shipped view (hard_cases.toml: s = 1 at 89.99 degrees, 5730 tiles). Measured at the limit
+// (pxh run, s = 1, 256 x 256 samples, 2 cores; fbm, a single spike, flat at the slab bottom;
+// azimuths 0 and 20): at most 13 s and 184 MB on a 32 x 32 field, 20 s and 1.09 GB on a
+// 4096 x 4096 one (whose run takes 8 s and 1.01 GB at any angle). It also keeps every grid
+// index the tracers convert from a double in range (6000 tiles x 16384 texels < 2^27). Views
+// beyond it are refused when an experiment is read and by pxh bench and, as a last line of
+// defence, by the tracers' entry points.
+inline constexpr double kMaxRayTravelTiles = 6000;
+
+// "" when rays of scale s at polar angle theta (degrees) stay within kMaxRayTravelTiles, else
+// a one-line reason naming the value and the limit (also for a scale that is not a finite
+// positive number, or theta outside [0, 90)).
+std::string ray_travel_problem(double scale, double theta_deg);
+// The same for a ray direction D (unit; D.z > 0 points from the surface toward the eye or
+// light), as the tracers see it; a rounding margin over the limit is let through, so that
+// every view ray_travel_problem(scale, theta) accepts is accepted here too.
+std::string ray_travel_problem(double scale, Vec3d D);
+// The first problem of a view: view_problem's, else ray_travel_problem's for its directions.
+std::string view_travel_problem(double scale, const View& view);
+
+// "" unless the scale is not a finite positive number.
+std::string scale_problem(double scale);
+
+// Throws std::invalid_argument with the reason, if there is one.
+void throw_if_problem(const std::string& problem);
+
+}  // namespace pxh
