@@ -8,7 +8,6 @@
 #include <sstream>
 
 #include "harness/metrics/agreement.h"
-#include "harness/truth/embree_truth.h"
 #include "harness/core/error.h"
 
 namespace pxh {
@@ -100,29 +99,44 @@ struct FieldContext {
     const std::vector<Vec2d>& P;
     const HeightField& hf;
     const HeightfieldSpec& spec;
-    const EmbreeTracer& embree;
-    const ExactTracer& exact;
+    const Tracer& exact;  // the reference: heights, true shadows, cost (gt_cells_mean)
+    const Tracer& other;  // the second reference, compared with it (gt_agree_*)
 };
 
-// The truth stage of one view: the reference hits and the two references' disagreement.
+// The references of one field (and s, b), built once and shared by its views.
+struct References {
+    std::unique_ptr<Tracer> exact, other;
+};
+
+References make_references(const HeightField& hf, const HeightfieldSpec& spec) {
+    References r;
+    r.other = make_tracer("embree", hf, spec.scale, spec.bias);
+    r.exact = make_tracer("exact", hf, spec.scale, spec.bias);
+    return r;
+}
+
+// What the truth stage gives a view: its ground truth and the two references' disagreement.
 struct ViewTruth {
     GroundTruth gt;
-    ErrorStats agree;  // |hit_exact - hit_embree| in texels (NaN when Embree did not run)
+    ErrorStats agree;  // |hit_other - hit_exact| in texels (NaN when the other did not run)
 };
 
-// A sweep's companion view (timed = false) needs Embree only when it is the reference.
-ViewTruth truth_stage(const FieldContext& c, const Scene<double>& scene, bool timed) {
+// The truth stage: a view's rays -> their ground truth (uv from the experiment's reference,
+// heights, true shadows and cost from the exact tracer) and the references' agreement on the
+// same rays. A sweep's companion view (timed = false) traces the other reference only when it
+// is the ground truth.
+ViewTruth truth_stage(const FieldContext& c, const View& view, bool timed) {
     const Experiment& ex = c.ex;
     const Vec3d L = ex.light ? view_vector(ex.light->theta_deg, ex.light->phi_deg) : Vec3d{};
-    const View rays = orthographic_view(scene.V, ex.samples);
     ViewTruth t;
-    t.gt = trace_ground_truth(c.exact, rays, ex.light ? &L : nullptr);
+    t.gt = trace_ground_truth(c.exact, view, ex.light ? &L : nullptr);
     t.agree.p50 = t.agree.p99 = t.agree.max = t.agree.frac_gt_0_5 = NAN;
-    if (timed || ex.ground_truth == "embree") {
-        Hits embree;
-        c.embree.trace(rays, embree);
-        t.agree = reference_agreement(embree.uv, t.gt.uv, c.hf.width, c.hf.height);
-        if (ex.ground_truth == "embree") t.gt.uv = std::move(embree.uv);
+    const bool other_is_truth = ex.ground_truth == c.other.name();
+    if (timed || other_is_truth) {
+        Hits other;
+        c.other.trace(view, other);
+        t.agree = reference_agreement(other.uv, t.gt.uv, c.hf.width, c.hf.height);
+        if (other_is_truth) t.gt.uv = std::move(other.uv);
     }
     return t;
 }
@@ -266,9 +280,11 @@ void run_method(ViewJob& job, const MethodSpec& m) {
 // timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
 // no timed GLSL frames, no agreement statistics.
 ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool timed) {
-    const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
+    const OrthographicCamera camera(theta, phi, c.ex.samples);
+    const View view = camera.view();
+    const Scene<double> scene{c.spec.scale, c.spec.bias, camera.direction(), c.hf.width,
                               c.hf.height};
-    ViewJob job{c, theta, phi, timed, scene, truth_stage(c, scene, timed), {}, nullptr, {}};
+    ViewJob job{c, theta, phi, timed, scene, truth_stage(c, view, timed), {}, nullptr, {}};
     job.holes = hole_mask(c.hf, job.truth.gt);
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
     for (const auto& m : c.ex.methods) run_method(job, m);
@@ -384,9 +400,8 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             field = make_heightfield(spec);
         }
         // Both references built once per field (and s, b), shared by all its views.
-        const EmbreeTracer embree(*field, spec.scale, spec.bias);
-        const ExactTracer exact(*field, spec.scale, spec.bias);
-        const FieldContext ctx{ex, backends, reference, P, *field, spec, embree, exact};
+        const References refs = make_references(*field, spec);
+        const FieldContext ctx{ex, backends, reference, P, *field, spec, *refs.exact, *refs.other};
         for (double phi : ex.phi_deg) run_sweep(ctx, phi, opt, step, steps, rows);
     }
     if (info)
