@@ -199,20 +199,13 @@ std::vector<ParamValue> get_param_values(const toml::node& n, const std::string&
 // warning per scale value, however many entries share it).
 using LargeScales = std::map<double, std::vector<std::string>>;
 
-void parse_heightfield(const toml::table& t, const toml::node& node, const std::string& path,
-                       Experiment& ex, LargeScales& large_scales) {
-    const std::string where = where_of(path, node);
-    const bool has_gen = t.contains("generator"), has_file = t.contains("file");
-    const bool has_scan = t.contains("scan");
-    if (int(has_gen) + int(has_file) + int(has_scan) != 1)
-        throw InputError(where, "a [[heightfields]] entry needs exactly one of 'generator', "
-                                "'file' or 'scan'");
-    HeightfieldSpec base;
-    base.where = where;
-    std::set<std::string> allowed{"name", "generator", "file", "scan", "size", "width",
-                                  "height", "scale", "bias", "channel"};
+// Where a [[heightfields]] entry's field comes from (generator, scan or file): fills base's
+// source, name and identity, adds the generator's parameters to the allowed keys; returns the
+// generator (nullptr for a scan or a file).
+const GeneratorInfo* heightfield_source(const toml::table& t, const std::string& path,
+                                        HeightfieldSpec& base, std::set<std::string>& allowed) {
     const GeneratorInfo* gen = nullptr;
-    if (has_gen) {
+    if (t.contains("generator")) {
         base.generator = get_string(*t.get("generator"), path, "generator");
         gen = find_generator(base.generator);
         if (!gen) {
@@ -223,7 +216,7 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         }
         for (const auto& p : gen->params) allowed.insert(p.name);
         base.name = base.generator;
-    } else if (has_scan) {
+    } else if (t.contains("scan")) {
         base.scan = get_string(*t.get("scan"), path, "scan");
         if (base.scan.rfind("scan:", 0) == 0) base.scan = base.scan.substr(5);
         // Only an imported scan (its name also picks files in heightfields/scanned/).
@@ -250,7 +243,13 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
         base.file_written = fs::path(f).lexically_normal().string();
         base.name = fp.stem().string();
     }
-    check_keys(t, allowed, path, "[[heightfields]]");
+    return gen;
+}
+
+// Name, size and channel; a generated field within the image loader's limit.
+void heightfield_size(const toml::table& t, const std::string& path, bool has_gen,
+                      HeightfieldSpec& base) {
+    const std::string& where = base.where;
     if (auto n = t.get("name")) {
         base.name = get_string(*n, path, "name");
         check_safe_name(base.name, where_of(path, *n), "heightfield name", false);
@@ -269,26 +268,32 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
                                     std::to_string(base.height) + " has more than " +
                                     std::to_string(kMaxImageTexels) +
                                     " texels, the limit for height fields (as for image files)");
-    if (has_file) {
-        // The file is identified by its bytes; read now, so a missing or unreadable file is
-        // named before any work (and a FIFO is not opened: it would block).
-        std::error_code ec;
-        const auto st = fs::status(base.file, ec);
-        std::string problem;
-        if (!fs::exists(st)) problem = "no such file";
-        else if (!fs::is_regular_file(st)) problem = "not a regular file";
-        if (!problem.empty())
-            throw InputError(where, file_problem(base.file, problem));
-        try {
-            base.source_path = base.file;
-            base.source_sha256 = sha256_file(base.file);
-            base.identity = "file:" + base.file_written + " channel:" +
-                            std::to_string(base.channel) + " sha256:" + base.source_sha256;
-        } catch (const InputError& e) {
-            throw InputError(where, file_problem(base.file, e.what()));
-        }
-    }
+}
 
+// A file is identified by its bytes; read now, so a missing or unreadable file is named
+// before any work (and a FIFO is not opened: it would block).
+void hash_heightfield_file(HeightfieldSpec& base) {
+    std::error_code ec;
+    const auto st = fs::status(base.file, ec);
+    std::string problem;
+    if (!fs::exists(st)) problem = "no such file";
+    else if (!fs::is_regular_file(st)) problem = "not a regular file";
+    if (!problem.empty())
+        throw InputError(base.where, file_problem(base.file, problem));
+    try {
+        base.source_path = base.file;
+        base.source_sha256 = sha256_file(base.file);
+        base.identity = "file:" + base.file_written + " channel:" +
+                        std::to_string(base.channel) + " sha256:" + base.source_sha256;
+    } catch (const InputError& e) {
+        throw InputError(base.where, file_problem(base.file, e.what()));
+    }
+}
+
+// The entry's scales and biases (a value or a sweep each), checked; scales whose errors
+// saturate within the views go into large_scales.
+std::pair<std::vector<double>, std::vector<double>> heightfield_scales(
+    const toml::table& t, const std::string& path, const Experiment& ex, LargeScales& large_scales) {
     std::vector<double> scales{0.05}, biases{1.0};
     if (auto n = t.get("scale")) scales = get_numbers(*n, path, "scale");
     if (auto n = t.get("bias")) biases = get_numbers(*n, path, "bias");
@@ -308,6 +313,26 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     for (double s : scales)
         if (s >= 0.5 && theta_max >= std::atan(0.5 / s) * 180 / M_PI)
             large_scales[s].push_back(where_of(path, *t.get("scale")));
+    return {scales, biases};
+}
+
+void parse_heightfield(const toml::table& t, const toml::node& node, const std::string& path,
+                       Experiment& ex, LargeScales& large_scales) {
+    const std::string where = where_of(path, node);
+    const bool has_gen = t.contains("generator"), has_file = t.contains("file");
+    const bool has_scan = t.contains("scan");
+    if (int(has_gen) + int(has_file) + int(has_scan) != 1)
+        throw InputError(where, "a [[heightfields]] entry needs exactly one of 'generator', "
+                                "'file' or 'scan'");
+    HeightfieldSpec base;
+    base.where = where;
+    std::set<std::string> allowed{"name", "generator", "file", "scan", "size", "width",
+                                  "height", "scale", "bias", "channel"};
+    const GeneratorInfo* gen = heightfield_source(t, path, base, allowed);
+    check_keys(t, allowed, path, "[[heightfields]]");
+    heightfield_size(t, path, has_gen, base);
+    if (has_file) hash_heightfield_file(base);
+    const auto [scales, biases] = heightfield_scales(t, path, ex, large_scales);
     std::vector<std::pair<std::string, std::vector<ParamValue>>> sweeps;
     if (gen)
         for (const auto& p : gen->params)
@@ -408,24 +433,10 @@ ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
     return p;
 }
 
-Experiment parse_experiment(const std::string& text, const std::string& path) {
-    toml::table root;
-    try {
-        root = toml::parse(text, path);
-    } catch (const toml::parse_error& e) {
-        std::ostringstream os;
-        os << path << ":" << e.source().begin.line;
-        throw InputError(os.str(), "TOML syntax error: " + std::string(e.description()));
-    }
-    Experiment ex;
-    ex.path = path;
-    ex.text = text;
-    ex.name = safe_default_name(fs::path(path).stem().string());
-    check_keys(root,
-               {"name", "description", "samples", "backends", "precision", "timing_repeats",
-                "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
-                "views", "heightfields", "methods", "light"},
-               path, "the experiment");
+namespace {
+
+// The top-level settings: name, sizes, backends, flags (in the order they are checked).
+void parse_settings(const toml::table& root, const std::string& path, Experiment& ex) {
     if (auto n = root.get("name")) {
         ex.name = get_string(*n, path, "name");
         check_safe_name(ex.name, where_of(path, *n), "experiment name", true);
@@ -452,6 +463,10 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
             throw InputError(where_of(path, *n), "'exclude_filled' must be true or false");
         ex.exclude_filled = *n->value<bool>();
     }
+}
+
+// The reference and the number formats: ground truth, texture formats, precisions.
+void parse_choices(const toml::table& root, const std::string& path, Experiment& ex) {
     if (auto n = root.get("ground_truth")) {
         ex.ground_truth = get_string(*n, path, "ground_truth");
         if (ex.ground_truth != "exact" && ex.ground_truth != "embree")
@@ -472,13 +487,10 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
                 throw InputError(where_of(path, *n),
                                  "unknown precision '" + p + "' (known: float, double)");
     }
+}
 
-    const toml::node* views = root.get("views");
-    if (!views || !views->is_table())
-        throw InputError(path, "missing [views] table (theta_deg = [...])");
-    const auto& vt = *views->as_table();
-    check_keys(vt, {"theta_deg", "phi_deg"}, path, "[views]");
-    if (!vt.contains("theta_deg")) throw InputError(where_of(path, *views), "[views] needs theta_deg");
+// [views] theta_deg: in degrees, [0, 90), increasing, each once (warned and fixed otherwise).
+void parse_theta(const toml::table& vt, const std::string& path, Experiment& ex) {
     ex.theta_deg = get_angles(*vt.get("theta_deg"), path, "theta_deg");
     const std::string theta_where = where_of(path, *vt.get("theta_deg"));
     for (double t : ex.theta_deg)
@@ -507,61 +519,77 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
         warn(ex, theta_where + ": theta_deg " + what +
                               "): views are measured in increasing theta, each once");
     }
-    if (auto n = vt.get("phi_deg")) {
-        ex.phi_deg = get_angles(*n, path, "phi_deg");
-        const std::string phi_where = where_of(path, *n);
-        std::string changed;
-        for (double& p : ex.phi_deg) {
-            if (!std::isfinite(p)) throw InputError(phi_where, "phi_deg must be finite");
-            if (p >= 0 && p < 360) continue;
-            double q = std::fmod(p, 360.0);
-            if (q < 0) q += 360;
-            if (q >= 360) q = 0;  // -1e-20 + 360 rounds to 360
-            changed += (changed.empty() ? "" : ", ") + format_number(p) + " -> " + format_number(q);
-            p = q;
-        }
-        if (!changed.empty())
-            warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
-        std::vector<double> unique;
-        for (double p : ex.phi_deg)
-            if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
-        if (unique.size() != ex.phi_deg.size())
-            warn(ex, phi_where + ": phi_deg repeats an azimuth (" +
-                                  std::to_string(ex.phi_deg.size() - unique.size()) +
-                                  " duplicate(s) dropped): each view is measured once");
-        ex.phi_deg = std::move(unique);
-    }
+}
 
-    if (auto n = root.get("light")) {
-        const auto* lt = n->as_table();
-        if (!lt) throw InputError(where_of(path, *n), "'light' must be a table ([light])");
-        check_keys(*lt, {"theta_deg", "phi_deg", "layers_min", "layers_max"}, path, "[light]");
-        LightSpec l;
-        if (auto v = lt->get("theta_deg")) l.theta_deg = get_number(*v, path, "theta_deg");
-        if (auto v = lt->get("phi_deg")) l.phi_deg = get_number(*v, path, "phi_deg");
-        if (auto v = lt->get("layers_min")) l.layers_min = get_number(*v, path, "layers_min");
-        if (auto v = lt->get("layers_max")) l.layers_max = get_number(*v, path, "layers_max");
-        if (!(l.theta_deg >= 0 && l.theta_deg < 90))
-            throw InputError(where_of(path, *n), "light theta_deg = " + format_number(l.theta_deg) +
-                                                     " is impossible: it must lie in [0, 90)");
-        if (!std::isfinite(l.phi_deg))
-            throw InputError(where_of(path, *n), "light phi_deg must be finite");
-        if (!(l.layers_min >= 1 && l.layers_max >= l.layers_min && l.layers_max <= 4096))
-            throw InputError(where_of(path, *n), "light layers need 1 <= layers_min <= layers_max <= 4096");
-        ex.light = l;
+// [views] phi_deg: normalised into [0, 360), each once (warned).
+void parse_phi(const toml::node& n, const std::string& path, Experiment& ex) {
+    ex.phi_deg = get_angles(n, path, "phi_deg");
+    const std::string phi_where = where_of(path, n);
+    std::string changed;
+    for (double& p : ex.phi_deg) {
+        if (!std::isfinite(p)) throw InputError(phi_where, "phi_deg must be finite");
+        if (p >= 0 && p < 360) continue;
+        double q = std::fmod(p, 360.0);
+        if (q < 0) q += 360;
+        if (q >= 360) q = 0;  // -1e-20 + 360 rounds to 360
+        changed += (changed.empty() ? "" : ", ") + format_number(p) + " -> " + format_number(q);
+        p = q;
     }
-    auto tables_of = [&](const char* key) {
-        const toml::node* n = root.get(key);
-        if (!n) throw InputError(path, std::string("no [[") + key + "]] entries");
-        const auto* arr = n->as_array();
-        if (!arr || arr->empty() || !arr->is_array_of_tables())
-            throw InputError(where_of(path, *n), std::string("'") + key +
-                                                     "' must be a list of tables ([[" + key + "]])");
-        return arr;
-    };
-    LargeScales large_scales;
-    for (const auto& e : *tables_of("heightfields"))
-        parse_heightfield(*e.as_table(), e, path, ex, large_scales);
+    if (!changed.empty())
+        warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
+    std::vector<double> unique;
+    for (double p : ex.phi_deg)
+        if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
+    if (unique.size() != ex.phi_deg.size())
+        warn(ex, phi_where + ": phi_deg repeats an azimuth (" +
+                              std::to_string(ex.phi_deg.size() - unique.size()) +
+                              " duplicate(s) dropped): each view is measured once");
+    ex.phi_deg = std::move(unique);
+}
+
+void parse_views(const toml::table& root, const std::string& path, Experiment& ex) {
+    const toml::node* views = root.get("views");
+    if (!views || !views->is_table())
+        throw InputError(path, "missing [views] table (theta_deg = [...])");
+    const auto& vt = *views->as_table();
+    check_keys(vt, {"theta_deg", "phi_deg"}, path, "[views]");
+    if (!vt.contains("theta_deg")) throw InputError(where_of(path, *views), "[views] needs theta_deg");
+    parse_theta(vt, path, ex);
+    if (auto n = vt.get("phi_deg")) parse_phi(*n, path, ex);
+}
+
+void parse_light(const toml::node& n, const std::string& path, Experiment& ex) {
+    const auto* lt = n.as_table();
+    if (!lt) throw InputError(where_of(path, n), "'light' must be a table ([light])");
+    check_keys(*lt, {"theta_deg", "phi_deg", "layers_min", "layers_max"}, path, "[light]");
+    LightSpec l;
+    if (auto v = lt->get("theta_deg")) l.theta_deg = get_number(*v, path, "theta_deg");
+    if (auto v = lt->get("phi_deg")) l.phi_deg = get_number(*v, path, "phi_deg");
+    if (auto v = lt->get("layers_min")) l.layers_min = get_number(*v, path, "layers_min");
+    if (auto v = lt->get("layers_max")) l.layers_max = get_number(*v, path, "layers_max");
+    if (!(l.theta_deg >= 0 && l.theta_deg < 90))
+        throw InputError(where_of(path, n), "light theta_deg = " + format_number(l.theta_deg) +
+                                                 " is impossible: it must lie in [0, 90)");
+    if (!std::isfinite(l.phi_deg))
+        throw InputError(where_of(path, n), "light phi_deg must be finite");
+    if (!(l.layers_min >= 1 && l.layers_max >= l.layers_min && l.layers_max <= 4096))
+        throw InputError(where_of(path, n), "light layers need 1 <= layers_min <= layers_max <= 4096");
+    ex.light = l;
+}
+
+// The entries of [[KEY]]: a non-empty list of tables.
+const toml::array& tables_of(const toml::table& root, const std::string& path, const char* key) {
+    const toml::node* n = root.get(key);
+    if (!n) throw InputError(path, std::string("no [[") + key + "]] entries");
+    const auto* arr = n->as_array();
+    if (!arr || arr->empty() || !arr->is_array_of_tables())
+        throw InputError(where_of(path, *n), std::string("'") + key +
+                                                 "' must be a list of tables ([[" + key + "]])");
+    return *arr;
+}
+
+// One warning per scale whose errors saturate within the views.
+void warn_large_scales(const LargeScales& large_scales, Experiment& ex) {
     for (const auto& [s, wheres] : large_scales) {
         std::string also;
         for (size_t k = 1; k < wheres.size(); ++k)
@@ -576,10 +604,11 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
                      "); beyond it errors, measured modulo one tile, saturate near half the "
                      "field's size and searches take huge step counts: use a scale below 0.5");
     }
-    check_heightfield_names(ex);
-    for (const auto& e : *tables_of("methods")) parse_method(*e.as_table(), e, path, ex);
-    // Every eye ray (views, sweep companions) and light ray within the ground truths' travel
-    // limit (kMaxRayTravelTiles, harness/truth/travel_limit.h), reported at the field's entry.
+}
+
+// Every eye ray (views, sweep companions) and light ray within the ground truths' travel
+// limit (kMaxRayTravelTiles, harness/truth/travel_limit.h), reported at the field's entry.
+void check_ray_travel(const Experiment& ex) {
     for (const HeightfieldSpec& h : ex.heightfields) {
         auto check = [&](double theta, const std::string& what) {
             if (const std::string why = ray_travel_problem(h.scale, theta); !why.empty())
@@ -592,6 +621,39 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
         }
         if (ex.light) check(ex.light->theta_deg, "light: ");
     }
+}
+
+}  // namespace
+
+Experiment parse_experiment(const std::string& text, const std::string& path) {
+    toml::table root;
+    try {
+        root = toml::parse(text, path);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream os;
+        os << path << ":" << e.source().begin.line;
+        throw InputError(os.str(), "TOML syntax error: " + std::string(e.description()));
+    }
+    Experiment ex;
+    ex.path = path;
+    ex.text = text;
+    ex.name = safe_default_name(fs::path(path).stem().string());
+    check_keys(root,
+               {"name", "description", "samples", "backends", "precision", "timing_repeats",
+                "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
+                "views", "heightfields", "methods", "light"},
+               path, "the experiment");
+    parse_settings(root, path, ex);
+    parse_choices(root, path, ex);
+    parse_views(root, path, ex);
+    if (auto n = root.get("light")) parse_light(*n, path, ex);
+    LargeScales large_scales;
+    for (const auto& e : tables_of(root, path, "heightfields"))
+        parse_heightfield(*e.as_table(), e, path, ex, large_scales);
+    warn_large_scales(large_scales, ex);
+    check_heightfield_names(ex);
+    for (const auto& e : tables_of(root, path, "methods")) parse_method(*e.as_table(), e, path, ex);
+    check_ray_travel(ex);
     return ex;
 }
 
