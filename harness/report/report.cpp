@@ -23,6 +23,7 @@
 
 #include "harness/results/csv_table.h"
 #include "harness/core/error.h"
+#include "harness/core/shipped_files.h"
 #include "harness/core/params.h"
 #include "harness/results/results.h"
 
@@ -294,11 +295,12 @@ std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<doub
     return front;
 }
 
-// harness/report/plot_report.py on the report folder, run by /usr/bin/python3 from an argument
-// vector (no shell: any folder name is passed as it is); waits and checks its exit status.
+// plot_report.py (shipped beside the binary: harness/core/shipped_files.h) on the report folder,
+// run by /usr/bin/python3 from an argument vector (no shell: any folder name is passed as it
+// is); waits and checks its exit status.
 void run_plotter(const fs::path& out) {
     const std::string python = "/usr/bin/python3";
-    const std::string script = std::string(PXH_SOURCE_DIR) + "/harness/report/plot_report.py";
+    const std::string script = shipped_file("plot_report.py");
     std::vector<std::string> args = {python, script, out.string()};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
