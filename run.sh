@@ -3,6 +3,7 @@
 #   ./run.sh            runs the default experiment and prints a summary
 #   ./run.sh test       runs the whole test suite through ctest
 #   ./run.sh build      only builds
+# PXH_WERROR=ON in the environment: warnings are errors (for CI: .ci/run).
 set -euo pipefail
 cd "$(dirname "$0")"
 
@@ -10,6 +11,7 @@ PACKAGES=(
   g++ cmake ninja-build pkg-config git zlib1g-dev
   libembree-dev libopenimageio-dev openimageio-tools libeigen3-dev libgtest-dev
   libosmesa6-dev python3-glad fonts-dejavu-core python3-matplotlib libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+  clang-format
 )
 
 install_missing() {
@@ -26,14 +28,14 @@ install_missing() {
 }
 
 build() {
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -Wno-dev >/dev/null
+  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DPXH_WERROR="${PXH_WERROR:-OFF}" -Wno-dev >/dev/null
   cmake --build build -j "$(nproc)"
 }
 
 mode="${1:-run}"
 case "$mode" in
   run|test|build) ;;
-  -h|--help) sed -n 2,5p "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n 2,6p "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
   *) echo "run.sh: unknown mode '$mode' (run | test | build)" >&2; exit 2 ;;
 esac
 
