@@ -233,18 +233,8 @@ std::string cgal_data(const Package& pkg, const std::string& member, const std::
     return file.string();
 }
 
-// Orthographic ray casting from above with Embree: the first hit of a ray along -z over each
-// texel centre; rays that miss the mesh are background, set to the lowest hit and flagged.
-Converted convert_bunny(const Package& pkg, const std::string& cache) {
-    const std::string member = "data/meshes/bunny00.off";
-    const Mesh m = read_off(cgal_data(pkg, member, cache));
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (const auto& v : m.vertices)
-        for (int a = 0; a < 3; ++a) { lo[a] = std::min(lo[a], v[a]); hi[a] = std::max(hi[a], v[a]); }
-    const int W = 256;
-    const double spacing = (hi[0] - lo[0]) / W;
-    const int H = int(std::ceil((hi[1] - lo[1]) / spacing));
-    RTCDevice dev = rtcNewDevice(nullptr);
+// The mesh as a committed Embree scene (triangles, float vertices).
+RTCScene mesh_scene(RTCDevice dev, const Mesh& m) {
     RTCScene scene = rtcNewScene(dev);
     RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -259,6 +249,36 @@ Converted convert_bunny(const Package& pkg, const std::string& cache) {
     rtcAttachGeometry(scene, geom);
     rtcReleaseGeometry(geom);
     rtcCommitScene(scene);
+    return scene;
+}
+
+// The height of triangle `prim`'s plane over (x, y), in double: Embree's float hit distance
+// depends on the kernel it picks for the CPU (SSE, AVX2, AVX-512 round differently), this does
+// not, so the import reproduces the committed file on any x86-64 machine. An edge-on triangle
+// gives `edge_on` (Embree's own hit).
+double plane_height(const Mesh& m, unsigned prim, double x, double y, double edge_on) {
+    const auto& tri = m.triangles[prim];
+    const auto &A = m.vertices[tri[0]], &B = m.vertices[tri[1]], &C = m.vertices[tri[2]];
+    const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+    const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+    const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
+                 nz = e1[0] * e2[1] - e1[1] * e2[0];
+    return nz != 0 ? A[2] - (nx * (x - A[0]) + ny * (y - A[1])) / nz : edge_on;
+}
+
+// Orthographic ray casting from above with Embree: the first hit of a ray along -z over each
+// texel centre; rays that miss the mesh are background, set to the lowest hit and flagged.
+Converted convert_bunny(const Package& pkg, const std::string& cache) {
+    const std::string member = "data/meshes/bunny00.off";
+    const Mesh m = read_off(cgal_data(pkg, member, cache));
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (const auto& v : m.vertices)
+        for (int a = 0; a < 3; ++a) { lo[a] = std::min(lo[a], v[a]); hi[a] = std::max(hi[a], v[a]); }
+    const int W = 256;
+    const double spacing = (hi[0] - lo[0]) / W;
+    const int H = int(std::ceil((hi[1] - lo[1]) / spacing));
+    RTCDevice dev = rtcNewDevice(nullptr);
+    RTCScene scene = mesh_scene(dev, m);
     Converted c;
     c.grid.w = W;
     c.grid.h = H;
@@ -281,18 +301,9 @@ Converted convert_bunny(const Package& pkg, const std::string& cache) {
             rtcIntersect1(scene, &ctx, &rh);
             if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
                 // Embree finds the triangle; the height is that triangle's plane at the texel
-                // centre, in double: Embree's float hit distance depends on the kernel it picks
-                // for the CPU (SSE, AVX2, AVX-512 round differently), this does not, so the
-                // import reproduces the committed file on any x86-64 machine.
-                const auto& tri = m.triangles[rh.hit.primID];
-                const auto &A = m.vertices[tri[0]], &B = m.vertices[tri[1]], &C = m.vertices[tri[2]];
-                const double e1[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-                const double e2[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-                const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2],
-                             nz = e1[0] * e2[1] - e1[1] * e2[0];
+                // centre (plane_height).
                 const double x = lo[0] + (i + 0.5) * spacing, y = lo[1] + (j + 0.5) * spacing;
-                const double z = nz != 0 ? A[2] - (nx * (x - A[0]) + ny * (y - A[1])) / nz
-                                         : top - double(rh.ray.tfar);  // edge-on: Embree's hit
+                const double z = plane_height(m, rh.hit.primID, x, y, top - double(rh.ray.tfar));
                 c.grid.v[size_t(j) * W + i] = z;
                 zmin = std::min(zmin, z);
             }
