@@ -72,7 +72,7 @@ INSTANTIATE_TEST_SUITE_P(Registry, EveryMethodGlsl, ::testing::ValuesIn([] {
                              for (const auto& m : all_methods()) n.push_back(m.name);
                              return n;
                          }()),
-                         [](const auto& info) { return info.param; });
+                         [](const auto& test) { return test.param; });
 
 TEST(Glsl, EveryMethodHasAShaderBesideItsCpuReference) {
     for (const auto& m : all_methods()) {

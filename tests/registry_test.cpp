@@ -103,7 +103,7 @@ TEST_P(EveryMethod, FloatAndDoubleAgreeOnSmoothField) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, EveryMethod, ::testing::ValuesIn(method_names()),
-                         [](const auto& info) { return info.param; });
+                         [](const auto& test) { return test.param; });
 
 }  // namespace
 }  // namespace pxh

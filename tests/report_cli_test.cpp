@@ -348,8 +348,9 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
         if (!e.is_regular_file()) continue;
         ++files;
         EXPECT_NE(out.find("wrote " + e.path().string() + "\n"), std::string::npos) << e.path() << "\n" << out;
-        if (e.path().extension() == ".csv")
+        if (e.path().extension() == ".csv") {
             EXPECT_EQ(slurp(e.path()).find("nan"), std::string::npos) << e.path();
+        }
     }
     EXPECT_EQ(files, 11u);  // summary x3, failed, sweep, precision, budget x2, data x3
     EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "ns_per_sample")));

@@ -92,7 +92,7 @@ TEST_F(RunFolder, ForeignFolderIsNeverTouched) {
     const auto exp = write("e.toml", kTiny);
     fs::create_directories(dir / "precious");
     write("precious/important.txt", "data");
-    for (const std::string extra : {std::string(), std::string("--force")}) {
+    for (const std::string& extra : {std::string(), std::string("--force")}) {
         const CliResult r = pxh("run " + exp + " --quiet --out " + (dir / "precious").string() + " " + extra);
         EXPECT_EQ(r.status, 2) << extra;
         EXPECT_NE(r.err.find("not a pxh results folder"), std::string::npos) << r.err;
@@ -237,7 +237,7 @@ TEST_F(RunFolder, CheckAndReportVerifyTheFolder) {
     };
     for (const auto& c : cases) {
         write("res/results.csv", c.csv);
-        for (const std::string cmd : {"check " + out + " --thresholds " + limits, "report --no-plots " + out}) {
+        for (const std::string& cmd : {"check " + out + " --thresholds " + limits, "report --no-plots " + out}) {
             r = pxh(cmd);
             EXPECT_EQ(r.status, 2) << c.name << ": " << cmd;
             EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
