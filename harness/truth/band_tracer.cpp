@@ -197,7 +197,7 @@ class ViewTracer {
         }
         auto reduce = [](const double* u) {
             double mx = u[0];
-            for (int k = 1; k < 16; ++k) mx = std::max(mx, u[k]);
+            for (int e = 1; e < 16; ++e) mx = std::max(mx, u[e]);
             return mx;
         };
         double* blk = band.blk.data() + (size_t(k) << 4);
