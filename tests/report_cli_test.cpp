@@ -385,6 +385,28 @@ TEST_F(ReportFolder, MalformedNumberNamesLineAndColumn) {
     EXPECT_NE(input_error([&] { report(res); }).find("results.csv:2: column 'fetches_mean'"), std::string::npos);
 }
 
+// results.csv is read once into typed rows: a malformed number in any numeric column (used by
+// the tables or not) stops `pxh report` and `pxh check` with one line naming file:line and
+// column, exit 2.
+TEST_F(ReportFolder, MalformedNumberIsOneLineExit2) {
+    const std::string res = results({row({}), row({{"ms_per_frame", "1.5.2"}})});
+    const std::string expect =
+        "pxh: error: " + res + "/results.csv:3: column 'ms_per_frame': '1.5.2' is not a number\n";
+    // (--accept-edited on a hand-made folder also warns that run.json is missing.)
+    auto one_error_line = [&](const std::string& err) {
+        return err.size() >= expect.size() &&
+               err.compare(err.size() - expect.size(), expect.size(), expect) == 0 &&
+               err.find("pxh: error:") == err.size() - expect.size();
+    };
+    auto r = pxh("report --no-plots --accept-edited " + res);
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_TRUE(one_error_line(r.err)) << r.err;
+    r = pxh("check " + res + " --accept-edited --thresholds " +
+            write("t.toml", "[[limit]]\ncolumn = \"err_p95\"\nmax = 1\n"));
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_TRUE(one_error_line(r.err)) << r.err;
+}
+
 // A limit of nan would pass every row; a text column cannot be limited (exit 2, not 1).
 TEST_F(ReportFolder, NanLimitsAndTextColumnsRefused) {
     const std::string res = results({row({})});

@@ -107,27 +107,27 @@ TEST(Sweep, RealMethodsOrderAsThePapersSay) {
     const auto rows = run_experiment(ex, RunOptions{});
     auto at = [&](const char* method, double s, double theta) {
         for (const auto& r : rows)
-            if (r.method == method && r.scale == s && r.theta_deg == theta) return r;
+            if (r.text("method") == method && r.num("scale") == s && r.num("theta_deg") == theta) return r;
         ADD_FAILURE() << method;
         return ResultRow{};
     };
     for (double s : {0.02, 0.05}) {
-        EXPECT_GT(at("parallax", s, 80).shimmering, 10 * at("parallax", s, 60).shimmering) << s;
-        EXPECT_GT(at("parallax", s, 75).shimmering, 2 * at("parallax", s, 60).shimmering) << s;
+        EXPECT_GT(at("parallax", s, 80).num("shimmering"), 10 * at("parallax", s, 60).num("shimmering")) << s;
+        EXPECT_GT(at("parallax", s, 75).num("shimmering"), 2 * at("parallax", s, 60).num("shimmering")) << s;
         for (double theta : {75.0, 80.0}) {
             const auto par = at("parallax", s, theta);
-            EXPECT_GT(par.shimmering, 2 * at("pom", s, theta).shimmering) << s << " " << theta;
-            EXPECT_GT(par.shimmering, 2 * at("relief", s, theta).shimmering) << s << " " << theta;
-            EXPECT_LT(at("pom", s, theta).err.mean, par.err.mean / 3);
+            EXPECT_GT(par.num("shimmering"), 2 * at("pom", s, theta).num("shimmering")) << s << " " << theta;
+            EXPECT_GT(par.num("shimmering"), 2 * at("relief", s, theta).num("shimmering")) << s << " " << theta;
+            EXPECT_LT(at("pom", s, theta).num("err_mean"), par.num("err_mean") / 3);
         }
         for (double theta : {60.0, 75.0})
             for (const char* flattening : {"parallax_limited", "parallax_halved"}) {
                 const auto par = at("parallax", s, theta), f = at(flattening, s, theta);
-                EXPECT_GT(f.err.mean, 1.5 * par.err.mean) << flattening << " " << s << " " << theta;
-                EXPECT_GT(f.sliding, 3 * par.sliding + 0.002) << flattening << " " << s << " " << theta;
+                EXPECT_GT(f.num("err_mean"), 1.5 * par.num("err_mean")) << flattening << " " << s << " " << theta;
+                EXPECT_GT(f.num("sliding"), 3 * par.num("sliding") + 0.002) << flattening << " " << s << " " << theta;
             }
     }
-    EXPECT_EQ(at("parallax", 0.05, 60).sweep_dt_deg, 0.25);
+    EXPECT_EQ(at("parallax", 0.05, 60).num("sweep_dt_deg"), 0.25);
 }
 
 // Consecutive views of a sweep without sweep_dt_deg: the pair (theta_k, theta_k+1) lands on
@@ -145,10 +145,10 @@ TEST(Sweep, ConsecutiveViewsFillAllButTheLastRow) {
     ex.methods.push_back({find_method("parallax"), test::params_for(*find_method("parallax"))});
     const auto rows = run_experiment(ex, RunOptions{});
     ASSERT_EQ(rows.size(), 3u);
-    EXPECT_TRUE(std::isfinite(rows[0].sliding));
-    EXPECT_EQ(rows[0].sweep_dt_deg, 20);
-    EXPECT_TRUE(std::isfinite(rows[1].shimmering));
-    EXPECT_TRUE(std::isnan(rows[2].sliding));
+    EXPECT_TRUE(std::isfinite(rows[0].num("sliding")));
+    EXPECT_EQ(rows[0].num("sweep_dt_deg"), 20);
+    EXPECT_TRUE(std::isfinite(rows[1].num("shimmering")));
+    EXPECT_TRUE(std::isnan(rows[2].num("sliding")));
 }
 
 }  // namespace

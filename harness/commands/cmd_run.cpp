@@ -91,22 +91,10 @@ void write_view_maps(const Experiment& ex, const fs::path& tmp_dir, std::vector<
                      const std::vector<std::vector<Vec2d>>& errors, size_t first) {
     for (size_t i = 0; i < rows.size(); ++i) {
         if (errors[i].empty()) continue;
-        const ResultRow& r = rows[i];
-        char stem[512];
-        std::snprintf(stem, sizeof stem, "%05zu_%s_%s_t%g_p%g_%s", first + i,
-                      r.method.c_str(), r.heightfield.c_str(), r.theta_deg, r.phi_deg,
-                      (r.texture_format.empty() ? r.backend + "-" + r.precision
-                                                : r.backend + "-" + r.texture_format)
-                          .c_str());
-        std::string safe = stem;
-        for (char& ch : safe)
-            if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
-        const std::string title = r.method + (r.params.empty() ? "" : " " + r.params) +
-                                  " | " + r.heightfield + " | theta " +
-                                  format_number(r.theta_deg) + " phi " +
-                                  format_number(r.phi_deg) + " | " + r.backend;
-        rows[i].map = "maps/" + write_error_map(errors[i], ex.samples,
-                                                (tmp_dir / "maps").string(), safe, title);
+        const ErrorMapName name = error_map_name(rows[i], first + i);
+        rows[i].set_text("map", "maps/" + write_error_map(errors[i], ex.samples,
+                                                          (tmp_dir / "maps").string(), name.stem,
+                                                          name.title));
     }
 }
 
@@ -134,16 +122,15 @@ nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo&
 void print_failed_rows(const std::vector<ResultRow>& rows, size_t failed) {
     size_t shown = 0;
     for (const auto& r : rows) {
-        if (r.status == "ok") continue;
+        if (r.ok()) continue;
         if (++shown > 10) {
             std::cerr << "pxh: ... and " << failed - 10 << " more failed rows (status=failed in results.csv)\n";
             break;
         }
-        std::cerr << "pxh: failed row: " << r.method << (r.params.empty() ? "" : " " + r.params)
-                  << " | " << r.heightfield << " | theta " << format_number(r.theta_deg)
-                  << " phi " << format_number(r.phi_deg) << " | " << r.backend << "/"
-                  << (r.texture_format.empty() ? r.precision : r.texture_format) << ": "
-                  << one_line(r.error) << "\n";
+        std::cerr << "pxh: failed row: " << setting_of(r) << " | " << r.text("heightfield")
+                  << " | theta " << format_number(r.num("theta_deg")) << " phi "
+                  << format_number(r.num("phi_deg")) << " | " << group_of(r) << ": "
+                  << one_line(r.text("error")) << "\n";
     }
 }
 
@@ -186,7 +173,7 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     write_file_synced(tmp_dir / "results.csv", results_csv(rows));
     nlohmann::json run = run_record(ex, a, info, command_line, nthreads);
     size_t failed = 0;
-    for (const auto& r : rows) failed += r.status != "ok";
+    for (const auto& r : rows) failed += !r.ok();
     run["rows"] = rows.size();
     run["failed_rows"] = failed;
     run["seconds"] = secs;

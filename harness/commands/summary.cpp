@@ -18,19 +18,17 @@ void print_summary(const std::vector<ResultRow>& rows) {
     std::vector<std::string> order;
     std::map<std::string, Acc> acc;
     for (const auto& r : rows) {
-        const std::string key = r.method + (r.params.empty() ? "" : " " + r.params) + " [" +
-                                r.backend + "/" +
-                                (r.texture_format.empty() ? r.precision : r.texture_format) + "]";
+        const std::string key = series_of(r);
         if (!acc.count(key)) order.push_back(key);
         Acc& a = acc[key];
-        if (r.status != "ok") { ++a.failed; continue; }
-        a.sum_mean += r.err.mean;
-        a.worst_p95 = std::max(a.worst_p95, r.err.p95);
-        a.fetches += r.fetches_mean;
+        if (!r.ok()) { ++a.failed; continue; }
+        a.sum_mean += r.num("err_mean");
+        a.worst_p95 = std::max(a.worst_p95, r.num("err_p95"));
+        a.fetches += r.num("fetches_mean");
         ++a.n;
-        if (!std::isnan(r.ns_per_sample)) { a.ns += r.ns_per_sample; ++a.n_ns; }
-        if (!std::isnan(r.ms_per_frame)) { a.ms += r.ms_per_frame; ++a.n_ms; }
-        if (!std::isnan(r.shadow_err)) { a.shadow += r.shadow_err; ++a.n_shadow; }
+        if (!std::isnan(r.num("ns_per_sample"))) { a.ns += r.num("ns_per_sample"); ++a.n_ns; }
+        if (!std::isnan(r.num("ms_per_frame"))) { a.ms += r.num("ms_per_frame"); ++a.n_ms; }
+        if (!std::isnan(r.num("shadow_err"))) { a.shadow += r.num("shadow_err"); ++a.n_shadow; }
     }
     auto cell = [](double sum, int n, int prec) {
         std::ostringstream os;

@@ -1,9 +1,51 @@
 #include "harness/metrics/agreement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
+#include "harness/metrics/metrics.h"
+
 namespace pxh {
+
+OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
+                      const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b,
+                      int width, int height) {
+    OutputDiff r;
+    const size_t n = std::min(uv_a.size(), uv_b.size());
+    std::vector<double> d;
+    d.reserve(n);
+    for (size_t k = 0; k < n; ++k) {
+        const Vec2d e = texel_error(uv_a[k], uv_b[k], width, height);
+        d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
+        r.decision_mismatch += fetches_a[k] != fetches_b[k];
+    }
+    if (d.empty()) return r;
+    std::sort(d.begin(), d.end());
+    r.max = d.back();
+    r.p999 = percentile_sorted(d, 0.999);
+    return r;
+}
+
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height) {
+    return compare_uv(a.uv, a.fetches, b.uv, b.fetches, width, height);
+}
+
+void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
+                   int width, int height) {
+    add_backend_agreement(compare_outputs(glsl, cpu_float, width, height), row);
+}
+
+void add_backend_agreement(const OutputDiff& d, ResultRow& row) {
+    row.set("cpu_diff_max", d.max);
+    row.set("cpu_diff_p999", d.p999);
+    row.set("decision_mismatch", double(d.decision_mismatch));
+}
+
+void add_precision_agreement(const OutputDiff& d, ResultRow& row) {
+    row.set("double_diff_max", d.max);
+    row.set("double_diff_p999", d.p999);
+}
 
 ErrorStats reference_agreement(const std::vector<Vec2d>& a, const std::vector<Vec2d>& b, int width,
                                int height) {

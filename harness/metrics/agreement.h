@@ -1,13 +1,38 @@
-// Agreement between two references (tracers) on the same rays: per sample the distance
-// between their hits in texels (|texel_error(a, b)|, wrapped), summarized by error_stats
-// (the gt_agree_* columns read p50, p99, max and frac_gt_0_5). Any pair of references.
+// Agreement between two outputs on the same samples: GLSL vs the CPU float reference
+// (cpu_diff_max, cpu_diff_p999, decision_mismatch) and CPU float vs double (double_diff_*);
+// and between two references (tracers) on the same rays: per sample the distance between
+// their hits in texels (|texel_error(a, b)|, wrapped), summarized by error_stats (the
+// gt_agree_* columns read p50, p99, max and frac_gt_0_5). Any pair of references.
 #pragma once
+#include <cmath>
 #include <vector>
 
+#include "harness/backends/backend.h"
 #include "harness/core/vec.h"
 #include "harness/metrics/metrics.h"
+#include "harness/metrics/row.h"
 
 namespace pxh {
+
+// max and p99.9 |uv_a - uv_b| in texels (a non-finite difference counts as infinite), and the
+// number of samples whose fetch count (the layer/step decision) differs.
+struct OutputDiff {
+    double max = NAN, p999 = NAN;
+    long long decision_mismatch = 0;
+};
+OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
+                      const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b,
+                      int width, int height);
+
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height);
+
+// cpu_diff_max, cpu_diff_p999, decision_mismatch from (GLSL, CPU float).
+void add_backend_agreement(const OutputDiff& glsl_vs_cpu_float, ResultRow& row);
+// The same from the two outputs (GLSL vs CPU float on the same samples).
+void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
+                   int width, int height);
+// double_diff_max, double_diff_p999 from (CPU float, CPU double).
+void add_precision_agreement(const OutputDiff& float_vs_double, ResultRow& row);
 
 // a and b: the two references' hits (unwrapped uv), per sample, of equal size.
 ErrorStats reference_agreement(const std::vector<Vec2d>& a, const std::vector<Vec2d>& b, int width,

@@ -6,7 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <cctype>
+#include <cstdio>
 #include <stdexcept>
+
+#include "harness/core/params.h"
 
 namespace pxh {
 namespace {
@@ -87,6 +91,22 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
     const std::string png = (fs::path(dir) / (stem + ".png")).string();
     if (!pic.write(png)) throw std::runtime_error(png + ": " + pic.geterror());
     return stem + ".png";
+}
+
+ErrorMapName error_map_name(const ResultRow& r, size_t index) {
+    const std::string& fmt = r.text("texture_format");
+    const std::string what = r.text("backend") + "-" + (fmt.empty() ? r.text("precision") : fmt);
+    char stem[512];
+    std::snprintf(stem, sizeof stem, "%05zu_%s_%s_t%g_p%g_%s", index, r.text("method").c_str(),
+                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"), what.c_str());
+    ErrorMapName n{stem, ""};
+    for (char& ch : n.stem)
+        if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
+    const std::string& params = r.text("params");
+    n.title = r.text("method") + (params.empty() ? "" : " " + params) + " | " +
+              r.text("heightfield") + " | theta " + format_number(r.num("theta_deg")) + " phi " +
+              format_number(r.num("phi_deg")) + " | " + r.text("backend");
+    return n;
 }
 
 }  // namespace pxh

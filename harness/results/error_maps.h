@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "harness/core/vec.h"
+#include "harness/metrics/row.h"
 
 namespace pxh {
 
@@ -16,5 +17,12 @@ void error_colour(double texels, float rgb[3]);
 // j, as for height maps) and DIR/STEM.png; returns the PNG's file name.
 std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
                             const std::string& stem, const std::string& title);
+
+// A row's error map: its file stem ("00012_pom_fbm_t60_p0_cpu-float", safe characters only;
+// `index` is the row's index in results.csv) and the title drawn on it.
+struct ErrorMapName {
+    std::string stem, title;
+};
+ErrorMapName error_map_name(const ResultRow& row, size_t index);
 
 }  // namespace pxh

@@ -1,89 +1,11 @@
 #include "harness/results/results.h"
 
-#include <cstdio>
-#include <fstream>
-#include <functional>
-#include <sstream>
+#include <algorithm>
 
+#include "harness/core/error.h"
+#include "harness/results/csv_table.h"
 
 namespace pxh {
-namespace {
-
-std::string num(double v) {
-    if (std::isnan(v)) return "";
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.10g", v);
-    return buf;
-}
-
-struct Column {
-    const char* name;
-    std::function<std::string(const ResultRow&)> get;
-    bool measured = true;  // false: says what was run (kept on failed rows)
-};
-
-const std::vector<Column>& columns() {
-    static const std::vector<Column> cols = {
-        {"method", [](const ResultRow& r) { return r.method; }, false},
-        {"params", [](const ResultRow& r) { return r.params; }, false},
-        {"heightfield", [](const ResultRow& r) { return r.heightfield; }, false},
-        {"heightfield_id", [](const ResultRow& r) { return r.heightfield_id; }, false},
-        {"backend", [](const ResultRow& r) { return r.backend; }, false},
-        {"precision", [](const ResultRow& r) { return r.precision; }, false},
-        {"texture_format", [](const ResultRow& r) { return r.texture_format; }, false},
-        {"shader", [](const ResultRow& r) { return r.shader; }, false},
-        {"scale", [](const ResultRow& r) { return num(r.scale); }, false},
-        {"bias", [](const ResultRow& r) { return num(r.bias); }, false},
-        {"theta_deg", [](const ResultRow& r) { return num(r.theta_deg); }, false},
-        {"phi_deg", [](const ResultRow& r) { return num(r.phi_deg); }, false},
-        {"samples", [](const ResultRow& r) { return std::to_string(r.samples); }, false},
-        {"width", [](const ResultRow& r) { return std::to_string(r.width); }, false},
-        {"height", [](const ResultRow& r) { return std::to_string(r.height); }, false},
-        {"err_mean", [](const ResultRow& r) { return num(r.err.mean); }},
-        {"err_rms", [](const ResultRow& r) { return num(r.err.rms); }},
-        {"err_p50", [](const ResultRow& r) { return num(r.err.p50); }},
-        {"err_p95", [](const ResultRow& r) { return num(r.err.p95); }},
-        {"err_p99", [](const ResultRow& r) { return num(r.err.p99); }},
-        {"err_max", [](const ResultRow& r) { return num(r.err.max); }},
-        {"frac_gt_0_5", [](const ResultRow& r) { return num(r.err.frac_gt_0_5); }},
-        {"frac_gt_1", [](const ResultRow& r) { return num(r.err.frac_gt_1); }},
-        {"nonfinite", [](const ResultRow& r) { return std::to_string(r.err.nonfinite); }},
-        {"fetches_mean", [](const ResultRow& r) { return num(r.fetches_mean); }},
-        {"fetches_max", [](const ResultRow& r) { return num(r.fetches_max); }},
-        {"fetches_bound", [](const ResultRow& r) { return std::to_string(r.fetches_bound); }, false},
-        {"ns_per_sample", [](const ResultRow& r) { return num(r.ns_per_sample); }},
-        {"ns_per_sample_min", [](const ResultRow& r) { return num(r.ns_per_sample_min); }},
-        {"ns_per_sample_max", [](const ResultRow& r) { return num(r.ns_per_sample_max); }},
-        {"ms_per_frame", [](const ResultRow& r) { return num(r.ms_per_frame); }},
-        {"ms_per_frame_min", [](const ResultRow& r) { return num(r.ms_per_frame_min); }},
-        {"ms_per_frame_max", [](const ResultRow& r) { return num(r.ms_per_frame_max); }},
-        {"cpu_diff_max", [](const ResultRow& r) { return num(r.cpu_diff_max); }},
-        {"cpu_diff_p999", [](const ResultRow& r) { return num(r.cpu_diff_p999); }},
-        {"decision_mismatch", [](const ResultRow& r) { return num(r.decision_mismatch); }},
-        {"double_diff_max", [](const ResultRow& r) { return num(r.double_diff_max); }},
-        {"double_diff_p999", [](const ResultRow& r) { return num(r.double_diff_p999); }},
-        {"sliding", [](const ResultRow& r) { return num(r.sliding); }},
-        {"shimmering", [](const ResultRow& r) { return num(r.shimmering); }},
-        {"sweep_dt_deg", [](const ResultRow& r) { return num(r.sweep_dt_deg); }},
-        {"map", [](const ResultRow& r) { return r.map; }},
-        {"gt_on_filled", [](const ResultRow& r) { return num(r.gt_on_filled); }},
-        {"excluded", [](const ResultRow& r) { return std::to_string(r.excluded); }},
-        {"gt_cells_mean", [](const ResultRow& r) { return num(r.gt_cells_mean); }},
-        {"ground_truth", [](const ResultRow& r) { return r.ground_truth; }, false},
-        {"gt_agree_p50", [](const ResultRow& r) { return num(r.gt_agree_p50); }},
-        {"gt_agree_p99", [](const ResultRow& r) { return num(r.gt_agree_p99); }},
-        {"gt_agree_max", [](const ResultRow& r) { return num(r.gt_agree_max); }},
-        {"gt_agree_frac_gt_0_5", [](const ResultRow& r) { return num(r.gt_agree_frac_gt_0_5); }},
-        {"shadow_err", [](const ResultRow& r) { return num(r.shadow_err); }},
-        {"shadow_soft_mae", [](const ResultRow& r) { return num(r.shadow_soft_mae); }},
-        {"status", [](const ResultRow& r) { return r.status; }, false},
-        {"error", [](const ResultRow& r) { return r.error; }, false},
-    };
-    return cols;
-}
-
-}  // namespace
 
 std::string csv_quote(const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -94,24 +16,83 @@ std::string csv_quote(const std::string& s) {
 
 std::vector<std::string> result_columns() {
     std::vector<std::string> out;
-    for (const auto& c : columns()) out.push_back(c.name);
+    for (const ColumnSpec* c : result_column_specs()) out.push_back(c->name);
     return out;
 }
 
 std::string results_csv(const std::vector<ResultRow>& rows) {
+    const auto specs = result_column_specs();
+    std::vector<size_t> ids;
     std::string out;
-    const auto& cols = columns();
-    for (size_t c = 0; c < cols.size(); ++c) out += (c ? "," : "") + std::string(cols[c].name);
+    for (size_t c = 0; c < specs.size(); ++c) {
+        out += (c ? "," : "") + specs[c]->name;
+        ids.push_back(column_id(specs[c]->name));
+    }
     out += "\n";
     for (const auto& r : rows) {
-        const bool ok = r.status == "ok";
-        for (size_t c = 0; c < cols.size(); ++c) {
+        const bool ok = r.ok();
+        for (size_t c = 0; c < specs.size(); ++c) {
             if (c) out += ',';
-            if (ok || !cols[c].measured) out += csv_quote(cols[c].get(r));
+            if (ok || specs[c]->role == ColumnRole::key) out += csv_quote(r.cell(ids[c]));
         }
         out += "\n";
     }
     return out;
+}
+
+bool ResultsFile::has(const std::string& column) const {
+    return std::find(header.begin(), header.end(), column) != header.end();
+}
+
+std::string ResultsFile::where(size_t row) const {
+    return path + ":" + std::to_string(row < lines.size() ? lines[row] : row + 2);
+}
+
+ResultsFile read_results(const std::string& path) {
+    const CsvTable t = read_csv(path);
+    ResultsFile f;
+    f.path = path;
+    f.header = t.columns;
+    f.lines = t.lines;
+    std::vector<const ColumnSpec*> specs;
+    for (const auto& name : t.columns) specs.push_back(find_column(name));
+    f.rows.reserve(t.rows.size());
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        ResultRow row;
+        row.set_text("status", "");  // a file without a status column has no ok row
+        for (size_t c = 0; c < specs.size(); ++c) {
+            if (!specs[c]) continue;
+            const std::string& cell = t.rows[r][c];
+            if (specs[c]->type == ColumnType::text) {
+                row.set_text(specs[c]->name, cell);
+                continue;
+            }
+            if (cell.empty()) continue;
+            const auto v = parse_number(cell);
+            if (!v)
+                throw InputError(t.where(r), "column '" + specs[c]->name + "': '" + cell +
+                                                 "' is not a number");
+            row.set(specs[c]->name, *v);
+        }
+        f.rows.push_back(std::move(row));
+    }
+    return f;
+}
+
+std::string setting_of(const ResultRow& r) {
+    const std::string& params = r.text("params");
+    return r.text("method") + (params.empty() ? "" : " " + params);
+}
+
+std::string group_of(const ResultRow& r) {
+    const std::string& fmt = r.text("texture_format");
+    return r.text("backend") + "/" + (fmt.empty() ? r.text("precision") : fmt);
+}
+
+std::string series_of(const ResultRow& r) { return setting_of(r) + " [" + group_of(r) + "]"; }
+
+std::string field_of(const ResultRow& r) {
+    return r.text("heightfield") + " s=" + r.cell("scale") + " b=" + r.cell("bias");
 }
 
 }  // namespace pxh

@@ -9,6 +9,9 @@
 
 #include "harness/metrics/agreement.h"
 #include "harness/core/error.h"
+#include "harness/metrics/metric.h"
+#include "harness/metrics/reference.h"
+#include "harness/metrics/sweep.h"
 
 namespace pxh {
 namespace {
@@ -24,62 +27,9 @@ std::string fmt_angle(double a) {
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
                 const std::vector<uint8_t>* exclude) {
     ResultRow row;
-    const size_t n = out.uv.size();
-    std::vector<double> mag;
-    mag.reserve(n);
-    for (size_t k = 0; k < n; ++k) {
-        if (exclude && (*exclude)[k]) {
-            ++row.excluded;
-            continue;
-        }
-        const Vec2d e = texel_error(out.uv[k], gt.uv[k], width, height);
-        mag.push_back(std::hypot(e.x, e.y));
-    }
-    row.err = error_stats(mag);
-    double fsum = 0;
-    int fmax = 0;
-    for (int f : out.fetches) { fsum += f; fmax = std::max(fmax, f); }
-    row.fetches_mean = n ? fsum / double(n) : NAN;
-    row.fetches_max = n ? double(fmax) : NAN;
-    row.ns_per_sample = out.ns_per_sample;
-    row.ns_per_sample_min = out.ns_per_sample_min;
-    row.ns_per_sample_max = out.ns_per_sample_max;
-    if (!gt.lit.empty() && out.shadow_hard.size() == n && n > 0) {
-        double wrong = 0, mae = 0;
-        for (size_t k = 0; k < n; ++k) {
-            const double truth = gt.lit[k] ? 1.0 : 0.0;
-            wrong += (out.shadow_hard[k] != truth);
-            mae += std::abs(double(out.shadow_soft[k]) - truth);
-        }
-        row.shadow_err = wrong / double(n);
-        row.shadow_soft_mae = mae / double(n);
-    }
+    apply_output_metrics({out, gt, width, height, exclude}, row);
+    row.set_text("shader", out.shader);
     return row;
-}
-
-OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height) {
-    OutputDiff r;
-    const size_t n = std::min(a.uv.size(), b.uv.size());
-    std::vector<double> d;
-    d.reserve(n);
-    for (size_t k = 0; k < n; ++k) {
-        const Vec2d e = texel_error(a.uv[k], b.uv[k], width, height);
-        d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
-        r.decision_mismatch += a.fetches[k] != b.fetches[k];
-    }
-    if (d.empty()) return r;
-    std::sort(d.begin(), d.end());
-    r.max = d.back();
-    r.p999 = percentile_sorted(d, 0.999);
-    return r;
-}
-
-void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu,
-                   int width, int height) {
-    const OutputDiff d = compare_outputs(glsl, cpu, width, height);
-    row.cpu_diff_max = d.max;
-    row.cpu_diff_p999 = d.p999;
-    row.decision_mismatch = double(d.decision_mismatch);
 }
 
 namespace {
@@ -196,28 +146,23 @@ struct ViewJob {
     // The keys and the view-wide columns of a row; returns its index in the view.
     size_t emit(ResultRow row, std::vector<Vec2d> errs, const MethodSpec& m,
                 const std::string& backend, const Variant& v) {
-        row.method = m.method->name;
-        row.params = m.params.canonical();
-        row.heightfield = c.spec.name;
-        row.heightfield_id = c.spec.identity;
-        row.backend = backend;
-        row.precision = v.precision;
-        row.texture_format = v.texture_format;
-        row.scale = c.spec.scale;
-        row.bias = c.spec.bias;
-        row.theta_deg = theta;
-        row.phi_deg = phi;
-        row.samples = c.ex.samples;
-        row.width = c.hf.width;
-        row.height = c.hf.height;
-        row.fetches_bound = m.method->max_fetches(m.params, scene);
-        row.gt_cells_mean = truth.gt.cells_mean;
-        row.ground_truth = c.ex.ground_truth;
-        row.gt_agree_p50 = truth.agree.p50;
-        row.gt_agree_p99 = truth.agree.p99;
-        row.gt_agree_max = truth.agree.max;
-        row.gt_agree_frac_gt_0_5 = truth.agree.frac_gt_0_5;
-        row.gt_on_filled = holes.frac;
+        row.set_text("method", m.method->name);
+        row.set_text("params", m.params.canonical());
+        row.set_text("heightfield", c.spec.name);
+        row.set_text("heightfield_id", c.spec.identity);
+        row.set_text("backend", backend);
+        row.set_text("precision", v.precision);
+        row.set_text("texture_format", v.texture_format);
+        row.set("scale", c.spec.scale);
+        row.set("bias", c.spec.bias);
+        row.set("theta_deg", theta);
+        row.set("phi_deg", phi);
+        row.set("samples", c.ex.samples);
+        row.set("width", c.hf.width);
+        row.set("height", c.hf.height);
+        row.set("fetches_bound", m.method->max_fetches(m.params, scene));
+        add_reference_columns({c.ex.ground_truth, truth.gt.cells_mean, truth.agree, holes.frac},
+                              row);
         out.rows.push_back(std::move(row));
         out.errors.push_back(std::move(errs));
         return out.rows.size() - 1;
@@ -226,8 +171,7 @@ struct ViewJob {
 
 ResultRow failed_row(const std::exception& e) {
     ResultRow row;
-    row.status = "failed";
-    row.error = e.what();
+    row.fail(e.what());
     return row;
 }
 
@@ -254,10 +198,6 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                     }
                     continue;
                 }
-                row.ms_per_frame = o.ms_per_frame;
-                row.ms_per_frame_min = o.ms_per_frame_min;
-                row.ms_per_frame_max = o.ms_per_frame_max;
-                row.shader = o.shader;
                 if (!cpu_float)
                     cpu_float = job.c.reference.run(m, {in.scene, in.hf, in.P, in.samples,
                                                         nullptr, false}, {"float", ""});
@@ -265,14 +205,13 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
             } catch (const std::exception& e) {
                 ResultRow row = failed_row(e);
-                row.shader = backend->shader_of(*m.method);
+                row.set_text("shader", backend->shader_of(*m.method));
                 job.emit(std::move(row), {}, m, backend->name(), v);
             }
         }
         if (is_cpu && float_row && cpu_double) {  // what float precision itself costs
-            const OutputDiff d = compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height);
-            job.out.rows[*float_row].double_diff_max = d.max;
-            job.out.rows[*float_row].double_diff_p999 = d.p999;
+            add_precision_agreement(compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height),
+                                    job.out.rows[*float_row]);
         }
     }
 }
@@ -289,15 +228,6 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool tim
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
     for (const auto& m : c.ex.methods) run_method(job, m);
     return std::move(job.out);
-}
-
-void set_sweep(ResultRow& row, const std::vector<Vec2d>& lo, const std::vector<Vec2d>& hi,
-               double dt) {
-    if (lo.empty() || hi.empty()) return;
-    const SweepMetrics sm = sweep_metrics(lo, hi, dt, row.width, row.height);
-    row.sliding = sm.sliding;
-    row.shimmering = sm.shimmering;
-    row.sweep_dt_deg = dt;
 }
 
 // The backends a run uses, created in the experiment's order (GLSL creates its GL context).
@@ -348,13 +278,13 @@ void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_
             const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
             const ViewRows comp = evaluate_view(ctx, other, phi, false);
             for (size_t i = 0; i < view.rows.size(); ++i)
-                set_sweep(view.rows[i], up ? view.errors[i] : comp.errors[i],
-                          up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg);
+                add_sweep(up ? view.errors[i] : comp.errors[i], up ? comp.errors[i] : view.errors[i],
+                          ex.sweep_dt_deg, view.rows[i]);
         } else if (t > 0) {
             // Consecutive views: the pair (theta_{k-1}, theta_k) goes on row k-1.
             const double dt = theta - ex.theta_deg[t - 1];
             for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
-                if (dt > 0) set_sweep(rows[prev_index[i]], prev.errors[i], view.errors[i], dt);
+                if (dt > 0) add_sweep(prev.errors[i], view.errors[i], dt, rows[prev_index[i]]);
         }
         if (opt.on_view) opt.on_view(view.rows, view.errors, rows.size());
         prev_index.clear();

@@ -8,28 +8,17 @@
 #include "harness/backends/backend.h"
 #include "harness/backends/cpu_backend.h"
 #include "harness/experiment/experiment.h"
+#include "harness/metrics/agreement.h"
 #include "harness/results/results.h"
 #include "harness/truth/ground_truth.h"
 
 namespace pxh {
 
-// Scores one method output against the truth; samples flagged in `exclude` (when given) are
-// left out of the error statistics and counted in `excluded`.
+// Scores one method output against the truth: every per-output metric
+// (harness/metrics/metric.h) and its shader column; samples flagged in `exclude` (when given)
+// are left out of the error statistics and counted in `excluded`.
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
                 const std::vector<uint8_t>* exclude = nullptr);
-
-// Two outputs on the same samples: max and p99.9 |uv_a - uv_b| in texels, and the number of
-// samples whose fetch count (the layer/step decision) differs.
-struct OutputDiff {
-    double max = NAN, p999 = NAN;
-    long long decision_mismatch = 0;
-};
-OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height);
-
-// GLSL vs CPU float on the same samples: max and p99.9 |uv difference| in texels, and the
-// number of samples whose fetch count (the layer/step decision) differs.
-void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
-                   int width, int height);
 
 struct RunOptions {
     std::vector<std::string> backends;  // overrides the experiment's list when non-empty

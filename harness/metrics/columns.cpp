@@ -1,0 +1,157 @@
+#include "harness/metrics/columns.h"
+
+#include <algorithm>
+#include <deque>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace pxh {
+namespace {
+
+constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                     kNum = ColumnType::number;
+constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+
+// THE table: every column of results.csv, in file order, grouped by the metric that fills it.
+// One line per column; a new column goes where it should appear in results.csv (a new metric's
+// columns before status, error).
+const std::vector<ColumnSpec>& builtin_columns() {
+    static const std::vector<ColumnSpec> cols = {
+        // What ran (harness/run/runner.cpp fills them).
+        {"method", kText, kKey, "the method (methods/NAME)"},
+        {"params", kText, kKey, "its parameters, canonical (k=v;k=v)"},
+        {"heightfield", kText, kKey, "the height field's name in the experiment"},
+        {"heightfield_id", kText, kKey, "generator + parameters, or file + sha256"},
+        {"backend", kText, kKey, "cpu | glsl"},
+        {"precision", kText, kKey, "float | double (GLSL: float)"},
+        {"texture_format", kText, kKey, "GLSL rows: r32f | r16 | r8"},
+        {"shader", kText, kKey, "GLSL rows: builtin, or the shader file(s) compiled"},
+        {"scale", kNum, kKey, "height scale s"},
+        {"bias", kNum, kKey, "height bias b"},
+        {"theta_deg", kNum, kKey, "view angle from the normal (degrees)"},
+        {"phi_deg", kNum, kKey, "view azimuth (degrees)"},
+        {"samples", kInt, kKey, "samples per side (N x N grid)"},
+        {"width", kInt, kKey, "height field width (texels)"},
+        {"height", kInt, kKey, "height field height (texels)"},
+        // Error statistics (harness/metrics/error_stats.cpp).
+        {"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"},
+        {"err_rms", kNum, kMeasured, "root mean square texel error"},
+        {"err_p50", kNum, kMeasured, "median texel error"},
+        {"err_p95", kNum, kMeasured, "95th-percentile texel error"},
+        {"err_p99", kNum, kMeasured, "99th-percentile texel error"},
+        {"err_max", kNum, kMeasured, "largest texel error"},
+        {"frac_gt_0_5", kNum, kMeasured, "fraction of finite samples more than 0.5 texel off"},
+        {"frac_gt_1", kNum, kMeasured, "fraction of finite samples more than 1 texel off"},
+        {"nonfinite", kInt, kMeasured, "samples whose output is NaN/Inf (left out above)"},
+        // Height fetches (harness/metrics/fetches.cpp).
+        {"fetches_mean", kNum, kMeasured, "height fetches per sample, mean"},
+        {"fetches_max", kNum, kMeasured, "height fetches per sample, max"},
+        {"fetches_bound", kInt, kKey, "the method's declared fetch bound for this view"},
+        // Timing (harness/metrics/timing.cpp).
+        {"ns_per_sample", kNum, kMeasured, "CPU: median single-thread time per sample (ns)"},
+        {"ns_per_sample_min", kNum, kMeasured, "CPU: fastest repeat (ns per sample)"},
+        {"ns_per_sample_max", kNum, kMeasured, "CPU: slowest repeat (ns per sample)"},
+        {"ms_per_frame", kNum, kMeasured, "GLSL: median wall time of one frame (ms, glFinish)"},
+        {"ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame (ms)"},
+        {"ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame (ms)"},
+        // Agreement between backends and precisions (harness/metrics/agreement.cpp).
+        {"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"},
+        {"cpu_diff_p999", kNum, kMeasured, "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"},
+        {"decision_mismatch", kInt, kMeasured, "GLSL: samples whose fetch count differs from CPU"},
+        {"double_diff_max", kNum, kMeasured, "CPU float: max |uv_float - uv_double| (texels)"},
+        {"double_diff_p999", kNum, kMeasured, "CPU float: p99.9 |uv_float - uv_double| (texels)"},
+        // Sweeps (harness/metrics/sweep.cpp).
+        {"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"},
+        {"shimmering", kNum, kMeasured, "mean |change of e - mean change| / dt (texels/degree)"},
+        {"sweep_dt_deg", kNum, kMeasured, "the dt the two above were measured over (degrees)"},
+        // Error map (harness/results/error_maps.cpp).
+        {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
+        // Ground truth (harness/metrics/ground_truth_metrics.cpp).
+        {"gt_on_filled", kNum, kMeasured, "measured fields: fraction of true hits on a filled hole"},
+        {"excluded", kInt, kMeasured, "samples left out of err_* (exclude_filled = true)"},
+        {"gt_cells_mean", kNum, kMeasured, "exact tracer: cells per ray given to the solver"},
+        {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns"},
+        {"gt_agree_p50", kNum, kMeasured, "|hit_exact - hit_embree| median (texels)"},
+        {"gt_agree_p99", kNum, kMeasured, "|hit_exact - hit_embree| 99th percentile (texels)"},
+        {"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"},
+        {"gt_agree_frac_gt_0_5", kNum, kMeasured, "fraction of samples where they differ > 0.5 texel"},
+        // Self-shadowing (harness/metrics/shadows.cpp).
+        {"shadow_err", kNum, kMeasured, "fraction of samples whose hard shadow state is wrong"},
+        {"shadow_soft_mae", kNum, kMeasured, "mean |soft factor - true hard factor|"},
+        // Added columns go here, before status and error.
+        // Outcome (always last).
+        {"status", kText, kKey, "ok | failed"},
+        {"error", kText, kKey, "the message when failed"},
+    };
+    return cols;
+}
+
+struct Hash {
+    using is_transparent = void;
+    size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
+};
+
+struct Registry {
+    std::deque<ColumnSpec> specs;  // by id; ids are never reused
+    std::vector<size_t> order;     // ids in results.csv order
+    std::unordered_map<std::string, size_t, Hash, std::equal_to<>> ids;
+
+    Registry() {
+        for (const auto& c : builtin_columns()) add(c, order.size());
+    }
+    void add(const ColumnSpec& c, size_t pos) {
+        if (c.name.empty() || ids.count(c.name))
+            throw std::logic_error("column '" + c.name + "' registered twice (or unnamed)");
+        specs.push_back(c);
+        ids.emplace(c.name, specs.size() - 1);
+        order.insert(order.begin() + std::ptrdiff_t(pos), specs.size() - 1);
+    }
+};
+
+Registry& registry() {
+    static Registry r;
+    return r;
+}
+
+}  // namespace
+
+std::vector<const ColumnSpec*> result_column_specs() {
+    const Registry& r = registry();
+    std::vector<const ColumnSpec*> out;
+    for (size_t id : r.order) out.push_back(&r.specs[id]);
+    return out;
+}
+
+const ColumnSpec* find_column(std::string_view name) {
+    const Registry& r = registry();
+    auto it = r.ids.find(name);
+    return it == r.ids.end() ? nullptr : &r.specs[it->second];
+}
+
+size_t column_id(std::string_view name) {
+    const Registry& r = registry();
+    auto it = r.ids.find(name);
+    if (it == r.ids.end())
+        throw std::logic_error("no results column '" + std::string(name) +
+                               "' is registered (harness/metrics/columns.cpp)");
+    return it->second;
+}
+
+const ColumnSpec& column_spec(size_t id) { return registry().specs.at(id); }
+
+ColumnRegistration::ColumnRegistration(ColumnSpec spec) : name_(spec.name) {
+    Registry& r = registry();
+    const size_t status = size_t(
+        std::find(r.order.begin(), r.order.end(), column_id("status")) - r.order.begin());
+    r.add(spec, status);
+}
+
+ColumnRegistration::~ColumnRegistration() {
+    Registry& r = registry();
+    auto it = r.ids.find(name_);
+    if (it == r.ids.end()) return;
+    r.order.erase(std::find(r.order.begin(), r.order.end(), it->second));
+    r.ids.erase(it);
+}
+
+}  // namespace pxh

@@ -1,0 +1,67 @@
+// Metrics: functions that add named columns (harness/metrics/columns.cpp) to a row.
+//
+// Per-output metrics see one backend's output on the view's samples beside the truth
+// (MetricInput) and run, in registry order, on every row that did not fail:
+//   error_stats.cpp (err_*, frac_*, nonfinite, excluded), fetches.cpp (fetches_mean/max),
+//   timing.cpp (ns_per_sample*, ms_per_frame*), shadows.cpp (shadow_err, shadow_soft_mae).
+// Metrics across outputs or views take what they compare: agreement.h (two outputs),
+// sweep.h (two views), reference.h (the view's references).
+//
+// A new per-output metric: one file defining `void add_NAME(const MetricInput&, ResultRow&)`,
+// its columns in columns.cpp, and one line in output_metrics() (metric.cpp) - or, outside
+// the harness (a test), a MetricRegistration.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "harness/backends/backend.h"
+#include "harness/metrics/row.h"
+#include "harness/truth/ground_truth.h"
+
+namespace pxh {
+
+// One backend's output on the view's samples, and the truth it is scored against.
+struct MetricInput {
+    const MethodOutput& out;  // uv, fetches, timing, shadow factors (harness/backends/backend.h)
+    const GroundTruth& gt;    // the reference's hit per sample (and true shadow state, if lit)
+    int width = 0, height = 0;                      // texels (errors are in texels)
+    const std::vector<uint8_t>* exclude = nullptr;  // samples left out of the error statistics
+};
+
+using MetricFn = std::function<void(const MetricInput&, ResultRow&)>;
+struct Metric {
+    std::string name;
+    MetricFn add;
+};
+
+// The built-in per-output metrics.
+void add_error_stats(const MetricInput& in, ResultRow& row);
+void add_fetches(const MetricInput& in, ResultRow& row);
+void add_timing(const MetricInput& in, ResultRow& row);
+void add_shadow_errors(const MetricInput& in, ResultRow& row);
+
+// Every per-output metric, in order: the built-in ones, then the registered ones.
+std::vector<const Metric*> output_metrics();
+
+// Applies every per-output metric to the row.
+void apply_output_metrics(const MetricInput& in, ResultRow& row);
+
+// Registers a per-output metric and its columns for as long as it lives (tests; a metric
+// linked into another binary). Its columns go before status and error.
+class MetricRegistration {
+  public:
+    MetricRegistration(Metric metric, std::vector<ColumnSpec> columns);
+    ~MetricRegistration();
+    MetricRegistration(const MetricRegistration&) = delete;
+    MetricRegistration& operator=(const MetricRegistration&) = delete;
+
+  private:
+    std::string name_;
+    std::vector<std::unique_ptr<ColumnRegistration>> columns_;
+};
+
+}  // namespace pxh

@@ -1,0 +1,23 @@
+// shadow_err (fraction of samples whose hard shadow state is wrong) and shadow_soft_mae
+// (mean |soft factor - true hard factor|), when a light was given.
+#include <cmath>
+
+#include "harness/metrics/metric.h"
+
+namespace pxh {
+
+void add_shadow_errors(const MetricInput& in, ResultRow& row) {
+    const MethodOutput& o = in.out;
+    const size_t n = o.uv.size();
+    if (in.gt.lit.empty() || o.shadow_hard.size() != n || n == 0) return;
+    double wrong = 0, mae = 0;
+    for (size_t k = 0; k < n; ++k) {
+        const double truth = in.gt.lit[k] ? 1.0 : 0.0;
+        wrong += (o.shadow_hard[k] != truth);
+        mae += std::abs(double(o.shadow_soft[k]) - truth);
+    }
+    row.set("shadow_err", wrong / double(n));
+    row.set("shadow_soft_mae", mae / double(n));
+}
+
+}  // namespace pxh

@@ -1,0 +1,15 @@
+// ns_per_sample{,_min,_max} (CPU) and ms_per_frame{,_min,_max} (GLSL): empty when not timed.
+#include "harness/metrics/metric.h"
+
+namespace pxh {
+
+void add_timing(const MetricInput& in, ResultRow& row) {
+    row.set("ns_per_sample", in.out.ns_per_sample);
+    row.set("ns_per_sample_min", in.out.ns_per_sample_min);
+    row.set("ns_per_sample_max", in.out.ns_per_sample_max);
+    row.set("ms_per_frame", in.out.ms_per_frame);
+    row.set("ms_per_frame_min", in.out.ms_per_frame_min);
+    row.set("ms_per_frame_max", in.out.ms_per_frame_max);
+}
+
+}  // namespace pxh

@@ -1,0 +1,172 @@
+// The figures: data/*.csv (what the plots draw, with each series' keys as separate fields)
+// and harness/report/plot_report.py, which only draws them.
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cerrno>
+#include <cstring>
+#include <iostream>
+#include <sstream>
+#include <tuple>
+
+#include "harness/core/shipped_files.h"
+#include "harness/report/report_data.h"
+
+extern char** environ;
+
+namespace pxh {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The keys of a series, as CSV fields: method, params, backend, precision, texture_format.
+const char* const kKeyHeader = "method,params,backend,precision,texture_format";
+std::string key_fields(const ResultRow& r) {
+    std::string out;
+    for (const char* k : {"method", "params", "backend", "precision", "texture_format"})
+        out += (out.empty() ? "" : ",") + csv_quote(r.text(k));
+    return out;
+}
+
+// data/vs_theta.csv: error and sweeps against θ per field and series (means over φ).
+void vs_theta(const ReportData& d) {
+    using Key = std::tuple<std::string, std::string, double>;
+    std::map<Key, std::array<Mean, 4>> acc;
+    std::map<Key, size_t> first;
+    std::vector<Key> order;
+    for (size_t i : d.ok) {
+        const ResultRow& r = d.row(i);
+        const Key key{field_of(r), series_of(r), r.num("theta_deg")};
+        if (!acc.count(key)) {
+            order.push_back(key);
+            first[key] = i;
+        }
+        auto& a = acc[key];
+        a[0].add(r.num("err_p50"));
+        a[1].add(r.num("err_p95"));
+        a[2].add(r.num("sliding"));
+        a[3].add(r.num("shimmering"));
+    }
+    std::ostringstream o;
+    o << "heightfield,series," << kKeyHeader << ",theta_deg,err_p50,err_p95,sliding,shimmering\n";
+    for (const auto& k : order) {
+        const auto& a = acc[k];
+        o << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
+          << key_fields(d.row(first[k])) << "," << csv_num(std::get<2>(k)) << ","
+          << csv_num(a[0].get()) << "," << csv_num(a[1].get()) << "," << csv_num(a[2].get())
+          << "," << csv_num(a[3].get()) << "\n";
+    }
+    d.write("data/vs_theta.csv", o.str());
+}
+
+// data/maps.csv: error maps for a montage: the first field and azimuth, every series x θ;
+// paths relative to the results folder (as results.csv has them), so the folder can move.
+void maps(const ReportData& d) {
+    std::ostringstream o;
+    o << "series," << kKeyHeader << ",theta_deg,map\n";
+    std::string first_field, first_phi;
+    int n = 0;
+    for (size_t i : d.ok) {
+        const ResultRow& r = d.row(i);
+        const std::string& map = r.text("map");
+        if (map.empty()) continue;
+        if (first_field.empty()) {
+            first_field = field_of(r);
+            first_phi = r.cell("phi_deg");
+        }
+        if (field_of(r) != first_field || r.cell("phi_deg") != first_phi) continue;
+        o << csv_quote(series_of(r)) << "," << key_fields(r) << ","
+          << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "\n";
+        ++n;
+    }
+    if (n) d.write("data/maps.csv", o.str());
+}
+
+// Pareto flags per series and cost: "1" on its group's front, "0" off it, "" when the point
+// has no such cost; over exactly the points the plot draws in that panel.
+std::vector<std::array<const char*, 3>> pareto_flags(
+    const ReportData& d, const std::vector<std::array<double, 3>>& cost,
+    const std::vector<double>& err) {
+    std::map<std::string, std::vector<size_t>> by_group;  // group -> series indices
+    for (size_t i = 0; i < d.series_order.size(); ++i)
+        by_group[d.series.at(d.series_order[i]).group].push_back(i);
+    std::vector<std::array<const char*, 3>> flag(d.series_order.size());
+    for (const auto& [group, members] : by_group)
+        for (size_t c = 0; c < 3; ++c) {
+            std::vector<double> gc, ge;
+            for (size_t i : members) { gc.push_back(cost[i][c]); ge.push_back(err[i]); }
+            const auto front = pareto(gc, ge);
+            for (size_t k = 0; k < members.size(); ++k)
+                flag[members[k]][c] = std::isfinite(gc[k]) && std::isfinite(ge[k])
+                                          ? (front[k] ? "1" : "0") : "";
+        }
+    return flag;
+}
+
+// data/cost_vs_error.csv: per series, error against each cost, with the Pareto fronts.
+void cost_vs_error(const ReportData& d) {
+    const size_t n = d.series_order.size();
+    std::vector<std::array<double, 3>> cost(n);
+    std::vector<double> err(n);
+    for (size_t i = 0; i < n; ++i) {
+        const Series& s = d.series.at(d.series_order[i]);
+        cost[i] = {s.all.fetches.get(), s.all.ns.get(), s.all.ms.get()};
+        err[i] = s.all.err_mean.get();
+    }
+    const auto flag = pareto_flags(d, cost, err);
+    std::ostringstream o;
+    o << "series,setting,method,group,err_mean,err_p95,fetches_mean,ns_per_sample,ms_per_frame";
+    for (const char* c : {"fetches", "ns", "ms"}) o << ",pareto_" << c;
+    o << ",params,backend,precision,texture_format\n";
+    for (size_t i = 0; i < n; ++i) {
+        const Series& s = d.series.at(d.series_order[i]);
+        const ResultRow& r = d.row(s.first_row);
+        o << csv_quote(d.series_order[i]) << "," << csv_quote(s.setting) << ","
+          << csv_quote(s.method) << "," << csv_quote(s.group) << "," << csv_num(err[i]) << ","
+          << csv_num(s.all.err_p95.get());
+        for (double c : cost[i]) o << "," << csv_num(c);
+        for (const char* f : flag[i]) o << "," << f;
+        for (const char* k : {"params", "backend", "precision", "texture_format"})
+            o << "," << csv_quote(r.text(k));
+        o << "\n";
+    }
+    d.write("data/cost_vs_error.csv", o.str());
+}
+
+}  // namespace
+
+void write_plot_data(const ReportData& d) {
+    vs_theta(d);
+    cost_vs_error(d);
+    maps(d);
+}
+
+// plot_report.py (shipped beside the binary: harness/core/shipped_files.h) on the report folder,
+// run by /usr/bin/python3 from an argument vector (no shell: any folder name is passed as it
+// is); waits and checks its exit status.
+void run_plotter(const fs::path& out) {
+    const std::string python = "/usr/bin/python3";
+    const std::string script = shipped_file("plot_report.py");
+    std::vector<std::string> args = {python, script, out.string()};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string advice = "; the tables are written. Is python3-matplotlib installed? "
+                               "(./run.sh installs it)";
+    std::cout << std::flush;
+    pid_t pid = 0;
+    if (const int e = posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ))
+        throw std::runtime_error("cannot start " + python + ": " + std::strerror(e) + advice);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0)
+        if (errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        throw std::runtime_error(
+            "plotting failed (" + python + " " + script + ": " +
+            (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                               : "killed by signal " + std::to_string(WTERMSIG(status))) + ")" + advice);
+}
+
+}  // namespace pxh

@@ -1,0 +1,85 @@
+// What `pxh report` computes from results.csv before writing anything: the typed rows, split
+// by status, and per series (setting x backend/precision or format) and angle band the means
+// every table and figure draws on. Internal to harness/report.
+#pragma once
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/report/bands.h"
+#include "harness/report/report.h"
+#include "harness/report/text_table.h"
+#include "harness/results/results.h"
+
+namespace pxh {
+
+struct BudgetMetric {
+    const char* name;    // --budget-metric
+    const char* column;  // results.csv column, averaged over the rows of a band
+    const char* header;
+    const char* meaning;
+    std::vector<double> budgets;
+};
+const BudgetMetric& budget_metric(const std::string& name);  // InputError when unknown
+
+// Means over the ok rows of a series (or setting), overall or in one band.
+struct Acc {
+    Mean err_mean, err_p50, err_p95, fetches, ns, ms, sliding, shimmering, budget;
+    double worst_p95 = NAN;
+    bool nonfinite = false;  // some row had samples with NaN/Inf output
+    void add(const ResultRow& r, const char* budget_column);
+};
+
+struct Series {
+    std::string setting, method, group;
+    size_t first_row = 0;  // its first row: the keys (method, params, backend, ...) as data
+    Acc all;
+    std::map<size_t, Acc> band;
+};
+
+struct Setting {
+    std::vector<std::string> series;  // its series, in order of appearance
+    std::map<size_t, Acc> band;       // all its ok rows of a band pooled (fetches, time)
+    std::set<size_t> failed_bands;    // bands where one of its rows failed
+};
+
+struct ReportData {
+    std::string dir;             // the results folder
+    std::filesystem::path out;   // DIR/report
+    Bands bands;
+    const BudgetMetric& metric;
+    ResultsFile file;
+    std::vector<size_t> ok, failed;  // row indices by status
+    std::vector<std::string> series_order, setting_order;
+    std::map<std::string, Series> series;
+    std::map<std::string, Setting> settings;
+
+    // Reads DIR/results.csv (once, typed) and computes the means.
+    ReportData(const std::string& dir, const ReportOptions& o);
+    const ResultRow& row(size_t i) const { return file.rows[i]; }
+    std::vector<size_t> present_bands() const;
+    // The notes every table carries: failed rows, and with band columns single-view bands.
+    std::vector<std::string> notes(bool with_bands = true) const;
+    // Writes OUT/rel and says so.
+    void write(const std::string& rel, const std::string& text) const;
+
+  private:
+    void assign_bands();
+    void collect();
+};
+
+// Indices of the points on the lower-left Pareto front of (cost, error).
+std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<double>& err);
+
+// The tables (harness/report/tables.cpp) and the figures' data and drawing (figures.cpp).
+void write_summary(const ReportData& d);
+void write_failed(const ReportData& d);
+void write_sweep(const ReportData& d);
+void write_precision(const ReportData& d);
+void write_budget(const ReportData& d);
+void write_plot_data(const ReportData& d);
+void run_plotter(const std::filesystem::path& out);
+
+}  // namespace pxh
