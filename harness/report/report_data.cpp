@@ -94,10 +94,10 @@ void ReportData::collect() {
 }
 
 std::vector<size_t> ReportData::present_bands() const {
-    std::vector<size_t> out;
+    std::vector<size_t> present;
     for (size_t i = 0; i < bands.size(); ++i)
-        if (bands.present(i)) out.push_back(i);
-    return out;
+        if (bands.present(i)) present.push_back(i);
+    return present;
 }
 
 std::vector<std::string> ReportData::notes(bool with_bands) const {
