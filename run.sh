@@ -10,7 +10,7 @@ cd "$(dirname "$0")"
 PACKAGES=(
   g++ cmake ninja-build pkg-config git zlib1g-dev
   libembree-dev libopenimageio-dev openimageio-tools libeigen3-dev libgtest-dev
-  libosmesa6-dev python3-glad fonts-dejavu-core python3-matplotlib libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
+  libosmesa6-dev libegl-dev libegl-mesa0 libgl1-mesa-dri python3-glad fonts-dejavu-core python3-matplotlib libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
   clang-format
 )
 

@@ -20,6 +20,7 @@ struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
     double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
+    double gpu_ms_per_frame = NAN, gpu_ms_per_frame_min = NAN, gpu_ms_per_frame_max = NAN;  // GLSL: timer queries
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
     double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
     std::string shader;  // GLSL: "builtin" or the shader file(s) compiled
@@ -38,6 +39,7 @@ struct BackendSettings {
     int timing_repeats = 5;                            // CPU: timed passes (median)
     int gl_frames = 5;                                 // GLSL: timed frames (median)
     std::string shader_dir;                            // GLSL sources override (development)
+    std::string gl = "osmesa";                         // GLSL: the GL context (harness/gl)
 };
 
 // The variant a row of a backend runs in: its precision and (GLSL) height texture format.

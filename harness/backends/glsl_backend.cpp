@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "harness/core/error.h"
-#include "harness/gl/gl_context.h"
+#include "harness/gl/context.h"
 #include "harness/truth/ground_truth.h"
 #include "harness/core/sha256.h"
 #include "harness/backends/shaders.h"
@@ -65,13 +65,13 @@ GlslBackend::GlslBackend(GlslOptions opt) : opt_(std::move(opt)) {
         if (!std::filesystem::is_directory(opt_.shader_dir, ec))
             throw InputError("--shader-dir " + opt_.shader_dir, "no such folder");
     }
-    ctx_ = std::make_unique<OsmesaContext>();
-    if (!gladLoadGL(reinterpret_cast<GLADloadfunc>(&OsmesaContext::proc_address)))
-        throw std::runtime_error("OSMesa: cannot load the OpenGL 4.5 entry points");
-    const auto* r = glGetString(GL_RENDERER);
-    const auto* v = glGetString(GL_VERSION);
-    renderer_ = r ? reinterpret_cast<const char*>(r) : "unknown";
-    version_ = v ? reinterpret_cast<const char*>(v) : "unknown";
+    ctx_ = make_gl_context(opt_.gl);
+    use_gl_context(*ctx_);
+    const GlInfo info = current_gl_info();
+    renderer_ = info.renderer;
+    version_ = info.version;
+    vendor_ = info.vendor;
+    timer_bits_ = info.timer_bits;
     glGenVertexArrays(1, &vao_);  // a core context needs a bound VAO even without attributes
     glBindVertexArray(vao_);
     glGenTextures(1, &texture_);
@@ -87,13 +87,20 @@ GlslBackend::GlslBackend(GlslOptions opt) : opt_(std::move(opt)) {
 
 GlslBackend::~GlslBackend() {
     if (!ctx_) return;
-    ctx_->make_current();
+    try {
+        use_gl_context(*ctx_);
+    } catch (const std::exception&) {
+        return;  // the context is gone with its objects
+    }
     for (auto& [k, p] : programs_) glDeleteProgram(p.id);
     glDeleteTextures(2, color_);
     glDeleteTextures(1, &texture_);
     glDeleteFramebuffers(1, &fbo_);
     glDeleteVertexArrays(1, &vao_);
 }
+
+std::string GlslBackend::context_name() const { return ctx_->name(); }
+std::map<std::string, std::string> GlslBackend::driver() const { return ctx_->driver(); }
 
 namespace {
 
@@ -221,7 +228,7 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                               const HeightField& hf, int samples,
                               const std::string& texture_format, const LightSpec* light,
                               int frames) {
-    ctx_->make_current();
+    use_gl_context(*ctx_);
     const Program& program = program_for(*m.method);
     const GLuint prog = program.id;
     upload(hf, texture_format);
@@ -257,15 +264,29 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glViewport(0, 0, samples, samples);
     glBindVertexArray(vao_);
-    std::vector<double> ms;
+    std::vector<double> ms, gpu_ms;
     const int timed_frames = frames < 0 ? opt_.frames : frames;
+    // Each timed frame's draw also in a GL_TIME_ELAPSED query (the GPU's own clock), read
+    // after the wall time is taken.
+    GLuint query = 0;
+    if (timer_bits_ > 0 && timed_frames > 0) glGenQueries(1, &query);
     for (int frame = 0; frame <= timed_frames; ++frame) {  // frame 0 absorbs the shader JIT
+        const bool timed = frame > 0;
         const auto t0 = std::chrono::steady_clock::now();
+        if (query && timed) glBeginQuery(GL_TIME_ELAPSED, query);
         glDrawArrays(GL_TRIANGLES, 0, 3);
+        if (query && timed) glEndQuery(GL_TIME_ELAPSED);
         glFinish();
         const auto t1 = std::chrono::steady_clock::now();
-        if (frame > 0) ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        if (!timed) continue;
+        ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+        if (query) {
+            GLuint64 ns = 0;
+            glGetQueryObjectui64v(query, GL_QUERY_RESULT, &ns);
+            gpu_ms.push_back(double(ns) * 1e-6);
+        }
     }
+    if (query) glDeleteQueries(1, &query);
     if (const GLenum err = glGetError(); err != GL_NO_ERROR)
         throw std::runtime_error("method '" + m.method->name + "': GL error " +
                                  std::to_string(err) + " while rendering");
@@ -296,6 +317,10 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     out.ms_per_frame = t.median;
     out.ms_per_frame_min = t.min;
     out.ms_per_frame_max = t.max;
+    const Spread g = spread(gpu_ms);
+    out.gpu_ms_per_frame = g.median;
+    out.gpu_ms_per_frame_min = g.min;
+    out.gpu_ms_per_frame_max = g.max;
     return out;
 }
 
@@ -311,11 +336,15 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const 
 }
 
 std::map<std::string, std::string> GlslBackend::facts() const {
-    return {{"gl_renderer", renderer_}, {"gl_version", version_}};
+    std::map<std::string, std::string> f = {
+        {"gl_renderer", renderer_}, {"gl_version", version_},       {"gl_context", ctx_->name()},
+        {"gl_vendor", vendor_},     {"gl_timer_bits", std::to_string(timer_bits_)}};
+    for (const auto& [k, v] : ctx_->driver()) f["gl_driver." + k] = v;
+    return f;
 }
 
 std::unique_ptr<Backend> make_glsl_backend(const BackendSettings& s) {
-    return std::make_unique<GlslBackend>(GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats});
+    return std::make_unique<GlslBackend>(GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats, s.gl});
 }
 
 }  // namespace pxh

@@ -1,5 +1,6 @@
-// The GLSL backend: each method's fragment shader rendered offscreen through OSMesa over an
-// N x N RGBA32F framebuffer, read back and scored by the same metrics as the CPU reference.
+// The GLSL backend: each method's fragment shader rendered offscreen (a GL context from
+// harness/gl: OSMesa by default, or EGL) over an N x N RGBA32F framebuffer, read back and scored
+// by the same metrics as the CPU reference.
 #pragma once
 #include <map>
 #include <memory>
@@ -10,12 +11,13 @@
 
 namespace pxh {
 
-class OsmesaContext;
+class GlContext;
 
 struct GlslOptions {
     std::string shader_dir;  // overrides the embedded shaders when non-empty
     int frames = 5;          // timed frames (median), after one warm-up frame
     std::vector<std::string> texture_formats{"r32f"};  // the variants, in row order
+    std::string gl = "osmesa";  // the GL context (harness/gl/registry.cpp: osmesa, egl)
 };
 
 class GlslBackend : public Backend {
@@ -24,6 +26,12 @@ class GlslBackend : public Backend {
     explicit GlslBackend(GlslOptions opt);
     ~GlslBackend();
     std::string renderer() const { return renderer_; }
+    // The context: its name, GL_VENDOR, the driver behind it (run.json), and the bits of its
+    // GL_TIME_ELAPSED counter (0: no GPU times, the gpu_ms columns stay empty).
+    std::string context_name() const;
+    std::string vendor() const { return vendor_; }
+    std::map<std::string, std::string> driver() const;
+    int timer_bits() const { return timer_bits_; }
     // Every shader source compiled so far: "builtin:PATH" or the file read -> sha256.
     const std::map<std::string, std::string>& compiled_sources() const { return compiled_sources_; }
     std::string version() const { return version_; }
@@ -59,8 +67,9 @@ class GlslBackend : public Backend {
     void ensure_framebuffer(int n);
 
     GlslOptions opt_;
-    std::unique_ptr<OsmesaContext> ctx_;
-    std::string renderer_, version_;
+    std::unique_ptr<GlContext> ctx_;
+    std::string renderer_, version_, vendor_;
+    int timer_bits_ = 0;
     unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0;
     int fb_size_ = 0;
     std::map<std::string, Program> programs_;

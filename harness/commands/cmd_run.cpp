@@ -21,6 +21,7 @@
 #include "harness/core/params.h"
 #include "harness/core/sha256.h"
 #include "harness/experiment/experiment.h"
+#include "harness/gl/context.h"
 #include "harness/results/error_maps.h"
 #include "harness/results/provenance.h"
 #include "harness/results/run_folder.h"
@@ -33,6 +34,7 @@ namespace {
 
 struct RunArgs {
     std::string file, out_dir, shader_dir;
+    std::string gl;  // GL context; empty: the experiment's (default osmesa)
     int threads = 0;
     std::vector<std::string> backends;
     bool quiet = false, maps = false, force = false;
@@ -114,6 +116,9 @@ nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo&
         run["LP_NUM_THREADS"] = lp ? lp : "";
         run["shader_dir"] = a.shader_dir.empty() ? "" : fs::absolute(a.shader_dir).string();
         run["shaders"] = info.shaders;
+        run["gl"] = {{"context", info.gl_context}, {"GL_VENDOR", info.gl_vendor},
+                     {"GL_RENDERER", info.gl_renderer}, {"GL_VERSION", info.gl_version},
+                     {"GL_QUERY_COUNTER_BITS", info.gl_timer_bits}, {"driver", info.gl_driver}};
     }
     return run;
 }
@@ -135,6 +140,8 @@ void print_failed_rows(const std::vector<ResultRow>& rows, size_t failed) {
 }
 
 int cmd_run(const RunArgs& a, const std::string& command_line) {
+    if (!a.gl.empty() && !find_gl_context(a.gl))
+        throw InputError("--gl", "unknown GL context '" + a.gl + "' (known: " + gl_context_names() + ")");
     Experiment ex = load_experiment(a.file);
     ex.maps = ex.maps || a.maps;
     check_run_size(ex, a);
@@ -154,6 +161,7 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     RunOptions opt;
     opt.backends = a.backends;
     opt.shader_dir = a.shader_dir;
+    opt.gl = a.gl;
     if (ex.maps)
         opt.on_view = [&](std::vector<ResultRow>& rows,
                           const std::vector<std::vector<Vec2d>>& errors, size_t first) {
@@ -208,6 +216,10 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                     "read GLSL from this folder (NAME.frag.glsl, common.glsl) instead of the "
                     "embedded copies; a file missing there is taken from the embedded copies, "
                     "and the shader column says which ran");
+    run->add_option("--gl", ra->gl,
+                    "GL context of the glsl backend, overriding the file's gl key: osmesa "
+                    "(default; software) or egl (headless: a GPU's device, else Mesa's "
+                    "surfaceless llvmpipe)");
     run->add_flag("--quiet", ra->quiet, "no progress or summary (the final one-line count is still printed)");
     run->add_flag("--maps", ra->maps, "write an error map (EXR + false-colour PNG) per row");
     run->add_option("--max-rows", ra->max_rows,

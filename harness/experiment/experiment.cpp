@@ -15,6 +15,7 @@
 
 #include "harness/backends/backend.h"
 #include "harness/core/error.h"
+#include "harness/gl/context.h"
 #include "harness/truth/travel_limit.h"
 #include "harness/core/sha256.h"
 #include "heightfields/heightfields.h"
@@ -473,6 +474,12 @@ void parse_choices(const toml::table& root, const std::string& path, Experiment&
             throw InputError(where_of(path, *n), "unknown ground_truth '" + ex.ground_truth +
                                                      "' (known: exact, embree)");
     }
+    if (auto n = root.get("gl")) {
+        ex.gl = get_string(*n, path, "gl");
+        if (!find_gl_context(ex.gl))
+            throw InputError(where_of(path, *n), "unknown GL context '" + ex.gl + "' (known: " +
+                                                     gl_context_names() + ")");
+    }
     if (auto n = root.get("texture_format")) {
         ex.texture_formats = get_strings(*n, path, "texture_format");
         for (const auto& f : ex.texture_formats)
@@ -641,7 +648,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
                 "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
-                "views", "heightfields", "methods", "light"},
+                "gl", "views", "heightfields", "methods", "light"},
                path, "the experiment");
     parse_settings(root, path, ex);
     parse_choices(root, path, ex);

@@ -42,6 +42,7 @@ struct Experiment {
     std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
     int timing_repeats = 5;
     std::string ground_truth = "exact";
+    std::string gl = "osmesa";  // the GLSL backend's GL context (pxh run --gl overrides it)
     double sweep_dt_deg = 0;  // > 0: sliding/shimmering from a companion view dt away
     bool maps = false;        // write per-row error maps
     bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the reference the errors are measured against

@@ -54,6 +54,9 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"ms_per_frame", kNum, kMeasured, "GLSL: median wall time of one frame (ms, glFinish)"},
         {"ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame (ms)"},
         {"ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame (ms)"},
+        {"gpu_ms_per_frame", kNum, kMeasured, "GLSL: median GL_TIME_ELAPSED of a frame's draw (ms)"},
+        {"gpu_ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame by timer query (ms)"},
+        {"gpu_ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame by timer query (ms)"},
         // Agreement between backends and precisions (harness/metrics/agreement.cpp).
         {"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"},
         {"cpu_diff_p999", kNum, kMeasured, "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"},

@@ -1,4 +1,5 @@
-// ns_per_sample{,_min,_max} (CPU) and ms_per_frame{,_min,_max} (GLSL): empty when not timed.
+// ns_per_sample{,_min,_max} (CPU), ms_per_frame{,_min,_max} and gpu_ms_per_frame{,_min,_max}
+// (GLSL; the latter from timer queries, empty without them): empty when not timed.
 #include "harness/metrics/metric.h"
 
 namespace pxh {
@@ -10,6 +11,9 @@ void add_timing(const MetricInput& in, ResultRow& row) {
     row.set("ms_per_frame", in.out.ms_per_frame);
     row.set("ms_per_frame_min", in.out.ms_per_frame_min);
     row.set("ms_per_frame_max", in.out.ms_per_frame_max);
+    row.set("gpu_ms_per_frame", in.out.gpu_ms_per_frame);
+    row.set("gpu_ms_per_frame_min", in.out.gpu_ms_per_frame_min);
+    row.set("gpu_ms_per_frame_max", in.out.gpu_ms_per_frame_max);
 }
 
 }  // namespace pxh

@@ -306,6 +306,7 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     settings.timing_repeats = ex.timing_repeats;
     settings.gl_frames = opt.gl_frames;
     settings.shader_dir = opt.shader_dir;
+    settings.gl = opt.gl.empty() ? ex.gl : opt.gl;
     const auto backends = make_backends(ex, opt, settings);
     CpuBackend reference(settings);
     if (info)
@@ -313,6 +314,10 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             for (const auto& [k, v] : b->facts()) {
                 if (k == "gl_renderer") info->gl_renderer = v;
                 if (k == "gl_version") info->gl_version = v;
+                if (k == "gl_context") info->gl_context = v;
+                if (k == "gl_vendor") info->gl_vendor = v;
+                if (k == "gl_timer_bits") info->gl_timer_bits = std::stoi(v);
+                if (k.rfind("gl_driver.", 0) == 0) info->gl_driver[k.substr(10)] = v;
             }
     // Height fields are built one at a time (a sweep of thousands of fields, or of scales on
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)

@@ -24,6 +24,7 @@ struct RunOptions {
     std::vector<std::string> backends;  // overrides the experiment's list when non-empty
     std::string shader_dir;             // GLSL sources override (development)
     int gl_frames = 5;                  // timed GLSL frames per row
+    std::string gl;                     // GL context (osmesa, egl); empty: the experiment's
     // Called once per view with its rows (before they join the run) and their per-sample
     // error vectors; first_index is the index the view's first row will have.
     std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&, size_t)>
@@ -33,6 +34,9 @@ struct RunOptions {
 
 struct RunInfo {
     std::string gl_renderer, gl_version;  // when the GLSL backend ran
+    std::string gl_context, gl_vendor;    // ... the context (osmesa, egl) and GL_VENDOR
+    std::map<std::string, std::string> gl_driver;  // ... the driver behind it (GlContext::driver)
+    int gl_timer_bits = 0;                // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
     std::map<std::string, std::string> shaders;  // every GLSL source compiled -> sha256
 };
 
