@@ -23,6 +23,12 @@ float pxh_height(vec2 uv) {
     return textureLod(u_height, uv, 0.0).r;
 }
 float pxh_z(vec2 uv) { return u_scale * (pxh_height(uv) - u_bias); }
+// A method resource (methods/resource.h: `uniform sampler2D r_NAME;` in the method's file),
+// at mip level `level`, with the filter and wrap the resource declares; counted like heights.
+vec4 pxh_texture(sampler2D r, vec2 uv, int level) {
+    pxh_fetches += 1;
+    return textureLod(r, uv, float(level));
+}
 float pxh_z_top() { return u_scale * (1.0 - u_bias); }
 float pxh_z_bot() { return -u_scale * u_bias; }
 

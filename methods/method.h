@@ -7,6 +7,9 @@
 //   static int max_fetches(const Config&, const Scene<double>&);   declared bound per sample
 //   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
 //                                             HeightSampler<T>&, Vec2<T> P);
+//     or, for a method with resources (MethodInfo::resources, methods/resource.h),
+//   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
+//                                             HeightSampler<T>&, ResourceSamplers<T>&, Vec2<T> P);
 //   optionally static GlUniforms gl_uniforms(const Config&);  the GLSL twin's uniforms that
 //                                                       are not one parameter's value (a
 //                                                       parameter that reaches the shader as
@@ -18,12 +21,14 @@
 //
 // The shader interface (checked by the GLSL backend after linking, an error naming the method,
 // the uniform and the shader file otherwise): the method's uniforms (method_uniforms(): the
-// parameters' and gl_uniforms()) are exactly the program's active uniforms besides the
-// harness's u_* ones, each with the declared GLSL type (real: float, integer: int, bool: bool,
-// choice: int, the index of the name).
+// parameters' and gl_uniforms()) and one `uniform sampler2D NAME;` per resource are exactly the
+// program's active uniforms besides the harness's u_* ones, each with the declared GLSL type
+// (real: float, integer: int, bool: bool, choice: int, the index of the name). The shader reads
+// a resource with pxh_texture(NAME, uv, level) (counted like pxh_height).
 #pragma once
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,6 +37,7 @@
 #include "harness/scene/scene.h"
 #include "harness/core/params.h"
 #include "harness/core/vec.h"
+#include "methods/resource.h"
 
 namespace pxh {
 
@@ -48,9 +54,20 @@ struct GlUniform {
 using GlUniforms = std::vector<GlUniform>;
 const char* glsl_type_name(GlslType t);  // "float", "int", "bool"
 
+// What a method's C++ twin reads: the height field and the method's built resources (nullptr
+// or empty for a method without resources).
+struct MethodInputs {
+    const HeightField* hf = nullptr;
+    const MethodResources* resources = nullptr;
+};
+
+// Runs the method on n points. fetches[i]: all texture fetches of sample i (height and
+// resources). texture_fetches: nullptr, or n x (1 + R) counts, per sample the height's then each
+// resource's in declaration order.
 template <typename T>
-using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const HeightField&, const Vec2<T>* P,
-                         size_t n, Vec2<T>* uv, int* fetches);
+using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const MethodInputs&,
+                         const Vec2<T>* P, size_t n, Vec2<T>* uv, int* fetches,
+                         int* texture_fetches);
 
 struct MethodInfo {
     std::string name;      // registry key = folder name = what users type
@@ -69,16 +86,50 @@ struct MethodInfo {
     // Fills in the values that unset optional parameters stand for (checked values in), so
     // that `params` lists what ran; nullptr: nothing to fill.
     void (*complete_params)(ParamValues&) = nullptr;
+    // Precomputed textures (methods/resource.h), in the order the C++ twin indexes them.
+    std::vector<ResourceSpec> resources{};
+    // The GLSL twin: empty: methods/NAME/NAME.frag.glsl, embedded in pxh. A method registered
+    // elsewhere (a test's) names its file (relative to the source tree) and gives its text.
+    std::string shader_path{};
+    const char* shader_text = nullptr;
+    // The shader's path relative to the source tree (shader_path or the default).
+    std::string shader_file() const {
+        return shader_path.empty() ? "methods/" + name + "/" + name + ".frag.glsl" : shader_path;
+    }
 };
 
 template <class M, typename T>
-void run_method_batch(const ParamValues& p, const Scene<T>& sc, const HeightField& hf,
-                      const Vec2<T>* P, size_t n, Vec2<T>* uv, int* fetches) {
+void run_method_batch(const ParamValues& p, const Scene<T>& sc, const MethodInputs& in,
+                      const Vec2<T>* P, size_t n, Vec2<T>* uv, int* fetches,
+                      int* texture_fetches) {
     const typename M::Config cfg = M::configure(p, "");
-    for (size_t i = 0; i < n; ++i) {
-        HeightSampler<T> sampler(hf, sc.scale, sc.bias);
-        uv[i] = M::template eval<T>(cfg, sc, sampler, P[i]);
-        fetches[i] = sampler.fetches;
+    if constexpr (requires(HeightSampler<T>& hs, ResourceSamplers<T>& rs) {
+                      M::template eval<T>(cfg, sc, hs, rs, Vec2<T>());
+                  }) {
+        ResourceSamplers<T> rs;
+        if (in.resources)
+            for (const BuiltResource& r : in.resources->items) rs.tex.emplace_back(*r.spec, *r.image);
+        if (rs.tex.size() != M::describe().resources.size())
+            throw std::logic_error("method resources missing: " + M::describe().name);
+        const size_t stride = 1 + rs.tex.size();
+        for (size_t i = 0; i < n; ++i) {
+            HeightSampler<T> sampler(*in.hf, sc.scale, sc.bias);
+            for (auto& t : rs.tex) t.fetches = 0;
+            uv[i] = M::template eval<T>(cfg, sc, sampler, rs, P[i]);
+            fetches[i] = sampler.fetches + rs.fetches();
+            if (texture_fetches) {
+                texture_fetches[i * stride] = sampler.fetches;
+                for (size_t k = 0; k < rs.tex.size(); ++k)
+                    texture_fetches[i * stride + 1 + k] = rs.tex[k].fetches;
+            }
+        }
+    } else {
+        for (size_t i = 0; i < n; ++i) {
+            HeightSampler<T> sampler(*in.hf, sc.scale, sc.bias);
+            uv[i] = M::template eval<T>(cfg, sc, sampler, P[i]);
+            fetches[i] = sampler.fetches;
+            if (texture_fetches) texture_fetches[i] = sampler.fetches;
+        }
     }
 }
 

@@ -59,6 +59,13 @@ static void check_declarations(const MethodInfo& info) {
             fail("parameter '" + s.name + "' can be a name, so its uniform must be computed "
                  "(gl_uniforms), not declared on the parameter");
     }
+    std::set<std::string> resources;
+    for (const ResourceSpec& r : info.resources) {
+        if (r.name.rfind("r_", 0) != 0)
+            fail("resource '" + r.name + "': its sampler name must start with r_");
+        if (!resources.insert(r.name).second) fail("resource '" + r.name + "' declared twice");
+        if (!r.build) fail("resource '" + r.name + "' has no builder");
+    }
 }
 
 bool register_method(MethodInfo info) {

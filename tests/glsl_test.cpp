@@ -43,10 +43,12 @@ TEST_P(EveryMethodGlsl, AgreesWithCpuFloatReference) {
     const LightSpec light{40, 210, 8, 32};
     for (const char* field : {"fbm", "bricks"}) {
         const HeightField hf = generated(field, 128);
+        ResourceCache cache(hf);  // the method's precomputed textures, if it declares any
+        const MethodResources res = cache.get(m.name, m.resources, 0.05, 1.0);
         for (double theta : {0.0, 55.0, 82.0}) {
             const Scene<double> sc{0.05, 1.0, view_vector(theta, 25), hf.width, hf.height};
-            MethodOutput gpu = backend().run(spec, sc, hf, N, "r32f", &light);
-            MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0);
+            MethodOutput gpu = backend().run(spec, sc, hf, N, "r32f", &light, -1, &res);
+            MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0, &res);
             add_shadows(cpu, light, "float", sc, hf);
             ResultRow row;
             add_agreement(row, gpu, cpu, hf.width, hf.height);
@@ -76,8 +78,7 @@ INSTANTIATE_TEST_SUITE_P(Registry, EveryMethodGlsl, ::testing::ValuesIn([] {
 
 TEST(Glsl, EveryMethodHasAShaderBesideItsCpuReference) {
     for (const auto& m : all_methods()) {
-        const auto p = std::filesystem::path(PXH_SOURCE_DIR) / "methods" / m.name /
-                       (m.name + ".frag.glsl");
+        const auto p = std::filesystem::path(PXH_SOURCE_DIR) / m.shader_file();
         EXPECT_TRUE(std::filesystem::exists(p)) << p;
     }
 }

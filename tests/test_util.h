@@ -61,22 +61,28 @@ inline Scene<double> make_scene(const HeightField& hf, double s, double b, doubl
 template <typename T>
 std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const Scene<double>& sc,
                               const HeightField& hf, const std::vector<Vec2d>& P,
-                              std::vector<int>* fetches = nullptr) {
+                              std::vector<int>* fetches = nullptr,
+                              std::vector<int>* per_texture = nullptr) {
     std::vector<Vec2<T>> pts(P.size()), uv(P.size());
     std::vector<int> f(P.size());
+    ResourceCache cache(hf);  // the method's resources, if it declares any
+    const MethodResources res = cache.get(m.name, m.resources, sc.scale, sc.bias);
+    const MethodInputs in{&hf, &res};
+    std::vector<int> split(per_texture ? P.size() * (1 + m.resources.size()) : 0);
     for (size_t i = 0; i < P.size(); ++i) pts[i] = Vec2<T>(P[i]);
     const Scene<T> st = scene_cast<T>(sc);
     if constexpr (std::is_same_v<T, float>)
-        m.run_float(p, st, hf, pts.data(), pts.size(), uv.data(), f.data());
+        m.run_float(p, st, in, pts.data(), pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
     else
-        m.run_double(p, st, hf, pts.data(), pts.size(), uv.data(), f.data());
+        m.run_double(p, st, in, pts.data(), pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
     if (fetches) *fetches = f;
+    if (per_texture) *per_texture = split;
     std::vector<Vec2d> out(P.size());
     for (size_t i = 0; i < P.size(); ++i) out[i] = Vec2d(uv[i]);
     return out;
 }
 
-inline ParamValues params_for(const MethodInfo& m, std::map<std::string, double> given = {}) {
+inline ParamValues params_for(const MethodInfo& m, const GivenParams& given = {}) {
     return resolve_params(m.params, given, "test", m.name);
 }
 

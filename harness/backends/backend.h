@@ -55,6 +55,9 @@ struct ViewInput {
     int samples;                   // N
     const LightSpec* light;        // when given: hard and soft light factors at the output uv
     bool timed;                    // false: no timing passes (a sweep's companion view)
+    // The method's precomputed textures for this field at (s, b) (methods/resource.h), built
+    // once and shared by every backend; nullptr for a method without resources.
+    const MethodResources* resources = nullptr;
 };
 
 class Backend {

@@ -12,7 +12,9 @@ namespace {
 
 template <typename T>
 MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
-                           const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
+                           const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
+                           const MethodResources* resources) {
+    const MethodInputs in{&hf, resources};
     const Scene<T> sc = scene_cast<T>(scene);
     const size_t n = P.size();
     std::vector<Vec2<T>> pts(n), uv(n);
@@ -20,8 +22,8 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     MethodOutput out;
     out.fetches.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-        fn(params, sc, hf, pts.data() + r.begin(), r.size(), uv.data() + r.begin(),
-           out.fetches.data() + r.begin());
+        fn(params, sc, in, pts.data() + r.begin(), r.size(), uv.data() + r.begin(),
+           out.fetches.data() + r.begin(), nullptr);
     });
     out.uv.resize(n);
     for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
@@ -31,7 +33,7 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
         std::vector<double> times;
         for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 is the warm-up
             const auto t0 = std::chrono::steady_clock::now();
-            fn(params, sc, hf, pts.data(), n, scratch.data(), fscratch.data());
+            fn(params, sc, in, pts.data(), n, scratch.data(), fscratch.data(), nullptr);
             const auto t1 = std::chrono::steady_clock::now();
             if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
         }
@@ -65,10 +67,12 @@ void add_shadows_typed(MethodOutput& out, const LightSpec& light, const Scene<do
 }  // namespace
 
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
-                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats) {
+                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
+                     const MethodResources* resources) {
     if (precision == "double")
-        return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats);
-    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats);
+        return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats,
+                                     resources);
+    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources);
 }
 
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
@@ -85,7 +89,7 @@ std::vector<Variant> CpuBackend::variants() const {
 
 MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
     MethodOutput out = run_cpu(m, v.precision, view.scene, view.hf, view.P,
-                               view.timed ? settings_.timing_repeats : 0);
+                               view.timed ? settings_.timing_repeats : 0, view.resources);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
     return out;
 }

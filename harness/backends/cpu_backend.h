@@ -8,7 +8,8 @@ namespace pxh {
 // (outputs do not depend on threads), then times `repeats` single-thread passes after one
 // warm-up pass; ns_per_sample is their median.
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
-                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats);
+                     const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
+                     const MethodResources* resources = nullptr);
 
 // The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,

@@ -93,6 +93,7 @@ GlslBackend::~GlslBackend() {
         return;  // the context is gone with its objects
     }
     for (auto& [k, p] : programs_) glDeleteProgram(p.id);
+    resource_textures_.release();
     glDeleteTextures(2, color_);
     glDeleteTextures(1, &texture_);
     glDeleteFramebuffers(1, &fbo_);
@@ -114,11 +115,11 @@ struct MethodSources {
 };
 
 MethodSources method_sources(const MethodInfo& m, const std::string& shader_dir) {
-    const std::string method_path = "methods/" + m.name + "/" + m.name + ".frag.glsl";
+    const std::string method_path = m.shader_file();
     MethodSources s;
     try {
         s.common = shader_source("methods/common.glsl", shader_dir);
-        s.body = shader_source(method_path, shader_dir);
+        s.body = shader_source(method_path, shader_dir, m.shader_text);
     } catch (const std::exception& e) {
         throw std::runtime_error("method '" + m.name + "': " + e.what());
     }
@@ -227,7 +228,7 @@ void GlslBackend::ensure_framebuffer(int n) {
 MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                               const HeightField& hf, int samples,
                               const std::string& texture_format, const LightSpec* light,
-                              int frames) {
+                              int frames, const MethodResources* resources) {
     use_gl_context(*ctx_);
     const Program& program = program_for(*m.method);
     const GLuint prog = program.id;
@@ -256,10 +257,16 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     const GlUniforms uniforms = method_uniforms(*m.method, m.params);
     std::vector<DeclaredUniform> declared;
     for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
+    for (const ResourceSpec& r : m.method->resources) declared.push_back({r.name, "sampler2D"});
     if (const std::string why = interface_problem(program.active, declared, program.what);
         !why.empty())
         throw std::runtime_error(why);
     set_method_uniforms(prog, uniforms);
+    if (!m.method->resources.empty()) {
+        if (!resources || resources->items.size() != m.method->resources.size())
+            throw std::logic_error("method '" + m.method->name + "': resources not built");
+        resource_textures_.bind(prog, *resources, 1);  // unit 0: the height field
+    }
 
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glViewport(0, 0, samples, samples);
@@ -332,7 +339,7 @@ std::vector<Variant> GlslBackend::variants() const {
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
     return run(m, view.scene, view.hf, view.samples, v.texture_format, view.light,
-               view.timed ? -1 : 0);
+               view.timed ? -1 : 0, view.resources);
 }
 
 std::map<std::string, std::string> GlslBackend::facts() const {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "harness/backends/backend.h"
+#include "harness/backends/resource_textures.h"
 #include "harness/backends/shader_interface.h"
 
 namespace pxh {
@@ -49,7 +50,7 @@ class GlslBackend : public Backend {
     // frames < 0: the configured number of timed frames; 0: render once, untimed.
     MethodOutput run(const MethodSpec& m, const Scene<double>& scene, const HeightField& hf,
                      int samples, const std::string& texture_format, const LightSpec* light,
-                     int frames = -1);
+                     int frames = -1, const MethodResources* resources = nullptr);
 
   private:
     struct Program {
@@ -74,6 +75,7 @@ class GlslBackend : public Backend {
     int fb_size_ = 0;
     std::map<std::string, Program> programs_;
     std::map<std::string, std::string> compiled_sources_;
+    ResourceTextures resource_textures_;
 };
 
 }  // namespace pxh

@@ -7,7 +7,8 @@
 
 namespace pxh {
 
-ShaderSource shader_source(const std::string& path, const std::string& override_dir) {
+ShaderSource shader_source(const std::string& path, const std::string& override_dir,
+                           const char* builtin_text) {
     namespace fs = std::filesystem;
     if (!override_dir.empty()) {
         for (const fs::path& p : {fs::path(override_dir) / path,
@@ -22,6 +23,7 @@ ShaderSource shader_source(const std::string& path, const std::string& override_
             }
         }
     }
+    if (builtin_text) return {builtin_text, "builtin"};
     for (const auto& s : embedded_shaders())
         if (path == s.path) return {s.source, "builtin"};
     throw std::runtime_error(path + ": no such shader (no GLSL implementation)");

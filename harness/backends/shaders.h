@@ -22,6 +22,9 @@ struct ShaderSource {
 // The source of `path`: from override_dir (as DIR/path or DIR/basename) when that file
 // exists, else the embedded copy. Throws std::runtime_error naming the path when neither has it.
 // The caller checks that override_dir itself exists (a missing folder is an input error).
-ShaderSource shader_source(const std::string& path, const std::string& override_dir);
+// builtin_text: the built-in copy when the caller has it (a method registered outside pxh,
+// MethodInfo::shader_text) instead of the embedded table.
+ShaderSource shader_source(const std::string& path, const std::string& override_dir,
+                           const char* builtin_text = nullptr);
 
 }  // namespace pxh

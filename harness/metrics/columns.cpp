@@ -81,6 +81,10 @@ const std::vector<ColumnSpec>& builtin_columns() {
         // Self-shadowing (harness/metrics/shadows.cpp).
         {"shadow_err", kNum, kMeasured, "fraction of samples whose hard shadow state is wrong"},
         {"shadow_soft_mae", kNum, kMeasured, "mean |soft factor - true hard factor|"},
+        // Method resources (harness/run/runner.cpp; methods/resource.h).
+        {"precompute_ms", kNum, kMeasured,
+         "ms to build the method's resources (this field; 0: none)"},
+        {"aux_bytes", kInt, kMeasured, "bytes of the method's resources as uploaded (0: none)"},
         // Added columns go here, before status and error.
         // Outcome (always last).
         {"status", kText, kKey, "ok | failed"},

@@ -51,6 +51,7 @@ struct FieldContext {
     const HeightfieldSpec& spec;
     const Tracer& exact;  // the reference: heights, true shadows, cost (gt_cells_mean)
     const Tracer& other;  // the second reference, compared with it (gt_agree_*)
+    ResourceCache& resources;  // the methods' precomputed textures for this field
 };
 
 // The references of one field (and s, b), built once and shared by its views.
@@ -186,8 +187,16 @@ void run_method(ViewJob& job, const MethodSpec& m) {
         const bool is_cpu = backend->name() == "cpu";
         for (const Variant& v : backend->variants()) {
             try {
-                MethodOutput o = backend->run(m, in, v);
+                // Built on first use, then shared by every view and backend (a failed build
+                // fails this row).
+                const MethodResources res = job.c.resources.get(
+                    m.method->name, m.method->resources, job.scene.scale, job.scene.bias);
+                ViewInput vin = in;
+                if (!res.items.empty()) vin.resources = &res;
+                MethodOutput o = backend->run(m, vin, v);
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude);
+                row.set("precompute_ms", res.precompute_ms());
+                row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
                     const size_t i = job.emit(std::move(row), job.errors_of(o), m, "cpu", v);
                     if (v.precision == "float") {
@@ -199,8 +208,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                     continue;
                 }
                 if (!cpu_float)
-                    cpu_float = job.c.reference.run(m, {in.scene, in.hf, in.P, in.samples,
-                                                        nullptr, false}, {"float", ""});
+                    cpu_float = job.c.reference.run(
+                        m, {in.scene, in.hf, in.P, in.samples, nullptr, false, vin.resources},
+                        {"float", ""});
                 add_agreement(row, o, *cpu_float, hf.width, hf.height);
                 job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
             } catch (const std::exception& e) {
@@ -328,17 +338,23 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     const size_t steps = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size();
     size_t step = 0;
     std::optional<HeightField> field;
+    std::optional<ResourceCache> resources;  // one per field, dropped with it
     for (size_t h = 0; h < ex.heightfields.size(); ++h) {
         const HeightfieldSpec& spec = ex.heightfields[h];
         if (!field || !same_field(spec, ex.heightfields[h - 1])) {
+            if (info && resources) info->resource_builds += resources->builds();
+            resources.reset();
             field.reset();  // free the previous one first
             field = make_heightfield(spec);
+            resources.emplace(*field);
         }
         // Both references built once per field (and s, b), shared by all its views.
         const References refs = make_references(*field, spec);
-        const FieldContext ctx{ex, backends, reference, P, *field, spec, *refs.exact, *refs.other};
+        const FieldContext ctx{ex,   backends,    reference,   P,         *field,
+                               spec, *refs.exact, *refs.other, *resources};
         for (double phi : ex.phi_deg) run_sweep(ctx, phi, opt, step, steps, rows);
     }
+    if (info && resources) info->resource_builds += resources->builds();
     if (info)
         for (const auto& b : backends)
             for (const auto& [k, v] : b->sources()) info->shaders[k] = v;

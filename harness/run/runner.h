@@ -38,6 +38,7 @@ struct RunInfo {
     std::map<std::string, std::string> gl_driver;  // ... the driver behind it (GlContext::driver)
     int gl_timer_bits = 0;                // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
     std::map<std::string, std::string> shaders;  // every GLSL source compiled -> sha256
+    int resource_builds = 0;  // method resources built (once per field, and s, b if they use them)
 };
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
