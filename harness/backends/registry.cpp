@@ -1,7 +1,7 @@
 #include <algorithm>
 
 #include "harness/backends/backend.h"
-#include "harness/core/error.h"
+#include "harness/core/registry.h"
 
 namespace pxh {
 
@@ -16,25 +16,14 @@ const std::vector<BackendEntry>& backend_registry() {
     return entries;
 }
 
-std::vector<std::string> backend_names() {
-    std::vector<std::string> out;
-    for (const auto& e : backend_registry()) out.push_back(e.name);
-    return out;
-}
+std::vector<std::string> backend_names() { return entry_names(backend_registry()); }
 
 void check_backend_name(const std::string& name, const std::string& where) {
-    const auto names = backend_names();
-    if (std::find(names.begin(), names.end(), name) != names.end()) return;
-    std::string known;
-    for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-    throw InputError(where, "unknown backend '" + name + "' (known: " + known + ")");
+    find_entry(backend_registry(), name, "backend", where);
 }
 
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings) {
-    check_backend_name(name, "backend");
-    for (const auto& e : backend_registry())
-        if (name == e.name) return e.make(settings);
-    return nullptr;  // unreachable: checked above
+    return find_entry(backend_registry(), name, "backend", "backend").make(settings);
 }
 
 Spread spread(std::vector<double> times) {

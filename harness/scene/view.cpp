@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "harness/core/error.h"
+#include "harness/core/registry.h"
 
 namespace pxh {
 
@@ -58,18 +59,10 @@ const std::vector<CameraEntry>& camera_registry() {
     return entries;
 }
 
-std::vector<std::string> camera_names() {
-    std::vector<std::string> out;
-    for (const auto& e : camera_registry()) out.push_back(e.name);
-    return out;
-}
+std::vector<std::string> camera_names() { return entry_names(camera_registry()); }
 
 std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec) {
-    for (const auto& e : camera_registry())
-        if (name == e.name) return e.make(spec);
-    std::string known;
-    for (const auto& n : camera_names()) known += (known.empty() ? "" : ", ") + n;
-    throw InputError("camera", "unknown camera '" + name + "' (known: " + known + ")");
+    return find_entry(camera_registry(), name, "camera", "camera").make(spec);
 }
 
 }  // namespace pxh

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "harness/core/error.h"
+#include "harness/core/registry.h"
 #include "harness/truth/tracer.h"
 
 namespace pxh {
@@ -17,26 +17,15 @@ const std::vector<TracerEntry>& tracer_registry() {
     return entries;
 }
 
-std::vector<std::string> tracer_names() {
-    std::vector<std::string> out;
-    for (const auto& e : tracer_registry()) out.push_back(e.name);
-    return out;
-}
+std::vector<std::string> tracer_names() { return entry_names(tracer_registry()); }
 
 void check_tracer_name(const std::string& name, const std::string& where) {
-    const auto names = tracer_names();
-    if (std::find(names.begin(), names.end(), name) != names.end()) return;
-    std::string known;
-    for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
-    throw InputError(where, "unknown tracer '" + name + "' (known: " + known + ")");
+    find_entry(tracer_registry(), name, "tracer", where);
 }
 
 std::unique_ptr<Tracer> make_tracer(const std::string& name, const HeightField& hf, double scale,
                                     double bias) {
-    check_tracer_name(name, "tracer");
-    for (const auto& e : tracer_registry())
-        if (name == e.name) return e.make(hf, scale, bias);
-    return nullptr;  // unreachable: checked above
+    return find_entry(tracer_registry(), name, "tracer", "tracer").make(hf, scale, bias);
 }
 
 bool Tracer::occluded(Vec2d, double, Vec3d) const {
