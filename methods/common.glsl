@@ -8,7 +8,9 @@ layout(location = 1) out vec4 pxh_out_shadow;  // hard, soft light factor (1 lit
 uniform sampler2D u_height;  // GL_LINEAR + GL_REPEAT
 uniform float u_scale;       // s
 uniform float u_bias;        // b
-uniform vec3 u_view;         // V, toward the eye
+uniform vec3 u_view;         // V, toward the eye, of a view whose rays are parallel
+uniform bool u_view_per_sample;  // true: each sample's own V, from u_view_map
+uniform sampler2D u_view_map;    // per-sample V (xyz); texel (i, j) is sample j N + i
 uniform ivec2 u_size;        // W, H
 uniform float u_samples;     // N
 uniform int u_light_on;
@@ -17,6 +19,7 @@ uniform float u_shadow_layers_min;
 uniform float u_shadow_layers_max;
 
 int pxh_fetches = 0;
+vec3 pxh_V;  // this sample's V (unit, toward the eye): what a method reads; set by main()
 
 float pxh_height(vec2 uv) {
     pxh_fetches += 1;
@@ -49,7 +52,7 @@ struct PxhLayers {
 
 float pxh_layer_count() {
     if (!p_layers_adaptive) return p_layers;
-    float a = abs(u_view.z);
+    float a = abs(pxh_V.z);
     return p_layers_max * (1.0 - a) + p_layers_min * a;
 }
 
@@ -59,7 +62,7 @@ float pxh_z_at(PxhLayers r, float layer) { return r.z0 - r.dz * layer; }
 PxhLayers pxh_layer_search(vec2 P) {
     PxhLayers r;
     r.n = pxh_layer_count();
-    vec2 dir = u_view.xy * (1.0 / u_view.z);
+    vec2 dir = pxh_V.xy * (1.0 / pxh_V.z);
     r.dz = u_scale / r.n;
     r.duv = dir * (-r.dz);
     r.z0 = pxh_z_top();
@@ -104,6 +107,7 @@ vec2 pxh_method(vec2 P);  // the method's file defines it
 
 void main() {
     vec2 P = gl_FragCoord.xy / u_samples;
+    pxh_V = u_view_per_sample ? texelFetch(u_view_map, ivec2(gl_FragCoord.xy), 0).xyz : u_view;
     vec2 uv = pxh_method(P);
     float fetches = float(pxh_fetches);
     vec2 shadow = u_light_on != 0 ? pxh_shadow(uv) : vec2(1.0);

@@ -61,13 +61,14 @@ struct MethodInputs {
     const MethodResources* resources = nullptr;
 };
 
-// Runs the method on n points. fetches[i]: all texture fetches of sample i (height and
-// resources). texture_fetches: nullptr, or n x (1 + R) counts, per sample the height's then each
+// Runs the method on n points. V: nullptr (every sample looks along sc.V, a parallel view) or
+// n directions, sample i's toward its eye (the method sees it as sc.V). fetches[i]: all texture
+// fetches of sample i (height and resources). texture_fetches: nullptr, or n x (1 + R) counts, per sample the height's then each
 // resource's in declaration order.
 template <typename T>
 using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const MethodInputs&,
-                         const Vec2<T>* P, size_t n, Vec2<T>* uv, int* fetches,
-                         int* texture_fetches);
+                         const Vec2<T>* P, const Vec3<T>* V, size_t n, Vec2<T>* uv,
+                         int* fetches, int* texture_fetches);
 
 struct MethodInfo {
     std::string name;      // registry key = folder name = what users type
@@ -99,10 +100,11 @@ struct MethodInfo {
 };
 
 template <class M, typename T>
-void run_method_batch(const ParamValues& p, const Scene<T>& sc, const MethodInputs& in,
-                      const Vec2<T>* P, size_t n, Vec2<T>* uv, int* fetches,
+void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodInputs& in,
+                      const Vec2<T>* P, const Vec3<T>* V, size_t n, Vec2<T>* uv, int* fetches,
                       int* texture_fetches) {
     const typename M::Config cfg = M::configure(p, "");
+    Scene<T> sc = scene;  // per sample: its own V when the view's rays are not parallel
     if constexpr (requires(HeightSampler<T>& hs, ResourceSamplers<T>& rs) {
                       M::template eval<T>(cfg, sc, hs, rs, Vec2<T>());
                   }) {
@@ -114,6 +116,7 @@ void run_method_batch(const ParamValues& p, const Scene<T>& sc, const MethodInpu
         const size_t stride = 1 + rs.tex.size();
         for (size_t i = 0; i < n; ++i) {
             HeightSampler<T> sampler(*in.hf, sc.scale, sc.bias);
+            if (V) sc.V = V[i];
             for (auto& t : rs.tex) t.fetches = 0;
             uv[i] = M::template eval<T>(cfg, sc, sampler, rs, P[i]);
             fetches[i] = sampler.fetches + rs.fetches();
@@ -126,6 +129,7 @@ void run_method_batch(const ParamValues& p, const Scene<T>& sc, const MethodInpu
     } else {
         for (size_t i = 0; i < n; ++i) {
             HeightSampler<T> sampler(*in.hf, sc.scale, sc.bias);
+            if (V) sc.V = V[i];
             uv[i] = M::template eval<T>(cfg, sc, sampler, P[i]);
             fetches[i] = sampler.fetches;
             if (texture_fetches) texture_fetches[i] = sampler.fetches;

@@ -72,9 +72,9 @@ std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const S
     for (size_t i = 0; i < P.size(); ++i) pts[i] = Vec2<T>(P[i]);
     const Scene<T> st = scene_cast<T>(sc);
     if constexpr (std::is_same_v<T, float>)
-        m.run_float(p, st, in, pts.data(), pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
+        m.run_float(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
     else
-        m.run_double(p, st, in, pts.data(), pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
+        m.run_double(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
     if (fetches) *fetches = f;
     if (per_texture) *per_texture = split;
     std::vector<Vec2d> out(P.size());

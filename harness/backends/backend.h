@@ -12,6 +12,7 @@
 
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
+#include "harness/scene/view.h"
 #include "methods/method.h"
 
 namespace pxh {
@@ -49,10 +50,12 @@ struct Variant {
 
 // One view, as every backend gets it.
 struct ViewInput {
-    const Scene<double>& scene;    // s, b, V, field size
+    const Scene<double>& scene;    // s, b, field size; V: the view's direction (parallel rays)
     const HeightField& hf;
-    const std::vector<Vec2d>& P;   // the N x N sample points, row-major
-    int samples;                   // N
+    // The samples' rays (harness/scene/view.h): P_k, and V_k when not parallel (then a
+    // method sees sample k's V_k as its scene's V). The GLSL backend draws the N x N grid
+    // (rays.grid > 0) and refuses other sample sets.
+    const View& rays;
     const LightSpec* light;        // when given: hard and soft light factors at the output uv
     bool timed;                    // false: no timing passes (a sweep's companion view)
     // The method's precomputed textures for this field at (s, b) (methods/resource.h), built

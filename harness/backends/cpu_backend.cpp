@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+#include <stdexcept>
 
 #include "harness/truth/ground_truth.h"
 #include "methods/shadow.h"
@@ -13,16 +14,20 @@ namespace {
 template <typename T>
 MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
                            const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
-                           const MethodResources* resources) {
+                           const MethodResources* resources, const std::vector<Vec3d>* V) {
     const MethodInputs in{&hf, resources};
     const Scene<T> sc = scene_cast<T>(scene);
     const size_t n = P.size();
     std::vector<Vec2<T>> pts(n), uv(n);
     for (size_t k = 0; k < n; ++k) pts[k] = Vec2<T>(P[k]);
+    std::vector<Vec3<T>> dirs(V ? n : 0);  // per-sample directions, in the method's precision
+    for (size_t k = 0; k < dirs.size(); ++k) dirs[k] = Vec3<T>((*V)[k]);
+    const Vec3<T>* D = V ? dirs.data() : nullptr;
     MethodOutput out;
     out.fetches.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-        fn(params, sc, in, pts.data() + r.begin(), r.size(), uv.data() + r.begin(),
+        fn(params, sc, in, pts.data() + r.begin(), D ? D + r.begin() : nullptr, r.size(),
+           uv.data() + r.begin(),
            out.fetches.data() + r.begin(), nullptr);
     });
     out.uv.resize(n);
@@ -33,7 +38,7 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
         std::vector<double> times;
         for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 is the warm-up
             const auto t0 = std::chrono::steady_clock::now();
-            fn(params, sc, in, pts.data(), n, scratch.data(), fscratch.data(), nullptr);
+            fn(params, sc, in, pts.data(), D, n, scratch.data(), fscratch.data(), nullptr);
             const auto t1 = std::chrono::steady_clock::now();
             if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
         }
@@ -68,11 +73,15 @@ void add_shadows_typed(MethodOutput& out, const LightSpec& light, const Scene<do
 
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
-                     const MethodResources* resources) {
+                     const MethodResources* resources, const std::vector<Vec3d>* V) {
+    if (V && V->size() != P.size())
+        throw std::logic_error("run_cpu: " + std::to_string(V->size()) + " directions for " +
+                               std::to_string(P.size()) + " samples");
     if (precision == "double")
         return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats,
-                                     resources);
-    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources);
+                                     resources, V);
+    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources,
+                                V);
 }
 
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
@@ -88,8 +97,10 @@ std::vector<Variant> CpuBackend::variants() const {
 }
 
 MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
-    MethodOutput out = run_cpu(m, v.precision, view.scene, view.hf, view.P,
-                               view.timed ? settings_.timing_repeats : 0, view.resources);
+    const View& rays = view.rays;
+    MethodOutput out = run_cpu(m, v.precision, view.scene, view.hf, rays.P,
+                               view.timed ? settings_.timing_repeats : 0, view.resources,
+                               rays.parallel ? nullptr : &rays.V);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
     return out;
 }

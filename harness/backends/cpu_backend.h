@@ -6,10 +6,12 @@ namespace pxh {
 
 // Runs the method on every sample in the given precision ("float"/"double"), in parallel
 // (outputs do not depend on threads), then times `repeats` single-thread passes after one
-// warm-up pass; ns_per_sample is their median.
+// warm-up pass; ns_per_sample is their median. V: nullptr (every sample looks along scene.V)
+// or one direction per sample.
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
-                     const MethodResources* resources = nullptr);
+                     const MethodResources* resources = nullptr,
+                     const std::vector<Vec3d>* V = nullptr);
 
 // The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,

@@ -96,6 +96,7 @@ GlslBackend::~GlslBackend() {
     resource_textures_.release();
     glDeleteTextures(2, color_);
     glDeleteTextures(1, &texture_);
+    if (view_map_) glDeleteTextures(1, &view_map_);
     glDeleteFramebuffers(1, &fbo_);
     glDeleteVertexArrays(1, &vao_);
 }
@@ -225,35 +226,56 @@ void GlslBackend::ensure_framebuffer(int n) {
     fb_size_ = n;
 }
 
-MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
-                              const HeightField& hf, int samples,
-                              const std::string& texture_format, const LightSpec* light,
-                              int frames, const MethodResources* resources) {
-    use_gl_context(*ctx_);
-    const Program& program = program_for(*m.method);
+void GlslBackend::upload_view_map(const std::vector<Vec3d>& V, int samples) {
+    if (V.size() != size_t(samples) * size_t(samples))
+        throw std::logic_error("glsl: " + std::to_string(V.size()) + " directions for " +
+                               std::to_string(samples) + " x " + std::to_string(samples) +
+                               " samples");
+    if (!view_map_) {
+        glGenTextures(1, &view_map_);
+        glBindTexture(GL_TEXTURE_2D, view_map_);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    }
+    // Texel (i, j) is sample k = j N + i, the fragment at gl_FragCoord (i + 0.5, j + 0.5).
+    std::vector<float> texels(V.size() * 4);
+    for (size_t k = 0; k < V.size(); ++k) {
+        texels[4 * k] = float(V[k].x);
+        texels[4 * k + 1] = float(V[k].y);
+        texels[4 * k + 2] = float(V[k].z);
+        texels[4 * k + 3] = 0;
+    }
+    glBindTexture(GL_TEXTURE_2D, view_map_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, samples, samples, 0, GL_RGBA, GL_FLOAT,
+                 texels.data());
+    if (glGetError() != GL_NO_ERROR)
+        throw std::runtime_error("cannot upload the view's " + std::to_string(samples) + " x " +
+                                 std::to_string(samples) + " directions");
+}
+
+// The harness's uniforms (common.glsl's u_*), then the method's, checked against the linked
+// program's active ones (a misspelt or unused uniform is an error, not a value GL drops).
+void GlslBackend::set_uniforms(const Program& program, const MethodSpec& m, const Frame& f) {
     const GLuint prog = program.id;
-    upload(hf, texture_format);
-    ensure_framebuffer(samples);
-    glUseProgram(prog);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, texture_);
     auto loc = [&](const char* n) { return glGetUniformLocation(prog, n); };
-    const Scene<float> sc = scene_cast<float>(scene);
+    const Scene<float> sc = scene_cast<float>(f.scene);
     glUniform1i(loc("u_height"), 0);
     glUniform1f(loc("u_scale"), sc.scale);
     glUniform1f(loc("u_bias"), sc.bias);
     glUniform3f(loc("u_view"), sc.V.x, sc.V.y, sc.V.z);
-    glUniform2i(loc("u_size"), hf.width, hf.height);
-    glUniform1f(loc("u_samples"), float(samples));
-    glUniform1i(loc("u_light_on"), light ? 1 : 0);
-    if (light) {
-        const Vec3<float> L(view_vector(light->theta_deg, light->phi_deg));
+    glUniform1i(loc("u_view_per_sample"), f.V ? 1 : 0);
+    glUniform1i(loc("u_view_map"), 1);
+    glUniform2i(loc("u_size"), f.hf.width, f.hf.height);
+    glUniform1f(loc("u_samples"), float(f.samples));
+    glUniform1i(loc("u_light_on"), f.light ? 1 : 0);
+    if (f.light) {
+        const Vec3<float> L(view_vector(f.light->theta_deg, f.light->phi_deg));
         glUniform3f(loc("u_light"), L.x, L.y, L.z);
-        glUniform1f(loc("u_shadow_layers_min"), float(light->layers_min));
-        glUniform1f(loc("u_shadow_layers_max"), float(light->layers_max));
+        glUniform1f(loc("u_shadow_layers_min"), float(f.light->layers_min));
+        glUniform1f(loc("u_shadow_layers_max"), float(f.light->layers_max));
     }
-    // The method's uniforms: checked against the program's active ones (a misspelt or unused
-    // uniform is an error, not a value GL drops), then set with the call for their type.
     const GlUniforms uniforms = method_uniforms(*m.method, m.params);
     std::vector<DeclaredUniform> declared;
     for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
@@ -262,22 +284,15 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
         !why.empty())
         throw std::runtime_error(why);
     set_method_uniforms(prog, uniforms);
-    if (!m.method->resources.empty()) {
-        if (!resources || resources->items.size() != m.method->resources.size())
-            throw std::logic_error("method '" + m.method->name + "': resources not built");
-        resource_textures_.bind(prog, *resources, 1);  // unit 0: the height field
-    }
+}
 
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    glViewport(0, 0, samples, samples);
-    glBindVertexArray(vao_);
+// One untimed frame (the shader JIT), then `frames` timed ones: wall time, and GL_TIME_ELAPSED
+// (the GPU's own clock) around each timed draw, read after the wall time is taken.
+void GlslBackend::draw_frames(int frames, MethodOutput& out) {
     std::vector<double> ms, gpu_ms;
-    const int timed_frames = frames < 0 ? opt_.frames : frames;
-    // Each timed frame's draw also in a GL_TIME_ELAPSED query (the GPU's own clock), read
-    // after the wall time is taken.
     GLuint query = 0;
-    if (timer_bits_ > 0 && timed_frames > 0) glGenQueries(1, &query);
-    for (int frame = 0; frame <= timed_frames; ++frame) {  // frame 0 absorbs the shader JIT
+    if (timer_bits_ > 0 && frames > 0) glGenQueries(1, &query);
+    for (int frame = 0; frame <= frames; ++frame) {
         const bool timed = frame > 0;
         const auto t0 = std::chrono::steady_clock::now();
         if (query && timed) glBeginQuery(GL_TIME_ELAPSED, query);
@@ -294,32 +309,6 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
         }
     }
     if (query) glDeleteQueries(1, &query);
-    if (const GLenum err = glGetError(); err != GL_NO_ERROR)
-        throw std::runtime_error("method '" + m.method->name + "': GL error " +
-                                 std::to_string(err) + " while rendering");
-    const size_t n = size_t(samples) * samples;
-    std::vector<float> px(n * 4), sh(n * 4);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, px.data());
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, sh.data());
-
-    MethodOutput out;
-    out.uv.resize(n);
-    out.fetches.resize(n);
-    for (size_t k = 0; k < n; ++k) {  // row 0 of the read-back is gl_FragCoord.y = 0.5: j = 0
-        out.uv[k] = {px[4 * k], px[4 * k + 1]};
-        out.fetches[k] = int(px[4 * k + 2]);
-    }
-    if (light) {
-        out.shadow_hard.resize(n);
-        out.shadow_soft.resize(n);
-        for (size_t k = 0; k < n; ++k) {
-            out.shadow_hard[k] = sh[4 * k];
-            out.shadow_soft[k] = sh[4 * k + 1];
-        }
-    }
-    out.shader = program.shader;
     const Spread t = spread(ms);
     out.ms_per_frame = t.median;
     out.ms_per_frame_min = t.min;
@@ -328,6 +317,62 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     out.gpu_ms_per_frame = g.median;
     out.gpu_ms_per_frame_min = g.min;
     out.gpu_ms_per_frame_max = g.max;
+}
+
+// The two render targets back into uv, fetches and (with a light) the shadow factors.
+void GlslBackend::read_back(int samples, bool light, MethodOutput& out) {
+    const size_t n = size_t(samples) * samples;
+    std::vector<float> px(n * 4), sh(n * 4);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, px.data());
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, sh.data());
+    out.uv.resize(n);
+    out.fetches.resize(n);
+    for (size_t k = 0; k < n; ++k) {  // row 0 of the read-back is gl_FragCoord.y = 0.5: j = 0
+        out.uv[k] = {px[4 * k], px[4 * k + 1]};
+        out.fetches[k] = int(px[4 * k + 2]);
+    }
+    if (!light) return;
+    out.shadow_hard.resize(n);
+    out.shadow_soft.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        out.shadow_hard[k] = sh[4 * k];
+        out.shadow_soft[k] = sh[4 * k + 1];
+    }
+}
+
+MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
+                              const HeightField& hf, int samples,
+                              const std::string& texture_format, const LightSpec* light,
+                              int frames, const MethodResources* resources,
+                              const std::vector<Vec3d>* V) {
+    use_gl_context(*ctx_);
+    const Program& program = program_for(*m.method);
+    upload(hf, texture_format);
+    if (V) upload_view_map(*V, samples);
+    ensure_framebuffer(samples);
+    glUseProgram(program.id);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glActiveTexture(GL_TEXTURE1);  // u_view_map: bound (the sampler is active) even when unused
+    glBindTexture(GL_TEXTURE_2D, V ? view_map_ : texture_);
+    set_uniforms(program, m, {scene, hf, samples, light, V});
+    if (!m.method->resources.empty()) {
+        if (!resources || resources->items.size() != m.method->resources.size())
+            throw std::logic_error("method '" + m.method->name + "': resources not built");
+        resource_textures_.bind(program.id, *resources, 2);  // 0: heights, 1: the view map
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glViewport(0, 0, samples, samples);
+    glBindVertexArray(vao_);
+    MethodOutput out;
+    draw_frames(frames < 0 ? opt_.frames : frames, out);
+    if (const GLenum err = glGetError(); err != GL_NO_ERROR)
+        throw std::runtime_error("method '" + m.method->name + "': GL error " +
+                                 std::to_string(err) + " while rendering");
+    read_back(samples, light != nullptr, out);
+    out.shader = program.shader;
     return out;
 }
 
@@ -338,8 +383,13 @@ std::vector<Variant> GlslBackend::variants() const {
 }
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
-    return run(m, view.scene, view.hf, view.samples, v.texture_format, view.light,
-               view.timed ? -1 : 0, view.resources);
+    const View& rays = view.rays;
+    // The shader derives P_k from its fragment: only the N x N sample grid can be drawn.
+    if (rays.grid <= 0)
+        throw std::runtime_error("the glsl backend draws the N x N sample grid; this view's "
+                                 "samples lie elsewhere");
+    return run(m, view.scene, view.hf, rays.grid, v.texture_format, view.light,
+               view.timed ? -1 : 0, view.resources, rays.parallel ? nullptr : &rays.V);
 }
 
 std::map<std::string, std::string> GlslBackend::facts() const {

@@ -48,9 +48,12 @@ class GlslBackend : public Backend {
     // Renders the method; throws std::runtime_error (shader compile/link log included) when
     // the method cannot run. texture_format: "r32f" | "r16" | "r8".
     // frames < 0: the configured number of timed frames; 0: render once, untimed.
+    // V: nullptr (every sample looks along scene.V) or N x N directions, row-major like the
+    // samples; the shader's pxh_V is then sample k's.
     MethodOutput run(const MethodSpec& m, const Scene<double>& scene, const HeightField& hf,
                      int samples, const std::string& texture_format, const LightSpec* light,
-                     int frames = -1, const MethodResources* resources = nullptr);
+                     int frames = -1, const MethodResources* resources = nullptr,
+                     const std::vector<Vec3d>* V = nullptr);
 
   private:
     struct Program {
@@ -64,14 +67,26 @@ class GlslBackend : public Backend {
     // "builtin", or the shader file(s) the method's program is (or would be) compiled from.
     std::string shader_description(const MethodInfo& m) const;
   private:
+    // What one render draws with.
+    struct Frame {
+        const Scene<double>& scene;
+        const HeightField& hf;
+        int samples;
+        const LightSpec* light;
+        const std::vector<Vec3d>* V;
+    };
     void upload(const HeightField& hf, const std::string& format);
+    void upload_view_map(const std::vector<Vec3d>& V, int samples);
     void ensure_framebuffer(int n);
+    void set_uniforms(const Program& program, const MethodSpec& m, const Frame& f);
+    void draw_frames(int frames, MethodOutput& out);
+    void read_back(int samples, bool light, MethodOutput& out);
 
     GlslOptions opt_;
     std::unique_ptr<GlContext> ctx_;
     std::string renderer_, version_, vendor_;
     int timer_bits_ = 0;
-    unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0;
+    unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0, view_map_ = 0;
     int fb_size_ = 0;
     std::map<std::string, Program> programs_;
     std::map<std::string, std::string> compiled_sources_;

@@ -9,7 +9,7 @@ namespace pxh {
 
 const std::vector<std::string>& harness_uniforms() {
     static const std::vector<std::string> names = {
-        "u_height", "u_scale",    "u_bias",  "u_view",
+        "u_height", "u_scale",    "u_bias",  "u_view", "u_view_per_sample", "u_view_map",
         "u_size",   "u_samples",  "u_light_on", "u_light",
         "u_shadow_layers_min", "u_shadow_layers_max"};
     return names;

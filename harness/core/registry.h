@@ -8,6 +8,13 @@
 
 namespace pxh {
 
+// "a, b, c": the known names in an error message.
+inline std::string join_names(const std::vector<std::string>& names) {
+    std::string out;
+    for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+}
+
 template <class Entry>
 std::vector<std::string> entry_names(const std::vector<Entry>& entries) {
     std::vector<std::string> out;
@@ -21,9 +28,8 @@ const Entry& find_entry(const std::vector<Entry>& entries, const std::string& na
                         const std::string& kind, const std::string& where) {
     for (const auto& e : entries)
         if (name == e.name) return e;
-    std::string known;
-    for (const auto& e : entries) known += (known.empty() ? "" : ", ") + std::string(e.name);
-    throw InputError(where, "unknown " + kind + " '" + name + "' (known: " + known + ")");
+    throw InputError(where, "unknown " + kind + " '" + name + "' (known: " +
+                                join_names(entry_names(entries)) + ")");
 }
 
 }  // namespace pxh

@@ -15,7 +15,10 @@
 
 #include "harness/backends/backend.h"
 #include "harness/core/error.h"
+#include "harness/core/registry.h"
 #include "harness/gl/context.h"
+#include "harness/scene/view.h"
+#include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
 #include "harness/core/sha256.h"
 #include "heightfields/heightfields.h"
@@ -470,9 +473,10 @@ void parse_settings(const toml::table& root, const std::string& path, Experiment
 void parse_choices(const toml::table& root, const std::string& path, Experiment& ex) {
     if (auto n = root.get("ground_truth")) {
         ex.ground_truth = get_string(*n, path, "ground_truth");
-        if (ex.ground_truth != "exact" && ex.ground_truth != "embree")
+        const auto known = tracer_names();
+        if (std::find(known.begin(), known.end(), ex.ground_truth) == known.end())
             throw InputError(where_of(path, *n), "unknown ground_truth '" + ex.ground_truth +
-                                                     "' (known: exact, embree)");
+                                                     "' (known: " + join_names(known) + ")");
     }
     if (auto n = root.get("gl")) {
         ex.gl = get_string(*n, path, "gl");
@@ -559,10 +563,17 @@ void parse_views(const toml::table& root, const std::string& path, Experiment& e
     if (!views || !views->is_table())
         throw InputError(path, "missing [views] table (theta_deg = [...])");
     const auto& vt = *views->as_table();
-    check_keys(vt, {"theta_deg", "phi_deg"}, path, "[views]");
+    check_keys(vt, {"theta_deg", "phi_deg", "camera"}, path, "[views]");
     if (!vt.contains("theta_deg")) throw InputError(where_of(path, *views), "[views] needs theta_deg");
     parse_theta(vt, path, ex);
     if (auto n = vt.get("phi_deg")) parse_phi(*n, path, ex);
+    if (auto n = vt.get("camera")) {
+        ex.camera = get_string(*n, path, "camera");
+        const auto known = camera_names();
+        if (std::find(known.begin(), known.end(), ex.camera) == known.end())
+            throw InputError(where_of(path, *n), "unknown camera '" + ex.camera + "' (known: " +
+                                                     join_names(known) + ")");
+    }
 }
 
 void parse_light(const toml::node& n, const std::string& path, Experiment& ex) {

@@ -47,6 +47,7 @@ struct Experiment {
     bool maps = false;        // write per-row error maps
     bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
+    std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)
     std::optional<LightSpec> light;
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
     std::vector<MethodSpec> methods;            // arrays of parameter values already expanded

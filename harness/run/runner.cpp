@@ -46,7 +46,6 @@ struct FieldContext {
     const Experiment& ex;
     const std::vector<std::unique_ptr<Backend>>& backends;
     CpuBackend& reference;  // the CPU float run other backends are compared with
-    const std::vector<Vec2d>& P;
     const HeightField& hf;
     const HeightfieldSpec& spec;
     const Tracer& exact;  // the reference: heights, true shadows, cost (gt_cells_mean)
@@ -124,6 +123,7 @@ struct ViewJob {
     const FieldContext& c;
     double theta, phi;
     bool timed;
+    const View& view;  // the samples' rays, from the experiment's camera
     Scene<double> scene;
     ViewTruth truth;
     HoleMask holes;
@@ -131,7 +131,7 @@ struct ViewJob {
     ViewRows out;
 
     ViewInput input() const {
-        return {scene, c.hf, c.P, c.ex.samples, c.ex.light ? &*c.ex.light : nullptr, timed};
+        return {scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
     }
 
     // Per-sample error vectors; excluded samples are NaN (left out of the sweep metrics too).
@@ -142,6 +142,18 @@ struct ViewJob {
                                             : texel_error(o.uv[k], truth.gt.uv[k], c.hf.width,
                                                           c.hf.height);
         return e;
+    }
+
+    // The method's declared bound per sample, over every ray's direction.
+    int fetches_bound(const MethodSpec& m) const {
+        if (view.parallel) return m.method->max_fetches(m.params, scene);
+        int bound = 0;
+        Scene<double> s = scene;
+        for (const Vec3d& V : view.V) {
+            s.V = V;
+            bound = std::max(bound, m.method->max_fetches(m.params, s));
+        }
+        return bound;
     }
 
     // The keys and the view-wide columns of a row; returns its index in the view.
@@ -161,7 +173,7 @@ struct ViewJob {
         row.set("samples", c.ex.samples);
         row.set("width", c.hf.width);
         row.set("height", c.hf.height);
-        row.set("fetches_bound", m.method->max_fetches(m.params, scene));
+        row.set("fetches_bound", fetches_bound(m));
         add_reference_columns({c.ex.ground_truth, truth.gt.cells_mean, truth.agree, holes.frac},
                               row);
         out.rows.push_back(std::move(row));
@@ -209,7 +221,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 }
                 if (!cpu_float)
                     cpu_float = job.c.reference.run(
-                        m, {in.scene, in.hf, in.P, in.samples, nullptr, false, vin.resources},
+                        m, {in.scene, in.hf, in.rays, nullptr, false, vin.resources},
                         {"float", ""});
                 add_agreement(row, o, *cpu_float, hf.width, hf.height);
                 job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
@@ -229,11 +241,13 @@ void run_method(ViewJob& job, const MethodSpec& m) {
 // timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
 // no timed GLSL frames, no agreement statistics.
 ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool timed) {
-    const OrthographicCamera camera(theta, phi, c.ex.samples);
-    const View view = camera.view();
-    const Scene<double> scene{c.spec.scale, c.spec.bias, camera.direction(), c.hf.width,
+    const View view = make_camera(c.ex.camera, {theta, phi, c.ex.samples, {}})->view();
+    if (const std::string why = view_problem(view); !why.empty())
+        throw std::logic_error("camera '" + c.ex.camera + "': " + why);
+    // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
+    const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
                               c.hf.height};
-    ViewJob job{c, theta, phi, timed, scene, truth_stage(c, view, timed), {}, nullptr, {}};
+    ViewJob job{c, theta, phi, timed, view, scene, truth_stage(c, view, timed), {}, nullptr, {}};
     job.holes = hole_mask(c.hf, job.truth.gt);
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
     for (const auto& m : c.ex.methods) run_method(job, m);
@@ -333,7 +347,6 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
     // reuse it.
     check_field_files(ex);
-    const auto P = sample_grid(ex.samples);
     std::vector<ResultRow> rows;
     const size_t steps = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size();
     size_t step = 0;
@@ -350,8 +363,8 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         }
         // Both references built once per field (and s, b), shared by all its views.
         const References refs = make_references(*field, spec);
-        const FieldContext ctx{ex,   backends,    reference,   P,         *field,
-                               spec, *refs.exact, *refs.other, *resources};
+        const FieldContext ctx{ex,          backends,    reference, *field,
+                               spec,        *refs.exact, *refs.other, *resources};
         for (double phi : ex.phi_deg) run_sweep(ctx, phi, opt, step, steps, rows);
     }
     if (info && resources) info->resource_builds += resources->builds();

@@ -5,7 +5,7 @@ uniform sampler2D r_zmap;    // rgba32f, linear, clamp: (s (h - b), h, 0, 1) per
 uniform int p_level;
 uniform int p_mode;          // 0 max, 1 mid, 2 zmap
 vec2 pxh_method(vec2 P) {
-    vec2 dir = u_view.xy * (1.0 / u_view.z);
+    vec2 dir = pxh_V.xy * (1.0 / pxh_V.z);
     float z;
     if (p_mode == 2) {
         z = pxh_texture(r_zmap, P, p_level).r;
