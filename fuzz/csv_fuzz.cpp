@@ -6,8 +6,8 @@
 #include <string>
 
 #include "fuzz/fuzz_target.h"
-#include "harness/results/csv_table.h"
 #include "harness/report/report.h"
+#include "harness/results/csv_table.h"
 
 PXH_FUZZ_TARGET(csv) {
     pxh::fuzz::silence_stdout();  // the report prints where it wrote
@@ -18,7 +18,8 @@ PXH_FUZZ_TARGET(csv) {
         const pxh::CsvTable t = pxh::read_csv(path);
         volatile double sink = 0;
         for (size_t r = 0; r < t.rows.size(); ++r)
-            for (const auto& c : t.columns) sink = sink + t.number(r, c) + double(t.get(r, c).size());
+            for (const auto& c : t.columns)
+                sink = sink + t.number(r, c) + double(t.get(r, c).size());
         (void)t.index("no such column");
         (void)pxh::run_report(dir.string(), /*plots=*/false);
     } catch (const std::exception&) {

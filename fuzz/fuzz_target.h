@@ -35,9 +35,9 @@ void silence_stdout();
 #define PXH_FUZZ_TARGET(name) \
     extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 #else
-#define PXH_FUZZ_TARGET(name)                                                              \
-    static int pxh_fuzz_##name(const uint8_t* data, size_t size);                          \
-    [[maybe_unused]] static const bool pxh_fuzz_registered_##name =                        \
-        pxh::fuzz::register_target(#name, pxh_fuzz_##name);                                \
+#define PXH_FUZZ_TARGET(name)                                       \
+    static int pxh_fuzz_##name(const uint8_t* data, size_t size);   \
+    [[maybe_unused]] static const bool pxh_fuzz_registered_##name = \
+        pxh::fuzz::register_target(#name, pxh_fuzz_##name);         \
     static int pxh_fuzz_##name(const uint8_t* data, size_t size)
 #endif

@@ -33,8 +33,7 @@ void remove_scratch() {
 
 const std::string& scratch_dir() {
     if (g_scratch.empty()) {
-        const fs::path dir =
-            fs::temp_directory_path() / ("pxh_fuzz_" + std::to_string(::getpid()));
+        const fs::path dir = fs::temp_directory_path() / ("pxh_fuzz_" + std::to_string(::getpid()));
         fs::create_directories(dir);
         g_scratch = dir.string();
         std::atexit(remove_scratch);

@@ -21,7 +21,8 @@ namespace {
 
 void feed(pxh::fuzz::Target target, const fs::path& file) {
     std::ifstream f(file, std::ios::binary);
-    const std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(f)),
+                                  std::istreambuf_iterator<char>());
     target(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
 }
 

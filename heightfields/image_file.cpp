@@ -533,10 +533,13 @@ void check_png_chunks(Reader& r) {
     while (r.left() > 0) {
         unsigned char h[8];
         r.read(h, 8, "PNG chunk header");
-        const unsigned long long len = (unsigned long long)h[0] << 24 | h[1] << 16 | h[2] << 8 | h[3];
+        const unsigned long long len =
+            (unsigned long long)h[0] << 24 | h[1] << 16 | h[2] << 8 | h[3];
         const std::string type(reinterpret_cast<const char*>(h + 4), 4);
-        if (len > 0x7fffffffULL) r.fail("PNG chunk '" + one_line(type) + "' has an impossible length");
-        r.skip((long long)len + 4, "PNG chunk '" + one_line(type) + "' (" + std::to_string(len) + " bytes)");
+        if (len > 0x7fffffffULL)
+            r.fail("PNG chunk '" + one_line(type) + "' has an impossible length");
+        r.skip((long long)len + 4,
+               "PNG chunk '" + one_line(type) + "' (" + std::to_string(len) + " bytes)");
         if (type == "IEND") break;
     }
 }

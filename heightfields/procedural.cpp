@@ -29,8 +29,8 @@ template <class F>
 void fill(HeightField& out, F f) {
     for (int j = 0; j < out.height; ++j)
         for (int i = 0; i < out.width; ++i)
-            out.at(i, j) = float(std::clamp(f((i + 0.5) / out.width, (j + 0.5) / out.height),
-                                            0.0, 1.0));
+            out.at(i, j) =
+                float(std::clamp(f((i + 0.5) / out.width, (j + 0.5) / out.height), 0.0, 1.0));
 }
 
 double wrapped_delta(double a, double b) {
@@ -115,7 +115,8 @@ constexpr long long kMaxLatticeSide = 4096;
 std::string fbm_problem(const ParamValues& p) {
     const long long finest = (long long)p.get_int("base_freq") << (p.get_int("octaves") - 1);
     if (finest <= kMaxLatticeSide) return "";
-    return "its finest octave has a " + std::to_string(finest) + "^2 lattice (base_freq * 2^(octaves-1)), over the limit of " +
+    return "its finest octave has a " + std::to_string(finest) +
+           "^2 lattice (base_freq * 2^(octaves-1)), over the limit of " +
            std::to_string(kMaxLatticeSide) + "; lower base_freq or octaves";
 }
 
@@ -150,7 +151,10 @@ void gen_fbm(HeightField& out, const ParamValues& p) {
         for (int i = 0; i < out.width; ++i) {
             const double u = (i + 0.5) / out.width, v = (j + 0.5) / out.height;
             double h = 0, a = 1;
-            for (const auto& n : layers) { h += a * n(u, v); a *= gain; }
+            for (const auto& n : layers) {
+                h += a * n(u, v);
+                a *= gain;
+            }
             raw[size_t(j) * out.width + i] = h;
         }
     const auto [lo, hi] = std::minmax_element(raw.begin(), raw.end());
@@ -184,40 +188,50 @@ ParamSpec seed_param() { return {"seed", 1.0, 0, 4294967295.0, true, "random see
 const std::vector<GeneratorInfo>& all_generators() {
     static const std::vector<GeneratorInfo> gens = {
         {"flat", "constant height", {{"level", 0.5, 0, 1, false, "the height"}}, gen_flat},
-        {"sine", "smooth waves 0.5 + 0.25 sin(2 pi ku u) + 0.25 sin(2 pi kv v)",
+        {"sine",
+         "smooth waves 0.5 + 0.25 sin(2 pi ku u) + 0.25 sin(2 pi kv v)",
          {{"periods_u", 3.0, 0, 1024, true, "periods across the tile in u"},
           {"periods_v", 2.0, 0, 1024, true, "periods across the tile in v"}},
          gen_sine},
-        {"bumps", "round domes (hemispheres) at random places, wrapped",
+        {"bumps",
+         "round domes (hemispheres) at random places, wrapped",
          {{"count", 12.0, 1, 10000, true, "number of domes"},
           {"radius", 0.12, 1e-4, 0.5, false, "dome radius in uv"},
           seed_param()},
          gen_bumps},
-        {"bricks", "running-bond bricks: plateaus, mortar grooves, near-vertical walls",
+        {"bricks",
+         "running-bond bricks: plateaus, mortar grooves, near-vertical walls",
          {{"rows", 4.0, 1, 256, true, "brick rows per tile"},
           {"cols", 2.0, 1, 256, true, "bricks per row"},
           {"mortar", 0.1, 0, 0.9, false, "mortar width, fraction of a brick's height"},
           {"bevel", 0.01, 0, 0.5, false, "wall run, fraction of a brick's height"},
           seed_param()},
          gen_bricks},
-        {"pyramids", "square pyramids: planar slopes meeting at ridges",
-         {{"count", 4.0, 1, 1024, true, "pyramids per side"}}, gen_pyramids},
-        {"terraces", "smooth waves quantised into flat steps with vertical risers",
+        {"pyramids",
+         "square pyramids: planar slopes meeting at ridges",
+         {{"count", 4.0, 1, 1024, true, "pyramids per side"}},
+         gen_pyramids},
+        {"terraces",
+         "smooth waves quantised into flat steps with vertical risers",
          {{"steps", 5.0, 2, 256, true, "number of levels"},
           {"periods", 2.0, 1, 256, true, "wave periods across the tile"}},
          gen_terraces},
-        {"fbm", "fractal value noise (rough, multi-scale), normalised to [0,1]",
+        {"fbm",
+         "fractal value noise (rough, multi-scale), normalised to [0,1]",
          {{"octaves", 6.0, 1, 12, true, "noise octaves"},
           {"base_freq", 4.0, 1, 256, true, "lattice cells per tile of the first octave"},
           {"gain", 0.5, 0, 1, false, "amplitude factor per octave"},
           seed_param()},
-         gen_fbm, fbm_problem},
-        {"step", "a cliff: the left half of the tile high, the right half low (two texel-wide "
-                 "walls, one at u = 0.5 and one at the wrap)",
+         gen_fbm,
+         fbm_problem},
+        {"step",
+         "a cliff: the left half of the tile high, the right half low (two texel-wide "
+         "walls, one at u = 0.5 and one at the wrap)",
          {{"low", 0.0, 0, 1, false, "height of the right half"},
           {"high", 1.0, 0, 1, false, "height of the left half"}},
          gen_step},
-        {"spikes", "one-texel spikes of height 1 on a flat base",
+        {"spikes",
+         "one-texel spikes of height 1 on a flat base",
          {{"count", 24.0, 1, 1e6, true, "number of spikes"},
           {"base", 0.0, 0, 1, false, "height of the base"},
           seed_param()},

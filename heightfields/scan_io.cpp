@@ -47,7 +47,8 @@ std::string inflate_raw(const std::string& in, size_t expected, const std::strin
 }
 
 NpyArray parse_npy(const std::string& d, const std::string& where) {
-    if (d.size() < 10 || d.compare(0, 6, "\x93NUMPY") != 0) throw InputError(where, "not an .npy array");
+    if (d.size() < 10 || d.compare(0, 6, "\x93NUMPY") != 0)
+        throw InputError(where, "not an .npy array");
     const int major = (unsigned char)d[6];
     const size_t hlen = major == 1 ? u16(d, 8) : u32(d, 8);
     const size_t hstart = major == 1 ? 10 : 12;
@@ -79,12 +80,38 @@ NpyArray parse_npy(const std::string& d, const std::string& where) {
         if (avail < count * bytes) throw InputError(where, "truncated .npy data");
     };
     a.values.resize(count);
-    if (descr == "<f8") { need(8); for (size_t i = 0; i < count; ++i) { double v; std::memcpy(&v, p + 8 * i, 8); a.values[i] = v; } }
-    else if (descr == "<f4") { need(4); for (size_t i = 0; i < count; ++i) { float v; std::memcpy(&v, p + 4 * i, 4); a.values[i] = v; } }
-    else if (descr == "<i2") { need(2); for (size_t i = 0; i < count; ++i) { int16_t v; std::memcpy(&v, p + 2 * i, 2); a.values[i] = v; } }
-    else if (descr == "<i4") { need(4); for (size_t i = 0; i < count; ++i) { int32_t v; std::memcpy(&v, p + 4 * i, 4); a.values[i] = v; } }
-    else if (descr == "|u1") { need(1); for (size_t i = 0; i < count; ++i) a.values[i] = (unsigned char)p[i]; }
-    else throw InputError(where, "unsupported dtype " + descr);
+    if (descr == "<f8") {
+        need(8);
+        for (size_t i = 0; i < count; ++i) {
+            double v;
+            std::memcpy(&v, p + 8 * i, 8);
+            a.values[i] = v;
+        }
+    } else if (descr == "<f4") {
+        need(4);
+        for (size_t i = 0; i < count; ++i) {
+            float v;
+            std::memcpy(&v, p + 4 * i, 4);
+            a.values[i] = v;
+        }
+    } else if (descr == "<i2") {
+        need(2);
+        for (size_t i = 0; i < count; ++i) {
+            int16_t v;
+            std::memcpy(&v, p + 2 * i, 2);
+            a.values[i] = v;
+        }
+    } else if (descr == "<i4") {
+        need(4);
+        for (size_t i = 0; i < count; ++i) {
+            int32_t v;
+            std::memcpy(&v, p + 4 * i, 4);
+            a.values[i] = v;
+        }
+    } else if (descr == "|u1") {
+        need(1);
+        for (size_t i = 0; i < count; ++i) a.values[i] = (unsigned char)p[i];
+    } else throw InputError(where, "unsupported dtype " + descr);
     return a;
 }
 
@@ -137,7 +164,9 @@ std::vector<std::array<double, 3>> read_ply_points(const std::string& path) {
     std::string line, format;
     size_t count = 0;
     bool in_vertex = false;
-    struct Prop { std::string name, type; };
+    struct Prop {
+        std::string name, type;
+    };
     std::vector<Prop> props;
     while (std::getline(hs, line)) {
         std::stringstream ls(line);
@@ -149,7 +178,8 @@ std::vector<std::array<double, 3>> read_ply_points(const std::string& path) {
             ls >> el;
             in_vertex = el == "vertex";
             if (in_vertex) ls >> count;
-            else if (count == 0) throw InputError(path, "elements before 'vertex' are not supported");
+            else if (count == 0)
+                throw InputError(path, "elements before 'vertex' are not supported");
         } else if (kw == "property" && in_vertex) {
             Prop p;
             ls >> p.type;
@@ -161,7 +191,9 @@ std::vector<std::array<double, 3>> read_ply_points(const std::string& path) {
     auto size_of = [&](const std::string& t) -> size_t {
         if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
         if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-        if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+        if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" ||
+            t == "float32")
+            return 4;
         if (t == "double" || t == "float64") return 8;
         throw InputError(path, "unknown PLY type " + t);
     };
@@ -185,15 +217,23 @@ std::vector<std::array<double, 3>> read_ply_points(const std::string& path) {
     } else if (format == "binary_little_endian") {
         size_t stride = 0;
         std::vector<size_t> off;
-        for (const auto& p : props) { off.push_back(stride); stride += size_of(p.type); }
-        if (body + count * stride > d.size()) throw InputError(path, "truncated binary vertex data");
+        for (const auto& p : props) {
+            off.push_back(stride);
+            stride += size_of(p.type);
+        }
+        if (body + count * stride > d.size())
+            throw InputError(path, "truncated binary vertex data");
         auto read = [&](size_t v, int i) {
             const char* q = d.data() + body + v * stride + off[size_t(i)];
             if (props[size_t(i)].type == "double" || props[size_t(i)].type == "float64") {
-                double x; std::memcpy(&x, q, 8); return x;
+                double x;
+                std::memcpy(&x, q, 8);
+                return x;
             }
             if (props[size_t(i)].type == "float" || props[size_t(i)].type == "float32") {
-                float x; std::memcpy(&x, q, 4); return double(x);
+                float x;
+                std::memcpy(&x, q, 4);
+                return double(x);
             }
             throw InputError(path, "coordinates must be float or double");
         };

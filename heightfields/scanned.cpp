@@ -59,12 +59,14 @@ Package fetch_package(const std::string& name, const std::string& cache) {
         return {name, v, (dir / "root").string()};
     }
     fs::create_directories(dir);
-    const std::string dl = "cd '" + dir.string() + "' && apt-get download -q " + name + " >/dev/null 2>&1";
+    const std::string dl =
+        "cd '" + dir.string() + "' && apt-get download -q " + name + " >/dev/null 2>&1";
     if (std::system(dl.c_str()) != 0) {
         // Package lists may be missing on a fresh machine: update once, then retry.
         std::system("apt-get update -qq >/dev/null 2>&1");
         if (std::system(dl.c_str()) != 0)
-            throw std::runtime_error("apt-get download " + name + " failed (is Debian's apt reachable?)");
+            throw std::runtime_error("apt-get download " + name +
+                                     " failed (is Debian's apt reachable?)");
     }
     std::string deb;
     for (const auto& e : fs::directory_iterator(dir))
@@ -96,7 +98,8 @@ std::vector<std::string> licences(const std::string& copyright) {
         const std::string text = ss.str();
         for (const char* name : {"GNU General Public License", "GNU Lesser General Public License",
                                  "Boost Software License"})
-            if (text.find(name) != std::string::npos) out.push_back(std::string("mentions: ") + name);
+            if (text.find(name) != std::string::npos)
+                out.push_back(std::string("mentions: ") + name);
         if (out.empty()) out.push_back("no licence named (read the copyright file)");
     }
     return out;
@@ -104,7 +107,7 @@ std::vector<std::string> licences(const std::string& copyright) {
 
 struct Grid {
     int w = 0, h = 0;
-    std::vector<double> v;      // NaN = hole
+    std::vector<double> v;  // NaN = hole
     std::vector<uint8_t> filled;
 };
 
@@ -128,9 +131,16 @@ int fill_holes(Grid& g) {
                     const int a = i + di[t], b = j + dj[t];
                     if (a < 0 || b < 0 || a >= g.w || b >= g.h) continue;
                     const double x = g.v[size_t(b) * g.w + a];
-                    if (!std::isnan(x)) { s += x; ++n; }
+                    if (!std::isnan(x)) {
+                        s += x;
+                        ++n;
+                    }
                 }
-                if (n) { next[k] = s / n; g.filled[k] = 1; ++done; }
+                if (n) {
+                    next[k] = s / n;
+                    g.filled[k] = 1;
+                    ++done;
+                }
             }
         if (done == 0) throw std::runtime_error("hole filling made no progress (no data?)");
         g.v = std::move(next);
@@ -147,9 +157,13 @@ struct Converted {
 void write_scan(const Converted& c, const std::string& name, const std::string& dir) {
     const Grid& g = c.grid;
     double lo = INFINITY, hi = -INFINITY;
-    for (double x : g.v) { lo = std::min(lo, x); hi = std::max(hi, x); }
+    for (double x : g.v) {
+        lo = std::min(lo, x);
+        hi = std::max(hi, x);
+    }
     HeightField hf(g.w, g.h, name);
-    for (size_t k = 0; k < g.v.size(); ++k) hf.texels[k] = float(hi > lo ? (g.v[k] - lo) / (hi - lo) : 0.5);
+    for (size_t k = 0; k < g.v.size(); ++k)
+        hf.texels[k] = float(hi > lo ? (g.v[k] - lo) / (hi - lo) : 0.5);
     fs::create_directories(dir);
     save_heightfield_file(hf, (fs::path(dir) / (name + ".png")).string());
     json meta = c.meta;
@@ -184,8 +198,9 @@ Converted convert_jacksboro(const Package& pkg) {
     c.grid.v = a.values;
     fill_holes(c.grid);
     const auto [lo, hi] = std::minmax_element(a.values.begin(), a.values.end());
-    c.meta = {{"description", "USGS digital elevation model around the Jacksboro fault (TN): "
-                              "valleys, ridges and a fault escarpment"},
+    c.meta = {{"description",
+               "USGS digital elevation model around the Jacksboro fault (TN): "
+               "valleys, ridges and a fault escarpment"},
               {"path_in_package", rel},
               {"original", {{"shape", a.shape}, {"dtype", "int16"}}},
               {"value_range", {*lo, *hi}},
@@ -205,19 +220,25 @@ Converted convert_motorcycle(const Package& pkg) {
     double lo = INFINITY, hi = -INFINITY;
     for (double& x : c.grid.v) {
         if (!std::isfinite(x)) x = NAN;  // +inf: no measurement
-        else { lo = std::min(lo, x); hi = std::max(hi, x); }
+        else {
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
+        }
     }
     fill_holes(c.grid);
-    c.meta = {{"description", "Middlebury 2014 'Motorcycle' structured-light disparity map: "
-                              "smooth surfaces, big depth jumps at occluding edges, holes"},
+    c.meta = {{"description",
+               "Middlebury 2014 'Motorcycle' structured-light disparity map: "
+               "smooth surfaces, big depth jumps at occluding edges, holes"},
               {"path_in_package", rel},
               {"original", {{"shape", a.shape}, {"dtype", "float32"}}},
               {"value_range", {lo, hi}},
               {"units", "disparity in pixels (larger is nearer): used as height"},
               {"grid_spacing", "one camera pixel"},
-              {"holes", {{"rule", "+inf (no measurement) filled by repeated passes giving each "
-                                  "hole the mean of its measured or already filled 4-neighbours; "
-                                  "mask kept (1 = filled)"}}}};
+              {"holes",
+               {{"rule",
+                 "+inf (no measurement) filled by repeated passes giving each "
+                 "hole the mean of its measured or already filled 4-neighbours; "
+                 "mask kept (1 = filled)"}}}};
     return c;
 }
 
@@ -226,8 +247,9 @@ std::string cgal_data(const Package& pkg, const std::string& member, const std::
     const fs::path file = out / member;
     if (!fs::exists(file)) {
         fs::create_directories(out);
-        const std::string cmd = "tar xzf '" + pkg.root + "/usr/share/doc/libcgal-dev/data.tar.gz' -C '" +
-                                out.string() + "' '" + member + "'";
+        const std::string cmd = "tar xzf '" + pkg.root +
+                                "/usr/share/doc/libcgal-dev/data.tar.gz' -C '" + out.string() +
+                                "' '" + member + "'";
         if (std::system(cmd.c_str()) != 0) throw std::runtime_error("cannot extract " + member);
     }
     return file.string();
@@ -237,12 +259,13 @@ std::string cgal_data(const Package& pkg, const std::string& member, const std::
 RTCScene mesh_scene(RTCDevice dev, const Mesh& m) {
     RTCScene scene = rtcNewScene(dev);
     RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                           3 * sizeof(float), m.vertices.size()));
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.vertices.size()));
     for (size_t i = 0; i < m.vertices.size(); ++i)
         for (int a = 0; a < 3; ++a) vb[3 * i + a] = float(m.vertices[i][a]);
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                              3 * sizeof(unsigned), m.triangles.size()));
+    auto* ib = static_cast<unsigned*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(unsigned), m.triangles.size()));
     for (size_t i = 0; i < m.triangles.size(); ++i)
         for (int a = 0; a < 3; ++a) ib[3 * i + a] = m.triangles[i][a];
     rtcCommitGeometry(geom);
@@ -273,7 +296,10 @@ Converted convert_bunny(const Package& pkg, const std::string& cache) {
     const Mesh m = read_off(cgal_data(pkg, member, cache));
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (const auto& v : m.vertices)
-        for (int a = 0; a < 3; ++a) { lo[a] = std::min(lo[a], v[a]); hi[a] = std::max(hi[a], v[a]); }
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], v[a]);
+            hi[a] = std::max(hi[a], v[a]);
+        }
     const int W = 256;
     const double spacing = (hi[0] - lo[0]) / W;
     const int H = int(std::ceil((hi[1] - lo[1]) / spacing));
@@ -313,18 +339,28 @@ Converted convert_bunny(const Package& pkg, const std::string& cache) {
     c.grid.filled.assign(c.grid.v.size(), 0);
     size_t background = 0;
     for (size_t k = 0; k < c.grid.v.size(); ++k)
-        if (std::isnan(c.grid.v[k])) { c.grid.v[k] = zmin; c.grid.filled[k] = 1; ++background; }
-    c.meta = {{"description", "Stanford bunny, one range scan (bunny00.off), as the height seen "
-                              "from above (+z)"},
+        if (std::isnan(c.grid.v[k])) {
+            c.grid.v[k] = zmin;
+            c.grid.filled[k] = 1;
+            ++background;
+        }
+    c.meta = {{"description",
+               "Stanford bunny, one range scan (bunny00.off), as the height seen "
+               "from above (+z)"},
               {"path_in_package", "/usr/share/doc/libcgal-dev/data.tar.gz:" + member},
-              {"original", {{"vertices", m.vertices.size()}, {"triangles", m.triangles.size()},
-                            {"bounds_min", {lo[0], lo[1], lo[2]}}, {"bounds_max", {hi[0], hi[1], hi[2]}}}},
+              {"original",
+               {{"vertices", m.vertices.size()},
+                {"triangles", m.triangles.size()},
+                {"bounds_min", {lo[0], lo[1], lo[2]}},
+                {"bounds_max", {hi[0], hi[1], hi[2]}}}},
               {"value_range", {zmin, hi[2]}},
               {"units", "model units (the scan normalised to a unit box)"},
               {"grid_spacing", spacing},
-              {"holes", {{"rule", "orthographic ray casting with Embree along -z over each texel "
-                                  "centre (first hit from above); rays missing the mesh are "
-                                  "background, set to the lowest hit and flagged in the mask"}}}};
+              {"holes",
+               {{"rule",
+                 "orthographic ray casting with Embree along -z over each texel "
+                 "centre (first hit from above); rays missing the mesh are "
+                 "background, set to the lowest hit and flagged in the mask"}}}};
     return c;
 }
 
@@ -335,7 +371,10 @@ Converted convert_lidar(const Package& pkg, const std::string& cache) {
     const auto pts = read_ply_points(cgal_data(pkg, member, cache));
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (const auto& p : pts)
-        for (int a = 0; a < 3; ++a) { lo[a] = std::min(lo[a], p[a]); hi[a] = std::max(hi[a], p[a]); }
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
     // About two points per cell on average.
     const double area = (hi[0] - lo[0]) * (hi[1] - lo[1]);
     const double spacing = std::sqrt(area * 2 / double(pts.size()));
@@ -350,18 +389,23 @@ Converted convert_lidar(const Package& pkg, const std::string& cache) {
         cell = std::isnan(cell) ? p[2] : std::max(cell, p[2]);
     }
     fill_holes(c.grid);
-    c.meta = {{"description", "airborne LiDAR of an urban block (CGAL's b9_training.ply): "
-                              "buildings with vertical walls and flat roofs, trees"},
+    c.meta = {{"description",
+               "airborne LiDAR of an urban block (CGAL's b9_training.ply): "
+               "buildings with vertical walls and flat roofs, trees"},
               {"path_in_package", "/usr/share/doc/libcgal-dev/data.tar.gz:" + member},
-              {"original", {{"points", pts.size()}, {"bounds_min", {lo[0], lo[1], lo[2]}},
-                            {"bounds_max", {hi[0], hi[1], hi[2]}}}},
+              {"original",
+               {{"points", pts.size()},
+                {"bounds_min", {lo[0], lo[1], lo[2]}},
+                {"bounds_max", {hi[0], hi[1], hi[2]}}}},
               {"value_range", {lo[2], hi[2]}},
               {"units", "metres (as in the point cloud)"},
               {"grid_spacing", spacing},
-              {"holes", {{"rule", "rasterised to the highest point per cell (about 2 points per "
-                                  "cell); empty cells filled by repeated passes giving each the "
-                                  "mean of its measured or already filled 4-neighbours; mask "
-                                  "kept (1 = filled)"}}}};
+              {"holes",
+               {{"rule",
+                 "rasterised to the highest point per cell (about 2 points per "
+                 "cell); empty cells filled by repeated passes giving each the "
+                 "mean of its measured or already filled 4-neighbours; mask "
+                 "kept (1 = filled)"}}}};
     return c;
 }
 
@@ -379,7 +423,9 @@ void import_all(const std::string& out, const std::string& cache) {
     for (const Source& s : kSources) {
         std::cerr << "import: " << s.name << " from " << s.package << "\n";
         const Package pkg = fetch_package(s.package, cache);
-        const Package lic = std::string(s.licence_package) == s.package ? pkg : fetch_package(s.licence_package, cache);
+        const Package lic = std::string(s.licence_package) == s.package
+                                ? pkg
+                                : fetch_package(s.licence_package, cache);
         Converted c;
         const std::string name = s.name;
         if (name == "jacksboro") c = convert_jacksboro(pkg);
@@ -389,7 +435,8 @@ void import_all(const std::string& out, const std::string& cache) {
         c.meta["package"] = pkg.name;
         c.meta["package_version"] = pkg.version;
         const std::string copyright = lic.root + "/usr/share/doc/" + lic.name + "/copyright";
-        c.meta["licence"] = {{"from", "/usr/share/doc/" + lic.name + "/copyright (" + lic.name + " " + lic.version + ")"},
+        c.meta["licence"] = {{"from", "/usr/share/doc/" + lic.name + "/copyright (" + lic.name +
+                                          " " + lic.version + ")"},
                              {"licenses", licences(copyright)}};
         write_scan(c, name, out);
     }
@@ -407,19 +454,22 @@ std::vector<float> pixels(const std::string& path) {
 
 int run_import(const ImportOptions& opt) {
     const std::string out = opt.out_dir.empty() ? default_scan_dir() : opt.out_dir;
-    const std::string cache = opt.cache_dir.empty() ? source_dir() + "/build/scan-cache" : opt.cache_dir;
+    const std::string cache =
+        opt.cache_dir.empty() ? source_dir() + "/build/scan-cache" : opt.cache_dir;
     if (!opt.check) {
         import_all(out, cache);
         std::cout << "imported " << std::size(kSources) << " scans into " << out << "\n";
         return 0;
     }
-    const fs::path tmp = fs::temp_directory_path() / ("pxh-import-check-" + std::to_string(::getpid()));
+    const fs::path tmp =
+        fs::temp_directory_path() / ("pxh-import-check-" + std::to_string(::getpid()));
     import_all(tmp.string(), cache);
     int differ = 0;
     for (const auto& e : fs::directory_iterator(tmp)) {
         const fs::path committed = fs::path(out) / e.path().filename();
         bool same = fs::exists(committed);
-        if (same && e.path().extension() == ".png") same = pixels(e.path().string()) == pixels(committed.string());
+        if (same && e.path().extension() == ".png")
+            same = pixels(e.path().string()) == pixels(committed.string());
         if (same && e.path().extension() == ".json") {
             std::ifstream a(e.path()), b(committed);
             same = json::parse(a) == json::parse(b);
@@ -449,14 +499,18 @@ std::vector<ScanInfo> list_scans(const std::string& dir_in) {
         ScanInfo s;
         s.name = j.value("name", p.stem().string());
         s.description = j.value("description", "");
-        if (j.contains("size")) { s.width = j["size"][0]; s.height = j["size"][1]; }
+        if (j.contains("size")) {
+            s.width = j["size"][0];
+            s.height = j["size"][1];
+        }
         s.periodic = j.value("periodic", false);
         out.push_back(s);
     }
     return out;
 }
 
-HeightField load_scan(const std::string& name, const std::string& where, const std::string& dir_in) {
+HeightField load_scan(const std::string& name, const std::string& where,
+                      const std::string& dir_in) {
     const std::string dir = dir_in.empty() ? default_scan_dir() : dir_in;
     const fs::path meta_path = fs::path(dir) / (name + ".json");
     std::ifstream f(meta_path);
@@ -467,10 +521,12 @@ HeightField load_scan(const std::string& name, const std::string& where, const s
     }
     const json meta = json::parse(f, nullptr, false);
     if (meta.is_discarded()) throw InputError(meta_path.string(), "malformed JSON");
-    HeightField base = load_heightfield_file((fs::path(dir) / meta.value("file", name + ".png")).string());
+    HeightField base =
+        load_heightfield_file((fs::path(dir) / meta.value("file", name + ".png")).string());
     std::vector<uint8_t> mask;
     if (meta.contains("holes") && meta["holes"].contains("mask")) {
-        const HeightField m = load_heightfield_file((fs::path(dir) / meta["holes"]["mask"].get<std::string>()).string());
+        const HeightField m = load_heightfield_file(
+            (fs::path(dir) / meta["holes"]["mask"].get<std::string>()).string());
         if (m.width != base.width || m.height != base.height)
             throw InputError(meta_path.string(), "mask size differs from the height field");
         mask.resize(m.texels.size());
@@ -489,7 +545,8 @@ HeightField load_scan(const std::string& name, const std::string& where, const s
             const int si = i < base.width ? i : 2 * base.width - 1 - i;
             const int sj = j < base.height ? j : 2 * base.height - 1 - j;
             hf.at(i, j) = base.at(si, sj);
-            if (!mask.empty()) hf.filled[size_t(j) * hf.width + i] = mask[size_t(sj) * base.width + si];
+            if (!mask.empty())
+                hf.filled[size_t(j) * hf.width + i] = mask[size_t(sj) * base.width + si];
         }
     return hf;
 }

@@ -42,13 +42,14 @@ struct LayerConfig {
 
 inline LayerConfig layer_config(const ParamValues& p, const std::string& where) {
     LayerConfig c;
-    const bool says_fixed = p.is_number("layers") || p.is_name("layers_min", "off") ||
-                            p.is_name("layers_max", "off");
-    c.adaptive = p.is_name("layers", "adaptive") || p.is_number("layers_min") ||
-                 p.is_number("layers_max");
+    const bool says_fixed =
+        p.is_number("layers") || p.is_name("layers_min", "off") || p.is_name("layers_max", "off");
+    c.adaptive =
+        p.is_name("layers", "adaptive") || p.is_number("layers_min") || p.is_number("layers_max");
     if (c.adaptive && says_fixed)
-        throw InputError(where, "give either 'layers' (fixed) or 'layers_min'/'layers_max' "
-                                "(view-adaptive), not both");
+        throw InputError(where,
+                         "give either 'layers' (fixed) or 'layers_min'/'layers_max' "
+                         "(view-adaptive), not both");
     c.n = p.is_number("layers") ? p.get("layers") : 32;
     c.n_min = p.is_number("layers_min") ? p.get("layers_min") : 8;
     c.n_max = p.is_number("layers_max") ? p.get("layers_max") : 32;
@@ -111,12 +112,12 @@ struct LayeredMethod {
 
 template <typename T>
 struct LayerSearch {
-    T n;             // layer count
+    T n;  // layer count
     Vec2<T> uv0, duv;
     T z0, dz;
-    int k;           // the stopping layer
-    T g_prev, g_k;   // g at k-1 (valid for k >= 1) and at k
-    bool crossed;    // g_k <= 0 (false only when stopped by the ceil(n) bound)
+    int k;          // the stopping layer
+    T g_prev, g_k;  // g at k-1 (valid for k >= 1) and at k
+    bool crossed;   // g_k <= 0 (false only when stopped by the ceil(n) bound)
     Vec2<T> uv_at(T layer) const { return uv0 + duv * layer; }
     T z_at(T layer) const { return z0 - dz * layer; }
 };

@@ -33,10 +33,10 @@
 #include <utility>
 #include <vector>
 
-#include "harness/scene/heightfield.h"
-#include "harness/scene/scene.h"
 #include "harness/core/params.h"
 #include "harness/core/vec.h"
+#include "harness/scene/heightfield.h"
+#include "harness/scene/scene.h"
 #include "methods/resource.h"
 
 namespace pxh {
@@ -48,8 +48,12 @@ struct GlUniform {
     GlslType type = GlslType::Float;
     double value = 0;
     static GlUniform real(std::string n, double v) { return {std::move(n), GlslType::Float, v}; }
-    static GlUniform integer(std::string n, int v) { return {std::move(n), GlslType::Int, double(v)}; }
-    static GlUniform boolean(std::string n, bool v) { return {std::move(n), GlslType::Bool, v ? 1.0 : 0.0}; }
+    static GlUniform integer(std::string n, int v) {
+        return {std::move(n), GlslType::Int, double(v)};
+    }
+    static GlUniform boolean(std::string n, bool v) {
+        return {std::move(n), GlslType::Bool, v ? 1.0 : 0.0};
+    }
 };
 using GlUniforms = std::vector<GlUniform>;
 const char* glsl_type_name(GlslType t);  // "float", "int", "bool"
@@ -63,12 +67,12 @@ struct MethodInputs {
 
 // Runs the method on n points. V: nullptr (every sample looks along sc.V, a parallel view) or
 // n directions, sample i's toward its eye (the method sees it as sc.V). fetches[i]: all texture
-// fetches of sample i (height and resources). texture_fetches: nullptr, or n x (1 + R) counts, per sample the height's then each
-// resource's in declaration order.
+// fetches of sample i (height and resources). texture_fetches: nullptr, or n x (1 + R) counts, per
+// sample the height's then each resource's in declaration order.
 template <typename T>
-using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const MethodInputs&,
-                         const Vec2<T>* P, const Vec3<T>* V, size_t n, Vec2<T>* uv,
-                         int* fetches, int* texture_fetches);
+using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const MethodInputs&, const Vec2<T>* P,
+                         const Vec3<T>* V, size_t n, Vec2<T>* uv, int* fetches,
+                         int* texture_fetches);
 
 struct MethodInfo {
     std::string name;      // registry key = folder name = what users type
@@ -105,12 +109,13 @@ void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodI
                       int* texture_fetches) {
     const typename M::Config cfg = M::configure(p, "");
     Scene<T> sc = scene;  // per sample: its own V when the view's rays are not parallel
-    if constexpr (requires(HeightSampler<T>& hs, ResourceSamplers<T>& rs) {
+    if constexpr (requires(HeightSampler<T> & hs, ResourceSamplers<T> & rs) {
                       M::template eval<T>(cfg, sc, hs, rs, Vec2<T>());
                   }) {
         ResourceSamplers<T> rs;
         if (in.resources)
-            for (const BuiltResource& r : in.resources->items) rs.tex.emplace_back(*r.spec, *r.image);
+            for (const BuiltResource& r : in.resources->items)
+                rs.tex.emplace_back(*r.spec, *r.image);
         if (rs.tex.size() != M::describe().resources.size())
             throw std::logic_error("method resources missing: " + M::describe().name);
         const size_t stride = 1 + rs.tex.size();
@@ -148,7 +153,7 @@ MethodInfo make_method_info() {
         info.gl_uniforms = [](const ParamValues& p) { return M::gl_uniforms(M::configure(p, "")); };
     info.run_float = &run_method_batch<M, float>;
     info.run_double = &run_method_batch<M, double>;
-    if constexpr (requires(ParamValues& p) { M::complete_params(p); })
+    if constexpr (requires(ParamValues & p) { M::complete_params(p); })
         info.complete_params = [](ParamValues& p) { M::complete_params(p); };
     return info;
 }
@@ -171,7 +176,8 @@ struct MethodSpec {
     ParamValues params;
 };
 
-#define PXH_REGISTER_METHOD(M) \
-    [[maybe_unused]] static const bool pxh_registered_##M = ::pxh::register_method(::pxh::make_method_info<M>())
+#define PXH_REGISTER_METHOD(M)                              \
+    [[maybe_unused]] static const bool pxh_registered_##M = \
+        ::pxh::register_method(::pxh::make_method_info<M>())
 
 }  // namespace pxh

@@ -13,9 +13,12 @@ static std::vector<MethodInfo>& registry() {
 
 const char* glsl_type_name(GlslType t) {
     switch (t) {
-        case GlslType::Float: return "float";
-        case GlslType::Int: return "int";
-        case GlslType::Bool: return "bool";
+        case GlslType::Float:
+            return "float";
+        case GlslType::Int:
+            return "int";
+        case GlslType::Bool:
+            return "bool";
     }
     return "?";
 }
@@ -26,11 +29,15 @@ GlUniforms method_uniforms(const MethodInfo& m, const ParamValues& p) {
         if (s.uniform.empty()) continue;
         const ParamValue& v = p.value(s.name);
         switch (s.type) {
-            case ParamType::Real: out.push_back(GlUniform::real(s.uniform, v.number())); break;
+            case ParamType::Real:
+                out.push_back(GlUniform::real(s.uniform, v.number()));
+                break;
             case ParamType::Integer:
                 out.push_back(GlUniform::integer(s.uniform, int(v.number())));
                 break;
-            case ParamType::Bool: out.push_back(GlUniform::boolean(s.uniform, v.boolean())); break;
+            case ParamType::Bool:
+                out.push_back(GlUniform::boolean(s.uniform, v.boolean()));
+                break;
             case ParamType::Choice: {
                 const auto it = std::find(s.names.begin(), s.names.end(), v.name());
                 out.push_back(GlUniform::integer(s.uniform, int(it - s.names.begin())));
@@ -56,7 +63,8 @@ static void check_declarations(const MethodInfo& info) {
         if (!s.default_value)
             fail("parameter '" + s.name + "' reaches the shader, so it needs a default");
         if (s.type != ParamType::Choice && !s.names.empty())
-            fail("parameter '" + s.name + "' can be a name, so its uniform must be computed "
+            fail("parameter '" + s.name +
+                 "' can be a name, so its uniform must be computed "
                  "(gl_uniforms), not declared on the parameter");
     }
     std::set<std::string> resources;

@@ -25,8 +25,8 @@
 namespace pxh {
 
 enum class TexelFormat { R32F, RGBA32F };  // 1 or 4 floats per texel
-enum class TexFilter { Nearest, Linear };   // within a level (levels: nearest level)
-enum class TexWrap { Repeat, Clamp };       // GL_REPEAT, GL_CLAMP_TO_EDGE
+enum class TexFilter { Nearest, Linear };  // within a level (levels: nearest level)
+enum class TexWrap { Repeat, Clamp };      // GL_REPEAT, GL_CLAMP_TO_EDGE
 
 inline int channels(TexelFormat f) { return f == TexelFormat::R32F ? 1 : 4; }
 
@@ -108,7 +108,8 @@ class TextureSampler {
     std::array<T, 4> fetch(Vec2<T> uv, int level = 0) {
         ++fetches;
         const int L = int(image_->levels.size());
-        const ResourceLevel& lv = image_->levels[size_t(level < 0 ? 0 : (level >= L ? L - 1 : level))];
+        const ResourceLevel& lv =
+            image_->levels[size_t(level < 0 ? 0 : (level >= L ? L - 1 : level))];
         const T x = uv.x * T(lv.width), y = uv.y * T(lv.height);
         if (spec_->filter == TexFilter::Nearest)
             return texel(lv, index(std::floor(x), lv.width), index(std::floor(y), lv.height));

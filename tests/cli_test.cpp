@@ -1,19 +1,18 @@
 // The pxh binary end to end: results on disk, exit codes, no half-written results,
 // thread-count independence.
 #include <gtest/gtest.h>
-
-#include <nlohmann/json.hpp>
-
-#include "harness/results/csv_table.h"
-#include "harness/core/sha256.h"
-#include "tests/cli_util.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
+
+#include "harness/core/sha256.h"
+#include "harness/results/csv_table.h"
+#include "tests/cli_util.h"
 
 namespace {
 
@@ -51,18 +50,18 @@ TEST_F(Cli, RunWritesResultsAndProvenance) {
     std::istringstream lines(csv);
     std::string header;
     std::getline(lines, header);
-    for (const char* col : {"method", "params", "heightfield", "backend", "scale", "bias",
-                            "theta_deg", "phi_deg", "samples", "width", "height", "err_mean",
-                            "err_rms", "err_p50", "err_p95", "err_p99", "err_max", "frac_gt_0_5",
-                            "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max",
-                            "ns_per_sample"})
+    for (const char* col :
+         {"method",    "params",    "heightfield",  "backend",     "scale",        "bias",
+          "theta_deg", "phi_deg",   "samples",      "width",       "height",       "err_mean",
+          "err_rms",   "err_p50",   "err_p95",      "err_p99",     "err_max",      "frac_gt_0_5",
+          "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max", "ns_per_sample"})
         EXPECT_NE(header.find(col), std::string::npos) << col;
     int rows = 0;
     for (std::string line; std::getline(lines, line);) ++rows;
     EXPECT_EQ(rows, 3 * 2 * 2 * 3);  // methods x fields x phi x theta
     const std::string run = slurp(dir / "res" / "run.json");
-    for (const char* key : {"git_commit", "compiler", "cpu_model", "threads", "date_utc",
-                            "embree", "openimageio", "experiment"})
+    for (const char* key : {"git_commit", "compiler", "cpu_model", "threads", "date_utc", "embree",
+                            "openimageio", "experiment"})
         EXPECT_NE(run.find(key), std::string::npos) << key;
     EXPECT_NE(run.find("generator = \\\"spikes\\\""), std::string::npos);  // the file itself
     // Every timing comes with the spread of its repeats: min <= median <= max.
@@ -91,7 +90,8 @@ TEST_F(Cli, ThreadCountDoesNotChangeNumbers) {
         std::string out;
         for (size_t r = 0; r < t.rows.size(); ++r) {
             for (size_t c = 0; c < t.columns.size(); ++c)
-                if (t.columns[c].rfind("ns_per_sample", 0) != 0 && t.columns[c].rfind("ms_per_frame", 0) != 0 &&
+                if (t.columns[c].rfind("ns_per_sample", 0) != 0 &&
+                    t.columns[c].rfind("ms_per_frame", 0) != 0 &&
                     t.columns[c].rfind("gpu_ms", 0) != 0)
                     out += t.rows[r][c] + ",";
             out += "\n";
@@ -154,7 +154,9 @@ TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
         s.replace(s.find(from), from.size(), to);
         return s;
     };
-    struct Case { std::string text, expect; };
+    struct Case {
+        std::string text, expect;
+    };
     const Case cases[] = {
         {variant("name = \"pom\"", "name = \"nope\""), "unknown method 'nope'"},
         {variant("generator = \"fbm\"", "generator = \"nope\""), "unknown generator 'nope'"},
@@ -163,8 +165,10 @@ TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
         {variant("size = 16\nbias = 0.5", "size = 16\nbias = 2"), "bias must lie in [0, 1]"},
         {variant("size = 16\nbias = 0.5", "size = 16\nscale = -1"), "scale must be > 0"},
         {variant("samples = 24", "samples = 0"), "'samples' = 0"},
-        {variant("generator = \"fbm\"\nsize = 32", "file = \"missing.png\""), "missing.png' (paths are relative to the experiment file): no such file"},
-        {variant("generator = \"fbm\"\nsize = 32", "file = \"notimage.png\""), "notimage.png' (paths are relative to the experiment file): not a readable image"},
+        {variant("generator = \"fbm\"\nsize = 32", "file = \"missing.png\""),
+         "missing.png' (paths are relative to the experiment file): no such file"},
+        {variant("generator = \"fbm\"\nsize = 32", "file = \"notimage.png\""),
+         "notimage.png' (paths are relative to the experiment file): not a readable image"},
     };
     write("notimage.png", "hello, not a png\n");
     int k = 0;
@@ -174,7 +178,9 @@ TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
         const Result r = pxh("run " + exp + " --out " + out.string());
         EXPECT_EQ(r.status, 2) << c.expect;
         EXPECT_NE(r.err.find(c.expect), std::string::npos) << r.err;
-        EXPECT_TRUE(r.err.find(".toml") != std::string::npos || r.err.find(".png") != std::string::npos) << "names no file: " << r.err;
+        EXPECT_TRUE(r.err.find(".toml") != std::string::npos ||
+                    r.err.find(".png") != std::string::npos)
+            << "names no file: " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_FALSE(fs::exists(out)) << "a results folder was left for a failed run";
         for (const auto& e : fs::directory_iterator(dir))
@@ -188,7 +194,8 @@ TEST_F(Cli, BadInputsExitTwoWithOneLineAndNoResults) {
 // GLSL rows beside CPU rows; a broken shader fails only its own rows, with the driver's log.
 TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
     std::string text = kSmall;
-    text.replace(text.find("timing_repeats = 1"), 18, "timing_repeats = 1\nbackends = [\"cpu\", \"glsl\"]");
+    text.replace(text.find("timing_repeats = 1"), 18,
+                 "timing_repeats = 1\nbackends = [\"cpu\", \"glsl\"]");
     const auto exp = write("gl.toml", text);
     std::filesystem::create_directories(dir / "shaders");
     write("shaders/pom.frag.glsl", "vec2 pxh_method(vec2 P) { return undefined_thing; }\n");
@@ -208,7 +215,9 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
                 EXPECT_NE(line.find("method 'pom'"), std::string::npos) << line;
                 EXPECT_NE(line.find("undefined_thing"), std::string::npos) << line;
                 // The error names the file actually compiled, not the built-in path.
-                EXPECT_NE(line.find((dir / "shaders" / "pom.frag.glsl").string()), std::string::npos) << line;
+                EXPECT_NE(line.find((dir / "shaders" / "pom.frag.glsl").string()),
+                          std::string::npos)
+                    << line;
 
             } else {
                 ++glsl_ok;
@@ -228,9 +237,11 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
     for (size_t i = 0; i < t.rows.size(); ++i) {
         if (t.get(i, "backend") != "glsl") continue;
         const bool failed = t.get(i, "status") == "failed";
-        EXPECT_EQ(t.get(i, "shader"), failed ? (dir / "shaders" / "pom.frag.glsl").string() : "builtin");
-        for (const char* c : {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean",
-                              "ms_per_frame", "cpu_diff_max", "excluded", "gt_agree_p50"})
+        EXPECT_EQ(t.get(i, "shader"),
+                  failed ? (dir / "shaders" / "pom.frag.glsl").string() : "builtin");
+        for (const char* c :
+             {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean",
+              "ms_per_frame", "cpu_diff_max", "excluded", "gt_agree_p50"})
             if (failed) {
                 EXPECT_EQ(t.get(i, c), "") << c;
                 ++checked;
@@ -319,7 +330,8 @@ TEST_F(Cli, ListShowsMethodsAndGenerators) {
     for (const char* name : {"parallax", "pom", "layers_min", "relief", "binary_steps"})
         EXPECT_NE(m.out.find(name), std::string::npos) << name;
     const Result h = pxh("list heightfields");
-    for (const char* name : {"flat", "sine", "bumps", "bricks", "pyramids", "terraces", "fbm", "spikes"})
+    for (const char* name :
+         {"flat", "sine", "bumps", "bricks", "pyramids", "terraces", "fbm", "spikes"})
         EXPECT_NE(h.out.find(name), std::string::npos) << name;
     EXPECT_EQ(pxh("list nothing").status, 2);
 }
@@ -328,7 +340,8 @@ TEST_F(Cli, ListShowsMethodsAndGenerators) {
 
 // ./run.sh --help prints its usage, and only that.
 TEST_F(Cli, RunShHelpIsTheUsage) {
-    const std::string cmd = std::string(PXH_SOURCE_DIR) + "/run.sh --help > " + (dir / "h.txt").string();
+    const std::string cmd =
+        std::string(PXH_SOURCE_DIR) + "/run.sh --help > " + (dir / "h.txt").string();
     ASSERT_EQ(std::system(cmd.c_str()), 0);
     const std::string help = slurp(dir / "h.txt");
     EXPECT_NE(help.find("./run.sh test"), std::string::npos) << help;

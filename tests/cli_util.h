@@ -13,15 +13,22 @@
 
 namespace pxh::test {
 
-struct CliResult { int status; std::string out, err; };
+struct CliResult {
+    int status;
+    std::string out, err;
+};
 
 class CliTest : public ::testing::Test {
   protected:
-    std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                ("pxh_cli_test_" + std::to_string(::getpid()) + "_" +
-                                 ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() +
-                                 "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    void SetUp() override { std::filesystem::remove_all(dir); std::filesystem::create_directories(dir); }
+    std::filesystem::path dir =
+        std::filesystem::temp_directory_path() /
+        ("pxh_cli_test_" + std::to_string(::getpid()) + "_" +
+         ::testing::UnitTest::GetInstance()->current_test_info()->test_suite_name() + "_" +
+         ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    void SetUp() override {
+        std::filesystem::remove_all(dir);
+        std::filesystem::create_directories(dir);
+    }
     void TearDown() override { std::filesystem::remove_all(dir); }
 
     static std::string slurp(const std::filesystem::path& p) {
@@ -39,7 +46,8 @@ class CliTest : public ::testing::Test {
         const std::string cmd = std::string(PXH_BINARY) + " " + args + " >" +
                                 (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
         const int rc = std::system(cmd.c_str());
-        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"), slurp(dir / "err.txt")};
+        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"),
+                slurp(dir / "err.txt")};
     }
 };
 

@@ -1,12 +1,11 @@
 // Embree as the second ground truth, against the exact tracer.
-#include "harness/truth/embree_truth.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
-#include "harness/truth/ground_truth.h"
 #include "harness/metrics/metrics.h"
+#include "harness/truth/embree_truth.h"
+#include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
 

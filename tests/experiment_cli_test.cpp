@@ -38,14 +38,19 @@ name = "none"
     const auto r = pxh("run " + exp + " --out " + (dir / "out").string() + " --quiet");
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("pxh: warning: " + exp + ":5: theta_deg values are all below 1.6"),
-              std::string::npos) << r.err;
+              std::string::npos)
+        << r.err;
     EXPECT_NE(r.err.find("pxh: warning: " + exp + ":5: theta_deg is not in increasing order"),
-              std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("pxh: warning: " + exp + ":6: phi_deg outside [0, 360) normalised: -90 -> 270\n"),
-              std::string::npos) << r.err;
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("pxh: warning: " + exp +
+                         ":6: phi_deg outside [0, 360) normalised: -90 -> 270\n"),
+              std::string::npos)
+        << r.err;
     size_t warnings = 0;
     std::stringstream ss(r.err);
-    for (std::string line; std::getline(ss, line);) warnings += line.rfind("pxh: warning: ", 0) == 0;
+    for (std::string line; std::getline(ss, line);)
+        warnings += line.rfind("pxh: warning: ", 0) == 0;
     EXPECT_EQ(warnings, 3u) << r.err;
     // The rows use the normalised, sorted views.
     const std::string csv = slurp(dir / "out" / "results.csv");
@@ -73,7 +78,8 @@ name = "none"
 )");
     const auto r = pxh("run " + exp + " --out " + (dir / "out").string());
     EXPECT_EQ(r.status, 2);
-    EXPECT_EQ(r.err, "pxh: error: " + exp + ":4: heightfield file '" + (dir / "maps/missing.png").string() +
+    EXPECT_EQ(r.err, "pxh: error: " + exp + ":4: heightfield file '" +
+                         (dir / "maps/missing.png").string() +
                          "' (paths are relative to the experiment file): no such file\n");
     EXPECT_FALSE(fs::exists(dir / "out"));
 }
@@ -86,8 +92,9 @@ TEST_F(ExperimentCli, FifoIsRefusedNotRead) {
                             (dir / "out").string() + " 2>" + (dir / "err.txt").string();
     const int rc = std::system(cmd.c_str());
     EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, 2);
-    EXPECT_EQ(slurp(dir / "err.txt"), "pxh: error: " + fifo + ": not a regular file (a FIFO, socket "
-                                      "or device?): an experiment must be a regular file\n");
+    EXPECT_EQ(slurp(dir / "err.txt"), "pxh: error: " + fifo +
+                                          ": not a regular file (a FIFO, socket "
+                                          "or device?): an experiment must be a regular file\n");
 }
 
 TEST_F(ExperimentCli, ExperimentNameCannotEscapeTheResultsFolder) {
@@ -109,9 +116,11 @@ name = "none"
                             " --quiet >/dev/null 2>" + (dir / "err.txt").string();
     const int rc = std::system(cmd.c_str());
     EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, 2);
-    EXPECT_EQ(slurp(dir / "err.txt"), "pxh: error: " + exp + ":2: experiment name '../../../escaped' "
-                                      "contains '/' or '\\': it names the output folder, so it must "
-                                      "be a plain file name\n");
+    EXPECT_EQ(slurp(dir / "err.txt"),
+              "pxh: error: " + exp +
+                  ":2: experiment name '../../../escaped' "
+                  "contains '/' or '\\': it names the output folder, so it must "
+                  "be a plain file name\n");
     for (const auto& e : fs::recursive_directory_iterator(dir))
         EXPECT_EQ(e.path().filename().string().find("escaped"), std::string::npos) << e.path();
 }
@@ -128,7 +137,8 @@ size_t peak_rss_of(const std::vector<std::string>& args) {
     if (posix_spawn(&pid, PXH_BINARY, nullptr, nullptr, argv.data(), environ) != 0) return 0;
     int status = 0;
     struct rusage ru {};
-    if (wait4(pid, &status, 0, &ru) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) return 0;
+    if (wait4(pid, &status, 0, &ru) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        return 0;
     return size_t(ru.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
@@ -153,8 +163,8 @@ name = "none"
     ASSERT_GT(measured, 0u);
     // An estimate for refusing runs: at least what the run took, and not wildly more.
     EXPECT_GE(est.peak_bytes, measured) << est.detail;
-    EXPECT_LE(double(est.peak_bytes), 1.3 * double(measured)) << est.detail << "; measured "
-                                                              << measured / (1 << 20) << " MiB";
+    EXPECT_LE(double(est.peak_bytes), 1.3 * double(measured))
+        << est.detail << "; measured " << measured / (1 << 20) << " MiB";
 }
 
 }  // namespace

@@ -77,17 +77,22 @@ std::string replace(std::string s, const std::string& from, const std::string& t
 }
 
 TEST(Experiment, BadInputsNameFileLineAndProblem) {
-    struct Case { std::string from, to, expect; };
+    struct Case {
+        std::string from, to, expect;
+    };
     const Case cases[] = {
         {"samples = 16", "samples = 0", "bad.toml:3: 'samples' = 0 is outside [1, 8192]"},
         {"samples = 16", "sample = 16", "bad.toml:3: unknown key 'sample' in the experiment"},
         {"name = \"pom\"", "name = \"pomm\"", "bad.toml:14: unknown method 'pomm'"},
-        {"layers = [8, 16, 32]", "layer = 8", "bad.toml:15: unknown parameter 'layer' for method 'pom'"},
+        {"layers = [8, 16, 32]", "layer = 8",
+         "bad.toml:15: unknown parameter 'layer' for method 'pom'"},
         {"layers = [8, 16, 32]", "layers = 0", "parameter 'layers' = 0 is outside [1, 4096]"},
-        {"generator = \"bricks\"", "generator = \"brick\"", "bad.toml:8: unknown generator 'brick'"},
+        {"generator = \"bricks\"", "generator = \"brick\"",
+         "bad.toml:8: unknown generator 'brick'"},
         {"rows = [2, 4]", "rowz = 2", "unknown key 'rowz' in [[heightfields]]"},
         {"to = 80, step = 20", "to = 90, step = 30", "theta_deg = 90 is impossible"},
-        {"theta_deg = { from = 0, to = 80, step = 20 }", "theta_deg = [-5]", "theta_deg = -5 is impossible"},
+        {"theta_deg = { from = 0, to = 80, step = 20 }", "theta_deg = [-5]",
+         "theta_deg = -5 is impossible"},
         {"scale = [0.02, 0.05]", "scale = 0", "bad.toml:11: scale must be > 0"},
         {"bias = 1.0", "bias = 1.5", "bad.toml:12: bias must lie in [0, 1]"},
         {"layers_max = 32", "layers_max = 32\nlayers = 4", "give either 'layers'"},
@@ -98,7 +103,8 @@ TEST(Experiment, BadInputsNameFileLineAndProblem) {
     };
     for (const auto& c : cases) {
         const std::string err = error_of(replace(kGood, c.from, c.to));
-        EXPECT_NE(err.find(c.expect), std::string::npos) << "got: " << err << "\nwanted: " << c.expect;
+        EXPECT_NE(err.find(c.expect), std::string::npos)
+            << "got: " << err << "\nwanted: " << c.expect;
     }
     EXPECT_NE(error_of("[views]\ntheta_deg=[0]\n").find("no [[heightfields]]"), std::string::npos);
     EXPECT_NE(error_of("samples = 4\n").find("missing [views]"), std::string::npos);
@@ -129,7 +135,10 @@ class ExperimentFiles : public ::testing::Test {
     fs::path dir = fs::temp_directory_path() /
                    ("pxh_experiment_test_" + std::to_string(::getpid()) + "_" +
                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    void SetUp() override { fs::remove_all(dir); fs::create_directories(dir); }
+    void SetUp() override {
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+    }
     void TearDown() override { fs::remove_all(dir); }
 
     // A W x H image whose texels depend on `seed` (different seeds: different bytes).
@@ -143,9 +152,9 @@ class ExperimentFiles : public ::testing::Test {
     }
     std::string exp_path() const { return (dir / "e.toml").string(); }
     Experiment parse(const std::string& body) {
-        return parse_experiment("[views]\ntheta_deg = [0, 30]\n" + body +
-                                    "[[methods]]\nname = \"parallax\"\n",
-                                exp_path());
+        return parse_experiment(
+            "[views]\ntheta_deg = [0, 30]\n" + body + "[[methods]]\nname = \"parallax\"\n",
+            exp_path());
     }
     // The InputError message of parse(body), "" if it parses.
     std::string error_of(const std::string& body) {
@@ -169,7 +178,8 @@ TEST_F(ExperimentFiles, SameFileStemInTwoFoldersIsRefusedNamingBothEntries) {
     const std::string err = error_of(
         "[[heightfields]]\nfile = \"maps/rock16.png\"\n"
         "[[heightfields]]\nfile = \"maps/other/rock16.png\"\n");
-    EXPECT_TRUE(has(err, exp_path() + ":5: heightfield name 'rock16' is given to two different fields"))
+    EXPECT_TRUE(
+        has(err, exp_path() + ":5: heightfield name 'rock16' is given to two different fields"))
         << err;
     EXPECT_TRUE(has(err, "file:maps/rock16.png channel:0 (" + exp_path() + ":3)")) << err;
     EXPECT_TRUE(has(err, "file:maps/other/rock16.png channel:0 (" + exp_path() + ":5)")) << err;
@@ -196,8 +206,9 @@ TEST_F(ExperimentFiles, SameStemDifferentFormatsAndSameExplicitNameAreRefused) {
 }
 
 TEST_F(ExperimentFiles, GeneratorSeedsCollideUnlessSweptInOneEntry) {
-    const std::string err = error_of("[[heightfields]]\ngenerator = \"fbm\"\nseed = 1\n"
-                                     "[[heightfields]]\ngenerator = \"fbm\"\nseed = 2\n");
+    const std::string err = error_of(
+        "[[heightfields]]\ngenerator = \"fbm\"\nseed = 1\n"
+        "[[heightfields]]\ngenerator = \"fbm\"\nseed = 2\n");
     EXPECT_TRUE(has(err, "heightfield name 'fbm' is given to two different fields")) << err;
     EXPECT_TRUE(has(err, "seed=1] (" + exp_path() + ":3)")) << err;
     EXPECT_TRUE(has(err, "seed=2] (" + exp_path() + ":6)")) << err;
@@ -219,8 +230,9 @@ TEST_F(ExperimentFiles, ExactDuplicatesAreRefusedScaleSweepsAreNot) {
                     "this entry lists generator:sine"));
     // The same field at two scales, as two entries or one list: one name, told apart by the
     // scale column.
-    const Experiment ex = parse("[[heightfields]]\ngenerator = \"sine\"\nscale = 0.02\n"
-                                "[[heightfields]]\ngenerator = \"sine\"\nscale = [0.05, 0.1]\n");
+    const Experiment ex = parse(
+        "[[heightfields]]\ngenerator = \"sine\"\nscale = 0.02\n"
+        "[[heightfields]]\ngenerator = \"sine\"\nscale = [0.05, 0.1]\n");
     ASSERT_EQ(ex.heightfields.size(), 3u);
     for (const auto& h : ex.heightfields) EXPECT_EQ(h.name, "sine");
 }
@@ -258,10 +270,11 @@ TEST_F(ExperimentFiles, MissingOrBadImageNamesExperimentLineAndRelativePaths) {
         FAIL() << "loaded a text file";
     } catch (const InputError& e) {
         const std::string msg = e.what();
-        EXPECT_EQ(msg.rfind(exp_path() + ":3: heightfield file '" + (dir / "notes.png").string() +
-                                "' (paths are relative to the experiment file): not a readable image",
-                            0),
-                  0u)
+        EXPECT_EQ(
+            msg.rfind(exp_path() + ":3: heightfield file '" + (dir / "notes.png").string() +
+                          "' (paths are relative to the experiment file): not a readable image",
+                      0),
+            0u)
             << msg;
         EXPECT_FALSE(has(msg, "\n"));
     }
@@ -273,7 +286,8 @@ TEST_F(ExperimentFiles, GeneratorsObeyTheImageLimit) {
                              std::to_string(kMaxImageTexels) + " texels"))
         << err;
     // Exactly the limit parses (nothing is generated here).
-    EXPECT_EQ(error_of("[[heightfields]]\ngenerator = \"flat\"\nwidth = 16384\nheight = 4096\n"), "");
+    EXPECT_EQ(error_of("[[heightfields]]\ngenerator = \"flat\"\nwidth = 16384\nheight = 4096\n"),
+              "");
     EXPECT_TRUE(has(error_of("[[heightfields]]\ngenerator = \"flat\"\nwidth = 16385\n"),
                     "'width' = 16385 is outside [1, 16384]"));
 }
@@ -281,8 +295,9 @@ TEST_F(ExperimentFiles, GeneratorsObeyTheImageLimit) {
 TEST_F(ExperimentFiles, NamesThatWouldEscapeTheOutputFolderAreRefused) {
     auto err = [&](const std::string& head) {
         try {
-            parse_experiment(head + "\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = "
-                                    "\"flat\"\n[[methods]]\nname = \"none\"\n",
+            parse_experiment(head +
+                                 "\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = "
+                                 "\"flat\"\n[[methods]]\nname = \"none\"\n",
                              exp_path());
         } catch (const InputError& e) {
             return std::string(e.what());
@@ -294,7 +309,8 @@ TEST_F(ExperimentFiles, NamesThatWouldEscapeTheOutputFolderAreRefused) {
     EXPECT_TRUE(has(err("name = \"..\""), exp_path() + ":1: experiment name '..' starts with '.'"));
     EXPECT_TRUE(has(err("name = \"a\\\\b\""), "contains '/' or '\\'"));
     EXPECT_TRUE(has(err("name = \"\""), "experiment name '' is empty"));
-    EXPECT_TRUE(has(err("name = \"a\\nb\""), "experiment name 'a\\nb' contains control characters"));
+    EXPECT_TRUE(
+        has(err("name = \"a\\nb\""), "experiment name 'a\\nb' contains control characters"));
     EXPECT_EQ(err("name = \"ok-name_1.2\""), "");
     // Height field names go into map file names.
     EXPECT_TRUE(has(error_of("[[heightfields]]\ngenerator = \"flat\"\nname = \"x/y\"\n"),
@@ -333,8 +349,9 @@ TEST_F(ExperimentFiles, OnlyRegularFilesAreRead) {
     }
     done = true;
     writer.join();
-    EXPECT_EQ(err, fifo + ": not a regular file (a FIFO, socket or device?): an experiment must be "
-                          "a regular file");
+    EXPECT_EQ(err, fifo +
+                       ": not a regular file (a FIFO, socket or device?): an experiment must be "
+                       "a regular file");
     // A symlink to a regular file is followed.
     std::ofstream(dir / "real.toml") << "[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = "
                                         "\"flat\"\n[[methods]]\nname = \"none\"\n";
@@ -378,8 +395,7 @@ TEST(Params, OneCanonicalSpellingPerSetting) {
     EXPECT_EQ(canon(*find_method("parallax_clamped"), {{"max_offset", 0.02}}), "max_offset=0.02");
     // Adaptive: the bound not given is filled in, and layers says "adaptive".
     EXPECT_EQ(canon(pom, {{"layers_max", 64}}), "layers=adaptive;layers_min=8;layers_max=64");
-    EXPECT_EQ(canon(pom, {{"layers_min", 8}, {"layers_max", 32}}),
-              canon(pom, {{"layers_min", 8}}));
+    EXPECT_EQ(canon(pom, {{"layers_min", 8}, {"layers_max", 32}}), canon(pom, {{"layers_min", 8}}));
     // The filled set configures the same search: 33 fetches straight down for fixed 32, and
     // for adaptive 8..64 at theta = 0 (|V.z| = 1: n = layers_min = 8) 9.
     const Scene<double> down{};
@@ -405,16 +421,17 @@ TEST(Params, UnsetParametersKeepDeclarationOrder) {
 // ---- warnings (parse_experiment collects, load_experiment prints) ----
 
 Experiment with_views(const std::string& views, const std::string& field = "generator = \"flat\"") {
-    return parse_experiment("[views]\n" + views + "\n[[heightfields]]\n" + field +
-                                "\n[[methods]]\nname = \"none\"\n",
-                            "w.toml");
+    return parse_experiment(
+        "[views]\n" + views + "\n[[heightfields]]\n" + field + "\n[[methods]]\nname = \"none\"\n",
+        "w.toml");
 }
 
 TEST(Warnings, RadiansLookingTheta) {
     const Experiment ex = with_views("theta_deg = [0, 0.5, 1.2]");
     ASSERT_EQ(ex.warnings.size(), 1u);
-    EXPECT_EQ(ex.warnings[0], "w.toml:2: theta_deg values are all below 1.6 and not all whole "
-                              "numbers: they look like radians, but theta_deg is in degrees");
+    EXPECT_EQ(ex.warnings[0],
+              "w.toml:2: theta_deg values are all below 1.6 and not all whole "
+              "numbers: they look like radians, but theta_deg is in degrees");
     EXPECT_TRUE(with_views("theta_deg = [0, 1]").warnings.empty());     // whole degrees
     EXPECT_TRUE(with_views("theta_deg = [0.5, 30]").warnings.empty());  // not all small
 }
@@ -423,18 +440,21 @@ TEST(Warnings, PhiNormalisedAndDeduplicated) {
     const Experiment ex = with_views("theta_deg = [10]\nphi_deg = [-90, 360, 10, 0, 730]");
     EXPECT_EQ(ex.phi_deg, (std::vector<double>{270, 0, 10}));
     ASSERT_EQ(ex.warnings.size(), 2u);
-    EXPECT_EQ(ex.warnings[0], "w.toml:3: phi_deg outside [0, 360) normalised: -90 -> 270, 360 -> 0, "
-                              "730 -> 10");
-    EXPECT_EQ(ex.warnings[1], "w.toml:3: phi_deg repeats an azimuth (2 duplicate(s) dropped): each "
-                              "view is measured once");
+    EXPECT_EQ(ex.warnings[0],
+              "w.toml:3: phi_deg outside [0, 360) normalised: -90 -> 270, 360 -> 0, "
+              "730 -> 10");
+    EXPECT_EQ(ex.warnings[1],
+              "w.toml:3: phi_deg repeats an azimuth (2 duplicate(s) dropped): each "
+              "view is measured once");
 }
 
 TEST(Warnings, ThetaSortedAndDeduplicated) {
     Experiment ex = with_views("theta_deg = [60, 30, 60, 0]");
     EXPECT_EQ(ex.theta_deg, (std::vector<double>{0, 30, 60}));
     ASSERT_EQ(ex.warnings.size(), 1u);
-    EXPECT_EQ(ex.warnings[0], "w.toml:2: theta_deg is not in increasing order (sorted, 1 "
-                              "duplicate(s) dropped): views are measured in increasing theta, each once");
+    EXPECT_EQ(ex.warnings[0],
+              "w.toml:2: theta_deg is not in increasing order (sorted, 1 "
+              "duplicate(s) dropped): views are measured in increasing theta, each once");
     ex = with_views("theta_deg = [0, 30, 30]");
     EXPECT_EQ(ex.theta_deg, (std::vector<double>{0, 30}));
     ASSERT_EQ(ex.warnings.size(), 1u);
@@ -445,27 +465,36 @@ TEST(Warnings, ScaleWhoseErrorsSaturate) {
     // s = 5: s tan(theta) = 0.5 at theta = atan(0.1) = 5.7 degrees.
     Experiment ex = with_views("theta_deg = [0, 30]", "generator = \"flat\"\nscale = [0.05, 5]");
     ASSERT_EQ(ex.warnings.size(), 1u);
-    EXPECT_TRUE(has(ex.warnings[0], "w.toml:5: scale = 5: the parallax offset s*tan(theta) reaches "
-                                    "half a tile at theta = 5.7 deg"))
+    EXPECT_TRUE(has(ex.warnings[0],
+                    "w.toml:5: scale = 5: the parallax offset s*tan(theta) reaches "
+                    "half a tile at theta = 5.7 deg"))
         << ex.warnings[0];
     // One warning per scale value, naming every entry's line.
-    ex = with_views("theta_deg = [0, 30]", "generator = \"flat\"\nscale = 5\n[[heightfields]]\n"
-                                           "generator = \"sine\"\nscale = [1, 5]");
+    ex = with_views("theta_deg = [0, 30]",
+                    "generator = \"flat\"\nscale = 5\n[[heightfields]]\n"
+                    "generator = \"sine\"\nscale = [1, 5]");
     ASSERT_EQ(ex.warnings.size(), 2u);
     EXPECT_EQ(ex.warnings[0].rfind("w.toml:8: scale = 1: ", 0), 0u) << ex.warnings[0];
-    EXPECT_EQ(ex.warnings[1].rfind("w.toml:5: scale = 5 (also on lines 8): ", 0), 0u) << ex.warnings[1];
+    EXPECT_EQ(ex.warnings[1].rfind("w.toml:5: scale = 5 (also on lines 8): ", 0), 0u)
+        << ex.warnings[1];
     // The same scale only straight down, or grazing views with an ordinary scale: no warning.
-    EXPECT_TRUE(with_views("theta_deg = [0, 5]", "generator = \"flat\"\nscale = 5").warnings.empty());
-    EXPECT_TRUE(with_views("theta_deg = [0, 89.9]", "generator = \"flat\"\nscale = 0.05").warnings.empty());
+    EXPECT_TRUE(
+        with_views("theta_deg = [0, 5]", "generator = \"flat\"\nscale = 5").warnings.empty());
+    EXPECT_TRUE(
+        with_views("theta_deg = [0, 89.9]", "generator = \"flat\"\nscale = 0.05").warnings.empty());
     // s = 0.5 reaches half a tile at exactly 45 degrees.
-    EXPECT_EQ(with_views("theta_deg = [45]", "generator = \"flat\"\nscale = 0.5").warnings.size(), 1u);
-    EXPECT_TRUE(with_views("theta_deg = [44]", "generator = \"flat\"\nscale = 0.5").warnings.empty());
+    EXPECT_EQ(with_views("theta_deg = [45]", "generator = \"flat\"\nscale = 0.5").warnings.size(),
+              1u);
+    EXPECT_TRUE(
+        with_views("theta_deg = [44]", "generator = \"flat\"\nscale = 0.5").warnings.empty());
 }
 
 // ---- one line ----
 
 TEST(OneLine, ControlCharactersAreEscaped) {
-    EXPECT_EQ(one_line("a\nb\tc\rd\x01" "e\x7f"), "a\\nb\\tc\\rd\\x01e\\x7f");
+    EXPECT_EQ(one_line("a\nb\tc\rd\x01"
+                       "e\x7f"),
+              "a\\nb\\tc\\rd\\x01e\\x7f");
     EXPECT_EQ(one_line("plain ü"), "plain ü");  // UTF-8 passes
     EXPECT_STREQ(InputError("f:1", "x\ny").what(), "f:1: x\\ny");
 }
@@ -504,7 +533,8 @@ name = "pom"
 layers = [8, 16]
 [[methods]]
 name = "parallax"
-)", "e.toml");
+)",
+                                           "e.toml");
     // 3 fields x 4 theta x 3 phi x 3 settings x (2 precisions + 3 formats)
     EXPECT_EQ(estimate_run(ex, {}).rows, 3u * 4 * 3 * 3 * 5);
     EXPECT_EQ(estimate_run(ex, {"cpu"}).rows, 3u * 4 * 3 * 3 * 2);
@@ -517,7 +547,8 @@ TEST(Estimate, MemoryGrowsWithTheLargestFieldAndTheSamples) {
             parse_experiment("samples = " + std::to_string(samples) +
                                  "\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = "
                                  "\"flat\"\nsize = 16\n[[heightfields]]\ngenerator = \"sine\"\n"
-                                 "size = " + std::to_string(size) + "\n" + more +
+                                 "size = " +
+                                 std::to_string(size) + "\n" + more +
                                  "[[methods]]\nname = \"none\"\n",
                              "e.toml"),
             {});

@@ -1,14 +1,13 @@
 // The GLSL backend, rendered for real through OSMesa (llvmpipe): every registered method's
 // shader against its CPU float reference, shader errors, and texture quantisation.
-#include "harness/backends/glsl_backend.h"
-#include "harness/run/runner.h"
-
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
+#include "harness/backends/glsl_backend.h"
 #include "harness/metrics/metrics.h"
+#include "harness/run/runner.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
 
@@ -86,7 +85,8 @@ TEST(Glsl, EveryMethodHasAShaderBesideItsCpuReference) {
 // A broken shader from an override folder: a readable error naming the method, the file and
 // the driver's log, and no crash; the next method still renders.
 TEST(Glsl, BrokenShaderGivesReadableError) {
-    const auto dir = std::filesystem::temp_directory_path() / ("pxh_glsl_" + std::to_string(getpid()));
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("pxh_glsl_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "parallax.frag.glsl") << "vec2 pxh_method(vec2 P) { return P + oops; }\n";
     GlslBackend gl(GlslOptions{dir.string(), 1});

@@ -1,4 +1,5 @@
-// Exact tracer (docs/conventions.md section 4) against closed forms and an independent brute-force march.
+// Exact tracer (docs/conventions.md section 4) against closed forms and an independent brute-force
+// march.
 #include "harness/truth/ground_truth.h"
 
 #include <gtest/gtest.h>
@@ -58,10 +59,13 @@ TEST(ExactTracer, StraightDownHitsBilinearHeight) {
 // agrees with a fine brute-force march. Brute force may step over a clip thinner than its
 // step, so a mismatch is allowed only where the exact hit is earlier along the ray.
 TEST(ExactTracer, AgreesWithBruteForceMarch) {
-    struct Case { int w, h; double s, b, theta, phi; };
-    const Case cases[] = {{16, 16, 0.05, 1.0, 30, 0},   {16, 16, 0.05, 1.0, 60, 45},
-                          {32, 8, 0.1, 0.5, 75, 200},   {16, 16, 0.2, 0.0, 85, 130},
-                          {8, 8, 0.05, 1.0, 89, 10},    {5, 7, 0.5, 0.3, 80, 300},
+    struct Case {
+        int w, h;
+        double s, b, theta, phi;
+    };
+    const Case cases[] = {{16, 16, 0.05, 1.0, 30, 0}, {16, 16, 0.05, 1.0, 60, 45},
+                          {32, 8, 0.1, 0.5, 75, 200}, {16, 16, 0.2, 0.0, 85, 130},
+                          {8, 8, 0.05, 1.0, 89, 10},  {5, 7, 0.5, 0.3, 80, 300},
                           {16, 16, 1.0, 1.0, 70, 91}};
     int total = 0, exact_match = 0;
     for (const Case& c : cases) {
@@ -80,7 +84,8 @@ TEST(ExactTracer, AgreesWithBruteForceMarch) {
             } else {
                 // Exact must be the earlier hit (closer to the eye): further along +V.xy.
                 const double along_e = e.x * V.x + e.y * V.y, along_b = bf.x * V.x + bf.y * V.y;
-                EXPECT_GT(along_e, along_b) << "case theta=" << c.theta << " P=" << P.x << "," << P.y;
+                EXPECT_GT(along_e, along_b)
+                    << "case theta=" << c.theta << " P=" << P.x << "," << P.y;
             }
         }
     }
@@ -98,10 +103,13 @@ TEST(ExactTracer, TilingIsPeriodic) {
     }
 }
 
-// The maximum-mipmap tracer against the per-cell DDA: within 1e-9 texel on every ray (random fields of
-// awkward sizes, many scales and biases, angles up to 89.9 degrees).
+// The maximum-mipmap tracer against the per-cell DDA: within 1e-9 texel on every ray (random fields
+// of awkward sizes, many scales and biases, angles up to 89.9 degrees).
 TEST(ExactTracer, HierarchicalEqualsNaiveOnEveryRay) {
-    struct Case { int w, h; double s, b; };
+    struct Case {
+        int w, h;
+        double s, b;
+    };
     const Case cases[] = {{64, 64, 0.05, 1.0}, {300, 7, 0.1, 0.5}, {37, 129, 0.3, 0.0},
                           {1, 1, 0.05, 1.0},   {2, 2, 1.0, 0.5},   {128, 96, 0.02, 0.7},
                           {256, 256, 1.0, 1.0}};
@@ -129,14 +137,19 @@ TEST(ExactTracer, HierarchicalEqualsNaiveOnEveryRay) {
 // on every ray: random fields of awkward sizes, azimuths on the axes and diagonals (ties between
 // grid lines), rays starting exactly on grid lines (n = w, b = 1), angles to 89.9 degrees.
 TEST(ExactTracer, GridTracerEqualsNaiveOnEveryRay) {
-    struct Case { int w, h; double s, b; int n; };
+    struct Case {
+        int w, h;
+        double s, b;
+        int n;
+    };
     // n = w: one sample per cell (bands one cell wide, bounds from the cells themselves); fewer
     // samples: wider bands, bounds from coarser mipmap levels (odd sizes: partial blocks).
-    const Case cases[] = {{64, 64, 0.05, 1.0, 64}, {300, 7, 0.1, 0.5, 30}, {37, 129, 0.3, 0.0, 37},
-                          {1, 1, 0.05, 1.0, 5},    {2, 2, 1.0, 0.5, 8},    {128, 96, 0.02, 0.7, 50},
-                          {256, 256, 1.0, 1.0, 32}, {64, 64, 0.1, 1.0, 16}, {129, 67, 0.05, 0.5, 20},
-                          {129, 67, 0.3, 0.5, 10},  {3, 200, 0.5, 0.5, 2},  {200, 3, 0.5, 0.5, 2},
-                          {37, 129, 0.3, 0.0, 6},   {300, 7, 0.1, 0.5, 5}};
+    const Case cases[] = {
+        {64, 64, 0.05, 1.0, 64},  {300, 7, 0.1, 0.5, 30}, {37, 129, 0.3, 0.0, 37},
+        {1, 1, 0.05, 1.0, 5},     {2, 2, 1.0, 0.5, 8},    {128, 96, 0.02, 0.7, 50},
+        {256, 256, 1.0, 1.0, 32}, {64, 64, 0.1, 1.0, 16}, {129, 67, 0.05, 0.5, 20},
+        {129, 67, 0.3, 0.5, 10},  {3, 200, 0.5, 0.5, 2},  {200, 3, 0.5, 0.5, 2},
+        {37, 129, 0.3, 0.0, 6},   {300, 7, 0.1, 0.5, 5}};
     long long rays = 0, differ = 0;
     double worst = 0;
     for (const Case& c : cases) {
@@ -151,7 +164,8 @@ TEST(ExactTracer, GridTracerEqualsNaiveOnEveryRay) {
                 ASSERT_EQ(g.size(), P.size());
                 for (size_t k = 0; k < P.size(); ++k) {
                     const TruthHit b = tr.trace_naive(P[k], V);
-                    const double d = std::hypot((g[k].uv.x - b.uv.x) * c.w, (g[k].uv.y - b.uv.y) * c.h);
+                    const double d =
+                        std::hypot((g[k].uv.x - b.uv.x) * c.w, (g[k].uv.y - b.uv.y) * c.h);
                     worst = std::max(worst, d);
                     differ += (g[k].uv.x != b.uv.x || g[k].uv.y != b.uv.y || g[k].z != b.z);
                     ++rays;
@@ -171,7 +185,8 @@ TEST(ExactTracer, ViewTracerSeesWallsOnPartialBlocksAtTheSeam) {
         HeightField hf(W, H, "seam-wall");
         for (int j = 0; j < H; ++j)
             for (int i = 0; i < W; ++i)
-                hf.texels[size_t(j) * W + i] = (along_x ? i == W - 1 : j == H - 1) ? 1.0f : 0.05f * float((i * 7 + j * 3) % 5);
+                hf.texels[size_t(j) * W + i] =
+                    (along_x ? i == W - 1 : j == H - 1) ? 1.0f : 0.05f * float((i * 7 + j * 3) % 5);
         const ExactTracer tr(hf, 0.2, 1.0);
         const int n = 12;  // sparse samples: wide bands, bounds from level 2
         const auto P = sample_grid(n);
@@ -198,7 +213,8 @@ TEST(GroundTruth, IndependentOfThreadCount) {
         for (double theta : {70.0, 88.0}) {
             std::vector<GroundTruth> runs;
             for (int threads : {1, 2, 3}) {
-                tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+                tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                          size_t(threads));
                 runs.push_back(trace_ground_truth(hf, 0.05, 1.0, view_vector(theta, 10), n));
             }
             for (const GroundTruth& g : runs) {

@@ -1,9 +1,8 @@
 // Bilinear sampling (docs/conventions.md section 1), generators, and image loading.
 #include "harness/scene/heightfield.h"
 
-#include <gtest/gtest.h>
-
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
@@ -21,8 +20,10 @@ namespace fs = std::filesystem;
 // 2 x 2 field: row j = 0 is (0.0, 1.0), row j = 1 is (0.5, 0.25).
 HeightField two_by_two() {
     HeightField hf(2, 2);
-    hf.at(0, 0) = 0.0f; hf.at(1, 0) = 1.0f;
-    hf.at(0, 1) = 0.5f; hf.at(1, 1) = 0.25f;
+    hf.at(0, 0) = 0.0f;
+    hf.at(1, 0) = 1.0f;
+    hf.at(0, 1) = 0.5f;
+    hf.at(1, 1) = 0.25f;
     return hf;
 }
 
@@ -142,7 +143,8 @@ class ImageFiles : public ::testing::Test {
 TEST_F(ImageFiles, EightAndSixteenBitPngMapToUnitRange) {
     // Row 0 of the file holds 0 and 1; row 1 holds 128/255 and 64/255 (exact in 8 bit).
     const std::vector<float> px{0.0f, 1.0f, 128 / 255.0f, 64 / 255.0f};
-    const HeightField a = load_heightfield_file(write_image("a.png", 2, 2, 1, OIIO::TypeDesc::UINT8, px));
+    const HeightField a =
+        load_heightfield_file(write_image("a.png", 2, 2, 1, OIIO::TypeDesc::UINT8, px));
     EXPECT_EQ(a.width, 2);
     EXPECT_FLOAT_EQ(a.at(0, 0), 0.0f);  // first stored row is j = 0
     EXPECT_FLOAT_EQ(a.at(1, 0), 1.0f);
@@ -164,7 +166,8 @@ TEST_F(ImageFiles, TiffExrAndChannelChoice) {
     EXPECT_FLOAT_EQ(load_heightfield_file(exr).at(2, 0), 0.3f);
 }
 
-// PFM stores the bottom row first; docs/conventions.md section 1 takes the first stored row as j = 0.
+// PFM stores the bottom row first; docs/conventions.md section 1 takes the first stored row as j =
+// 0.
 TEST_F(ImageFiles, PfmFirstStoredRowIsRowZero) {
     std::string bytes = "Pf\n2 2\n-1.0\n";
     const float vals[4] = {0.125f, 0.25f, 0.5f, 0.75f};  // stored order

@@ -117,8 +117,7 @@ class HostileImages : public ::testing::Test {
         for (const auto& [k, v] : attrs) {
             if (v.find_first_not_of("0123456789") == std::string::npos)
                 spec.attribute(k, std::stoi(v));
-            else
-                spec.attribute(k, v);
+            else spec.attribute(k, v);
         }
         if (nch == 2 || nch == 4) {
             // Gray + alpha or RGBA, stored as given (not divided by alpha on the way out).
@@ -400,12 +399,9 @@ TEST_F(HostileImages, EveryFormatTruncatedAtEveryTenthIsRefused) {
                             std::to_string(maxval) + "\n";
             for (size_t i = 0; i < p.size(); ++i) {
                 const int v = int(std::lround(p[i] * maxval));
-                if (plain)
-                    s += std::to_string(v) + (i % 16 == 15 ? "\n" : " ");
-                else if (maxval < 256)
-                    s += char(v);
-                else
-                    s += std::string{char(v >> 8), char(v)};
+                if (plain) s += std::to_string(v) + (i % 16 == 15 ? "\n" : " ");
+                else if (maxval < 256) s += char(v);
+                else s += std::string{char(v >> 8), char(v)};
             }
             return self.bytes(file, s);
         };

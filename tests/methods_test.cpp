@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "harness/truth/ground_truth.h"
 #include "harness/metrics/metrics.h"
+#include "harness/truth/ground_truth.h"
 #include "methods/layered.h"
 #include "tests/test_util.h"
 
@@ -39,8 +39,8 @@ TEST(Parallax, PlanarSlopeRelativeErrorIsGradientTimesTan) {
             const Vec2d P{px, 0.5};
             const Vec2d uv = run_method<double>(method("parallax"), {}, sc, hf, {P})[0];
             const Vec2d truth = tr.trace(P, sc.V).uv;
-            const double rel = (offset_length(uv, P) - offset_length(truth, P)) /
-                               offset_length(truth, P);
+            const double rel =
+                (offset_length(uv, P) - offset_length(truth, P)) / offset_length(truth, P);
             // Heights are stored as float: the slope itself is exact only to ~1e-7.
             EXPECT_NEAR(std::abs(rel), g * std::tan(theta * M_PI / 180), 1e-6) << theta;
         }
@@ -84,12 +84,12 @@ TEST(ParallaxClamped, HugeClampIsParallaxZeroClampIsNone) {
     const auto sc = make_scene(hf, 0.05, 0.5, 75, 10);
     const auto P = test::random_points(300, 3);
     const auto par = run_method<float>(method("parallax"), {}, sc, hf, P);
-    const auto huge = run_method<float>(
-        method("parallax_clamped"), params_for(method("parallax_clamped"), {{"max_offset", 1e6}}),
-        sc, hf, P);
-    const auto zero = run_method<float>(
-        method("parallax_clamped"), params_for(method("parallax_clamped"), {{"max_offset", 0}}),
-        sc, hf, P);
+    const auto huge =
+        run_method<float>(method("parallax_clamped"),
+                          params_for(method("parallax_clamped"), {{"max_offset", 1e6}}), sc, hf, P);
+    const auto zero =
+        run_method<float>(method("parallax_clamped"),
+                          params_for(method("parallax_clamped"), {{"max_offset", 0}}), sc, hf, P);
     for (size_t i = 0; i < P.size(); ++i) {
         EXPECT_EQ(huge[i].x, par[i].x);
         EXPECT_EQ(huge[i].y, par[i].y);
@@ -147,9 +147,8 @@ TEST(Steep, FlatFieldErrorIsDistanceToFirstLayerBelow) {
     for (double theta : {30.0, 60.0, 80.0}) {
         const auto sc = make_scene(hf, s, 1.0, theta, 0);
         const Vec2d P{0.5, 0.5};
-        const Vec2d uv =
-            run_method<double>(method("steep"), params_for(method("steep"), {{"layers", n}}), sc,
-                               hf, {P})[0];
+        const Vec2d uv = run_method<double>(
+            method("steep"), params_for(method("steep"), {{"layers", n}}), sc, hf, {P})[0];
         const double d = s * (1 - double(level)), dz = s / n;
         const double k = std::ceil(d / dz);
         const double expect_uv = (k * dz - d) * std::tan(theta * M_PI / 180);
@@ -185,7 +184,8 @@ TEST(Relief, FlatFieldErrorHalvesPerBinaryStep) {
         }
         mean_err.push_back(sum / levels);
         EXPECT_NEAR(mean_err.back(), layer_texels * std::pow(0.5, steps) / 4,
-                    0.1 * layer_texels * std::pow(0.5, steps) / 4) << steps;
+                    0.1 * layer_texels * std::pow(0.5, steps) / 4)
+            << steps;
     }
     for (int m = 1; m <= 8; ++m) EXPECT_NEAR(mean_err[m - 1] / mean_err[m], 2.0, 0.3) << m;
 }
@@ -203,7 +203,8 @@ TEST(Layered, AdaptiveLayerCountIsTutorialMix) {
     EXPECT_DOUBLE_EQ(layer_count(c, Scene<double>{}), 8.0);  // straight down: n_min
 }
 
-// Fetch counts match the table in docs/conventions.md section 8: pom/steep k + 1, relief k + 1 + n_binary (k >= 1).
+// Fetch counts match the table in docs/conventions.md section 8: pom/steep k + 1, relief k + 1 +
+// n_binary (k >= 1).
 TEST(Layered, FetchCountsMatchTable) {
     const HeightField hf = test::random_field(64, 64, 12, 0.0f, 0.9f);  // never k = 0
     const auto sc = make_scene(hf, 0.05, 1.0, 60, 0);
@@ -224,7 +225,9 @@ TEST(Layered, FetchCountsMatchTable) {
 }
 
 // ---- Literal transcriptions of the tutorial's GLSL (depth maps, b = 1), in float ----
-struct TutorialOut { Vec2<float> steep, pom, relief; };
+struct TutorialOut {
+    Vec2<float> steep, pom, relief;
+};
 
 TutorialOut tutorial_glsl(const HeightField& hf, float height_scale, Vec3<float> viewDir,
                           Vec2<float> texCoords) {
@@ -290,8 +293,7 @@ TEST(Layered, MatchTutorialGlslTranscription) {
         const auto pom = run_method<float>(method("pom"), adaptive("pom"), sc, hf, P);
         const auto relief = run_method<float>(method("relief"), adaptive("relief"), sc, hf, P);
         for (size_t i = 0; i < P.size(); ++i) {
-            const TutorialOut t =
-                tutorial_glsl(hf, s, Vec3<float>(sc.V), Vec2<float>(P[i]));
+            const TutorialOut t = tutorial_glsl(hf, s, Vec3<float>(sc.V), Vec2<float>(P[i]));
             const Vec2d ours[3] = {steep[i], pom[i], relief[i]};
             const Vec2d theirs[3] = {Vec2d(t.steep), Vec2d(t.pom), Vec2d(t.relief)};
             for (int m = 0; m < 3; ++m) {
@@ -302,9 +304,10 @@ TEST(Layered, MatchTutorialGlslTranscription) {
             ++total;
         }
     }
-    // The tutorial accumulates uv and depth incrementally, docs/conventions.md section 6.3 computes uv_0 + k duv:
-    // float rounding differs, and at near-ties a layer decision can flip. Allow 0.1%.
-    for (int m = 0; m < 3; ++m) EXPECT_LE(off[m], total / 1000) << "method " << m << " worst " << worst[m];
+    // The tutorial accumulates uv and depth incrementally, docs/conventions.md section 6.3 computes
+    // uv_0 + k duv: float rounding differs, and at near-ties a layer decision can flip. Allow 0.1%.
+    for (int m = 0; m < 3; ++m)
+        EXPECT_LE(off[m], total / 1000) << "method " << m << " worst " << worst[m];
 }
 
 // ---- The pixel-offset paper's loop, literally (b = 0): move texel by texel along the eye
@@ -327,10 +330,11 @@ TEST(PixelStep, MatchesPaperLoopWithBiasZero) {
     for (double theta : {10.0, 45.0, 70.0, 85.0}) {
         const auto sc = make_scene(hf, 0.05, 0.0, theta, 250);
         const auto P = test::random_points(1000, 17);
-        const auto ours = run_method<float>(method("pixel_step"), params_for(method("pixel_step")),
-                                            sc, hf, P);
+        const auto ours =
+            run_method<float>(method("pixel_step"), params_for(method("pixel_step")), sc, hf, P);
         for (size_t i = 0; i < P.size(); ++i) {
-            const Vec2<float> t = paper_pixel_offset(hf, 0.05f, Vec3<float>(sc.V), Vec2<float>(P[i]));
+            const Vec2<float> t =
+                paper_pixel_offset(hf, 0.05f, Vec3<float>(sc.V), Vec2<float>(P[i]));
             off += std::hypot(ours[i].x - t.x, ours[i].y - t.y) * 128 > 1e-3;
             ++total;
         }

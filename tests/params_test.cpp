@@ -15,7 +15,9 @@ std::vector<ParamSpec> typed_specs() {
             ParamSpec::integer("n", 3, 1, 8, "an integer"),
             ParamSpec::boolean("flag", false, "a bool"),
             ParamSpec::choice("mode", {"slow", "fast"}, "slow", "a choice"),
-            ParamSpec::real("m", std::nullopt, 0, 1, "a real or a name").or_names({"auto"}).unset_as("auto")};
+            ParamSpec::real("m", std::nullopt, 0, 1, "a real or a name")
+                .or_names({"auto"})
+                .unset_as("auto")};
 }
 
 std::string error_of(const GivenParams& given) {
@@ -53,7 +55,8 @@ TEST(TypedParams, WrongTypeOrNameNamesTheKeyAndTheAcceptedValues) {
     EXPECT_EQ(error_of({{"m", "automatic"}}),
               "f.toml:7: method 'x' parameter 'm' = \"automatic\" must be a number in [0, 1] or "
               "\"auto\" (got a string)");
-    EXPECT_EQ(error_of({{"n", 2.5}}), "f.toml:7: method 'x' parameter 'n' = 2.5 must be an integer");
+    EXPECT_EQ(error_of({{"n", 2.5}}),
+              "f.toml:7: method 'x' parameter 'n' = 2.5 must be an integer");
     EXPECT_EQ(error_of({{"n", 9}}), "f.toml:7: method 'x' parameter 'n' = 9 is outside [1, 8]");
     EXPECT_EQ(error_of({{"n", 4}}), "");
 }
@@ -66,8 +69,9 @@ TEST(TypedParams, DescribedForList) {
     const auto s = typed_specs();
     EXPECT_EQ(describe_param(s[2]), "flag (default false, bool): a bool");
     EXPECT_EQ(describe_param(s[3]), "mode (default slow, one of \"slow\", \"fast\"): a choice");
-    EXPECT_EQ(describe_param(s[4]),
-              "m (unset by default (params: m=auto), number in [0, 1] or \"auto\"): a real or a name");
+    EXPECT_EQ(
+        describe_param(s[4]),
+        "m (unset by default (params: m=auto), number in [0, 1] or \"auto\"): a real or a name");
     EXPECT_EQ(describe_param(s[1]), "n (default 3, integer in [1, 8]): an integer");
 }
 
@@ -86,12 +90,15 @@ TEST(TypedParams, ModeNamesReadBackMeanTheSameSetting) {
               "layers=16;layers_min=off;layers_max=off");
     EXPECT_EQ(canon("pom", {{"layers_min", "off"}}), canon("pom", {}));
     EXPECT_EQ(canon("parallax_clamped", {{"max_offset", "scale"}}), "max_offset=scale");
-    EXPECT_EQ(canon("relief", {{"layers", 12.5}}), "layers=12.5;layers_min=off;layers_max=off;binary_steps=5");
+    EXPECT_EQ(canon("relief", {{"layers", 12.5}}),
+              "layers=12.5;layers_min=off;layers_max=off;binary_steps=5");
     // Mixed modes are still refused, also when spelled with names.
-    EXPECT_THROW(resolve_method_params(*find_method("pom"), {{"layers", "adaptive"}, {"layers_max", "off"}}, "x"),
+    EXPECT_THROW(resolve_method_params(*find_method("pom"),
+                                       {{"layers", "adaptive"}, {"layers_max", "off"}}, "x"),
                  InputError);
-    EXPECT_THROW(resolve_method_params(*find_method("pom"), {{"layers", 8}, {"layers_min", 4}}, "x"),
-                 InputError);
+    EXPECT_THROW(
+        resolve_method_params(*find_method("pom"), {{"layers", 8}, {"layers_min", 4}}, "x"),
+        InputError);
     // A name that is not the parameter's: refused, naming what is accepted.
     try {
         resolve_method_params(*find_method("pom"), {{"layers", "off"}}, "f.toml:3");
@@ -105,9 +112,10 @@ TEST(TypedParams, ModeNamesReadBackMeanTheSameSetting) {
 
 // The experiment file: a value of the wrong type is refused at its own line.
 TEST(TypedParams, ExperimentFileNamesTheLineTheKeyAndTheAcceptedValues) {
-    const std::string head = "name = \"t\"\nsamples = 8\n[views]\ntheta_deg = [0]\n"
-                             "[[heightfields]]\ngenerator = \"flat\"\nsize = 8\n"
-                             "[[methods]]\nname = \"relief\"\n";
+    const std::string head =
+        "name = \"t\"\nsamples = 8\n[views]\ntheta_deg = [0]\n"
+        "[[heightfields]]\ngenerator = \"flat\"\nsize = 8\n"
+        "[[methods]]\nname = \"relief\"\n";
     auto error = [&](const std::string& tail) {
         try {
             parse_experiment(head + tail, "e.toml");
@@ -116,25 +124,32 @@ TEST(TypedParams, ExperimentFileNamesTheLineTheKeyAndTheAcceptedValues) {
         }
         return std::string();
     };
-    EXPECT_EQ(error("binary_steps = \"many\"\n"),
-              "e.toml:10: method 'relief' parameter 'binary_steps' = \"many\" must be an integer in "
-              "[0, 64] (got a string)");
+    EXPECT_EQ(
+        error("binary_steps = \"many\"\n"),
+        "e.toml:10: method 'relief' parameter 'binary_steps' = \"many\" must be an integer in "
+        "[0, 64] (got a string)");
     EXPECT_EQ(error("layers = [8, true]\n"),
               "e.toml:10: method 'relief' parameter 'layers' = true must be a number in [1, 4096] "
               "or \"adaptive\" (got a bool)");
     EXPECT_EQ(error("layers = [8, \"adaptive\"]\n"), "");
     const Experiment ex = parse_experiment(head + "layers = [8, \"adaptive\"]\n", "e.toml");
     ASSERT_EQ(ex.methods.size(), 2u);
-    EXPECT_EQ(ex.methods[0].params.canonical(), "layers=8;layers_min=off;layers_max=off;binary_steps=5");
-    EXPECT_EQ(ex.methods[1].params.canonical(), "layers=adaptive;layers_min=8;layers_max=32;binary_steps=5");
+    EXPECT_EQ(ex.methods[0].params.canonical(),
+              "layers=8;layers_min=off;layers_max=off;binary_steps=5");
+    EXPECT_EQ(ex.methods[1].params.canonical(),
+              "layers=adaptive;layers_min=8;layers_max=32;binary_steps=5");
     // Generators' parameters are typed the same way.
     try {
-        parse_experiment("name = \"t\"\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = \"flat\"\nlevel = \"high\"\n"
-                         "[[methods]]\nname = \"none\"\n", "g.toml");
+        parse_experiment(
+            "name = \"t\"\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = \"flat\"\nlevel "
+            "= \"high\"\n"
+            "[[methods]]\nname = \"none\"\n",
+            "g.toml");
         FAIL();
     } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()), "g.toml:6: generator 'flat' parameter 'level' = \"high\" "
-                                         "must be a number in [0, 1] (got a string)");
+        EXPECT_EQ(std::string(e.what()),
+                  "g.toml:6: generator 'flat' parameter 'level' = \"high\" "
+                  "must be a number in [0, 1] (got a string)");
     }
 }
 
@@ -152,8 +167,9 @@ std::string uniforms_of(const char* method, const GivenParams& given = {}) {
 TEST(MethodUniforms, TypedFromOnePlace) {
     EXPECT_EQ(uniforms_of("parallax"), "");
     EXPECT_EQ(uniforms_of("pixel_step"), "int p_max_steps=16384");
-    EXPECT_EQ(uniforms_of("pom"),
-              "bool p_layers_adaptive=0 float p_layers=32 float p_layers_min=8 float p_layers_max=32");
+    EXPECT_EQ(
+        uniforms_of("pom"),
+        "bool p_layers_adaptive=0 float p_layers=32 float p_layers_min=8 float p_layers_max=32");
     EXPECT_EQ(uniforms_of("relief", {{"layers_max", 64}, {"binary_steps", 3}}),
               "int p_binary_steps=3 bool p_layers_adaptive=1 float p_layers=32 float "
               "p_layers_min=8 float p_layers_max=64");
@@ -188,9 +204,11 @@ TEST(MethodUniforms, BadDeclarationsAreRefusedAtRegistration) {
         }
         return std::string("registered");
     };
-    EXPECT_NE(refused(ParamSpec::integer("n", 1, 0, 9, "").to_uniform("n")).find("must start with p_"),
-              std::string::npos);
-    EXPECT_NE(refused(ParamSpec::integer("n", std::nullopt, 0, 9, "").to_uniform("p_n")).find("needs a default"),
+    EXPECT_NE(
+        refused(ParamSpec::integer("n", 1, 0, 9, "").to_uniform("n")).find("must start with p_"),
+        std::string::npos);
+    EXPECT_NE(refused(ParamSpec::integer("n", std::nullopt, 0, 9, "").to_uniform("p_n"))
+                  .find("needs a default"),
               std::string::npos);
     EXPECT_NE(refused(ParamSpec::real("n", 1, 0, 9, "").or_names({"auto"}).to_uniform("p_n"))
                   .find("can be a name"),

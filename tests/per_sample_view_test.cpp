@@ -8,8 +8,8 @@
 
 #include "harness/backends/cpu_backend.h"
 #include "harness/backends/glsl_backend.h"
-#include "harness/experiment/experiment.h"
 #include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
 #include "harness/metrics/metrics.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
@@ -115,7 +115,8 @@ TEST(PerSampleView, GlslRefusesSamplesOffTheGrid) {
     v.parallel = true;
     const Scene<double> sc{0.05, 1.0, v.V[0], hf.width, hf.height};
     try {
-        gl().run({&m, test::params_for(m)}, {sc, hf, v, nullptr, false, nullptr}, {"float", "r32f"});
+        gl().run({&m, test::params_for(m)}, {sc, hf, v, nullptr, false, nullptr},
+                 {"float", "r32f"});
         FAIL() << "no error";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("sample grid"), std::string::npos) << e.what();
@@ -125,8 +126,9 @@ TEST(PerSampleView, GlslRefusesSamplesOffTheGrid) {
 // The experiment names its camera under [views]; an unknown one is one line with the known.
 TEST(PerSampleView, ExperimentCameraKey) {
     const std::string base = "[views]\ntheta_deg = [0, 30]\n";
-    const std::string rest = "[[heightfields]]\ngenerator = \"flat\"\nsize = 8\n"
-                             "[[methods]]\nname = \"parallax\"\n";
+    const std::string rest =
+        "[[heightfields]]\ngenerator = \"flat\"\nsize = 8\n"
+        "[[methods]]\nname = \"parallax\"\n";
     EXPECT_EQ(parse_experiment(base + rest, "e.toml").camera, "orthographic");
     EXPECT_EQ(parse_experiment(base + "camera = \"orthographic\"\n" + rest, "e.toml").camera,
               "orthographic");

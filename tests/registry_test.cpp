@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "harness/truth/ground_truth.h"
 #include "harness/metrics/metrics.h"
+#include "harness/truth/ground_truth.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -47,8 +47,8 @@ void check_finite_and_bounded(const MethodInfo& m, const HeightField& hf, double
 }
 
 TEST_P(EveryMethod, FiniteAndWithinFetchBoundOnHardInputs) {
-    const HeightField fields[] = {test::flat_field(1, 1, 0.5f), test::random_field(2, 2, 1),
-                                  test::random_field(64, 64, 2), test::flat_field(16, 16, 0.0f),
+    const HeightField fields[] = {test::flat_field(1, 1, 0.5f),   test::random_field(2, 2, 1),
+                                  test::random_field(64, 64, 2),  test::flat_field(16, 16, 0.0f),
                                   test::flat_field(16, 16, 1.0f), test::random_field(7, 3, 3)};
     const char* names[] = {"1x1", "2x2", "64x64", "flat0", "flat1", "7x3"};
     for (int f = 0; f < 6; ++f)
@@ -78,10 +78,8 @@ TEST_P(EveryMethod, ExactOnFlatFieldExactlyWhenClaimed) {
                     worst = std::max(worst, std::hypot(e.x, e.y));
                 }
             }
-    if (m().exact_on_flat)
-        EXPECT_LT(worst, 1e-9) << m().name << " claims exactness on flat fields";
-    else
-        EXPECT_GT(worst, 1e-6) << m().name << " is exact on flat fields but does not claim it";
+    if (m().exact_on_flat) EXPECT_LT(worst, 1e-9) << m().name << " claims exactness on flat fields";
+    else EXPECT_GT(worst, 1e-6) << m().name << " is exact on flat fields but does not claim it";
 }
 
 // Float and double runs of the same method agree closely on a smooth field at a moderate

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/results/csv_table.h"
 #include "harness/core/error.h"
 #include "harness/report/report.h"
+#include "harness/results/csv_table.h"
 #include "harness/results/results.h"
 #include "tests/cli_util.h"
 
@@ -24,18 +24,20 @@ using Cells = std::map<std::string, std::string>;
 
 // The results.csv columns the report and check read.
 const std::vector<std::string> kColumns = {
-    "method", "params", "heightfield", "scale", "bias", "backend", "precision", "texture_format",
-    "theta_deg", "phi_deg", "err_mean", "err_p50", "err_p95", "err_p99", "frac_gt_1", "nonfinite",
-    "fetches_mean", "ns_per_sample", "ms_per_frame", "double_diff_max", "sliding", "shimmering",
-    "map", "status", "error"};
+    "method",       "params",          "heightfield", "scale",      "bias",         "backend",
+    "precision",    "texture_format",  "theta_deg",   "phi_deg",    "err_mean",     "err_p50",
+    "err_p95",      "err_p99",         "frac_gt_1",   "nonfinite",  "fetches_mean", "ns_per_sample",
+    "ms_per_frame", "double_diff_max", "sliding",     "shimmering", "map",          "status",
+    "error"};
 
 // One row: an ok CPU float row of pom layers=8 at theta 0, overridden by `cells`.
 Cells row(const Cells& cells) {
-    Cells r = {{"method", "pom"}, {"params", "layers=8"}, {"heightfield", "bricks"},
-               {"scale", "0.05"}, {"bias", "1"}, {"backend", "cpu"}, {"precision", "float"},
-               {"theta_deg", "0"}, {"phi_deg", "0"}, {"err_mean", "0.1"}, {"err_p50", "0.1"},
-               {"err_p95", "0.2"}, {"err_p99", "0.3"}, {"frac_gt_1", "0"}, {"nonfinite", "0"},
-               {"fetches_mean", "8"}, {"ns_per_sample", "10"}, {"status", "ok"}};
+    Cells r = {{"method", "pom"},      {"params", "layers=8"},  {"heightfield", "bricks"},
+               {"scale", "0.05"},      {"bias", "1"},           {"backend", "cpu"},
+               {"precision", "float"}, {"theta_deg", "0"},      {"phi_deg", "0"},
+               {"err_mean", "0.1"},    {"err_p50", "0.1"},      {"err_p95", "0.2"},
+               {"err_p99", "0.3"},     {"frac_gt_1", "0"},      {"nonfinite", "0"},
+               {"fetches_mean", "8"},  {"ns_per_sample", "10"}, {"status", "ok"}};
     for (const auto& [k, v] : cells) r[k] = v;
     return r;
 }
@@ -69,7 +71,8 @@ class ReportFolder : public pxh::test::CliTest {
         return res.string();
     }
     // What `f` prints on stdout (exceptions pass through).
-    template <class F> static std::string captured(F f) {
+    template <class F>
+    static std::string captured(F f) {
         testing::internal::CaptureStdout();
         try {
             f();
@@ -96,7 +99,8 @@ class ReportFolder : public pxh::test::CliTest {
         return {rc, out};
     }
     // The message of the InputError `f` throws ("" if it throws none).
-    template <class F> static std::string input_error(F f) {
+    template <class F>
+    static std::string input_error(F f) {
         try {
             f();
         } catch (const pxh::InputError& e) {
@@ -123,7 +127,8 @@ class ReportFolder : public pxh::test::CliTest {
                           const std::string& column) {
         const pxh::CsvTable t = pxh::read_csv((rep / "summary.csv").string());
         for (size_t r = 0; r < t.rows.size(); ++r)
-            if (t.get(r, "series") == series && t.get(r, "band") == band) return t.number(r, column);
+            if (t.get(r, "series") == series && t.get(r, "band") == band)
+                return t.number(r, column);
         ADD_FAILURE() << "no summary row " << series << " / " << band;
         return NAN;
     }
@@ -132,19 +137,30 @@ class ReportFolder : public pxh::test::CliTest {
 // Failed rows are listed (printed, failed.md, a line in summary.md) and kept out of every
 // statistic: here they carry numbers (as an old or edited results.csv may) that would show.
 TEST_F(ReportFolder, FailedRowsListedAndLeftOutOfEveryFigure) {
-    const Cells poison = {{"err_mean", "1000"}, {"err_p50", "1000"}, {"err_p95", "1000"},
-                          {"err_p99", "1000"}, {"fetches_mean", "1000"}, {"ns_per_sample", "1000"},
-                          {"double_diff_max", "1000"}, {"sliding", "1000"}, {"shimmering", "1000"},
-                          {"map", "maps/failed.png"}, {"status", "failed"}};
+    const Cells poison = {
+        {"err_mean", "1000"},        {"err_p50", "1000"},      {"err_p95", "1000"},
+        {"err_p99", "1000"},         {"fetches_mean", "1000"}, {"ns_per_sample", "1000"},
+        {"double_diff_max", "1000"}, {"sliding", "1000"},      {"shimmering", "1000"},
+        {"map", "maps/failed.png"},  {"status", "failed"}};
     Cells failed_pom = poison, failed_relief = poison;
     failed_pom.insert({{"theta_deg", "60"}, {"phi_deg", "45"}, {"error", "timed out"}});
-    failed_relief.insert({{"method", "relief"}, {"params", "layers=4"}, {"theta_deg", "60"},
+    failed_relief.insert({{"method", "relief"},
+                          {"params", "layers=4"},
+                          {"theta_deg", "60"},
                           {"error", "shader did not compile"}});
     const std::string res = results({
-        row({{"theta_deg", "0"}, {"double_diff_max", "2e-06"}, {"sliding", "0.01"},
-             {"shimmering", "0.02"}, {"map", "maps/a.png"}}),
-        row({{"theta_deg", "60"}, {"err_mean", "0.4"}, {"err_p50", "0.3"}, {"err_p95", "0.45"},
-             {"double_diff_max", "3e-06"}, {"sliding", "0.01"}, {"shimmering", "0.02"},
+        row({{"theta_deg", "0"},
+             {"double_diff_max", "2e-06"},
+             {"sliding", "0.01"},
+             {"shimmering", "0.02"},
+             {"map", "maps/a.png"}}),
+        row({{"theta_deg", "60"},
+             {"err_mean", "0.4"},
+             {"err_p50", "0.3"},
+             {"err_p95", "0.45"},
+             {"double_diff_max", "3e-06"},
+             {"sliding", "0.01"},
+             {"shimmering", "0.02"},
              {"map", "maps/b.png"}}),
         row(failed_pom),
         glsl("r32f", failed_relief),
@@ -156,10 +172,14 @@ TEST_F(ReportFolder, FailedRowsListedAndLeftOutOfEveryFigure) {
     EXPECT_NE(out.find("relief layers=4"), std::string::npos) << out;
     EXPECT_NE(out.find("shader did not compile"), std::string::npos) << out;
     const std::string failed = slurp(rep / "failed.md");
-    EXPECT_NE(failed.find("| relief | layers=4 | bricks s=0.05 b=1 | 60 | 0 | glsl/r32f | shader did not compile |"),
-              std::string::npos) << failed;
-    EXPECT_NE(failed.find("| pom | layers=8 | bricks s=0.05 b=1 | 60 | 45 | cpu/float | timed out |"),
-              std::string::npos) << failed;
+    EXPECT_NE(failed.find("| relief | layers=4 | bricks s=0.05 b=1 | 60 | 0 | glsl/r32f | shader "
+                          "did not compile |"),
+              std::string::npos)
+        << failed;
+    EXPECT_NE(
+        failed.find("| pom | layers=8 | bricks s=0.05 b=1 | 60 | 45 | cpu/float | timed out |"),
+        std::string::npos)
+        << failed;
     EXPECT_NE(slurp(rep / "summary.md").find("2 failed rows"), std::string::npos);
     // Out of every figure: the band 60-75 is the ok row alone, and no "1000" or relief (whose
     // only row failed) anywhere else.
@@ -178,8 +198,8 @@ TEST_F(ReportFolder, FailedRowsListedAndLeftOutOfEveryFigure) {
     // A setting with a failed row in a band is no budget candidate there (its ok row at 60
     // would meet 0.5 texel), but is where it did not fail.
     const std::string budget = slurp(rep / "budget.md");
-    EXPECT_EQ(md_row(budget, "0.5"), (std::vector<std::string>{
-                                         "0.5", "pom layers=8 (8.0 fetches)", "no setting meets this budget"}))
+    EXPECT_EQ(md_row(budget, "0.5"), (std::vector<std::string>{"0.5", "pom layers=8 (8.0 fetches)",
+                                                               "no setting meets this budget"}))
         << budget;
 }
 
@@ -188,8 +208,12 @@ TEST_F(ReportFolder, CheckFailsEveryLimitMatchingAFailedRow) {
     const std::string res = results({
         row({}),
         row({{"method", "parallax"}, {"params", ""}}),
-        glsl("r32f", {{"theta_deg", "30"}, {"status", "failed"}, {"error", "link error"},
-                      {"err_p95", ""}, {"fetches_mean", ""}, {"nonfinite", ""}}),
+        glsl("r32f", {{"theta_deg", "30"},
+                      {"status", "failed"},
+                      {"error", "link error"},
+                      {"err_p95", ""},
+                      {"fetches_mean", ""},
+                      {"nonfinite", ""}}),
     });
     const auto [rc, out] = check(res, R"(
 [[limit]]
@@ -228,7 +252,8 @@ TEST_F(ReportFolder, BandsWrittenExactlyAndSingleViewsFlagged) {
     EXPECT_NE(md.find("| 85 <= θ <= 90 mean / p95 |"), std::string::npos) << md;  // 2 views
     EXPECT_NE(md.find("0 <= θ < 30 holds only θ = 0"), std::string::npos) << md;
     EXPECT_NE(slurp(rep / "budget.md").find("| 30 <= θ < 60 † |"), std::string::npos);
-    EXPECT_NE(slurp(rep / "summary.tex").find("0 $\\le$ $\\theta$ $<$ 30 $^\\dagger$"), std::string::npos);
+    EXPECT_NE(slurp(rep / "summary.tex").find("0 $\\le$ $\\theta$ $<$ 30 $^\\dagger$"),
+              std::string::npos);
     EXPECT_EQ(summary(rep, "pom layers=8 [cpu/float]", "85 <= θ <= 90", "band_views"), 2);
     EXPECT_EQ(summary(rep, "pom layers=8 [cpu/float]", "30 <= θ < 60 †", "theta_lo"), 30);
 
@@ -236,7 +261,8 @@ TEST_F(ReportFolder, BandsWrittenExactlyAndSingleViewsFlagged) {
     o.bands = {0, 45, 90};
     report(res, o);
     const std::string md2 = slurp(rep / "summary.md");
-    EXPECT_NE(md2.find("| 0 <= θ < 45 mean / p95 | 45 <= θ <= 90 mean / p95 |"), std::string::npos) << md2;
+    EXPECT_NE(md2.find("| 0 <= θ < 45 mean / p95 | 45 <= θ <= 90 mean / p95 |"), std::string::npos)
+        << md2;
     EXPECT_EQ(md2.find("†"), std::string::npos) << md2;
     // Views outside the bands count only in "all".
     o.bands = {0, 45};
@@ -246,7 +272,8 @@ TEST_F(ReportFolder, BandsWrittenExactlyAndSingleViewsFlagged) {
     EXPECT_EQ(sum.get(0, "band"), "0 <= θ <= 45");
     EXPECT_EQ(sum.get(1, "band"), "all");
 
-    for (const auto& edges : std::vector<std::vector<double>>{{30, 0}, {0}, {0, 100}, {-5, 30}, {0, 30, 30}, {0, NAN}}) {
+    for (const auto& edges : std::vector<std::vector<double>>{
+             {30, 0}, {0}, {0, 100}, {-5, 30}, {0, 30, 30}, {0, NAN}}) {
         o.bands = edges;
         EXPECT_NE(input_error([&] { report(res, o); }).find("--bands"), std::string::npos);
     }
@@ -263,18 +290,37 @@ TEST_F(ReportFolder, BudgetPerSettingConservativeWithSelectableMetric) {
         row({{"theta_deg", "70"}, {"err_p95", "0.3"}, {"err_p99", "0.4"}}),
         glsl("r32f", {{"theta_deg", "70"}, {"err_p95", "0.7"}, {"err_p99", "0.8"}}),
         // pom layers=16: within 0.25 everywhere; float noise in its GLSL fetches.
-        row({{"params", "layers=16"}, {"theta_deg", "70"}, {"fetches_mean", "16"}, {"err_p95", "0.2"},
+        row({{"params", "layers=16"},
+             {"theta_deg", "70"},
+             {"fetches_mean", "16"},
+             {"err_p95", "0.2"},
              {"err_p99", "0.3"}}),
-        glsl("r32f", {{"params", "layers=16"}, {"theta_deg", "70"}, {"fetches_mean", "16.0001"},
-                      {"err_p95", "0.2"}, {"err_p99", "0.3"}}),
-        glsl("r8", {{"params", "layers=16"}, {"theta_deg", "70"}, {"fetches_mean", "15.9999"},
-                    {"err_p95", "0.2"}, {"err_p99", "0.3"}}),
+        glsl("r32f", {{"params", "layers=16"},
+                      {"theta_deg", "70"},
+                      {"fetches_mean", "16.0001"},
+                      {"err_p95", "0.2"},
+                      {"err_p99", "0.3"}}),
+        glsl("r8", {{"params", "layers=16"},
+                    {"theta_deg", "70"},
+                    {"fetches_mean", "15.9999"},
+                    {"err_p95", "0.2"},
+                    {"err_p99", "0.3"}}),
         // relief layers=4: cheaper, fine at p95, a long tail (p99, frac_gt_1).
-        row({{"method", "relief"}, {"params", "layers=4"}, {"theta_deg", "70"}, {"fetches_mean", "12"},
-             {"err_p95", "0.15"}, {"err_p99", "40"}, {"frac_gt_1", "0.02"}}),
+        row({{"method", "relief"},
+             {"params", "layers=4"},
+             {"theta_deg", "70"},
+             {"fetches_mean", "12"},
+             {"err_p95", "0.15"},
+             {"err_p99", "40"},
+             {"frac_gt_1", "0.02"}}),
         // steep layers=4: cheapest and accurate, but some outputs were NaN.
-        row({{"method", "steep"}, {"params", "layers=4"}, {"theta_deg", "70"}, {"fetches_mean", "4"},
-             {"err_p95", "0.01"}, {"err_p99", "0.01"}, {"nonfinite", "3"}}),
+        row({{"method", "steep"},
+             {"params", "layers=4"},
+             {"theta_deg", "70"},
+             {"fetches_mean", "4"},
+             {"err_p95", "0.01"},
+             {"err_p99", "0.01"},
+             {"nonfinite", "3"}}),
     });
     const fs::path rep = fs::path(res) / "report";
     auto budget_row = [&](const std::string& metric, const std::string& budget) {
@@ -302,13 +348,20 @@ TEST_F(ReportFolder, BudgetPerSettingConservativeWithSelectableMetric) {
 // the CPU point of pom layers=16 and push it off the CPU front.
 TEST_F(ReportFolder, ParetoFrontPerGroup) {
     const std::string res = results({
-        row({{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.30"}, {"ns_per_sample", "10"}}),
-        row({{"params", "layers=16"}, {"fetches_mean", "16"}, {"err_mean", "0.25"}, {"ns_per_sample", "20"}}),
+        row({{"params", "layers=8"},
+             {"fetches_mean", "8"},
+             {"err_mean", "0.30"},
+             {"ns_per_sample", "10"}}),
+        row({{"params", "layers=16"},
+             {"fetches_mean", "16"},
+             {"err_mean", "0.25"},
+             {"ns_per_sample", "20"}}),
         glsl("r32f", {{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.20"}}),
         glsl("r32f", {{"params", "layers=16"}, {"fetches_mean", "16"}, {"err_mean", "0.40"}}),
     });
     report(res);
-    const pxh::CsvTable t = pxh::read_csv((fs::path(res) / "report" / "data" / "cost_vs_error.csv").string());
+    const pxh::CsvTable t =
+        pxh::read_csv((fs::path(res) / "report" / "data" / "cost_vs_error.csv").string());
     std::map<std::string, std::string> flags;
     for (size_t r = 0; r < t.rows.size(); ++r)
         flags[t.get(r, "series")] = t.get(r, "group") + " " + t.get(r, "pareto_fetches") +
@@ -321,15 +374,18 @@ TEST_F(ReportFolder, ParetoFrontPerGroup) {
 
 // check matches params whatever the spaces around '=' and ';'.
 TEST_F(ReportFolder, CheckParamsIgnoresSpacesAroundSeparators) {
-    const std::string res = results({row({{"params", "layers=16;binary_steps=5"}}), row({{"params", "layers=8"}})});
-    for (const char* p : {"layers = 16; binary_steps = 5", " layers=16 ;binary_steps=5 ", "layers=16;binary_steps=5"}) {
-        const auto [rc, out] = check(res, std::string("[[limit]]\nparams = \"") + p +
-                                              "\"\ncolumn = \"err_p95\"\nmax = 1\n");
+    const std::string res =
+        results({row({{"params", "layers=16;binary_steps=5"}}), row({{"params", "layers=8"}})});
+    for (const char* p : {"layers = 16; binary_steps = 5", " layers=16 ;binary_steps=5 ",
+                          "layers=16;binary_steps=5"}) {
+        const auto [rc, out] = check(
+            res, std::string("[[limit]]\nparams = \"") + p + "\"\ncolumn = \"err_p95\"\nmax = 1\n");
         EXPECT_EQ(rc, 0) << p;
         EXPECT_NE(out.find("1 passed, 0 failed"), std::string::npos) << out;
     }
-    EXPECT_NE(input_error([&] { check(res, "[[limit]]\nparams = \"layers=1 6\"\ncolumn = \"err_p95\"\nmax = 1\n"); })
-                  .find("matches no row"),
+    EXPECT_NE(input_error([&] {
+                  check(res, "[[limit]]\nparams = \"layers=1 6\"\ncolumn = \"err_p95\"\nmax = 1\n");
+              }).find("matches no row"),
               std::string::npos);
 }
 
@@ -337,7 +393,10 @@ TEST_F(ReportFolder, CheckParamsIgnoresSpacesAroundSeparators) {
 // map paths stay relative to the results folder.
 TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
     const std::string res = results({
-        row({{"double_diff_max", "2e-06"}, {"sliding", "0.1"}, {"shimmering", "0.2"}, {"map", "maps/a.png"}}),
+        row({{"double_diff_max", "2e-06"},
+             {"sliding", "0.1"},
+             {"shimmering", "0.2"},
+             {"map", "maps/a.png"}}),
         glsl("r8", {{"map", "maps/b.png"}}),
         row({{"status", "failed"}, {"error", "x"}, {"theta_deg", "40"}, {"err_p95", ""}}),
     });
@@ -347,7 +406,9 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
     for (const auto& e : fs::recursive_directory_iterator(rep)) {
         if (!e.is_regular_file()) continue;
         ++files;
-        EXPECT_NE(out.find("wrote " + e.path().string() + "\n"), std::string::npos) << e.path() << "\n" << out;
+        EXPECT_NE(out.find("wrote " + e.path().string() + "\n"), std::string::npos)
+            << e.path() << "\n"
+            << out;
         if (e.path().extension() == ".csv") {
             EXPECT_EQ(slurp(e.path()).find("nan"), std::string::npos) << e.path();
         }
@@ -362,7 +423,8 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
 
 // Numbers are whole cells: the parser, and the report naming results.csv:LINE and the column.
 TEST(CsvNumbers, WholeCellsOnly) {
-    for (const char* bad : {"0.5garbage", "0x0 broken", "0x0", " 1", "1 ", "+1", "--1", "1,5", "one"})
+    for (const char* bad :
+         {"0.5garbage", "0x0 broken", "0x0", " 1", "1 ", "+1", "--1", "1,5", "one"})
         EXPECT_FALSE(pxh::parse_number(bad).has_value()) << bad;
     EXPECT_FALSE(pxh::parse_number("").has_value());
     EXPECT_EQ(*pxh::parse_number("inf"), INFINITY);
@@ -374,15 +436,19 @@ TEST(CsvNumbers, WholeCellsOnly) {
 
 TEST_F(ReportFolder, MalformedNumberNamesLineAndColumn) {
     // A quoted newline in row 1: row 2 starts on line 4.
-    const std::string res = results({row({{"error", "two\nlines"}}), row({{"err_p95", "0.5garbage"}})});
+    const std::string res =
+        results({row({{"error", "two\nlines"}}), row({{"err_p95", "0.5garbage"}})});
     const pxh::CsvTable t = pxh::read_csv(res + "/results.csv");
     EXPECT_EQ(t.number(0, "err_p95"), 0.2);
     EXPECT_TRUE(std::isnan(t.number(0, "map")));
     EXPECT_TRUE(std::isnan(t.number(0, "no such column")));
     const std::string e = input_error([&] { report(res); });
-    EXPECT_NE(e.find("results.csv:4: column 'err_p95': '0.5garbage' is not a number"), std::string::npos) << e;
+    EXPECT_NE(e.find("results.csv:4: column 'err_p95': '0.5garbage' is not a number"),
+              std::string::npos)
+        << e;
     results({row({{"fetches_mean", "0x0 broken"}})});
-    EXPECT_NE(input_error([&] { report(res); }).find("results.csv:2: column 'fetches_mean'"), std::string::npos);
+    EXPECT_NE(input_error([&] { report(res); }).find("results.csv:2: column 'fetches_mean'"),
+              std::string::npos);
 }
 
 // results.csv is read once into typed rows: a malformed number in any numeric column (used by
@@ -411,18 +477,21 @@ TEST_F(ReportFolder, MalformedNumberIsOneLineExit2) {
 TEST_F(ReportFolder, NanLimitsAndTextColumnsRefused) {
     const std::string res = results({row({})});
     for (const char* limit : {"max = nan", "min = nan", "max = 1\ntheta_max = nan", "min = -nan"}) {
-        const std::string e = input_error([&] {
-            check(res, std::string("\n[[limit]]\ncolumn = \"err_p95\"\n") + limit + "\n");
-        });
+        const std::string e = input_error(
+            [&] { check(res, std::string("\n[[limit]]\ncolumn = \"err_p95\"\n") + limit + "\n"); });
         EXPECT_NE(e.find("limits.toml:2: '"), std::string::npos) << e;
         EXPECT_NE(e.find("' is nan, not a limit"), std::string::npos) << e;
     }
-    const std::string e = input_error([&] { check(res, "[[limit]]\ncolumn = \"method\"\nmax = 1\n"); });
+    const std::string e =
+        input_error([&] { check(res, "[[limit]]\ncolumn = \"method\"\nmax = 1\n"); });
     EXPECT_NE(e.find("column 'method' is not numeric"), std::string::npos) << e;
-    const auto r = pxh("check " + res + " --accept-edited --thresholds " + write("t.toml", "[[limit]]\ncolumn = \"method\"\nmax = 1\n"));
+    const auto r = pxh("check " + res + " --accept-edited --thresholds " +
+                       write("t.toml", "[[limit]]\ncolumn = \"method\"\nmax = 1\n"));
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_NE(r.err.find("pxh: error: " + (dir / "t.toml").string() + ":1: column 'method' is not numeric"),
-              std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("pxh: error: " + (dir / "t.toml").string() +
+                         ":1: column 'method' is not numeric"),
+              std::string::npos)
+        << r.err;
 }
 
 // A FIFO (or anything not a regular file) as thresholds file or results.csv is refused at once
@@ -441,7 +510,8 @@ TEST_F(ReportFolder, NonRegularFilesRefused) {
     };
     auto r = run("check " + res + " --accept-edited --thresholds " + fifo);
     EXPECT_EQ(r.status, 2) << r.out << r.err;
-    EXPECT_NE(r.err.find("pxh: error: " + fifo + ": is not a regular file"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("pxh: error: " + fifo + ": is not a regular file"), std::string::npos)
+        << r.err;
     r = run("check " + res + " --accept-edited --thresholds " + dir.string());
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("is not a regular file"), std::string::npos) << r.err;
@@ -481,19 +551,23 @@ name = "parallax"
                                 quote(name) + " >" + quote((dir / "out.txt").string()) + " 2>" +
                                 quote((dir / "err.txt").string());
         const int rc = std::system(cmd.c_str());
-        EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0) << name << ": " << slurp(dir / "err.txt");
+        EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0)
+            << name << ": " << slurp(dir / "err.txt");
         EXPECT_FALSE(fs::exists(dir / "INJECTED")) << name;
         EXPECT_TRUE(fs::exists(res / "report" / "cost_vs_error.png")) << name;
         EXPECT_TRUE(fs::exists(res / "report" / "error_maps_montage.png")) << name;
-        EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos) << slurp(dir / "err.txt");
+        EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos)
+            << slurp(dir / "err.txt");
     }
     // The report of a moved folder still finds its error maps (paths relative to the folder).
     fs::rename(dir / "it's here", dir / "moved");
-    const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) + "/harness/report/plot_report.py " +
+    const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) +
+                            "/harness/report/plot_report.py " +
                             quote((dir / "moved" / "report").string()) + " >/dev/null 2>" +
                             quote((dir / "err.txt").string());
     EXPECT_EQ(std::system(cmd.c_str()), 0);
-    EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos) << slurp(dir / "err.txt");
+    EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos)
+        << slurp(dir / "err.txt");
 }
 
 }  // namespace

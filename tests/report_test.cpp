@@ -47,9 +47,11 @@ layers = [8, 32]
 )";
         // A failed set-up must fail every test of the suite (SetUp below), not skip them: a
         // fatal failure here would make gtest skip the tests, and ctest count them as skipped.
-        const int rc = run("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "res").string());
+        const int rc =
+            run("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "res").string());
         if (rc != 0)
-            setup_error = "the suite's `pxh run` exited " + std::to_string(rc) + ": " + slurp(dir / "err.txt");
+            setup_error = "the suite's `pxh run` exited " + std::to_string(rc) + ": " +
+                          slurp(dir / "err.txt");
     }
     void SetUp() override { ASSERT_EQ(setup_error, "") << "suite set-up failed"; }
     static void TearDownTestSuite() { fs::remove_all(dir); }
@@ -94,7 +96,8 @@ max = 1.0
 column = "nonfinite"
 max = 0
 )");
-    EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + t), 0) << slurp(dir / "err.txt");
+    EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + t), 0)
+        << slurp(dir / "err.txt");
     EXPECT_NE(slurp(dir / "out.txt").find("2 passed, 0 failed"), std::string::npos);
 }
 
@@ -105,8 +108,9 @@ TEST_F(ReportCheck, TightenedLimitFails) {
     for (size_t r = 0; r < t.rows.size(); ++r)
         if (t.get(r, "method") == "steep") worst = std::max(worst, t.number(r, "err_p95"));
     ASSERT_GT(worst, 0);
-    const auto th = thresholds("tight.toml", "[[limit]]\nmethod = \"steep\"\ncolumn = \"err_p95\"\nmax = " +
-                                                 std::to_string(worst / 2) + "\n");
+    const auto th =
+        thresholds("tight.toml", "[[limit]]\nmethod = \"steep\"\ncolumn = \"err_p95\"\nmax = " +
+                                     std::to_string(worst / 2) + "\n");
     EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + th), 1);
     EXPECT_NE(slurp(dir / "out.txt").find("FAIL"), std::string::npos);
 }
@@ -133,13 +137,16 @@ max = 0.001
 )");
     EXPECT_EQ(run("check " + (dir / "res").string() + " --thresholds " + th), 0);
     ASSERT_EQ(run("run " + (dir / "exp.toml").string() + " --quiet --shader-dir " +
-                  (dir / "shaders").string() + " --out " + (dir / "perturbed").string()), 0);
+                  (dir / "shaders").string() + " --out " + (dir / "perturbed").string()),
+              0);
     EXPECT_EQ(run("check " + (dir / "perturbed").string() + " --thresholds " + th), 1);
 }
 
 TEST_F(ReportCheck, MalformedOrEmptyLimitsExitTwo) {
     const std::string res = (dir / "res").string();
-    struct Case { std::string text, expect; };
+    struct Case {
+        std::string text, expect;
+    };
     const Case cases[] = {
         {"[[limit]]\nmethod = \"nope\"\ncolumn = \"err_p95\"\nmax = 1\n", "matches no row"},
         {"[[limit]]\ncolumn = \"err_p96\"\nmax = 1\n", "no column 'err_p96'"},
@@ -156,17 +163,19 @@ TEST_F(ReportCheck, MalformedOrEmptyLimitsExitTwo) {
         EXPECT_NE(err.find(c.expect), std::string::npos) << err;
         EXPECT_NE(err.find(th), std::string::npos) << "names no file: " << err;
     }
-    EXPECT_EQ(run("check " + (dir / "nowhere").string() + " --thresholds " + (dir / "bad0.toml").string()), 2);
+    EXPECT_EQ(run("check " + (dir / "nowhere").string() + " --thresholds " +
+                  (dir / "bad0.toml").string()),
+              2);
 }
 
 // The report's numbers are the harness's: recompute two of them from results.csv here.
 TEST_F(ReportCheck, ReportTablesAndPlots) {
     ASSERT_EQ(run("report " + (dir / "res").string()), 0) << slurp(dir / "err.txt");
     const fs::path rep = dir / "res" / "report";
-    for (const char* f : {"summary.csv", "summary.md", "summary.tex", "budget.md", "budget.tex",
-                          "sweep.md", "error_vs_theta.png", "error_vs_theta.svg",
-                          "sweep_vs_theta.png", "cost_vs_error.png", "cost_vs_error.svg",
-                          "error_maps_montage.png"})
+    for (const char* f :
+         {"summary.csv", "summary.md", "summary.tex", "budget.md", "budget.tex", "sweep.md",
+          "error_vs_theta.png", "error_vs_theta.svg", "sweep_vs_theta.png", "cost_vs_error.png",
+          "cost_vs_error.svg", "error_maps_montage.png"})
         EXPECT_TRUE(fs::exists(rep / f)) << f;
     const pxh::CsvTable res = pxh::read_csv((dir / "res" / "results.csv").string());
     const pxh::CsvTable sum = pxh::read_csv((rep / "summary.csv").string());
@@ -183,7 +192,8 @@ TEST_F(ReportCheck, ReportTablesAndPlots) {
     ASSERT_EQ(n, 2);
     bool found = false;
     for (size_t r = 0; r < sum.rows.size(); ++r)
-        if (sum.get(r, "series") == "pom " + pom32_params() + " [cpu/float]" && sum.get(r, "band") == "60 <= θ < 75 †") {
+        if (sum.get(r, "series") == "pom " + pom32_params() + " [cpu/float]" &&
+            sum.get(r, "band") == "60 <= θ < 75 †") {
             EXPECT_NEAR(sum.number(r, "err_mean"), s / n, 1e-6 * (1 + s / n));
             found = true;
         }

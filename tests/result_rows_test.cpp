@@ -26,17 +26,60 @@ namespace fs = std::filesystem;
 
 // The header pxh wrote before rows became named cells (identity with earlier results).
 TEST(ResultRows, HeaderKeepsItsOrder) {
-    const std::vector<std::string> expected = {
-        "method", "params", "heightfield", "heightfield_id", "backend", "precision",
-        "texture_format", "shader", "scale", "bias", "theta_deg", "phi_deg", "samples", "width",
-        "height", "err_mean", "err_rms", "err_p50", "err_p95", "err_p99", "err_max",
-        "frac_gt_0_5", "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max", "fetches_bound",
-        "ns_per_sample", "ns_per_sample_min", "ns_per_sample_max", "ms_per_frame",
-        "ms_per_frame_min", "ms_per_frame_max", "cpu_diff_max", "cpu_diff_p999",
-        "decision_mismatch", "double_diff_max", "double_diff_p999", "sliding", "shimmering",
-        "sweep_dt_deg", "map", "gt_on_filled", "excluded", "gt_cells_mean", "ground_truth",
-        "gt_agree_p50", "gt_agree_p99", "gt_agree_max", "gt_agree_frac_gt_0_5", "shadow_err",
-        "shadow_soft_mae", "status", "error"};
+    const std::vector<std::string> expected = {"method",
+                                               "params",
+                                               "heightfield",
+                                               "heightfield_id",
+                                               "backend",
+                                               "precision",
+                                               "texture_format",
+                                               "shader",
+                                               "scale",
+                                               "bias",
+                                               "theta_deg",
+                                               "phi_deg",
+                                               "samples",
+                                               "width",
+                                               "height",
+                                               "err_mean",
+                                               "err_rms",
+                                               "err_p50",
+                                               "err_p95",
+                                               "err_p99",
+                                               "err_max",
+                                               "frac_gt_0_5",
+                                               "frac_gt_1",
+                                               "nonfinite",
+                                               "fetches_mean",
+                                               "fetches_max",
+                                               "fetches_bound",
+                                               "ns_per_sample",
+                                               "ns_per_sample_min",
+                                               "ns_per_sample_max",
+                                               "ms_per_frame",
+                                               "ms_per_frame_min",
+                                               "ms_per_frame_max",
+                                               "cpu_diff_max",
+                                               "cpu_diff_p999",
+                                               "decision_mismatch",
+                                               "double_diff_max",
+                                               "double_diff_p999",
+                                               "sliding",
+                                               "shimmering",
+                                               "sweep_dt_deg",
+                                               "map",
+                                               "gt_on_filled",
+                                               "excluded",
+                                               "gt_cells_mean",
+                                               "ground_truth",
+                                               "gt_agree_p50",
+                                               "gt_agree_p99",
+                                               "gt_agree_max",
+                                               "gt_agree_frac_gt_0_5",
+                                               "shadow_err",
+                                               "shadow_soft_mae",
+                                               "status",
+                                               "error"};
     std::vector<std::string> have = result_columns();
     // Columns added since (by other metrics) sit before status and error; the rest is fixed.
     have.erase(std::remove_if(have.begin(), have.end(),
@@ -79,7 +122,8 @@ TEST(ResultRows, FailedRowsAndFormats) {
     const auto cols = result_columns();
     auto cell = [&](const std::string& line, const std::string& col) {
         const pxh::CsvTable t = [&] {
-            const fs::path p = fs::temp_directory_path() / ("pxh_rows_" + std::to_string(::getpid()) + ".csv");
+            const fs::path p =
+                fs::temp_directory_path() / ("pxh_rows_" + std::to_string(::getpid()) + ".csv");
             std::ofstream(p) << header << "\n" << line << "\n";
             auto r = read_csv(p.string());
             fs::remove(p);
@@ -150,8 +194,9 @@ TEST_F(RegisteredMetric, ReachesResultsCsvAndIsReadBackTyped) {
         double most = 0;
         for (const auto& r : rows) most = std::max(most, r.num("test_fetch_total"));
         auto check = [&](double max) {
-            const std::string t = write("t.toml", "[[limit]]\ncolumn = \"test_fetch_total\"\nmax = " +
-                                                       std::to_string(max) + "\n");
+            const std::string t = write(
+                "t.toml",
+                "[[limit]]\ncolumn = \"test_fetch_total\"\nmax = " + std::to_string(max) + "\n");
             testing::internal::CaptureStdout();
             const int rc = run_check((dir / "res").string(), t);
             testing::internal::GetCapturedStdout();
@@ -172,7 +217,8 @@ TEST_F(RegisteredMetric, ReachesResultsCsvAndIsReadBackTyped) {
             ADD_FAILURE() << "a malformed cell was read";
         } catch (const InputError& e) {
             EXPECT_NE(std::string(e.what()).find("results.csv:2: column 'test_fetch_total': 'x"),
-                      std::string::npos) << e.what();
+                      std::string::npos)
+                << e.what();
         }
     }
     const auto cols = result_columns();

@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "harness/results/csv_table.h"
 #include "harness/core/sha256.h"
+#include "harness/results/csv_table.h"
 #include "tests/cli_util.h"
 
 namespace {
@@ -75,13 +75,15 @@ class RunFolder : public pxh::test::CliTest {
 TEST_F(RunFolder, CurrentFolderAndParentsAreRefused) {
     const auto exp = write("e.toml", kTiny);
     write("keep.txt", "mine");
-    for (const std::string& out : std::vector<std::string>{".", "..", "./", dir.string(), "../" + dir.filename().string()}) {
-        const std::string cmd = "cd '" + dir.string() + "' && " + PXH_BINARY + " run e.toml --quiet --out '" +
-                                out + "' > out.txt 2> err.txt";
+    for (const std::string& out :
+         std::vector<std::string>{".", "..", "./", dir.string(), "../" + dir.filename().string()}) {
+        const std::string cmd = "cd '" + dir.string() + "' && " + PXH_BINARY +
+                                " run e.toml --quiet --out '" + out + "' > out.txt 2> err.txt";
         const int rc = std::system(cmd.c_str());
         EXPECT_EQ(WEXITSTATUS(rc), 2) << out;
         const std::string err = slurp(dir / "err.txt");
-        EXPECT_NE(err.find("is the current folder or one of its parents"), std::string::npos) << err;
+        EXPECT_NE(err.find("is the current folder or one of its parents"), std::string::npos)
+            << err;
         EXPECT_EQ(slurp(dir / "keep.txt"), "mine");
         EXPECT_EQ(slurp(exp), kTiny);
     }
@@ -93,7 +95,8 @@ TEST_F(RunFolder, ForeignFolderIsNeverTouched) {
     fs::create_directories(dir / "precious");
     write("precious/important.txt", "data");
     for (const std::string& extra : {std::string(), std::string("--force")}) {
-        const CliResult r = pxh("run " + exp + " --quiet --out " + (dir / "precious").string() + " " + extra);
+        const CliResult r =
+            pxh("run " + exp + " --quiet --out " + (dir / "precious").string() + " " + extra);
         EXPECT_EQ(r.status, 2) << extra;
         EXPECT_NE(r.err.find("not a pxh results folder"), std::string::npos) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
@@ -143,12 +146,14 @@ TEST_F(RunFolder, SignalsLeaveNoCompleteLookingFolder) {
         const fs::path out = dir / ("res" + std::to_string(sig));
         const pid_t pid = fork();
         if (pid == 0) {
-            execl(PXH_BINARY, PXH_BINARY, "run", exp.c_str(), "--quiet", "--out", out.c_str(), (char*)nullptr);
+            execl(PXH_BINARY, PXH_BINARY, "run", exp.c_str(), "--quiet", "--out", out.c_str(),
+                  (char*)nullptr);
             _exit(127);
         }
         // Wait until the run is under way (its partial folder exists), then a little more.
         const auto t0 = std::chrono::steady_clock::now();
-        while (partials().empty() && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30))
+        while (partials().empty() &&
+               std::chrono::steady_clock::now() - t0 < std::chrono::seconds(30))
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
         ASSERT_FALSE(partials().empty()) << "the run never started";
         std::this_thread::sleep_for(std::chrono::milliseconds(500));
@@ -168,7 +173,9 @@ TEST_F(RunFolder, SignalsLeaveNoCompleteLookingFolder) {
     const auto tiny = write("tiny.toml", kTiny);
     const CliResult r = pxh("run " + tiny + " --quiet --out " + (dir / "next").string());
     EXPECT_EQ(r.status, 0);
-    EXPECT_NE(r.err.find("pxh: warning: " + stale + " is left from an interrupted run"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("pxh: warning: " + stale + " is left from an interrupted run"),
+              std::string::npos)
+        << r.err;
     EXPECT_TRUE(fs::exists(stale)) << "pxh deleted a folder it did not create in this run";
 }
 
@@ -176,9 +183,9 @@ TEST_F(RunFolder, SignalsLeaveNoCompleteLookingFolder) {
 TEST_F(RunFolder, WriteErrorsFailTheRun) {
     const auto exp = write("tiny.toml", kTiny);
     // 4 blocks of 512 bytes: results.csv (~3 KB) cannot be written whole.
-    const std::string cmd = "sh -c \"trap '' XFSZ; ulimit -f 4; exec " + std::string(PXH_BINARY) + " run " + exp +
-                            " --quiet --out " + (dir / "res3").string() + "\" > " + (dir / "o.txt").string() +
-                            " 2> " + (dir / "e.txt").string();
+    const std::string cmd = "sh -c \"trap '' XFSZ; ulimit -f 4; exec " + std::string(PXH_BINARY) +
+                            " run " + exp + " --quiet --out " + (dir / "res3").string() + "\" > " +
+                            (dir / "o.txt").string() + " 2> " + (dir / "e.txt").string();
     const int rc = std::system(cmd.c_str());
     EXPECT_EQ(WEXITSTATUS(rc), 1) << slurp(dir / "e.txt");
     EXPECT_NE(slurp(dir / "e.txt").find("write failed"), std::string::npos) << slurp(dir / "e.txt");
@@ -199,7 +206,8 @@ TEST_F(RunFolder, ConcurrentRunsIntoOneFolder) {
     EXPECT_EQ(std::max(rc1, rc2), 2);
     const std::string err = slurp(dir / (rc1 ? "e1.txt" : "e2.txt"));
     EXPECT_TRUE(err.find("another pxh run is writing") != std::string::npos ||
-                err.find("holds earlier pxh results") != std::string::npos) << err;
+                err.find("holds earlier pxh results") != std::string::npos)
+        << err;
 }
 
 // run.json records rows and sha256; check and report refuse anything else.
@@ -216,13 +224,16 @@ TEST_F(RunFolder, CheckAndReportVerifyTheFolder) {
 
     const std::string csv = slurp(fs::path(out) / "results.csv");
     std::vector<std::string> lines;
-    for (size_t a = 0, b; a < csv.size(); a = b + 1) lines.push_back(csv.substr(a, (b = csv.find('\n', a)) - a));
+    for (size_t a = 0, b; a < csv.size(); a = b + 1)
+        lines.push_back(csv.substr(a, (b = csv.find('\n', a)) - a));
     auto join = [](const std::vector<std::string>& ls) {
         std::string s;
         for (const auto& l : ls) s += l + "\n";
         return s;
     };
-    struct Case { std::string name, csv, expect; };
+    struct Case {
+        std::string name, csv, expect;
+    };
     std::vector<std::string> cut(lines.begin(), lines.begin() + 3), removed = lines, added = lines;
     removed.erase(removed.begin() + 3);
     added.push_back(lines[2]);
@@ -237,7 +248,8 @@ TEST_F(RunFolder, CheckAndReportVerifyTheFolder) {
     };
     for (const auto& c : cases) {
         write("res/results.csv", c.csv);
-        for (const std::string& cmd : {"check " + out + " --thresholds " + limits, "report --no-plots " + out}) {
+        for (const std::string& cmd :
+             {"check " + out + " --thresholds " + limits, "report --no-plots " + out}) {
             r = pxh(cmd);
             EXPECT_EQ(r.status, 2) << c.name << ": " << cmd;
             EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.name << ": " << r.err;
@@ -278,7 +290,8 @@ TEST_F(RunFolder, RunJsonRecordsProvenance) {
 TEST_F(RunFolder, ThreadsZeroIsOnePxhError) {
     const auto exp = write("tiny.toml", kTiny);
     for (const std::string t : {"0", "-3", "abc"}) {
-        const CliResult r = pxh("run " + exp + " --threads " + t + " --out " + (dir / "r").string());
+        const CliResult r =
+            pxh("run " + exp + " --threads " + t + " --out " + (dir / "r").string());
         EXPECT_EQ(r.status, 2) << t;
         EXPECT_EQ(r.err.rfind("pxh: error: ", 0), 0u) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -1,7 +1,6 @@
 // The run's size is estimated before any work and refused past --max-rows / --max-memory, with
 // the estimate in the message; nothing is written.
 #include <gtest/gtest.h>
-
 #include <sys/resource.h>
 #include <sys/wait.h>
 
@@ -46,8 +45,10 @@ TEST_F(RunLimits, RowsAndMemoryAreBoundedBeforeAnyWork) {
     const auto t0 = std::chrono::steady_clock::now();
     pxh::test::CliResult r = pxh("run " + exp + " --max-rows 1000 --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_NE(r.err.find("would write 24000 rows, over the limit of 1000 (raise it with --max-rows N)"),
-              std::string::npos) << r.err;
+    EXPECT_NE(
+        r.err.find("would write 24000 rows, over the limit of 1000 (raise it with --max-rows N)"),
+        std::string::npos)
+        << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     r = pxh("run " + exp + " --max-memory 1M --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
@@ -69,21 +70,31 @@ namespace {
 // infinite angle range ran as an empty successful run, and a fine fbm lattice asked for
 // terabytes. Both are refused when the file is read.
 TEST(RunLimitsParse, InfiniteRangesAndHugeLatticesAreRefused) {
-    const std::string tail = "[[heightfields]]\ngenerator = \"sine\"\nsize = 4\n[[methods]]\nname = \"parallax\"\n";
+    const std::string tail =
+        "[[heightfields]]\ngenerator = \"sine\"\nsize = 4\n[[methods]]\nname = \"parallax\"\n";
     for (const std::string to : {"inf", "nan", "1e300"})
-        EXPECT_THROW(pxh::parse_experiment("[views]\ntheta_deg = { from = 0, to = " + to + ", step = 1 }\n" + tail, "x.toml"),
-                     pxh::InputError) << to;
-    EXPECT_EQ(pxh::parse_experiment("[views]\ntheta_deg = { from = 0, to = 80, step = 10 }\n" + tail, "x.toml").theta_deg.size(), 9u);
-    const std::string fbm = "[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = \"fbm\"\nsize = 8\n";
+        EXPECT_THROW(
+            pxh::parse_experiment(
+                "[views]\ntheta_deg = { from = 0, to = " + to + ", step = 1 }\n" + tail, "x.toml"),
+            pxh::InputError)
+            << to;
+    EXPECT_EQ(pxh::parse_experiment(
+                  "[views]\ntheta_deg = { from = 0, to = 80, step = 10 }\n" + tail, "x.toml")
+                  .theta_deg.size(),
+              9u);
+    const std::string fbm =
+        "[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = \"fbm\"\nsize = 8\n";
     try {
-        pxh::parse_experiment(fbm + "base_freq = 256\noctaves = 12\n[[methods]]\nname = \"none\"\n", "x.toml");
+        pxh::parse_experiment(fbm + "base_freq = 256\noctaves = 12\n[[methods]]\nname = \"none\"\n",
+                              "x.toml");
         ADD_FAILURE() << "accepted";
     } catch (const pxh::InputError& e) {
         EXPECT_NE(std::string(e.what()).find("524288^2 lattice"), std::string::npos) << e.what();
         EXPECT_EQ(std::string(e.what()).rfind("x.toml:", 0), 0u) << e.what();
     }
     // The largest accepted: base_freq 128, 6 octaves = 4096.
-    EXPECT_NO_THROW(pxh::parse_experiment(fbm + "base_freq = 128\noctaves = 6\n[[methods]]\nname = \"none\"\n", "x.toml"));
+    EXPECT_NO_THROW(pxh::parse_experiment(
+        fbm + "base_freq = 128\noctaves = 6\n[[methods]]\nname = \"none\"\n", "x.toml"));
 }
 
 }  // namespace
@@ -96,11 +107,13 @@ namespace {
 class RunLimitsImages : public pxh::test::CliTest {};
 
 TEST_F(RunLimitsImages, PngChunkLengthsAreCheckedBeforeLibpng) {
-    const std::string seed = slurp(std::string(PXH_SOURCE_DIR) + "/fuzz/corpus/image/png_text_chunk_length_2gb");
+    const std::string seed =
+        slurp(std::string(PXH_SOURCE_DIR) + "/fuzz/corpus/image/png_text_chunk_length_2gb");
     ASSERT_GT(seed.size(), 100u);
     write("evil.png", seed.substr(1));  // the fuzz input's first byte picks the channel
-    const auto exp = write("e.toml", "[views]\ntheta_deg = [0]\n[[heightfields]]\nfile = \"evil.png\"\n"
-                                     "[[methods]]\nname = \"none\"\n");
+    const auto exp = write("e.toml",
+                           "[views]\ntheta_deg = [0]\n[[heightfields]]\nfile = \"evil.png\"\n"
+                           "[[methods]]\nname = \"none\"\n");
     const std::string cmd = std::string(PXH_BINARY) + " run " + exp + " --quiet --out " +
                             (dir / "res").string() + " 2> " + (dir / "err.txt").string();
     const pid_t pid = fork();

@@ -2,10 +2,9 @@
 // and hostile image files.
 #include "heightfields/scanned.h"
 
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 #include <zlib.h>
-
-#include <OpenImageIO/imageio.h>
 
 #include <cstring>
 #include <filesystem>
@@ -32,13 +31,15 @@ TEST(Scanned, TheFourScansAreListedWithProvenance) {
         ss << f.rdbuf();
         for (const char* key : {"package", "package_version", "path_in_package", "original",
                                 "value_range", "units", "grid_spacing", "licence", "holes"})
-            EXPECT_NE(ss.str().find(std::string("\"") + key + "\""), std::string::npos) << s.name << " " << key;
+            EXPECT_NE(ss.str().find(std::string("\"") + key + "\""), std::string::npos)
+                << s.name << " " << key;
     }
 }
 
 // Non-periodic scans load mirrored: 2W x 2H, texel (2W-1-i, j) = (i, j), masks likewise.
 TEST(Scanned, MirroredToTileWithoutCliffs) {
-    const HeightField base = load_heightfield_file(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/lidar_b9.png");
+    const HeightField base =
+        load_heightfield_file(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/lidar_b9.png");
     const HeightField hf = load_scan("lidar_b9", "test");
     ASSERT_EQ(hf.width, 2 * base.width);
     ASSERT_EQ(hf.height, 2 * base.height);
@@ -51,7 +52,8 @@ TEST(Scanned, MirroredToTileWithoutCliffs) {
             ASSERT_EQ(hf.at(hf.width - 1 - i, hf.height - 1 - j), v);
         }
     // Across the wrap, neighbours are equal (the mirror edge): no artificial cliff.
-    for (int j = 0; j < hf.height; ++j) EXPECT_EQ(hf.wrapped(hf.width, j), hf.wrapped(hf.width - 1, j));
+    for (int j = 0; j < hf.height; ++j)
+        EXPECT_EQ(hf.wrapped(hf.width, j), hf.wrapped(hf.width - 1, j));
     ASSERT_EQ(hf.filled.size(), hf.texels.size());
     size_t filled = 0;
     for (uint8_t f : hf.filled) filled += f;
@@ -79,7 +81,9 @@ TEST(Scanned, UnknownScanIsNamed) {
         load_scan("nope", "exp.toml:3");
         FAIL();
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("exp.toml:3: unknown scan 'nope' (known: bunny"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("exp.toml:3: unknown scan 'nope' (known: bunny"),
+                  std::string::npos)
+            << e.what();
     }
 }
 
@@ -102,9 +106,7 @@ class ScanFiles : public ::testing::Test {
     }
 };
 
-std::string be32(uint32_t v) {
-    return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
-}
+std::string be32(uint32_t v) { return {char(v >> 24), char(v >> 16), char(v >> 8), char(v)}; }
 
 std::string chunk(const std::string& type_and_data) {
     const uint32_t crc =
@@ -124,15 +126,19 @@ std::string png_header(uint32_t w, uint32_t h) {
 TEST_F(ScanFiles, HostileImagesAreRefusedWithTheFileNamed) {
     // 100000 x 100000: refused from the header, before any allocation.
     const std::string huge = bytes("huge.png", png_header(100000, 100000));
-    EXPECT_NE(error_of(huge).find("huge.png: image is 100000 x 100000, larger than"), std::string::npos) << error_of(huge);
+    EXPECT_NE(error_of(huge).find("huge.png: image is 100000 x 100000, larger than"),
+              std::string::npos)
+        << error_of(huge);
     // Zero-size image (width 0 in the header) and a 0-byte file.
     const std::string zero = bytes("zero.png", png_header(0, 10));
     EXPECT_NE(error_of(zero).find("zero.png"), std::string::npos);
     EXPECT_NE(error_of(bytes("empty.png", "")).find("empty.png: empty file"), std::string::npos);
     // A text file named .png.
-    EXPECT_NE(error_of(bytes("text.png", "just text\n")).find("text.png: not a readable image"), std::string::npos);
+    EXPECT_NE(error_of(bytes("text.png", "just text\n")).find("text.png: not a readable image"),
+              std::string::npos);
     // Truncated: a real PNG cut in half; the error is one line.
-    std::ifstream in(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/jacksboro.png", std::ios::binary);
+    std::ifstream in(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/jacksboro.png",
+                     std::ios::binary);
     std::string data((std::istreambuf_iterator<char>(in)), {});
     const std::string trunc = error_of(bytes("trunc.png", data.substr(0, data.size() / 2)));
     EXPECT_NE(trunc.find("trunc.png: PNG chunk 'IDAT'"), std::string::npos) << trunc;
@@ -162,13 +168,15 @@ TEST_F(ScanFiles, RgbChannelRuleAndOneByOne) {
 
 TEST_F(ScanFiles, ReadersParseWhatTheyRead) {
     // OFF: a quad fanned into two triangles.
-    const Mesh m = read_off(bytes("q.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0.5\n0 1 0\n4 0 1 2 3\n"));
+    const Mesh m =
+        read_off(bytes("q.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n1 1 0.5\n0 1 0\n4 0 1 2 3\n"));
     ASSERT_EQ(m.triangles.size(), 2u);
     EXPECT_EQ(m.triangles[1][2], 3u);
     EXPECT_DOUBLE_EQ(m.vertices[2][2], 0.5);
     // PLY: binary little endian with an extra property between the coordinates.
-    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
-                      "property uchar red\nproperty double y\nproperty float z\nend_header\n";
+    std::string ply =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\n"
+        "property uchar red\nproperty double y\nproperty float z\nend_header\n";
     for (int v = 0; v < 2; ++v) {
         const float x = 1.5f + v, z = -2.0f;
         const double y = 3.25 * (v + 1);
@@ -183,9 +191,19 @@ TEST_F(ScanFiles, ReadersParseWhatTheyRead) {
     EXPECT_DOUBLE_EQ(pts[1][0], 2.5);
     EXPECT_DOUBLE_EQ(pts[1][1], 6.5);
     EXPECT_DOUBLE_EQ(pts[0][2], -2.0);
-    EXPECT_NE(std::string([&] { try { read_ply_points(bytes("t.ply", ply.substr(0, ply.size() - 5))); } catch (const InputError& e) { return std::string(e.what()); } return std::string(); }()).find("truncated"), std::string::npos);
+    EXPECT_NE(std::string([&] {
+                  try {
+                      read_ply_points(bytes("t.ply", ply.substr(0, ply.size() - 5)));
+                  } catch (const InputError& e) {
+                      return std::string(e.what());
+                  }
+                  return std::string();
+              }())
+                  .find("truncated"),
+              std::string::npos);
     // npz: the committed source's elevation matches the known DEM facts.
-    const NpyArray a = read_npz_array("/usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz", "elevation.npy");
+    const NpyArray a = read_npz_array(
+        "/usr/share/matplotlib/mpl-data/sample_data/jacksboro_fault_dem.npz", "elevation.npy");
     ASSERT_EQ(a.shape.size(), 2u);
     EXPECT_EQ(a.shape[0], 344u);
     EXPECT_EQ(a.shape[1], 403u);

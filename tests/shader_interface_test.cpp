@@ -35,8 +35,8 @@ TEST(ShaderInterface, ProblemsNameTheUniform) {
 // Real programs: relief's shader from an override folder with one edit each.
 class MisspeltShader : public ::testing::Test {
   protected:
-    std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                ("pxh_iface_" + std::to_string(getpid()));
+    std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("pxh_iface_" + std::to_string(getpid()));
     void SetUp() override { std::filesystem::create_directories(dir); }
     void TearDown() override { std::filesystem::remove_all(dir); }
 
@@ -76,10 +76,10 @@ TEST_F(MisspeltShader, MisspeltUniformIsAnErrorNamingIt) {
 }
 
 TEST_F(MisspeltShader, UniformNobodySetsIsAnError) {
-    const std::string msg =
-        error_with("uniform int p_binary_steps;\nvec2 pxh_method(vec2 P) {",
-                   "uniform int p_binary_steps;\nuniform float p_extra;\nvec2 pxh_method(vec2 P) {\n"
-                   "    if (p_extra > 0.0) return P;");
+    const std::string msg = error_with(
+        "uniform int p_binary_steps;\nvec2 pxh_method(vec2 P) {",
+        "uniform int p_binary_steps;\nuniform float p_extra;\nvec2 pxh_method(vec2 P) {\n"
+        "    if (p_extra > 0.0) return P;");
     EXPECT_NE(msg.find("the shader reads float uniform 'p_extra' but nothing sets it"),
               std::string::npos)
         << msg;
@@ -87,10 +87,12 @@ TEST_F(MisspeltShader, UniformNobodySetsIsAnError) {
 }
 
 TEST_F(MisspeltShader, TypeMismatchIsAnError) {
-    const std::string msg = error_with("uniform int p_binary_steps;", "uniform float p_binary_steps;");
+    const std::string msg =
+        error_with("uniform int p_binary_steps;", "uniform float p_binary_steps;");
     // (i < p_binary_steps still compiles: GLSL converts the int i to float.)
-    EXPECT_NE(msg.find("uniform 'p_binary_steps' is float in the shader but the method declares it int"),
-              std::string::npos)
+    EXPECT_NE(
+        msg.find("uniform 'p_binary_steps' is float in the shader but the method declares it int"),
+        std::string::npos)
         << msg;
 }
 

@@ -1,11 +1,12 @@
 // Self-shadowing: the exact occlusion query against a closed form and brute force, and the
 // tutorial's hard/soft march against the truth where the answer is unambiguous.
+#include "methods/shadow.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "harness/truth/ground_truth.h"
-#include "methods/shadow.h"
 #include "tests/test_util.h"
 
 namespace pxh {

@@ -1,13 +1,13 @@
-// Sliding and shimmering (docs/conventions.md section 5.3) on synthetic methods that exist only here, then the
-// real methods' ordering on a rough field.
+// Sliding and shimmering (docs/conventions.md section 5.3) on synthetic methods that exist only
+// here, then the real methods' ordering on a rough field.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "harness/truth/ground_truth.h"
 #include "harness/metrics/metrics.h"
 #include "harness/run/runner.h"
+#include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
 #include "tests/test_util.h"
 
@@ -107,24 +107,33 @@ TEST(Sweep, RealMethodsOrderAsThePapersSay) {
     const auto rows = run_experiment(ex, RunOptions{});
     auto at = [&](const char* method, double s, double theta) {
         for (const auto& r : rows)
-            if (r.text("method") == method && r.num("scale") == s && r.num("theta_deg") == theta) return r;
+            if (r.text("method") == method && r.num("scale") == s && r.num("theta_deg") == theta)
+                return r;
         ADD_FAILURE() << method;
         return ResultRow{};
     };
     for (double s : {0.02, 0.05}) {
-        EXPECT_GT(at("parallax", s, 80).num("shimmering"), 10 * at("parallax", s, 60).num("shimmering")) << s;
-        EXPECT_GT(at("parallax", s, 75).num("shimmering"), 2 * at("parallax", s, 60).num("shimmering")) << s;
+        EXPECT_GT(at("parallax", s, 80).num("shimmering"),
+                  10 * at("parallax", s, 60).num("shimmering"))
+            << s;
+        EXPECT_GT(at("parallax", s, 75).num("shimmering"),
+                  2 * at("parallax", s, 60).num("shimmering"))
+            << s;
         for (double theta : {75.0, 80.0}) {
             const auto par = at("parallax", s, theta);
-            EXPECT_GT(par.num("shimmering"), 2 * at("pom", s, theta).num("shimmering")) << s << " " << theta;
-            EXPECT_GT(par.num("shimmering"), 2 * at("relief", s, theta).num("shimmering")) << s << " " << theta;
+            EXPECT_GT(par.num("shimmering"), 2 * at("pom", s, theta).num("shimmering"))
+                << s << " " << theta;
+            EXPECT_GT(par.num("shimmering"), 2 * at("relief", s, theta).num("shimmering"))
+                << s << " " << theta;
             EXPECT_LT(at("pom", s, theta).num("err_mean"), par.num("err_mean") / 3);
         }
         for (double theta : {60.0, 75.0})
             for (const char* flattening : {"parallax_limited", "parallax_halved"}) {
                 const auto par = at("parallax", s, theta), f = at(flattening, s, theta);
-                EXPECT_GT(f.num("err_mean"), 1.5 * par.num("err_mean")) << flattening << " " << s << " " << theta;
-                EXPECT_GT(f.num("sliding"), 3 * par.num("sliding") + 0.002) << flattening << " " << s << " " << theta;
+                EXPECT_GT(f.num("err_mean"), 1.5 * par.num("err_mean"))
+                    << flattening << " " << s << " " << theta;
+                EXPECT_GT(f.num("sliding"), 3 * par.num("sliding") + 0.002)
+                    << flattening << " " << s << " " << theta;
             }
     }
     EXPECT_EQ(at("parallax", 0.05, 60).num("sweep_dt_deg"), 0.25);

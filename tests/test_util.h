@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/truth/ground_truth.h"
 #include "harness/scene/heightfield.h"
+#include "harness/truth/ground_truth.h"
 #include "methods/method.h"
 
 namespace pxh::test {
@@ -33,7 +33,9 @@ inline Vec2d brute_force_hit(const HeightField& hf, double s, double b, Vec2d P,
     HeightSampler<double> hs(hf, s, b);
     const double zt = s * (1 - b);
     const Vec2d E{P.x + V.x / V.z * zt, P.y + V.y / V.z * zt};
-    auto f = [&](double tau) { return (zt - tau * V.z) - hs.z({E.x - tau * V.x, E.y - tau * V.y}); };
+    auto f = [&](double tau) {
+        return (zt - tau * V.z) - hs.z({E.x - tau * V.x, E.y - tau * V.y});
+    };
     const double tau_max = s / V.z;
     double prev = 0;
     if (f(0) <= 0) return E;
@@ -72,9 +74,11 @@ std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const S
     for (size_t i = 0; i < P.size(); ++i) pts[i] = Vec2<T>(P[i]);
     const Scene<T> st = scene_cast<T>(sc);
     if constexpr (std::is_same_v<T, float>)
-        m.run_float(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
+        m.run_float(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(),
+                    per_texture ? split.data() : nullptr);
     else
-        m.run_double(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(), per_texture ? split.data() : nullptr);
+        m.run_double(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(),
+                     per_texture ? split.data() : nullptr);
     if (fetches) *fetches = f;
     if (per_texture) *per_texture = split;
     std::vector<Vec2d> out(P.size());

@@ -33,8 +33,14 @@ View per_sample(const View& v) {
 }
 
 TEST(Tracer, ExactGridAndPerRayPathsAgreeBitForBit) {
-    struct Case { int w, h; double s, b; int n; };
-    const Case cases[] = {{64, 64, 0.05, 1.0, 64}, {37, 129, 0.3, 0.0, 20}, {128, 96, 0.1, 0.7, 50},
+    struct Case {
+        int w, h;
+        double s, b;
+        int n;
+    };
+    const Case cases[] = {{64, 64, 0.05, 1.0, 64},
+                          {37, 129, 0.3, 0.0, 20},
+                          {128, 96, 0.1, 0.7, 50},
                           {3, 200, 0.5, 0.5, 9}};
     long long rays = 0, differ = 0, grid_cells = 0, naive_cells = 0;
     for (const Case& c : cases) {
@@ -133,7 +139,8 @@ TEST(Tracer, EmbreeParallelViewEqualsDirectEntry) {
 TEST(Tracer, RegistryListsExactAndEmbree) {
     EXPECT_EQ(tracer_names(), (std::vector<std::string>{"exact", "embree"}));
     const HeightField hf = test::random_field(8, 8, 1);
-    for (const std::string& name : tracer_names()) EXPECT_EQ(make_tracer(name, hf, 0.1, 1.0)->name(), name);
+    for (const std::string& name : tracer_names())
+        EXPECT_EQ(make_tracer(name, hf, 0.1, 1.0)->name(), name);
     try {
         (void)make_tracer("optix", hf, 0.1, 1.0);
         ADD_FAILURE() << "an unknown tracer was made";
@@ -167,7 +174,8 @@ TEST(Tracer, GroundTruthThroughTheInterface) {
     const EmbreeTracer embree(hf, 0.1, 1.0);
     const Vec3d V = view_vector(60, 15), L = view_vector(70, 200);
     const GroundTruth a = trace_ground_truth(exact, V, 32, &L);
-    const GroundTruth b = trace_ground_truth(static_cast<const Tracer&>(exact), per_sample(orthographic_view(V, 32)), &L);
+    const GroundTruth b = trace_ground_truth(static_cast<const Tracer&>(exact),
+                                             per_sample(orthographic_view(V, 32)), &L);
     ASSERT_EQ(a.uv.size(), b.uv.size());
     size_t lit = 0;
     for (size_t k = 0; k < a.uv.size(); ++k) {

@@ -7,16 +7,16 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <stdexcept>
 
 #include "harness/commands/bench.h"
-#include "harness/truth/embree_truth.h"
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
-#include "harness/truth/ground_truth.h"
 #include "harness/metrics/metrics.h"
+#include "harness/truth/embree_truth.h"
+#include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"
@@ -96,7 +96,9 @@ TEST(TruthLimits, GridTracerSkimmingLowGroundEqualsNaive) {
     const ExactTracer tr(hf, 1.0, 1.0);
     const auto P = sample_grid(n);
     long long rays = 0, differ = 0;
-    struct View { double theta, phi; };
+    struct View {
+        double theta, phi;
+    };
     for (const View v : {View{87, 0}, View{87, 10}, View{87, 90}, View{87, 190}, View{87, 260},
                          View{87, 300}, View{88.5, 185}}) {
         const Vec3d V = view_vector(v.theta, v.phi);
@@ -227,8 +229,11 @@ TEST(TruthLimits, TracersAcceptEveryViewTheParseAccepts) {
 TEST(TruthLimits, TracersRefuseViewsBeyondTheLimit) {
     const HeightField hf = generated("fbm", 32);
     const auto P = sample_grid(4);
-    struct Case { double s, theta; };
-    for (const Case c : {Case{1.0, 89.999}, Case{0.05, 89.999999}, Case{1e8, 45.0}, Case{1e300, 60.0}}) {
+    struct Case {
+        double s, theta;
+    };
+    for (const Case c :
+         {Case{1.0, 89.999}, Case{0.05, 89.999999}, Case{1e8, 45.0}, Case{1e300, 60.0}}) {
         const ExactTracer exact(hf, c.s, 1.0);
         const EmbreeTracer embree(hf, c.s, 1.0);
         const Vec3d V = view_vector(c.theta, 20);
@@ -246,9 +251,11 @@ TEST(TruthLimits, TracersRefuseViewsBeyondTheLimit) {
         try {
             exact.trace_grid(16, V, hits);
         } catch (const std::invalid_argument& e) {
-            EXPECT_NE(std::string(e.what()).find("kMaxRayTravelTiles"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("kMaxRayTravelTiles"), std::string::npos)
+                << e.what();
         }
-        EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+        EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                  5.0);
     }
 }
 
@@ -256,7 +263,8 @@ TEST(TruthLimits, TracersRefuseViewsBeyondTheLimit) {
 // 5730 tiles; precision.toml to s = 0.05 at 89.99 deg).
 TEST(TruthLimits, ShippedExperimentsStayAccepted) {
     int files = 0;
-    for (const auto& f : std::filesystem::directory_iterator(std::string(PXH_SOURCE_DIR) + "/results/experiments")) {
+    for (const auto& f : std::filesystem::directory_iterator(std::string(PXH_SOURCE_DIR) +
+                                                             "/results/experiments")) {
         if (f.path().extension() != ".toml") continue;
         ++files;
         EXPECT_NO_THROW(load_experiment(f.path().string())) << f.path();
@@ -286,13 +294,15 @@ TEST(TruthLimits, BenchRefusesViewsBeyondTheLimit) {
     opt.scale = 1.0;
     opt.thetas = {30, 89.999};
     opt.out = (std::filesystem::temp_directory_path() /
-               ("pxh_truth_limits_bench_" + std::to_string(::getpid()) + ".json")).string();
+               ("pxh_truth_limits_bench_" + std::to_string(::getpid()) + ".json"))
+                  .string();
     std::filesystem::remove(opt.out);
     try {
         run_bench(opt);
         ADD_FAILURE() << "bench accepted s = 1 at 89.999 deg";
     } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()).rfind("--theta: scale 1 at theta 89.999 deg", 0), 0u) << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind("--theta: scale 1 at theta 89.999 deg", 0), 0u)
+            << e.what();
     }
     EXPECT_FALSE(std::filesystem::exists(opt.out));  // refused before any work
 }
@@ -306,8 +316,8 @@ class TruthLimitsCli : public test::CliTest {
                            const std::string& extra = "") {
         std::ostringstream os;
         os.precision(17);
-        os << "name = \"limits\"\nsamples = " << samples << "\ntiming_repeats = 0\n" << extra
-           << "[views]\ntheta_deg = [" << theta << "]\nphi_deg = [0]\n\n"
+        os << "name = \"limits\"\nsamples = " << samples << "\ntiming_repeats = 0\n"
+           << extra << "[views]\ntheta_deg = [" << theta << "]\nphi_deg = [0]\n\n"
            << "[[heightfields]]\ngenerator = \"" << field << "\"\nsize = 32\nscale = " << scale
            << "\nbias = 1.0\n\n[[methods]]\nname = \"pom\"\n";
         return write("e.toml", os.str());
@@ -319,7 +329,8 @@ class TruthLimitsCli : public test::CliTest {
                                 (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
         const int rc = std::system(cmd.c_str());
         peak_kb = std::atol(slurp(dir / "rss.txt").c_str());
-        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"), slurp(dir / "err.txt")};
+        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"),
+                slurp(dir / "err.txt")};
     }
 };
 
@@ -359,7 +370,10 @@ TEST_F(TruthLimitsCli, BenchWithOneSampleAndOnlyMeasuredColumns) {
 // Beyond the limit: exit 2, one line naming the experiment file and the height field's line,
 // no results folder. Previously s = 1e300 never finished and 89.9999999 deg passed 6 GB.
 TEST_F(TruthLimitsCli, RunRefusesViewsBeyondTheLimit) {
-    struct Case { double scale, theta; std::string extra; };
+    struct Case {
+        double scale, theta;
+        std::string extra;
+    };
     const Case cases[] = {{1.0, 89.999, ""},
                           {1e300, 45.0, ""},
                           {0.05, 89.9999999, ""},
@@ -369,7 +383,8 @@ TEST_F(TruthLimitsCli, RunRefusesViewsBeyondTheLimit) {
         const std::string e = experiment(16, "fbm", c.scale, c.theta, c.extra);
         const auto out = dir / "refused";
         long peak = 0;
-        const test::CliResult r = timed_pxh("run " + e + " --quiet --out " + out.string(), 60, peak);
+        const test::CliResult r =
+            timed_pxh("run " + e + " --quiet --out " + out.string(), 60, peak);
         EXPECT_EQ(r.status, 2) << c.scale << " " << c.theta << ": " << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_EQ(r.err.rfind("pxh: error: " + e + ":", 0), 0u) << r.err;
@@ -387,14 +402,17 @@ TEST_F(TruthLimitsCli, LargestAcceptedTravelFinishesInBoundedMemory) {
         const std::string e = experiment(32, field, 1.0, theta);
         long peak = 0;
         const auto t0 = std::chrono::steady_clock::now();
-        const test::CliResult r = timed_pxh("run " + e + " --quiet --out " + (dir / field).string(), 120, peak);
-        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const test::CliResult r =
+            timed_pxh("run " + e + " --quiet --out " + (dir / field).string(), 120, peak);
+        const double sec =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         EXPECT_EQ(r.status, 0) << field << ": " << r.err;
         EXPECT_LT(peak, 1024 * 1024) << field << ": peak " << peak << " kB";
         EXPECT_LT(sec, 60) << field;
     }
     // And straight down at an absurd scale (no travel at all).
-    const test::CliResult r = pxh("run " + experiment(16, "fbm", 1e300, 0) + " --quiet --out " + (dir / "huge").string());
+    const test::CliResult r =
+        pxh("run " + experiment(16, "fbm", 1e300, 0) + " --quiet --out " + (dir / "huge").string());
     EXPECT_EQ(r.status, 0) << r.err;
 }
 

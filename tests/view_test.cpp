@@ -37,14 +37,16 @@ TEST(View, PerSampleRaysAreNotTheGridFastPath) {
     EXPECT_FALSE(v.orthographic_grid());
     EXPECT_EQ(view_problem(v), "");
     EXPECT_DOUBLE_EQ(v.dir(1).y, std::sin(20 * M_PI / 180));  // per sample, not V[0]
-    v.parallel = true;  // two directions for parallel rays
-    EXPECT_NE(view_problem(v).find("2 ray directions (expected 1"), std::string::npos) << view_problem(v);
+    v.parallel = true;                                        // two directions for parallel rays
+    EXPECT_NE(view_problem(v).find("2 ray directions (expected 1"), std::string::npos)
+        << view_problem(v);
     v.parallel = false;
     v.V.pop_back();  // one direction for two rays that are not parallel
     EXPECT_NE(view_problem(v).find("expected 2"), std::string::npos) << view_problem(v);
     View g = orthographic_view(view_vector(30, 0), 4);
     g.P.pop_back();  // a grid of 4 x 4 holds 16 samples
-    EXPECT_NE(view_problem(g).find("4 x 4 sample grid has 15 samples"), std::string::npos) << view_problem(g);
+    EXPECT_NE(view_problem(g).find("4 x 4 sample grid has 15 samples"), std::string::npos)
+        << view_problem(g);
 }
 
 TEST(View, EmptyGridIsAnEmptyView) {

@@ -21,7 +21,8 @@ struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
     double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
-    double gpu_ms_per_frame = NAN, gpu_ms_per_frame_min = NAN, gpu_ms_per_frame_max = NAN;  // GLSL: timer queries
+    double gpu_ms_per_frame = NAN, gpu_ms_per_frame_min = NAN,
+           gpu_ms_per_frame_max = NAN;            // GLSL: timer queries
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
     double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
     std::string shader;  // GLSL: "builtin" or the shader file(s) compiled
@@ -50,14 +51,14 @@ struct Variant {
 
 // One view, as every backend gets it.
 struct ViewInput {
-    const Scene<double>& scene;    // s, b, field size; V: the view's direction (parallel rays)
+    const Scene<double>& scene;  // s, b, field size; V: the view's direction (parallel rays)
     const HeightField& hf;
     // The samples' rays (harness/scene/view.h): P_k, and V_k when not parallel (then a
     // method sees sample k's V_k as its scene's V). The GLSL backend draws the N x N grid
     // (rays.grid > 0) and refuses other sample sets.
     const View& rays;
-    const LightSpec* light;        // when given: hard and soft light factors at the output uv
-    bool timed;                    // false: no timing passes (a sweep's companion view)
+    const LightSpec* light;  // when given: hard and soft light factors at the output uv
+    bool timed;              // false: no timing passes (a sweep's companion view)
     // The method's precomputed textures for this field at (s, b) (methods/resource.h), built
     // once and shared by every backend; nullptr for a method without resources.
     const MethodResources* resources = nullptr;

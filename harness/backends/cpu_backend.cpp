@@ -27,8 +27,7 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     out.fetches.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         fn(params, sc, in, pts.data() + r.begin(), D ? D + r.begin() : nullptr, r.size(),
-           uv.data() + r.begin(),
-           out.fetches.data() + r.begin(), nullptr);
+           uv.data() + r.begin(), out.fetches.data() + r.begin(), nullptr);
     });
     out.uv.resize(n);
     for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
@@ -80,8 +79,7 @@ MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Sc
     if (precision == "double")
         return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats,
                                      resources, V);
-    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources,
-                                V);
+    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources, V);
 }
 
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,

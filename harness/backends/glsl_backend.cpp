@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "harness/backends/shaders.h"
 #include "harness/core/error.h"
+#include "harness/core/sha256.h"
 #include "harness/gl/context.h"
 #include "harness/truth/ground_truth.h"
-#include "harness/core/sha256.h"
-#include "harness/backends/shaders.h"
 
 namespace pxh {
 namespace {
@@ -148,9 +148,11 @@ const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
     // Every source compiled is recorded with its sha256 (run.json), builtin or read from a file.
     compiled_sources_[common_name] = sha256_hex(common.text);
     compiled_sources_[body_name] = sha256_hex(body.text);
-    const std::string src = "#version 450 core\n#line 1 1\n" + common.text + "\n#line 1 2\n" + body.text;
+    const std::string src =
+        "#version 450 core\n#line 1 1\n" + common.text + "\n#line 1 2\n" + body.text;
     // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
-    const std::string what = "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
+    const std::string what =
+        "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
     const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, "pxh vertex shader");
     GLuint fs = 0;
     try {
@@ -192,8 +194,8 @@ void GlslBackend::upload(const HeightField& hf, const std::string& format) {
     } else if (format == "r16") {
         std::vector<uint16_t> q(hf.texels.size());
         for (size_t i = 0; i < q.size(); ++i) q[i] = uint16_t(std::lround(hf.texels[i] * 65535.0));
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_R16, hf.width, hf.height, 0, GL_RED,
-                     GL_UNSIGNED_SHORT, q.data());
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_R16, hf.width, hf.height, 0, GL_RED, GL_UNSIGNED_SHORT,
+                     q.data());
     } else if (format == "r8") {
         std::vector<uint8_t> q(hf.texels.size());
         for (size_t i = 0; i < q.size(); ++i) q[i] = uint8_t(std::lround(hf.texels[i] * 255.0));
@@ -215,8 +217,8 @@ void GlslBackend::ensure_framebuffer(int n) {
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, n, n, 0, GL_RGBA, GL_FLOAT, nullptr);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_TEXTURE_2D,
-                               color_[i], 0);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_TEXTURE_2D, color_[i],
+                               0);
     }
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, bufs);
@@ -343,9 +345,8 @@ void GlslBackend::read_back(int samples, bool light, MethodOutput& out) {
 }
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
-                              const HeightField& hf, int samples,
-                              const std::string& texture_format, const LightSpec* light,
-                              int frames, const MethodResources* resources,
+                              const HeightField& hf, int samples, const std::string& texture_format,
+                              const LightSpec* light, int frames, const MethodResources* resources,
                               const std::vector<Vec3d>* V) {
     use_gl_context(*ctx_);
     const Program& program = program_for(*m.method);
@@ -386,22 +387,26 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const 
     const View& rays = view.rays;
     // The shader derives P_k from its fragment: only the N x N sample grid can be drawn.
     if (rays.grid <= 0)
-        throw std::runtime_error("the glsl backend draws the N x N sample grid; this view's "
-                                 "samples lie elsewhere");
-    return run(m, view.scene, view.hf, rays.grid, v.texture_format, view.light,
-               view.timed ? -1 : 0, view.resources, rays.parallel ? nullptr : &rays.V);
+        throw std::runtime_error(
+            "the glsl backend draws the N x N sample grid; this view's "
+            "samples lie elsewhere");
+    return run(m, view.scene, view.hf, rays.grid, v.texture_format, view.light, view.timed ? -1 : 0,
+               view.resources, rays.parallel ? nullptr : &rays.V);
 }
 
 std::map<std::string, std::string> GlslBackend::facts() const {
-    std::map<std::string, std::string> f = {
-        {"gl_renderer", renderer_}, {"gl_version", version_},       {"gl_context", ctx_->name()},
-        {"gl_vendor", vendor_},     {"gl_timer_bits", std::to_string(timer_bits_)}};
+    std::map<std::string, std::string> f = {{"gl_renderer", renderer_},
+                                            {"gl_version", version_},
+                                            {"gl_context", ctx_->name()},
+                                            {"gl_vendor", vendor_},
+                                            {"gl_timer_bits", std::to_string(timer_bits_)}};
     for (const auto& [k, v] : ctx_->driver()) f["gl_driver." + k] = v;
     return f;
 }
 
 std::unique_ptr<Backend> make_glsl_backend(const BackendSettings& s) {
-    return std::make_unique<GlslBackend>(GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats, s.gl});
+    return std::make_unique<GlslBackend>(
+        GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats, s.gl});
 }
 
 }  // namespace pxh

@@ -63,9 +63,11 @@ class GlslBackend : public Backend {
         std::map<std::string, ActiveUniform> active;  // the linked program's uniforms
     };
     const Program& program_for(const MethodInfo& m);
+
   public:
     // "builtin", or the shader file(s) the method's program is (or would be) compiled from.
     std::string shader_description(const MethodInfo& m) const;
+
   private:
     // What one render draws with.
     struct Frame {

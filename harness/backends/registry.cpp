@@ -1,7 +1,8 @@
+#include "harness/core/registry.h"
+
 #include <algorithm>
 
 #include "harness/backends/backend.h"
-#include "harness/core/registry.h"
 
 namespace pxh {
 

@@ -8,10 +8,18 @@
 namespace pxh {
 
 const std::vector<std::string>& harness_uniforms() {
-    static const std::vector<std::string> names = {
-        "u_height", "u_scale",    "u_bias",  "u_view", "u_view_per_sample", "u_view_map",
-        "u_size",   "u_samples",  "u_light_on", "u_light",
-        "u_shadow_layers_min", "u_shadow_layers_max"};
+    static const std::vector<std::string> names = {"u_height",
+                                                   "u_scale",
+                                                   "u_bias",
+                                                   "u_view",
+                                                   "u_view_per_sample",
+                                                   "u_view_map",
+                                                   "u_size",
+                                                   "u_samples",
+                                                   "u_light_on",
+                                                   "u_light",
+                                                   "u_shadow_layers_min",
+                                                   "u_shadow_layers_max"};
     return names;
 }
 
@@ -34,18 +42,30 @@ std::map<std::string, ActiveUniform> active_uniforms(unsigned program) {
 
 std::string gl_type_name(unsigned t) {
     switch (t) {
-        case GL_FLOAT: return "float";
-        case GL_FLOAT_VEC2: return "vec2";
-        case GL_FLOAT_VEC3: return "vec3";
-        case GL_FLOAT_VEC4: return "vec4";
-        case GL_INT: return "int";
-        case GL_INT_VEC2: return "ivec2";
-        case GL_INT_VEC3: return "ivec3";
-        case GL_INT_VEC4: return "ivec4";
-        case GL_UNSIGNED_INT: return "uint";
-        case GL_BOOL: return "bool";
-        case GL_SAMPLER_2D: return "sampler2D";
-        default: return "GL type " + std::to_string(t);
+        case GL_FLOAT:
+            return "float";
+        case GL_FLOAT_VEC2:
+            return "vec2";
+        case GL_FLOAT_VEC3:
+            return "vec3";
+        case GL_FLOAT_VEC4:
+            return "vec4";
+        case GL_INT:
+            return "int";
+        case GL_INT_VEC2:
+            return "ivec2";
+        case GL_INT_VEC3:
+            return "ivec3";
+        case GL_INT_VEC4:
+            return "ivec4";
+        case GL_UNSIGNED_INT:
+            return "uint";
+        case GL_BOOL:
+            return "bool";
+        case GL_SAMPLER_2D:
+            return "sampler2D";
+        default:
+            return "GL type " + std::to_string(t);
     }
 }
 
@@ -77,9 +97,15 @@ void set_method_uniforms(unsigned program, const GlUniforms& uniforms) {
     for (const GlUniform& u : uniforms) {
         const GLint loc = glGetUniformLocation(program, u.name.c_str());
         switch (u.type) {
-            case GlslType::Float: glUniform1f(loc, float(u.value)); break;
-            case GlslType::Int: glUniform1i(loc, int(u.value)); break;
-            case GlslType::Bool: glUniform1i(loc, u.value != 0 ? 1 : 0); break;
+            case GlslType::Float:
+                glUniform1f(loc, float(u.value));
+                break;
+            case GlslType::Int:
+                glUniform1i(loc, int(u.value));
+                break;
+            case GlslType::Bool:
+                glUniform1i(loc, u.value != 0 ? 1 : 0);
+                break;
         }
     }
 }

@@ -11,8 +11,8 @@ ShaderSource shader_source(const std::string& path, const std::string& override_
                            const char* builtin_text) {
     namespace fs = std::filesystem;
     if (!override_dir.empty()) {
-        for (const fs::path& p : {fs::path(override_dir) / path,
-                                  fs::path(override_dir) / fs::path(path).filename()}) {
+        for (const fs::path& p :
+             {fs::path(override_dir) / path, fs::path(override_dir) / fs::path(path).filename()}) {
             std::error_code ec;
             if (fs::is_regular_file(p, ec)) {
                 std::ifstream f(p, std::ios::binary);

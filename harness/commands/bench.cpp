@@ -11,11 +11,11 @@
 #include <functional>
 #include <iostream>
 
-#include "harness/truth/embree_truth.h"
 #include "harness/core/error.h"
-#include "harness/truth/ground_truth.h"
 #include "harness/metrics/agreement.h"
 #include "harness/results/provenance.h"
+#include "harness/truth/embree_truth.h"
+#include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
 
 namespace pxh {
@@ -86,7 +86,8 @@ nlohmann::json report_view(const BenchOptions& opt, int size, double theta, cons
                 exact_mrays / embree_mrays);
     if (opt.naive)
         std::printf(" %12.2f %12.2f", rays / median(t.per_ray) / 1e6, rays / median(t.naive) / 1e6);
-    std::printf(" %10.4f %10.4f %10.3f %10.5f\n", agree.p50, agree.p99, agree.max, agree.frac_gt_0_5);
+    std::printf(" %10.4f %10.4f %10.3f %10.5f\n", agree.p50, agree.p99, agree.max,
+                agree.frac_gt_0_5);
     std::fflush(stdout);
     nlohmann::json row = {{"size", size},
                           {"theta_deg", theta},
@@ -124,14 +125,15 @@ void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t 
     doc["repeats"] = opt.repeats;
     doc["statistic"] = "median over repeats; ratio from medians measured in the same run";
     doc["results"] = results;
-    const std::string out =
-        opt.out.empty() ? "results/runs/bench-" + utc_timestamp("%Y%m%d-%H%M%S") + ".json" : opt.out;
+    const std::string out = opt.out.empty()
+                                ? "results/runs/bench-" + utc_timestamp("%Y%m%d-%H%M%S") + ".json"
+                                : opt.out;
     const auto parent = std::filesystem::path(out).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
     std::ofstream(out) << doc.dump(2) << "\n";
     std::cout << "ratio = exact / Embree throughput (median of " << opt.repeats << " repeats, "
-              << opt.threads << " threads, " << rays << " rays); agreement in texels -> "
-              << out << "\n";
+              << opt.threads << " threads, " << rays << " rays); agreement in texels -> " << out
+              << "\n";
 }
 
 }  // namespace

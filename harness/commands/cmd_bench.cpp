@@ -18,10 +18,12 @@ Command add_bench_command(CLI::App& app) {
     bench->add_option("--field", bo->field, "generator (default fbm)");
     bench->add_option("--samples", bo->samples, "N: N x N rays (default 512)")
         ->check(CLI::Range(1, 8192));
-    bench->add_option("--repeats", bo->repeats, "timed repeats (default 5)")->check(CLI::Range(1, 1000));
+    bench->add_option("--repeats", bo->repeats, "timed repeats (default 5)")
+        ->check(CLI::Range(1, 1000));
     bench->add_option("--threads", bo->threads, "threads (default 2)")->check(CLI::Range(1, 1024));
-    bench->add_flag("--naive", bo->naive,
-                    "also time the per-ray tracers (max-mipmap walk, per-cell DDA) on the same rays");
+    bench->add_flag(
+        "--naive", bo->naive,
+        "also time the per-ray tracers (max-mipmap walk, per-cell DDA) on the same rays");
     bench->add_option("--out", bo->out, "JSON output (default results/runs/bench-DATE.json)");
     return {bench, [bo] { return run_bench(*bo); }};
 }

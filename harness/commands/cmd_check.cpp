@@ -9,8 +9,9 @@
 namespace pxh {
 
 Command add_check_command(CLI::App& app) {
-    auto* check = app.add_subcommand("check", "check a results folder against accuracy limits; "
-                                              "exit 1 if any fails");
+    auto* check = app.add_subcommand("check",
+                                     "check a results folder against accuracy limits; "
+                                     "exit 1 if any fails");
     struct Args {
         std::string dir, thresholds;
         bool accept_edited = false;
@@ -26,7 +27,8 @@ Command add_check_command(CLI::App& app) {
                 std::cout << verified << "\n";
                 const int rc = run_check(a->dir, a->thresholds);
                 if (verified.rfind("NOT VERIFIED", 0) == 0)
-                    std::cout << "results NOT VERIFIED: " << a->dir << " differs from its run.json\n";
+                    std::cout << "results NOT VERIFIED: " << a->dir
+                              << " differs from its run.json\n";
                 return rc;
             }};
 }

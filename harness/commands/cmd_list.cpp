@@ -26,10 +26,12 @@ void list_heightfields() {
     }
     for (const auto& s : list_scans())
         std::cout << "scan:" << s.name << "  -- " << s.description << "\n    measured, " << s.width
-                  << " x " << s.height << (s.periodic ? "" : ", mirrored to " + std::to_string(2 * s.width) +
-                                                             " x " + std::to_string(2 * s.height) + " when loaded")
-                  << "; use scan = \"" << s.name << "\" (provenance: heightfields/scanned/" << s.name
-                  << ".json)\n";
+                  << " x " << s.height
+                  << (s.periodic ? ""
+                                 : ", mirrored to " + std::to_string(2 * s.width) + " x " +
+                                       std::to_string(2 * s.height) + " when loaded")
+                  << "; use scan = \"" << s.name << "\" (provenance: heightfields/scanned/"
+                  << s.name << ".json)\n";
     std::cout << "(any image file: file = \"path\" in a [[heightfields]] entry; PNG, TIFF, EXR, "
                  "PFM, ... through OpenImageIO)\n";
 }
@@ -37,13 +39,15 @@ void list_heightfields() {
 }  // namespace
 
 Command add_list_command(CLI::App& app) {
-    auto* list = app.add_subcommand("list", "list registered methods, or height fields (generators and imported scans)");
+    auto* list = app.add_subcommand(
+        "list", "list registered methods, or height fields (generators and imported scans)");
     auto what = std::make_shared<std::string>();
     list->add_option("what", *what, "methods | heightfields")
         ->required()
         ->check(CLI::IsMember({"methods", "heightfields"}));
     return {list, [what] {
-                if (*what == "methods") list_methods(); else list_heightfields();
+                if (*what == "methods") list_methods();
+                else list_heightfields();
                 return 0;
             }};
 }

@@ -9,8 +9,9 @@
 namespace pxh {
 
 Command add_report_command(CLI::App& app) {
-    auto* report = app.add_subcommand("report", "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG) "
-                                                 "from a results folder, into DIR/report/");
+    auto* report = app.add_subcommand("report",
+                                      "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG) "
+                                      "from a results folder, into DIR/report/");
     struct Args {
         std::string dir;
         bool no_plots = false;
@@ -20,9 +21,10 @@ Command add_report_command(CLI::App& app) {
     report->add_option("dir", a->dir, "results folder (holding results.csv)")->required();
     report->add_flag("--no-plots", a->no_plots, "tables only (no matplotlib needed)");
     report->add_flag("--accept-edited", a->ro.accept_edited, kAcceptEditedHelp);
-    report->add_option("--bands", a->ro.bands,
-                       "view-angle band edges in degrees, ascending in [0, 90] (default "
-                       "0,30,60,75,85,90); bands are [lo, hi), the last one closed")
+    report
+        ->add_option("--bands", a->ro.bands,
+                     "view-angle band edges in degrees, ascending in [0, 90] (default "
+                     "0,30,60,75,85,90); bands are [lo, hi), the last one closed")
         ->delimiter(',');
     report->add_option("--budget-metric", a->ro.budget_metric,
                        "error the budget table ranks by: p95, p99 (texels) or frac_gt_1 "

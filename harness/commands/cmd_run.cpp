@@ -55,8 +55,8 @@ size_t parse_bytes(const std::string& text) {
     for (auto& c : unit) c = char(std::toupper((unsigned char)c));
     if (!unit.empty() && unit.back() == 'B') unit.pop_back();
     if (unit.size() == 2 && unit[1] == 'I') unit.pop_back();  // GiB, MiB
-    const std::map<std::string, double> mult = {{"", 1.0}, {"K", 1024.0}, {"M", 1048576.0},
-                                                {"G", 1073741824.0}, {"T", 1099511627776.0}};
+    const std::map<std::string, double> mult = {
+        {"", 1.0}, {"K", 1024.0}, {"M", 1048576.0}, {"G", 1073741824.0}, {"T", 1099511627776.0}};
     if (used == 0 || !mult.count(unit) || !(v > 0) || !std::isfinite(v * mult.at(unit)) ||
         v * mult.at(unit) > 1e18)
         throw InputError("--max-memory", "'" + text + "' is not a size (e.g. 512M, 8G)");
@@ -65,7 +65,8 @@ size_t parse_bytes(const std::string& text) {
 
 // The run's size, estimated before any work: a small file must not take the machine.
 void check_run_size(const Experiment& ex, const RunArgs& a) {
-    const size_t max_memory = a.max_memory.empty() ? kDefaultMaxMemoryBytes : parse_bytes(a.max_memory);
+    const size_t max_memory =
+        a.max_memory.empty() ? kDefaultMaxMemoryBytes : parse_bytes(a.max_memory);
     const RunEstimate est = estimate_run(ex, a.backends);
     if (est.rows > a.max_rows)
         throw InputError(ex.path, "the run would write " + std::to_string(est.rows) +
@@ -73,8 +74,8 @@ void check_run_size(const Experiment& ex, const RunArgs& a) {
                                       " (raise it with --max-rows N)");
     if (est.peak_bytes > max_memory)
         throw InputError(ex.path, "the run would need about " + format_bytes(est.peak_bytes) +
-                                      " of memory, over the limit of " + format_bytes(max_memory) + " (" +
-                                      est.detail + "; raise it with --max-memory SIZE)");
+                                      " of memory, over the limit of " + format_bytes(max_memory) +
+                                      " (" + est.detail + "; raise it with --max-memory SIZE)");
 }
 
 // run.json's record of the inputs: every image a height field was read from, with its sha256.
@@ -84,7 +85,8 @@ nlohmann::json input_records(const Experiment& ex) {
     inputs.push_back({{"experiment", ex.path}, {"sha256", sha256_hex(ex.text)}});
     for (const auto& h : ex.heightfields)  // hashed once, when the experiment was read
         if (!h.source_path.empty() && seen.insert(h.source_path).second)
-            inputs.push_back({{"heightfield", h.name}, {"path", h.source_path}, {"sha256", h.source_sha256}});
+            inputs.push_back(
+                {{"heightfield", h.name}, {"path", h.source_path}, {"sha256", h.source_sha256}});
     return inputs;
 }
 
@@ -94,9 +96,9 @@ void write_view_maps(const Experiment& ex, const fs::path& tmp_dir, std::vector<
     for (size_t i = 0; i < rows.size(); ++i) {
         if (errors[i].empty()) continue;
         const ErrorMapName name = error_map_name(rows[i], first + i);
-        rows[i].set_text("map", "maps/" + write_error_map(errors[i], ex.samples,
-                                                          (tmp_dir / "maps").string(), name.stem,
-                                                          name.title));
+        rows[i].set_text(
+            "map", "maps/" + write_error_map(errors[i], ex.samples, (tmp_dir / "maps").string(),
+                                             name.stem, name.title));
     }
 }
 
@@ -116,9 +118,12 @@ nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo&
         run["LP_NUM_THREADS"] = lp ? lp : "";
         run["shader_dir"] = a.shader_dir.empty() ? "" : fs::absolute(a.shader_dir).string();
         run["shaders"] = info.shaders;
-        run["gl"] = {{"context", info.gl_context}, {"GL_VENDOR", info.gl_vendor},
-                     {"GL_RENDERER", info.gl_renderer}, {"GL_VERSION", info.gl_version},
-                     {"GL_QUERY_COUNTER_BITS", info.gl_timer_bits}, {"driver", info.gl_driver}};
+        run["gl"] = {{"context", info.gl_context},
+                     {"GL_VENDOR", info.gl_vendor},
+                     {"GL_RENDERER", info.gl_renderer},
+                     {"GL_VERSION", info.gl_version},
+                     {"GL_QUERY_COUNTER_BITS", info.gl_timer_bits},
+                     {"driver", info.gl_driver}};
     }
     return run;
 }
@@ -129,7 +134,8 @@ void print_failed_rows(const std::vector<ResultRow>& rows, size_t failed) {
     for (const auto& r : rows) {
         if (r.ok()) continue;
         if (++shown > 10) {
-            std::cerr << "pxh: ... and " << failed - 10 << " more failed rows (status=failed in results.csv)\n";
+            std::cerr << "pxh: ... and " << failed - 10
+                      << " more failed rows (status=failed in results.csv)\n";
             break;
         }
         std::cerr << "pxh: failed row: " << setting_of(r) << " | " << r.text("heightfield")
@@ -141,12 +147,14 @@ void print_failed_rows(const std::vector<ResultRow>& rows, size_t failed) {
 
 int cmd_run(const RunArgs& a, const std::string& command_line) {
     if (!a.gl.empty() && !find_gl_context(a.gl))
-        throw InputError("--gl", "unknown GL context '" + a.gl + "' (known: " + gl_context_names() + ")");
+        throw InputError("--gl",
+                         "unknown GL context '" + a.gl + "' (known: " + gl_context_names() + ")");
     Experiment ex = load_experiment(a.file);
     ex.maps = ex.maps || a.maps;
     check_run_size(ex, a);
     const std::string out_dir =
-        a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S") : a.out_dir;
+        a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S")
+                          : a.out_dir;
     const int nthreads = a.threads > 0 ? a.threads : int(tbb::info::default_concurrency());
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
     // llvmpipe's rasteriser threads follow --threads unless LP_NUM_THREADS is set already.
@@ -164,9 +172,8 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     opt.gl = a.gl;
     if (ex.maps)
         opt.on_view = [&](std::vector<ResultRow>& rows,
-                          const std::vector<std::vector<Vec2d>>& errors, size_t first) {
-            write_view_maps(ex, tmp_dir, rows, errors, first);
-        };
+                          const std::vector<std::vector<Vec2d>>& errors,
+                          size_t first) { write_view_maps(ex, tmp_dir, rows, errors, first); };
     if (!a.quiet)
         opt.progress = [tty](const std::string& line) {
             if (tty) std::cerr << "\r\033[K" << line << std::flush;
@@ -175,7 +182,8 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     const auto t0 = std::chrono::steady_clock::now();
     RunInfo info;
     const auto rows = run_experiment(ex, opt, &info);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double secs =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!a.quiet && tty) std::cerr << "\r\033[K";
 
     write_file_synced(tmp_dir / "results.csv", results_csv(rows));
@@ -200,9 +208,10 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
 }  // namespace
 
 Command add_run_command(CLI::App& app, const std::string& command_line) {
-    auto* run = app.add_subcommand("run", "run an experiment file, write results.csv and run.json "
-                                          "(exit 0: all rows ok; 1: some row failed, results "
-                                          "written; 2: bad input, nothing written)");
+    auto* run = app.add_subcommand("run",
+                                   "run an experiment file, write results.csv and run.json "
+                                   "(exit 0: all rows ok; 1: some row failed, results "
+                                   "written; 2: bad input, nothing written)");
     auto ra = std::make_shared<RunArgs>();
     run->add_option("experiment", ra->file, "experiment file (TOML)")->required();
     run->add_option("--out", ra->out_dir,
@@ -220,7 +229,8 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                     "GL context of the glsl backend, overriding the file's gl key: osmesa "
                     "(default; software) or egl (headless: a GPU's device, else Mesa's "
                     "surfaceless llvmpipe)");
-    run->add_flag("--quiet", ra->quiet, "no progress or summary (the final one-line count is still printed)");
+    run->add_flag("--quiet", ra->quiet,
+                  "no progress or summary (the final one-line count is still printed)");
     run->add_flag("--maps", ra->maps, "write an error map (EXR + false-colour PNG) per row");
     run->add_option("--max-rows", ra->max_rows,
                     "refuse a run estimated to write more rows (default " +
@@ -230,7 +240,8 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                         format_bytes(kDefaultMaxMemoryBytes) + ")");
     return {run, [run, ra, &command_line] {
                 if (ra->threads < 0 || (run->count("--threads") && ra->threads == 0))
-                    throw InputError("--threads", std::to_string(ra->threads) + " is not a thread count (>= 1)");
+                    throw InputError("--threads",
+                                     std::to_string(ra->threads) + " is not a thread count (>= 1)");
                 return cmd_run(*ra, command_line);
             }};
 }

@@ -10,8 +10,8 @@
 namespace pxh {
 
 struct Command {
-    CLI::App* app = nullptr;    // the subcommand (true when chosen on the command line)
-    std::function<int()> run;   // its exit code; throws InputError (exit 2) on bad input
+    CLI::App* app = nullptr;   // the subcommand (true when chosen on the command line)
+    std::function<int()> run;  // its exit code; throws InputError (exit 2) on bad input
 };
 
 // `command_line` is the whole command line as typed (run.json records it); it is filled in

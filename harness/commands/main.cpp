@@ -10,17 +10,21 @@
 using namespace pxh;
 
 int main(int argc, char** argv) {
-    CLI::App app{"pxh: measures how far parallax-mapping methods are from the true displaced "
-                 "surface, and what they cost"};
+    CLI::App app{
+        "pxh: measures how far parallax-mapping methods are from the true displaced "
+        "surface, and what they cost"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "pxh 0.1.0");
 
     std::string command_line;  // as typed (run.json records it)
     for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);
     // In the order --help lists them.
-    const std::vector<Command> commands = {
-        add_run_command(app, command_line), add_list_command(app),  add_bench_command(app),
-        add_report_command(app),            add_check_command(app), add_import_command(app)};
+    const std::vector<Command> commands = {add_run_command(app, command_line),
+                                           add_list_command(app),
+                                           add_bench_command(app),
+                                           add_report_command(app),
+                                           add_check_command(app),
+                                           add_import_command(app)};
 
     try {
         app.parse(argc, argv);

@@ -21,32 +21,45 @@ void print_summary(const std::vector<ResultRow>& rows) {
         const std::string key = series_of(r);
         if (!acc.count(key)) order.push_back(key);
         Acc& a = acc[key];
-        if (!r.ok()) { ++a.failed; continue; }
+        if (!r.ok()) {
+            ++a.failed;
+            continue;
+        }
         a.sum_mean += r.num("err_mean");
         a.worst_p95 = std::max(a.worst_p95, r.num("err_p95"));
         a.fetches += r.num("fetches_mean");
         ++a.n;
-        if (!std::isnan(r.num("ns_per_sample"))) { a.ns += r.num("ns_per_sample"); ++a.n_ns; }
-        if (!std::isnan(r.num("ms_per_frame"))) { a.ms += r.num("ms_per_frame"); ++a.n_ms; }
-        if (!std::isnan(r.num("shadow_err"))) { a.shadow += r.num("shadow_err"); ++a.n_shadow; }
+        if (!std::isnan(r.num("ns_per_sample"))) {
+            a.ns += r.num("ns_per_sample");
+            ++a.n_ns;
+        }
+        if (!std::isnan(r.num("ms_per_frame"))) {
+            a.ms += r.num("ms_per_frame");
+            ++a.n_ms;
+        }
+        if (!std::isnan(r.num("shadow_err"))) {
+            a.shadow += r.num("shadow_err");
+            ++a.n_shadow;
+        }
     }
     auto cell = [](double sum, int n, int prec) {
         std::ostringstream os;
-        if (n == 0) os << "-"; else os << std::fixed << std::setprecision(prec) << sum / n;
+        if (n == 0) os << "-";
+        else os << std::fixed << std::setprecision(prec) << sum / n;
         return os.str();
     };
-    std::cout << std::left << std::setw(46) << "method [backend/precision or texture]"
-              << std::right << std::setw(10) << "mean err" << std::setw(11) << "worst p95"
-              << std::setw(9) << "fetches" << std::setw(9) << "ns/smp" << std::setw(10)
-              << "ms/frame" << std::setw(8) << "shadow" << std::setw(8) << "failed" << "\n";
+    std::cout << std::left << std::setw(46) << "method [backend/precision or texture]" << std::right
+              << std::setw(10) << "mean err" << std::setw(11) << "worst p95" << std::setw(9)
+              << "fetches" << std::setw(9) << "ns/smp" << std::setw(10) << "ms/frame"
+              << std::setw(8) << "shadow" << std::setw(8) << "failed"
+              << "\n";
     for (const auto& k : order) {
         const Acc& a = acc[k];
         std::cout << std::left << std::setw(46) << k << std::right << std::setw(10)
                   << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95, a.n ? 1 : 0, 3)
                   << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(9)
-                  << cell(a.ns, a.n_ns, 1) << std::setw(10) << cell(a.ms, a.n_ms, 2)
-                  << std::setw(8) << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed
-                  << "\n";
+                  << cell(a.ns, a.n_ns, 1) << std::setw(10) << cell(a.ms, a.n_ms, 2) << std::setw(8)
+                  << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed << "\n";
     }
     std::cout << "mean err: texel distance between the sampled and the truly visible point, "
                  "averaged over rows; worst p95: largest per-row 95th percentile;\n"

@@ -19,7 +19,8 @@ std::string format_number(double v) {
 // ---- ParamValue ----
 
 double ParamValue::number() const {
-    if (kind_ != Kind::Number) throw std::logic_error("parameter value is not a number: " + spelled());
+    if (kind_ != Kind::Number)
+        throw std::logic_error("parameter value is not a number: " + spelled());
     return number_;
 }
 
@@ -35,18 +36,24 @@ const std::string& ParamValue::name() const {
 
 std::string ParamValue::spelled() const {
     switch (kind_) {
-        case Kind::Number: return format_number(number_);
-        case Kind::Bool: return number_ != 0 ? "true" : "false";
-        case Kind::Name: return name_;
+        case Kind::Number:
+            return format_number(number_);
+        case Kind::Bool:
+            return number_ != 0 ? "true" : "false";
+        case Kind::Name:
+            return name_;
     }
     return "";
 }
 
 std::string ParamValue::kind_name() const {
     switch (kind_) {
-        case Kind::Number: return "a number";
-        case Kind::Bool: return "a bool";
-        case Kind::Name: return "a string";
+        case Kind::Number:
+            return "a number";
+        case Kind::Bool:
+            return "a bool";
+        case Kind::Name:
+            return "a string";
     }
     return "";
 }
@@ -101,10 +108,14 @@ ParamSpec ParamSpec::choice(std::string name, std::vector<std::string> names,
 
 std::string ParamSpec::type_name() const {
     switch (type) {
-        case ParamType::Real: return "real";
-        case ParamType::Integer: return "integer";
-        case ParamType::Bool: return "bool";
-        case ParamType::Choice: return "choice";
+        case ParamType::Real:
+            return "real";
+        case ParamType::Integer:
+            return "integer";
+        case ParamType::Bool:
+            return "bool";
+        case ParamType::Choice:
+            return "choice";
     }
     return "";
 }
@@ -124,8 +135,10 @@ std::string quoted_names(const std::vector<std::string>& names, const char* last
 
 std::string ParamSpec::accepted() const {
     switch (type) {
-        case ParamType::Bool: return "true or false";
-        case ParamType::Choice: return "one of " + quoted_names(names, ", ");
+        case ParamType::Bool:
+            return "true or false";
+        case ParamType::Choice:
+            return "one of " + quoted_names(names, ", ");
         case ParamType::Real:
         case ParamType::Integer: {
             std::string out = std::string(type == ParamType::Integer ? "an integer" : "a number") +
@@ -138,13 +151,20 @@ std::string ParamSpec::accepted() const {
 }
 
 std::string ParamSpec::problem(const ParamValue& v) const {
-    const bool named = v.is_name() && std::find(names.begin(), names.end(), v.name()) != names.end();
+    const bool named =
+        v.is_name() && std::find(names.begin(), names.end(), v.name()) != names.end();
     bool ok = false;
     switch (type) {
         case ParamType::Real:
-        case ParamType::Integer: ok = v.is_number() || named; break;
-        case ParamType::Bool: ok = v.is_bool(); break;
-        case ParamType::Choice: ok = named; break;
+        case ParamType::Integer:
+            ok = v.is_number() || named;
+            break;
+        case ParamType::Bool:
+            ok = v.is_bool();
+            break;
+        case ParamType::Choice:
+            ok = named;
+            break;
     }
     if (ok) return "";
     return "must be " + accepted() + " (got " + v.kind_name() + ")";
@@ -212,9 +232,9 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs, const GivenParam
         if (!known) {
             std::string names;
             for (const auto& s : specs) names += (names.empty() ? "" : ", ") + s.name;
-            throw InputError(where, "unknown parameter '" + key + "' for " + owner +
-                                        (names.empty() ? " (it takes none)"
-                                                       : " (known: " + names + ")"));
+            throw InputError(where,
+                             "unknown parameter '" + key + "' for " + owner +
+                                 (names.empty() ? " (it takes none)" : " (known: " + names + ")"));
         }
     }
     ParamValues out;
@@ -230,13 +250,13 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs, const GivenParam
         if (v.is_number()) {
             const double x = v.number();
             if (!std::isfinite(x) || x < s.min || x > s.max)
-                throw InputError(where, owner + " parameter '" + s.name + "' = " +
-                                            format_number(x) + " is outside [" +
+                throw InputError(where, owner + " parameter '" + s.name +
+                                            "' = " + format_number(x) + " is outside [" +
                                             format_number(s.min) + ", " + format_number(s.max) +
                                             "]");
             if (s.type == ParamType::Integer && x != std::floor(x))
-                throw InputError(where, owner + " parameter '" + s.name + "' = " +
-                                            format_number(x) + " must be an integer");
+                throw InputError(where, owner + " parameter '" + s.name +
+                                            "' = " + format_number(x) + " must be an integer");
         }
         out.set(s.name, v);
     }
@@ -246,8 +266,7 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs, const GivenParam
 std::string describe_param(const ParamSpec& s) {
     std::ostringstream os;
     os << s.name << " (";
-    if (s.default_value)
-        os << "default " << s.default_value->spelled();
+    if (s.default_value) os << "default " << s.default_value->spelled();
     else
         os << "unset by default (params: " << s.name << "="
            << (s.unset_spelling.empty() ? "unset" : s.unset_spelling) << ")";
@@ -258,8 +277,12 @@ std::string describe_param(const ParamSpec& s) {
                << format_number(s.min) << ", " << format_number(s.max) << "]";
             if (!s.names.empty()) os << " or " << quoted_names(s.names, " or ");
             break;
-        case ParamType::Bool: os << ", bool"; break;
-        case ParamType::Choice: os << ", one of " << quoted_names(s.names, ", "); break;
+        case ParamType::Bool:
+            os << ", bool";
+            break;
+        case ParamType::Choice:
+            os << ", one of " << quoted_names(s.names, ", ");
+            break;
     }
     os << "): " << s.help;
     return os.str();

@@ -34,9 +34,9 @@ class ParamValue {
     bool is_number() const { return kind_ == Kind::Number; }
     bool is_bool() const { return kind_ == Kind::Bool; }
     bool is_name() const { return kind_ == Kind::Name; }
-    double number() const;             // throws std::logic_error unless is_number()
-    bool boolean() const;              // throws std::logic_error unless is_bool()
-    const std::string& name() const;   // throws std::logic_error unless is_name()
+    double number() const;            // throws std::logic_error unless is_number()
+    bool boolean() const;             // throws std::logic_error unless is_bool()
+    const std::string& name() const;  // throws std::logic_error unless is_name()
     // As `params` writes it: numbers as format_number, true/false, the name as is.
     std::string spelled() const;
     // "a number", "a bool", "a string" (for messages).
@@ -78,10 +78,22 @@ struct ParamSpec {
     static ParamSpec choice(std::string name, std::vector<std::string> names,
                             std::optional<std::string> def, std::string help);
     // Chained modifiers.
-    ParamSpec& to_uniform(std::string u) { uniform = std::move(u); return *this; }
-    ParamSpec& or_names(std::vector<std::string> n) { names = std::move(n); return *this; }
-    ParamSpec& unset_as(std::string s) { unset_spelling = std::move(s); return *this; }
-    ParamSpec& defaults_to(ParamValue v) { default_value = std::move(v); return *this; }
+    ParamSpec& to_uniform(std::string u) {
+        uniform = std::move(u);
+        return *this;
+    }
+    ParamSpec& or_names(std::vector<std::string> n) {
+        names = std::move(n);
+        return *this;
+    }
+    ParamSpec& unset_as(std::string s) {
+        unset_spelling = std::move(s);
+        return *this;
+    }
+    ParamSpec& defaults_to(ParamValue v) {
+        default_value = std::move(v);
+        return *this;
+    }
 
     // "real", "integer", "bool", "choice".
     std::string type_name() const;

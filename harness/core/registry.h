@@ -28,8 +28,8 @@ const Entry& find_entry(const std::vector<Entry>& entries, const std::string& na
                         const std::string& kind, const std::string& where) {
     for (const auto& e : entries)
         if (name == e.name) return e;
-    throw InputError(where, "unknown " + kind + " '" + name + "' (known: " +
-                                join_names(entry_names(entries)) + ")");
+    throw InputError(where, "unknown " + kind + " '" + name +
+                                "' (known: " + join_names(entry_names(entries)) + ")");
 }
 
 }  // namespace pxh

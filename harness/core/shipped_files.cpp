@@ -19,9 +19,11 @@ std::string shipped_file(const std::string& name) {
     const fs::path installed = (exe.parent_path() / PXH_INSTALL_DATA_REL / name).lexically_normal();
     for (const fs::path& p : {beside, installed})
         if (fs::is_regular_file(p, ec)) return p.string();
-    throw std::runtime_error(name + " not found: looked for " + beside.string() + " (build tree) and " +
-                             installed.string() + " (installed tree); rebuild, or reinstall with "
-                             "cmake --install (the tables are written; --no-plots skips the plots)");
+    throw std::runtime_error(
+        name + " not found: looked for " + beside.string() + " (build tree) and " +
+        installed.string() +
+        " (installed tree); rebuild, or reinstall with "
+        "cmake --install (the tables are written; --no-plots skips the plots)");
 }
 
 }  // namespace pxh

@@ -14,10 +14,16 @@ struct Vec2 {
     constexpr Vec2 operator+(Vec2 o) const { return {x + o.x, y + o.y}; }
     constexpr Vec2 operator-(Vec2 o) const { return {x - o.x, y - o.y}; }
     constexpr Vec2 operator*(T k) const { return {x * k, y * k}; }
-    constexpr Vec2& operator+=(Vec2 o) { x += o.x; y += o.y; return *this; }
+    constexpr Vec2& operator+=(Vec2 o) {
+        x += o.x;
+        y += o.y;
+        return *this;
+    }
 };
 template <typename T>
-constexpr Vec2<T> operator*(T k, Vec2<T> v) { return {k * v.x, k * v.y}; }
+constexpr Vec2<T> operator*(T k, Vec2<T> v) {
+    return {k * v.x, k * v.y};
+}
 
 template <typename T>
 struct Vec3 {

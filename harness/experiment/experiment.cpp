@@ -1,26 +1,26 @@
 #include "harness/experiment/experiment.h"
 
 #include <OpenImageIO/imageio.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 #include <tuple>
 
 #include "harness/backends/backend.h"
 #include "harness/core/error.h"
 #include "harness/core/registry.h"
+#include "harness/core/sha256.h"
 #include "harness/gl/context.h"
 #include "harness/scene/view.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
-#include "harness/core/sha256.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
 
@@ -35,8 +35,8 @@ std::string where_of(const std::string& path, const toml::node& n) {
     return path + ":" + std::to_string(src.begin.line);
 }
 
-void check_keys(const toml::table& t, const std::set<std::string>& allowed,
-                const std::string& path, const std::string& context) {
+void check_keys(const toml::table& t, const std::set<std::string>& allowed, const std::string& path,
+                const std::string& context) {
     for (const auto& [k, v] : t) {
         const std::string key(k.str());
         if (!allowed.count(key)) {
@@ -104,11 +104,13 @@ std::vector<double> get_angles(const toml::node& n, const std::string& path,
         const double to = get_number(*t->get("to"), path, "to");
         const double step = get_number(*t->get("step"), path, "step");
         if (!std::isfinite(from) || !std::isfinite(to) || !std::isfinite(step))
-            throw InputError(where_of(path, n), "'" + key + "' range needs finite from, to and step");
+            throw InputError(where_of(path, n),
+                             "'" + key + "' range needs finite from, to and step");
         if (!(step > 0)) throw InputError(where_of(path, n), "'" + key + "' step must be > 0");
         if (!(to >= from)) throw InputError(where_of(path, n), "'" + key + "' needs to >= from");
         const double span = std::floor((to - from) / step + 1e-9) + 1;  // counted in double first
-        if (!(span <= 100000)) throw InputError(where_of(path, n), "'" + key + "' has too many angles");
+        if (!(span <= 100000))
+            throw InputError(where_of(path, n), "'" + key + "' has too many angles");
         const long long count = (long long)span;
         std::vector<double> out;
         for (long long k = 0; k < count; ++k) out.push_back(from + double(k) * step);
@@ -151,8 +153,7 @@ std::string safe_default_name(const std::string& stem) {
 // the loader's message without its leading "PATH: ".
 std::string file_problem(const std::string& file, std::string reason) {
     if (reason.rfind(file + ": ", 0) == 0) reason = reason.substr(file.size() + 2);
-    return "heightfield file '" + file + "' (paths are relative to the experiment file): " +
-           reason;
+    return "heightfield file '" + file + "' (paths are relative to the experiment file): " + reason;
 }
 
 // An identity without its hash, for messages: the part a reader tells fields apart by.
@@ -191,8 +192,8 @@ std::vector<ParamValue> get_param_values(const toml::node& n, const std::string&
         else if (e.is_boolean()) v = ParamValue(*e.value<bool>());
         else if (e.is_string()) v = ParamValue(*e.value<std::string>());
         else
-            throw InputError(where_of(path, e), owner + " parameter '" + spec.name +
-                                                    "' must be " + spec.accepted());
+            throw InputError(where_of(path, e),
+                             owner + " parameter '" + spec.name + "' must be " + spec.accepted());
         check_param_kind(spec, v, where_of(path, e), owner);
         return v;
     };
@@ -264,7 +265,8 @@ void heightfield_size(const toml::table& t, const std::string& path, bool has_ge
     if (auto n = t.get("height")) base.height = get_int(*n, path, "height", 1, max_side);
     if (auto n = t.get("channel")) base.channel = get_int(*n, path, "channel", 0, 64);
     if (!has_gen && (t.contains("size") || t.contains("width") || t.contains("height")))
-        throw InputError(where, "'size'/'width'/'height' apply to generators, not to files or scans");
+        throw InputError(where,
+                         "'size'/'width'/'height' apply to generators, not to files or scans");
     // Generated fields obey the image loader's limit (a 16384^2 field is 1 GiB of floats
     // before its truths and Embree's copy).
     if ((long long)base.width * base.height > kMaxImageTexels)
@@ -282,13 +284,12 @@ void hash_heightfield_file(HeightfieldSpec& base) {
     std::string problem;
     if (!fs::exists(st)) problem = "no such file";
     else if (!fs::is_regular_file(st)) problem = "not a regular file";
-    if (!problem.empty())
-        throw InputError(base.where, file_problem(base.file, problem));
+    if (!problem.empty()) throw InputError(base.where, file_problem(base.file, problem));
     try {
         base.source_path = base.file;
         base.source_sha256 = sha256_file(base.file);
-        base.identity = "file:" + base.file_written + " channel:" +
-                        std::to_string(base.channel) + " sha256:" + base.source_sha256;
+        base.identity = "file:" + base.file_written + " channel:" + std::to_string(base.channel) +
+                        " sha256:" + base.source_sha256;
     } catch (const InputError& e) {
         throw InputError(base.where, file_problem(base.file, e.what()));
     }
@@ -296,19 +297,21 @@ void hash_heightfield_file(HeightfieldSpec& base) {
 
 // The entry's scales and biases (a value or a sweep each), checked; scales whose errors
 // saturate within the views go into large_scales.
-std::pair<std::vector<double>, std::vector<double>> heightfield_scales(
-    const toml::table& t, const std::string& path, const Experiment& ex, LargeScales& large_scales) {
+std::pair<std::vector<double>, std::vector<double>> heightfield_scales(const toml::table& t,
+                                                                       const std::string& path,
+                                                                       const Experiment& ex,
+                                                                       LargeScales& large_scales) {
     std::vector<double> scales{0.05}, biases{1.0};
     if (auto n = t.get("scale")) scales = get_numbers(*n, path, "scale");
     if (auto n = t.get("bias")) biases = get_numbers(*n, path, "bias");
     for (double s : scales)
         if (!(s > 0) || !std::isfinite(s))
-            throw InputError(where_of(path, *t.get("scale")), "scale must be > 0 (got " +
-                                                                  format_number(s) + ")");
+            throw InputError(where_of(path, *t.get("scale")),
+                             "scale must be > 0 (got " + format_number(s) + ")");
     for (double b : biases)
         if (!(b >= 0 && b <= 1))
-            throw InputError(where_of(path, *t.get("bias")), "bias must lie in [0, 1] (got " +
-                                                                 format_number(b) + ")");
+            throw InputError(where_of(path, *t.get("bias")),
+                             "bias must lie in [0, 1] (got " + format_number(b) + ")");
     // Errors are measured modulo one tile, so they saturate once the true hit can lie half a
     // tile from its sample: the parallax offset s tan(theta) reaches 0.5 at theta =
     // atan(0.5 / s). Warn when that happens within the experiment's views and at or below
@@ -326,12 +329,13 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     const bool has_gen = t.contains("generator"), has_file = t.contains("file");
     const bool has_scan = t.contains("scan");
     if (int(has_gen) + int(has_file) + int(has_scan) != 1)
-        throw InputError(where, "a [[heightfields]] entry needs exactly one of 'generator', "
-                                "'file' or 'scan'");
+        throw InputError(where,
+                         "a [[heightfields]] entry needs exactly one of 'generator', "
+                         "'file' or 'scan'");
     HeightfieldSpec base;
     base.where = where;
-    std::set<std::string> allowed{"name", "generator", "file", "scan", "size", "width",
-                                  "height", "scale", "bias", "channel"};
+    std::set<std::string> allowed{"name",  "generator", "file",  "scan", "size",
+                                  "width", "height",    "scale", "bias", "channel"};
     const GeneratorInfo* gen = heightfield_source(t, path, base, allowed);
     check_keys(t, allowed, path, "[[heightfields]]");
     heightfield_size(t, path, has_gen, base);
@@ -341,12 +345,14 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     if (gen)
         for (const auto& p : gen->params)
             if (auto n = t.get(p.name))
-                sweeps.emplace_back(p.name, get_param_values(*n, path, p, "generator '" + gen->name + "'"));
+                sweeps.emplace_back(p.name,
+                                    get_param_values(*n, path, p, "generator '" + gen->name + "'"));
     const auto combos = expand(sweeps);
     for (const auto& given : combos) {
         HeightfieldSpec hs = base;
         if (gen) {
-            hs.gen_params = resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
+            hs.gen_params =
+                resolve_params(gen->params, given, where, "generator '" + gen->name + "'");
             if (gen->problem)
                 if (const std::string why = gen->problem(hs.gen_params); !why.empty())
                     throw InputError(where, "generator '" + gen->name + "' [" +
@@ -386,10 +392,9 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         if (!spec) {
             std::string names;
             for (const auto& p : m->params) names += (names.empty() ? "" : ", ") + p.name;
-            throw InputError(where_of(path, v), "unknown parameter '" + key + "' for method '" +
-                                                    name + "'" +
-                                                    (names.empty() ? " (it takes none)"
-                                                                   : " (known: " + names + ")"));
+            throw InputError(where_of(path, v),
+                             "unknown parameter '" + key + "' for method '" + name + "'" +
+                                 (names.empty() ? " (it takes none)" : " (known: " + names + ")"));
         }
         sweeps.emplace_back(key, get_param_values(v, path, *spec, "method '" + name + "'"));
     }
@@ -408,11 +413,12 @@ void check_heightfield_names(const Experiment& ex) {
         const auto [named, fresh_name] = by_name.emplace(h.name, k);
         const HeightfieldSpec& a = ex.heightfields[named->second];
         if (!fresh_name && a.identity != h.identity)
-            throw InputError(h.where, "heightfield name '" + h.name + "' is given to two different fields: " +
-                                          describe_field(a) + " (" + a.where + ") and " +
-                                          describe_field(h) + " (" + h.where +
-                                          "); give one of them its own name = \"...\"");
-        const auto [same, fresh_field] = by_field.emplace(std::make_tuple(h.identity, h.scale, h.bias), k);
+            throw InputError(
+                h.where, "heightfield name '" + h.name + "' is given to two different fields: " +
+                             describe_field(a) + " (" + a.where + ") and " + describe_field(h) +
+                             " (" + h.where + "); give one of them its own name = \"...\"");
+        const auto [same, fresh_field] =
+            by_field.emplace(std::make_tuple(h.identity, h.scale, h.bias), k);
         if (fresh_field) continue;
         const HeightfieldSpec& b = ex.heightfields[same->second];
         const std::string what = describe_field(h) + " at scale " + format_number(h.scale) +
@@ -481,8 +487,8 @@ void parse_choices(const toml::table& root, const std::string& path, Experiment&
     if (auto n = root.get("gl")) {
         ex.gl = get_string(*n, path, "gl");
         if (!find_gl_context(ex.gl))
-            throw InputError(where_of(path, *n), "unknown GL context '" + ex.gl + "' (known: " +
-                                                     gl_context_names() + ")");
+            throw InputError(where_of(path, *n), "unknown GL context '" + ex.gl +
+                                                     "' (known: " + gl_context_names() + ")");
     }
     if (auto n = root.get("texture_format")) {
         ex.texture_formats = get_strings(*n, path, "texture_format");
@@ -506,29 +512,32 @@ void parse_theta(const toml::table& vt, const std::string& path, Experiment& ex)
     const std::string theta_where = where_of(path, *vt.get("theta_deg"));
     for (double t : ex.theta_deg)
         if (!(t >= 0 && t < 90))
-            throw InputError(theta_where, "theta_deg = " + format_number(t) +
-                                              " is impossible: the polar angle must lie in [0, 90)");
-    const bool all_small = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
-                                       [](double t) { return t < 1.6; });
+            throw InputError(theta_where,
+                             "theta_deg = " + format_number(t) +
+                                 " is impossible: the polar angle must lie in [0, 90)");
+    const bool all_small =
+        std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(), [](double t) { return t < 1.6; });
     const bool all_whole = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
                                        [](double t) { return t == std::floor(t); });
     if (all_small && !all_whole)
-        warn(ex, theta_where + ": theta_deg values are all below 1.6 and not all whole "
-                                            "numbers: they look like radians, but theta_deg is in degrees");
+        warn(ex, theta_where +
+                     ": theta_deg values are all below 1.6 and not all whole "
+                     "numbers: they look like radians, but theta_deg is in degrees");
     // Sweeps (sliding, shimmering) pair consecutive views: increasing, each view once.
     if (!std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end()) ||
         std::adjacent_find(ex.theta_deg.begin(), ex.theta_deg.end()) != ex.theta_deg.end()) {
         const bool sorted = std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end());
         const size_t before = ex.theta_deg.size();
         std::sort(ex.theta_deg.begin(), ex.theta_deg.end());
-        ex.theta_deg.erase(std::unique(ex.theta_deg.begin(), ex.theta_deg.end()), ex.theta_deg.end());
+        ex.theta_deg.erase(std::unique(ex.theta_deg.begin(), ex.theta_deg.end()),
+                           ex.theta_deg.end());
         const size_t dropped = before - ex.theta_deg.size();
         std::string what = sorted ? "" : "is not in increasing order (sorted";
         if (dropped)
             what += std::string(sorted ? "repeats values (" : ", ") + std::to_string(dropped) +
                     " duplicate(s) dropped";
         warn(ex, theta_where + ": theta_deg " + what +
-                              "): views are measured in increasing theta, each once");
+                     "): views are measured in increasing theta, each once");
     }
 }
 
@@ -546,15 +555,14 @@ void parse_phi(const toml::node& n, const std::string& path, Experiment& ex) {
         changed += (changed.empty() ? "" : ", ") + format_number(p) + " -> " + format_number(q);
         p = q;
     }
-    if (!changed.empty())
-        warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
+    if (!changed.empty()) warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
     std::vector<double> unique;
     for (double p : ex.phi_deg)
         if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
     if (unique.size() != ex.phi_deg.size())
         warn(ex, phi_where + ": phi_deg repeats an azimuth (" +
-                              std::to_string(ex.phi_deg.size() - unique.size()) +
-                              " duplicate(s) dropped): each view is measured once");
+                     std::to_string(ex.phi_deg.size() - unique.size()) +
+                     " duplicate(s) dropped): each view is measured once");
     ex.phi_deg = std::move(unique);
 }
 
@@ -564,15 +572,16 @@ void parse_views(const toml::table& root, const std::string& path, Experiment& e
         throw InputError(path, "missing [views] table (theta_deg = [...])");
     const auto& vt = *views->as_table();
     check_keys(vt, {"theta_deg", "phi_deg", "camera"}, path, "[views]");
-    if (!vt.contains("theta_deg")) throw InputError(where_of(path, *views), "[views] needs theta_deg");
+    if (!vt.contains("theta_deg"))
+        throw InputError(where_of(path, *views), "[views] needs theta_deg");
     parse_theta(vt, path, ex);
     if (auto n = vt.get("phi_deg")) parse_phi(*n, path, ex);
     if (auto n = vt.get("camera")) {
         ex.camera = get_string(*n, path, "camera");
         const auto known = camera_names();
         if (std::find(known.begin(), known.end(), ex.camera) == known.end())
-            throw InputError(where_of(path, *n), "unknown camera '" + ex.camera + "' (known: " +
-                                                     join_names(known) + ")");
+            throw InputError(where_of(path, *n), "unknown camera '" + ex.camera +
+                                                     "' (known: " + join_names(known) + ")");
     }
 }
 
@@ -587,11 +596,12 @@ void parse_light(const toml::node& n, const std::string& path, Experiment& ex) {
     if (auto v = lt->get("layers_max")) l.layers_max = get_number(*v, path, "layers_max");
     if (!(l.theta_deg >= 0 && l.theta_deg < 90))
         throw InputError(where_of(path, n), "light theta_deg = " + format_number(l.theta_deg) +
-                                                 " is impossible: it must lie in [0, 90)");
+                                                " is impossible: it must lie in [0, 90)");
     if (!std::isfinite(l.phi_deg))
         throw InputError(where_of(path, n), "light phi_deg must be finite");
     if (!(l.layers_min >= 1 && l.layers_max >= l.layers_min && l.layers_max <= 4096))
-        throw InputError(where_of(path, n), "light layers need 1 <= layers_min <= layers_max <= 4096");
+        throw InputError(where_of(path, n),
+                         "light layers need 1 <= layers_min <= layers_max <= 4096");
     ex.light = l;
 }
 
@@ -601,8 +611,8 @@ const toml::array& tables_of(const toml::table& root, const std::string& path, c
     if (!n) throw InputError(path, std::string("no [[") + key + "]] entries");
     const auto* arr = n->as_array();
     if (!arr || arr->empty() || !arr->is_array_of_tables())
-        throw InputError(where_of(path, *n), std::string("'") + key +
-                                                 "' must be a list of tables ([[" + key + "]])");
+        throw InputError(where_of(path, *n),
+                         std::string("'") + key + "' must be a list of tables ([[" + key + "]])");
     return *arr;
 }
 
@@ -611,7 +621,8 @@ void warn_large_scales(const LargeScales& large_scales, Experiment& ex) {
     for (const auto& [s, wheres] : large_scales) {
         std::string also;
         for (size_t k = 1; k < wheres.size(); ++k)
-            also += (k == 1 ? " (also on lines " : ", ") + wheres[k].substr(wheres[k].rfind(':') + 1);
+            also +=
+                (k == 1 ? " (also on lines " : ", ") + wheres[k].substr(wheres[k].rfind(':') + 1);
         if (!also.empty()) also += ")";
         const double onset = std::atan(0.5 / s) * 180 / M_PI;
         warn(ex, wheres[0] + ": scale = " + format_number(s) + also +
@@ -658,8 +669,8 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     ex.name = safe_default_name(fs::path(path).stem().string());
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
-                "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled",
-                "gl", "views", "heightfields", "methods", "light"},
+                "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled", "gl",
+                "views", "heightfields", "methods", "light"},
                path, "the experiment");
     parse_settings(root, path, ex);
     parse_choices(root, path, ex);
@@ -682,8 +693,9 @@ Experiment load_experiment(const std::string& path) {
     if (fs::is_directory(st)) throw InputError(path, "is a directory, not an experiment file");
     // A FIFO or device would block or never end: only regular files are read.
     if (!fs::is_regular_file(st))
-        throw InputError(path, "not a regular file (a FIFO, socket or device?): an experiment "
-                               "must be a regular file");
+        throw InputError(path,
+                         "not a regular file (a FIFO, socket or device?): an experiment "
+                         "must be a regular file");
     std::ifstream f(path, std::ios::binary);
     if (!f) throw InputError(path, "cannot open");
     std::stringstream ss;
@@ -711,7 +723,6 @@ HeightField make_heightfield(const HeightfieldSpec& spec) {
     hf.name = spec.name;
     return hf;
 }
-
 
 namespace {
 
@@ -749,7 +760,8 @@ std::string mib(size_t bytes) { return format_bytes(bytes); }
 std::string format_bytes(size_t bytes) {
     std::ostringstream os;
     os << std::fixed;
-    if (bytes < (size_t(1) << 30)) os << std::setprecision(1) << double(bytes) / double(1 << 20) << " MiB";
+    if (bytes < (size_t(1) << 30))
+        os << std::setprecision(1) << double(bytes) / double(1 << 20) << " MiB";
     else os << std::setprecision(1) << double(bytes) / double(size_t(1) << 30) << " GiB";
     return os.str();
 }
@@ -767,7 +779,8 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     const auto& backends = backends_override.empty() ? ex.backends : backends_override;
     const bool cpu = std::find(backends.begin(), backends.end(), "cpu") != backends.end();
     const bool glsl = std::find(backends.begin(), backends.end(), "glsl") != backends.end();
-    const size_t per_method = (cpu ? ex.precisions.size() : 0) + (glsl ? ex.texture_formats.size() : 0);
+    const size_t per_method =
+        (cpu ? ex.precisions.size() : 0) + (glsl ? ex.texture_formats.size() : 0);
     const size_t rows_per_view = ex.methods.size() * per_method;
     RunEstimate est;
     est.rows = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size() * rows_per_view;

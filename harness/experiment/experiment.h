@@ -7,18 +7,18 @@
 #include <string>
 #include <vector>
 
-#include "harness/scene/heightfield.h"
 #include "harness/core/params.h"
+#include "harness/scene/heightfield.h"
 #include "methods/method.h"
 
 namespace pxh {
 
 struct HeightfieldSpec {
-    std::string name;       // as reported in results: unique within a run (one name, one field)
-    std::string generator;  // either a generator ...
-    std::string file;       // ... or an image file (resolved path)
+    std::string name;          // as reported in results: unique within a run (one name, one field)
+    std::string generator;     // either a generator ...
+    std::string file;          // ... or an image file (resolved path)
     std::string file_written;  // the file's path as written in the experiment
-    std::string scan;       // ... or an imported scan (heightfields/scanned/NAME)
+    std::string scan;          // ... or an imported scan (heightfields/scanned/NAME)
     int width = 256, height = 256;
     int channel = 0;
     ParamValues gen_params;
@@ -42,10 +42,11 @@ struct Experiment {
     std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
     int timing_repeats = 5;
     std::string ground_truth = "exact";
-    std::string gl = "osmesa";  // the GLSL backend's GL context (pxh run --gl overrides it)
-    double sweep_dt_deg = 0;  // > 0: sliding/shimmering from a companion view dt away
-    bool maps = false;        // write per-row error maps
-    bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the reference the errors are measured against
+    std::string gl = "osmesa";    // the GLSL backend's GL context (pxh run --gl overrides it)
+    double sweep_dt_deg = 0;      // > 0: sliding/shimmering from a companion view dt away
+    bool maps = false;            // write per-row error maps
+    bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the
+                                  // reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
     std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)
     std::optional<LightSpec> light;

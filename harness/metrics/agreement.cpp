@@ -9,8 +9,8 @@
 namespace pxh {
 
 OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
-                      const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b,
-                      int width, int height) {
+                      const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b, int width,
+                      int height) {
     OutputDiff r;
     const size_t n = std::min(uv_a.size(), uv_b.size());
     std::vector<double> d;

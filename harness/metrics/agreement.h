@@ -21,8 +21,8 @@ struct OutputDiff {
     long long decision_mismatch = 0;
 };
 OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
-                      const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b,
-                      int width, int height);
+                      const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b, int width,
+                      int height);
 
 OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height);
 

@@ -54,7 +54,8 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"ms_per_frame", kNum, kMeasured, "GLSL: median wall time of one frame (ms, glFinish)"},
         {"ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame (ms)"},
         {"ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame (ms)"},
-        {"gpu_ms_per_frame", kNum, kMeasured, "GLSL: median GL_TIME_ELAPSED of a frame's draw (ms)"},
+        {"gpu_ms_per_frame", kNum, kMeasured,
+         "GLSL: median GL_TIME_ELAPSED of a frame's draw (ms)"},
         {"gpu_ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame by timer query (ms)"},
         {"gpu_ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame by timer query (ms)"},
         // Agreement between backends and precisions (harness/metrics/agreement.cpp).
@@ -70,14 +71,16 @@ const std::vector<ColumnSpec>& builtin_columns() {
         // Error map (harness/results/error_maps.cpp).
         {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
         // Ground truth (harness/metrics/ground_truth_metrics.cpp).
-        {"gt_on_filled", kNum, kMeasured, "measured fields: fraction of true hits on a filled hole"},
+        {"gt_on_filled", kNum, kMeasured,
+         "measured fields: fraction of true hits on a filled hole"},
         {"excluded", kInt, kMeasured, "samples left out of err_* (exclude_filled = true)"},
         {"gt_cells_mean", kNum, kMeasured, "exact tracer: cells per ray given to the solver"},
         {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns"},
         {"gt_agree_p50", kNum, kMeasured, "|hit_exact - hit_embree| median (texels)"},
         {"gt_agree_p99", kNum, kMeasured, "|hit_exact - hit_embree| 99th percentile (texels)"},
         {"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"},
-        {"gt_agree_frac_gt_0_5", kNum, kMeasured, "fraction of samples where they differ > 0.5 texel"},
+        {"gt_agree_frac_gt_0_5", kNum, kMeasured,
+         "fraction of samples where they differ > 0.5 texel"},
         // Self-shadowing (harness/metrics/shadows.cpp).
         {"shadow_err", kNum, kMeasured, "fraction of samples whose hard shadow state is wrong"},
         {"shadow_soft_mae", kNum, kMeasured, "mean |soft factor - true hard factor|"},
@@ -148,8 +151,8 @@ const ColumnSpec& column_spec(size_t id) { return registry().specs.at(id); }
 
 ColumnRegistration::ColumnRegistration(ColumnSpec spec) : name_(spec.name) {
     Registry& r = registry();
-    const size_t status = size_t(
-        std::find(r.order.begin(), r.order.end(), column_id("status")) - r.order.begin());
+    const size_t status =
+        size_t(std::find(r.order.begin(), r.order.end(), column_id("status")) - r.order.begin());
     r.add(spec, status);
 }
 

@@ -26,9 +26,9 @@ namespace pxh {
 
 // One backend's output on the view's samples, and the truth it is scored against.
 struct MetricInput {
-    const MethodOutput& out;  // uv, fetches, timing, shadow factors (harness/backends/backend.h)
-    const GroundTruth& gt;    // the reference's hit per sample (and true shadow state, if lit)
-    int width = 0, height = 0;                      // texels (errors are in texels)
+    const MethodOutput& out;    // uv, fetches, timing, shadow factors (harness/backends/backend.h)
+    const GroundTruth& gt;      // the reference's hit per sample (and true shadow state, if lit)
+    int width = 0, height = 0;  // texels (errors are in texels)
     const std::vector<uint8_t>* exclude = nullptr;  // samples left out of the error statistics
 };
 

@@ -36,7 +36,10 @@ SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d
     }
     if (d.empty() || !(dt_deg > 0)) return m;
     double mx = 0, my = 0;
-    for (const Vec2d& v : d) { mx += v.x; my += v.y; }
+    for (const Vec2d& v : d) {
+        mx += v.x;
+        my += v.y;
+    }
     mx /= double(d.size());
     my /= double(d.size());
     double spread = 0;
@@ -51,7 +54,8 @@ ErrorStats error_stats(const std::vector<double>& magnitudes) {
     std::vector<double> v;
     v.reserve(magnitudes.size());
     for (double m : magnitudes) {
-        if (std::isfinite(m)) v.push_back(m); else ++st.nonfinite;
+        if (std::isfinite(m)) v.push_back(m);
+        else ++st.nonfinite;
     }
     st.count = (long long)v.size();
     if (v.empty()) {

@@ -1,5 +1,6 @@
-// Texel error (docs/conventions.md sections 5.1-5.2): e = uv_method - uv_true wrapped to [-0.5, 0.5) per component,
-// scaled by (W, H); statistics over the finite samples, non-finite ones counted.
+// Texel error (docs/conventions.md sections 5.1-5.2): e = uv_method - uv_true wrapped to [-0.5,
+// 0.5) per component, scaled by (W, H); statistics over the finite samples, non-finite ones
+// counted.
 #pragma once
 #include <vector>
 
@@ -21,11 +22,11 @@ struct ErrorStats {
 // position q (N - 1) in the sorted values. `sorted` must be ascending and non-empty.
 double percentile_sorted(const std::vector<double>& sorted, double q);
 
-// Sliding and shimmering (docs/conventions.md section 5.3) from the error vectors of two views dt degrees apart:
-// d(P) = e1(P) - e0(P) (wrapped to the half-open tile range, in texels);
-// sliding = |mean_P d| / dt (coherent drift, texels per degree);
-// shimmering = mean_P |d - mean_P d| / dt (incoherent per-sample change, texels per degree).
-// Samples non-finite in either view are left out of both.
+// Sliding and shimmering (docs/conventions.md section 5.3) from the error vectors of two views dt
+// degrees apart: d(P) = e1(P) - e0(P) (wrapped to the half-open tile range, in texels); sliding =
+// |mean_P d| / dt (coherent drift, texels per degree); shimmering = mean_P |d - mean_P d| / dt
+// (incoherent per-sample change, texels per degree). Samples non-finite in either view are left out
+// of both.
 struct SweepMetrics {
     double sliding = NAN, shimmering = NAN;
 };

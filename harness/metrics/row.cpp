@@ -12,7 +12,8 @@ size_t typed(std::string_view column, bool text) {
     const ColumnSpec& c = column_spec(id);
     if ((c.type == ColumnType::text) != text)
         throw std::logic_error("results column '" + c.name + "' holds " +
-                               (text ? "numbers" : "text") + ", not " + (text ? "text" : "a number"));
+                               (text ? "numbers" : "text") + ", not " +
+                               (text ? "text" : "a number"));
     return id;
 }
 
@@ -33,9 +34,7 @@ ResultRow::Cell& ResultRow::at(size_t id) {
     return cells_[id];
 }
 
-void ResultRow::set(std::string_view column, double value) {
-    at(typed(column, false)).num = value;
-}
+void ResultRow::set(std::string_view column, double value) { at(typed(column, false)).num = value; }
 
 void ResultRow::set_text(std::string_view column, std::string value) {
     at(typed(column, true)).text = std::move(value);
@@ -57,11 +56,13 @@ std::string ResultRow::cell(size_t id) const {
     const Cell* c = find(id);
     if (!c) return "";
     switch (spec.type) {
-        case ColumnType::text: return c->text;
+        case ColumnType::text:
+            return c->text;
         case ColumnType::integer:
             return std::isfinite(c->num) ? std::to_string((long long)c->num)
                                          : format_cell_number(c->num);
-        case ColumnType::number: break;
+        case ColumnType::number:
+            break;
     }
     return format_cell_number(c->num);
 }

@@ -20,8 +20,9 @@ Bands::Bands(std::vector<double> edges) : edges_(std::move(edges)) {
             if (!list.empty()) list += ',';
             list += format_number(e);
         }
-        throw InputError("--bands", "'" + list + "': band edges must be at least 2 ascending "
-                                    "angles in [0, 90] degrees, e.g. 0,30,60,75,85,90");
+        throw InputError("--bands", "'" + list +
+                                        "': band edges must be at least 2 ascending "
+                                        "angles in [0, 90] degrees, e.g. 0,30,60,75,85,90");
     }
     thetas_.resize(size());
 }
@@ -43,10 +44,12 @@ std::string Bands::note() const {
     std::string list;
     for (size_t i = 0; i < size(); ++i)
         if (single_view(i))
-            list += (list.empty() ? "" : ", ") + edges(i) + " holds only θ = " +
-                    format_number(*thetas_[i].begin());
-    return list.empty() ? "" : "† A single view in the band (" + list + "): its figures are "
-                               "that one angle's, not the whole band's.";
+            list += (list.empty() ? "" : ", ") + edges(i) +
+                    " holds only θ = " + format_number(*thetas_[i].begin());
+    return list.empty() ? ""
+                        : "† A single view in the band (" + list +
+                              "): its figures are "
+                              "that one angle's, not the whole band's.";
 }
 
 std::string Bands::range() const {

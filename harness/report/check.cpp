@@ -1,5 +1,7 @@
 // `pxh check DIR --thresholds FILE`: every [[limit]] of the file against the typed rows of
 // DIR/results.csv.
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -7,7 +9,6 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
-#include <toml++/toml.h>
 
 #include "harness/core/error.h"
 #include "harness/core/params.h"
@@ -20,16 +21,18 @@ namespace pxh {
 namespace {
 
 // The key columns a limit may select rows by.
-const std::vector<std::string> kFilters = {"method",    "params",         "heightfield",
-                                           "backend",   "precision",      "texture_format",
-                                           "ground_truth"};
+const std::vector<std::string> kFilters = {"method",    "params",         "heightfield", "backend",
+                                           "precision", "texture_format", "ground_truth"};
 
 // params with the spaces around '=' and ';' (and at the ends) removed: "layers = 16" in a
 // thresholds file is the canonical "layers=16" of results.csv.
 std::string canonical_params(const std::string& s) {
     std::string out;
     for (size_t i = 0; i < s.size(); ++i) {
-        if (!std::isspace(static_cast<unsigned char>(s[i]))) { out += s[i]; continue; }
+        if (!std::isspace(static_cast<unsigned char>(s[i]))) {
+            out += s[i];
+            continue;
+        }
         size_t j = i;
         while (j < s.size() && std::isspace(static_cast<unsigned char>(s[j]))) ++j;
         const bool separated = out.empty() || j == s.size() || out.back() == '=' ||
@@ -66,8 +69,9 @@ toml::table parse_thresholds(const std::string& file) {
     }
     for (const auto& [k, v] : root)
         if (k.str() != "limit")
-            throw InputError(file, "unknown key '" + std::string(k.str()) + "' (a thresholds "
-                                   "file holds [[limit]] tables)");
+            throw InputError(file, "unknown key '" + std::string(k.str()) +
+                                       "' (a thresholds "
+                                       "file holds [[limit]] tables)");
     return root;
 }
 
@@ -75,11 +79,11 @@ toml::table parse_thresholds(const std::string& file) {
 void check_column(const ResultsFile& f, const std::string& where, const std::string& column) {
     if (!f.has(column)) throw InputError(where, "results.csv has no column '" + column + "'");
     const ColumnSpec* spec = find_column(column);
-    if (!spec)
-        throw InputError(where, "column '" + column + "' is not a column this pxh writes");
+    if (!spec) throw InputError(where, "column '" + column + "' is not a column this pxh writes");
     if (spec->type == ColumnType::text)
-        throw InputError(where, "column '" + column + "' is not numeric (it holds text): a "
-                                "limit needs a numeric column");
+        throw InputError(where, "column '" + column +
+                                    "' is not numeric (it holds text): a "
+                                    "limit needs a numeric column");
 }
 
 Limit read_limit(const toml::node& node, const std::string& file, const ResultsFile& f) {
@@ -106,7 +110,8 @@ Limit read_limit(const toml::node& node, const std::string& file, const ResultsF
                 throw InputError(l.where, std::string("'") + key + "' must be a number");
             const double v = *n->value<double>();
             // nan compares false with everything: such a limit would pass every row.
-            if (std::isnan(v)) throw InputError(l.where, std::string("'") + key + "' is nan, not a limit");
+            if (std::isnan(v))
+                throw InputError(l.where, std::string("'") + key + "' is nan, not a limit");
             return v;
         }
         return std::nullopt;
@@ -165,7 +170,10 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
             continue;
         }
         const double v = row.num(l.column);
-        if (!std::isfinite(v)) { ++nonfinite; continue; }
+        if (!std::isfinite(v)) {
+            ++nonfinite;
+            continue;
+        }
         worst_hi = std::max(worst_hi, v);
         worst_lo = std::min(worst_lo, v);
     }
@@ -182,15 +190,16 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
 int print_outcomes(const std::vector<Outcome>& outcomes) {
     int failed = 0;
     std::cout << std::left << std::setw(4) << "#" << std::setw(72) << "rows selected"
-              << std::setw(22) << "column" << std::setw(12) << "limit" << std::setw(12)
-              << "worst" << std::setw(6) << "rows" << "result\n";
+              << std::setw(22) << "column" << std::setw(12) << "limit" << std::setw(12) << "worst"
+              << std::setw(6) << "rows"
+              << "result\n";
     for (size_t i = 0; i < outcomes.size(); ++i) {
         const auto& o = outcomes[i];
         failed += !o.pass;
         char worst[32];
         std::snprintf(worst, sizeof worst, "%.4g", o.worst);
-        std::cout << std::left << std::setw(4) << i + 1 << std::setw(72) << o.what
-                  << std::setw(22) << o.column << std::setw(12) << o.limit << std::setw(12)
+        std::cout << std::left << std::setw(4) << i + 1 << std::setw(72) << o.what << std::setw(22)
+                  << o.column << std::setw(12) << o.limit << std::setw(12)
                   << (std::isfinite(o.worst) ? worst : "-") << std::setw(6) << o.rows
                   << (o.pass ? "pass" : "FAIL") << (o.note.empty() ? "" : "  (" + o.note + ")")
                   << "\n";

@@ -55,8 +55,8 @@ void vs_theta(const ReportData& d) {
         const auto& a = acc[k];
         o << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
           << key_fields(d.row(first[k])) << "," << csv_num(std::get<2>(k)) << ","
-          << csv_num(a[0].get()) << "," << csv_num(a[1].get()) << "," << csv_num(a[2].get())
-          << "," << csv_num(a[3].get()) << "\n";
+          << csv_num(a[0].get()) << "," << csv_num(a[1].get()) << "," << csv_num(a[2].get()) << ","
+          << csv_num(a[3].get()) << "\n";
     }
     d.write("data/vs_theta.csv", o.str());
 }
@@ -86,9 +86,9 @@ void maps(const ReportData& d) {
 
 // Pareto flags per series and cost: "1" on its group's front, "0" off it, "" when the point
 // has no such cost; over exactly the points the plot draws in that panel.
-std::vector<std::array<const char*, 3>> pareto_flags(
-    const ReportData& d, const std::vector<std::array<double, 3>>& cost,
-    const std::vector<double>& err) {
+std::vector<std::array<const char*, 3>> pareto_flags(const ReportData& d,
+                                                     const std::vector<std::array<double, 3>>& cost,
+                                                     const std::vector<double>& err) {
     std::map<std::string, std::vector<size_t>> by_group;  // group -> series indices
     for (size_t i = 0; i < d.series_order.size(); ++i)
         by_group[d.series.at(d.series_order[i]).group].push_back(i);
@@ -96,11 +96,14 @@ std::vector<std::array<const char*, 3>> pareto_flags(
     for (const auto& [group, members] : by_group)
         for (size_t c = 0; c < 3; ++c) {
             std::vector<double> gc, ge;
-            for (size_t i : members) { gc.push_back(cost[i][c]); ge.push_back(err[i]); }
+            for (size_t i : members) {
+                gc.push_back(cost[i][c]);
+                ge.push_back(err[i]);
+            }
             const auto front = pareto(gc, ge);
             for (size_t k = 0; k < members.size(); ++k)
-                flag[members[k]][c] = std::isfinite(gc[k]) && std::isfinite(ge[k])
-                                          ? (front[k] ? "1" : "0") : "";
+                flag[members[k]][c] =
+                    std::isfinite(gc[k]) && std::isfinite(ge[k]) ? (front[k] ? "1" : "0") : "";
         }
     return flag;
 }
@@ -153,20 +156,23 @@ void run_plotter(const fs::path& out) {
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    const std::string advice = "; the tables are written. Is python3-matplotlib installed? "
-                               "(./run.sh installs it)";
+    const std::string advice =
+        "; the tables are written. Is python3-matplotlib installed? "
+        "(./run.sh installs it)";
     std::cout << std::flush;
     pid_t pid = 0;
     if (const int e = posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ))
         throw std::runtime_error("cannot start " + python + ": " + std::strerror(e) + advice);
     int status = 0;
     while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR) throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+        if (errno != EINTR)
+            throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw std::runtime_error(
-            "plotting failed (" + python + " " + script + ": " +
-            (WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
-                               : "killed by signal " + std::to_string(WTERMSIG(status))) + ")" + advice);
+        throw std::runtime_error("plotting failed (" + python + " " + script + ": " +
+                                 (WIFEXITED(status)
+                                      ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                      : "killed by signal " + std::to_string(WTERMSIG(status))) +
+                                 ")" + advice);
 }
 
 }  // namespace pxh

@@ -12,12 +12,21 @@ namespace fs = std::filesystem;
 namespace {
 
 const BudgetMetric kBudgetMetrics[] = {
-    {"p95", "err_p95", "p95 budget (texels)", "95th-percentile texel error",
+    {"p95",
+     "err_p95",
+     "p95 budget (texels)",
+     "95th-percentile texel error",
      {0.1, 0.25, 0.5, 1, 2, 4}},
-    {"p99", "err_p99", "p99 budget (texels)", "99th-percentile texel error",
+    {"p99",
+     "err_p99",
+     "p99 budget (texels)",
+     "99th-percentile texel error",
      {0.1, 0.25, 0.5, 1, 2, 4}},
-    {"frac_gt_1", "frac_gt_1", "frac_gt_1 budget (fraction of samples)",
-     "fraction of samples more than one texel off", {0.001, 0.003, 0.01, 0.03, 0.1}},
+    {"frac_gt_1",
+     "frac_gt_1",
+     "frac_gt_1 budget (fraction of samples)",
+     "fraction of samples more than one texel off",
+     {0.001, 0.003, 0.01, 0.03, 0.1}},
 };
 
 }  // namespace
@@ -44,11 +53,15 @@ void Acc::add(const ResultRow& r, const char* budget_column) {
 }
 
 ReportData::ReportData(const std::string& d, const ReportOptions& o)
-    : dir(d), out(fs::path(d) / "report"), bands(o.bands), metric(budget_metric(o.budget_metric)),
+    : dir(d),
+      out(fs::path(d) / "report"),
+      bands(o.bands),
+      metric(budget_metric(o.budget_metric)),
       file(read_results((fs::path(d) / "results.csv").string())) {
     for (const char* c : {"method", "theta_deg", "err_mean", "err_p95", "status"})
         if (!file.has(c))
-            throw InputError(file.path, std::string("no column '") + c + "' (not a pxh results file?)");
+            throw InputError(file.path,
+                             std::string("no column '") + c + "' (not a pxh results file?)");
     for (size_t r = 0; r < file.rows.size(); ++r) (file.rows[r].ok() ? ok : failed).push_back(r);
     if (ok.empty()) throw InputError(file.path, "has no ok rows to report");
     assign_bands();
@@ -103,7 +116,8 @@ std::vector<size_t> ReportData::present_bands() const {
 std::vector<std::string> ReportData::notes(bool with_bands) const {
     std::vector<std::string> n;
     if (!failed.empty())
-        n.push_back(std::to_string(failed.size()) + " failed rows (status not ok) are "
+        n.push_back(std::to_string(failed.size()) +
+                    " failed rows (status not ok) are "
                     "left out of every figure here; they are listed in failed.md.");
     if (with_bands && !bands.note().empty()) n.push_back(bands.note());
     return n;
@@ -124,7 +138,8 @@ std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<doub
         bool dominated = false;
         for (size_t j = 0; j < cost.size() && !dominated; ++j) {
             if (j == i || !std::isfinite(cost[j]) || !std::isfinite(err[j])) continue;
-            dominated = cost[j] <= cost[i] && err[j] <= err[i] && (cost[j] < cost[i] || err[j] < err[i]);
+            dominated =
+                cost[j] <= cost[i] && err[j] <= err[i] && (cost[j] < cost[i] || err[j] < err[i]);
         }
         front[i] = !dominated;
     }

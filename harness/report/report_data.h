@@ -46,8 +46,8 @@ struct Setting {
 };
 
 struct ReportData {
-    std::string dir;             // the results folder
-    std::filesystem::path out;   // DIR/report
+    std::string dir;            // the results folder
+    std::filesystem::path out;  // DIR/report
     Bands bands;
     const BudgetMetric& metric;
     ResultsFile file;

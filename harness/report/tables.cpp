@@ -42,7 +42,10 @@ void write_summary(const ReportData& d) {
         std::vector<std::string> row = {s};
         for (size_t b : bands) {
             auto it = ser.band.find(b);
-            if (it == ser.band.end()) { row.push_back("-"); continue; }
+            if (it == ser.band.end()) {
+                row.push_back("-");
+                continue;
+            }
             row.push_back(fmt(it->second.err_mean.get()) + " / " + fmt(it->second.err_p95.get()));
             summary_csv_line(csv, s, ser, d.bands.label(b), d.bands.lo(b), d.bands.hi(b),
                              d.bands.views(b), it->second);
@@ -54,8 +57,9 @@ void write_summary(const ReportData& d) {
         tt.rows.push_back(row);
     }
     tt.notes = d.notes();
-    tt.notes.push_back("Texel error, mean over rows of the per-row mean / 95th percentile, per "
-                       "band of the view angle θ (degrees); fetches and times over all angles.");
+    tt.notes.push_back(
+        "Texel error, mean over rows of the per-row mean / 95th percentile, per "
+        "band of the view angle θ (degrees); fetches and times over all angles.");
     d.write("summary.csv", csv.str());
     d.write("summary.md", tt.markdown());
     d.write("summary.tex", tt.latex(d.dir + "/results.csv"));
@@ -72,7 +76,8 @@ void write_failed(const ReportData& d) {
         tt.rows.push_back({r.text("method"), r.text("params"), field_of(r), r.cell("theta_deg"),
                            r.cell("phi_deg"), group_of(r), r.text("error")});
     }
-    tt.notes.push_back("Rows with status not ok (" + d.file.path + "): their metrics are left "
+    tt.notes.push_back("Rows with status not ok (" + d.file.path +
+                       "): their metrics are left "
                        "out of every table, budget and plot of this report.");
     d.write("failed.md", tt.markdown());
     const size_t shown = std::min<size_t>(d.failed.size(), 20);
@@ -108,9 +113,10 @@ void write_sweep(const ReportData& d) {
         tt.rows.push_back(row);
     }
     tt.notes = d.notes();
-    tt.notes.push_back("Texels per degree of view change (docs/conventions.md section 5.3): "
-                       "sliding = |mean change of the error vector| / dt, shimmering = mean "
-                       "|change - mean change| / dt.");
+    tt.notes.push_back(
+        "Texels per degree of view change (docs/conventions.md section 5.3): "
+        "sliding = |mean change of the error vector| / dt, shimmering = mean "
+        "|change - mean change| / dt.");
     d.write("sweep.md", tt.markdown());
 }
 
@@ -148,8 +154,9 @@ void write_precision(const ReportData& d) {
         tt.rows.push_back(row);
     }
     tt.notes = d.notes(/*with_bands=*/false);
-    tt.notes.push_back("Largest |uv_float - uv_double| over the samples, in texels (CPU "
-                       "reference in float vs double on the same samples).");
+    tt.notes.push_back(
+        "Largest |uv_float - uv_double| over the samples, in texels (CPU "
+        "reference in float vs double on the same samples).");
     d.write("precision.md", tt.markdown());
 }
 
@@ -207,7 +214,8 @@ void write_budget(const ReportData& d) {
     tt.notes = d.notes();
     tt.notes.push_back(std::string("Cheapest method setting (fewest height fetches per "
                                    "sample, then CPU time, over its rows in the band) whose "
-                                   "mean ") + d.metric.meaning + " (`" + d.metric.column +
+                                   "mean ") +
+                       d.metric.meaning + " (`" + d.metric.column +
                        "`) in the band is within the budget on every backend, precision and "
                        "texture format it ran on, with no failed row and no non-finite "
                        "output there.");

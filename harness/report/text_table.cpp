@@ -28,10 +28,22 @@ std::string md_cell(const std::string& s) {
 }
 
 std::string tex_text(const std::string& s) {
-    static const std::pair<const char*, const char*> kTokens[] = {
-        {"θ", "$\\theta$"}, {"†", "$^\\dagger$"}, {"<=", "$\\le$"}, {"<", "$<$"}, {">", "$>$"},
-        {"|", "$|$"}, {"\\", "\\textbackslash{}"}, {"~", "\\~{}"}, {"^", "\\^{}"}, {"_", "\\_"},
-        {"%", "\\%"}, {"&", "\\&"}, {"#", "\\#"}, {"$", "\\$"}, {"{", "\\{"}, {"}", "\\}"}};
+    static const std::pair<const char*, const char*> kTokens[] = {{"θ", "$\\theta$"},
+                                                                  {"†", "$^\\dagger$"},
+                                                                  {"<=", "$\\le$"},
+                                                                  {"<", "$<$"},
+                                                                  {">", "$>$"},
+                                                                  {"|", "$|$"},
+                                                                  {"\\", "\\textbackslash{}"},
+                                                                  {"~", "\\~{}"},
+                                                                  {"^", "\\^{}"},
+                                                                  {"_", "\\_"},
+                                                                  {"%", "\\%"},
+                                                                  {"&", "\\&"},
+                                                                  {"#", "\\#"},
+                                                                  {"$", "\\$"},
+                                                                  {"{", "\\{"},
+                                                                  {"}", "\\}"}};
     std::string o;
     for (size_t i = 0; i < s.size();) {
         bool replaced = false;

@@ -11,7 +11,10 @@ struct Mean {
     double sum = 0;
     int n = 0;
     void add(double v) {
-        if (std::isfinite(v)) { sum += v; ++n; }
+        if (std::isfinite(v)) {
+            sum += v;
+            ++n;
+        }
     }
     double get() const { return n ? sum / n : NAN; }
 };

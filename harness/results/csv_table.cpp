@@ -67,16 +67,23 @@ CsvTable read_csv(const std::string& path) {
         if (c == '\n') ++line;
         if (quoted) {
             if (c == '"') {
-                if (i + 1 < text.size() && text[i + 1] == '"') { field += '"'; ++i; }
-                else quoted = false;
+                if (i + 1 < text.size() && text[i + 1] == '"') {
+                    field += '"';
+                    ++i;
+                } else quoted = false;
             } else {
                 field += c;
             }
             continue;
         }
-        if (c == '"') { quoted = true; any = true; }
-        else if (c == ',') { rec.push_back(field); field.clear(); any = true; }
-        else if (c == '\n') {
+        if (c == '"') {
+            quoted = true;
+            any = true;
+        } else if (c == ',') {
+            rec.push_back(field);
+            field.clear();
+            any = true;
+        } else if (c == '\n') {
             rec.push_back(field);
             records.push_back(rec);
             starts.push_back(start);
@@ -84,10 +91,17 @@ CsvTable read_csv(const std::string& path) {
             rec.clear();
             field.clear();
             any = false;
-        } else if (c != '\r') { field += c; any = true; }
+        } else if (c != '\r') {
+            field += c;
+            any = true;
+        }
     }
     if (quoted) throw InputError(path, "unterminated quoted field");
-    if (any) { rec.push_back(field); records.push_back(rec); starts.push_back(start); }
+    if (any) {
+        rec.push_back(field);
+        records.push_back(rec);
+        starts.push_back(start);
+    }
     if (records.empty()) throw InputError(path, "empty file");
     CsvTable t;
     t.path = path;

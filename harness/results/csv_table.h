@@ -9,10 +9,10 @@
 namespace pxh {
 
 struct CsvTable {
-    std::string path;                  // the file it was read from (for messages)
+    std::string path;  // the file it was read from (for messages)
     std::vector<std::string> columns;
     std::vector<std::vector<std::string>> rows;
-    std::vector<size_t> lines;         // the file line each row starts on (the header is line 1)
+    std::vector<size_t> lines;  // the file line each row starts on (the header is line 1)
     int index(const std::string& column) const;  // -1 when absent
     const std::string& get(size_t row, const std::string& column) const;
     // The cell as a number: NaN when empty or the column is absent; "inf", "-inf" and "nan"

@@ -4,10 +4,10 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <algorithm>
-#include <cmath>
-#include <filesystem>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 
 #include "harness/core/params.h"
@@ -16,11 +16,10 @@ namespace pxh {
 namespace {
 
 // A perceptual ramp (samples of matplotlib's viridis).
-constexpr float kRamp[9][3] = {{0.267f, 0.005f, 0.329f}, {0.283f, 0.141f, 0.458f},
-                               {0.254f, 0.265f, 0.530f}, {0.207f, 0.372f, 0.553f},
-                               {0.164f, 0.471f, 0.558f}, {0.128f, 0.567f, 0.551f},
-                               {0.135f, 0.659f, 0.518f}, {0.478f, 0.821f, 0.318f},
-                               {0.993f, 0.906f, 0.144f}};
+constexpr float kRamp[9][3] = {
+    {0.267f, 0.005f, 0.329f}, {0.283f, 0.141f, 0.458f}, {0.254f, 0.265f, 0.530f},
+    {0.207f, 0.372f, 0.553f}, {0.164f, 0.471f, 0.558f}, {0.128f, 0.567f, 0.551f},
+    {0.135f, 0.659f, 0.518f}, {0.478f, 0.821f, 0.318f}, {0.993f, 0.906f, 0.144f}};
 
 void ramp(double t, float rgb[3]) {
     t = std::clamp(t, 0.0, 1.0) * 8;
@@ -35,7 +34,9 @@ const char* kFont = "DejaVuSans";
 
 void error_colour(double e, float rgb[3]) {
     if (!std::isfinite(e)) {
-        rgb[0] = 1; rgb[1] = 0; rgb[2] = 1;
+        rgb[0] = 1;
+        rgb[1] = 0;
+        rgb[2] = 1;
         return;
     }
     ramp(e <= 0 ? 0.0 : (std::log2(e) + 4) / 8, rgb);
@@ -68,8 +69,8 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
             const Vec2d e = errors[size_t(j) * n + i];
             float rgb[3];
             error_colour(std::hypot(e.x, e.y), rgb);
-            OIIO::ImageBufAlgo::fill(pic, rgb, OIIO::ROI(x0 + i * k, x0 + (i + 1) * k,
-                                                         top + j * k, top + (j + 1) * k));
+            OIIO::ImageBufAlgo::fill(
+                pic, rgb, OIIO::ROI(x0 + i * k, x0 + (i + 1) * k, top + j * k, top + (j + 1) * k));
         }
     OIIO::ImageBufAlgo::render_text(pic, 6, 19, title, 14, kFont, black);
     // Legend: the colour bar from 1/16 to 16 texels (log2), ticks labelled.
@@ -85,9 +86,8 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
         OIIO::ImageBufAlgo::fill(pic, black, OIIO::ROI(x, x + 1, by1, by1 + 4));
         OIIO::ImageBufAlgo::render_text(pic, x - 8, by1 + 17, labels[t], 12, kFont, black);
     }
-    OIIO::ImageBufAlgo::render_text(pic, bx0, by1 + 34,
-                                    "texel error (log scale; magenta: non-finite)", 12, kFont,
-                                    black);
+    OIIO::ImageBufAlgo::render_text(
+        pic, bx0, by1 + 34, "texel error (log scale; magenta: non-finite)", 12, kFont, black);
     const std::string png = (fs::path(dir) / (stem + ".png")).string();
     if (!pic.write(png)) throw std::runtime_error(png + ": " + pic.geterror());
     return stem + ".png";
@@ -98,7 +98,8 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     const std::string what = r.text("backend") + "-" + (fmt.empty() ? r.text("precision") : fmt);
     char stem[512];
     std::snprintf(stem, sizeof stem, "%05zu_%s_%s_t%g_p%g_%s", index, r.text("method").c_str(),
-                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"), what.c_str());
+                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"),
+                  what.c_str());
     ErrorMapName n{stem, ""};
     for (char& ch : n.stem)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';

@@ -4,6 +4,7 @@
 #include <OpenImageIO/oiioversion.h>
 #include <embree3/rtcore_config.h>
 #include <oneapi/tbb/version.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
 #include <Eigen/Core>
@@ -12,7 +13,6 @@
 #include <ctime>
 #include <fstream>
 #include <thread>
-#include <toml++/toml.h>
 
 namespace pxh {
 namespace {
@@ -53,8 +53,9 @@ std::string utc_timestamp(const char* fmt) {
 nlohmann::json provenance(int threads) {
     nlohmann::json j;
     const std::string src = PXH_SOURCE_DIR;
-    j["pxh_version"] = std::string(PXH_VERSION) + " (" +
-                       run_command("git -C '" + src + "' describe --always --tags --dirty 2>/dev/null") + ")";
+    j["pxh_version"] =
+        std::string(PXH_VERSION) + " (" +
+        run_command("git -C '" + src + "' describe --always --tags --dirty 2>/dev/null") + ")";
     j["git_commit"] = run_command("git -C '" + src + "' rev-parse HEAD 2>/dev/null");
     j["git_dirty"] = !run_command("git -C '" + src + "' status --porcelain 2>/dev/null").empty();
     j["compiler"] = std::string("g++ ") + __VERSION__;
@@ -75,7 +76,8 @@ nlohmann::json provenance(int threads) {
         {"nlohmann_json", std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." +
                               std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
                               std::to_string(NLOHMANN_JSON_VERSION_PATCH)},
-        {"osmesa", std::to_string(OSMESA_MAJOR_VERSION) + "." + std::to_string(OSMESA_MINOR_VERSION)},
+        {"osmesa",
+         std::to_string(OSMESA_MAJOR_VERSION) + "." + std::to_string(OSMESA_MINOR_VERSION)},
     };
     char host[256] = {};
     gethostname(host, sizeof host - 1);

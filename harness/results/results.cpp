@@ -70,8 +70,8 @@ ResultsFile read_results(const std::string& path) {
             if (cell.empty()) continue;
             const auto v = parse_number(cell);
             if (!v)
-                throw InputError(t.where(r), "column '" + specs[c]->name + "': '" + cell +
-                                                 "' is not a number");
+                throw InputError(t.where(r),
+                                 "column '" + specs[c]->name + "': '" + cell + "' is not a number");
             row.set(specs[c]->name, *v);
         }
         f.rows.push_back(std::move(row));

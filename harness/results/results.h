@@ -25,7 +25,7 @@ struct ResultsFile {
     std::string path;
     std::vector<std::string> header;  // as in the file
     std::vector<ResultRow> rows;
-    std::vector<size_t> lines;        // the file line each row starts on (header: line 1)
+    std::vector<size_t> lines;  // the file line each row starts on (header: line 1)
     bool has(const std::string& column) const;
     std::string where(size_t row) const;  // "PATH:LINE"
 };

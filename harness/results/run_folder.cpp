@@ -17,9 +17,9 @@
 #include <sstream>
 #include <thread>
 
-#include "harness/results/csv_table.h"
 #include "harness/core/error.h"
 #include "harness/core/sha256.h"
+#include "harness/results/csv_table.h"
 
 namespace pxh {
 namespace {
@@ -76,7 +76,8 @@ void fsync_path(const fs::path& p, bool directory) {
     const int rc = ::fsync(fd);
     const std::string err = rc != 0 ? errno_text() : "";
     if (::close(fd) != 0 || rc != 0)
-        throw std::runtime_error(p.string() + ": sync failed: " + (err.empty() ? errno_text() : err));
+        throw std::runtime_error(p.string() +
+                                 ": sync failed: " + (err.empty() ? errno_text() : err));
 }
 
 // fsync every regular file and folder under (and including) dir.
@@ -108,7 +109,8 @@ void warn_stale_siblings(const fs::path& final_dir) {
             const long pid = pid_suffix(name, kind);
             if (pid <= 0 || pid == long(getpid())) continue;
             if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // its run is alive
-            std::cerr << "pxh: warning: " << e.path().string() << " is left from an interrupted run "
+            std::cerr << "pxh: warning: " << e.path().string()
+                      << " is left from an interrupted run "
                       << "(pid " << pid << ", no longer running)"
                       << (kind == ".partial-" ? ": its results are incomplete"
                                               : ": it holds the results that run was replacing")
@@ -140,7 +142,10 @@ void write_file_synced(const fs::path& path, const std::string& text) {
     while (left > 0 && err.empty()) {
         const ssize_t n = ::write(fd, p, left);
         if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) { err = "write failed: " + errno_text(); break; }
+        if (n <= 0) {
+            err = "write failed: " + errno_text();
+            break;
+        }
         p += n;
         left -= size_t(n);
     }
@@ -157,8 +162,9 @@ RunFolder::RunFolder(const std::string& out, bool force) {
     // The current folder, or a folder holding it, is never a results folder.
     const auto rel = cwd.lexically_relative(final_);
     if (final_ == final_.root_path() || (!rel.empty() && *rel.begin() != ".."))
-        throw InputError(out, "is the current folder or one of its parents: results go into a new "
-                              "folder of their own (e.g. --out results/runs/NAME)");
+        throw InputError(out,
+                         "is the current folder or one of its parents: results go into a new "
+                         "folder of their own (e.g. --out results/runs/NAME)");
     std::error_code ec;
     const auto st = fs::symlink_status(p, ec);
     if (fs::exists(st)) {
@@ -170,7 +176,8 @@ RunFolder::RunFolder(const std::string& out, bool force) {
     // One writer per DIR: an advisory lock on PARENT/.NAME.pxh-lock (freed if we die).
     lock_path_ = final_.parent_path() / ("." + final_.filename().string() + ".pxh-lock");
     lock_fd_ = ::open(lock_path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (lock_fd_ < 0) throw InputError(lock_path_.string(), "cannot create the lock file: " + errno_text());
+    if (lock_fd_ < 0)
+        throw InputError(lock_path_.string(), "cannot create the lock file: " + errno_text());
     if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
         ::close(lock_fd_);
         lock_fd_ = -1;
@@ -179,12 +186,14 @@ RunFolder::RunFolder(const std::string& out, bool force) {
     }
     if (fs::is_directory(final_) && !fs::is_empty(final_)) {
         if (!fs::exists(final_ / "run.json"))
-            throw InputError(out, "exists, is not empty and is not a pxh results folder (no "
-                                  "run.json); pxh never deletes what it did not create: choose "
-                                  "another --out");
+            throw InputError(out,
+                             "exists, is not empty and is not a pxh results folder (no "
+                             "run.json); pxh never deletes what it did not create: choose "
+                             "another --out");
         if (!force)
-            throw InputError(out, "holds earlier pxh results (run.json); pass --force to replace "
-                                  "them, or choose another --out");
+            throw InputError(out,
+                             "holds earlier pxh results (run.json); pass --force to replace "
+                             "them, or choose another --out");
         check_replaceable(final_);
         replace_ = true;
     }
@@ -230,8 +239,8 @@ void RunFolder::commit() {
     if (ec) {
         if (!aside.empty()) fs::rename(aside, final_);
         throw std::runtime_error("cannot move " + tmp_.string() + " to " + final_.string() + ": " +
-                                 ec.message() + " (the complete results stay in " +
-                                 tmp_.string() + ")");
+                                 ec.message() + " (the complete results stay in " + tmp_.string() +
+                                 ")");
     }
     s.committed = true;
     fsync_path(final_.parent_path(), true);
@@ -250,7 +259,7 @@ nlohmann::json file_records(const fs::path& dir) {
     std::sort(paths.begin(), paths.end());
     for (const auto& p : paths)
         files[p.lexically_relative(dir).generic_string()] = {{"bytes", fs::file_size(p)},
-                                                              {"sha256", sha256_file(p.string())}};
+                                                             {"sha256", sha256_file(p.string())}};
     return files;
 }
 
@@ -258,8 +267,9 @@ std::string verify_results_folder(const std::string& dir, bool accept_edited) {
     const fs::path d(dir);
     auto refuse = [&](const std::string& where, const std::string& what) -> std::string {
         if (!accept_edited)
-            throw InputError(where, what + " (refused: these are not the results a run wrote; "
-                                           "pass --accept-edited to use them anyway)");
+            throw InputError(where, what +
+                                        " (refused: these are not the results a run wrote; "
+                                        "pass --accept-edited to use them anyway)");
         std::cerr << "pxh: warning: " << one_line(where + ": " + what) << "\n";
         return "NOT VERIFIED (--accept-edited): " + one_line(where + ": " + what);
     };
@@ -267,9 +277,11 @@ std::string verify_results_folder(const std::string& dir, bool accept_edited) {
     if (!fs::is_directory(d, ec)) throw InputError(dir, "no such results folder");
     const fs::path run_json = d / "run.json";
     if (!fs::exists(run_json, ec))
-        return refuse(run_json.string(), "missing: a complete pxh results folder has run.json "
-                                         "(written last by pxh run)");
-    if (!fs::is_regular_file(run_json, ec)) throw InputError(run_json.string(), "is not a regular file");
+        return refuse(run_json.string(),
+                      "missing: a complete pxh results folder has run.json "
+                      "(written last by pxh run)");
+    if (!fs::is_regular_file(run_json, ec))
+        throw InputError(run_json.string(), "is not a regular file");
     nlohmann::json run;
     try {
         std::ifstream f(run_json, std::ios::binary);
@@ -288,28 +300,34 @@ std::string verify_results_folder(const std::string& dir, bool accept_edited) {
     size_t checked = 0;
     for (const auto& [rel, rec] : files.items()) {
         const fs::path p = d / rel;
-        if (!fs::is_regular_file(p, ec))
-            return refuse(p.string(), "missing (run.json records it)");
+        if (!fs::is_regular_file(p, ec)) return refuse(p.string(), "missing (run.json records it)");
         if (!rec.is_object() || !rec.contains("sha256") || !rec["sha256"].is_string())
             return refuse(run_json.string(), "malformed record for '" + rel + "'");
         const std::string want = rec["sha256"].get<std::string>();
-        if (sha256_file(p.string()) == want) { ++checked; continue; }
+        if (sha256_file(p.string()) == want) {
+            ++checked;
+            continue;
+        }
         if (p == csv) {
             // Say what differs when the table still reads.
             size_t have = 0;
             try {
                 have = read_csv(csv.string()).rows.size();
             } catch (const InputError& e) {
-                return refuse(csv.string(), std::string("does not match run.json and is malformed: ") + e.what());
+                return refuse(csv.string(),
+                              std::string("does not match run.json and is malformed: ") + e.what());
             }
             if (have < rows_recorded)
                 return refuse(csv.string(), std::to_string(have) + " rows, run.json records " +
-                                                std::to_string(rows_recorded) + ": rows are missing");
+                                                std::to_string(rows_recorded) +
+                                                ": rows are missing");
             if (have > rows_recorded)
                 return refuse(csv.string(), std::to_string(have) + " rows, run.json records " +
-                                                std::to_string(rows_recorded) + ": rows were added");
-            return refuse(csv.string(), "values differ from what the run wrote (sha256 mismatch, "
-                                        "same row count): edited?");
+                                                std::to_string(rows_recorded) +
+                                                ": rows were added");
+            return refuse(csv.string(),
+                          "values differ from what the run wrote (sha256 mismatch, "
+                          "same row count): edited?");
         }
         return refuse(p.string(), "differs from what the run wrote (sha256 mismatch)");
     }

@@ -7,8 +7,8 @@
 #include <set>
 #include <sstream>
 
-#include "harness/metrics/agreement.h"
 #include "harness/core/error.h"
+#include "harness/metrics/agreement.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
 #include "harness/metrics/sweep.h"
@@ -48,8 +48,8 @@ struct FieldContext {
     CpuBackend& reference;  // the CPU float run other backends are compared with
     const HeightField& hf;
     const HeightfieldSpec& spec;
-    const Tracer& exact;  // the reference: heights, true shadows, cost (gt_cells_mean)
-    const Tracer& other;  // the second reference, compared with it (gt_agree_*)
+    const Tracer& exact;       // the reference: heights, true shadows, cost (gt_cells_mean)
+    const Tracer& other;       // the second reference, compared with it (gt_agree_*)
     ResourceCache& resources;  // the methods' precomputed textures for this field
 };
 
@@ -138,9 +138,9 @@ struct ViewJob {
     std::vector<Vec2d> errors_of(const MethodOutput& o) const {
         std::vector<Vec2d> e(o.uv.size());
         for (size_t k = 0; k < e.size(); ++k)
-            e[k] = exclude && (*exclude)[k] ? Vec2d{NAN, NAN}
-                                            : texel_error(o.uv[k], truth.gt.uv[k], c.hf.width,
-                                                          c.hf.height);
+            e[k] = exclude && (*exclude)[k]
+                       ? Vec2d{NAN, NAN}
+                       : texel_error(o.uv[k], truth.gt.uv[k], c.hf.width, c.hf.height);
         return e;
     }
 
@@ -201,8 +201,8 @@ void run_method(ViewJob& job, const MethodSpec& m) {
             try {
                 // Built on first use, then shared by every view and backend (a failed build
                 // fails this row).
-                const MethodResources res = job.c.resources.get(
-                    m.method->name, m.method->resources, job.scene.scale, job.scene.bias);
+                const MethodResources res = job.c.resources.get(m.method->name, m.method->resources,
+                                                                job.scene.scale, job.scene.bias);
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
@@ -302,8 +302,8 @@ void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_
             const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
             const ViewRows comp = evaluate_view(ctx, other, phi, false);
             for (size_t i = 0; i < view.rows.size(); ++i)
-                add_sweep(up ? view.errors[i] : comp.errors[i], up ? comp.errors[i] : view.errors[i],
-                          ex.sweep_dt_deg, view.rows[i]);
+                add_sweep(up ? view.errors[i] : comp.errors[i],
+                          up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg, view.rows[i]);
         } else if (t > 0) {
             // Consecutive views: the pair (theta_{k-1}, theta_k) goes on row k-1.
             const double dt = theta - ex.theta_deg[t - 1];
@@ -322,8 +322,7 @@ void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_
 
 }  // namespace
 
-std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
-                                      RunInfo* info) {
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
     BackendSettings settings;
     settings.precisions = ex.precisions;
     settings.texture_formats = ex.texture_formats;
@@ -363,8 +362,8 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         }
         // Both references built once per field (and s, b), shared by all its views.
         const References refs = make_references(*field, spec);
-        const FieldContext ctx{ex,          backends,    reference, *field,
-                               spec,        *refs.exact, *refs.other, *resources};
+        const FieldContext ctx{ex,   backends,    reference,   *field,
+                               spec, *refs.exact, *refs.other, *resources};
         for (double phi : ex.phi_deg) run_sweep(ctx, phi, opt, step, steps, rows);
     }
     if (info && resources) info->resource_builds += resources->builds();

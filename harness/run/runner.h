@@ -33,11 +33,11 @@ struct RunOptions {
 };
 
 struct RunInfo {
-    std::string gl_renderer, gl_version;  // when the GLSL backend ran
-    std::string gl_context, gl_vendor;    // ... the context (osmesa, egl) and GL_VENDOR
+    std::string gl_renderer, gl_version;           // when the GLSL backend ran
+    std::string gl_context, gl_vendor;             // ... the context (osmesa, egl) and GL_VENDOR
     std::map<std::string, std::string> gl_driver;  // ... the driver behind it (GlContext::driver)
-    int gl_timer_bits = 0;                // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
-    std::map<std::string, std::string> shaders;  // every GLSL source compiled -> sha256
+    int gl_timer_bits = 0;                         // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
+    std::map<std::string, std::string> shaders;    // every GLSL source compiled -> sha256
     int resource_builds = 0;  // method resources built (once per field, and s, b if they use them)
 };
 

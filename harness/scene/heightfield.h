@@ -1,5 +1,5 @@
-// Height fields (docs/conventions.md section 1): W x H texels in [0,1], bilinear between texel centres,
-// repeat wrapping, exactly what GL_LINEAR + GL_REPEAT computes.
+// Height fields (docs/conventions.md section 1): W x H texels in [0,1], bilinear between texel
+// centres, repeat wrapping, exactly what GL_LINEAR + GL_REPEAT computes.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -22,7 +22,7 @@ constexpr long long kMaxImageBytes = 1024ll * 1024 * 1024;
 
 struct HeightField {
     int width = 0, height = 0;
-    std::vector<float> texels;  // row-major, row j = 0 is v near 0
+    std::vector<float> texels;    // row-major, row j = 0 is v near 0
     std::vector<uint8_t> filled;  // optional: 1 where a measured field's hole was filled
     std::string name;
 

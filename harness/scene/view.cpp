@@ -36,8 +36,9 @@ std::string view_problem(const View& view) {
                std::to_string(view.V.size()) + " ray directions (expected " + std::to_string(want) +
                (view.parallel ? ": parallel rays share one)" : ": one per sample)");
     if (view.grid > 0 && view.P.size() != size_t(view.grid) * size_t(view.grid))
-        return "a view marked as a " + std::to_string(view.grid) + " x " + std::to_string(view.grid) +
-               " sample grid has " + std::to_string(view.P.size()) + " samples";
+        return "a view marked as a " + std::to_string(view.grid) + " x " +
+               std::to_string(view.grid) + " sample grid has " + std::to_string(view.P.size()) +
+               " samples";
     return "";
 }
 

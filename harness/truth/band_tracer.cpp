@@ -92,8 +92,9 @@ class ViewTracer {
         sc.Cm = C - 1e-9 * (std::abs(C) + t_.s_);
         sc.c_last = int64_t(std::floor(p0 + r.tau_max * dmaj_)) + 1;
         const double first = std::ceil((sc.Cm - z_max_) * inv_k_) - 2;  // 2 to spare for rounding
-        sc.c_first = first > double(sc.c0) ? (first < double(sc.c_last) ? int64_t(first) : sc.c_last)
-                                           : sc.c0;
+        sc.c_first = first > double(sc.c0)
+                         ? (first < double(sc.c_last) ? int64_t(first) : sc.c_last)
+                         : sc.c0;
         return sc;
     }
 
@@ -105,14 +106,14 @@ class ViewTracer {
         // of tiles (grazing views) cost a bound per chunk there, not one per run, and memory
         // only for the chunks built.
         double eta_lo = 0, w = 1;
-        int64_t base = 0;            // column where run 0 starts (a multiple of 2^l)
-        int64_t chunks = 0;          // chunks [0, chunks) have a bound in sblk
-        std::vector<double> sblk;    // per chunk of 256 runs: the max of its U once built, else
-                                     // the coarse bound (never below that max)
-        std::vector<int32_t> slot;   // per chunk: where U and blk hold it once built, else -1
-        int32_t used = 0;            // chunks held in U and blk
-        std::vector<double> U;       // bound per run, chunk by chunk (slot k: U[256 k ..])
-        std::vector<double> blk;     // max of U over blocks of 16 runs (slot k: blk[16 k ..])
+        int64_t base = 0;           // column where run 0 starts (a multiple of 2^l)
+        int64_t chunks = 0;         // chunks [0, chunks) have a bound in sblk
+        std::vector<double> sblk;   // per chunk of 256 runs: the max of its U once built, else
+                                    // the coarse bound (never below that max)
+        std::vector<int32_t> slot;  // per chunk: where U and blk hold it once built, else -1
+        int32_t used = 0;           // chunks held in U and blk
+        std::vector<double> U;      // bound per run, chunk by chunk (slot k: U[256 k ..])
+        std::vector<double> blk;    // max of U over blocks of 16 runs (slot k: blk[16 k ..])
     };
 
     // The band's cells over p in [ca, cb]: minor index in [lo0 + m p, hi0 + m p] (widened by
@@ -149,10 +150,21 @@ class ViewTracer {
         const int L = coarse_;
         // Block index ranges along one axis: one, or two where the cells wrap.
         auto ranges = [L](int64_t c0, int64_t n, int64_t cells, int64_t r[4]) {
-            if (n >= cells) { r[0] = 0; r[1] = (cells - 1) >> L; return 1; }
+            if (n >= cells) {
+                r[0] = 0;
+                r[1] = (cells - 1) >> L;
+                return 1;
+            }
             const int64_t s = wrap_index(c0, cells), e = s + n - 1;
-            if (e < cells) { r[0] = s >> L; r[1] = e >> L; return 1; }
-            r[0] = s >> L; r[1] = (cells - 1) >> L; r[2] = 0; r[3] = (e - cells) >> L;
+            if (e < cells) {
+                r[0] = s >> L;
+                r[1] = e >> L;
+                return 1;
+            }
+            r[0] = s >> L;
+            r[1] = (cells - 1) >> L;
+            r[2] = 0;
+            r[3] = (e - cells) >> L;
             return 2;
         };
         int64_t ra[4], rb[4];
@@ -220,14 +232,20 @@ class ViewTracer {
         while (q <= q_last) {
             const int64_t c = q >> 8;
             if (c >= band.chunks) extend(band, c);
-            if (band.sblk[size_t(c)] < Cm) { q = (q | 255) + 1; continue; }
+            if (band.sblk[size_t(c)] < Cm) {
+                q = (q | 255) + 1;
+                continue;
+            }
             const int32_t k = band.slot[size_t(c)];
             if (k < 0) {
                 build(band, c);  // then test the chunk's own maximum
                 continue;
             }
             const size_t at = size_t(k) << 8;  // the chunk's run 0 in U
-            if (band.blk[(at + size_t(q & 255)) >> 4] < Cm) { q = (q | 15) + 1; continue; }
+            if (band.blk[(at + size_t(q & 255)) >> 4] < Cm) {
+                q = (q | 15) + 1;
+                continue;
+            }
             const double* U = band.U.data() + at;  // run q at U[q & 255]
             for (const int64_t e = std::min(q | 15, q_last); q <= e; ++q)
                 if (U[q & 255] >= Cm) return q;
@@ -259,7 +277,8 @@ class ViewTracer {
             const int64_t W = t_.hf_.width, H = t_.hf_.height;
             const int64_t ci = wrap_index(major_x_ ? i : int64_t(g), W);
             const int64_t cj = wrap_index(major_x_ ? int64_t(g) : i, H);
-            _mm_prefetch(reinterpret_cast<const char*>(t_.column_pairs_.data() + 2 * (cj * W + ci)), _MM_HINT_T0);
+            _mm_prefetch(reinterpret_cast<const char*>(t_.column_pairs_.data() + 2 * (cj * W + ci)),
+                         _MM_HINT_T0);
         }
         return st;
     }
@@ -315,9 +334,12 @@ class ViewTracer {
         const int sx = r.sx, sy = r.sy;
         const int64_t ox = sx > 0 ? 1 : 0, oy = sy > 0 ? 1 : 0;
         const int64_t W = t_.hf_.width, H = t_.hf_.height;
-        for (; o <= o_last; o = ((o + 1) >> l_) == q ? o + 1 : (q = find(band, (o + 1) >> l_, q_last, sc.Cm)) << l_) {
+        for (; o <= o_last; o = ((o + 1) >> l_) == q
+                                    ? o + 1
+                                    : (q = find(band, (o + 1) >> l_, q_last, sc.Cm)) << l_) {
             const int64_t c = band.base + o;
-            if (o != o_next && !entry_cell<MX>(r, sc, c, ci, cj)) return t_.hit_at(r, r.tau_max, cells);
+            if (o != o_next && !entry_cell<MX>(r, sc, c, ci, cj))
+                return t_.hit_at(r, r.tau_max, cells);
             int64_t wi = wrap_index(ci, W), wj = wrap_index(cj, H);
             for (;;) {
                 ++cells;
@@ -358,7 +380,7 @@ class ViewTracer {
     int l_ = 0;            // the mipmap level the bounds are built from
     int coarse_ = 0;       // the level of the chunks' coarse bounds
     int64_t nmin_l_ = 0;   // its blocks along the minor axis
-    const float* cmax_;    // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
+    const float* cmax_;  // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
 
 namespace {
@@ -367,7 +389,8 @@ namespace {
 // next ray's first candidate is found (and its texels requested) before the current one walks.
 class BandRun {
   public:
-    BandRun(const ViewTracer& vt, ViewTracer::Band& band, Hits& out) : vt_(vt), band_(band), out_(out) {}
+    BandRun(const ViewTracer& vt, ViewTracer::Band& band, Hits& out)
+        : vt_(vt), band_(band), out_(out) {}
     void begin(double eta_lo, double w) {
         band_.eta_lo = eta_lo;
         band_.w = w;
@@ -413,12 +436,12 @@ double band_width(double area, size_t rays) {
 
 // The mipmap level the bounds come from: blocks about half the band's width (level 0, the
 // cells themselves, for bands one cell wide), small arrays that stay in cache.
-int band_level(double w) {
-    return std::max(0, int(std::lround(std::log2(w / 2))));
-}
+int band_level(double w) { return std::max(0, int(std::lround(std::log2(w / 2)))); }
 
 // Sample (i, j) of the N x N grid, as sample_grid places it.
-Vec2d grid_sample(int n, int64_t i, int64_t j) { return {(double(i) + 0.5) / n, (double(j) + 0.5) / n}; }
+Vec2d grid_sample(int n, int64_t i, int64_t j) {
+    return {(double(i) + 0.5) / n, (double(j) + 0.5) / n};
+}
 
 // The grid's rays in bands, each traced in order of p0 (its start along the major axis),
 // enumerated without sorting: a sample's p0 depends only on its major index a, its lateral

@@ -75,7 +75,8 @@ EmbreeTracer::EmbreeTracer(const HeightField& hf, double scale, double bias)
     device_ = dev;
     tile_scene_ = scene;
     scene_ = top;
-    build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    build_ms_ =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 EmbreeTracer::~EmbreeTracer() {
@@ -118,7 +119,8 @@ void set_empty_ray(RTCRayHit16& rh, int k) {
 
 // The lane's next segment, [t_in, t_out], with its origin moved by whole tiles into the base
 // tile (u0, v0: the first texel centre); returns t_out. Embree's ray parameter is tau / zs.
-double set_segment(RTCRayHit16& rh, int k, const Lane& s, double zt, double zs, double u0, double v0) {
+double set_segment(RTCRayHit16& rh, int k, const Lane& s, double zt, double zs, double u0,
+                   double v0) {
     const Vec3d& V = s.V;
     double t_out = std::min(s.t_in + s.seg, s.tau_max);
     // A walk that cannot advance (t_in + seg == t_in: only far beyond the travel limit,
@@ -147,7 +149,8 @@ double set_segment(RTCRayHit16& rh, int k, const Lane& s, double zt, double zs, 
 // Per ray: segments of less than one tile in u and v (one segment for most rays), each
 // traced with its origin moved into the base tile of the 3 x 3 instance block. Embree's ray
 // parameter is tau / zs (z in units of zs, see the constructor; zs = 1 for ordinary scales).
-void EmbreeTracer::trace_packet(const Vec2d* P, const Vec3d* V, size_t v_step, int n, Vec2d* out) const {
+void EmbreeTracer::trace_packet(const Vec2d* P, const Vec3d* V, size_t v_step, int n,
+                                Vec2d* out) const {
     const double zs = zs_;
     const double zt = s_ * (1 - b_);
     const double u0 = 0.5 / W_, v0 = 0.5 / H_;

@@ -34,7 +34,8 @@ class EmbreeTracer final : public Tracer {
   private:
     // n <= 16 rays: P[k] along V[k * v_step] (v_step 0: one direction for all).
     void trace_packet(const Vec2d* P, const Vec3d* V, size_t v_step, int n, Vec2d* out) const;
-    void trace_all(const std::vector<Vec2d>& P, const Vec3d* V, size_t v_step, std::vector<Vec2d>& out) const;
+    void trace_all(const std::vector<Vec2d>& P, const Vec3d* V, size_t v_step,
+                   std::vector<Vec2d>& out) const;
     int W_, H_;
     double s_, b_;
     double zs_ = 1;  // heights in units of zs_ (1 up to s = 2^32; see the constructor)

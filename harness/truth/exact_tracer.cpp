@@ -83,7 +83,8 @@ void ExactTracer::trace(const View& view, Hits& out) const {
 void ExactTracer::trace_rays(const View& view, Hits& out) const {
     out.resize_all(view.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, view.size(), 256), [&](const auto& rg) {
-        for (size_t k = rg.begin(); k < rg.end(); ++k) out.set(k, trace_naive(view.P[k], view.dir(k)));
+        for (size_t k = rg.begin(); k < rg.end(); ++k)
+            out.set(k, trace_naive(view.P[k], view.dir(k)));
     });
 }
 

@@ -61,11 +61,12 @@ class ExactTracer final : public Tracer {
     struct Ray;
     Ray make_ray(Vec2d P, Vec3d V) const;
     Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
-    friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
+    friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     // The same, given the cell's index wrapped into the tile (wi, wj).
-    double solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj, double tau_out) const;
+    double solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
+                      double tau_out) const;
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
     // The per-ray path of the Tracer interface.
     void trace_rays(const View& view, Hits& out) const;

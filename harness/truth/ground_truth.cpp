@@ -8,8 +8,10 @@ namespace pxh {
 
 GroundTruth trace_ground_truth(const Tracer& tracer, const View& view, const Vec3d* L) {
     if (L && !tracer.has_shadow_query())
-        throw std::logic_error("the " + tracer.name() + " tracer cannot answer the true shadow state");
-    if (L && L->z > 0) throw_if_problem(ray_travel_problem(tracer.scale(), *L));  // before any tracing
+        throw std::logic_error("the " + tracer.name() +
+                               " tracer cannot answer the true shadow state");
+    if (L && L->z > 0)
+        throw_if_problem(ray_travel_problem(tracer.scale(), *L));  // before any tracing
     Hits hits;
     tracer.trace(view, hits);
     if (L && hits.z.size() != hits.uv.size())
@@ -20,7 +22,8 @@ GroundTruth trace_ground_truth(const Tracer& tracer, const View& view, const Vec
     if (L) {
         gt.lit.resize(gt.uv.size());
         tbb::parallel_for(tbb::blocked_range<size_t>(0, gt.uv.size(), 256), [&](const auto& r) {
-            for (size_t k = r.begin(); k < r.end(); ++k) gt.lit[k] = !tracer.occluded(gt.uv[k], gt.z[k], *L);
+            for (size_t k = r.begin(); k < r.end(); ++k)
+                gt.lit[k] = !tracer.occluded(gt.uv[k], gt.z[k], *L);
         });
     }
     double sum = 0;

@@ -17,7 +17,8 @@ TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const {
         const double t = solve_cell(r, ci, cj, tau_out);
         if (t >= 0) return hit_at(r, t, cells);
         if (tau_out >= r.tau_max) return hit_at(r, r.tau_max, cells);  // z_bot: on or below
-        if (ex <= ey) ci += r.sx; else cj += r.sy;
+        if (ex <= ey) ci += r.sx;
+        else cj += r.sy;
     }
 }
 
@@ -32,10 +33,28 @@ struct TileCell {
     // A local index that left the tile moves into the neighbouring tile; true if one did.
     bool wrap(int W, int H) {
         bool new_tile = false;
-        if (li >= W) { li -= W; ++ti; ox -= W; new_tile = true; }
-        else if (li < 0) { li += W; --ti; ox += W; new_tile = true; }
-        if (lj >= H) { lj -= H; ++tj; oy -= H; new_tile = true; }
-        else if (lj < 0) { lj += H; --tj; oy += H; new_tile = true; }
+        if (li >= W) {
+            li -= W;
+            ++ti;
+            ox -= W;
+            new_tile = true;
+        } else if (li < 0) {
+            li += W;
+            --ti;
+            ox += W;
+            new_tile = true;
+        }
+        if (lj >= H) {
+            lj -= H;
+            ++tj;
+            oy -= H;
+            new_tile = true;
+        } else if (lj < 0) {
+            lj += H;
+            --tj;
+            oy += H;
+            new_tile = true;
+        }
         return new_tile;
     }
 };
@@ -57,7 +76,11 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
     const bool has_x = r.dX != 0, has_y = r.dY != 0;
     const int64_t ci0 = int64_t(std::floor(r.X0)), cj0 = int64_t(std::floor(r.Y0));
     const int64_t ti0 = cell_solver::floor_div(ci0, W), tj0 = cell_solver::floor_div(cj0, H);
-    TileCell cur{ti0, tj0, int(ci0 - ti0 * W), int(cj0 - tj0 * H), r.X0 - double(ti0 * W),
+    TileCell cur{ti0,
+                 tj0,
+                 int(ci0 - ti0 * W),
+                 int(cj0 - tj0 * H),
+                 r.X0 - double(ti0 * W),
                  r.Y0 - double(tj0 * H)};
     auto& [ti, tj, li, lj, ox, oy] = cur;
     const float* level_max[64];
@@ -115,7 +138,8 @@ TruthHit ExactTracer::trace(Vec2d P, Vec3d V) const {
         li = nli;
         lj = nlj;
         if (cur.wrap(W, H)) level = std::min(level + 1, top);
-        else if (diff) level = std::max(level, std::min({31 - __builtin_clz(diff), level + 1, top}));
+        else if (diff)
+            level = std::max(level, std::min({31 - __builtin_clz(diff), level + 1, top}));
     }
 }
 

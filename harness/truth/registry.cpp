@@ -1,7 +1,8 @@
+#include "harness/core/registry.h"
+
 #include <algorithm>
 #include <stdexcept>
 
-#include "harness/core/registry.h"
 #include "harness/truth/tracer.h"
 
 namespace pxh {

@@ -10,7 +10,7 @@
 namespace pxh {
 
 bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
-    if (!(L.z > 0)) return true;  // light at or below the horizon
+    if (!(L.z > 0)) return true;                  // light at or below the horizon
     throw_if_problem(ray_travel_problem(s_, L));  // the walk below is as long as the travel
     const int W = hf_.width, H = hf_.height;
     const double zt = z_top();
@@ -58,7 +58,13 @@ bool ExactTracer::occluded(Vec2d uv, double z0, Vec3d L) const {
         }
         if (tau_out >= tau_max) return false;
         tau_in = tau_out;
-        if (tmx <= tmy) { ci += step_i; tmx += tdx; } else { cj += step_j; tmy += tdy; }
+        if (tmx <= tmy) {
+            ci += step_i;
+            tmx += tdx;
+        } else {
+            cj += step_j;
+            tmy += tdy;
+        }
     }
 }
 

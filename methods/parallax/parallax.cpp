@@ -6,8 +6,14 @@ namespace pxh {
 struct Parallax {
     struct Config {};
     static MethodInfo describe() {
-        return {"parallax", "Kaneko, Takahei, Inami, Kawakami, Yanagida, Maeda, Tachi: Detailed Shape Representation with Parallax Mapping, ICAT 2001, pp. 205-208; Welsh: Parallax Mapping with Offset Limiting, Infiscape Corp. tech. report, 2004, sec. 4.1",
-                "uv = P + z(P) * V.xy / V.z (one fetch)", {}, true, 10};
+        return {"parallax",
+                "Kaneko, Takahei, Inami, Kawakami, Yanagida, Maeda, Tachi: Detailed Shape "
+                "Representation with Parallax Mapping, ICAT 2001, pp. 205-208; Welsh: Parallax "
+                "Mapping with Offset Limiting, Infiscape Corp. tech. report, 2004, sec. 4.1",
+                "uv = P + z(P) * V.xy / V.z (one fetch)",
+                {},
+                true,
+                10};
     }
     static Config configure(const ParamValues&, const std::string&) { return {}; }
     static int max_fetches(const Config&, const Scene<double>&) { return 1; }

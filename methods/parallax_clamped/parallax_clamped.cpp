@@ -7,16 +7,22 @@
 namespace pxh {
 
 struct ParallaxClamped {
-    struct Config { double max_offset; bool from_scale; };
+    struct Config {
+        double max_offset;
+        bool from_scale;
+    };
     static MethodInfo describe() {
         return {"parallax_clamped",
-                "Wikibooks contributors: Cg Programming/Unity/Projection of Bumpy Surfaces (_MaxTexCoordOffset), https://en.wikibooks.org/wiki/Cg_Programming/Unity/Projection_of_Bumpy_Surfaces",
+                "Wikibooks contributors: Cg Programming/Unity/Projection of Bumpy Surfaces "
+                "(_MaxTexCoordOffset), "
+                "https://en.wikibooks.org/wiki/Cg_Programming/Unity/Projection_of_Bumpy_Surfaces",
                 "uv = P + clamp(z(P) * V.xy / V.z, -m, +m) per component (one fetch)",
                 {ParamSpec::real("max_offset", std::nullopt, 0, 1e6,
                                  "m in uv units; \"scale\" (the default): the scene's scale s")
                      .or_names({"scale"})
                      .defaults_to("scale")},
-                false, 30};
+                false,
+                30};
     }
     static Config configure(const ParamValues& p, const std::string&) {
         const bool from_scale = p.is_name("max_offset", "scale");

@@ -1,6 +1,7 @@
-// Zhao, Wu, Gao 2012, "Realistic and Detail Rendering of Village Virtual Scene Based on Pixel Offset", sec. 3.2.2 ("pixel offset translation"),
-// generalised to any bias by starting where the ray leaves the slab at the bottom:
-// q_k = q_0 + k/W * V.xy/|V.xy|, z_k = z_bot + k/W * V.z/|V.xy|; stop at the first z_k >= z(q_k).
+// Zhao, Wu, Gao 2012, "Realistic and Detail Rendering of Village Virtual Scene Based on Pixel
+// Offset", sec. 3.2.2 ("pixel offset translation"), generalised to any bias by starting where the
+// ray leaves the slab at the bottom: q_k = q_0 + k/W * V.xy/|V.xy|, z_k = z_bot + k/W * V.z/|V.xy|;
+// stop at the first z_k >= z(q_k).
 #include <algorithm>
 #include <cmath>
 
@@ -9,15 +10,21 @@
 namespace pxh {
 
 struct PixelStep {
-    struct Config { int max_steps; };
+    struct Config {
+        int max_steps;
+    };
     static MethodInfo describe() {
-        return {"pixel_step", "Zhao, Wu, Gao: Realistic and Detail Rendering of Village Virtual Scene Based on Pixel Offset, Appl. Math. Inf. Sci. 6(3S), pp. 769-775, 2012, sec. 3.2.2 (pixel offset translation)",
+        return {"pixel_step",
+                "Zhao, Wu, Gao: Realistic and Detail Rendering of Village Virtual Scene Based on "
+                "Pixel Offset, Appl. Math. Inf. Sci. 6(3S), pp. 769-775, 2012, sec. 3.2.2 (pixel "
+                "offset translation)",
                 "march one texel at a time from the slab bottom toward the eye (k + 1 fetches)",
                 {ParamSpec::integer("max_steps", 16384, 1, 1e8,
                                     "loop bound; the march needs ceil(s W tan(theta)) steps to "
                                     "leave the slab")
                      .to_uniform("p_max_steps")},
-                false, 50};
+                false,
+                50};
     }
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("max_steps")};

@@ -8,9 +8,14 @@ namespace pxh {
 
 struct Pom : LayeredMethod {
     static MethodInfo describe() {
-        return {"pom", "Tatarchuk: Dynamic Parallax Occlusion Mapping with Approximate Soft Shadows, I3D 2006, pp. 63-69, doi:10.1145/1111411.1111423; de Vries: Parallax Mapping, LearnOpenGL",
-                "w uv_{k-1} + (1 - w) uv_k, w = g_k / (g_k - g_{k-1}) (k + 1 fetches)",
-                layer_params(), true, 70};
+        return {
+            "pom",
+            "Tatarchuk: Dynamic Parallax Occlusion Mapping with Approximate Soft Shadows, I3D "
+            "2006, pp. 63-69, doi:10.1145/1111411.1111423; de Vries: Parallax Mapping, LearnOpenGL",
+            "w uv_{k-1} + (1 - w) uv_k, w = g_k / (g_k - g_{k-1}) (k + 1 fetches)",
+            layer_params(),
+            true,
+            70};
     }
     template <typename T>
     static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {

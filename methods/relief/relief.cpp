@@ -14,9 +14,14 @@ struct Relief {
         auto params = layer_params();
         params.push_back(ParamSpec::integer("binary_steps", 5, 0, 64, "n_binary bisection steps")
                              .to_uniform("p_binary_steps"));
-        return {"relief", "Policarpo, Oliveira, Comba: Real-Time Relief Mapping on Arbitrary Polygonal Surfaces, I3D 2005, pp. 155-162, doi:10.1145/1053427.1053453; LearnOpenGL Parallax Mapping (Habr translation, relief section)",
+        return {"relief",
+                "Policarpo, Oliveira, Comba: Real-Time Relief Mapping on Arbitrary Polygonal "
+                "Surfaces, I3D 2005, pp. 155-162, doi:10.1145/1053427.1053453; LearnOpenGL "
+                "Parallax Mapping (Habr translation, relief section)",
                 "bisection on [k-1, k] after the layer search (k + 1 + n_binary fetches)",
-                params, false, 80};
+                params,
+                false,
+                80};
     }
     static Config configure(const ParamValues& p, const std::string& where) {
         return {layer_config(p, where), p.get_int("binary_steps")};
@@ -34,7 +39,8 @@ struct Relief {
         for (int i = 0; i < c.binary_steps; ++i) {
             const T mid = (lo + hi) * T(0.5);
             const T g = r.z_at(mid) - hs.z(r.uv_at(mid));
-            if (g > T(0)) lo = mid; else hi = mid;
+            if (g > T(0)) lo = mid;
+            else hi = mid;
         }
         return r.uv_at((lo + hi) * T(0.5));
     }

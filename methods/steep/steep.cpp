@@ -6,9 +6,13 @@ namespace pxh {
 
 struct Steep : LayeredMethod {
     static MethodInfo describe() {
-        return {"steep", "McGuire, McGuire: Steep Parallax Mapping, I3D 2005 poster; de Vries: Parallax Mapping, LearnOpenGL, https://learnopengl.com/Advanced-Lighting/Parallax-Mapping",
+        return {"steep",
+                "McGuire, McGuire: Steep Parallax Mapping, I3D 2005 poster; de Vries: Parallax "
+                "Mapping, LearnOpenGL, https://learnopengl.com/Advanced-Lighting/Parallax-Mapping",
                 "uv_k of the first layer at or below the surface (k + 1 fetches)",
-                layer_params(), false, 60};
+                layer_params(),
+                false,
+                60};
     }
     template <typename T>
     static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
