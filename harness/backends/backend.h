@@ -84,6 +84,8 @@ class Backend {
 struct BackendEntry {
     const char* name;
     std::unique_ptr<Backend> (*make)(const BackendSettings&);
+    // Its variants under these settings, without creating it (a run's row estimate).
+    std::vector<Variant> (*variants)(const BackendSettings&);
 };
 const std::vector<BackendEntry>& backend_registry();
 std::vector<std::string> backend_names();  // in registry order
@@ -91,5 +93,7 @@ std::vector<std::string> backend_names();  // in registry order
 void check_backend_name(const std::string& name, const std::string& where);
 // Creates it (a GL backend creates its context here; its failure is a std::runtime_error).
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings);
+// The variants a backend would run under these settings (its rows per method setting).
+std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings);
 
 }  // namespace pxh

@@ -88,11 +88,13 @@ void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& p
     else add_shadows_typed<float>(out, light, scene, hf);
 }
 
-std::vector<Variant> CpuBackend::variants() const {
+std::vector<Variant> cpu_variants(const BackendSettings& settings) {
     std::vector<Variant> out;
-    for (const auto& p : settings_.precisions) out.push_back({p, ""});
+    for (const auto& p : settings.precisions) out.push_back({p, ""});
     return out;
 }
+
+std::vector<Variant> CpuBackend::variants() const { return cpu_variants(settings_); }
 
 MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
     const View& rays = view.rays;

@@ -377,10 +377,16 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     return out;
 }
 
-std::vector<Variant> GlslBackend::variants() const {
+std::vector<Variant> glsl_variants(const BackendSettings& settings) {
     std::vector<Variant> out;
-    for (const auto& f : opt_.texture_formats) out.push_back({"float", f});
+    for (const auto& f : settings.texture_formats) out.push_back({"float", f});
     return out;
+}
+
+std::vector<Variant> GlslBackend::variants() const {
+    BackendSettings s;
+    s.texture_formats = opt_.texture_formats;
+    return glsl_variants(s);
 }
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {

@@ -7,12 +7,14 @@
 namespace pxh {
 
 std::unique_ptr<Backend> make_cpu_backend(const BackendSettings&);
+std::vector<Variant> cpu_variants(const BackendSettings&);
 std::unique_ptr<Backend> make_glsl_backend(const BackendSettings&);
+std::vector<Variant> glsl_variants(const BackendSettings&);
 
 const std::vector<BackendEntry>& backend_registry() {
     static const std::vector<BackendEntry> entries = {
-        {"cpu", &make_cpu_backend},
-        {"glsl", &make_glsl_backend},
+        {"cpu", &make_cpu_backend, &cpu_variants},
+        {"glsl", &make_glsl_backend, &glsl_variants},
     };
     return entries;
 }
@@ -25,6 +27,10 @@ void check_backend_name(const std::string& name, const std::string& where) {
 
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings) {
     return find_entry(backend_registry(), name, "backend", "backend").make(settings);
+}
+
+std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings) {
+    return find_entry(backend_registry(), name, "backend", "backend").variants(settings);
 }
 
 Spread spread(std::vector<double> times) {

@@ -766,6 +766,15 @@ std::string format_bytes(size_t bytes) {
     return os.str();
 }
 
+BackendSettings backend_settings(const Experiment& ex) {
+    BackendSettings s;
+    s.precisions = ex.precisions;
+    s.texture_formats = ex.texture_formats;
+    s.timing_repeats = ex.timing_repeats;
+    s.gl = ex.gl;
+    return s;
+}
+
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
     // The model's constants (see experiment.h), measured on this project's machine (peak
     // RSS of pxh run, fbm, samples 8: 181 MiB at 16^2; +52 to +55 bytes per texel from 1024^2
@@ -777,10 +786,9 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring
     constexpr size_t kBytesPerRow = 1024;
     const auto& backends = backends_override.empty() ? ex.backends : backends_override;
-    const bool cpu = std::find(backends.begin(), backends.end(), "cpu") != backends.end();
-    const bool glsl = std::find(backends.begin(), backends.end(), "glsl") != backends.end();
-    const size_t per_method =
-        (cpu ? ex.precisions.size() : 0) + (glsl ? ex.texture_formats.size() : 0);
+    const BackendSettings settings = backend_settings(ex);
+    size_t per_method = 0;  // rows per method setting: every backend's variants
+    for (const auto& b : backends) per_method += backend_variants(b, settings).size();
     const size_t rows_per_view = ex.methods.size() * per_method;
     RunEstimate est;
     est.rows = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size() * rows_per_view;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/backends/backend.h"
 #include "harness/core/params.h"
 #include "harness/scene/heightfield.h"
 #include "methods/method.h"
@@ -68,6 +69,10 @@ Experiment parse_experiment(const std::string& text, const std::string& path);
 // stand for filled in; canonical() then names every declared parameter.
 ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
                                   const std::string& where);
+
+// What the experiment's keys ask of the backends (precisions, texture formats, timing
+// repeats, GL context); the command line's overrides are the runner's.
+BackendSettings backend_settings(const Experiment& ex);
 
 // Materialises a height field (generates or loads); throws InputError. Errors from an image
 // file read "EXPERIMENT:LINE: heightfield file 'PATH' (paths are relative to the experiment

@@ -323,10 +323,7 @@ void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_
 }  // namespace
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
-    BackendSettings settings;
-    settings.precisions = ex.precisions;
-    settings.texture_formats = ex.texture_formats;
-    settings.timing_repeats = ex.timing_repeats;
+    BackendSettings settings = backend_settings(ex);
     settings.gl_frames = opt.gl_frames;
     settings.shader_dir = opt.shader_dir;
     settings.gl = opt.gl.empty() ? ex.gl : opt.gl;
