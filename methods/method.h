@@ -97,6 +97,10 @@ struct MethodInfo {
     // elsewhere (a test's) names its file (relative to the source tree) and gives its text.
     std::string shader_path{};
     const char* shader_text = nullptr;
+    // An engine preset whose engine fixes the reference plane: the bias b it draws its surface
+    // with (NaN: any b), and why (one phrase, for the error an experiment with another b gets).
+    double required_bias = NAN;
+    std::string bias_reason{};
     // The shader's path relative to the source tree (shader_path or the default).
     std::string shader_file() const {
         return shader_path.empty() ? "methods/" + name + "/" + name + ".frag.glsl" : shader_path;

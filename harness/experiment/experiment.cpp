@@ -382,6 +382,14 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         throw InputError(where_of(path, *t.get("name")),
                          "unknown method '" + name + "' (known: " + names + ")");
     }
+    if (!std::isnan(m->required_bias))
+        for (const auto& h : ex.heightfields)
+            if (h.bias != m->required_bias)
+                throw InputError(where_of(path, *t.get("name")),
+                                 "method '" + name +
+                                     "' needs bias = " + format_number(m->required_bias) + " (" +
+                                     m->bias_reason + "); heightfield '" + h.name +
+                                     "' has bias = " + format_number(h.bias));
     std::vector<std::pair<std::string, std::vector<ParamValue>>> sweeps;
     for (const auto& [k, v] : t) {
         const std::string key(k.str());

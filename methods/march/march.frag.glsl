@@ -1,0 +1,175 @@
+// The parametric marcher (methods/march/march.h): the same operations in the same order.
+uniform int pm_search;       // 0 offset, 1 layers
+uniform int pm_offset_form;  // 0 tan, 1 sin, 2 soft, 3 sincos
+uniform float pm_offset_soften;
+uniform int pm_count;  // 0 fixed, 1 mix, 2 mix_trunc, 3 mix_negated, 4 angle_scaled, 5 mix_scaled
+uniform float pm_layers;
+uniform float pm_layers_min;
+uniform float pm_layers_max;
+uniform int pm_step;  // 0 tan, 1 sin
+uniform bool pm_mirror_v;
+uniform int pm_first;    // 0 sample, 1 top, 2 bottom
+uniform int pm_compare;  // 0 le, 1 lt
+uniform bool pm_lag;
+uniform int pm_max_steps;
+uniform int pm_extra_layers;
+uniform int pm_on_miss;  // 0 last, 1 next, 2 refine
+uniform int pm_refine;   // 0 none, 1 lerp, 2 bisect, 3 secant, 4 contact
+uniform bool pm_clamp_weight;
+uniform bool pm_refetch;
+uniform bool pm_refine_at_k0;
+uniform int pm_iterations;
+uniform bool pm_probe_last;
+uniform int pm_tie;  // 0 back, 1 stay
+uniform float pm_tolerance;
+
+float pm_fast_acos_pos(float x) {
+    float p = (0.0468878 * x - 0.203471) * x + 1.570796;
+    return p * sqrt(1.0 - x);
+}
+
+float pm_layer_count() {
+    float vz = pxh_V.z, lo = pm_layers_min, hi = pm_layers_max;
+    if (pm_count == 0) return pm_layers;
+    if (pm_count == 2) return trunc(hi + (lo - hi) * vz);
+    if (pm_count == 3) return hi + (-vz) * (lo - hi);
+    if (pm_count == 4) {
+        vec2 xy = pxh_V.xy * u_scale;
+        float zn = vz / sqrt(xy.x * xy.x + xy.y * xy.y + vz * vz);
+        float a = clamp(pm_fast_acos_pos(abs(zn)) * 0.636619772, 0.0, 1.0);
+        return trunc(lo + (hi - lo) * a);
+    }
+    if (pm_count == 5) {
+        float a = 1.0 - vz;
+        return lo * (1.0 - a) + (hi * u_scale) * a;
+    }
+    float a = abs(vz);
+    return hi * (1.0 - a) + lo * a;
+}
+
+int pm_kmax(float n, int extra, int max_steps, int first) {
+    float kmax = ceil(n) + float(extra);
+    if (!(kmax < 1e6)) kmax = 1e6;
+    int k = int(max(kmax, 0.0));
+    if (max_steps > 0) k = min(k, max_steps);
+    return first == 0 ? k : max(k, 1);
+}
+
+// The march's state, shared by the search and its refinements.
+vec2 pm_uv0, pm_duv;
+float pm_z0, pm_dz, pm_lag_k;
+vec2 pm_uv_at(float x) { return pm_uv0 + pm_duv * x; }
+float pm_ray_z(float x) { return pm_z0 - pm_dz * x; }
+float pm_g(float x, float zs) { return pm_ray_z(x - pm_lag_k) - zs; }
+bool pm_hit(float g) { return pm_compare == 1 ? g < 0.0 : g <= 0.0; }
+
+vec2 pm_offset(vec2 P, vec2 d) {
+    float z = pxh_z(P);
+    if (pm_offset_form == 1) return P + d * z;
+    if (pm_offset_form == 2) return P + d * (z / (pxh_V.z + pm_offset_soften));
+    if (pm_offset_form == 3) return P + d * (z * pxh_V.z);
+    return P + d * (z / pxh_V.z);
+}
+
+vec2 pm_bisect(int k, float gk) {
+    float x = float(k), stp = 1.0, g = gk;
+    for (int i = 0; i <= pm_iterations; ++i) {
+        stp = stp * 0.5;
+        if (g > 0.0) x = x + stp;
+        else if (g < 0.0 || pm_tie == 0) x = x - stp;
+        if (i < pm_iterations) g = pm_g(x, pxh_z(pm_uv_at(x)));
+    }
+    if (pm_probe_last) pxh_z(pm_uv_at(x));
+    return pm_uv_at(x);
+}
+
+vec2 pm_secant(int k, float gk, float zs_prev, bool has_prev) {
+    float s = u_scale, b = u_bias;
+    if (!has_prev) zs_prev = pxh_z(pm_uv_at(float(k - 1)));
+    float xp = float(k - 1) - pm_lag_k, xk = float(k) - pm_lag_k;
+    float r0 = pm_ray_z(xp) / s + b, d0 = pm_g(float(k - 1), zs_prev) / s;
+    float r1 = pm_ray_z(xk) / s + b, d1 = gk / s;
+    float x = float(k);
+    for (int i = 0; i < pm_iterations; ++i) {
+        float ih = (r0 * d1 - r1 * d0) / (d1 - d0);
+        x = (pm_z0 - s * (ih - b)) / pm_dz;
+        float delta = ih - pxh_height(pm_uv_at(x));
+        if (abs(delta) <= pm_tolerance) break;
+        if (delta < 0.0) {
+            r1 = ih;
+            d1 = delta;
+        } else {
+            r0 = ih;
+            d0 = delta;
+        }
+    }
+    return pm_uv_at(x);
+}
+
+vec2 pm_contact(int k, float n, float zs_prev, bool has_prev) {
+    float base = float(k - 1), sub = 1.0 / n;
+    if (!has_prev) zs_prev = pxh_z(pm_uv_at(base));
+    float x = base, g = pm_g(base, zs_prev);
+    int jmax = pm_kmax(n, 0, 0, 0) + 1;
+    for (int j = 1; !pm_hit(g) && j <= jmax; ++j) {
+        x = base + sub * float(j);
+        g = pm_g(x, pxh_z(pm_uv_at(x)));
+    }
+    return pm_uv_at(x);
+}
+
+vec2 pxh_method(vec2 P) {
+    vec2 d = pxh_V.xy;
+    if (pm_mirror_v) d.y = -d.y;
+    if (pm_search == 0) return pm_offset(P, d);
+    float s = u_scale, b = u_bias;
+    float n = pm_layer_count();
+    if (pm_step == 0) d = d * (1.0 / pxh_V.z);
+    pm_dz = s / n;
+    pm_duv = d * (-pm_dz);
+    pm_z0 = pxh_z_top();
+    pm_uv0 = P + d * pm_z0;
+    pm_lag_k = pm_lag ? 1.0 : 0.0;
+    int kmax = pm_kmax(n, pm_extra_layers, pm_max_steps, pm_first);
+
+    int k = 0;
+    float zs = 0.0, zs_prev = 0.0;
+    bool has_prev = false;
+    if (pm_first == 0) {
+        zs = pxh_z(pm_uv0);
+    } else {
+        zs_prev = s * ((pm_first == 1 ? 1.0 : 0.0) - b);
+        has_prev = true;
+        k = 1;
+        zs = pxh_z(pm_uv_at(1.0));
+    }
+    while (!pm_hit(pm_g(float(k), zs)) && k < kmax) {
+        k += 1;
+        zs_prev = zs;
+        has_prev = true;
+        zs = pxh_z(pm_uv_at(float(k)));
+    }
+    if (!pm_hit(pm_g(float(k), zs))) {
+        if (pm_on_miss == 0) return pm_uv_at(float(k));
+        if (pm_on_miss == 1) return pm_uv_at(float(k + 1));
+        pm_lag_k = 0.0;
+    }
+    if (pm_refine == 0) return pm_uv_at(float(k));
+    if (k == 0 && !pm_refine_at_k0) return pm_uv_at(0.0);
+    float gk = pm_g(float(k), zs);
+    if (pm_refine == 1) {
+        if (!has_prev || pm_refetch) zs_prev = pxh_z(pm_uv_at(float(k - 1)));
+        float gp = pm_g(float(k - 1), zs_prev);
+        float denom = gk - gp;
+        float w = gk / denom;
+        if (pm_clamp_weight) {
+            if (!(denom < 0.0)) return pm_uv_at(float(k));
+            w = clamp(w, 0.0, 1.0);
+        }
+        return pm_uv_at(float(k - 1)) * w + pm_uv_at(float(k)) * (1.0 - w);
+    }
+    if (pm_refine == 2) return pm_bisect(k, gk);
+    if (pm_refine == 3) return pm_secant(k, gk, zs_prev, has_prev);
+    if (pm_refine == 4) return pm_contact(k, n, zs_prev, has_prev);
+    return pm_uv_at(float(k));
+}

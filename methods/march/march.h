@@ -1,0 +1,301 @@
+// The parametric marcher: one search whose knobs reproduce the parallax that engines ship (and
+// pxh's own steep / pom / relief), in pxh's convention (docs/conventions.md): surface
+// z = s (h - b), V toward the eye, P the sample. Engine presets (methods/march/presets_*.cpp) are
+// named settings of it; the `march` method exposes every knob. Its GLSL twin is
+// methods/march/march.frag.glsl (same operations in the same order; pm_* uniforms).
+//
+// search = offset (one fetch): uv = P + z(P) * d * f, d = V.xy (v mirrored with mirror_v),
+//   f = 1 / V.z (tan), 1 (sin), 1 / (V.z + offset_soften) (soft), V.z (sincos).
+// search = layers: n layers (count rule below), per-layer depth dz = s / n, direction
+//   d = V.xy / V.z (step = tan) or V.xy (step = sin: the ray's horizontal travel over the slab is
+//   s sin(theta), not s tan(theta)); layer x (real) at uv(x) = uv0 + duv x, ray z(x) = z0 - dz x,
+//   z0 = z_top = s (1 - b), uv0 = P + d z0, duv = -d dz; g(x, zs) = z(x - lag) - zs.
+//   first = sample: layer 0 is fetched and tested; top / bottom: layer 0 is not fetched, its
+//   surface is taken as h = 1 / h = 0, and the search starts at layer 1.
+//   k advances while g_k is not a hit (compare le: g <= 0, lt: g < 0) and k < kmax,
+//   kmax = ceil(n) + extra_layers, capped by max_steps when > 0.
+//   No hit at kmax: on_miss = last (uv_k), next (uv_{k+1}, not fetched) or refine (refine as if
+//   hit; with lag the refinement uses unlagged ray depths, as OGRE's counter has moved on).
+//   k = 0: uv_0 unless refine_at_k0 (then the layer before is -1).
+//   refine = none: uv_k.  lerp: w = g_k / (g_k - g_{k-1}) on uv_{k-1} (clamp_weight: w in [0, 1]
+//   and uv_k when g_k - g_{k-1} is not negative; refetch: layer k-1 fetched again).  bisect:
+//   x = k, d = 1; iterations + 1 times: d /= 2, move by the sign of g (> 0 deeper, < 0 back,
+//   0: back, or stay with tie = stay), then probe g at x (not after the last move unless
+//   probe_last).  secant (regula falsi on normalised heights r = z / s + b): bracket
+//   (k - 1, k); up to `iterations` times: ih = (r0 d1 - r1 d0) / (d1 - d0), probe h there,
+//   delta = ih - h, stop when |delta| <= tolerance, else replace the end of the bracket with
+//   delta's sign; uv of the last probe.  contact: from layer k - 1, sub-layers of 1 / n until a
+//   hit (at most ceil(n) + 1), uv of that sub-layer.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "methods/method.h"
+
+namespace pxh {
+
+struct MarchConfig {
+    enum Search { Offset, Layers };
+    enum OffsetForm { OffTan, OffSin, OffSoft, OffSinCos };
+    enum Count { Fixed, Mix, MixTrunc, MixNegated, AngleScaled, MixScaled };
+    enum Step { StepTan, StepSin };
+    enum First { FirstSample, FirstTop, FirstBottom };
+    enum Compare { Le, Lt };
+    enum OnMiss { MissLast, MissNext, MissRefine };
+    enum Refine { RefineNone, Lerp, Bisect, Secant, Contact };
+    enum Tie { TieBack, TieStay };
+
+    int search = Layers;
+    int offset_form = OffTan;
+    double offset_soften = 0.42;
+    // count = fixed: n = layers.  mix: n = layers_max (1 - |V.z|) + layers_min |V.z|.
+    // mix_trunc: n = trunc(layers_max + (layers_min - layers_max) V.z).  mix_negated:
+    // n = layers_max + (-V.z) (layers_min - layers_max).  angle_scaled: a = fastacos(z of
+    // normalize(s V.xy, V.z)) 2 / pi clamped to [0, 1], n = trunc(layers_min + (layers_max -
+    // layers_min) a).  mix_scaled: n = layers_min (1 - a) + (layers_max s) a, a = 1 - V.z.
+    int count = Mix;
+    double layers = 32, layers_min = 8, layers_max = 32;
+    int step = StepTan;
+    bool mirror_v = false;
+    int first = FirstSample;
+    int compare = Le;
+    bool lag = false;
+    int max_steps = 0;     // 0: no cap beyond ceil(n) + extra_layers
+    int extra_layers = 0;  // layers searched beyond ceil(n)
+    int on_miss = MissLast;
+    int refine = Lerp;
+    bool clamp_weight = true;
+    bool refetch = false;
+    bool refine_at_k0 = false;
+    int iterations = 5;  // bisect: probes after the first half step; secant: at most
+    bool probe_last = false;
+    int tie = TieBack;
+    double tolerance = 0.01;  // secant, in normalised height
+};
+
+// Hastings-style polynomial arccos on [0, 1] as HDRP's FastACosPos: p(x) sqrt(1 - x).
+template <typename T>
+T fast_acos_pos(T x) {
+    const T p = (T(0.0468878) * x - T(0.203471)) * x + T(1.570796);
+    return p * std::sqrt(T(1) - x);
+}
+
+template <typename T>
+T march_layer_count(const MarchConfig& c, const Scene<T>& sc) {
+    const T vz = sc.V.z, lo = T(c.layers_min), hi = T(c.layers_max);
+    switch (c.count) {
+        case MarchConfig::Fixed:
+            return T(c.layers);
+        case MarchConfig::MixTrunc:
+            return std::trunc(hi + (lo - hi) * vz);
+        case MarchConfig::MixNegated:
+            return hi + (-vz) * (lo - hi);
+        case MarchConfig::AngleScaled: {
+            const Vec2<T> xy = sc.V.xy() * sc.scale;
+            const T zn = vz / std::sqrt(xy.x * xy.x + xy.y * xy.y + vz * vz);
+            const T a = std::clamp(fast_acos_pos(std::abs(zn)) * T(0.636619772), T(0), T(1));
+            return std::trunc(lo + (hi - lo) * a);
+        }
+        case MarchConfig::MixScaled: {
+            const T a = T(1) - vz;
+            return lo * (T(1) - a) + (hi * sc.scale) * a;
+        }
+        default: {
+            const T a = std::abs(vz);
+            return hi * (T(1) - a) + lo * a;
+        }
+    }
+}
+
+// The last layer index the search may reach for this view (kmax).
+template <typename T>
+int march_kmax(const MarchConfig& c, T n) {
+    double kmax = std::ceil(double(n)) + c.extra_layers;
+    if (!(kmax < 1e6)) kmax = 1e6;  // n from a degenerate view: the loop stays bounded
+    int k = int(std::max(kmax, 0.0));
+    if (c.max_steps > 0) k = std::min(k, c.max_steps);
+    return c.first == MarchConfig::FirstSample ? k : std::max(k, 1);
+}
+
+template <typename T>
+Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    Vec2<T> d = sc.V.xy();
+    if (c.mirror_v) d.y = -d.y;
+    if (c.search == MarchConfig::Offset) {
+        const T z = hs.z(P);
+        switch (c.offset_form) {
+            case MarchConfig::OffSin:
+                return P + d * z;
+            case MarchConfig::OffSoft:
+                return P + d * (z / (sc.V.z + T(c.offset_soften)));
+            case MarchConfig::OffSinCos:
+                return P + d * (z * sc.V.z);
+            default:
+                return P + d * (z / sc.V.z);
+        }
+    }
+    const T s = sc.scale, b = sc.bias;
+    const T n = march_layer_count(c, sc);
+    if (c.step == MarchConfig::StepTan) d = d * (T(1) / sc.V.z);
+    const T dz = s / n;
+    const Vec2<T> duv = d * (-dz);
+    const T z0 = sc.z_top();
+    const Vec2<T> uv0 = P + d * z0;
+    auto uv_at = [&](T x) { return uv0 + duv * x; };
+    auto ray_z = [&](T x) { return z0 - dz * x; };
+    T lag = c.lag ? T(1) : T(0);
+    auto g_of = [&](T x, T zs) { return ray_z(x - lag) - zs; };
+    auto hit = [&](T g) { return c.compare == MarchConfig::Lt ? g < T(0) : g <= T(0); };
+    const int kmax = march_kmax(c, n);
+
+    int k = 0;
+    T zs = T(0), zs_prev = T(0);
+    bool has_prev = false;
+    if (c.first == MarchConfig::FirstSample) {
+        zs = hs.z(uv0);
+    } else {
+        zs_prev = s * ((c.first == MarchConfig::FirstTop ? T(1) : T(0)) - b);
+        has_prev = true;
+        k = 1;
+        zs = hs.z(uv_at(T(1)));
+    }
+    while (!hit(g_of(T(k), zs)) && k < kmax) {
+        ++k;
+        zs_prev = zs;
+        has_prev = true;
+        zs = hs.z(uv_at(T(k)));
+    }
+    if (!hit(g_of(T(k), zs))) {
+        if (c.on_miss == MarchConfig::MissLast) return uv_at(T(k));
+        if (c.on_miss == MarchConfig::MissNext) return uv_at(T(k + 1));
+        lag = T(0);
+    }
+    if (c.refine == MarchConfig::RefineNone) return uv_at(T(k));
+    if (k == 0 && !c.refine_at_k0) return uv_at(T(0));
+    const T gk = g_of(T(k), zs);
+    switch (c.refine) {
+        case MarchConfig::Lerp: {
+            if (!has_prev || c.refetch) zs_prev = hs.z(uv_at(T(k - 1)));
+            const T gp = g_of(T(k - 1), zs_prev);
+            const T denom = gk - gp;
+            T w = gk / denom;
+            if (c.clamp_weight) {
+                if (!(denom < T(0))) return uv_at(T(k));
+                w = std::clamp(w, T(0), T(1));
+            }
+            return uv_at(T(k - 1)) * w + uv_at(T(k)) * (T(1) - w);
+        }
+        case MarchConfig::Bisect: {
+            T x = T(k), step = T(1), g = gk;
+            for (int i = 0; i <= c.iterations; ++i) {
+                step = step * T(0.5);
+                if (g > T(0)) x = x + step;
+                else if (g < T(0) || c.tie == MarchConfig::TieBack) x = x - step;
+                if (i < c.iterations) g = g_of(x, hs.z(uv_at(x)));
+            }
+            if (c.probe_last) (void)hs.z(uv_at(x));
+            return uv_at(x);
+        }
+        case MarchConfig::Secant: {
+            if (!has_prev) zs_prev = hs.z(uv_at(T(k - 1)));
+            const T xp = T(k - 1) - lag, xk = T(k) - lag;  // the ray depths the search compared
+            T r0 = ray_z(xp) / s + b, d0 = g_of(T(k - 1), zs_prev) / s;
+            T r1 = ray_z(xk) / s + b, d1 = gk / s;
+            T x = T(k);
+            for (int i = 0; i < c.iterations; ++i) {
+                const T ih = (r0 * d1 - r1 * d0) / (d1 - d0);
+                x = (z0 - s * (ih - b)) / dz;
+                const T delta = ih - hs.height(uv_at(x));
+                if (std::abs(delta) <= T(c.tolerance)) break;
+                if (delta < T(0)) {
+                    r1 = ih;
+                    d1 = delta;
+                } else {
+                    r0 = ih;
+                    d0 = delta;
+                }
+            }
+            return uv_at(x);
+        }
+        case MarchConfig::Contact: {
+            const T base = T(k - 1), sub = T(1) / n;
+            if (!has_prev) zs_prev = hs.z(uv_at(base));
+            T x = base, g = g_of(base, zs_prev);
+            const int jmax = march_kmax(MarchConfig{}, n) + 1;
+            for (int j = 1; !hit(g) && j <= jmax; ++j) {
+                x = base + sub * T(j);
+                g = g_of(x, hs.z(uv_at(x)));
+            }
+            return uv_at(x);
+        }
+        default:
+            return uv_at(T(k));
+    }
+}
+
+// Declared bound on fetches per sample for this view, in float and double alike.
+inline int march_max_fetches(const MarchConfig& c, const Scene<double>& sc) {
+    if (c.search == MarchConfig::Offset) return 1;
+    const double nd = march_layer_count(c, sc);
+    const float nf = march_layer_count(c, scene_cast<float>(sc));
+    const int kmax = std::max(march_kmax(c, nd), march_kmax(c, nf));
+    const int n_ceil = int(std::min(std::max(std::ceil(nd), double(std::ceil(nf))), 1e6));
+    int f = (c.first == MarchConfig::FirstSample ? 1 : 0) + kmax;
+    switch (c.refine) {
+        case MarchConfig::Lerp:
+            f += 1;
+            break;
+        case MarchConfig::Bisect:
+            f += c.iterations + (c.probe_last ? 1 : 0);
+            break;
+        case MarchConfig::Secant:
+            f += c.iterations + 1;
+            break;
+        case MarchConfig::Contact:
+            f += n_ceil + 3;
+            break;
+        default:
+            break;
+    }
+    return f;
+}
+
+// The GLSL twin's uniforms (methods/march/march.frag.glsl): every knob, by its pm_ name.
+GlUniforms march_uniforms(const MarchConfig& c);
+
+// The knobs as typed parameters (the `march` method's), and the config they describe.
+std::vector<ParamSpec> march_params();
+MarchConfig march_config(const ParamValues& p, const std::string& where);
+
+// An engine preset: a named setting of the marcher with the engine's own parameters.
+// Def provides: static MethodInfo info() (name, citation, summary, the engine's ParamSpecs,
+// exact_on_flat, order; required_bias set when the engine fixes the reference plane) and
+// static MarchConfig config(const ParamValues&, const std::string& where).
+template <class Def>
+struct MarchPreset {
+    using Config = MarchConfig;
+    static MethodInfo describe() {
+        MethodInfo m = Def::info();
+        m.shader_path = "methods/march/march.frag.glsl";
+        return m;
+    }
+    static Config configure(const ParamValues& p, const std::string& where) {
+        return Def::config(p, where);
+    }
+    static int max_fetches(const Config& c, const Scene<double>& sc) {
+        return march_max_fetches(c, sc);
+    }
+    static GlUniforms gl_uniforms(const Config& c) { return march_uniforms(c); }
+    template <typename T>
+    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+        return march(c, sc, hs, P);
+    }
+};
+
+#define PXH_REGISTER_PRESET(Def)                              \
+    [[maybe_unused]] static const bool pxh_registered_##Def = \
+        ::pxh::register_method(::pxh::make_method_info<::pxh::MarchPreset<Def>>())
+
+}  // namespace pxh
