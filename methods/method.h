@@ -178,6 +178,15 @@ const MethodInfo* find_method(const std::string& name);
 struct MethodSpec {
     const MethodInfo* method = nullptr;
     ParamValues params;
+    // The height-field entries (by name) it runs on; empty: every one (the experiment's
+    // [[methods]] key `heightfields`: e.g. an engine preset at its engine's scale and bias).
+    std::vector<std::string> heightfields{};
+    bool runs_on(const std::string& field) const {
+        if (heightfields.empty()) return true;
+        for (const auto& f : heightfields)
+            if (f == field) return true;
+        return false;
+    }
 };
 
 #define PXH_REGISTER_METHOD(M)                              \

@@ -245,5 +245,32 @@ TEST(March, PresetRefusesAnotherBias) {
     }
 }
 
+// `heightfields` in a [[methods]] entry: the preset runs only on the entries named there, so
+// one experiment holds fields at several biases; the bias check and the row estimate follow.
+TEST(March, MethodRestrictedToNamedFields) {
+    const std::string text =
+        "[views]\ntheta_deg = [0, 30, 60]\n"
+        "[[heightfields]]\nname = \"half\"\ngenerator = \"flat\"\nsize = 8\nbias = 0.5\n"
+        "[[heightfields]]\nname = \"top\"\ngenerator = \"flat\"\nsize = 8\nbias = 1\n"
+        "[[methods]]\nname = \"test_half_bias\"\nheightfields = [\"half\"]\n"
+        "[[methods]]\nname = \"pom\"\n";
+    const Experiment ex = parse_experiment(text, "e.toml");
+    ASSERT_EQ(ex.methods.size(), 2u);
+    EXPECT_TRUE(ex.methods[0].runs_on("half"));
+    EXPECT_FALSE(ex.methods[0].runs_on("top"));
+    EXPECT_TRUE(ex.methods[1].runs_on("top"));
+    // half: 2 methods x 3 views; top: 1 method x 3 views; one CPU float variant each.
+    EXPECT_EQ(estimate_run(ex, {}).rows, 9u);
+    std::string bad = text;
+    bad.replace(bad.find("[\"half\"]"), 8, "[\"hlaf\"]");
+    try {
+        parse_experiment(bad, "e.toml");
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "e.toml:15: method 'test_half_bias': no heightfield named 'hlaf'");
+    }
+}
+
 }  // namespace
 }  // namespace pxh

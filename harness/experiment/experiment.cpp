@@ -382,18 +382,32 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         throw InputError(where_of(path, *t.get("name")),
                          "unknown method '" + name + "' (known: " + names + ")");
     }
+    std::vector<std::string> fields;  // `heightfields`: the entries it runs on (empty: all)
+    if (const toml::node* n = t.get("heightfields")) {
+        fields = get_strings(*n, path, "heightfields");
+        for (const auto& f : fields) {
+            bool known = false;
+            for (const auto& h : ex.heightfields) known = known || h.name == f;
+            if (!known)
+                throw InputError(where_of(path, *n),
+                                 "method '" + name + "': no heightfield named '" + f + "'");
+        }
+    }
     if (!std::isnan(m->required_bias))
-        for (const auto& h : ex.heightfields)
-            if (h.bias != m->required_bias)
+        for (const auto& h : ex.heightfields) {
+            const bool runs =
+                fields.empty() || std::find(fields.begin(), fields.end(), h.name) != fields.end();
+            if (runs && h.bias != m->required_bias)
                 throw InputError(where_of(path, *t.get("name")),
                                  "method '" + name +
                                      "' needs bias = " + format_number(m->required_bias) + " (" +
                                      m->bias_reason + "); heightfield '" + h.name +
                                      "' has bias = " + format_number(h.bias));
+        }
     std::vector<std::pair<std::string, std::vector<ParamValue>>> sweeps;
     for (const auto& [k, v] : t) {
         const std::string key(k.str());
-        if (key == "name") continue;
+        if (key == "name" || key == "heightfields") continue;
         const ParamSpec* spec = nullptr;
         for (const auto& p : m->params)
             if (p.name == key) spec = &p;
@@ -407,7 +421,7 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         sweeps.emplace_back(key, get_param_values(v, path, *spec, "method '" + name + "'"));
     }
     for (const auto& given : expand(sweeps))
-        ex.methods.push_back(MethodSpec{m, resolve_method_params(*m, given, where)});
+        ex.methods.push_back(MethodSpec{m, resolve_method_params(*m, given, where), fields});
 }
 
 // One name, one field: a name shared by different fields would merge them into one series
@@ -797,9 +811,14 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     const BackendSettings settings = backend_settings(ex);
     size_t per_method = 0;  // rows per method setting: every backend's variants
     for (const auto& b : backends) per_method += backend_variants(b, settings).size();
-    const size_t rows_per_view = ex.methods.size() * per_method;
+    size_t rows_per_view = 0;  // the largest view's (a method may run on some fields only)
     RunEstimate est;
-    est.rows = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size() * rows_per_view;
+    for (const auto& h : ex.heightfields) {
+        size_t methods = 0;
+        for (const auto& m : ex.methods) methods += m.runs_on(h.name);
+        rows_per_view = std::max(rows_per_view, methods * per_method);
+        est.rows += ex.theta_deg.size() * ex.phi_deg.size() * methods * per_method;
+    }
 
     size_t field = 0;  // the largest field's own bytes, its truths' and Embree's
     std::set<std::string> seen;

@@ -250,7 +250,8 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool tim
     ViewJob job{c, theta, phi, timed, view, scene, truth_stage(c, view, timed), {}, nullptr, {}};
     job.holes = hole_mask(c.hf, job.truth.gt);
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
-    for (const auto& m : c.ex.methods) run_method(job, m);
+    for (const auto& m : c.ex.methods)
+        if (m.runs_on(c.spec.name)) run_method(job, m);
     return std::move(job.out);
 }
 
