@@ -1,4 +1,5 @@
 // `pxh list methods|heightfields`: what an experiment file can name.
+#include <cmath>
 #include <iostream>
 #include <memory>
 
@@ -15,6 +16,9 @@ void list_methods() {
     for (const auto& m : all_methods()) {
         std::cout << m.name << "  -- " << m.summary << "\n    source: " << m.citation << "\n";
         if (m.exact_on_flat) std::cout << "    exact on flat fields\n";
+        if (!std::isnan(m.required_bias))
+            std::cout << "    needs bias = " << format_number(m.required_bias) << " ("
+                      << m.bias_reason << ")\n";
         for (const auto& p : m.params) std::cout << "    " << describe_param(p) << "\n";
     }
 }
