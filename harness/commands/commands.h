@@ -22,6 +22,7 @@ Command add_bench_command(CLI::App& app);
 Command add_report_command(CLI::App& app);
 Command add_check_command(CLI::App& app);
 Command add_import_command(CLI::App& app);
+Command add_compare_command(CLI::App& app);
 
 // Shared by report and check.
 inline constexpr const char* kAcceptEditedHelp =

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
                                            add_bench_command(app),
                                            add_report_command(app),
                                            add_check_command(app),
+                                           add_compare_command(app),
                                            add_import_command(app)};
 
     try {

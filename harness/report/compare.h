@@ -1,0 +1,36 @@
+// `pxh compare BASE NEW`: two runs' results.csv, rows matched by their keys, the change of the
+// error metrics, fetches and timings per row and per method setting and theta band, rows found
+// in one run only, and an optional gate (--fail-on) for CI.
+#pragma once
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace pxh {
+
+// One --fail-on entry: column=+5% (relative to the base value) or column=+0.01 (absolute).
+// A row regresses when new - base > the allowance (so +0 allows no increase at all).
+struct CompareTolerance {
+    std::string column;
+    double amount = 0;
+    bool relative = false;
+};
+
+// "err_p95=+5%,err_mean=+0.01,fetches_mean=+0": each column must be a measured numeric
+// column of results.csv; InputError("--fail-on", ...) otherwise.
+std::vector<CompareTolerance> parse_fail_on(const std::string& spec);
+
+struct CompareOptions {
+    bool markdown = false;
+    std::vector<CompareTolerance> fail_on;  // empty: report only, exit 0
+    std::vector<double> band_edges;         // theta bands (empty: the report's default)
+};
+
+// Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and
+// a matched row regresses beyond it, a row that was ok failed, or a base row is missing from
+// NEW. Bad input (no results.csv, a malformed one, two rows with the same keys) is an
+// InputError naming the file and line.
+int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
+                std::ostream& out);
+
+}  // namespace pxh
