@@ -274,3 +274,36 @@ TEST(March, MethodRestrictedToNamedFields) {
 
 }  // namespace
 }  // namespace pxh
+
+namespace pxh {
+namespace {
+
+// pxh run --only: a subset by any key, "any of" with |, and a key that matches nothing named.
+TEST(RunOnly, KeepsTheMatchingEntriesAndViews) {
+    const std::string text =
+        "backends = [\"cpu\", \"glsl\"]\n[views]\ntheta_deg = [0, 30, 60]\nphi_deg = [0, 45]\n"
+        "[[heightfields]]\nname = \"a\"\ngenerator = \"flat\"\nsize = 8\nscale = [0.02, 0.05]\n"
+        "[[heightfields]]\nname = \"b\"\ngenerator = \"sine\"\nsize = 8\n"
+        "[[methods]]\nname = \"pom\"\nlayers = [8, 16]\n[[methods]]\nname = \"steep\"\n";
+    Experiment ex = parse_experiment(text, "e.toml");
+    apply_only(ex, "method=pom,heightfield=a,scale=0.05,theta_deg=30|60,backend=glsl");
+    ASSERT_EQ(ex.methods.size(), 2u);  // both layer settings of pom
+    ASSERT_EQ(ex.heightfields.size(), 1u);
+    EXPECT_EQ(ex.heightfields[0].scale, 0.05);
+    EXPECT_EQ(ex.theta_deg, (std::vector<double>{30, 60}));
+    EXPECT_EQ(ex.phi_deg, (std::vector<double>{0, 45}));
+    EXPECT_EQ(ex.backends, (std::vector<std::string>{"glsl"}));
+    Experiment ex2 = parse_experiment(text, "e.toml");
+    try {
+        apply_only(ex2, "heightfield=c");
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "--only: no heightfield matches (the experiment has: a (s=0.02 b=1), a "
+                  "(s=0.05 b=1), b (s=0.05 b=1))");
+    }
+    EXPECT_THROW(apply_only(ex2, "color=red"), InputError);
+}
+
+}  // namespace
+}  // namespace pxh

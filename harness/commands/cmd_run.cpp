@@ -40,6 +40,8 @@ struct RunArgs {
     bool quiet = false, maps = false, force = false;
     size_t max_rows = kDefaultMaxRows;
     std::string max_memory;  // e.g. "8G"; empty = kDefaultMaxMemoryBytes
+    std::string only;        // --only KEY=V,...: a subset of the experiment
+    int samples = 0;         // --samples N: overrides the file (0: the file's)
 };
 
 // "123", "512M", "8G", "1.5T" (binary units) -> bytes.
@@ -151,6 +153,12 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
                          "unknown GL context '" + a.gl + "' (known: " + gl_context_names() + ")");
     Experiment ex = load_experiment(a.file);
     ex.maps = ex.maps || a.maps;
+    if (!a.only.empty()) apply_only(ex, a.only);
+    if (a.samples != 0) {
+        if (a.samples < 1 || a.samples > 8192)
+            throw InputError("--samples", std::to_string(a.samples) + " is not in [1, 8192]");
+        ex.samples = a.samples;
+    }
     check_run_size(ex, a);
     const std::string out_dir =
         a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S")
@@ -232,6 +240,10 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
     run->add_flag("--quiet", ra->quiet,
                   "no progress or summary (the final one-line count is still printed)");
     run->add_flag("--maps", ra->maps, "write an error map (EXR + false-colour PNG) per row");
+    run->add_option("--only", ra->only,
+                    "run a subset: KEY=VALUE[|VALUE],... with KEY method, heightfield, backend, "
+                    "theta_deg, phi_deg, scale or bias (e.g. method=pom,heightfield=bricks)");
+    run->add_option("--samples", ra->samples, "samples per side N, overriding the file (1..8192)");
     run->add_option("--max-rows", ra->max_rows,
                     "refuse a run estimated to write more rows (default " +
                         std::to_string(kDefaultMaxRows) + ")");

@@ -70,6 +70,12 @@ Experiment parse_experiment(const std::string& text, const std::string& path);
 ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
                                   const std::string& where);
 
+// pxh run --only KEY=V[|V...],...: keeps the method entries, height-field entries, views and
+// backends that match (keys: method, heightfield, backend, theta_deg, phi_deg, scale, bias; a
+// repeated key or V|V is "any of"). A key that matches nothing is an InputError("--only", ...)
+// naming what there is.
+void apply_only(Experiment& ex, const std::string& spec);
+
 // What the experiment's keys ask of the backends (precisions, texture formats, timing
 // repeats, GL context); the command line's overrides are the runner's.
 BackendSettings backend_settings(const Experiment& ex);
