@@ -423,5 +423,163 @@ TEST(EngineDxsdk, NaNStraightDown) {
     EXPECT_EQ(r.fetches, 8);  // n = int(lerp(50, 8, 1)) = 8, no layer crossed with NaN uv
 }
 
+// ---- Phase 2: each preset (the marcher, CPU float) against the engine's literal loop ----
+
+const MethodInfo& method(const char* name) {
+    const MethodInfo* m = find_method(name);
+    EXPECT_NE(m, nullptr) << name;
+    return *m;
+}
+
+using LiteralFn = EngineResult (*)(const HeightField&, float, Vec3<float>, Vec2<float>);
+
+// White noise, and the same noise with its lower half set to 0 (black regions: about 1/16 of
+// the bilinear field is exactly 0, where the searches find no crossing and the engines' miss
+// paths run).
+HeightField noise_field() { return test::random_field(128, 128, 201); }
+HeightField black_field() {
+    HeightField hf = test::random_field(128, 128, 207);
+    for (auto& h : hf.texels) h = std::max(0.0f, 2 * h - 1);
+    hf.name = "half black";
+    return hf;
+}
+void compare_with_literal(const char* name, LiteralFn lit, double b, std::vector<float> scales,
+                          bool one_past_tie = false);
+
+// The height where the ray leaves the slab (b = 1): P - s V.xy / V.z.
+double bottom_height(const HeightField& hf, const Scene<double>& sc, Vec2d P) {
+    HeightSampler<double> hs(hf, 1, 0);
+    return hs.height({P.x - sc.scale * sc.V.x / sc.V.z, P.y - sc.scale * sc.V.y / sc.V.z});
+}
+
+// Random fields, random points, theta 10..85 and several phi, at the engine's default scale and
+// a larger one: uv within 1e-3 texel, and the same fetch count, on all but 0.1% of the samples
+// (float accumulation order differs, so a near-tie can flip a layer decision).
+void compare_with_literal(const char* name, LiteralFn lit, double b, std::vector<float> scales,
+                          const HeightField& hf, bool one_past_tie) {
+    const MethodInfo& m = method(name);
+    ASSERT_EQ(m.required_bias, b) << name;
+    const int W = hf.width;
+    const auto P = test::random_points(1500, 202);
+    int total = 0, off_uv = 0, off_fetch = 0, one_past = 0;
+    double worst = 0;
+    for (const float s : scales)
+        for (const double theta : {10.0, 30.0, 50.0, 70.0, 85.0})
+            for (const double phi : {0.0, 65.0, 200.0, 310.0}) {
+                const auto sc = test::make_scene(hf, s, b, theta, phi);
+                std::vector<int> fetches;
+                const auto uv =
+                    test::run_method<float>(m, test::params_for(m), sc, hf, P, &fetches);
+                for (size_t i = 0; i < P.size(); ++i) {
+                    const EngineResult e = lit(hf, s, Vec3<float>(sc.V), Vec2<float>(P[i]));
+                    const double d = std::hypot(uv[i].x - e.uv.x, uv[i].y - e.uv.y) * W;
+                    if (!(d <= 1e-3)) ++off_uv;  // NaN counts as off
+                    if (std::isfinite(d)) worst = std::max(worst, d);
+                    if (one_past_tie && std::abs(fetches[i] - e.fetches) == 1 &&
+                        bottom_height(hf, sc, P[i]) == 0)
+                        ++one_past;
+                    else off_fetch += fetches[i] != e.fetches;
+                    ++total;
+                }
+            }
+    std::printf(
+        "%s on %s: %d samples, %d beyond 1e-3 texel (worst %.3g texel), %d fetch counts differ, "
+        "%d one apart at a bottom tie\n",
+        name, hf.name.c_str(), total, off_uv, worst, off_fetch, one_past);
+    EXPECT_LE(off_uv, total / 1000) << name;
+    EXPECT_LE(off_fetch, total / 1000) << name;
+}
+
+void compare_with_literal(const char* name, LiteralFn lit, double b, std::vector<float> scales,
+                          bool one_past_tie) {
+    compare_with_literal(name, lit, b, scales, noise_field(), one_past_tie);
+    compare_with_literal(name, lit, b, scales, black_field(), one_past_tie);
+}
+
+TEST(EnginePresets, UnityParallaxOffsetMatchesLiteral) {
+    compare_with_literal("unity_parallax_offset", literal::unity_parallax_offset, 0.5,
+                         {0.02f, 0.005f, 0.08f});
+}
+// At the engine's s = 0.02 and 0.03. Beyond, at 85 degrees, the regula falsi amplifies float
+// rounding: each probe moves by (ih error) x (ray length in texels) x (noise slope), and at s =
+// 0.08 the ray crosses ~120 texels of white noise, so ~2% of those samples end 1e-3..0.2 texel
+// apart with the same fetch count (the marcher computes a probe's uv from the layer index, the
+// engine from (1 - ih) numSteps texOffsetPerStep). Where h = 0 exactly at layer numSteps (black
+// regions), the engine's rayHeight, decremented numSteps times, ends a hair below 0 for some
+// numSteps (6 at 85 degrees) and stops there; the marcher's ray is exactly at the bottom there, so
+// it reads layer numSteps + 1 as well (one fetch more, the same uv), or the other way round: where
+// the height at the slab bottom is 0, a fetch count one apart is counted apart (and printed).
+TEST(EnginePresets, HdrpPomMatchesLiteral) {
+    compare_with_literal(
+        "hdrp_pom",
+        [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+            return literal::hdrp_pom(hf, s, V, P);
+        },
+        1.0, {0.02f, 0.03f}, true);
+}
+TEST(EnginePresets, JmeParallaxMatchesLiteral) {
+    compare_with_literal("jme_parallax", literal::jme_parallax, 0.6, {0.05f, 0.1f});
+}
+TEST(EnginePresets, JmeSteepMatchesLiteral) {
+    compare_with_literal("jme_steep", literal::jme_steep, 1.0, {0.015f, 0.005f, 0.03f});
+}
+TEST(EnginePresets, OgreParallaxMatchesLiteral) {
+    compare_with_literal("ogre_parallax", literal::ogre_parallax, 1.0, {0.04f, 0.1f});
+}
+TEST(EnginePresets, OgrePomMatchesLiteral) {
+    compare_with_literal("ogre_pom", literal::ogre_pom, 1.0, {0.04f, 0.1f});
+}
+TEST(EnginePresets, DxsdkPomMatchesLiteral) {
+    compare_with_literal("dxsdk_pom",
+                         [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+                             return literal::dxsdk_pom(hf, s, V, P);
+                         },
+                         1.0, {0.02f, 0.1f});
+}
+
+// Straight down the two engines that normalise V.xy give NaN (pinned above); their presets
+// return P there, as the limit theta -> 0 of the engines' results does.
+TEST(EnginePresets, StraightDownPresetsReturnPWhereTheEnginesGiveNaN) {
+    const HeightField hf = test::random_field(32, 32, 203);
+    const auto P = test::random_points(50, 204);
+    for (const char* name : {"jme_steep", "dxsdk_pom"}) {
+        const auto sc = test::make_scene(hf, 0.02, 1.0, 0.0, 0.0);
+        const auto uv =
+            test::run_method<float>(method(name), test::params_for(method(name)), sc, hf, P);
+        for (size_t i = 0; i < P.size(); ++i) {
+            EXPECT_NEAR(uv[i].x, P[i].x, 1e-7) << name;
+            EXPECT_NEAR(uv[i].y, P[i].y, 1e-7) << name;
+        }
+    }
+}
+
+// The engine parameters reach the marcher: DirectX's g_nMinSamples / g_nMaxSamples and HDRP's
+// _PPDMinSamples / _PPDMaxSamples, against the literal loops with the same values.
+TEST(EnginePresets, EngineParametersReachTheMarcher) {
+    const HeightField hf = test::random_field(64, 64, 205);
+    const auto P = test::random_points(400, 206);
+    int total = 0, off = 0;
+    for (const double theta : {20.0, 60.0, 80.0}) {
+        const auto sc = test::make_scene(hf, 0.05, 1.0, theta, 30);
+        const auto dx = test::run_method<float>(
+            method("dxsdk_pom"),
+            test::params_for(method("dxsdk_pom"), {{"g_nMinSamples", 12}, {"g_nMaxSamples", 100}}),
+            sc, hf, P);
+        const auto hd = test::run_method<float>(
+            method("hdrp_pom"),
+            test::params_for(method("hdrp_pom"), {{"_PPDMinSamples", 16}, {"_PPDMaxSamples", 64}}),
+            sc, hf, P);
+        for (size_t i = 0; i < P.size(); ++i) {
+            const Vec3<float> V(sc.V);
+            const EngineResult a = literal::dxsdk_pom(hf, 0.05f, V, Vec2<float>(P[i]), 12, 100);
+            const EngineResult h = literal::hdrp_pom(hf, 0.05f, V, Vec2<float>(P[i]), 16, 64);
+            off += !(std::hypot(dx[i].x - a.uv.x, dx[i].y - a.uv.y) * 64 <= 1e-3);
+            off += !(std::hypot(hd[i].x - h.uv.x, hd[i].y - h.uv.y) * 64 <= 1e-3);
+            total += 2;
+        }
+    }
+    EXPECT_LE(off, total / 1000);
+}
+
 }  // namespace
 }  // namespace pxh
