@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <string>
 
+#include "harness/core/error.h"
 #include "methods/method.h"
 #include "tests/engines/literal_js.h"
 #include "tests/test_util.h"
@@ -307,6 +310,139 @@ TEST(EnginesJs, BabylonParallaxIsTheSeedOffsetLimitingWithBiasZero) {
         return literal::babylon_parallax(a...);
     });
     EXPECT_LE(c.off, c.total / 1000) << "worst " << c.worst;
+}
+
+// ---- The presets (named settings of the parametric marcher) against the literal loops ------
+
+using LiteralFn = EngineResult (*)(const HeightField&, float, Vec3<float>, Vec2<float>);
+
+struct PresetCompare {
+    int total = 0, off = 0, fetch_off = 0;
+    double worst = 0, worst_layers = 0;
+};
+
+// The preset (CPU, float) against its literal transcription on random fields, random points, at
+// the engine's default scale and a larger one, and several polar and azimuth angles.
+PresetCompare compare_preset(const char* name, LiteralFn lit, bool with_theta0,
+                             const GivenParams& given = {}, double layers = 0) {
+    const MethodInfo& m = method(name);
+    const HeightField fields[] = {test::random_field(128, 128, 71),
+                                  test::random_field(64, 64, 72, 0.2f, 0.9f)};
+    std::vector<double> thetas = {10, 30, 50, 70, 85};
+    if (with_theta0) thetas.insert(thetas.begin(), 0.0);
+    PresetCompare c;
+    for (const HeightField& hf : fields)
+        for (float s : {0.005f, 0.025f, 0.05f})
+            for (double theta : thetas)
+                for (double phi : {0.0, 75.0, 160.0, 290.0}) {
+                    const auto sc = make_scene(hf, s, m.required_bias, theta, phi);
+                    const Vec3<float> V(sc.V);
+                    const auto P = test::random_points(300, uint32_t(theta * 13 + phi + s * 1e4));
+                    std::vector<int> fetches;
+                    const auto ours =
+                        run_method<float>(m, params_for(m, given), sc, hf, P, &fetches);
+                    // One layer of the default search, in texels (for the layered presets).
+                    const double n =
+                        layers > 0 ? layers : (name[0] == 'b' ? babylon_n(V) : three_n(V));
+                    const double layer = s * std::hypot(V.x, V.y) / (V.z * n) * hf.width;
+                    for (size_t i = 0; i < P.size(); ++i) {
+                        const EngineResult e = lit(hf, s, V, Vec2<float>(P[i]));
+                        const double d =
+                            std::hypot(ours[i].x - e.uv.x, ours[i].y - e.uv.y) * hf.width;
+                        c.worst = std::max(c.worst, d);
+                        if (layer > 0) c.worst_layers = std::max(c.worst_layers, d / layer);
+                        c.off += !(d <= 1e-3);
+                        c.fetch_off += fetches[i] != e.fetches;
+                        ++c.total;
+                    }
+                }
+    return c;
+}
+
+void expect_matches(const char* name, LiteralFn lit, bool with_theta0 = true,
+                    bool same_fetches = true, const GivenParams& given = {}, double layers = 0) {
+    const PresetCompare c = compare_preset(name, lit, with_theta0, given, layers);
+    EXPECT_LE(c.off, c.total / 1000) << name << ": " << c.off << " of " << c.total
+                                     << " beyond 1e-3 texel, worst " << c.worst << " texel";
+    if (same_fetches) {
+        EXPECT_LE(c.fetch_off, c.total / 1000)
+            << name << ": " << c.fetch_off << " of " << c.total << " fetch counts differ";
+    }
+    if (getenv("PXH_ENGINE_STATS"))
+        printf("%s: %d of %d beyond 1e-3 texel (worst %.3g texel, %.3g layer), fetches differ %d\n",
+               name, c.off, c.total, c.worst, c.worst_layers, c.fetch_off);
+}
+
+TEST(EnginePresetsJs, ThreeJsBasic) { expect_matches("threejs_basic", literal::threejs_basic); }
+TEST(EnginePresetsJs, ThreeJsSteep) {
+    expect_matches("threejs_steep",
+                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+                       return literal::threejs_steep(hf, s, V, P);
+                   });
+}
+TEST(EnginePresetsJs, ThreeJsOcclusion) {
+    expect_matches("threejs_occlusion",
+                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+                       return literal::threejs_occlusion(hf, s, V, P);
+                   });
+}
+TEST(EnginePresetsJs, ThreeJsRelief) {
+    expect_matches("threejs_relief",
+                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+                       return literal::threejs_relief(hf, s, V, P);
+                   });
+}
+TEST(EnginePresetsJs, BabylonParallax) {
+    expect_matches("babylon_parallax",
+                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+                       return literal::babylon_parallax(hf, s, V, P);
+                   });
+}
+TEST(EnginePresetsJs, BabylonPom) {
+    // theta = 0 left out: the engine returns NaN there (pinned in
+    // Babylon.PomIsNaNAtNormalIncidence; the marcher's V.xy is 0 and it returns P). Fetches: the
+    // engine's current loop always fetches 15 times, the marcher k + 1 (as the older version with
+    // `break` did).
+    expect_matches(
+        "babylon_pom",
+        [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+            return literal::babylon_pom(hf, s, V, P);
+        },
+        false, false);
+}
+TEST(EnginePresetsJs, ThreeJsSteepAndOcclusionWithTheThirtyStepCapBinding) {
+    // 40 layers (above the example's GUI range): the search stops at layer 30; occlusion
+    // interpolates (extrapolates) from layers 29 and 30 all the same.
+    const std::map<std::string, double> forty = {{"parallaxMinLayers", 40},
+                                                 {"parallaxMaxLayers", 40}};
+    expect_matches(
+        "threejs_steep",
+        [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+            return literal::threejs_steep(hf, s, V, P, 40, 40);
+        },
+        true, true, forty, 40);
+    expect_matches(
+        "threejs_occlusion",
+        [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+            return literal::threejs_occlusion(hf, s, V, P, 40, 40);
+        },
+        true, true, forty, 40);
+    // Relief with the cap binding is not a marcher setting (the shader steps half a layer back
+    // from an uncrossed layer 30, the marcher forward): the preset refuses more than 30 layers.
+    EXPECT_THROW(params_for(method("threejs_relief"), {{"parallaxMaxLayers", 40}}), InputError);
+}
+
+TEST(EnginePresetsJs, ReferencePlanes) {
+    for (const char* n :
+         {"threejs_basic", "threejs_steep", "threejs_occlusion", "threejs_relief", "babylon_pom"})
+        EXPECT_EQ(method(n).required_bias, 1.0) << n;
+    EXPECT_EQ(method("babylon_parallax").required_bias, 0.0);
+    EXPECT_EQ(method("playcanvas_basic").required_bias, 0.5);
+    EXPECT_EQ(find_method("playcanvas_occlusion"), nullptr);  // PlayCanvas has no such mode
+}
+
+TEST(EnginePresetsJs, PlayCanvasBasic) {
+    expect_matches("playcanvas_basic", literal::playcanvas_basic);
 }
 
 }  // namespace
