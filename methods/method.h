@@ -101,6 +101,10 @@ struct MethodInfo {
     // with (NaN: any b), and why (one phrase, for the error an experiment with another b gets).
     double required_bias = NAN;
     std::string bias_reason{};
+    // A plug-in shader named by an experiment ([[methods]] shader = FILE): the file (absolute;
+    // read when compiled) and the fetch bound its entry declares (max_fetches). No CPU twin.
+    std::string plugin_shader{};
+    int declared_max_fetches = -1;
     // The shader's path relative to the source tree (shader_path or the default).
     std::string shader_file() const {
         return shader_path.empty() ? "methods/" + name + "/" + name + ".frag.glsl" : shader_path;
@@ -181,6 +185,10 @@ struct MethodSpec {
     // The height-field entries (by name) it runs on; empty: every one (the experiment's
     // [[methods]] key `heightfields`: e.g. an engine preset at its engine's scale and bias).
     std::vector<std::string> heightfields{};
+    // A plug-in's `reference`: the built-in method (and parameters) whose CPU twin its GLSL
+    // rows are compared with (the agreement columns); nullptr: none.
+    const MethodInfo* reference = nullptr;
+    ParamValues reference_params{};
     bool runs_on(const std::string& field) const {
         if (heightfields.empty()) return true;
         for (const auto& f : heightfields)

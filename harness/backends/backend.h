@@ -72,6 +72,9 @@ class Backend {
     virtual std::vector<Variant> variants() const = 0;
     // Throws std::exception (the row fails with its message) when the method cannot run.
     virtual MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) = 0;
+    // Whether it runs this method at all (the CPU backend: only methods with a C++ twin; a
+    // plug-in shader has none). A method it does not run has no rows on it.
+    virtual bool runs(const MethodInfo&) const { return true; }
     // The results' shader column for this method ("" where there is no shader).
     virtual std::string shader_of(const MethodInfo&) const { return ""; }
     // Facts for run.json (e.g. gl_renderer, gl_version); empty by default.

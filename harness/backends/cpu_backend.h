@@ -22,6 +22,7 @@ class CpuBackend : public Backend {
     explicit CpuBackend(BackendSettings settings) : settings_(std::move(settings)) {}
     std::string name() const override { return "cpu"; }
     std::vector<Variant> variants() const override;
+    bool runs(const MethodInfo& m) const override { return m.run_float && m.run_double; }
     MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
 
   private:

@@ -120,7 +120,9 @@ MethodSources method_sources(const MethodInfo& m, const std::string& shader_dir)
     MethodSources s;
     try {
         s.common = shader_source("methods/common.glsl", shader_dir);
-        s.body = shader_source(method_path, shader_dir, m.shader_text);
+        // A plug-in's file is read as it is now (--shader-dir does not apply to it).
+        s.body = m.plugin_shader.empty() ? shader_source(method_path, shader_dir, m.shader_text)
+                                         : shader_file_source(m.plugin_shader);
     } catch (const std::exception& e) {
         throw std::runtime_error("method '" + m.name + "': " + e.what());
     }

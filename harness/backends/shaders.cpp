@@ -7,6 +7,14 @@
 
 namespace pxh {
 
+ShaderSource shader_file_source(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error(path + ": cannot read the shader file");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return {ss.str(), path};
+}
+
 ShaderSource shader_source(const std::string& path, const std::string& override_dir,
                            const char* builtin_text) {
     namespace fs = std::filesystem;

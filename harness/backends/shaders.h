@@ -26,5 +26,8 @@ struct ShaderSource {
 // MethodInfo::shader_text) instead of the embedded table.
 ShaderSource shader_source(const std::string& path, const std::string& override_dir,
                            const char* builtin_text = nullptr);
+// A shader file read as it is (a plug-in's): origin = its path; std::runtime_error naming it
+// when it cannot be read.
+ShaderSource shader_file_source(const std::string& path);
 
 }  // namespace pxh

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -371,12 +372,91 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
     }
 }
 
+// A [[methods]] entry with `shader = FILE`: a GLSL-only method from the user's file (relative
+// to the experiment), its uniforms from the `uniforms` table (each p_NAME; a number, bool or a
+// list sweeping them; an integer value makes an int uniform), its declared fetch bound.
+const MethodInfo* make_plugin(const toml::table& t, const std::string& path,
+                              const std::string& name, Experiment& ex,
+                              const toml::table*& param_table) {
+    const toml::node& sn = *t.get("shader");
+    const std::string where = where_of(path, sn);
+    if (find_method(name))
+        throw InputError(
+            where_of(path, *t.get("name")),
+            "'" + name + "' is a built-in method; a plug-in shader needs a name of its own");
+    for (const auto& p : ex.plugins)
+        if (p->name == name)
+            throw InputError(where_of(path, *t.get("name")),
+                             "plug-in '" + name + "' is defined twice");
+    check_safe_name(name, where_of(path, *t.get("name")), "method name", false);
+    for (const auto& [k, v] : t) {
+        static const std::set<std::string> keys = {"name",        "shader",    "uniforms",
+                                                   "max_fetches", "reference", "reference_params",
+                                                   "heightfields"};
+        if (!keys.count(std::string(k.str())))
+            throw InputError(where_of(path, v),
+                             "unknown key '" + std::string(k.str()) +
+                                 "' in a plug-in [[methods]] entry (known: name, "
+                                 "shader, uniforms, max_fetches, reference, "
+                                 "reference_params, heightfields)");
+    }
+    const std::string rel = get_string(sn, path, "shader");
+    const fs::path file = fs::absolute(fs::path(path).parent_path() / rel).lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec))
+        throw InputError(where, "shader '" + rel + "': no such file (" + file.string() +
+                                    "; paths are relative to the experiment file)");
+    if (!t.contains("max_fetches"))
+        throw InputError(
+            where_of(path, *t.get("name")),
+            "plug-in '" + name + "' needs max_fetches (its bound on texture fetches per sample)");
+    auto info = std::make_shared<MethodInfo>();
+    info->name = name;
+    info->citation = "plug-in shader " + rel + " (from " + path + ")";
+    info->summary = "GLSL only: " + rel;
+    info->order = 1000;
+    info->plugin_shader = file.string();
+    info->shader_path = file.string();
+    info->declared_max_fetches = get_int(*t.get("max_fetches"), path, "max_fetches", 1, 1000000);
+    static const toml::table kNone;
+    param_table = &kNone;
+    if (const toml::node* u = t.get("uniforms")) {
+        param_table = u->as_table();
+        if (!param_table) throw InputError(where_of(path, *u), "'uniforms' must be a table");
+        for (const auto& [k, v] : *param_table) {
+            const std::string key(k.str());
+            bool ident = key.size() > 2 && key.rfind("p_", 0) == 0;
+            for (char c : key)
+                ident = ident && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+            if (!ident)
+                throw InputError(where_of(path, v),
+                                 "uniform '" + key +
+                                     "': plug-in uniforms are named p_NAME (letters, digits, _)");
+            const toml::node* first =
+                v.is_array() && !v.as_array()->empty() ? v.as_array()->get(0) : &v;
+            ParamSpec spec =
+                first->is_boolean() ? ParamSpec::boolean(key, false, "plug-in uniform")
+                : first->is_integer()
+                    ? ParamSpec::integer(key, std::nullopt, -2147483647.0, 2147483647.0,
+                                         "plug-in uniform")
+                    : ParamSpec::real(key, std::nullopt, -1e300, 1e300, "plug-in uniform");
+            spec.default_value.reset();
+            spec.to_uniform(key);
+            info->params.push_back(spec);
+        }
+    }
+    ex.plugins.push_back(info);
+    return info.get();
+}
+
 void parse_method(const toml::table& t, const toml::node& node, const std::string& path,
                   Experiment& ex) {
     const std::string where = where_of(path, node);
     if (!t.contains("name")) throw InputError(where, "a [[methods]] entry needs 'name'");
     const std::string name = get_string(*t.get("name"), path, "name");
-    const MethodInfo* m = find_method(name);
+    const toml::table* param_table = &t;  // where the parameters are (a plug-in: `uniforms`)
+    const MethodInfo* m =
+        t.contains("shader") ? make_plugin(t, path, name, ex, param_table) : find_method(name);
     if (!m) {
         std::string names;
         for (const auto& mi : all_methods()) names += (names.empty() ? "" : ", ") + mi.name;
@@ -406,9 +486,9 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
                                      "' has bias = " + format_number(h.bias));
         }
     std::vector<std::pair<std::string, std::vector<ParamValue>>> sweeps;
-    for (const auto& [k, v] : t) {
+    for (const auto& [k, v] : *param_table) {
         const std::string key(k.str());
-        if (key == "name" || key == "heightfields") continue;
+        if (param_table == &t && (key == "name" || key == "heightfields")) continue;
         const ParamSpec* spec = nullptr;
         for (const auto& p : m->params)
             if (p.name == key) spec = &p;
@@ -421,8 +501,40 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         }
         sweeps.emplace_back(key, get_param_values(v, path, *spec, "method '" + name + "'"));
     }
-    for (const auto& given : expand(sweeps))
-        ex.methods.push_back(MethodSpec{m, resolve_method_params(*m, given, where), fields});
+    MethodSpec proto{m, {}, fields};
+    if (const toml::node* r = t.get("reference")) {  // a plug-in's CPU twin to compare with
+        const std::string rn = get_string(*r, path, "reference");
+        proto.reference = find_method(rn);
+        if (!proto.reference || !proto.reference->run_float)
+            throw InputError(where_of(path, *r), "reference '" + rn + "' is not a built-in method");
+        GivenParams given;
+        if (const toml::node* rp = t.get("reference_params")) {
+            const toml::table* rt = rp->as_table();
+            if (!rt) throw InputError(where_of(path, *rp), "'reference_params' must be a table");
+            for (const auto& [k, v] : *rt) {
+                const ParamSpec* spec = nullptr;
+                for (const auto& p : proto.reference->params)
+                    if (p.name == k.str()) spec = &p;
+                if (!spec)
+                    throw InputError(where_of(path, v), "unknown parameter '" +
+                                                            std::string(k.str()) +
+                                                            "' for reference '" + rn + "'");
+                const auto vals = get_param_values(v, path, *spec, "reference '" + rn + "'");
+                if (vals.size() != 1)
+                    throw InputError(where_of(path, v), "reference parameters take one value");
+                given.emplace(std::string(k.str()), vals[0]);
+            }
+        }
+        proto.reference_params = resolve_method_params(*proto.reference, given, where);
+    } else if (t.contains("reference_params")) {
+        throw InputError(where_of(path, *t.get("reference_params")),
+                         "'reference_params' without 'reference'");
+    }
+    for (const auto& given : expand(sweeps)) {
+        MethodSpec ms = proto;
+        ms.params = resolve_method_params(*m, given, where);
+        ex.methods.push_back(std::move(ms));
+    }
 }
 
 // One name, one field: a name shared by different fields would merge them into one series
@@ -458,7 +570,7 @@ void check_heightfield_names(const Experiment& ex) {
 ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
                                   const std::string& where) {
     ParamValues p = resolve_params(m.params, given, where, "method '" + m.name + "'");
-    m.check(p, where);
+    if (m.check) m.check(p, where);
     if (m.complete_params) {
         m.complete_params(p);
         m.check(p, where);

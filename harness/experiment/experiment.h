@@ -3,6 +3,7 @@
 #pragma once
 #include <cstddef>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +54,8 @@ struct Experiment {
     std::optional<LightSpec> light;
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
     std::vector<MethodSpec> methods;            // arrays of parameter values already expanded
+    // Plug-in shaders' methods ([[methods]] shader = FILE), owned here (MethodSpec points in).
+    std::vector<std::shared_ptr<const MethodInfo>> plugins;
     // "FILE:LINE: ..." one line each (radian-looking theta, phi normalised, theta sorted or
     // deduplicated, a scale whose errors saturate); load_experiment prints them to stderr as
     // "pxh: warning: ..." (parse_experiment prints nothing).

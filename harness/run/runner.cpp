@@ -146,6 +146,7 @@ struct ViewJob {
 
     // The method's declared bound per sample, over every ray's direction.
     int fetches_bound(const MethodSpec& m) const {
+        if (!m.method->max_fetches) return m.method->declared_max_fetches;  // a plug-in's
         if (view.parallel) return m.method->max_fetches(m.params, scene);
         int bound = 0;
         Scene<double> s = scene;
@@ -197,6 +198,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
     std::optional<size_t> float_row;
     for (const auto& backend : job.c.backends) {
         const bool is_cpu = backend->name() == "cpu";
+        if (!backend->runs(*m.method)) continue;
         for (const Variant& v : backend->variants()) {
             try {
                 // Built on first use, then shared by every view and backend (a failed build
@@ -219,11 +221,14 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                     }
                     continue;
                 }
-                if (!cpu_float)
+                // The CPU float twin (a plug-in's: its `reference`, if it names one).
+                const MethodSpec twin =
+                    m.reference ? MethodSpec{m.reference, m.reference_params} : m;
+                if (!cpu_float && twin.method->run_float)
                     cpu_float = job.c.reference.run(
-                        m, {in.scene, in.hf, in.rays, nullptr, false, vin.resources},
+                        twin, {in.scene, in.hf, in.rays, nullptr, false, vin.resources},
                         {"float", ""});
-                add_agreement(row, o, *cpu_float, hf.width, hf.height);
+                if (cpu_float) add_agreement(row, o, *cpu_float, hf.width, hf.height);
                 job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
             } catch (const std::exception& e) {
                 ResultRow row = failed_row(e);
