@@ -1,12 +1,21 @@
 // Godot 4, Bevy and O3DE parallax: the literal transcriptions of
 // tests/engines/literal_godot_bevy_o3de.h against closed forms on flat fields, their documented
-// defects pinned with numbers, and (with the presets) agreement of each preset with its literal.
+// defects pinned with numbers, and agreement of each preset
+// (methods/march/presets_godot_bevy_o3de.cpp, CPU float) with its literal on random fields, points
+// and views.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
+#include <vector>
 
+#include "harness/backends/cpu_backend.h"
+#include "harness/backends/glsl_backend.h"
+#include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
+#include "harness/metrics/metrics.h"
 #include "methods/method.h"
 #include "tests/engines/literal_godot_bevy_o3de.h"
 #include "tests/test_util.h"
@@ -265,6 +274,222 @@ TEST(O3de, PositiveOffsetClipsTheReliefAtThePolygon) {
         const EngineResult r = literal::o3de_advanced(hf, s, V, kP, alg, O3deQuality::Low, s / 2);
         expect_offset(r, kP, 0, 0, 1e-7, "clipped");
         EXPECT_EQ(r.fetches, 9);
+    }
+}
+
+// ---- The presets (named settings of the marcher) against the literal transcriptions ----------
+
+using Literal = std::function<EngineResult(const HeightField&, float, Vec3<float>, Vec2<float>)>;
+
+const MethodInfo& method(const char* name) {
+    const MethodInfo* m = find_method(name);
+    EXPECT_NE(m, nullptr) << name;
+    return *m;
+}
+
+// Runs the preset (CPU float, the registered method) and the literal on random fields, points
+// and views (theta 0..85, five phi each); at most 0.1% of samples may differ by more than 1e-3
+// texel in uv, or in their fetch count (float accumulation order differs: a layer decision may
+// flip at a near-tie).
+// Where the engine resolves steps below float noise (O3DE contact at Ultra: sub-steps of
+// 1/128^2 of the slab), a sample also counts as agreeing when it is within one such step
+// (`substep`, in slab fractions) and fetch counts may differ on `fetch_fraction` of samples.
+struct Slack {
+    double substep = 0;
+    double fetch_fraction = 0.001;
+};
+
+void compare_with_literal(const char* preset, const GivenParams& given, double s,
+                          const Literal& lit, Slack slack = {}) {
+    const MethodInfo& m = method(preset);
+    const ParamValues p = test::params_for(m, given);
+    int samples = 0, off_uv = 0, off_fetches = 0;
+    double worst = 0;
+    for (uint32_t seed : {1u, 2u}) {
+        const HeightField hf = test::random_field(64, 64, seed);
+        const auto P = test::random_points(100, seed + 10);
+        for (double theta : {0.0, 10.0, 30.0, 50.0, 70.0, 85.0})
+            for (double phi : {0.0, 75.0, 160.0, 250.0, 320.0}) {
+                const Scene<double> sc = test::make_scene(hf, s, 1.0, theta, phi);
+                std::vector<int> fetches;
+                const auto uv = test::run_method<float>(m, p, sc, hf, P, &fetches);
+                const Vec3<float> V(sc.V);
+                for (size_t i = 0; i < P.size(); ++i) {
+                    const EngineResult r = lit(hf, float(s), V, Vec2<float>(P[i]));
+                    const double e = std::hypot(uv[i].x - r.uv.x, uv[i].y - r.uv.y) * 64;
+                    ASSERT_TRUE(std::isfinite(r.uv.x) && std::isfinite(r.uv.y))
+                        << preset << " literal NaN at theta " << theta;
+                    worst = std::max(worst, e);
+                    const double step_texels =
+                        slack.substep * s * std::hypot(V.x, V.y) / V.z * 64 * 1.01;
+                    off_uv += !(e <= std::max(1e-3, step_texels));
+                    off_fetches += fetches[i] != r.fetches;
+                    ++samples;
+                }
+            }
+    }
+    EXPECT_LE(off_uv, samples / 1000) << preset << ": " << off_uv << " of " << samples
+                                      << " samples beyond 1e-3 texel (worst " << worst << ")";
+    EXPECT_LE(off_fetches, int(samples * slack.fetch_fraction))
+        << preset << ": fetch counts differ on " << off_fetches << " of " << samples << " samples";
+}
+
+TEST(GodotPreset, ParallaxMatchesTheLiteral) {
+    compare_with_literal("godot_parallax", {}, 0.05, [](auto& hf, float s, auto V, auto P) {
+        return literal::godot_parallax(hf, s, V, P);
+    });
+    compare_with_literal("godot_parallax", {{"heightmap_flip_binormal", true}}, 0.05,
+                         [](auto& hf, float s, auto V, auto P) {
+                             return literal::godot_parallax(hf, s, V, P, false, true);
+                         });
+}
+
+TEST(GodotPreset, DeepMatchesTheLiteral) {
+    compare_with_literal("godot_deep", {}, 0.05, [](auto& hf, float s, auto V, auto P) {
+        return literal::godot_deep(hf, s, V, P);
+    });
+    compare_with_literal("godot_deep",
+                         {{"heightmap_min_layers", 3.0},
+                          {"heightmap_max_layers", 50.0},
+                          {"heightmap_flip_binormal", true}},
+                         0.1, [](auto& hf, float s, auto V, auto P) {
+                             return literal::godot_deep(hf, s, V, P, 3, 50, false, true);
+                         });
+}
+
+TEST(BevyPreset, OcclusionMatchesTheLiteral) {
+    compare_with_literal("bevy_occlusion", {}, 0.1, [](auto& hf, float s, auto V, auto P) {
+        return literal::bevy_occlusion(hf, s, V, P);
+    });
+    compare_with_literal("bevy_occlusion", {{"mirror_v", true}, {"max_parallax_layer_count", 40.5}},
+                         0.05, [](auto& hf, float s, auto V, auto P) {
+                             return literal::bevy_occlusion(hf, s, V, P, 40.5f, true);
+                         });
+}
+
+TEST(BevyPreset, ReliefMatchesTheLiteral) {
+    compare_with_literal("bevy_relief", {}, 0.1, [](auto& hf, float s, auto V, auto P) {
+        return literal::bevy_relief(hf, s, V, P);
+    });
+    compare_with_literal("bevy_relief", {{"mirror_v", true}, {"max_steps", 9.0}}, 0.1,
+                         [](auto& hf, float s, auto V, auto P) {
+                             return literal::bevy_relief(hf, s, V, P, 16.0f, 9, true);
+                         });
+    compare_with_literal("bevy_relief", {{"max_steps", 0.0}}, 0.1,
+                         [](auto& hf, float s, auto V, auto P) {
+                             return literal::bevy_relief(hf, s, V, P, 16.0f, 0);
+                         });
+}
+
+TEST(O3dePreset, BasicMatchesTheLiteral) {
+    compare_with_literal("o3de_basic", {}, 0.05, [](auto& hf, float s, auto V, auto P) {
+        return literal::o3de_basic(hf, s, V, P);
+    });
+}
+
+struct O3deQualityCase {
+    const char* name;
+    O3deQuality q;
+};
+const O3deQualityCase kQualities[] = {{"Low", O3deQuality::Low},
+                                      {"Medium", O3deQuality::Medium},
+                                      {"High", O3deQuality::High},
+                                      {"Ultra", O3deQuality::Ultra}};
+
+void compare_o3de(const char* preset, literal::O3deAlgorithm alg, Slack ultra = {}) {
+    for (const auto& q : kQualities)
+        compare_with_literal(
+            preset, {{"quality", std::string(q.name)}}, 0.05,
+            [&](auto& hf, float s, auto V, auto P) {
+                return literal::o3de_advanced(hf, s, V, P, alg, q.q);
+            },
+            q.q == O3deQuality::Ultra ? ultra : Slack{});
+}
+
+TEST(O3dePreset, SteepMatchesTheLiteral) {
+    compare_o3de("o3de_steep", literal::O3deAlgorithm::Steep);
+}
+TEST(O3dePreset, PomMatchesTheLiteral) { compare_o3de("o3de_pom", literal::O3deAlgorithm::POM); }
+TEST(O3dePreset, ReliefMatchesTheLiteral) {
+    compare_o3de("o3de_relief", literal::O3deAlgorithm::Relief);
+}
+TEST(O3dePreset, ContactMatchesTheLiteral) {
+    // At Ultra a contact sub-step is 1/16384 of the slab: the engine's accumulated uv offsets
+    // and the marcher's uv0 + duv x differ by float noise of that order, so the sub-step chosen
+    // flips on ~0.6% of samples (fetch counts one apart, uv one sub-step apart, up to 0.0023
+    // texel at theta 85). Low / Medium / High meet the plain rule.
+    compare_o3de("o3de_contact", literal::O3deAlgorithm::Contact, {1.0 / (128.0 * 128.0), 0.01});
+}
+
+// The presets' own closed forms and the engines' fixed reference plane.
+TEST(GboPresets, NeedBiasOneCiteACommitAndKeepTheEnginesDefaults) {
+    for (const char* name :
+         {"godot_parallax", "godot_deep", "bevy_occlusion", "bevy_relief", "o3de_basic",
+          "o3de_steep", "o3de_pom", "o3de_relief", "o3de_contact"}) {
+        const MethodInfo& m = method(name);
+        EXPECT_EQ(m.required_bias, 1.0) << name;
+        EXPECT_NE(m.citation.find("@ "), std::string::npos) << name << " cites a commit";
+        const std::string toml =
+            "[views]\ntheta_deg = [0, 30]\n[[heightfields]]\ngenerator = "
+            "\"flat\"\nsize = 8\nbias = 0.5\n[[methods]]\nname = \"" +
+            std::string(name) + "\"\n";
+        try {
+            parse_experiment(toml, "e.toml");
+            ADD_FAILURE() << name << " accepted bias 0.5";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("needs bias = 1 ("), std::string::npos)
+                << e.what();
+        }
+    }
+    // Bevy default max_parallax_layer_count 16 and n_min 1: at theta 0 one layer; O3DE Low = 16.
+    const HeightField hf = test::flat_field(16, 16, 0.3f);
+    std::vector<int> f;
+    test::run_method<float>(method("bevy_occlusion"), test::params_for(method("bevy_occlusion")),
+                            test::make_scene(hf, 0.1, 1.0, 0, 0), hf, {Vec2d(kP)}, &f);
+    EXPECT_EQ(f[0], 1 + 1 + 1);
+    test::run_method<float>(method("o3de_steep"), test::params_for(method("o3de_steep")),
+                            test::make_scene(hf, 0.05, 1.0, 45, 0), hf, {Vec2d(kP)}, &f);
+    EXPECT_EQ(f[0], 12 + 1);
+    test::run_method<float>(method("godot_deep"), test::params_for(method("godot_deep")),
+                            test::make_scene(hf, 0.05, 1.0, 0, 0), hf, {Vec2d(kP)}, &f);
+    EXPECT_EQ(f[0], 6 + 2);
+}
+
+// The presets at non-default engine settings on the GLSL twin (the registry test runs the
+// defaults): O3DE Ultra (relief's 127 bisection probes + 1, contact's 128 sub-layers), Godot
+// with flipped binormal and 4..64 layers, Bevy mirrored with 9 relief steps.
+TEST(GboPresets, GlslAgreesAtNonDefaultSettings) {
+    static GlslBackend gl(GlslOptions{"", 0});
+    const std::pair<const char*, GivenParams> settings[] = {
+        {"o3de_relief", {{"quality", std::string("Ultra")}}},
+        {"o3de_contact", {{"quality", std::string("Medium")}}},
+        {"o3de_pom", {{"quality", std::string("High")}}},
+        {"godot_deep",
+         {{"heightmap_min_layers", 4.0},
+          {"heightmap_max_layers", 64.0},
+          {"heightmap_flip_binormal", true}}},
+        {"godot_parallax", {{"heightmap_flip_binormal", true}}},
+        {"bevy_relief", {{"mirror_v", true}, {"max_steps", 9.0}}},
+        {"bevy_occlusion", {{"mirror_v", true}, {"max_parallax_layer_count", 40.5}}},
+    };
+    const HeightField hf = test::random_field(64, 64, 7);
+    const int N = 48;
+    const auto P = sample_grid(N);
+    for (const auto& [name, given] : settings) {
+        const MethodSpec spec{&method(name), test::params_for(method(name), given)};
+        for (double theta : {0.0, 40.0, 75.0}) {
+            const Scene<double> sc{0.05, 1.0, view_vector(theta, 35), hf.width, hf.height};
+            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0);
+            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0);
+            size_t far = 0, fetch_off = 0;
+            for (size_t k = 0; k < P.size(); ++k) {
+                const Vec2d e = texel_error(gpu.uv[k], cpu.uv[k], hf.width, hf.height);
+                far += !(std::hypot(e.x, e.y) <= 1e-3);
+                fetch_off += gpu.fetches[k] != cpu.fetches[k];
+            }
+            EXPECT_LE(far, P.size() / 1000) << spec.params.canonical() << " theta=" << theta;
+            EXPECT_LE(fetch_off, P.size() / 1000) << spec.params.canonical();
+        }
     }
 }
 
