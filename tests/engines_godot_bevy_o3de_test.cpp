@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -328,6 +329,10 @@ void compare_with_literal(const char* preset, const GivenParams& given, double s
                 }
             }
     }
+    std::printf(
+        "%s %s: %d samples, %d beyond the tolerance (worst %.3g texel), %d fetch counts "
+        "differ\n",
+        preset, p.canonical().c_str(), samples, off_uv, worst, off_fetches);
     EXPECT_LE(off_uv, samples / 1000) << preset << ": " << off_uv << " of " << samples
                                       << " samples beyond 1e-3 texel (worst " << worst << ")";
     EXPECT_LE(off_fetches, int(samples * slack.fetch_fraction))
