@@ -105,6 +105,14 @@ TEST_F(Compare, WorseShaderFailsAndIsNamed) {
     EXPECT_EQ(out.find("[cpu/float] on fbm s=0.05 b=1 theta=40 phi=0: err_p95"), std::string::npos)
         << "a CPU row reported as regressed: " << out;
     EXPECT_NE(out.find("FAIL: 2 regression(s)"), std::string::npos) << out;
+    // The per-row table lists exactly the two changed rows, the larger change first.
+    const size_t table = out.find("changed row");
+    ASSERT_NE(table, std::string::npos) << out;
+    const size_t r70 = out.find("theta=70 phi=0  ", table),
+                 r40 = out.find("theta=40 phi=0  ", table);
+    EXPECT_NE(r70, std::string::npos) << out;
+    EXPECT_NE(r40, std::string::npos) << out;
+    EXPECT_LT(r70, r40) << "largest change of err_p95 first";
     // Without --fail-on: the same report, exit 0.
     EXPECT_EQ(run("compare " + d("base") + " " + d("worse_run") + " --markdown"), 0);
     EXPECT_NE(slurp("out.txt").find("| parallax [glsl/r32f] |"), std::string::npos)

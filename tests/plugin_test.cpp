@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "harness/core/sha256.h"
 #include "harness/results/csv_table.h"
 
 namespace fs = std::filesystem;
@@ -109,8 +110,15 @@ uniforms = { p_layers_adaptive = false, p_layers = 24.0, p_layers_min = 8.0, p_l
                   "p_layers=24;p_layers_adaptive=false;p_layers_max=32;p_layers_min=8");
         EXPECT_EQ(t.get(r, "shader"), (dir / "copy.frag.glsl").string());
     }
-    // run.json records the plug-in's source with its sha256.
-    EXPECT_NE(slurp("r/run.json").find((dir / "copy.frag.glsl").string()), std::string::npos);
+    // The rows carry the source's sha256 (the same text as the built-in pom's: the same hash),
+    // and run.json the plug-in's source itself.
+    for (const auto& [k, r] : copy) {
+        EXPECT_EQ(t.get(r, "shader_sha256"), pxh::sha256_hex(source("methods/pom/pom.frag.glsl")));
+        EXPECT_EQ(t.get(r, "shader_sha256"), t.get(builtin[k], "shader_sha256"));
+    }
+    const std::string run_json = slurp("r/run.json");
+    EXPECT_NE(run_json.find("\"plugin_shaders\""), std::string::npos);
+    EXPECT_NE(run_json.find("pxh_layer_search(P)"), std::string::npos) << "source not recorded";
 }
 
 TEST_F(Plugin, BrokenShaderFailsOnlyItsOwnRows) {

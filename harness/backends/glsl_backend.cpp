@@ -179,6 +179,7 @@ const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
     Program& p = programs_[m.name];
     p.id = prog;
     p.shader = ms.description();
+    p.sha256 = sha256_hex(body.text);
     p.what = what;
     p.active = active_uniforms(prog);
     return p;
@@ -376,6 +377,7 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                                  std::to_string(err) + " while rendering");
     read_back(samples, light != nullptr, out);
     out.shader = program.shader;
+    out.shader_sha256 = program.sha256;
     return out;
 }
 

@@ -59,6 +59,7 @@ class GlslBackend : public Backend {
     struct Program {
         unsigned id = 0;
         std::string shader;  // "builtin", or the file(s) read from the shader folder
+        std::string sha256;  // of the method's own source (not common.glsl)
         std::string what;    // "method 'NAME' (its shader files)", for messages
         std::map<std::string, ActiveUniform> active;  // the linked program's uniforms
     };

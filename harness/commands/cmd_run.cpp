@@ -9,11 +9,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
 #include <set>
+#include <sstream>
 
 #include "harness/commands/commands.h"
 #include "harness/commands/summary.h"
@@ -113,6 +115,18 @@ nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo&
     run["experiment_name"] = ex.name;
     run["inputs"] = input_records(ex);
     run["warnings"] = ex.warnings;
+    // Plug-in shaders: each file's source as it was when the run started, and its sha256.
+    nlohmann::json plugins = nlohmann::json::array();
+    for (const auto& p : ex.plugins) {
+        std::ifstream f(p->plugin_shader, std::ios::binary);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        plugins.push_back({{"method", p->name},
+                           {"path", p->plugin_shader},
+                           {"sha256", sha256_hex(ss.str())},
+                           {"source", ss.str()}});
+    }
+    if (!plugins.empty()) run["plugin_shaders"] = plugins;
     if (!info.gl_renderer.empty()) {
         run["gl_renderer"] = info.gl_renderer;
         run["gl_version"] = info.gl_version;

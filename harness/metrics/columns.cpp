@@ -26,6 +26,7 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"precision", kText, kKey, "float | double (GLSL: float)"},
         {"texture_format", kText, kKey, "GLSL rows: r32f | r16 | r8"},
         {"shader", kText, kKey, "GLSL rows: builtin, or the shader file(s) compiled"},
+        {"shader_sha256", kText, kKey, "GLSL rows: sha256 of the method's shader source compiled"},
         {"scale", kNum, kKey, "height scale s"},
         {"bias", kNum, kKey, "height bias b"},
         {"theta_deg", kNum, kKey, "view angle from the normal (degrees)"},

@@ -169,6 +169,40 @@ TextTable band_table(const std::vector<Pair>& pairs, Bands& bands) {
     return t;
 }
 
+// Per row: the rows whose errors, fetches or status changed, largest |d err_p95| first.
+TextTable row_table(const std::vector<Pair>& pairs) {
+    std::vector<std::pair<double, const Pair*>> changed;
+    for (const Pair& p : pairs) {
+        bool any = p.base->ok() != p.now->ok();
+        for (const char* c : kErrors) any = any || p.base->cell(c) != p.now->cell(c);
+        if (!any) continue;
+        const double d = std::abs(p.now->num("err_p95") - p.base->num("err_p95"));
+        changed.push_back({std::isfinite(d) ? d : INFINITY, &p});
+    }
+    std::stable_sort(changed.begin(), changed.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
+    TextTable t;
+    t.header = {"changed row", "err_mean", "err_p95", "err_max", "fetches", "time ratio"};
+    t.align = "lrrrrr";
+    auto change = [](const Pair& p, const char* c, int prec) {
+        if (!p.now->ok()) return std::string("failed");
+        return p.base->cell(c) + " -> " + p.now->cell(c) + " (" +
+               signed_fmt(p.now->num(c) - p.base->num(c), prec) + ")";
+    };
+    const size_t shown = std::min<size_t>(changed.size(), 50);
+    for (size_t i = 0; i < shown; ++i) {
+        const Pair& p = *changed[i].second;
+        t.rows.push_back({row_name(*p.now), change(p, "err_mean", 4), change(p, "err_p95", 4),
+                          change(p, "err_max", 4), change(p, "fetches_mean", 2),
+                          ratio_fmt(timing_change(*p.base, *p.now))});
+    }
+    if (changed.empty()) t.notes.push_back("No row's errors, fetches or status changed.");
+    else if (shown < changed.size())
+        t.notes.push_back("... and " + std::to_string(changed.size() - shown) +
+                          " more changed rows (largest change of err_p95 first).");
+    return t;
+}
+
 }  // namespace
 
 std::vector<CompareTolerance> parse_fail_on(const std::string& spec) {
@@ -260,6 +294,7 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
         if (shown < v.size()) out << "  ... and " << v.size() - shown << " more\n";
         out << "\n";
     };
+    write_table(row_table(pairs), opt.markdown, out);
     list("Rows only in BASE", only_base);
     list("Rows only in NEW", only_new);
     if (opt.fail_on.empty()) return 0;

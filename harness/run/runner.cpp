@@ -29,6 +29,7 @@ ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int h
     ResultRow row;
     apply_output_metrics({out, gt, width, height, exclude}, row);
     row.set_text("shader", out.shader);
+    row.set_text("shader_sha256", out.shader_sha256);
     return row;
 }
 
