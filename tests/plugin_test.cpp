@@ -180,6 +180,19 @@ TEST_F(Plugin, BadEntriesAreOneLineExit2) {
 // the committed shader and baseline; a worse shader (no interpolation) fails check and compare.
 TEST_F(Plugin, WorkedExampleGate) {
     const fs::path ex = fs::path(PXH_SOURCE_DIR) / "examples" / "shader_gate";
+    // README quotes the gate's commands verbatim: every command line of gate.sh is in README.
+    {
+        const std::string readme = source("README.md"),
+                          gate = source("examples/shader_gate/gate.sh");
+        std::stringstream lines(gate);
+        int commands = 0;
+        for (std::string line; std::getline(lines, line);)
+            if (line.rfind("\"$PXH\"", 0) == 0) {
+                ++commands;
+                EXPECT_NE(readme.find(line + "\n"), std::string::npos) << "README lacks: " << line;
+            }
+        EXPECT_EQ(commands, 3);
+    }
     EXPECT_EQ(sh((ex / "gate.sh").string() + " " + PXH_BINARY + " " + ex.string() + " " +
                  (dir / "run").string()),
               0)
