@@ -8,7 +8,10 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "harness/core/error.h"
@@ -53,16 +56,20 @@ Cells glsl(const std::string& fmt, Cells cells) {
 
 class ReportFolder : public pxh::test::CliTest {
   protected:
-    // Writes DIR/res/results.csv from the rows; returns DIR/res.
-    std::string results(const std::vector<Cells>& rows) {
+    // Writes DIR/res/results.csv from the rows (kColumns, then `extra` columns); returns
+    // DIR/res.
+    std::string results(const std::vector<Cells>& rows,
+                        const std::vector<std::string>& extra = {}) {
         const fs::path res = dir / "res";
         fs::create_directories(res);
+        std::vector<std::string> columns = kColumns;
+        columns.insert(columns.end(), extra.begin(), extra.end());
         std::string text;
-        for (size_t c = 0; c < kColumns.size(); ++c) text += (c ? "," : "") + kColumns[c];
+        for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
         text += "\n";
         for (const auto& r : rows) {
-            for (size_t c = 0; c < kColumns.size(); ++c) {
-                auto it = r.find(kColumns[c]);
+            for (size_t c = 0; c < columns.size(); ++c) {
+                auto it = r.find(columns[c]);
                 text += (c ? "," : "") + pxh::csv_quote(it == r.end() ? "" : it->second);
             }
             text += "\n";
@@ -389,6 +396,267 @@ TEST_F(ReportFolder, CheckParamsIgnoresSpacesAroundSeparators) {
               std::string::npos);
 }
 
+// Four rows that differ in every filter key, for the tests of filters below.
+std::vector<Cells> filter_rows() {
+    return {
+        row({{"samples", "16"}}),  // pom, 0.05, 1, phi 0: err_p95 0.2
+        row({{"scale", "0.02"}, {"phi_deg", "45"}, {"samples", "16"}, {"err_p95", "0.4"}}),
+        row({{"method", "relief"},
+             {"params", "layers=4"},
+             {"bias", "0"},
+             {"samples", "32"},
+             {"err_p95", "0.8"}}),
+        row({{"method", "parallax"},
+             {"params", ""},
+             {"heightfield", "fbm"},
+             {"scale", "0.1"},
+             {"bias", "0.5"},
+             {"theta_deg", "85"},
+             {"phi_deg", "90"},
+             {"samples", "16"},
+             {"err_p95", "5"}}),
+    };
+}
+
+// The rows count and worst value of the one limit of `out` ("" when absent).
+std::pair<std::string, std::string> rows_and_worst(const std::string& out) {
+    std::istringstream in(out);
+    std::string line;
+    std::getline(in, line);  // header
+    std::getline(in, line);
+    std::vector<std::string> words;
+    std::istringstream w(line);
+    for (std::string x; w >> x;) words.push_back(x);
+    if (words.size() < 3) return {"", ""};
+    return {words[words.size() - 2], words[words.size() - 3]};
+}
+
+// Filters on scale, bias, phi_deg and samples compare numbers; any filter may be a list (any
+// of its values). Each case: the filters, the rows they select and the worst err_p95 there.
+TEST_F(ReportFolder, CheckFiltersOnNumbersAndLists) {
+    const std::string res = results(filter_rows(), {"samples"});
+    struct Case {
+        std::string filters, rows, worst;
+    };
+    const Case cases[] = {
+        {"scale = 0.05", "2", "0.8"},
+        {"scale = 5e-2", "2", "0.8"},
+        {"scale = 0.050000000001", "2", "0.8"},  // within what %.10g keeps
+        {"scale = [0.02, 0.05]", "3", "0.8"},
+        {"scale = [0.1]", "1", "5"},
+        {"bias = 1", "2", "0.4"},
+        {"bias = 1.0", "2", "0.4"},
+        {"bias = [0, 0.5]", "2", "5"},
+        {"phi_deg = 45", "1", "0.4"},
+        {"phi_deg = [0, 90]", "3", "5"},
+        {"samples = 32", "1", "0.8"},
+        {"samples = [16]", "3", "5"},
+        {"method = [\"pom\", \"relief\"]", "3", "0.8"},
+        {"method = [\"pom\"]", "2", "0.4"},
+        {"params = [\"layers = 8\", \"layers=4\"]", "3", "0.8"},
+        {"heightfield = [\"fbm\", \"bricks\"]", "4", "5"},
+        {"backend = [\"cpu\"]\nprecision = [\"float\"]", "4", "5"},
+        {"method = [\"pom\", \"relief\"]\nscale = [0.05]", "2", "0.8"},
+        {"method = [\"pom\", \"parallax\"]\nsamples = 16\nphi_deg = [45, 90]", "2", "5"},
+    };
+    for (const auto& c : cases) {
+        auto [rc, out] =
+            check(res, "[[limit]]\n" + c.filters + "\ncolumn = \"err_p95\"\nmax = 10\n");
+        EXPECT_EQ(rc, 0) << c.filters << "\n" << out;
+        EXPECT_EQ(rows_and_worst(out), std::make_pair(c.rows, c.worst)) << c.filters << "\n" << out;
+        // The same limit tightened below its worst fails.
+        std::tie(rc, out) =
+            check(res, "[[limit]]\n" + c.filters + "\ncolumn = \"err_p95\"\nmax = " +
+                           std::to_string(std::stod(c.worst) / 2) + "\n");
+        EXPECT_EQ(rc, 1) << c.filters << "\n" << out;
+    }
+    // A list reads as one in the table.
+    const auto [rc, out] =
+        check(res,
+              "[[limit]]\nmethod = [\"pom\", \"relief\"]\nscale = 0.05\ncolumn = \"err_p95\"\n"
+              "max = 1\n");
+    EXPECT_NE(out.find("method=[pom, relief] scale=0.05 "), std::string::npos) << out;
+}
+
+// A filter value no row has, a list with nothing in it, a value of the wrong type, a filter
+// on a column results.csv lacks: exit 2, at the line of that key.
+TEST_F(ReportFolder, CheckFilterErrorsNameTheKeyLine) {
+    const std::string res = results(filter_rows(), {"samples"});
+    struct Case {
+        std::string filter, expect;
+    };
+    const Case cases[] = {
+        {"method = [\"pom\", \"reliefx\"]",
+         "limits.toml:4: method = \"reliefx\" matches no row of results.csv (its method: pom, "
+         "relief, parallax)"},
+        {"scale = [0.05, 0.07]",
+         "limits.toml:4: scale = 0.07 matches no row of results.csv (its scale: 0.05, 0.02, 0.1)"},
+        {"samples = 64", "limits.toml:4: samples = 64 matches no row"},
+        {"method = []", "limits.toml:4: 'method' is an empty list: it matches no row"},
+        {"scale = \"0.05\"", "limits.toml:4: 'scale' must be a number or a list of numbers"},
+        {"phi_deg = [0, \"45\"]", "limits.toml:4: 'phi_deg' must be a number or a list of numbers"},
+        {"bias = nan", "limits.toml:4: 'bias' is nan"},
+        {"method = [\"pom\", 3]", "limits.toml:4: 'method' must be a string or a list of strings"},
+        {"heightfield = 1", "limits.toml:4: 'heightfield' must be a string or a list of strings"},
+        {"phi = 0",
+         "limits.toml:4: unknown key 'phi' in [[limit]] (keys: column, min, max, "
+         "theta_min, theta_max, note, method, params, heightfield, backend, precision, "
+         "texture_format, ground_truth, scale, bias, phi_deg, samples)"},
+    };
+    for (const auto& c : cases) {
+        const std::string e = input_error([&] {
+            check(res, "# limits\n[[limit]]\ncolumn = \"err_p95\"\n" + c.filter + "\nmax = 1\n");
+        });
+        EXPECT_NE(e.find(c.expect), std::string::npos) << c.filter << "\n" << e;
+    }
+    // Without a samples column, a samples filter is refused (it would match nothing).
+    const std::string old = results(filter_rows());
+    EXPECT_NE(input_error([&] {
+                  check(old, "[[limit]]\ncolumn = \"err_p95\"\nmax = 1\nsamples = 16\n");
+              }).find("limits.toml:4: results.csv has no column 'samples' to filter on"),
+              std::string::npos);
+}
+
+// A failing limit names its worst row under its table row: the one beyond the bound (the
+// lowest for a min), a failed row, a row without a value. Passing limits add no line.
+TEST_F(ReportFolder, CheckFailingLimitNamesItsWorstRow) {
+    std::vector<Cells> rows = filter_rows();
+    rows.push_back(glsl("r16", {{"theta_deg", "70"},
+                                {"phi_deg", "30"},
+                                {"err_p95", "0.3"},
+                                {"fetches_mean", "3"},
+                                {"samples", "16"}}));
+    rows.push_back(glsl("r8", {{"theta_deg", "80"},
+                               {"status", "failed"},
+                               {"error", "link error"},
+                               {"err_p95", ""},
+                               {"samples", "16"}}));
+    rows.push_back(row({{"method", "relief"},
+                        {"params", "layers=4"},
+                        {"theta_deg", "60"},
+                        {"err_p95", ""},
+                        {"samples", "32"}}));
+    const std::string res = results(rows, {"samples"});
+    const auto t = write("t.toml", R"([[limit]]
+method = "pom"
+backend = "cpu"
+column = "err_p95"
+max = 0.3
+[[limit]]
+method = "pom"
+column = "fetches_mean"
+min = 4
+max = 10
+[[limit]]
+method = "pom"
+column = "err_p95"
+max = 1
+[[limit]]
+method = "relief"
+column = "err_p95"
+max = 1
+[[limit]]
+heightfield = "fbm"
+column = "err_p95"
+max = 1
+)");
+    const auto r = pxh("check " + res + " --accept-edited --thresholds " + t);
+    EXPECT_EQ(r.status, 1) << r.out << r.err;
+    const std::vector<std::string> lines = [&] {
+        std::vector<std::string> v;
+        std::istringstream in(r.out);
+        for (std::string line; std::getline(in, line);) v.push_back(line);
+        return v;
+    }();
+    // The lines under each table row (up to the next row), by limit number.
+    auto under = [&](const std::string& n) {
+        std::string text;
+        bool in = false;
+        for (const auto& line : lines) {
+            if (line.rfind(n + " ", 0) == 0) {
+                in = true;
+                continue;
+            }
+            if (in && line.rfind("  ", 0) != 0) break;
+            if (in) text += line + "\n";
+        }
+        return text;
+    };
+    EXPECT_EQ(under("1"),
+              "  worst: pom layers=8 [cpu/float] on bricks s=0.02 b=1 theta=0 phi=45: "
+              "0.4\n")
+        << r.out;
+    // A min: the lowest value is the worst, in the table too.
+    EXPECT_EQ(under("2"),
+              "  worst: pom layers=8 [glsl/r16] on bricks s=0.05 b=1 theta=70 phi=30: "
+              "3\n  failed: pom layers=8 [glsl/r8] on bricks s=0.05 b=1 theta=80 "
+              "phi=0: link error\n")
+        << r.out;
+    EXPECT_NE(r.out.find("fetches_mean          >= 4, <= 10 3 "), std::string::npos) << r.out;
+    EXPECT_EQ(under("3"),
+              "  failed: pom layers=8 [glsl/r8] on bricks s=0.05 b=1 theta=80 phi=0: "
+              "link error\n")
+        << r.out;
+    EXPECT_EQ(under("4"),
+              "  non-finite: relief layers=4 [cpu/float] on bricks s=0.05 b=1 "
+              "theta=60 phi=0: empty\n")
+        << r.out;
+    EXPECT_EQ(under("5"), "  worst: parallax [cpu/float] on fbm s=0.1 b=0.5 theta=85 phi=90: 5\n")
+        << r.out;
+    EXPECT_NE(r.out.find("0 passed, 5 failed"), std::string::npos) << r.out;
+    // Passing, the same table has no such lines.
+    const auto ok = pxh("check " + res + " --accept-edited --thresholds " +
+                        write("ok.toml",
+                              "[[limit]]\nmethod = \"pom\"\nbackend = \"cpu\"\ncolumn = "
+                              "\"err_p95\"\nmax = 1\n"));
+    EXPECT_EQ(ok.status, 0) << ok.out << ok.err;
+    EXPECT_EQ(ok.out.find("worst:"), std::string::npos) << ok.out;
+}
+
+// A text column or an unknown one: one error line at the column key's line, listing the
+// numeric columns a limit may name; exit 2.
+TEST_F(ReportFolder, CheckColumnErrorsListNumericColumns) {
+    const std::string res = results({row({})});
+    const std::string numeric =
+        "(the measured numeric columns of results.csv: err_mean, err_p50, err_p95, err_p99, "
+        "frac_gt_1, nonfinite, fetches_mean, ns_per_sample, ms_per_frame, double_diff_max, "
+        "sliding, shimmering)\n";
+    struct Case {
+        std::string column, expect;
+    };
+    const Case cases[] = {
+        {"status",
+         "column 'status' is not numeric (it holds text): a limit needs a numeric "
+         "column "},
+        {"method",
+         "column 'method' is not numeric (it holds text): a limit needs a numeric "
+         "column "},
+        {"err_p96", "results.csv has no column 'err_p96' "},
+        {"err_rms", "results.csv has no column 'err_rms' "},  // registered, not in this file
+    };
+    for (const auto& c : cases) {
+        const std::string t = write("t.toml", "# gate\n\n[[limit]]\nmethod = \"pom\"\ncolumn = \"" +
+                                                  c.column + "\"\nmax = 1\n");
+        const auto r = pxh("check " + res + " --accept-edited --thresholds " + t);
+        EXPECT_EQ(r.status, 2) << r.out << r.err;
+        const std::string expect = "pxh: error: " + t + ":5: " + c.expect + numeric;
+        // One line, the last of stderr (--accept-edited warns before it).
+        EXPECT_TRUE(r.err.size() >= expect.size() &&
+                    r.err.compare(r.err.size() - expect.size(), expect.size(), expect) == 0)
+            << r.err << "\nexpected: " << expect;
+    }
+    // A column results.csv has but this pxh does not write.
+    const fs::path csv = fs::path(res) / "results.csv";
+    std::string text = slurp(csv);
+    text.insert(text.find('\n'), ",my_metric");
+    text.insert(text.rfind('\n'), ",1");
+    std::ofstream(csv, std::ios::binary) << text;
+    EXPECT_NE(input_error([&] { check(res, "[[limit]]\ncolumn = \"my_metric\"\nmax = 1\n"); })
+                  .find("limits.toml:2: column 'my_metric' is not a column this pxh writes (the "
+                        "measured numeric columns of results.csv: err_mean,"),
+              std::string::npos);
+}
+
 // The report names every file it writes; missing values are empty CSV cells (never "nan");
 // map paths stay relative to the results folder.
 TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
@@ -476,10 +744,12 @@ TEST_F(ReportFolder, MalformedNumberIsOneLineExit2) {
 // A limit of nan would pass every row; a text column cannot be limited (exit 2, not 1).
 TEST_F(ReportFolder, NanLimitsAndTextColumnsRefused) {
     const std::string res = results({row({})});
+    // The error names the line of the nan key (line 4, or 5 for theta_max), not the table's.
     for (const char* limit : {"max = nan", "min = nan", "max = 1\ntheta_max = nan", "min = -nan"}) {
         const std::string e = input_error(
             [&] { check(res, std::string("\n[[limit]]\ncolumn = \"err_p95\"\n") + limit + "\n"); });
-        EXPECT_NE(e.find("limits.toml:2: '"), std::string::npos) << e;
+        const bool theta = std::string(limit).find("theta") != std::string::npos;
+        EXPECT_NE(e.find(theta ? "limits.toml:5: '" : "limits.toml:4: '"), std::string::npos) << e;
         EXPECT_NE(e.find("' is nan, not a limit"), std::string::npos) << e;
     }
     const std::string e =
@@ -489,7 +759,7 @@ TEST_F(ReportFolder, NanLimitsAndTextColumnsRefused) {
                        write("t.toml", "[[limit]]\ncolumn = \"method\"\nmax = 1\n"));
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("pxh: error: " + (dir / "t.toml").string() +
-                         ":1: column 'method' is not numeric"),
+                         ":2: column 'method' is not numeric"),
               std::string::npos)
         << r.err;
 }

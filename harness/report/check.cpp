@@ -20,9 +20,24 @@ namespace pxh {
 
 namespace {
 
-// The key columns a limit may select rows by.
-const std::vector<std::string> kFilters = {"method",    "params",         "heightfield", "backend",
-                                           "precision", "texture_format", "ground_truth"};
+// The key columns a limit may select rows by: text ones compared as text (params whatever the
+// spaces around its separators), numeric ones as numbers. Any of them may be a list ("any of").
+const std::vector<std::string> kTextFilters = {
+    "method", "params", "heightfield", "backend", "precision", "texture_format", "ground_truth"};
+const std::vector<std::string> kNumberFilters = {"scale", "bias", "phi_deg", "samples"};
+// The other keys of a [[limit]].
+const std::vector<std::string> kLimitKeys = {"column",    "min",       "max",
+                                             "theta_min", "theta_max", "note"};
+
+bool contains(const std::vector<std::string>& v, const std::string& s) {
+    return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+std::string joined(const std::vector<std::string>& v) {
+    std::string out;
+    for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+    return out;
+}
 
 // params with the spaces around '=' and ';' (and at the ends) removed: "layers = 16" in a
 // thresholds file is the canonical "layers=16" of results.csv.
@@ -43,12 +58,39 @@ std::string canonical_params(const std::string& s) {
     return out;
 }
 
+// Two numbers as equal as results.csv (%.10g) can tell: 0.05 in a thresholds file is the
+// 0.05 of a row, however it was computed before it was written.
+bool same_number(double a, double b) {
+    return a == b || std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b));
+}
+
+// One filter of a limit: its key (a results.csv column), the values any of which a row may
+// have, and where it is in the thresholds file.
+struct Filter {
+    std::string key, where;
+    bool numeric = false;
+    std::vector<std::string> texts;  // params canonical
+    std::vector<double> numbers;
+
+    size_t size() const { return numeric ? numbers.size() : texts.size(); }
+    std::string shown(size_t k) const { return numeric ? format_number(numbers[k]) : texts[k]; }
+    bool matches(const ResultRow& row, size_t k) const {
+        if (numeric) return same_number(row.num(key), numbers[k]);
+        return (key == "params" ? canonical_params(row.text(key)) : row.text(key)) == texts[k];
+    }
+    bool matches(const ResultRow& row) const {
+        for (size_t k = 0; k < size(); ++k)
+            if (matches(row, k)) return true;
+        return false;
+    }
+};
+
 // One [[limit]] as read: where it is, its column, bounds, θ range and row filters.
 struct Limit {
     std::string where, column, what;
     std::optional<double> lo, hi;
     double tmin = -1, tmax = 1e9;
-    std::vector<std::pair<std::string, std::string>> wanted;  // filter -> value
+    std::vector<Filter> filters;
 };
 
 struct Outcome {
@@ -57,7 +99,20 @@ struct Outcome {
     size_t rows;
     bool pass;
     std::string note;
+    std::vector<std::string> details;  // printed under a FAIL row: the rows that fail it
 };
+
+// A TOML number as a double (value<double>() is empty for an integer beyond 2^53).
+double number_of(const toml::node& n) {
+    if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
+    return n.as_floating_point()->get();
+}
+
+// "FILE:LINE" of a node of the thresholds file (`fallback` when it has no position).
+std::string where_of(const toml::node& n, const std::string& file, const std::string& fallback) {
+    const auto line = n.source().begin.line;
+    return line ? file + ":" + std::to_string(line) : fallback;
+}
 
 toml::table parse_thresholds(const std::string& file) {
     toml::table root;
@@ -69,49 +124,123 @@ toml::table parse_thresholds(const std::string& file) {
     }
     for (const auto& [k, v] : root)
         if (k.str() != "limit")
-            throw InputError(file, "unknown key '" + std::string(k.str()) +
-                                       "' (a thresholds "
-                                       "file holds [[limit]] tables)");
+            throw InputError(where_of(v, file, file),
+                             "unknown key '" + std::string(k.str()) +
+                                 "' (a thresholds file holds [[limit]] tables)");
     return root;
+}
+
+// The measured numeric columns of the file, in its order: what a limit may name.
+std::string numeric_columns(const ResultsFile& f) {
+    std::vector<std::string> names;
+    for (const auto& c : f.header)
+        if (const ColumnSpec* spec = find_column(c))
+            if (spec->type != ColumnType::text && spec->role == ColumnRole::measured)
+                names.push_back(c);
+    return "(the measured numeric columns of results.csv: " +
+           (names.empty() ? std::string("none") : joined(names)) + ")";
 }
 
 // The column a limit names: in the file, registered, numeric.
 void check_column(const ResultsFile& f, const std::string& where, const std::string& column) {
-    if (!f.has(column)) throw InputError(where, "results.csv has no column '" + column + "'");
+    if (!f.has(column))
+        throw InputError(where, "results.csv has no column '" + column + "' " + numeric_columns(f));
     const ColumnSpec* spec = find_column(column);
-    if (!spec) throw InputError(where, "column '" + column + "' is not a column this pxh writes");
+    if (!spec)
+        throw InputError(
+            where, "column '" + column + "' is not a column this pxh writes " + numeric_columns(f));
     if (spec->type == ColumnType::text)
         throw InputError(where, "column '" + column +
-                                    "' is not numeric (it holds text): a "
-                                    "limit needs a numeric column");
+                                    "' is not numeric (it holds text): a limit needs a numeric "
+                                    "column " +
+                                    numeric_columns(f));
+}
+
+// A filter as read: a value or a non-empty list of values, of the column's type, each found
+// in some row of results.csv (a value no row has is a typo, or a limit that checks nothing).
+Filter read_filter(const std::string& key, const toml::node& node, const std::string& where,
+                   const ResultsFile& f) {
+    Filter flt;
+    flt.key = key;
+    flt.where = where;
+    flt.numeric = contains(kNumberFilters, key);
+    const std::string expected =
+        flt.numeric ? "a number or a list of numbers" : "a string or a list of strings";
+    auto add = [&](const toml::node& v) {
+        if (flt.numeric) {
+            if (!(v.is_integer() || v.is_floating_point()))
+                throw InputError(where, "'" + key + "' must be " + expected);
+            const double d = number_of(v);
+            if (std::isnan(d)) throw InputError(where, "'" + key + "' is nan: no row has it");
+            flt.numbers.push_back(d);
+        } else {
+            if (!v.is_string()) throw InputError(where, "'" + key + "' must be " + expected);
+            const std::string s = *v.value<std::string>();
+            flt.texts.push_back(key == "params" ? canonical_params(s) : s);
+        }
+    };
+    if (const toml::array* list = node.as_array()) {
+        if (list->empty())
+            throw InputError(where, "'" + key + "' is an empty list: it matches no row");
+        for (const auto& v : *list) add(v);
+    } else {
+        add(node);
+    }
+    if (!f.has(key))
+        throw InputError(where, "results.csv has no column '" + key + "' to filter on");
+    for (size_t k = 0; k < flt.size(); ++k) {
+        bool found = false;
+        for (const auto& row : f.rows) found = found || flt.matches(row, k);
+        if (found) continue;
+        std::vector<std::string> there;
+        for (const auto& row : f.rows) {
+            const std::string v = flt.numeric ? row.cell(key) : row.text(key);
+            if (!contains(there, v)) there.push_back(v);
+        }
+        std::string listed;
+        for (size_t i = 0; i < there.size() && i < 12; ++i)
+            listed += (i ? ", " : "") + (there[i].empty() ? std::string("\"\"") : there[i]);
+        if (there.size() > 12) listed += ", ... (" + std::to_string(there.size()) + " in all)";
+        throw InputError(where, key + " = " +
+                                    (flt.numeric ? flt.shown(k) : "\"" + flt.shown(k) + "\"") +
+                                    " matches no row of results.csv (its " + key + ": " +
+                                    (listed.empty() ? std::string("no rows") : listed) + ")");
+    }
+    return flt;
 }
 
 Limit read_limit(const toml::node& node, const std::string& file, const ResultsFile& f) {
     const toml::table& lt = *node.as_table();
     Limit l;
-    l.where = file + ":" + std::to_string(node.source().begin.line);
+    l.where = where_of(node, file, file);
+    // Where a key of this limit is: its own line.
+    auto at = [&](const std::string& key) { return where_of(*lt.get(key), file, l.where); };
     for (const auto& [k, v] : lt) {
         const std::string key(k.str());
-        const bool filter = std::find(kFilters.begin(), kFilters.end(), key) != kFilters.end();
-        if (!filter && key != "column" && key != "min" && key != "max" && key != "theta_min" &&
-            key != "theta_max" && key != "note")
-            throw InputError(l.where, "unknown key '" + key + "' in [[limit]]");
+        if (!contains(kTextFilters, key) && !contains(kNumberFilters, key) &&
+            !contains(kLimitKeys, key)) {
+            std::vector<std::string> known = kLimitKeys;
+            known.insert(known.end(), kTextFilters.begin(), kTextFilters.end());
+            known.insert(known.end(), kNumberFilters.begin(), kNumberFilters.end());
+            throw InputError(
+                where_of(v, file, l.where),
+                "unknown key '" + key + "' in [[limit]] (keys: " + joined(known) + ")");
+        }
     }
     auto str = [&](const std::string& key) -> std::optional<std::string> {
         if (auto n = lt.get(key)) {
-            if (!n->is_string()) throw InputError(l.where, "'" + key + "' must be a string");
+            if (!n->is_string()) throw InputError(at(key), "'" + key + "' must be a string");
             return *n->value<std::string>();
         }
         return std::nullopt;
     };
-    auto num = [&](const char* key) -> std::optional<double> {
+    auto num = [&](const std::string& key) -> std::optional<double> {
         if (auto n = lt.get(key)) {
             if (!(n->is_integer() || n->is_floating_point()))
-                throw InputError(l.where, std::string("'") + key + "' must be a number");
-            const double v = *n->value<double>();
+                throw InputError(at(key), "'" + key + "' must be a number");
+            const double v = number_of(*n);
             // nan compares false with everything: such a limit would pass every row.
-            if (std::isnan(v))
-                throw InputError(l.where, std::string("'") + key + "' is nan, not a limit");
+            if (std::isnan(v)) throw InputError(at(key), "'" + key + "' is nan, not a limit");
             return v;
         }
         return std::nullopt;
@@ -119,17 +248,24 @@ Limit read_limit(const toml::node& node, const std::string& file, const ResultsF
     const auto column = str("column");
     if (!column) throw InputError(l.where, "[[limit]] needs 'column'");
     l.column = *column;
-    check_column(f, l.where, l.column);
+    check_column(f, at("column"), l.column);
     l.lo = num("min");
     l.hi = num("max");
     if (!l.lo && !l.hi) throw InputError(l.where, "[[limit]] needs 'min' or 'max'");
     l.tmin = num("theta_min").value_or(-1);
     l.tmax = num("theta_max").value_or(1e9);
-    for (const auto& filter : kFilters)
-        if (auto v = str(filter)) {
-            l.what += (l.what.empty() ? "" : " ") + filter + "=" + *v;
-            l.wanted.emplace_back(filter, filter == "params" ? canonical_params(*v) : *v);
-        }
+    std::vector<std::string> filters = kTextFilters;
+    filters.insert(filters.end(), kNumberFilters.begin(), kNumberFilters.end());
+    for (const auto& key : filters) {
+        const toml::node* n = lt.get(key);
+        if (!n) continue;
+        Filter flt = read_filter(key, *n, at(key), f);
+        std::string values;
+        for (size_t k = 0; k < flt.size(); ++k) values += (k ? ", " : "") + flt.shown(k);
+        l.what +=
+            (l.what.empty() ? "" : " ") + key + "=" + (n->is_array() ? "[" + values + "]" : values);
+        l.filters.push_back(std::move(flt));
+    }
     if (lt.contains("theta_min") || lt.contains("theta_max"))
         l.what += std::string(l.what.empty() ? "" : " ") + "theta in [" +
                   format_number(l.tmin < 0 ? 0 : l.tmin) + ", " +
@@ -142,8 +278,7 @@ std::vector<size_t> matching_rows(const Limit& l, const ResultsFile& f) {
     for (size_t r = 0; r < f.rows.size(); ++r) {
         const ResultRow& row = f.rows[r];
         bool ok = true;
-        for (const auto& [k, v] : l.wanted)
-            ok = ok && (k == "params" ? canonical_params(row.text(k)) : row.text(k)) == v;
+        for (const auto& flt : l.filters) ok = ok && flt.matches(row);
         const double th = row.num("theta_deg");
         ok = ok && th >= l.tmin && th <= l.tmax;
         if (ok) match.push_back(r);
@@ -154,39 +289,71 @@ std::vector<size_t> matching_rows(const Limit& l, const ResultsFile& f) {
     return match;
 }
 
+// A row as a failing limit names it: "pom layers=32 [cpu/float] on bricks s=0.05 b=1 theta=85
+// phi=0".
+std::string row_named(const ResultRow& row) {
+    return series_of(row) + " on " + field_of(row) + " theta=" + row.cell("theta_deg") +
+           " phi=" + row.cell("phi_deg");
+}
+
+std::string short_number(double v) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%.4g", v);
+    return s;
+}
+
 Outcome evaluate(const Limit& l, const ResultsFile& f) {
     const std::vector<size_t> match = matching_rows(l, f);
-    Outcome o{l.what.empty() ? "all rows" : l.what, l.column, "", NAN, match.size(), true, ""};
+    Outcome o{l.what.empty() ? "all rows" : l.what, l.column, "", NAN, match.size(), true, "", {}};
     o.limit = (l.lo ? ">= " + format_number(*l.lo) : "") + (l.lo && l.hi ? ", " : "") +
               (l.hi ? "<= " + format_number(*l.hi) : "");
     double worst_hi = -INFINITY, worst_lo = INFINITY;
-    size_t failed = 0, nonfinite = 0;
-    std::string first_error;
+    size_t row_hi = 0, row_lo = 0;
+    std::vector<size_t> failed, nonfinite;
     for (size_t r : match) {
         const ResultRow& row = f.rows[r];
         // A failed row fails every limit that matches it: it has no value to pass with.
         if (!row.ok()) {
-            if (!failed++) first_error = one_line(row.text("error"));
+            failed.push_back(r);
             continue;
         }
         const double v = row.num(l.column);
         if (!std::isfinite(v)) {
-            ++nonfinite;
+            nonfinite.push_back(r);
             continue;
         }
-        worst_hi = std::max(worst_hi, v);
-        worst_lo = std::min(worst_lo, v);
+        if (v > worst_hi) worst_hi = v, row_hi = r;
+        if (v < worst_lo) worst_lo = v, row_lo = r;
     }
-    if (failed) o.note = std::to_string(failed) + " matching rows failed: " + first_error;
-    if (nonfinite)
-        o.note += (o.note.empty() ? "" : "; ") + std::to_string(nonfinite) +
+    if (!failed.empty())
+        o.note = std::to_string(failed.size()) +
+                 " matching rows failed: " + one_line(f.rows[failed[0]].text("error"));
+    if (!nonfinite.empty())
+        o.note += (o.note.empty() ? "" : "; ") + std::to_string(nonfinite.size()) +
                   " matching rows have a non-finite or empty value";
-    o.pass = !failed && !nonfinite && !(l.hi && worst_hi > *l.hi) && !(l.lo && worst_lo < *l.lo);
-    o.worst = l.hi ? worst_hi : worst_lo;
+    const bool over = l.hi && worst_hi > *l.hi, under = l.lo && worst_lo < *l.lo;
+    o.pass = failed.empty() && nonfinite.empty() && !over && !under;
+    // The worst value is the one beyond a bound when one is (the lower when only it is).
+    const bool low_side = under && !over ? true : over ? false : !l.hi;
+    o.worst = low_side ? worst_lo : worst_hi;
+    if (over || under) {
+        const size_t r = low_side ? row_lo : row_hi;
+        o.details.push_back("worst: " + row_named(f.rows[r]) + ": " + short_number(o.worst));
+    }
+    auto more = [](size_t n) { return n > 1 ? " (and " + std::to_string(n - 1) + " more)" : ""; };
+    if (!failed.empty())
+        o.details.push_back("failed: " + row_named(f.rows[failed[0]]) + ": " +
+                            one_line(f.rows[failed[0]].text("error")) + more(failed.size()));
+    if (!nonfinite.empty()) {
+        const std::string cell = f.rows[nonfinite[0]].cell(l.column);
+        o.details.push_back("non-finite: " + row_named(f.rows[nonfinite[0]]) + ": " +
+                            (cell.empty() ? "empty" : cell) + more(nonfinite.size()));
+    }
     return o;
 }
 
-// The table of outcomes; returns how many failed.
+// The table of outcomes, each failing limit followed by the rows that fail it; returns how
+// many failed.
 int print_outcomes(const std::vector<Outcome>& outcomes) {
     int failed = 0;
     std::cout << std::left << std::setw(4) << "#" << std::setw(72) << "rows selected"
@@ -196,13 +363,13 @@ int print_outcomes(const std::vector<Outcome>& outcomes) {
     for (size_t i = 0; i < outcomes.size(); ++i) {
         const auto& o = outcomes[i];
         failed += !o.pass;
-        char worst[32];
-        std::snprintf(worst, sizeof worst, "%.4g", o.worst);
         std::cout << std::left << std::setw(4) << i + 1 << std::setw(72) << o.what << std::setw(22)
                   << o.column << std::setw(12) << o.limit << std::setw(12)
-                  << (std::isfinite(o.worst) ? worst : "-") << std::setw(6) << o.rows
-                  << (o.pass ? "pass" : "FAIL") << (o.note.empty() ? "" : "  (" + o.note + ")")
-                  << "\n";
+                  << (std::isfinite(o.worst) ? short_number(o.worst) : "-") << std::setw(6)
+                  << o.rows << (o.pass ? "pass" : "FAIL")
+                  << (o.note.empty() ? "" : "  (" + o.note + ")") << "\n";
+        if (!o.pass)
+            for (const auto& d : o.details) std::cout << "  " << d << "\n";
     }
     std::cout << outcomes.size() - failed << " passed, " << failed << " failed\n";
     return failed;
@@ -213,11 +380,12 @@ int print_outcomes(const std::vector<Outcome>& outcomes) {
 int run_check(const std::string& dir, const std::string& file) {
     const ResultsFile f = read_results((std::filesystem::path(dir) / "results.csv").string());
     const toml::table root = parse_thresholds(file);
-    const toml::array* limits = root["limit"].as_array();
+    const toml::node* node = root.get("limit");
+    const toml::array* limits = node ? node->as_array() : nullptr;
     if (!limits || limits->empty() || !limits->is_array_of_tables())
-        throw InputError(file, "no [[limit]] tables");
+        throw InputError(node ? where_of(*node, file, file) : file, "no [[limit]] tables");
     std::vector<Outcome> outcomes;
-    for (const auto& node : *limits) outcomes.push_back(evaluate(read_limit(node, file, f), f));
+    for (const auto& limit : *limits) outcomes.push_back(evaluate(read_limit(limit, file, f), f));
     return print_outcomes(outcomes) ? 1 : 0;
 }
 

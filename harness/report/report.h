@@ -27,9 +27,11 @@ struct ReportOptions {
 int run_report(const std::string& dir, const ReportOptions& options);
 int run_report(const std::string& dir, bool plots);  // default options but plots
 
-// Checks every limit of a thresholds file against DIR/results.csv; prints a table. A failed
-// row (status != ok) fails every limit that matches it. Returns 0 if all pass, 1 if any
-// fails; throws InputError (exit 2) on a malformed file or a limit that matches no row.
+// Checks every limit of a thresholds file against DIR/results.csv; prints a table, and under
+// each failing limit the row that fails it. A failed row (status != ok) fails every limit that
+// matches it. Returns 0 if all pass, 1 if any fails; throws InputError (exit 2, FILE:LINE of
+// the offending key) on a malformed file, a filter value no row has, or a limit that matches
+// no row.
 int run_check(const std::string& dir, const std::string& thresholds_file);
 
 }  // namespace pxh
