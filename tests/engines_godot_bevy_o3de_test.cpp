@@ -19,6 +19,7 @@
 #include "harness/metrics/metrics.h"
 #include "methods/method.h"
 #include "tests/engines/literal_godot_bevy_o3de.h"
+#include "tests/glsl_agreement.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -479,21 +480,13 @@ TEST(GboPresets, GlslAgreesAtNonDefaultSettings) {
     };
     const HeightField hf = test::random_field(64, 64, 7);
     const int N = 48;
-    const auto P = sample_grid(N);
     for (const auto& [name, given] : settings) {
         const MethodSpec spec{&method(name), test::params_for(method(name), given)};
         for (double theta : {0.0, 40.0, 75.0}) {
             const Scene<double> sc{0.05, 1.0, view_vector(theta, 35), hf.width, hf.height};
-            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0);
-            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0);
-            size_t far = 0, fetch_off = 0;
-            for (size_t k = 0; k < P.size(); ++k) {
-                const Vec2d e = texel_error(gpu.uv[k], cpu.uv[k], hf.width, hf.height);
-                far += !(std::hypot(e.x, e.y) <= 1e-3);
-                fetch_off += gpu.fetches[k] != cpu.fetches[k];
-            }
-            EXPECT_LE(far, P.size() / 1000) << spec.params.canonical() << " theta=" << theta;
-            EXPECT_LE(fetch_off, P.size() / 1000) << spec.params.canonical();
+            const test::GlslCpuDiff d = test::glsl_vs_cpu(gl, spec, sc, hf, N);
+            EXPECT_LE(d.far, d.samples / 1000) << spec.params.canonical() << " theta=" << theta;
+            EXPECT_LE(d.fetch_off, d.samples / 1000) << spec.params.canonical();
         }
     }
 }

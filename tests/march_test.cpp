@@ -12,6 +12,7 @@
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/metrics.h"
+#include "tests/glsl_agreement.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -210,21 +211,13 @@ TEST(March, GlslTwinAgreesOnEveryKnob) {
     };
     const HeightField hf = test::random_field(64, 64, 5, 0.0f, 1.0f);
     const int N = 48;
-    const auto P = sample_grid(N);
     for (const auto& g : settings) {
         const MethodSpec spec{&m, test::params_for(m, g)};
         for (double theta : {20.0, 70.0}) {
             const Scene<double> sc{0.06, 1.0, view_vector(theta, 35), hf.width, hf.height};
-            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0);
-            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0);
-            size_t far = 0, fetch_off = 0;
-            for (size_t k = 0; k < P.size(); ++k) {
-                const Vec2d e = texel_error(gpu.uv[k], cpu.uv[k], hf.width, hf.height);
-                far += !(std::hypot(e.x, e.y) <= 1e-3);
-                fetch_off += gpu.fetches[k] != cpu.fetches[k];
-            }
-            EXPECT_LE(far, P.size() / 1000) << spec.params.canonical() << " theta=" << theta;
-            EXPECT_LE(fetch_off, P.size() / 1000) << spec.params.canonical();
+            const test::GlslCpuDiff d = test::glsl_vs_cpu(gl, spec, sc, hf, N);
+            EXPECT_LE(d.far, d.samples / 1000) << spec.params.canonical() << " theta=" << theta;
+            EXPECT_LE(d.fetch_off, d.samples / 1000) << spec.params.canonical();
         }
     }
 }
