@@ -29,8 +29,8 @@ class EveryResourceMethod : public ::testing::TestWithParam<std::string> {
 };
 
 // Every level of every resource of the method, built now with `threads` threads.
-std::vector<ResourceLevel> build_all(const MethodInfo& m, const HeightField& hf, double s,
-                                     double b, int threads) {
+std::vector<ResourceLevel> build_all(const MethodInfo& m, const HeightField& hf, double s, double b,
+                                     int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
     std::vector<ResourceLevel> out;
     for (const ResourceSpec& spec : m.resources) {
@@ -122,7 +122,8 @@ TEST_P(EveryResourceMethod, DependsOnScaleAndBiasOnlyWhenDeclared) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, EveryResourceMethod, ::testing::ValuesIn(methods_with_resources()),
+INSTANTIATE_TEST_SUITE_P(Registry, EveryResourceMethod,
+                         ::testing::ValuesIn(methods_with_resources()),
                          [](const auto& p) { return p.param; });
 
 }  // namespace
