@@ -681,7 +681,7 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
             EXPECT_EQ(slurp(e.path()).find("nan"), std::string::npos) << e.path();
         }
     }
-    EXPECT_EQ(files, 11u);  // summary x3, failed, sweep, precision, budget x2, data x3
+    EXPECT_EQ(files, 12u);  // summary x3, failed, sweep, precision, budget x2, data x4
     EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "ns_per_sample")));
     const pxh::CsvTable maps = pxh::read_csv((rep / "data" / "maps.csv").string());
     ASSERT_EQ(maps.rows.size(), 2u);

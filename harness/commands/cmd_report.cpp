@@ -10,11 +10,12 @@ namespace pxh {
 
 Command add_report_command(CLI::App& app) {
     auto* report = app.add_subcommand("report",
-                                      "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG) "
+                                      "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG, PDF) "
                                       "from a results folder, into DIR/report/");
     struct Args {
         std::string dir;
         bool no_plots = false;
+        std::string figure_width = "double";
         ReportOptions ro;
     };
     auto a = std::make_shared<Args>();
@@ -29,7 +30,11 @@ Command add_report_command(CLI::App& app) {
     report->add_option("--budget-metric", a->ro.budget_metric,
                        "error the budget table ranks by: p95, p99 (texels) or frac_gt_1 "
                        "(fraction of samples more than 1 texel off); default p95");
+    report->add_option("--figure-width", a->figure_width,
+                       "figure width: single (3.5 in), double (7 in, default) or inches in "
+                       "[2, 20]; fonts stay 8 pt");
     return {report, [a] {
+                a->ro.figure_width = parse_figure_width(a->figure_width);
                 std::cout << verify_results_folder(a->dir, a->ro.accept_edited) << "\n";
                 a->ro.plots = !a->no_plots;
                 return run_report(a->dir, a->ro);

@@ -138,21 +138,58 @@ void cost_vs_error(const ReportData& d) {
     d.write("data/cost_vs_error.csv", o.str());
 }
 
+// data/cost_vs_error_bands.csv: per angle band and series, the means over the series' rows in
+// that band, with Pareto flags per (band, group, cost) over exactly those points: a figure
+// panel per band draws one group's points of that band and its front.
+void cost_vs_error_bands(const ReportData& d) {
+    const size_t n = d.series_order.size();
+    std::ostringstream o;
+    o << "band,band_lo,band_hi,band_label,series,setting,group,err_mean,err_p95,fetches_mean,"
+         "ns_per_sample,ms_per_frame,pareto_fetches,pareto_ns,pareto_ms,"
+      << kKeyHeader << "\n";
+    for (size_t b : d.present_bands()) {
+        std::vector<std::array<double, 3>> cost(n, {NAN, NAN, NAN});
+        std::vector<double> err(n, NAN);
+        for (size_t i = 0; i < n; ++i) {
+            const auto& band = d.series.at(d.series_order[i]).band;
+            if (!band.count(b)) continue;
+            const Acc& a = band.at(b);
+            cost[i] = {a.fetches.get(), a.ns.get(), a.ms.get()};
+            err[i] = a.err_mean.get();
+        }
+        const auto flag = pareto_flags(d, cost, err);
+        for (size_t i = 0; i < n; ++i) {
+            const Series& s = d.series.at(d.series_order[i]);
+            if (!s.band.count(b)) continue;
+            o << b << "," << csv_num(d.bands.lo(b)) << "," << csv_num(d.bands.hi(b)) << ","
+              << csv_quote(d.bands.label(b)) << "," << csv_quote(d.series_order[i]) << ","
+              << csv_quote(s.setting) << "," << csv_quote(s.group) << "," << csv_num(err[i]) << ","
+              << csv_num(s.band.at(b).err_p95.get());
+            for (double c : cost[i]) o << "," << csv_num(c);
+            for (const char* f : flag[i]) o << "," << f;
+            o << "," << key_fields(d.row(s.first_row)) << "\n";
+        }
+    }
+    d.write("data/cost_vs_error_bands.csv", o.str());
+}
+
 }  // namespace
 
 void write_plot_data(const ReportData& d) {
     vs_theta(d);
     cost_vs_error(d);
+    cost_vs_error_bands(d);
     maps(d);
 }
 
 // plot_report.py (shipped beside the binary: harness/core/shipped_files.h) on the report folder,
 // run by /usr/bin/python3 from an argument vector (no shell: any folder name is passed as it
 // is); waits and checks its exit status.
-void run_plotter(const fs::path& out) {
+void run_plotter(const fs::path& out, double figure_width) {
     const std::string python = "/usr/bin/python3";
     const std::string script = shipped_file("plot_report.py");
-    std::vector<std::string> args = {python, script, out.string()};
+    std::vector<std::string> args = {python, script, out.string(), "--width",
+                                     csv_num(figure_width)};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

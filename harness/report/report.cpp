@@ -1,7 +1,9 @@
 #include "harness/report/report.h"
 
+#include <cmath>
 #include <filesystem>
 
+#include "harness/core/error.h"
 #include "harness/report/report_data.h"
 
 namespace pxh {
@@ -15,8 +17,25 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     write_precision(d);
     write_budget(d);
     write_plot_data(d);
-    if (options.plots) run_plotter(d.out);
+    if (options.plots) run_plotter(d.out, options.figure_width);
     return 0;
+}
+
+double parse_figure_width(const std::string& text) {
+    if (text == "single") return 3.5;
+    if (text == "double") return 7.0;
+    size_t used = 0;
+    double v = NAN;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size() || !(v >= 2 && v <= 20))
+        throw InputError("--figure-width", "'" + text +
+                                               "' is not single, double or a width in inches "
+                                               "in [2, 20]");
+    return v;
 }
 
 int run_report(const std::string& dir, bool plots) {

@@ -13,6 +13,7 @@ struct ReportOptions {
     std::string budget_metric = "p95";  // the budget table's error: p95 | p99 (texels, mean
                                         //   over rows of err_p95 / err_p99) | frac_gt_1
                                         //   (mean fraction of samples more than 1 texel off)
+    double figure_width = 7.0;          // inches: the figures' width (fonts stay 8 pt)
     bool accept_edited = false;         // for the caller's verify_results_folder (main.cpp
                                         //   verifies the folder before run_report; run_report
                                         //   itself does not read run.json)
@@ -26,6 +27,10 @@ struct ReportOptions {
 // InputError (exit 2) on bad options or an unreadable results.csv.
 int run_report(const std::string& dir, const ReportOptions& options);
 int run_report(const std::string& dir, bool plots);  // default options but plots
+
+// --figure-width: "single" (3.5 in, one column of a two-column paper), "double" (7 in, the
+// full text width) or a number of inches in [2, 20]; anything else is an InputError.
+double parse_figure_width(const std::string& text);
 
 // Checks every limit of a thresholds file against DIR/results.csv; prints a table, and under
 // each failing limit the row that fails it. A failed row (status != ok) fails every limit that
