@@ -2,6 +2,8 @@
 // the source's quadtree describes (each texel a flat-topped box, nearest filtering), the
 // refinement's closed form on a ramp, the fetches per iteration, and the pyramid against a
 // brute-force maximum.
+#include "methods/qdm/qdm.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,7 +12,6 @@
 
 #include "harness/metrics/metrics.h"
 #include "harness/truth/exact_tracer.h"
-#include "methods/qdm/qdm.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -61,8 +62,7 @@ BoxAgreement box_agreement(const HeightField& hf, double s, double theta, double
     const auto sc = test::make_scene(hf, s, 0.5, theta, phi);
     const auto P = test::random_points(200, uint32_t(theta * 7 + phi));
     const auto uv = test::run_method<double>(
-        qdm(), test::params_for(qdm(), {{"max_iterations", 100000}, {"refine", false}}), sc, hf,
-        P);
+        qdm(), test::params_for(qdm(), {{"max_iterations", 100000}, {"refine", false}}), sc, hf, P);
     BoxAgreement a;
     for (size_t k = 0; k < P.size(); ++k) {
         const DepthRay r = depth_ray(sc, P[k]);
@@ -92,8 +92,8 @@ BoxAgreement box_agreement(const HeightField& hf, double s, double theta, double
 // nudge past a node border later (fDeltaNC = s / (2 W), in depth) where the ray enters the hit
 // texel through a wall. The nudge can also carry the ray past a box it would only clip within
 // that depth: a later stop. Horizontally the nudge is s^2 tan(theta) / 2 texels: 0.036 at
-// s = 0.05, theta = 88 (measured: 0.1% of the samples at theta = 88 stop late), but 1.3 texels at s = 0.3
-// (measured: 45% of the samples at theta = 88 stop late, 3% at theta = 80).
+// s = 0.05, theta = 88 (measured: 0.1% of the samples at theta = 88 stop late), but 1.3 texels at s
+// = 0.3 (measured: 45% of the samples at theta = 88 stop late, 3% at theta = 80).
 TEST(Qdm, UnrefinedStopsAtTheFirstHitWithTheBoxSurface) {
     for (const auto& [W, H] : {std::pair{16, 16}, std::pair{12, 10}, std::pair{33, 7}})
         for (double s : {0.05, 0.3}) {
@@ -151,14 +151,14 @@ TEST(Qdm, FetchesAreOnePerIterationPlusTwo) {
     const auto sc = test::make_scene(hf, 0.05, 1.0, 70, 15);
     const auto P = test::random_points(100, 62);
     std::vector<int> total, split, free_total;
-    test::run_method<float>(qdm(), test::params_for(qdm(), {{"max_iterations", 1000}}), sc, hf,
-                            P, &free_total);
+    test::run_method<float>(qdm(), test::params_for(qdm(), {{"max_iterations", 1000}}), sc, hf, P,
+                            &free_total);
     for (int cap : {1, 4, 1000}) {
         test::run_method<float>(qdm(), test::params_for(qdm(), {{"max_iterations", cap}}), sc, hf,
                                 P, &total, &split);
         for (size_t k = 0; k < P.size(); ++k) {
             const int iterations = std::min(cap, free_total[k] - 2);
-            EXPECT_EQ(split[2 * k], 2);              // the refinement's heights
+            EXPECT_EQ(split[2 * k], 2);               // the refinement's heights
             EXPECT_EQ(split[2 * k + 1], iterations);  // r_qdm
             EXPECT_EQ(total[k], iterations + 2);
         }
