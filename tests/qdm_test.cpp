@@ -108,7 +108,9 @@ TEST(Qdm, UnrefinedStopsAtTheFirstHitWithTheBoxSurface) {
                     all.late += a.late;
                 }
             EXPECT_GE(double(thin.within), 0.99 * double(thin.n)) << W << "x" << H << " s=" << s;
-            if (s > 0.1) EXPECT_GT(all.late, 0u) << "the nudge skips nothing at s = 0.3?";
+            if (s > 0.1) {
+                EXPECT_GT(all.late, 0u) << "the nudge skips nothing at s = 0.3?";
+            }
         }
 }
 
