@@ -1,6 +1,7 @@
 // Tevs, Ihrke, Seidel: "Maximum Mipmaps for Fast, Accurate, and Scalable Dynamic Height Field
-// Rendering", I3D 2008, pp. 183-190, doi:10.1145/1342250.1342279 (read: the abstract and the
-// project page http://tevs.eu/project_i3d08.html; the paper's PDF could not be read here). A max
+// Rendering", I3D 2008, pp. 183-190, doi:10.1145/1342250.1342279 (read: the abstract, the
+// project page http://tevs.eu/project_i3d08.html and the paper's first page; its traversal's
+// details could not be read here: see methods/maxmip/maxmip.md). A max
 // pyramid over the bilinear cells' corners, the eye ray traversed through it top-down (a block
 // whose highest corner lies below the ray's lowest point in it is stepped over, otherwise the ray
 // is advanced to the block's maximum and the block refined), the exact ray / bilinear-patch
