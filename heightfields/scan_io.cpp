@@ -269,4 +269,96 @@ Mesh read_off(const std::string& path) {
     return m;
 }
 
+namespace {
+
+// Bytes of s at `at`, in the file's byte order (big = most significant first).
+uint64_t uint_at(const std::string& s, size_t at, int bytes, bool big) {
+    uint64_t v = 0;
+    for (int k = 0; k < bytes; ++k) {
+        const uint64_t b = (unsigned char)s[at + size_t(big ? k : bytes - 1 - k)];
+        v = (v << 8) | b;
+    }
+    return v;
+}
+
+double double_at(const std::string& s, size_t at, bool big) {
+    const uint64_t u = uint_at(s, at, 8, big);
+    double d;
+    std::memcpy(&d, &u, 8);
+    return d;
+}
+
+}  // namespace
+
+GtxGrid read_gtx(const std::string& path) {
+    const std::string d = slurp(path);
+    if (d.size() < 40) throw InputError(path, "shorter than a .gtx header (40 bytes)");
+    GtxGrid g;
+    g.lat0 = double_at(d, 0, true);
+    g.lon0 = double_at(d, 8, true);
+    g.dlat = double_at(d, 16, true);
+    g.dlon = double_at(d, 24, true);
+    g.rows = int32_t(uint32_t(uint_at(d, 32, 4, true)));
+    g.cols = int32_t(uint32_t(uint_at(d, 36, 4, true)));
+    if (g.rows <= 0 || g.cols <= 0 || g.rows > 65536 || g.cols > 65536)
+        throw InputError(path, ".gtx header claims " + std::to_string(g.rows) + " x " +
+                                   std::to_string(g.cols) + " values");
+    const size_t n = size_t(g.rows) * size_t(g.cols);
+    if (d.size() != 40 + 4 * n)
+        throw InputError(path, ".gtx is " + std::to_string(d.size()) + " bytes, its header " +
+                                   "needs " + std::to_string(40 + 4 * n));
+    g.values.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        const uint32_t u = uint32_t(uint_at(d, 40 + 4 * k, 4, true));
+        float f;
+        std::memcpy(&f, &u, 4);
+        g.values[k] = f;
+    }
+    return g;
+}
+
+TiffTag read_tiff_tag(const std::string& path, int tag) {
+    const std::string d = slurp(path);
+    if (d.size() < 8 || !(d.compare(0, 4, "II*\0", 4) == 0 || d.compare(0, 4, "MM\0*", 4) == 0))
+        throw InputError(path, "not a (classic) TIFF file");
+    const bool big = d[0] == 'M';
+    const size_t ifd = uint_at(d, 4, 4, big);
+    if (ifd + 2 > d.size()) throw InputError(path, "TIFF IFD beyond the end of the file");
+    const size_t entries = uint_at(d, ifd, 2, big);
+    if (ifd + 2 + 12 * entries > d.size()) throw InputError(path, "truncated TIFF IFD");
+    TiffTag t;
+    for (size_t e = 0; e < entries; ++e) {
+        const size_t at = ifd + 2 + 12 * e;
+        if (int(uint_at(d, at, 2, big)) != tag) continue;
+        const int type = int(uint_at(d, at + 2, 2, big));
+        const size_t count = uint_at(d, at + 4, 4, big);
+        // Sizes of TIFF types 1..12 (0: unsupported here).
+        static const int kSize[13] = {0, 1, 1, 2, 4, 0, 1, 1, 2, 4, 0, 0, 8};
+        const int size = type >= 1 && type <= 12 ? kSize[type] : 0;
+        if (size == 0)
+            throw InputError(path, "TIFF tag " + std::to_string(tag) + " has type " +
+                                       std::to_string(type) + " (not read here)");
+        const size_t bytes = size_t(size) * count;
+        const size_t data = bytes <= 4 ? at + 8 : uint_at(d, at + 8, 4, big);
+        if (count > d.size() || data + bytes > d.size())
+            throw InputError(path, "TIFF tag " + std::to_string(tag) + " beyond the file");
+        t.found = true;
+        if (type == 2) {
+            t.ascii = d.substr(data, bytes);
+            while (!t.ascii.empty() && t.ascii.back() == '\0') t.ascii.pop_back();
+            return t;
+        }
+        for (size_t k = 0; k < count; ++k) {
+            const size_t p = data + size_t(size) * k;
+            if (type == 12) t.values.push_back(double_at(d, p, big));
+            else if (type == 6) t.values.push_back(double(int8_t(uint_at(d, p, 1, big))));
+            else if (type == 8) t.values.push_back(double(int16_t(uint_at(d, p, 2, big))));
+            else if (type == 9) t.values.push_back(double(int32_t(uint_at(d, p, 4, big))));
+            else t.values.push_back(double(uint_at(d, p, size, big)));
+        }
+        return t;
+    }
+    return t;
+}
+
 }  // namespace pxh

@@ -21,95 +21,11 @@
 
 #include "harness/core/error.h"
 #include "heightfields/heightfields.h"
+#include "heightfields/scan_convert.h"
 #include "heightfields/scan_io.h"
 
 namespace pxh {
-namespace {
-
-namespace fs = std::filesystem;
-using nlohmann::json;
-
-std::string source_dir() { return PXH_SOURCE_DIR; }
-std::string default_scan_dir() { return source_dir() + "/heightfields/scanned"; }
-
-std::string shell(const std::string& cmd) {
-    std::string out;
-    if (FILE* p = popen(cmd.c_str(), "r")) {
-        char buf[512];
-        while (fgets(buf, sizeof buf, p)) out += buf;
-        pclose(p);
-    }
-    while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
-    return out;
-}
-
-// A Debian package's files: unpacked into the cache with apt-get download + dpkg-deb -x (the
-// same .deb the machine would install, without installing it).
-struct Package {
-    std::string name, version, root;  // root: where its files are
-};
-
-Package fetch_package(const std::string& name, const std::string& cache) {
-    const fs::path dir = fs::path(cache) / name;
-    const fs::path stamp = dir / ".version";
-    if (fs::exists(stamp)) {
-        std::ifstream f(stamp);
-        std::string v;
-        std::getline(f, v);
-        return {name, v, (dir / "root").string()};
-    }
-    fs::create_directories(dir);
-    const std::string dl =
-        "cd '" + dir.string() + "' && apt-get download -q " + name + " >/dev/null 2>&1";
-    if (std::system(dl.c_str()) != 0) {
-        // Package lists may be missing on a fresh machine: update once, then retry.
-        std::system("apt-get update -qq >/dev/null 2>&1");
-        if (std::system(dl.c_str()) != 0)
-            throw std::runtime_error("apt-get download " + name +
-                                     " failed (is Debian's apt reachable?)");
-    }
-    std::string deb;
-    for (const auto& e : fs::directory_iterator(dir))
-        if (e.path().extension() == ".deb") deb = e.path().string();
-    if (deb.empty()) throw std::runtime_error("no .deb for " + name + " in " + dir.string());
-    const std::string x = "dpkg-deb -x '" + deb + "' '" + (dir / "root").string() + "'";
-    if (std::system(x.c_str()) != 0) throw std::runtime_error("dpkg-deb -x " + deb + " failed");
-    const std::string version = shell("dpkg-deb -f '" + deb + "' Version");
-    std::ofstream(stamp) << version << "\n";
-    fs::remove(deb);
-    return {name, version, (dir / "root").string()};
-}
-
-// License names from a Debian copyright file (machine-readable format: "License:" fields).
-std::vector<std::string> licences(const std::string& copyright) {
-    std::ifstream f(copyright);
-    std::vector<std::string> out;
-    for (std::string line; std::getline(f, line);)
-        if (line.rfind("License:", 0) == 0) {
-            std::string l = line.substr(8);
-            l.erase(0, l.find_first_not_of(' '));
-            if (!l.empty() && std::find(out.begin(), out.end(), l) == out.end()) out.push_back(l);
-        }
-    if (out.empty()) {
-        // Not machine-readable: record the licences its text names.
-        std::ifstream g(copyright);
-        std::stringstream ss;
-        ss << g.rdbuf();
-        const std::string text = ss.str();
-        for (const char* name : {"GNU General Public License", "GNU Lesser General Public License",
-                                 "Boost Software License"})
-            if (text.find(name) != std::string::npos)
-                out.push_back(std::string("mentions: ") + name);
-        if (out.empty()) out.push_back("no licence named (read the copyright file)");
-    }
-    return out;
-}
-
-struct Grid {
-    int w = 0, h = 0;
-    std::vector<double> v;  // NaN = hole
-    std::vector<uint8_t> filled;
-};
+namespace scan {
 
 // Holes: each pass gives every hole with measured (or already filled) 4-neighbours the mean
 // of those neighbours, all from the previous pass's state; repeated until none is left.
@@ -149,10 +65,111 @@ int fill_holes(Grid& g) {
     return holes;
 }
 
-struct Converted {
-    Grid grid;
-    json meta;
-};
+}  // namespace scan
+
+namespace {
+
+using namespace scan;
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string source_dir() { return PXH_SOURCE_DIR; }
+std::string default_scan_dir() { return source_dir() + "/heightfields/scanned"; }
+
+std::string shell(const std::string& cmd) {
+    std::string out;
+    if (FILE* p = popen(cmd.c_str(), "r")) {
+        char buf[512];
+        while (fgets(buf, sizeof buf, p)) out += buf;
+        pclose(p);
+    }
+    while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
+    return out;
+}
+
+// A Debian package's files: unpacked into the cache with apt-get download + dpkg-deb -x (the
+// same .deb the machine would install, without installing it); with `members`, only those
+// paths ("./usr/...") are unpacked (opencv-doc is 95 MB for one 300 kB image).
+std::string download_deb(const std::string& name, const fs::path& dir) {
+    const std::string dl =
+        "cd '" + dir.string() + "' && apt-get download -q " + name + " >/dev/null 2>&1";
+    if (std::system(dl.c_str()) != 0) {
+        // Package lists may be missing on a fresh machine: update once, then retry.
+        std::system("apt-get update -qq >/dev/null 2>&1");
+        if (std::system(dl.c_str()) != 0)
+            throw std::runtime_error("apt-get download " + name +
+                                     " failed (is Debian's apt reachable?)");
+    }
+    std::string deb;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().extension() == ".deb") deb = e.path().string();
+    if (deb.empty()) throw std::runtime_error("no .deb for " + name + " in " + dir.string());
+    return deb;
+}
+
+Package fetch_package(const std::string& name, const std::string& cache,
+                      const std::vector<std::string>& members = {}) {
+    const fs::path dir = fs::path(cache) / name;
+    const fs::path stamp = dir / ".version";
+    if (fs::exists(stamp)) {
+        std::ifstream f(stamp);
+        std::string v;
+        std::getline(f, v);
+        return {name, v, (dir / "root").string()};
+    }
+    fs::create_directories(dir);
+    const std::string deb = download_deb(name, dir);
+    const std::string root = (dir / "root").string();
+    std::string x = "dpkg-deb -x '" + deb + "' '" + root + "'";
+    if (!members.empty()) {
+        fs::create_directories(root);
+        x = "dpkg-deb --fsys-tarfile '" + deb + "' | tar -x -C '" + root + "'";
+        for (const auto& m : members) x += " '" + m + "'";
+    }
+    if (std::system(x.c_str()) != 0) throw std::runtime_error("unpacking " + deb + " failed");
+    const std::string version = shell("dpkg-deb -f '" + deb + "' Version");
+    std::ofstream(stamp) << version << "\n";
+    fs::remove(deb);
+    return {name, version, root};
+}
+
+// License names from a Debian copyright file (machine-readable format: "License:" fields).
+std::vector<std::string> licences(const std::string& copyright) {
+    std::ifstream f(copyright);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(f, line);)
+        if (line.rfind("License:", 0) == 0) {
+            std::string l = line.substr(8);
+            l.erase(0, l.find_first_not_of(' '));
+            if (!l.empty() && std::find(out.begin(), out.end(), l) == out.end()) out.push_back(l);
+        }
+    if (out.empty()) {
+        // Not machine-readable: record the licences its text names.
+        std::ifstream g(copyright);
+        std::stringstream ss;
+        ss << g.rdbuf();
+        const std::string text = ss.str();
+        for (const char* name : {"GNU General Public License", "GNU Lesser General Public License",
+                                 "Boost Software License"})
+            if (text.find(name) != std::string::npos)
+                out.push_back(std::string("mentions: ") + name);
+        if (out.empty()) out.push_back("no licence named (read the copyright file)");
+    }
+    return out;
+}
+
+// The JSON's sentence for a tiling (the mirrored scans keep the one they had before tiling
+// had a rule per axis).
+std::string tiling_rule(const Tiling& t) {
+    if (t.x == "mirror" && t.y == "mirror")
+        return "not periodic: mirrored to 2W x 2H (same texel size) when loaded";
+    if (t.x == "periodic" && t.y == "pole")
+        return "periodic in x (the columns go once around in longitude); the rows run pole to "
+               "pole, so past a pole the field continues down the opposite meridian (rows in "
+               "reverse, shifted by W/2): W x 2(H-1) when loaded, no mirroring";
+    return "x: " + t.x + ", y: " + t.y;
+}
 
 void write_scan(const Converted& c, const std::string& name, const std::string& dir) {
     const Grid& g = c.grid;
@@ -171,8 +188,9 @@ void write_scan(const Converted& c, const std::string& name, const std::string& 
     meta["file"] = name + ".png";
     meta["size"] = {g.w, g.h};
     meta["stored_as"] = "16-bit PNG, first row = j = 0, (value - min) / (max - min)";
-    meta["periodic"] = false;
-    meta["periodic_rule"] = "not periodic: mirrored to 2W x 2H (same texel size) when loaded";
+    meta["periodic"] = c.tiling.x == "periodic" && c.tiling.y == "periodic";
+    meta["tiling"] = {{"x", c.tiling.x}, {"y", c.tiling.y}};
+    meta["periodic_rule"] = tiling_rule(c.tiling);
     size_t holes = 0;
     for (uint8_t f : g.filled) holes += f;
     meta["holes"]["count"] = holes;
@@ -411,34 +429,55 @@ Converted convert_lidar(const Package& pkg, const std::string& cache) {
 
 struct Source {
     const char* name;
-    const char* package;          // holds the data
-    const char* licence_package;  // whose copyright file covers it
+    const char* package;               // holds the data
+    const char* licence_package;       // whose copyright file covers it
+    std::vector<std::string> members;  // what to unpack ("./usr/..."); empty: everything
 };
-const Source kSources[] = {{"jacksboro", "python-matplotlib-data", "python-matplotlib-data"},
-                           {"motorcycle", "python3-skimage", "python3-skimage"},
-                           {"bunny", "libcgal-demo", "libcgal-dev"},
-                           {"lidar_b9", "libcgal-demo", "libcgal-dev"}};
+const std::vector<Source>& sources() {
+    static const std::vector<Source> s = {
+        {"jacksboro", "python-matplotlib-data", "python-matplotlib-data", {}},
+        {"motorcycle", "python3-skimage", "python3-skimage", {}},
+        {"bunny", "libcgal-demo", "libcgal-dev", {}},
+        {"lidar_b9", "libcgal-demo", "libcgal-dev", {}},
+        {"topobathy", "python-matplotlib-data", "python-matplotlib-data", {}},
+        {"egm96", "proj-data", "proj-data", {}},
+        {"olinda", "r-cran-stars", "r-cran-stars", {}},
+        {"luxembourg", "r-cran-terra", "r-cran-terra", {}},
+        {"aloe",
+         "opencv-doc",
+         "opencv-doc",
+         {"./usr/share/doc/opencv-doc/examples/data/aloeGT.png",
+          "./usr/share/doc/opencv-doc/copyright"}}};
+    return s;
+}
+
+Converted convert(const std::string& name, const Package& pkg, const std::string& cache) {
+    if (name == "jacksboro") return convert_jacksboro(pkg);
+    if (name == "motorcycle") return convert_motorcycle(pkg);
+    if (name == "bunny") return convert_bunny(pkg, cache);
+    if (name == "lidar_b9") return convert_lidar(pkg, cache);
+    if (name == "topobathy") return convert_topobathy(pkg);
+    if (name == "egm96") return convert_egm96(pkg);
+    if (name == "olinda") return convert_olinda(pkg);
+    if (name == "luxembourg") return convert_luxembourg(pkg);
+    return convert_aloe(pkg);
+}
 
 void import_all(const std::string& out, const std::string& cache) {
-    for (const Source& s : kSources) {
+    for (const Source& s : sources()) {
         std::cerr << "import: " << s.name << " from " << s.package << "\n";
-        const Package pkg = fetch_package(s.package, cache);
+        const Package pkg = fetch_package(s.package, cache, s.members);
         const Package lic = std::string(s.licence_package) == s.package
                                 ? pkg
                                 : fetch_package(s.licence_package, cache);
-        Converted c;
-        const std::string name = s.name;
-        if (name == "jacksboro") c = convert_jacksboro(pkg);
-        else if (name == "motorcycle") c = convert_motorcycle(pkg);
-        else if (name == "bunny") c = convert_bunny(pkg, cache);
-        else c = convert_lidar(pkg, cache);
+        Converted c = convert(s.name, pkg, cache);
         c.meta["package"] = pkg.name;
         c.meta["package_version"] = pkg.version;
         const std::string copyright = lic.root + "/usr/share/doc/" + lic.name + "/copyright";
         c.meta["licence"] = {{"from", "/usr/share/doc/" + lic.name + "/copyright (" + lic.name +
                                           " " + lic.version + ")"},
                              {"licenses", licences(copyright)}};
-        write_scan(c, name, out);
+        write_scan(c, s.name, out);
     }
 }
 
@@ -458,7 +497,7 @@ int run_import(const ImportOptions& opt) {
         opt.cache_dir.empty() ? source_dir() + "/build/scan-cache" : opt.cache_dir;
     if (!opt.check) {
         import_all(out, cache);
-        std::cout << "imported " << std::size(kSources) << " scans into " << out << "\n";
+        std::cout << "imported " << sources().size() << " scans into " << out << "\n";
         return 0;
     }
     const fs::path tmp =
@@ -483,6 +522,45 @@ int run_import(const ImportOptions& opt) {
     return differ ? 1 : 0;
 }
 
+namespace {
+
+// The tiling a scan's JSON asks for: "tiling" {x, y}, or (older files) "periodic" for both.
+Tiling tiling_of(const json& meta, const std::string& where) {
+    Tiling t;
+    if (meta.contains("tiling") && meta["tiling"].is_object()) {
+        t.x = meta["tiling"].value("x", "");
+        t.y = meta["tiling"].value("y", "");
+    } else if (meta.value("periodic", false)) {
+        t.x = t.y = "periodic";
+    }
+    if (t.x != "mirror" && t.x != "periodic")
+        throw InputError(where, "tiling x must be \"mirror\" or \"periodic\", not \"" + t.x + "\"");
+    if (t.y != "mirror" && t.y != "periodic" && t.y != "pole")
+        throw InputError(
+            where, "tiling y must be \"mirror\", \"periodic\" or \"pole\", not \"" + t.y + "\"");
+    return t;
+}
+
+int tile_extent(const std::string& rule, int n) {
+    if (rule == "mirror") return 2 * n;
+    if (rule == "pole") return 2 * (n - 1);
+    return n;
+}
+
+// The W x H grid's texel that tile texel (i, j) shows (Tiling in heightfields/scan_convert.h).
+std::pair<int, int> tile_source(const Tiling& t, int w, int h, int i, int j) {
+    int si = t.x == "mirror" && i >= w ? 2 * w - 1 - i : i;
+    int sj = j;
+    if (j >= h && t.y == "mirror") sj = 2 * h - 1 - j;
+    if (j >= h && t.y == "pole") {
+        sj = 2 * (h - 1) - j;
+        si = (si + w / 2) % w;
+    }
+    return {si, sj};
+}
+
+}  // namespace
+
 std::vector<ScanInfo> list_scans(const std::string& dir_in) {
     const std::string dir = dir_in.empty() ? default_scan_dir() : dir_in;
     std::vector<ScanInfo> out;
@@ -504,6 +582,11 @@ std::vector<ScanInfo> list_scans(const std::string& dir_in) {
             s.height = j["size"][1];
         }
         s.periodic = j.value("periodic", false);
+        const Tiling t = tiling_of(j, p.string());
+        s.tiling_x = t.x;
+        s.tiling_y = t.y;
+        s.tile_width = tile_extent(t.x, s.width);
+        s.tile_height = tile_extent(t.y, s.height);
         out.push_back(s);
     }
     return out;
@@ -532,18 +615,17 @@ HeightField load_scan(const std::string& name, const std::string& where,
         mask.resize(m.texels.size());
         for (size_t k = 0; k < mask.size(); ++k) mask[k] = m.texels[k] > 0.5f;
     }
-    if (meta.value("periodic", false)) {
-        base.filled = mask;
-        base.name = "scan:" + name;
-        return base;
-    }
-    // Mirror: texel (i, j) of the 2W x 2H field is source (i < W ? i : 2W - 1 - i, ...).
-    HeightField hf(2 * base.width, 2 * base.height, "scan:" + name);
+    const Tiling t = tiling_of(meta, meta_path.string());
+    if (t.y == "pole" && (t.x != "periodic" || base.width % 2 != 0 || base.height < 2))
+        throw InputError(meta_path.string(),
+                         "tiling y = \"pole\" needs x periodic, an even width and 2 rows or more");
+    // Texel (i, j) of the tile is the stored texel tile_source(i, j): e.g. mirrored in x, the
+    // 2W-wide tile's column i >= W is the stored column 2W - 1 - i.
+    HeightField hf(tile_extent(t.x, base.width), tile_extent(t.y, base.height), "scan:" + name);
     if (!mask.empty()) hf.filled.resize(hf.texels.size());
     for (int j = 0; j < hf.height; ++j)
         for (int i = 0; i < hf.width; ++i) {
-            const int si = i < base.width ? i : 2 * base.width - 1 - i;
-            const int sj = j < base.height ? j : 2 * base.height - 1 - j;
+            const auto [si, sj] = tile_source(t, base.width, base.height, i, j);
             hf.at(i, j) = base.at(si, sj);
             if (!mask.empty())
                 hf.filled[size_t(j) * hf.width + i] = mask[size_t(sj) * base.width + si];

@@ -23,6 +23,12 @@ void list_methods() {
     }
 }
 
+std::string tiling_words(const std::string& rule) {
+    if (rule == "mirror") return "mirrored";
+    if (rule == "pole") return "continued over the poles";
+    return rule;
+}
+
 void list_heightfields() {
     for (const auto& g : all_generators()) {
         std::cout << g.name << "  -- " << g.summary << "\n";
@@ -30,10 +36,8 @@ void list_heightfields() {
     }
     for (const auto& s : list_scans())
         std::cout << "scan:" << s.name << "  -- " << s.description << "\n    measured, " << s.width
-                  << " x " << s.height
-                  << (s.periodic ? ""
-                                 : ", mirrored to " + std::to_string(2 * s.width) + " x " +
-                                       std::to_string(2 * s.height) + " when loaded")
+                  << " x " << s.height << ", tiles as " << s.tile_width << " x " << s.tile_height
+                  << " (x " << tiling_words(s.tiling_x) << ", y " << tiling_words(s.tiling_y) << ")"
                   << "; use scan = \"" << s.name << "\" (provenance: heightfields/scanned/"
                   << s.name << ".json)\n";
     std::cout << "(any image file: file = \"path\" in a [[heightfields]] entry; PNG, TIFF, EXR, "
