@@ -91,8 +91,7 @@ Converted convert_topobathy(const Package& pkg) {
     const NpyArray a = read_npz_array(path, "topo.npy");
     const NpyArray lon = read_npz_array(path, "longitude.npy");
     const NpyArray lat = read_npz_array(path, "latitude.npy");
-    if (a.shape.size() != 2 || lat.values.size() != a.shape[0] ||
-        lon.values.size() != a.shape[1])
+    if (a.shape.size() != 2 || lat.values.size() != a.shape[0] || lon.values.size() != a.shape[1])
         throw InputError(path, "topo is not latitude x longitude");
     Converted c;
     c.grid.h = int(a.shape[0]);
@@ -221,26 +220,25 @@ Converted convert_aloe(const Package& pkg) {
     mark_nodata(c.grid, 0);
     const auto [lo, hi] = finite_range(c.grid.v);
     fill_holes(c.grid);
-    c.meta = {
-        {"description",
-         "Middlebury 2006 'Aloe' structured-light disparity: leaves and a pot before a "
-         "backdrop, occluding edges; 8-bit, so quantised to whole pixels (terraces)"},
-        {"path_in_package", rel},
-        {"original", {{"shape", {c.grid.h, c.grid.w}}, {"dtype", "uint8 PNG"}}},
-        {"value_range", {lo, hi}},
-        {"units",
-         "disparity in whole pixels at full size (larger is nearer): used as height; "
-         "quantised, 1 pixel = 1/" +
-             std::to_string(int(hi - lo)) + " of the range"},
-        {"grid_spacing", "one camera pixel"},
-        {"source_papers",
-         "H. Hirschmueller, D. Scharstein, Evaluation of cost functions for stereo matching, "
-         "CVPR 2007; D. Scharstein, C. Pal, Learning conditional random fields for stereo, "
-         "CVPR 2007"},
-        {"holes",
-         {{"rule",
-           "0 (unknown disparity) filled by repeated passes giving each hole the mean of its "
-           "measured or already filled 4-neighbours; mask kept (1 = filled)"}}}};
+    c.meta = {{"description",
+               "Middlebury 2006 'Aloe' structured-light disparity: leaves and a pot before a "
+               "backdrop, occluding edges; 8-bit, so quantised to whole pixels (terraces)"},
+              {"path_in_package", rel},
+              {"original", {{"shape", {c.grid.h, c.grid.w}}, {"dtype", "uint8 PNG"}}},
+              {"value_range", {lo, hi}},
+              {"units",
+               "disparity in whole pixels at full size (larger is nearer): used as height; "
+               "quantised, 1 pixel = 1/" +
+                   std::to_string(int(hi - lo)) + " of the range"},
+              {"grid_spacing", "one camera pixel"},
+              {"source_papers",
+               "H. Hirschmueller, D. Scharstein, Evaluation of cost functions for stereo matching, "
+               "CVPR 2007; D. Scharstein, C. Pal, Learning conditional random fields for stereo, "
+               "CVPR 2007"},
+              {"holes",
+               {{"rule",
+                 "0 (unknown disparity) filled by repeated passes giving each hole the mean of its "
+                 "measured or already filled 4-neighbours; mask kept (1 = filled)"}}}};
     return c;
 }
 
