@@ -564,5 +564,24 @@ TEST(Estimate, MemoryGrowsWithTheLargestFieldAndTheSamples) {
     EXPECT_EQ(c.peak_bytes - a.peak_bytes, (1024ull * 1024 - 64) * (80 + 32 + 108));
 }
 
+// A scan counts as tiled when loaded: the geoid is 1440 x 1440 (periodic in x, continued over
+// the poles), a mirrored scan 2W x 2H; 56 bytes per texel (field, mask, mipmap, Embree).
+TEST(Estimate, ScansCountAsTiled) {
+    auto field_mib = [](const std::string& scan) {
+        const RunEstimate e = estimate_run(
+            parse_experiment("samples = 8\n[views]\ntheta_deg = [0]\n[[heightfields]]\nscan = \"" +
+                                 scan + "\"\n[[methods]]\nname = \"none\"\n",
+                             "e.toml"),
+            {});
+        return e.detail;
+    };
+    EXPECT_TRUE(has(field_mib("egm96"), "largest field with its truths and Embree " +
+                                            format_bytes(1440ull * 1440 * 56)))
+        << field_mib("egm96");
+    EXPECT_TRUE(has(field_mib("olinda"),
+                    "largest field with its truths and Embree " + format_bytes(222ull * 222 * 56)))
+        << field_mib("olinda");
+}
+
 }  // namespace
 }  // namespace pxh

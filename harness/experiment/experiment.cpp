@@ -871,10 +871,8 @@ FieldSize field_size(const HeightfieldSpec& spec) {
     if (!spec.generator.empty()) return {size_t(spec.width), size_t(spec.height), false};
     if (!spec.scan.empty()) {
         for (const auto& sc : list_scans())
-            if (sc.name == spec.scan) {
-                const size_t k = sc.periodic ? 1 : 2;  // mirrored to 2W x 2H
-                return {k * size_t(sc.width), k * size_t(sc.height), true};
-            }
+            if (sc.name == spec.scan)  // as tiled when loaded (mirrored: 2W x 2H)
+                return {size_t(sc.tile_width), size_t(sc.tile_height), true};
     } else {
         // Through pxh's hardened loader (never OpenImageIO on the raw file: a hostile header
         // can make a library allocate gigabytes); bounded by the image limits, freed at once.
