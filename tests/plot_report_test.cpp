@@ -76,8 +76,8 @@ class PlotScript : public ::testing::Test {
   protected:
     fs::path dir;
     void SetUp() override {
-        dir = fs::temp_directory_path() / ("pxh_plot_test_" + std::to_string(::getpid())) /
-              "report";
+        dir =
+            fs::temp_directory_path() / ("pxh_plot_test_" + std::to_string(::getpid())) / "report";
         fs::remove_all(dir.parent_path());
         fs::create_directories(dir / "data");
         std::ofstream(dir / "data" / "vs_theta.csv") << kVsTheta;

@@ -176,10 +176,24 @@ struct CentreCandidates {
     }
 };
 
+// The heights a relaxed candidate can have: h where the texel is a limiting vertex for some
+// quadrant direction, -1 elsewhere (never above a source), so that plateaus are skipped whole.
+std::vector<float> limiting_heights(const HeightField& hf) {
+    std::vector<float> out(hf.texels.size());
+    tbb::parallel_for(0, hf.height, [&](int j) {
+        for (int i = 0; i < hf.width; ++i)
+            out[size_t(j) * hf.width + size_t(i)] =
+                limiting(hf, i, j, 0, 0) ? hf.at(i, j) : -1.0f;  // offset 0: every direction
+    });
+    return out;
+}
+
 std::vector<float> centre_map(const HeightField& hf, bool relaxed, bool brute) {
     const Metric m{hf.width, hf.height};
-    const MaxPyramid pyr(brute ? std::vector<float>{0.f} : texel_heights(hf), brute ? 1 : m.W,
-                         brute ? 1 : m.H);
+    const MaxPyramid pyr(brute     ? std::vector<float>{0.f}
+                         : relaxed ? limiting_heights(hf)
+                                   : texel_heights(hf),
+                         brute ? 1 : m.W, brute ? 1 : m.H);
     return per_texel(m.W, m.H, [&](int i, int j) {
         double cur = 1;
         const CentreCandidates c{hf, m, relaxed, i, j, hf.at(i, j), &cur};

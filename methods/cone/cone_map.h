@@ -61,7 +61,7 @@ std::vector<float> relaxed_ban_brute(const HeightField& hf);
 // The largest field (texels) relaxed_cone builds its maps for: the book's generation marches
 // a ray for every destination inside the cone found so far (methods/relaxed_cone/
 // relaxed_cone.md gives the measured times).
-constexpr size_t kRelaxedTexelLimit = size_t(512) * 512;
+constexpr size_t kRelaxedTexelLimit = size_t(256) * 256;
 
 // Round toward zero to float (Ban et al. truncate for the same reason: never a larger cone).
 float round_down(double v);

@@ -24,7 +24,7 @@ ResourceImage build_relaxed_map(const HeightField& hf, double, double) {
         throw InputError("height field '" + hf.name + "'",
                          std::to_string(hf.width) + " x " + std::to_string(hf.height) +
                              " texels: relaxed_cone builds its maps (the book's relaxed cones) "
-                             "for at most 262144 texels (512 x 512); see "
+                             "for at most 65536 texels (256 x 256); see "
                              "methods/relaxed_cone/relaxed_cone.md");
     const std::vector<float> book = cone_maps::relaxed_book(hf);
     const std::vector<float> ban = cone_maps::relaxed_ban(hf);
