@@ -3,6 +3,7 @@
 #include <tbb/info.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cmath>
@@ -24,7 +25,9 @@
 #include "harness/core/sha256.h"
 #include "harness/experiment/experiment.h"
 #include "harness/gl/context.h"
+#include "harness/metrics/image_metrics.h"
 #include "harness/results/error_maps.h"
+#include "harness/results/pictures.h"
 #include "harness/results/provenance.h"
 #include "harness/results/run_folder.h"
 #include "harness/run/runner.h"
@@ -103,6 +106,58 @@ void write_view_maps(const Experiment& ex, const fs::path& tmp_dir, std::vector<
         rows[i].set_text(
             "map", "maps/" + write_error_map(errors[i], ex.samples, (tmp_dir / "maps").string(),
                                              name.stem, name.title));
+    }
+}
+
+// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI.png", safe characters only.
+std::string truth_picture_name(const ResultRow& r) {
+    char name[512];
+    std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
+                  r.num("theta_deg"), r.num("phi_deg"));
+    std::string s = name;
+    for (char& ch : s)
+        if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
+    return s + ".png";
+}
+
+// [render]: for every row of a render view, its picture against the truth's (img_psnr_db,
+// img_ssim); for the montage views and the strip's setting, the pictures under DIR/pictures.
+void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<ResultRow>& rows,
+                 const std::vector<std::vector<Vec2d>>& errors, const std::vector<Vec2d>& truth,
+                 size_t first) {
+    const RenderSpec& r = *ex.render;
+    if (rows.empty() || !r.covers(rows[0].text("heightfield"), rows[0].num("phi_deg"))) return;
+    const double theta = rows[0].num("theta_deg");
+    const bool montage = std::count(r.theta_deg.begin(), r.theta_deg.end(), theta) > 0;
+    const int n = ex.samples;
+    const std::vector<float> truth_pic = picture(truth, n);
+    const std::vector<double> truth_luma = luma(truth_pic);
+    const fs::path dir = tmp_dir / "pictures";
+    std::string truth_file;  // written once, when the first row of the view needs it
+    for (size_t i = 0; i < rows.size(); ++i) {
+        if (errors[i].empty()) continue;  // a failed row: no picture, no numbers
+        ResultRow& row = rows[i];
+        const auto pic = picture(
+            uv_from_errors(truth, errors[i], int(row.num("width")), int(row.num("height"))), n);
+        row.set("img_psnr_db", psnr_db(pic, truth_pic));
+        row.set("img_ssim", ssim(luma(pic), truth_luma, n, n));
+        const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
+                           row.text("params") == r.strip_params;
+        if (!montage && !strip) continue;
+        fs::create_directories(dir);
+        if (truth_file.empty()) {
+            truth_file = truth_picture_name(row);
+            write_picture(truth_pic, n, (dir / truth_file).string());
+        }
+        const std::string stem = error_map_name(row, first + i).stem;
+        write_picture(pic, n, (dir / (stem + ".png")).string());
+        write_picture(difference(pic, truth_pic), n, (dir / (stem + "_diff.png")).string());
+        row.set_text("picture", "pictures/" + stem + ".png");
+        row.set_text("picture_diff", "pictures/" + stem + "_diff.png");
+        row.set_text("picture_truth", "pictures/" + truth_file);
+        row.set_text("picture_use", montage && strip ? "montage strip"
+                                    : montage        ? "montage"
+                                                     : "strip");
     }
 }
 
@@ -192,10 +247,13 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     opt.backends = a.backends;
     opt.shader_dir = a.shader_dir;
     opt.gl = a.gl;
-    if (ex.maps)
+    if (ex.maps || ex.render)
         opt.on_view = [&](std::vector<ResultRow>& rows,
                           const std::vector<std::vector<Vec2d>>& errors,
-                          size_t first) { write_view_maps(ex, tmp_dir, rows, errors, first); };
+                          const std::vector<Vec2d>& truth, size_t first) {
+            if (ex.maps) write_view_maps(ex, tmp_dir, rows, errors, first);
+            if (ex.render) render_view(ex, tmp_dir, rows, errors, truth, first);
+        };
     if (!a.quiet)
         opt.progress = [tty](const std::string& line) {
             if (tty) std::cerr << "\r\033[K" << line << std::flush;

@@ -740,6 +740,52 @@ void parse_light(const toml::node& n, const std::string& path, Experiment& ex) {
     ex.light = l;
 }
 
+// [render], read after the fields and methods it names: every name, angle and method must be
+// one the experiment has.
+void parse_render(const toml::node& n, const std::string& path, Experiment& ex) {
+    const auto* t = n.as_table();
+    if (!t) throw InputError(where_of(path, n), "'render' must be a table ([render])");
+    check_keys(*t, {"heightfields", "phi_deg", "theta_deg", "strip_method"}, path, "[render]");
+    for (const char* k : {"heightfields", "theta_deg"})
+        if (!t->contains(k))
+            throw InputError(where_of(path, n), std::string("[render] needs ") + k);
+    RenderSpec r;
+    r.heightfields = get_strings(*t->get("heightfields"), path, "heightfields");
+    for (const auto& f : r.heightfields)
+        if (std::none_of(ex.heightfields.begin(), ex.heightfields.end(),
+                         [&](const HeightfieldSpec& h) { return h.name == f; }))
+            throw InputError(
+                where_of(path, *t->get("heightfields")),
+                "[render] heightfield '" + f + "' is no [[heightfields]] entry's name");
+    auto in = [](const std::vector<double>& v, double x) {
+        return std::find(v.begin(), v.end(), x) != v.end();
+    };
+    r.phi_deg = ex.phi_deg.front();
+    if (auto v = t->get("phi_deg")) {
+        r.phi_deg = get_number(*v, path, "phi_deg");
+        if (!in(ex.phi_deg, r.phi_deg))
+            throw InputError(where_of(path, *v), "[render] phi_deg = " + format_number(r.phi_deg) +
+                                                     " is not one of [views] phi_deg");
+    }
+    r.theta_deg = get_numbers(*t->get("theta_deg"), path, "theta_deg");
+    for (double th : r.theta_deg)
+        if (!in(ex.theta_deg, th))
+            throw InputError(
+                where_of(path, *t->get("theta_deg")),
+                "[render] theta_deg = " + format_number(th) + " is not one of [views] theta_deg");
+    if (auto v = t->get("strip_method")) {
+        r.strip_method = get_string(*v, path, "strip_method");
+        const auto m = std::find_if(ex.methods.begin(), ex.methods.end(), [&](const MethodSpec& s) {
+            return s.method->name == r.strip_method;
+        });
+        if (m == ex.methods.end())
+            throw InputError(where_of(path, *v), "[render] strip_method '" + r.strip_method +
+                                                     "' is no [[methods]] entry");
+        r.strip_params = m->params.canonical();
+    }
+    ex.render = r;
+}
+
 // The entries of [[KEY]]: a non-empty list of tables.
 const toml::array& tables_of(const toml::table& root, const std::string& path, const char* key) {
     const toml::node* n = root.get(key);
@@ -805,7 +851,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
                 "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled", "gl",
-                "views", "heightfields", "methods", "light"},
+                "views", "heightfields", "methods", "light", "render"},
                path, "the experiment");
     parse_settings(root, path, ex);
     parse_choices(root, path, ex);
@@ -817,6 +863,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     warn_large_scales(large_scales, ex);
     check_heightfield_names(ex);
     for (const auto& e : tables_of(root, path, "methods")) parse_method(*e.as_table(), e, path, ex);
+    if (auto n = root.get("render")) parse_render(*n, path, ex);
     check_ray_travel(ex);
     return ex;
 }

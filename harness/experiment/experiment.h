@@ -34,6 +34,23 @@ struct HeightfieldSpec {
     std::string source_path, source_sha256;  // files and scans: the image read and its sha256
 };
 
+// [render]: the views whose pictures a run writes (harness/results/pictures.h): a numbered
+// checkerboard seen through the truth's uv and through each row's uv, their difference, and the
+// image-space columns img_psnr_db and img_ssim for every row of these fields at this azimuth.
+struct RenderSpec {
+    std::vector<std::string> heightfields;  // [[heightfields]] names
+    double phi_deg = 0;                     // one of [views] phi_deg (default: the first)
+    std::vector<double> theta_deg;          // the montage views, each one of [views] theta_deg
+    std::string strip_method;               // "": no strip; else its first [[methods]] setting
+    std::string strip_params;               //   (canonical params) over the whole theta sweep
+    bool covers(const std::string& field, double phi) const {
+        if (phi != phi_deg) return false;
+        for (const auto& f : heightfields)
+            if (f == field) return true;
+        return false;
+    }
+};
+
 struct Experiment {
     std::string name;
     std::string path;  // the file it came from
@@ -52,6 +69,7 @@ struct Experiment {
     std::vector<double> theta_deg, phi_deg{0.0};
     std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)
     std::optional<LightSpec> light;
+    std::optional<RenderSpec> render;           // [render]: pictures of these views
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
     std::vector<MethodSpec> methods;            // arrays of parameter values already expanded
     // Plug-in shaders' methods ([[methods]] shader = FILE), owned here (MethodSpec points in).

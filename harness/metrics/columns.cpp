@@ -71,6 +71,14 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"sweep_dt_deg", kNum, kMeasured, "the dt the two above were measured over (degrees)"},
         // Error map (harness/results/error_maps.cpp).
         {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
+        // Pictures of the [render] views (harness/results/pictures.cpp, metrics/image_metrics).
+        {"img_psnr_db", kNum, kMeasured,
+         "[render]: PSNR of its picture vs the truth's (dB; inf: =)"},
+        {"img_ssim", kNum, kMeasured, "[render]: mean SSIM (Wang et al. 2004) of the pictures"},
+        {"picture", kText, kMeasured, "[render]: its picture (PNG, relative to the folder)"},
+        {"picture_diff", kText, kMeasured, "[render]: |its picture - the truth's| (PNG)"},
+        {"picture_truth", kText, kMeasured, "[render]: the truth's picture of the view (PNG)"},
+        {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"},
         // Ground truth (harness/metrics/ground_truth_metrics.cpp).
         {"gt_on_filled", kNum, kMeasured,
          "measured fields: fraction of true hits on a filled hole"},

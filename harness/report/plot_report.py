@@ -19,6 +19,7 @@ import json
 import math
 import os
 import sys
+import textwrap
 
 import matplotlib
 
@@ -27,6 +28,7 @@ import matplotlib.image as mpimg  # noqa: E402
 import matplotlib.lines as mlines  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.ticker  # noqa: E402
+import numpy as np  # noqa: E402
 
 matplotlib.rcParams.update({
     "font.size": 8, "axes.titlesize": 8, "axes.labelsize": 8, "legend.fontsize": 7,
@@ -397,6 +399,171 @@ def montage(F, rows):
     F.save(fig, "error_maps_montage", len(series) * len(thetas), len(series), [])
 
 
+def safe(name):
+    return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
+
+
+def load(results, rel, cache={}):
+    path = os.path.join(results, rel)
+    if path not in cache:
+        if not os.path.exists(path):
+            print(f"pxh: warning: picture not found: {path} (left blank)", file=sys.stderr)
+            cache[path] = None
+        else:
+            cache[path] = mpimg.imread(path)
+    return cache[path]
+
+
+def same_picture(results, a, b):
+    x, y = load(results, a), load(results, b)
+    return x is not None and y is not None and x.shape == y.shape and (x == y).all()
+
+
+def fold_pictures(results, rows):
+    """[(groups, row)] per setting: rows whose pictures are identical, pixel for pixel, are
+    shown once."""
+    out = {}
+    for r in rows:
+        per = out.setdefault(setting(r), [])
+        for gs, ref in per:
+            if same_picture(results, ref["picture"], r["picture"]):
+                gs.append(group(r))
+                break
+        else:
+            per.append(([group(r)], r))
+    return out
+
+
+def metrics_text(r):
+    p, q = num(r["img_psnr_db"]), num(r["img_ssim"])
+    psnr = "∞" if r["img_psnr_db"] in ("inf", "+inf") else (f"{p:.1f}" if p is not None else "–")
+    return f"PSNR {psnr} dB, SSIM {q:.3f}" if q is not None else f"PSNR {psnr} dB"
+
+
+def show(ax, img):
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for sp in ax.spines.values():
+        sp.set_linewidth(0.3)
+    if img is not None:
+        ax.imshow(img, interpolation="nearest")
+
+
+def image_grid(width, ncols, pads, bottom, left=0.0):
+    """A figure of square image axes, ncols wide: pads[i] inches above row i (titles, labels),
+    `bottom` inches below the last row, `left` inches for row labels; exact positions, so the
+    images fill the width with no empty band."""
+    gap = 0.04
+    cell = (width - left - (ncols - 1) * gap) / ncols
+    height = sum(pads) + len(pads) * cell + bottom
+    fig = plt.figure(figsize=(width, height))
+    axes, y = [], height
+    for pad in pads:
+        y -= pad + cell
+        axes.append([fig.add_axes([(left + j * (cell + gap)) / width, y / height, cell / width,
+                                   cell / height]) for j in range(ncols)])
+    return fig, axes
+
+
+def picture_montage(F, st, results, rows):
+    """One field and view: the truth's picture, then per method setting its picture over its
+    difference from the truth (identical pictures of several groups shown once)."""
+    r0 = rows[0]
+    folded = fold_pictures(results, rows)
+    tiles = [(s, gs, r) for s in st.order if s in folded for gs, r in folded[s]]
+    multi = any(len(v) > 1 for v in folded.values())
+    cells = [(None, None, r0)] + tiles
+    nc = min(len(cells), 6 if F.width >= 6 else 3)
+    blocks = math.ceil(len(cells) / nc)
+    pads = [p for k in range(blocks) for p in ((0.45 if k == 0 else 0.55), 0.03)]
+    fig, axes = image_grid(F.width, nc, pads, 0.3)
+    for ax in (a for row in axes for a in row):
+        ax.axis("off")
+    for k, (s, gs, r) in enumerate(cells):
+        top, bottom = axes[2 * (k // nc)][k % nc], axes[2 * (k // nc) + 1][k % nc]
+        top.axis("on")
+        if s is None:
+            show(top, load(results, r["picture_truth"]))
+            top.set_title("truth (ray traced)", fontsize=6.5)
+            continue
+        bottom.axis("on")
+        show(top, load(results, r["picture"]))
+        show(bottom, load(results, r["picture_diff"]))
+        name = textwrap.fill(st.labels[s], 30) + (f"\n[{' = '.join(gs)}]" if multi else "")
+        top.set_title(name, fontsize=6)
+        bottom.text(0.5, -0.04, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
+                    ha="center", va="top", transform=bottom.transAxes)
+    fig.suptitle(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
+                 f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each method's "
+                 "uv; below it, |method − truth|", fontsize=7, y=1.0, va="top")
+    note = None if multi else "groups: " + " = ".join(sorted({g for t in tiles for g in t[1]}))
+    name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
+    F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
+
+
+def strip(F, st, results, rows):
+    """One method setting over the θ sweep: truth, method, difference per θ (its first group;
+    with an animated GIF of the same frames)."""
+    s = setting(rows[0])
+    g = group(rows[0])
+    rows = sorted((r for r in rows if group(r) == g), key=lambda r: num(r["theta_deg"]))
+    n = len(rows)
+    fig, axes = image_grid(F.width, n, [0.4, 0.03, 0.03], 0.3, left=0.16)
+    for j, r in enumerate(rows):
+        for i, key in enumerate(("picture_truth", "picture", "picture_diff")):
+            show(axes[i][j], load(results, r[key]))
+        axes[0][j].set_title(f"θ = {num(r['theta_deg']):g}°", fontsize=7)
+        axes[2][j].text(0.5, -0.04, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
+                        ha="center", va="top", transform=axes[2][j].transAxes)
+    for i, lab in enumerate(("truth", textwrap.fill(st.labels[s], 18), "|difference|")):
+        axes[i][0].set_ylabel(lab, fontsize=6)
+    r0 = rows[0]
+    fig.suptitle(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
+                 f"(φ = {num(r0['phi_deg']):g}°)", fontsize=7, y=1.0, va="top")
+    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}")
+    F.save(fig, name, 3 * n, 1, [])
+    animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
+
+
+def animate(F, results, rows, name, what):
+    """An animated GIF: per θ, truth | method | difference side by side (Pillow, the
+    python3-pil package matplotlib depends on)."""
+    from PIL import Image, ImageDraw
+    frames = []
+    for r in rows:
+        imgs = [load(results, r[k]) for k in ("picture_truth", "picture", "picture_diff")]
+        if any(i is None for i in imgs):
+            return
+        row = np.concatenate([i[..., :3] for i in imgs], axis=1)
+        img = Image.fromarray((row * 255).round().astype("uint8")).resize(
+            (row.shape[1] * 2, row.shape[0] * 2), Image.NEAREST)
+        canvas = Image.new("RGB", (img.width, img.height + 16), "white")
+        canvas.paste(img, (0, 16))
+        ImageDraw.Draw(canvas).text(
+            (4, 2), f"{what}  theta = {num(r['theta_deg']):g} deg  (truth | method | difference)"
+            f"  {metrics_text(r).replace('∞', 'inf')}", fill="black")
+        frames.append(canvas)
+    path = os.path.join(F.out, name + ".gif")
+    frames[0].save(path, save_all=True, append_images=frames[1:], duration=900, loop=0)
+    print(f"plot: {path}")
+    F.drawn[-1]["files"].append(name + ".gif")
+
+
+def pictures(F, st, rows):
+    results = os.path.dirname(os.path.abspath(F.out))
+    views = {}
+    strips = {}
+    for r in rows:
+        if "montage" in r["picture_use"].split():
+            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"]), []).append(r)
+        if "strip" in r["picture_use"].split():
+            strips.setdefault((r["heightfield"], r["phi_deg"]), []).append(r)
+    for v in views.values():
+        picture_montage(F, st, results, v)
+    for v in strips.values():
+        strip(F, st, results, v)
+
+
 def parse_args(argv):
     ap = argparse.ArgumentParser(prog="plot_report.py")
     ap.add_argument("report", help="RESULTS_DIR/report (with data/*.csv)")
@@ -426,6 +593,9 @@ def main():
     maps = os.path.join(data, "maps.csv")
     if os.path.exists(maps):
         montage(F, read(maps))
+    pics = os.path.join(data, "pictures.csv")
+    if os.path.exists(pics):
+        pictures(F, st, read(pics))
     F.manifest()
 
 

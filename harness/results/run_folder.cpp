@@ -27,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 
 // What a run (and pxh report) writes into a results folder: the only entries --force removes.
-const std::set<std::string> kPxhEntries = {"results.csv", "run.json", "maps", "report"};
+const std::set<std::string> kPxhEntries = {"results.csv", "run.json", "maps", "pictures", "report"};
 
 std::string errno_text() { return std::strerror(errno); }
 

@@ -40,6 +40,7 @@ namespace {
 struct ViewRows {
     std::vector<ResultRow> rows;
     std::vector<std::vector<Vec2d>> errors;
+    std::vector<Vec2d> truth_uv;  // the view's true hits (per sample, unwrapped)
 };
 
 // One field (with its s, b) and what every view of it shares.
@@ -258,6 +259,7 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool tim
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
     for (const auto& m : c.ex.methods)
         if (m.runs_on(c.spec.name)) run_method(job, m);
+    job.out.truth_uv = std::move(job.truth.gt.uv);
     return std::move(job.out);
 }
 
@@ -317,7 +319,7 @@ void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_
             for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
                 if (dt > 0) add_sweep(prev.errors[i], view.errors[i], dt, rows[prev_index[i]]);
         }
-        if (opt.on_view) opt.on_view(view.rows, view.errors, rows.size());
+        if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, rows.size());
         prev_index.clear();
         for (auto& r : view.rows) {
             prev_index.push_back(rows.size());

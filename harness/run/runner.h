@@ -25,9 +25,11 @@ struct RunOptions {
     std::string shader_dir;             // GLSL sources override (development)
     int gl_frames = 5;                  // timed GLSL frames per row
     std::string gl;                     // GL context (osmesa, egl); empty: the experiment's
-    // Called once per view with its rows (before they join the run) and their per-sample
-    // error vectors; first_index is the index the view's first row will have.
-    std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&, size_t)>
+    // Called once per view with its rows (before they join the run), their per-sample error
+    // vectors and the truth's uv (per sample, unwrapped); first_index is the index the view's
+    // first row will have.
+    std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
+                       const std::vector<Vec2d>&, size_t)>
         on_view;
     std::function<void(const std::string&)> progress;  // one status line per step
 };

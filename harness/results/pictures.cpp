@@ -1,0 +1,90 @@
+#include "harness/results/pictures.h"
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace pxh {
+namespace {
+
+constexpr int kCells = 8;   // cells per tile side
+constexpr int kGlyph = 11;  // a cell is 11 x 11 font pixels: two 3 x 5 digits, centred
+
+// Digits 0-9, 3 x 5, one row of 3 bits per entry (most significant = left).
+constexpr unsigned char kFont[10][5] = {
+    {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1},
+    {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+
+// Paul Tol's "muted" colours without black, one per cell column.
+constexpr float kTint[kCells][3] = {
+    {0.200f, 0.133f, 0.533f}, {0.533f, 0.800f, 0.933f}, {0.267f, 0.667f, 0.600f},
+    {0.067f, 0.467f, 0.200f}, {0.600f, 0.600f, 0.200f}, {0.867f, 0.800f, 0.467f},
+    {0.800f, 0.400f, 0.467f}, {0.667f, 0.267f, 0.600f}};
+
+// Whether font pixel (gx, gy) of a cell is ink for the cell's number.
+bool ink(int number, int gx, int gy) {
+    const int row = gy - 3;  // glyph rows 3..7
+    if (row < 0 || row > 4) return false;
+    int digit = -1, col = 0;
+    if (gx >= 2 && gx <= 4) digit = number / 10, col = gx - 2;
+    if (gx >= 6 && gx <= 8) digit = number % 10, col = gx - 6;
+    return digit >= 0 && ((kFont[digit][row] >> (2 - col)) & 1);
+}
+
+}  // namespace
+
+void albedo(Vec2d uv, float rgb[3]) {
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) {
+        rgb[0] = rgb[2] = 1;
+        rgb[1] = 0;
+        return;
+    }
+    const double u = (uv.x - std::floor(uv.x)) * kCells, v = (uv.y - std::floor(uv.y)) * kCells;
+    const int cx = std::min(int(u), kCells - 1), cy = std::min(int(v), kCells - 1);
+    const double fx = u - cx, fy = v - cy;
+    const bool light = (cx + cy) % 2 == 0;
+    float c[3];
+    for (int k = 0; k < 3; ++k)
+        c[k] = light ? kTint[cx][k] + (1 - kTint[cx][k]) * 0.55f : kTint[cx][k] * 0.8f;
+    const float y = 0.299f * c[0] + 0.587f * c[1] + 0.114f * c[2];
+    const bool border = fx < 0.04 || fx > 0.96 || fy < 0.04 || fy > 0.96;
+    const int gx = std::min(int(fx * kGlyph), kGlyph - 1), gy = std::min(int(fy * kGlyph), kGlyph - 1);
+    const float paint = border ? 0.1f : ink(cy * kCells + cx, gx, gy) ? (y > 0.5f ? 0 : 1) : -1;
+    for (int k = 0; k < 3; ++k) rgb[k] = paint >= 0 ? paint : c[k];
+}
+
+std::vector<float> picture(const std::vector<Vec2d>& uv, int n) {
+    std::vector<float> out(size_t(n) * size_t(n) * 3);
+    for (size_t k = 0; k < uv.size() && k < size_t(n) * size_t(n); ++k) albedo(uv[k], &out[3 * k]);
+    return out;
+}
+
+std::vector<Vec2d> uv_from_errors(const std::vector<Vec2d>& truth_uv,
+                                  const std::vector<Vec2d>& errors, int width, int height) {
+    std::vector<Vec2d> uv(truth_uv.size());
+    for (size_t k = 0; k < uv.size(); ++k)
+        uv[k] = {truth_uv[k].x + errors[k].x / width, truth_uv[k].y + errors[k].y / height};
+    return uv;
+}
+
+std::vector<float> difference(const std::vector<float>& a, const std::vector<float>& b) {
+    std::vector<float> d(a.size());
+    for (size_t i = 0; i < a.size(); ++i) d[i] = std::fabs(a[i] - b[i]);
+    return d;
+}
+
+void write_picture(const std::vector<float>& rgb, int n, const std::string& path) {
+    OIIO::ImageBuf img(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::UINT8));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            float px[3];
+            for (int c = 0; c < 3; ++c)
+                px[c] = std::clamp(rgb[(size_t(j) * n + size_t(i)) * 3 + size_t(c)], 0.0f, 1.0f);
+            img.setpixel(i, j, px);
+        }
+    if (!img.write(path)) throw std::runtime_error(path + ": " + img.geterror());
+}
+
+}  // namespace pxh

@@ -1,0 +1,36 @@
+// Pictures of what a method shows: a real albedo texture (a numbered checkerboard) sampled
+// through the true uv and through a method's uv, and their difference, as PNG files (through
+// OpenImageIO). The run writes them for the experiment's [render] views (harness/commands/
+// cmd_run.cpp), and pxh report assembles them into montages and strips.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "harness/core/vec.h"
+
+namespace pxh {
+
+// The albedo at uv (tile units, wrapping): 8 x 8 cells per tile, each numbered 0..63 (row-major,
+// two digits of a 3 x 5 pixel font), columns tinted from Paul Tol's muted palette, alternate
+// cells lighter and darker, a dark border line around each cell. Deterministic; linear RGB in
+// [0, 1]. Non-finite uv gives magenta (1, 0, 1).
+void albedo(Vec2d uv, float rgb[3]);
+
+// The n x n picture seen through per-sample uv (sample j * n + i is pixel (i, j), row j of the
+// file, as for error maps): 3 floats a pixel.
+std::vector<float> picture(const std::vector<Vec2d>& uv, int n);
+
+// A method's uv from the truth's and the per-sample texel error (e = uv_method - uv_true,
+// wrapped into a tile, in texels of a width x height field): the albedo repeats every tile, so
+// the picture through these is the method's picture. NaN errors (failed or left-out samples)
+// give NaN uv (magenta).
+std::vector<Vec2d> uv_from_errors(const std::vector<Vec2d>& truth_uv,
+                                  const std::vector<Vec2d>& errors, int width, int height);
+
+// |a - b| per channel: black where the pictures agree.
+std::vector<float> difference(const std::vector<float>& a, const std::vector<float>& b);
+
+// Writes an n x n RGB picture as an 8-bit PNG (values clamped to [0, 1], rounded).
+void write_picture(const std::vector<float>& rgb, int n, const std::string& path);
+
+}  // namespace pxh
