@@ -1,12 +1,13 @@
 // PSNR and SSIM (harness/metrics/image_metrics.h) against closed forms and an independent,
 // direct transcription of Wang et al.'s ssim_index.m (2-D window sums, no separable filter);
 // the albedo of the pictures (harness/results/pictures.h) against its definition.
+#include "harness/metrics/image_metrics.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "harness/metrics/image_metrics.h"
 #include "harness/results/pictures.h"
 
 namespace {
@@ -25,7 +26,8 @@ std::vector<double> random_image(int w, int h, uint32_t seed) {
 double ssim_direct(const std::vector<double>& x, const std::vector<double>& y, int w, int h) {
     double win[11][11], total = 0;
     for (int a = 0; a < 11; ++a)
-        for (int b = 0; b < 11; ++b) total += win[a][b] = std::exp(-((a - 5) * (a - 5) + (b - 5) * (b - 5)) / 4.5);
+        for (int b = 0; b < 11; ++b)
+            total += win[a][b] = std::exp(-((a - 5) * (a - 5) + (b - 5) * (b - 5)) / 4.5);
     const double C1 = 1e-4, C2 = 9e-4;
     double sum = 0;
     int count = 0;
@@ -108,7 +110,8 @@ TEST(Pictures, AlbedoTilesAndUvFromErrors) {
         const pxh::Vec2d uv{d(rng), d(rng)};
         pxh::albedo(uv, a);
         pxh::albedo({uv.x + 2, uv.y - 1}, b);
-        EXPECT_EQ(std::vector<float>(a, a + 3), std::vector<float>(b, b + 3)) << uv.x << "," << uv.y;
+        EXPECT_EQ(std::vector<float>(a, a + 3), std::vector<float>(b, b + 3))
+            << uv.x << "," << uv.y;
     }
     // Cell 27 (row 3, column 3): its two digits' strokes are ink, in the cell's ink colour;
     // the cell's border is the dark line.

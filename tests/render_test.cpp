@@ -80,8 +80,8 @@ strip_method = "pom"
         }
         if (theta == 60) psnr60[t.get(r, "method") + t.get(r, "backend")] = p;
         const bool pom = t.get(r, "method") == "pom";
-        const std::string use = theta == 60 ? (pom ? "montage strip" : "montage")
-                                            : (pom ? "strip" : "");
+        const std::string use =
+            theta == 60 ? (pom ? "montage strip" : "montage") : (pom ? "strip" : "");
         EXPECT_EQ(t.get(r, "picture_use"), use) << what;
         if (use.empty()) {
             EXPECT_EQ(t.get(r, "picture"), "") << what;
@@ -107,7 +107,7 @@ strip_method = "pom"
             EXPECT_EQ(mse, 0) << what;
         }
     }
-    EXPECT_EQ(pictures, 3 + 1);  // pom at 3 θ and parallax at 60
+    EXPECT_EQ(pictures, 3 + 1);                              // pom at 3 θ and parallax at 60
     EXPECT_GT(psnr60["pomcpu"], psnr60["parallaxcpu"] + 3);  // pom is far closer at 60°
     // The report: a montage of the view, a strip of pom with its GIF, images.md.
     ASSERT_EQ(pxh("report --no-plots " + res.string()).status, 0);

@@ -18,10 +18,10 @@ constexpr unsigned char kFont[10][5] = {
     {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
 
 // Paul Tol's "muted" colours without black, one per cell column.
-constexpr float kTint[kCells][3] = {
-    {0.200f, 0.133f, 0.533f}, {0.533f, 0.800f, 0.933f}, {0.267f, 0.667f, 0.600f},
-    {0.067f, 0.467f, 0.200f}, {0.600f, 0.600f, 0.200f}, {0.867f, 0.800f, 0.467f},
-    {0.800f, 0.400f, 0.467f}, {0.667f, 0.267f, 0.600f}};
+constexpr float kTint[kCells][3] = {{0.200f, 0.133f, 0.533f}, {0.533f, 0.800f, 0.933f},
+                                    {0.267f, 0.667f, 0.600f}, {0.067f, 0.467f, 0.200f},
+                                    {0.600f, 0.600f, 0.200f}, {0.867f, 0.800f, 0.467f},
+                                    {0.800f, 0.400f, 0.467f}, {0.667f, 0.267f, 0.600f}};
 
 // Whether font pixel (gx, gy) of a cell is ink for the cell's number.
 bool ink(int number, int gx, int gy) {
@@ -50,7 +50,8 @@ void albedo(Vec2d uv, float rgb[3]) {
         c[k] = light ? kTint[cx][k] + (1 - kTint[cx][k]) * 0.55f : kTint[cx][k] * 0.8f;
     const float y = 0.299f * c[0] + 0.587f * c[1] + 0.114f * c[2];
     const bool border = fx < 0.04 || fx > 0.96 || fy < 0.04 || fy > 0.96;
-    const int gx = std::min(int(fx * kGlyph), kGlyph - 1), gy = std::min(int(fy * kGlyph), kGlyph - 1);
+    const int gx = std::min(int(fx * kGlyph), kGlyph - 1),
+              gy = std::min(int(fy * kGlyph), kGlyph - 1);
     const float paint = border ? 0.1f : ink(cy * kCells + cx, gx, gy) ? (y > 0.5f ? 0 : 1) : -1;
     for (int k = 0; k < 3; ++k) rgb[k] = paint >= 0 ? paint : c[k];
 }
