@@ -212,6 +212,36 @@ TEST_F(ReportCheck, ReportTablesAndPlots) {
         EXPECT_EQ(cost.get(i, "pareto_fetches"), dominated ? "0" : "1") << cost.get(i, "series");
     }
     EXPECT_NE(slurp(rep / "summary.tex").find("\\toprule"), std::string::npos);
+    // Per band: a point is on its panel's front exactly when no point of the same band and
+    // group dominates it; the band's mean error is the mean over the series' rows in it.
+    const pxh::CsvTable bands = pxh::read_csv((rep / "data" / "cost_vs_error_bands.csv").string());
+    ASSERT_GT(bands.rows.size(), 0u);
+    for (size_t i = 0; i < bands.rows.size(); ++i) {
+        bool dominated = false;
+        const double ci = bands.number(i, "fetches_mean"), ei = bands.number(i, "err_mean");
+        for (size_t j = 0; j < bands.rows.size(); ++j) {
+            if (j == i || bands.get(j, "group") != bands.get(i, "group") ||
+                bands.get(j, "band") != bands.get(i, "band"))
+                continue;
+            const double cj = bands.number(j, "fetches_mean"), ej = bands.number(j, "err_mean");
+            if (cj <= ci && ej <= ei && (cj < ci || ej < ei)) dominated = true;
+        }
+        EXPECT_EQ(bands.get(i, "pareto_fetches"), dominated ? "0" : "1") << bands.get(i, "series");
+        if (bands.get(i, "series") != "pom " + pom32_params() + " [cpu/float]") continue;
+        double band_sum = 0;
+        int count = 0;
+        for (size_t r = 0; r < res.rows.size(); ++r) {
+            const double th = res.number(r, "theta_deg");
+            if (res.get(r, "method") == "pom" && res.get(r, "params") == pom32_params() &&
+                res.get(r, "backend") == "cpu" && th >= bands.number(i, "band_lo") &&
+                (th < bands.number(i, "band_hi") || th == 90)) {
+                band_sum += res.number(r, "err_mean");
+                ++count;
+            }
+        }
+        ASSERT_GT(count, 0);
+        EXPECT_NEAR(bands.number(i, "err_mean"), band_sum / count, 1e-6 * (1 + band_sum / count));
+    }
 }
 
 }  // namespace

@@ -475,7 +475,7 @@ def picture_montage(F, st, results, rows):
     cells = [(None, None, r0)] + tiles
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
-    pads = [p for k in range(blocks) for p in ((0.45 if k == 0 else 0.55), 0.03)]
+    pads = [p for k in range(blocks) for p in ((0.58 if k == 0 else 0.55), 0.03)]
     fig, axes = image_grid(F.width, nc, pads, 0.3)
     for ax in (a for row in axes for a in row):
         ax.axis("off")
@@ -493,10 +493,13 @@ def picture_montage(F, st, results, rows):
         top.set_title(name, fontsize=6)
         bottom.text(0.5, -0.04, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
                     ha="center", va="top", transform=bottom.transAxes)
+    groups = sorted({g for t in tiles for g in t[1]})
+    note = None if multi or len(groups) < 2 else (
+        " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
     fig.suptitle(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
                  f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each method's "
-                 "uv; below it, |method − truth|", fontsize=7, y=1.0, va="top")
-    note = None if multi else "groups: " + " = ".join(sorted({g for t in tiles for g in t[1]}))
+                 "uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
+                 fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
