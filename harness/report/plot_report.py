@@ -169,7 +169,7 @@ def fold_note(folded):
     together = sorted({" = ".join(gs) for per in folded.values() for gs, _ in per if len(gs) > 1})
     if not together:
         return None
-    return "drawn once where equal within 0.1%: " + "; ".join(together)
+    return "drawn once where equal within 0.1%:\n" + "; ".join(together)
 
 
 def group_handles(folded):
@@ -181,6 +181,20 @@ def group_handles(folded):
             for i, (gs, _) in enumerate(per):
                 styles.setdefault(" = ".join(gs), GROUP_STYLES[i % len(GROUP_STYLES)])
     return [mlines.Line2D([], [], color="0.3", ls=ls, label=lab) for lab, ls in styles.items()]
+
+
+def field_titles(fields):
+    """Panel titles: the fields' names, with the " s=.. b=.." every one of them shares taken
+    out (returned once, for the legend's title)."""
+    tails = {f[f.rfind(" s="):] if " s=" in f else "" for f in fields}
+    if len(tails) == 1 and "" not in tails:
+        tail = tails.pop()
+        return {f: f[: -len(tail)] for f in fields}, "all fields:" + tail
+    return {f: f for f in fields}, None
+
+
+def join_notes(*notes):
+    return "\n".join(n for n in notes if n) or None
 
 
 def curves_of(rows, field, columns):
@@ -222,6 +236,7 @@ def log_axis(ax, linthresh):
 
 def vs_theta(F, st, rows):
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    titles, common = field_titles(fields)
     fig, axes = F.grid(len(fields))
     folded_all, series = {}, 0
     for k, (ax, field) in enumerate(zip(axes, fields)):
@@ -229,7 +244,7 @@ def vs_theta(F, st, rows):
         folded_all.update(folded)
         series += n
         log_axis(ax, 0.01)
-        ax.set_title(field)
+        ax.set_title(titles[field])
         ax.set_xticks([0, 30, 60, 90])
         if k % F.columns(len(fields)) == 0:
             ax.set_ylabel("texel error")
@@ -238,8 +253,9 @@ def vs_theta(F, st, rows):
     handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
     handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="p50"),
                 mlines.Line2D([], [], color="0.3", lw=0.6, alpha=0.55, label="p95")]
-    legend = F.legend(fig, handles, fold_note(folded_all))
-    F.save(fig, "error_vs_theta", len(fields), series, legend, note=fold_note(folded_all))
+    note = join_notes(common, fold_note(folded_all))
+    legend = F.legend(fig, handles, note)
+    F.save(fig, "error_vs_theta", len(fields), series, legend, note=note)
 
 
 def sweep_vs_theta(F, st, rows):
@@ -247,6 +263,7 @@ def sweep_vs_theta(F, st, rows):
     if not rows:
         return
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    titles, common = field_titles(fields)
     panels = [(c, f) for c in ("sliding", "shimmering") for f in fields]
     fig, axes = F.grid(len(panels))
     folded_all, series = {}, 0
@@ -256,15 +273,16 @@ def sweep_vs_theta(F, st, rows):
         folded_all.update(folded)
         series += n
         log_axis(ax, 0.001)
-        ax.set_title(f"{column}: {field}")
+        ax.set_title(f"{column}: {titles[field]}")
         ax.set_xticks([0, 30, 60, 90])
         if k % nc == 0:
             ax.set_ylabel("texels per degree")
         if k >= len(panels) - nc:
             ax.set_xlabel("view angle θ (degrees)")
     handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
-    legend = F.legend(fig, handles, fold_note(folded_all))
-    F.save(fig, "sweep_vs_theta", len(panels), series, legend, note=fold_note(folded_all))
+    note = join_notes(common, fold_note(folded_all))
+    legend = F.legend(fig, handles, note)
+    F.save(fig, "sweep_vs_theta", len(panels), series, legend, note=note)
 
 
 COSTS = {"fetches_mean": ("pareto_fetches", "height fetches / sample"),
