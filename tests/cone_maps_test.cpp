@@ -12,7 +12,10 @@
 #include <cstring>
 #include <sstream>
 
+#include "harness/backends/cpu_backend.h"
+#include "harness/backends/glsl_backend.h"
 #include "harness/core/error.h"
+#include "harness/metrics/metrics.h"
 #include "harness/truth/exact_tracer.h"
 #include "heightfields/heightfields.h"
 #include "methods/cone/cone_map.h"
@@ -254,6 +257,45 @@ TEST(ConeMaps, RelaxedMapsRefuseFieldsOverTheirSizeLimitInOneLine) {
         EXPECT_NE(msg.find("257 x 256"), std::string::npos) << msg;
         EXPECT_NE(msg.find("65536 texels (256 x 256)"), std::string::npos) << msg;
         EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+}
+
+// Every map and step choice (the registry-wide test covers the defaults): the GLSL twin
+// within 1e-3 texel of the CPU float twin, and the same fetch counts, on 99.9% of samples.
+TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
+    static GlslBackend gl(GlslOptions{"", 0});
+    const GeneratorInfo* g = find_generator("fbm");
+    const HeightField hf =
+        generate_heightfield(*g, 64, 64, resolve_params(g->params, {}, "t", "fbm"));
+    const int N = 64;
+    const auto P = sample_grid(N);
+    struct Setting {
+        const MethodInfo* m;
+        GivenParams p;
+    };
+    const std::vector<Setting> settings = {
+        {&cone(), {{"map", "dummer_min"}, {"min_step", "cell"}}},
+        {&cone(), {{"map", "bilinear"}, {"min_step", "texel"}}},
+        {&cone(), {{"map", "bilinear"}, {"min_step", "cell"}}},
+        {&relaxed(), {{"cones", "ban"}}},
+        {&relaxed(), {{"cones", "ban_min"}, {"binary_steps", 3}}}};
+    for (const Setting& st : settings) {
+        ResourceCache cache(hf);
+        const MethodResources res = cache.get(st.m->name, st.m->resources, 0.05, 1.0);
+        const MethodSpec spec{st.m, test::params_for(*st.m, st.p)};
+        for (double theta : {20.0, 70.0}) {
+            const Scene<double> sc{0.05, 1.0, view_vector(theta, 35), hf.width, hf.height};
+            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0, &res);
+            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0, &res);
+            size_t far = 0, fetch_off = 0;
+            for (size_t k = 0; k < P.size(); ++k) {
+                const Vec2d e = texel_error(gpu.uv[k], cpu.uv[k], hf.width, hf.height);
+                far += !(std::hypot(e.x, e.y) <= 1e-3);
+                fetch_off += gpu.fetches[k] != cpu.fetches[k];
+            }
+            EXPECT_LE(far, P.size() / 1000) << st.m->name << " " << spec.params.canonical();
+            EXPECT_LE(fetch_off, P.size() / 1000) << st.m->name << " " << spec.params.canonical();
+        }
     }
 }
 
