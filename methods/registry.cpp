@@ -72,7 +72,21 @@ static void check_declarations(const MethodInfo& info) {
         if (r.name.rfind("r_", 0) != 0)
             fail("resource '" + r.name + "': its sampler name must start with r_");
         if (!resources.insert(r.name).second) fail("resource '" + r.name + "' declared twice");
-        if (!r.build) fail("resource '" + r.name + "' has no builder");
+        if (r.int_param.empty() && !r.build_with) {
+            if (!r.build) fail("resource '" + r.name + "' has no builder");
+            continue;
+        }
+        // A resource built per value of one integer parameter (ResourceSpec::int_param).
+        if (r.int_param.empty() || !r.build_with || r.build)
+            fail("resource '" + r.name + "': int_param needs build_with and no build");
+        const ParamSpec* p = nullptr;
+        for (const ParamSpec& s : info.params)
+            if (s.name == r.int_param) p = &s;
+        if (!p || p->type != ParamType::Integer || !p->default_value)
+            fail("resource '" + r.name + "': int_param '" + r.int_param +
+                 "' is not an integer parameter with a default");
+        if (p->default_value->number() != r.int_param_default)
+            fail("resource '" + r.name + "': int_param_default is not the parameter's default");
     }
 }
 

@@ -20,11 +20,20 @@ size_t MethodResources::aux_bytes() const {
     return b;
 }
 
+int ResourceSpec::param_value(const ParamValues* params) const {
+    if (int_param.empty()) return 0;
+    return params && params->has(int_param) ? params->get_int(int_param) : int_param_default;
+}
+
 BuiltResource build_resource(const ResourceSpec& spec, const HeightField& hf, double scale,
-                             double bias) {
-    if (!spec.build) throw std::logic_error("resource '" + spec.name + "' has no builder");
+                             double bias, const ParamValues* params) {
+    if (!(spec.build_with ? !spec.int_param.empty() : spec.build && spec.int_param.empty()))
+        throw std::logic_error("resource '" + spec.name +
+                               "' has no builder (or int_param and build_with disagree)");
     const auto t0 = std::chrono::steady_clock::now();
-    auto image = std::make_shared<ResourceImage>(spec.build(hf, scale, bias));
+    auto image = std::make_shared<ResourceImage>(
+        spec.build_with ? spec.build_with(hf, scale, bias, spec.param_value(params))
+                        : spec.build(hf, scale, bias));
     const auto t1 = std::chrono::steady_clock::now();
     auto fail = [&](const std::string& why) {
         throw std::logic_error("resource '" + spec.name + "': " + why);
@@ -60,16 +69,16 @@ BuiltResource build_resource(const ResourceSpec& spec, const HeightField& hf, do
 
 MethodResources ResourceCache::get(const std::string& method,
                                    const std::vector<ResourceSpec>& specs, double scale,
-                                   double bias) {
+                                   double bias, const ParamValues* params) {
     MethodResources out;
     std::lock_guard<std::mutex> lock(mutex_);
     for (const ResourceSpec& spec : specs) {
         const bool per_view = spec.depends_on_scale_bias;
-        const auto key =
-            std::make_tuple(method, spec.name, per_view ? scale : 0.0, per_view ? bias : 0.0);
+        const auto key = std::make_tuple(method, spec.name, per_view ? scale : 0.0,
+                                         per_view ? bias : 0.0, spec.param_value(params));
         auto it = built_.find(key);
         if (it == built_.end()) {
-            it = built_.emplace(key, build_resource(spec, *hf_, scale, bias)).first;
+            it = built_.emplace(key, build_resource(spec, *hf_, scale, bias, params)).first;
             ++builds_;
         }
         out.items.push_back(it->second);

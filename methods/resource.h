@@ -19,6 +19,7 @@
 #include <tuple>
 #include <vector>
 
+#include "harness/core/params.h"
 #include "harness/core/vec.h"
 #include "harness/scene/heightfield.h"
 
@@ -53,6 +54,16 @@ struct ResourceSpec {
     // pure function of its inputs: the same bytes whatever the thread count.
     ResourceImage (*build)(const HeightField& hf, double scale, double bias) = nullptr;
     std::string help{};  // one line: what the texels hold
+    // A resource that also depends on one integer parameter of its method (e.g. a slice count):
+    // the parameter's name, the builder that takes its value (used instead of `build`), and the
+    // value a build without the method's parameters uses (the parameter's default). Built once
+    // per value (ResourceCache keys it with the value).
+    std::string int_param{};
+    ResourceImage (*build_with)(const HeightField& hf, double scale, double bias,
+                                int value) = nullptr;
+    int int_param_default = 0;
+    // The value of int_param in `params` (nullptr: the default); 0 for a resource without one.
+    int param_value(const ParamValues* params) const;
 };
 
 // A built resource: its declaration, its texels (checked against the declaration), the time
@@ -72,9 +83,10 @@ struct MethodResources {
 };
 
 // Builds one resource now: runs the builder, checks the levels (sizes, texel counts, finite
-// values; std::logic_error naming the resource otherwise), times it.
+// values; std::logic_error naming the resource otherwise), times it. `params`: the method's
+// parameters, for a resource with an int_param (nullptr: its default).
 BuiltResource build_resource(const ResourceSpec& spec, const HeightField& hf, double scale,
-                             double bias);
+                             double bias, const ParamValues* params = nullptr);
 
 // One height field's resources, built on first use and shared afterwards (by every view and
 // both backends). Thread-safe. Keyed by the method's resource name (and s, b for resources that
@@ -82,15 +94,16 @@ BuiltResource build_resource(const ResourceSpec& spec, const HeightField& hf, do
 class ResourceCache {
   public:
     explicit ResourceCache(const HeightField& hf) : hf_(&hf) {}
-    // The resources `specs` declares at (s, b); `method` names the owner (keys and messages).
+    // The resources `specs` declares at (s, b); `method` names the owner (keys and messages);
+    // `params` its parameters, for resources with an int_param (nullptr: their defaults).
     MethodResources get(const std::string& method, const std::vector<ResourceSpec>& specs,
-                        double scale, double bias);
+                        double scale, double bias, const ParamValues* params = nullptr);
     int builds() const;  // how many builds ran so far
 
   private:
     const HeightField* hf_;
     mutable std::mutex mutex_;
-    std::map<std::tuple<std::string, std::string, double, double>, BuiltResource> built_;
+    std::map<std::tuple<std::string, std::string, double, double, int>, BuiltResource> built_;
     int builds_ = 0;
 };
 

@@ -68,7 +68,7 @@ std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const S
     std::vector<Vec2<T>> pts(P.size()), uv(P.size());
     std::vector<int> f(P.size());
     ResourceCache cache(hf);  // the method's resources, if it declares any
-    const MethodResources res = cache.get(m.name, m.resources, sc.scale, sc.bias);
+    const MethodResources res = cache.get(m.name, m.resources, sc.scale, sc.bias, &p);
     const MethodInputs in{&hf, &res};
     std::vector<int> split(per_texture ? P.size() * (1 + m.resources.size()) : 0);
     for (size_t i = 0; i < P.size(); ++i) pts[i] = Vec2<T>(P[i]);

@@ -205,8 +205,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
             try {
                 // Built on first use, then shared by every view and backend (a failed build
                 // fails this row).
-                const MethodResources res = job.c.resources.get(m.method->name, m.method->resources,
-                                                                job.scene.scale, job.scene.bias);
+                const MethodResources res =
+                    job.c.resources.get(m.method->name, m.method->resources, job.scene.scale,
+                                        job.scene.bias, &m.params);
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
