@@ -260,7 +260,7 @@ TEST(ConeMaps, RelaxedMapsRefuseFieldsOverTheirSizeLimitInOneLine) {
     }
 }
 
-// Every map and step choice (the registry-wide test covers the defaults): the GLSL twin
+// Every map, step and refinement choice (the registry-wide test covers the defaults): the GLSL twin
 // within 1e-3 texel of the CPU float twin, and the same fetch counts, on 99.9% of samples.
 TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
     static GlslBackend gl(GlslOptions{"", 0});
@@ -277,6 +277,14 @@ TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
         {&cone(), {{"map", "dummer_min"}, {"min_step", "cell"}}},
         {&cone(), {{"map", "bilinear"}, {"min_step", "texel"}}},
         {&cone(), {{"map", "bilinear"}, {"min_step", "cell"}}},
+        {&cone(),
+         {{"map", "dummer_min"}, {"min_step", "cell"}, {"steps", 20}, {"refine", "linear"}}},
+        {&cone(),
+         {{"map", "dummer"},
+          {"min_step", "texel"},
+          {"steps", 16},
+          {"refine", "binary"},
+          {"refine_steps", 7}}},
         {&relaxed(), {{"cones", "ban"}}},
         {&relaxed(), {{"cones", "ban_min"}, {"binary_steps", 3}}}};
     for (const Setting& st : settings) {
