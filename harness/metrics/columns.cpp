@@ -45,8 +45,10 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"frac_gt_1", kNum, kMeasured, "fraction of finite samples more than 1 texel off"},
         {"nonfinite", kInt, kMeasured, "samples whose output is NaN/Inf (left out above)"},
         // Height fetches (harness/metrics/fetches.cpp).
-        {"fetches_mean", kNum, kMeasured, "height fetches per sample, mean"},
-        {"fetches_max", kNum, kMeasured, "height fetches per sample, max"},
+        {"fetches_mean", kNum, kMeasured,
+         "filtered lookups (height map or precomputed map) per sample, mean"},
+        {"fetches_max", kNum, kMeasured,
+         "filtered lookups (height map or precomputed map) per sample, max"},
         {"fetches_bound", kInt, kKey, "the method's declared fetch bound for this view"},
         // Timing (harness/metrics/timing.cpp).
         {"ns_per_sample", kNum, kMeasured, "CPU: median single-thread time per sample (ns)"},

@@ -1,5 +1,5 @@
-// fetches_mean, fetches_max: height fetches per sample (fetches_bound, the method's declared
-// bound, is a key the run sets on every row).
+// fetches_mean, fetches_max: filtered lookups (height map or a precomputed map) per sample
+// (fetches_bound, the method's declared bound, is a key the run sets on every row).
 #include <algorithm>
 #include <cmath>
 

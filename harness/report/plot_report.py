@@ -285,7 +285,7 @@ def sweep_vs_theta(F, st, rows):
     F.save(fig, "sweep_vs_theta", len(panels), series, legend, note=note)
 
 
-COSTS = {"fetches_mean": ("pareto_fetches", "height fetches / sample"),
+COSTS = {"fetches_mean": ("pareto_fetches", "fetches / sample (height and map lookups)"),
          "ns_per_sample": ("pareto_ns", "CPU ns / sample"),
          "ms_per_frame": ("pareto_ms", "GLSL ms / frame")}
 

@@ -212,13 +212,14 @@ void write_budget(const ReportData& d) {
         tt.rows.push_back(row);
     }
     tt.notes = d.notes();
-    tt.notes.push_back(std::string("Cheapest method setting (fewest height fetches per "
-                                   "sample, then CPU time, over its rows in the band) whose "
-                                   "mean ") +
-                       d.metric.meaning + " (`" + d.metric.column +
-                       "`) in the band is within the budget on every backend, precision and "
-                       "texture format it ran on, with no failed row and no non-finite "
-                       "output there.");
+    tt.notes.push_back(
+        std::string("Cheapest method setting (fewest fetches, height and map lookups, per "
+                    "sample, then CPU time, over its rows in the band) whose "
+                    "mean ") +
+        d.metric.meaning + " (`" + d.metric.column +
+        "`) in the band is within the budget on every backend, precision and "
+        "texture format it ran on, with no failed row and no non-finite "
+        "output there.");
     d.write("budget.md", tt.markdown());
     d.write("budget.tex", tt.latex(d.dir + "/results.csv"));
 }

@@ -1,0 +1,234 @@
+#!/usr/bin/env python3
+"""The README tables "Accelerated and exact methods" from a run of results/experiments/methods.toml
+and one of results/experiments/precompute.toml.
+
+    methods_table.py METHODS_RUN_DIR [PRECOMPUTE_RUN_DIR ...]
+
+Table 1, per method setting (method and its parameters as results.csv's `params` writes them):
+the mean and p95 texel error averaged over the views of each theta band (CPU float rows, the
+fields every setting ran on pooled), the mean fetches per sample, ns/sample (CPU float: the median over the
+setting's rows of each row's median), ms/frame (GLSL: the median over its rows), and, from the
+precompute run, precompute_ms and aux_bytes on the 256^2 and 1024^2 fields.
+
+Tables 2 and 3: err_p95 per setting and field, theta 60-75 and 75-85 (every field of the run,
+"-" where a setting did not run).
+
+Table 4 (with precompute runs), per setting with precomputed textures: precompute_ms (the median
+over the runs given, and its range) and aux_bytes at every field size, and the exponent a of
+t ~ N^a fitted by least squares on log-log over the sizes >= 256 (a = 2: linear in the texel
+count)."""
+import csv
+import math
+import statistics
+import sys
+from collections import defaultdict
+
+BANDS = [(0, 30), (30, 60), (60, 75), (75, 85.0001)]
+
+
+def num(s):
+    try:
+        v = float(s)
+        return v if math.isfinite(v) else None
+    except (TypeError, ValueError):
+        return None
+
+
+def mean(xs):
+    xs = [x for x in xs if x is not None]
+    return sum(xs) / len(xs) if xs else None
+
+
+def median(xs):
+    xs = [x for x in xs if x is not None]
+    return statistics.median(xs) if xs else None
+
+
+def fmt(v, p=3):
+    if v is None:
+        return "-"
+    return f"{v:.{p}f}"
+
+
+def fmt_bytes(b):
+    if b is None:
+        return "-"
+    if b == 0:
+        return "0"
+    for unit, k in (("GiB", 1 << 30), ("MiB", 1 << 20), ("KiB", 1 << 10)):
+        if b >= k:
+            return f"{b / k:.1f} {unit}"
+    return f"{b:.0f} B"
+
+
+def key(r):
+    return (r["method"], r["params"])
+
+
+def label(k):
+    m, p = k
+    return f"`{m}`" + (f" {p.replace(';', ', ')}" if p else "")
+
+
+def read_rows(run):
+    rows = list(csv.DictReader(open(f"{run}/results.csv")))
+    bad = [r for r in rows if r["status"] != "ok"]
+    if bad:
+        print(f"note: {len(bad)} rows of {run}/results.csv failed; left out", file=sys.stderr)
+    return [r for r in rows if r["status"] == "ok"]
+
+
+def field_size(r):
+    return int(r["width"]), int(r["height"])
+
+
+def precompute_by_size(runs):
+    """{setting: {N: (ms, bytes, ms_min, ms_max)}} from the CPU rows of one or more precompute
+    runs: ms is the median over the runs (each run measures a build once per field and copies the
+    figure to each row of the field), ms_min / ms_max their range."""
+    out = defaultdict(dict)
+    acc = defaultdict(list)
+    for pre_rows in runs:
+        seen = set()
+        for r in pre_rows:
+            w, _ = field_size(r)
+            if r["backend"] != "cpu" or (key(r), w) in seen:
+                continue
+            seen.add((key(r), w))
+            acc[(key(r), w)].append((num(r.get("precompute_ms")), num(r.get("aux_bytes"))))
+    for (k, n), vals in acc.items():
+        ms = [v[0] for v in vals if v[0] is not None]
+        out[k][n] = (median(ms), median(v[1] for v in vals), min(ms, default=None),
+                     max(ms, default=None))
+    return out
+
+
+def common_fields(rows):
+    """The fields every method setting ran on (a setting can be limited to some fields with
+    [[methods]] heightfields = [...]); the pooled table uses only these, so that its rows
+    compare like with like."""
+    by = defaultdict(set)
+    for r in rows:
+        by[key(r)].add(r["heightfield"])
+    sets = list(by.values())
+    common = set.intersection(*sets) if sets else set()
+    return [f for f in dict.fromkeys(r["heightfield"] for r in rows) if f in common]
+
+
+def table_methods(rows, pre):
+    fields = common_fields(rows)
+    print("Pooled over " + ", ".join(f"`{f}`" for f in fields) + " (the fields every setting ran on).")
+    print()
+    rows = [r for r in rows if r["heightfield"] in fields]
+    order, cpu, gl = [], defaultdict(list), defaultdict(list)
+    for r in rows:
+        k = key(r)
+        if k not in cpu and k not in gl:
+            order.append(k)
+        if r["backend"] == "cpu" and r["precision"] == "float":
+            cpu[k].append(r)
+        elif r["backend"] == "glsl":
+            gl[k].append(r)
+    head = ["method"] + [f"{lo:g}-{min(hi, 85):g}° mean / p95" for lo, hi in BANDS]
+    head += ["fetches", "ns/sample", "ms/frame", "precompute 256² / 1024²", "memory 256² / 1024²"]
+    print("| " + " | ".join(head) + " |")
+    print("|---|" + "---:|" * (len(head) - 1))
+    for k in order:
+        rs = cpu[k]
+        cells = [label(k)]
+        for lo, hi in BANDS:
+            band = [r for r in rs if lo <= float(r["theta_deg"]) < hi]
+            cells.append(fmt(mean(num(r["err_mean"]) for r in band)) + " / " +
+                         fmt(mean(num(r["err_p95"]) for r in band)))
+        cells.append(fmt(mean(num(r["fetches_mean"]) for r in rs), 1))
+        cells.append(fmt(median(num(r["ns_per_sample"]) for r in rs), 0))
+        cells.append(fmt(median(num(r["ms_per_frame"]) for r in gl[k]), 2))
+        sizes = pre.get(k, {})
+        t = [sizes.get(n, (None, None))[:2] for n in (256, 1024)]
+        if all(not b for _, b in t):
+            cells += ["-", "-"]
+        else:
+            cells.append(" / ".join(fmt_ms(ms) if ms is not None else "-" for ms, _ in t))
+            cells.append(" / ".join(fmt_bytes(b) for _, b in t))
+        print("| " + " | ".join(cells) + " |")
+
+
+def table_fields(rows, lo, hi):
+    """err_p95 per setting and field, averaged over the views of one theta band (CPU float)."""
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    order, acc = [], defaultdict(list)
+    for r in rows:
+        k = key(r)
+        if k not in order:
+            order.append(k)
+        if r["backend"] == "cpu" and r["precision"] == "float" and lo <= float(r["theta_deg"]) < hi:
+            acc[(k, r["heightfield"])].append(num(r["err_p95"]))
+    print(f"err_p95 (texels) per field, mean over the views with {lo:g} <= theta < {min(hi, 85):g}:")
+    print()
+    print("| method | " + " | ".join(f"`{f}`" for f in fields) + " |")
+    print("|---|" + "---:|" * len(fields))
+    for k in order:
+        print("| " + " | ".join([label(k)] + [fmt(mean(acc.get((k, f), [])), 2) for f in fields]) + " |")
+
+
+def growth_exponent(by):
+    """The exponent a of t ~ N^a: least squares of log t on log N over the sizes >= 256 (smaller
+    builds are dominated by fixed costs), or over every size when fewer than two are >= 256."""
+    pts = [(math.log(n), math.log(v[0])) for n, v in by.items() if n >= 256 and v[0] and v[0] > 0]
+    if len(pts) < 2:  # a method limited to small fields: every size it ran at
+        pts = [(math.log(n), math.log(v[0])) for n, v in by.items() if v[0] and v[0] > 0]
+    if len(pts) < 2:
+        return None
+    mx = sum(x for x, _ in pts) / len(pts)
+    my = sum(y for _, y in pts) / len(pts)
+    sxx = sum((x - mx) ** 2 for x, _ in pts)
+    return sum((x - mx) * (y - my) for x, y in pts) / sxx if sxx > 0 else None
+
+
+def table_growth(pre, runs):
+    sizes = sorted({n for v in pre.values() for n in v})
+    print(f"precompute_ms: median of {runs} run(s) [range], aux_bytes; growth: t ~ N^a fitted over"
+          " N >= 256")
+    print()
+    print("| method | " + " | ".join(f"{n}²" for n in sizes) + " | growth |")
+    print("|---|" + "---:|" * (len(sizes) + 1))
+    for k, by in pre.items():
+        if all((by.get(n, (0, 0))[1] or 0) == 0 for n in sizes):
+            continue
+        cells = [label(k)]
+        for n in sizes:
+            ms, b, lo, hi = by.get(n, (None, None, None, None))
+            if ms is None:
+                cells.append("-")
+                continue
+            t = fmt_ms(ms) + (f" [{fmt_ms(lo)}–{fmt_ms(hi)}]" if runs > 1 else "")
+            cells.append(t + ", " + fmt_bytes(b))
+        g = growth_exponent(by)
+        cells.append("-" if g is None else f"N^{g:.2f}")
+        print("| " + " | ".join(cells) + " |")
+
+
+def fmt_ms(ms):
+    return f"{ms / 1000:.2f} s" if ms >= 1000 else f"{ms:.1f} ms"
+
+
+def main():
+    args = sys.argv[1:]
+    if not args or args[0] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0 if args else 2
+    rows = read_rows(args[0])
+    pre = precompute_by_size([read_rows(a) for a in args[1:]])
+    table_methods(rows, pre)
+    print()
+    table_fields(rows, 60, 75)
+    print()
+    table_fields(rows, 75, 85.0001)
+    if pre:
+        print()
+        table_growth(pre, len(args) - 1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
