@@ -6,14 +6,15 @@ and one of results/experiments/precompute.toml.
 
 Table 1, per method setting (method and its parameters as results.csv's `params` writes them):
 the mean and p95 texel error averaged over the views of each theta band (CPU float rows, the
-fields every setting ran on pooled), the mean fetches per sample, ns/sample (CPU float: the median over the
-setting's rows of each row's median), ms/frame (GLSL: the median over its rows), and, from the
-precompute run, precompute_ms and aux_bytes on the 256^2 and 1024^2 fields.
+fields every setting ran on pooled), the mean fetches per sample, ns/sample (CPU float: the
+median over the setting's rows of each row's median), ms/frame (GLSL: the median over its rows),
+and the precompute_ms and aux_bytes of its maps on the run's fbm field.
 
 Tables 2 and 3: err_p95 per setting and field, theta 60-75 and 75-85 (every field of the run,
 "-" where a setting did not run).
 
-Table 4 (with precompute runs), per setting with precomputed textures: precompute_ms (the median
+Table 4 (with precompute runs), per method with precomputed textures (and per slice count for
+distance: every other setting of a method shares its maps): precompute_ms (the median
 over the runs given, and its range) and aux_bytes at every field size, and the exponent a of
 t ~ N^a fitted by least squares on log-log over the sizes >= 256 (a = 2: linear in the texel
 count)."""
@@ -24,6 +25,7 @@ import sys
 from collections import defaultdict
 
 BANDS = [(0, 30), (30, 60), (60, 75), (75, 85.0001)]
+PRE_FIELD = "fbm"  # the methods run's field whose precompute_ms and aux_bytes table 1 shows
 
 
 def num(s):
@@ -82,6 +84,13 @@ def field_size(r):
     return int(r["width"]), int(r["height"])
 
 
+def resource_key(r):
+    """What a method's maps depend on: the method, and `slices` for distance (the only map
+    parameter; every other setting of a method shares its maps)."""
+    p = dict(kv.split("=", 1) for kv in r["params"].split(";") if "=" in kv)
+    return (r["method"], f"slices={p['slices']}" if "slices" in p else "")
+
+
 def precompute_by_size(runs):
     """{setting: {N: (ms, bytes, ms_min, ms_max)}} from the CPU rows of one or more precompute
     runs: ms is the median over the runs (each run measures a build once per field and copies the
@@ -92,10 +101,10 @@ def precompute_by_size(runs):
         seen = set()
         for r in pre_rows:
             w, _ = field_size(r)
-            if r["backend"] != "cpu" or (key(r), w) in seen:
+            if r["backend"] != "cpu" or (resource_key(r), w) in seen:
                 continue
-            seen.add((key(r), w))
-            acc[(key(r), w)].append((num(r.get("precompute_ms")), num(r.get("aux_bytes"))))
+            seen.add((resource_key(r), w))
+            acc[(resource_key(r), w)].append((num(r.get("precompute_ms")), num(r.get("aux_bytes"))))
     for (k, n), vals in acc.items():
         ms = [v[0] for v in vals if v[0] is not None]
         out[k][n] = (median(ms), median(v[1] for v in vals), min(ms, default=None),
@@ -115,7 +124,7 @@ def common_fields(rows):
     return [f for f in dict.fromkeys(r["heightfield"] for r in rows) if f in common]
 
 
-def table_methods(rows, pre):
+def table_methods(rows):
     fields = common_fields(rows)
     print("Pooled over " + ", ".join(f"`{f}`" for f in fields) + " (the fields every setting ran on).")
     print()
@@ -130,7 +139,7 @@ def table_methods(rows, pre):
         elif r["backend"] == "glsl":
             gl[k].append(r)
     head = ["method"] + [f"{lo:g}-{min(hi, 85):g}° mean / p95" for lo, hi in BANDS]
-    head += ["fetches", "ns/sample", "ms/frame", "precompute 256² / 1024²", "memory 256² / 1024²"]
+    head += ["fetches", "ns/sample", "ms/frame", f"precompute ({PRE_FIELD})", "memory"]
     print("| " + " | ".join(head) + " |")
     print("|---|" + "---:|" * (len(head) - 1))
     for k in order:
@@ -143,13 +152,10 @@ def table_methods(rows, pre):
         cells.append(fmt(mean(num(r["fetches_mean"]) for r in rs), 1))
         cells.append(fmt(median(num(r["ns_per_sample"]) for r in rs), 0))
         cells.append(fmt(median(num(r["ms_per_frame"]) for r in gl[k]), 2))
-        sizes = pre.get(k, {})
-        t = [sizes.get(n, (None, None))[:2] for n in (256, 1024)]
-        if all(not b for _, b in t):
-            cells += ["-", "-"]
-        else:
-            cells.append(" / ".join(fmt_ms(ms) if ms is not None else "-" for ms, _ in t))
-            cells.append(" / ".join(fmt_bytes(b) for _, b in t))
+        own = [r for r in rs if r["heightfield"] == PRE_FIELD]
+        ms = median(num(r.get("precompute_ms")) for r in own)
+        b = median(num(r.get("aux_bytes")) for r in own)
+        cells += ["-", "-"] if not b else [fmt_ms(ms), fmt_bytes(b)]
         print("| " + " | ".join(cells) + " |")
 
 
@@ -219,7 +225,7 @@ def main():
         return 0 if args else 2
     rows = read_rows(args[0])
     pre = precompute_by_size([read_rows(a) for a in args[1:]])
-    table_methods(rows, pre)
+    table_methods(rows)
     print()
     table_fields(rows, 60, 75)
     print()
