@@ -8,7 +8,8 @@ Table 1, per method setting (method and its parameters as results.csv's `params`
 the mean and p95 texel error averaged over the views of each theta band (CPU float rows, the
 fields every setting ran on pooled), the mean fetches per sample, ns/sample (CPU float: the
 median over the setting's rows of each row's median), ms/frame (GLSL: the median over its rows),
-and the precompute_ms and aux_bytes of its maps on the run's fbm field.
+and, from the precompute runs, the median precompute_ms and the aux_bytes of its maps at 256^2
+and 1024^2 (fbm).
 
 Tables 2 and 3: err_p95 per setting and field, theta 60-75 and 75-85 (every field of the run,
 "-" where a setting did not run).
@@ -25,7 +26,7 @@ import sys
 from collections import defaultdict
 
 BANDS = [(0, 30), (30, 60), (60, 75), (75, 85.0001)]
-PRE_FIELD = "fbm"  # the methods run's field whose precompute_ms and aux_bytes table 1 shows
+PRE_SIZES = (256, 1024)  # the field sizes (precompute runs) whose map cost table 1 shows
 
 
 def num(s):
@@ -124,7 +125,7 @@ def common_fields(rows):
     return [f for f in dict.fromkeys(r["heightfield"] for r in rows) if f in common]
 
 
-def table_methods(rows):
+def table_methods(rows, pre):
     fields = common_fields(rows)
     print("Pooled over " + ", ".join(f"`{f}`" for f in fields) + " (the fields every setting ran on).")
     print()
@@ -139,7 +140,8 @@ def table_methods(rows):
         elif r["backend"] == "glsl":
             gl[k].append(r)
     head = ["method"] + [f"{lo:g}-{min(hi, 85):g}° mean / p95" for lo, hi in BANDS]
-    head += ["fetches", "ns/sample", "ms/frame", f"precompute ({PRE_FIELD})", "memory"]
+    sizes = " / ".join(f"{n}²" for n in PRE_SIZES)
+    head += ["fetches", "ns/sample", "ms/frame", f"precompute {sizes}", f"memory {sizes}"]
     print("| " + " | ".join(head) + " |")
     print("|---|" + "---:|" * (len(head) - 1))
     for k in order:
@@ -152,10 +154,13 @@ def table_methods(rows):
         cells.append(fmt(mean(num(r["fetches_mean"]) for r in rs), 1))
         cells.append(fmt(median(num(r["ns_per_sample"]) for r in rs), 0))
         cells.append(fmt(median(num(r["ms_per_frame"]) for r in gl[k]), 2))
-        own = [r for r in rs if r["heightfield"] == PRE_FIELD]
-        ms = median(num(r.get("precompute_ms")) for r in own)
-        b = median(num(r.get("aux_bytes")) for r in own)
-        cells += ["-", "-"] if not b else [fmt_ms(ms), fmt_bytes(b)]
+        by = pre.get(resource_key(rs[0]), {}) if rs else {}
+        t = [by.get(n, (None, None))[:2] for n in PRE_SIZES]
+        if not any(b for _, b in t):
+            cells += ["-", "-"]
+        else:
+            cells.append(" / ".join("-" if ms is None else fmt_ms(ms) for ms, _ in t))
+            cells.append(" / ".join("-" if b is None else fmt_bytes(b) for _, b in t))
         print("| " + " | ".join(cells) + " |")
 
 
@@ -225,7 +230,7 @@ def main():
         return 0 if args else 2
     rows = read_rows(args[0])
     pre = precompute_by_size([read_rows(a) for a in args[1:]])
-    table_methods(rows)
+    table_methods(rows, pre)
     print()
     table_fields(rows, 60, 75)
     print()
