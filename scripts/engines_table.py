@@ -20,7 +20,7 @@ def num(s):
     try:
         v = float(s)
         return v if math.isfinite(v) else None
-    except ValueError:
+    except (TypeError, ValueError):  # an empty or missing cell
         return None
 
 

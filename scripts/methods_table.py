@@ -25,32 +25,14 @@ import statistics
 import sys
 from collections import defaultdict
 
-BANDS = [(0, 30), (30, 60), (60, 75), (75, 85.0001)]
+from engines_table import BANDS, fmt, mean, num  # the same bands and cell rules as the engines table
+
 PRE_SIZES = (256, 1024)  # the field sizes (precompute runs) whose map cost table 1 shows
-
-
-def num(s):
-    try:
-        v = float(s)
-        return v if math.isfinite(v) else None
-    except (TypeError, ValueError):
-        return None
-
-
-def mean(xs):
-    xs = [x for x in xs if x is not None]
-    return sum(xs) / len(xs) if xs else None
 
 
 def median(xs):
     xs = [x for x in xs if x is not None]
     return statistics.median(xs) if xs else None
-
-
-def fmt(v, p=3):
-    if v is None:
-        return "-"
-    return f"{v:.{p}f}"
 
 
 def fmt_bytes(b):
@@ -74,7 +56,8 @@ def label(k):
 
 
 def read_rows(run):
-    rows = list(csv.DictReader(open(f"{run}/results.csv")))
+    with open(f"{run}/results.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
     bad = [r for r in rows if r["status"] != "ok"]
     if bad:
         print(f"note: {len(bad)} rows of {run}/results.csv failed; left out", file=sys.stderr)

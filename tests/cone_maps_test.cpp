@@ -19,6 +19,7 @@
 #include "harness/truth/exact_tracer.h"
 #include "heightfields/heightfields.h"
 #include "methods/cone/cone_map.h"
+#include "tests/glsl_agreement.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -268,7 +269,6 @@ TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
     const HeightField hf =
         generate_heightfield(*g, 64, 64, resolve_params(g->params, {}, "t", "fbm"));
     const int N = 64;
-    const auto P = sample_grid(N);
     struct Setting {
         const MethodInfo* m;
         GivenParams p;
@@ -293,16 +293,10 @@ TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
         const MethodSpec spec{st.m, test::params_for(*st.m, st.p)};
         for (double theta : {20.0, 70.0}) {
             const Scene<double> sc{0.05, 1.0, view_vector(theta, 35), hf.width, hf.height};
-            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0, &res);
-            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0, &res);
-            size_t far = 0, fetch_off = 0;
-            for (size_t k = 0; k < P.size(); ++k) {
-                const Vec2d e = texel_error(gpu.uv[k], cpu.uv[k], hf.width, hf.height);
-                far += !(std::hypot(e.x, e.y) <= 1e-3);
-                fetch_off += gpu.fetches[k] != cpu.fetches[k];
-            }
-            EXPECT_LE(far, P.size() / 1000) << st.m->name << " " << spec.params.canonical();
-            EXPECT_LE(fetch_off, P.size() / 1000) << st.m->name << " " << spec.params.canonical();
+            const test::GlslCpuDiff d = test::glsl_vs_cpu(gl, spec, sc, hf, N, &res);
+            EXPECT_LE(d.far, d.samples / 1000) << st.m->name << " " << spec.params.canonical();
+            EXPECT_LE(d.fetch_off, d.samples / 1000)
+                << st.m->name << " " << spec.params.canonical();
         }
     }
 }

@@ -11,6 +11,7 @@
 #include "harness/backends/glsl_backend.h"
 #include "harness/metrics/metrics.h"
 #include "heightfields/heightfields.h"
+#include "tests/glsl_agreement.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -183,7 +184,6 @@ TEST(Distance, GlslAgreesWithCpuFloatAtNonDefaultSettings) {
     const HeightField hf =
         generate_heightfield(*g, 96, 64, resolve_params(g->params, {}, "t", "fbm"));
     const int N = 64;
-    const auto P = sample_grid(N);
     for (const GivenParams& given :
          {GivenParams{{"slices", 5}, {"iterations", 40}}, GivenParams{{"slices", 32}}}) {
         const MethodSpec spec{&dist(), test::params_for(dist(), given)};
@@ -192,15 +192,9 @@ TEST(Distance, GlslAgreesWithCpuFloatAtNonDefaultSettings) {
             cache.get("distance", dist().resources, 0.05, 0.5, &spec.params);
         for (double theta : {0.0, 45.0, 80.0}) {
             const Scene<double> sc{0.05, 0.5, view_vector(theta, 25), hf.width, hf.height};
-            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0, &res);
-            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0, &res);
-            long long far = 0;
-            for (size_t k = 0; k < P.size(); ++k) {
-                const Vec2d e = texel_error(gpu.uv[k], cpu.uv[k], hf.width, hf.height);
-                far += !(std::hypot(e.x, e.y) <= 1e-3);
-                EXPECT_EQ(gpu.fetches[k], cpu.fetches[k]);
-            }
-            EXPECT_LE(far, (long long)P.size() / 1000) << spec.params.canonical() << " " << theta;
+            const test::GlslCpuDiff d = test::glsl_vs_cpu(gl, spec, sc, hf, N, &res);
+            EXPECT_EQ(d.fetch_off, 0u) << spec.params.canonical() << " " << theta;
+            EXPECT_LE(d.far, d.samples / 1000) << spec.params.canonical() << " " << theta;
         }
     }
 }

@@ -12,6 +12,7 @@
 #include "harness/metrics/metrics.h"
 #include "harness/truth/exact_tracer.h"
 #include "heightfields/heightfields.h"
+#include "tests/glsl_agreement.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -315,7 +316,6 @@ TEST(SearchMethodsGlsl, NonDefaultSettingsAgreeWithCpuFloat) {
     static GlslBackend gl(GlslOptions{"", 0});
     const HeightField hf = generated("fbm", 128);
     const int N = 64;
-    const auto P = sample_grid(N);
     struct Case {
         const char* name;
         GivenParams given;
@@ -337,15 +337,9 @@ TEST(SearchMethodsGlsl, NonDefaultSettingsAgreeWithCpuFloat) {
         const MethodResources res = cache.get(m.name, m.resources, 0.05, 0.5);
         for (double theta : {0.0, 45.0, 80.0}) {
             const Scene<double> sc{0.05, 0.5, view_vector(theta, 25), hf.width, hf.height};
-            const MethodOutput gpu = gl.run(spec, sc, hf, N, "r32f", nullptr, 0, &res);
-            const MethodOutput cpu = run_cpu(spec, "float", sc, hf, P, 0, &res);
-            long long far = 0, fetch_off = 0;
-            for (size_t k = 0; k < P.size(); ++k) {
-                far += !(texel_dist(gpu.uv[k], cpu.uv[k], hf) <= 1e-3);
-                fetch_off += gpu.fetches[k] != cpu.fetches[k];
-            }
-            EXPECT_LE(far, (long long)P.size() / 1000) << c.name << " theta " << theta;
-            EXPECT_LE(fetch_off, (long long)P.size() / 1000) << c.name << " theta " << theta;
+            const test::GlslCpuDiff d = test::glsl_vs_cpu(gl, spec, sc, hf, N, &res);
+            EXPECT_LE(d.far, d.samples / 1000) << c.name << " theta " << theta;
+            EXPECT_LE(d.fetch_off, d.samples / 1000) << c.name << " theta " << theta;
         }
     }
 }
