@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -24,6 +25,7 @@
 #include "harness/core/params.h"
 #include "harness/core/sha256.h"
 #include "harness/experiment/experiment.h"
+#include "harness/experiment/shard.h"
 #include "harness/gl/context.h"
 #include "harness/metrics/image_metrics.h"
 #include "harness/results/error_maps.h"
@@ -47,6 +49,7 @@ struct RunArgs {
     std::string max_memory;  // e.g. "8G"; empty = kDefaultMaxMemoryBytes
     std::string only;        // --only KEY=V,...: a subset of the experiment
     int samples = 0;         // --samples N: overrides the file (0: the file's)
+    std::string shard;       // --shard I/N: run slice I of N (harness/experiment/shard.h)
 };
 
 // "123", "512M", "8G", "1.5T" (binary units) -> bytes.
@@ -216,6 +219,73 @@ void print_failed_rows(const std::vector<ResultRow>& rows, size_t failed) {
     }
 }
 
+// --shard I/N: which units of the run this slice takes.
+struct Slice {
+    ShardSpec shard;
+    std::vector<WorkUnit> units;  // all of the run's
+    std::vector<size_t> mine;     // indices into units
+    std::vector<int> unit_of;     // per (field, phi, theta) view: its unit, -1 another slice's
+    size_t view_index(const Experiment& ex, size_t f, size_t p, size_t t) const {
+        return (f * ex.phi_deg.size() + p) * ex.theta_deg.size() + t;
+    }
+};
+
+Slice make_slice(const Experiment& ex, const RunArgs& a) {
+    Slice s;
+    s.shard = parse_shard(a.shard);
+    s.units = work_units(ex, a.backends);
+    s.mine = shard_units(s.units, s.shard);
+    s.unit_of.assign(ex.heightfields.size() * ex.phi_deg.size() * ex.theta_deg.size(), -1);
+    for (size_t u : s.mine)
+        for (size_t t = s.units[u].theta_begin; t < s.units[u].theta_end; ++t)
+            s.unit_of[s.view_index(ex, s.units[u].field, s.units[u].phi, t)] = int(u);
+    return s;
+}
+
+// run.json's "shard": what the slice is of (pxh merge checks that every slice is of the same
+// run) and what it covers, unit by unit with its rows in results.csv order.
+nlohmann::json shard_record(const Experiment& ex, const RunArgs& a, const Slice& s,
+                            const RunInfo& info) {
+    nlohmann::json units = nlohmann::json::array();
+    std::map<size_t, size_t> rows;  // unit -> rows
+    for (const auto& v : info.views)
+        rows[size_t(s.unit_of[s.view_index(ex, v.field, v.phi, v.theta)])] += v.rows;
+    double cost = 0, total = 0;
+    for (const auto& u : s.units) total += u.cost;
+    for (size_t i : s.mine) {
+        const WorkUnit& u = s.units[i];
+        const HeightfieldSpec& h = ex.heightfields[u.field];
+        std::vector<double> thetas(ex.theta_deg.begin() + long(u.theta_begin),
+                                   ex.theta_deg.begin() + long(u.theta_end));
+        units.push_back({{"unit", i},
+                         {"heightfield", h.name},
+                         {"scale", h.scale},
+                         {"bias", h.bias},
+                         {"phi_deg", ex.phi_deg[u.phi]},
+                         {"theta_deg", thetas},
+                         {"rows", rows[i]},
+                         {"cost", u.cost}});
+        cost += u.cost;
+    }
+    const auto& backends = a.backends.empty() ? ex.backends : a.backends;
+    return {{"index", s.shard.index},
+            {"count", s.shard.count},
+            {"partition", kPartitionScheme},
+            {"experiment_sha256", sha256_hex(ex.text)},
+            {"selection",
+             {{"only", a.only},
+              {"samples", ex.samples},
+              {"backends", backends},
+              {"gl", a.gl},
+              {"shader_dir", a.shader_dir.empty() ? "" : fs::absolute(a.shader_dir).string()},
+              {"maps", ex.maps}}},
+            {"build", build_record()},
+            {"units_total", s.units.size()},
+            {"cost", cost},
+            {"cost_total", total},
+            {"units", units}};
+}
+
 int cmd_run(const RunArgs& a, const std::string& command_line) {
     if (!a.gl.empty() && !find_gl_context(a.gl))
         throw InputError("--gl",
@@ -228,7 +298,9 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
             throw InputError("--samples", std::to_string(a.samples) + " is not in [1, 8192]");
         ex.samples = a.samples;
     }
-    check_run_size(ex, a);
+    check_run_size(ex, a);  // of the whole run, also for a slice (merge holds every row)
+    std::optional<Slice> slice;
+    if (!a.shard.empty()) slice = make_slice(ex, a);
     const std::string out_dir =
         a.out_dir.empty() ? "results/runs/" + ex.name + "-" + utc_timestamp("%Y%m%d-%H%M%S")
                           : a.out_dir;
@@ -247,6 +319,10 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     opt.backends = a.backends;
     opt.shader_dir = a.shader_dir;
     opt.gl = a.gl;
+    if (slice)
+        opt.include = [&](size_t f, size_t p, size_t t) {
+            return slice->unit_of[slice->view_index(ex, f, p, t)] >= 0;
+        };
     if (ex.maps || ex.render)
         opt.on_view = [&](std::vector<ResultRow>& rows,
                           const std::vector<std::vector<Vec2d>>& errors,
@@ -273,6 +349,7 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     run["rows"] = rows.size();
     run["failed_rows"] = failed;
     run["seconds"] = secs;
+    if (slice) run["shard"] = shard_record(ex, a, *slice, info);
     // Written last: the sha256 of every file above (pxh check and report verify them).
     run["files"] = file_records(tmp_dir);
     write_file_synced(tmp_dir / "run.json", run.dump(2) + "\n");
@@ -281,6 +358,13 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     if (!a.quiet) print_summary(rows);
     std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
               << std::fixed << secs << " s -> " << folder.final_dir().string() << "\n";
+    if (slice) {
+        const auto& rec = run["shard"];
+        std::cout << "shard " << slice->shard.text() << ": " << slice->mine.size() << " of "
+                  << slice->units.size() << " units, " << std::setprecision(1)
+                  << 100.0 * rec["cost"].get<double>() / rec["cost_total"].get<double>()
+                  << "% of the estimated cost (pxh merge OUT DIR... joins the slices)\n";
+    }
     if (failed) print_failed_rows(rows, failed);
     return failed ? 1 : 0;
 }
@@ -316,6 +400,9 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                     "run a subset: KEY=VALUE[|VALUE],... with KEY method, heightfield, backend, "
                     "theta_deg, phi_deg, scale or bias (e.g. method=pom,heightfield=bricks)");
     run->add_option("--samples", ra->samples, "samples per side N, overriding the file (1..8192)");
+    run->add_option("--shard", ra->shard,
+                    "run slice I of N (0 <= I < N): whole theta sweeps, balanced by estimated "
+                    "cost; pxh merge joins the N results folders into the whole run's");
     run->add_option("--max-rows", ra->max_rows,
                     "refuse a run estimated to write more rows (default " +
                         std::to_string(kDefaultMaxRows) + ")");

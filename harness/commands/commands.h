@@ -23,6 +23,7 @@ Command add_report_command(CLI::App& app);
 Command add_check_command(CLI::App& app);
 Command add_import_command(CLI::App& app);
 Command add_compare_command(CLI::App& app);
+Command add_merge_command(CLI::App& app, const std::string& command_line);
 
 // Shared by report and check.
 inline constexpr const char* kAcceptEditedHelp =

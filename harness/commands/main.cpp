@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
                                            add_report_command(app),
                                            add_check_command(app),
                                            add_compare_command(app),
+                                           add_merge_command(app, command_line),
                                            add_import_command(app)};
 
     try {

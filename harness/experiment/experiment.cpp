@@ -906,14 +906,6 @@ HeightField make_heightfield(const HeightfieldSpec& spec) {
     return hf;
 }
 
-namespace {
-
-// Width and height of a field before it is built (files: from the header).
-struct FieldSize {
-    size_t width, height;
-    bool mask;  // a filled-hole mask (scans)
-};
-
 FieldSize field_size(const HeightfieldSpec& spec) {
     if (!spec.generator.empty()) return {size_t(spec.width), size_t(spec.height), false};
     if (!spec.scan.empty()) {
@@ -932,6 +924,8 @@ FieldSize field_size(const HeightfieldSpec& spec) {
     // Unknown (the run will refuse it): the largest field the loader accepts.
     return {size_t(kMaxImageSide), size_t(kMaxImageTexels / kMaxImageSide), false};
 }
+
+namespace {
 
 std::string mib(size_t bytes) { return format_bytes(bytes); }
 

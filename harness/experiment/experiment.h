@@ -106,6 +106,14 @@ BackendSettings backend_settings(const Experiment& ex);
 // file): REASON".
 HeightField make_heightfield(const HeightfieldSpec& spec);
 
+// Width and height of a field before it is built (files: from the header; the loader's limit
+// when unreadable).
+struct FieldSize {
+    size_t width, height;
+    bool mask;  // a filled-hole mask (scans)
+};
+FieldSize field_size(const HeightfieldSpec& spec);
+
 // What a run will take, estimated before any work (the lead's --max-rows / --max-memory).
 //   rows = height field entries (scale/bias expanded) x theta x phi x method settings x
 //          (precisions if cpu runs + texture formats if glsl runs)

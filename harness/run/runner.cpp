@@ -289,13 +289,23 @@ bool same_field(const HeightfieldSpec& a, const HeightfieldSpec& b) {
            a.gen_params.canonical() == b.gen_params.canonical() && a.name == b.name;
 }
 
+// Where one sweep is in the run: its indices, which of its views run, and the index its
+// first row has in the whole (unsharded) run.
+struct SweepPlace {
+    size_t field, phi;
+    std::vector<bool> runs;  // per theta
+    size_t first_row, rows_per_view;
+};
+
 // Runs the theta sweep of one field and azimuth; rows join `rows` view by view.
-void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_t& step,
-               size_t steps, std::vector<ResultRow>& rows) {
+void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& opt, size_t& step,
+               size_t steps, std::vector<ResultRow>& rows, RunInfo* info) {
     const Experiment& ex = ctx.ex;
+    const double phi = ex.phi_deg[at.phi];
     ViewRows prev;  // the previous view of this sweep (same field and phi)
     std::vector<size_t> prev_index;
     for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
+        if (!at.runs[t]) continue;
         const double theta = ex.theta_deg[t];
         ++step;
         if (opt.progress) {
@@ -320,7 +330,16 @@ void run_sweep(const FieldContext& ctx, double phi, const RunOptions& opt, size_
             for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
                 if (dt > 0) add_sweep(prev.errors[i], view.errors[i], dt, rows[prev_index[i]]);
         }
-        if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, rows.size());
+        if (view.rows.size() != at.rows_per_view)
+            throw std::logic_error("a view made " + std::to_string(view.rows.size()) +
+                                   " rows, not the " + std::to_string(at.rows_per_view) +
+                                   " its place in the run assumes");
+        const size_t first = at.first_row + t * at.rows_per_view;
+        if (!opt.include && first != rows.size())
+            throw std::logic_error("row index " + std::to_string(first) + " of a view is not " +
+                                   std::to_string(rows.size()));
+        if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, first);
+        if (info) info->views.push_back({at.field, at.phi, t, view.rows.size()});
         prev_index.clear();
         for (auto& r : view.rows) {
             prev_index.push_back(rows.size());
@@ -353,25 +372,59 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
     // reuse it.
     check_field_files(ex);
+    // Which views run (all, or a slice's), and where each sweep's rows are in the whole run:
+    // every view of a field has one row per method setting it runs x backend x variant.
+    const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
+    std::vector<SweepPlace> places;
+    size_t steps = 0, first_row = 0;
+    for (size_t h = 0; h < ex.heightfields.size(); ++h) {
+        size_t per_view = 0;
+        for (const auto& m : ex.methods)
+            if (m.runs_on(ex.heightfields[h].name))
+                for (const auto& b : backends)
+                    if (b->runs(*m.method)) per_view += b->variants().size();
+        for (size_t p = 0; p < np; ++p) {
+            SweepPlace at{h, p, std::vector<bool>(nt, true), first_row, per_view};
+            size_t n = 0;
+            for (size_t t = 0; t < nt; ++t) {
+                if (opt.include) at.runs[t] = opt.include(h, p, t);
+                n += at.runs[t];
+            }
+            if (n != 0 && n != nt && ex.sweep_dt_deg <= 0)
+                throw std::logic_error(
+                    "a slice must take a theta sweep whole (its consecutive "
+                    "views pair up)");
+            steps += n;
+            first_row += nt * per_view;
+            places.push_back(std::move(at));
+        }
+    }
     std::vector<ResultRow> rows;
-    const size_t steps = ex.heightfields.size() * ex.theta_deg.size() * ex.phi_deg.size();
     size_t step = 0;
     std::optional<HeightField> field;
+    const HeightfieldSpec* built = nullptr;  // the entry `field` was built for
     std::optional<ResourceCache> resources;  // one per field, dropped with it
     for (size_t h = 0; h < ex.heightfields.size(); ++h) {
         const HeightfieldSpec& spec = ex.heightfields[h];
-        if (!field || !same_field(spec, ex.heightfields[h - 1])) {
+        bool any = false;
+        for (size_t p = 0; p < np; ++p)
+            for (size_t t = 0; t < nt; ++t) any = any || places[h * np + p].runs[t];
+        if (!any) continue;  // another slice's field
+        if (!field || !same_field(spec, *built)) {
             if (info && resources) info->resource_builds += resources->builds();
             resources.reset();
             field.reset();  // free the previous one first
             field = make_heightfield(spec);
+            built = &spec;
             resources.emplace(*field);
         }
         // Both references built once per field (and s, b), shared by all its views.
         const References refs = make_references(*field, spec);
         const FieldContext ctx{ex,   backends,    reference,   *field,
                                spec, *refs.exact, *refs.other, *resources};
-        for (double phi : ex.phi_deg) run_sweep(ctx, phi, opt, step, steps, rows);
+        for (size_t p = 0; p < np; ++p)
+            if (std::count(places[h * np + p].runs.begin(), places[h * np + p].runs.end(), true))
+                run_sweep(ctx, places[h * np + p], opt, step, steps, rows, info);
     }
     if (info && resources) info->resource_builds += resources->builds();
     if (info)

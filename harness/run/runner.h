@@ -27,11 +27,17 @@ struct RunOptions {
     std::string gl;                     // GL context (osmesa, egl); empty: the experiment's
     // Called once per view with its rows (before they join the run), their per-sample error
     // vectors and the truth's uv (per sample, unwrapped); first_index is the index the view's
-    // first row will have.
+    // first row has in the whole run's results.csv (a slice's maps and pictures are named as
+    // the unsharded run names them).
     std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
                        const std::vector<Vec2d>&, size_t)>
         on_view;
     std::function<void(const std::string&)> progress;  // one status line per step
+    // A slice of the run (pxh run --shard): only the views (heightfields[field], phi_deg[phi],
+    // theta_deg[theta]) it accepts are run; a field none of whose views runs is not built.
+    // Without sweep_dt_deg a theta sweep must be accepted whole or not at all (its consecutive
+    // views pair up). Empty: every view.
+    std::function<bool(size_t field, size_t phi, size_t theta)> include;
 };
 
 struct RunInfo {
@@ -41,6 +47,11 @@ struct RunInfo {
     int gl_timer_bits = 0;                         // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
     std::map<std::string, std::string> shaders;    // every GLSL source compiled -> sha256
     int resource_builds = 0;  // method resources built (once per field, and s, b if they use them)
+    // Every view run, in run order: its indices (as RunOptions::include takes them) and rows.
+    struct ViewDone {
+        size_t field, phi, theta, rows;
+    };
+    std::vector<ViewDone> views;
 };
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,

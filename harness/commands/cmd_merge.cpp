@@ -1,0 +1,331 @@
+// `pxh merge OUT DIR...`: the slices of a sharded run (pxh run --shard I/N) joined into the
+// whole run's results folder. Every slice is verified as `check` verifies a folder; slices of
+// another experiment, selection, pxh version or build, slices that overlap and a missing slice
+// are refused (exit 2, one line naming the slice); OUT is written as `run` writes a folder (a
+// partial folder renamed into place when complete) and its results.csv holds the rows in the
+// unsharded run's order.
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "harness/commands/commands.h"
+#include "harness/core/error.h"
+#include "harness/core/params.h"
+#include "harness/core/sha256.h"
+#include "harness/results/csv_table.h"
+#include "harness/results/provenance.h"
+#include "harness/results/results.h"
+#include "harness/results/run_folder.h"
+
+namespace fs = std::filesystem;
+
+namespace pxh {
+namespace {
+
+struct MergeArgs {
+    std::string out;
+    std::vector<std::string> dirs;
+    bool force = false;
+};
+
+// One slice as read: its folder, run.json, and run.json's shard record.
+struct SliceIn {
+    std::string dir;
+    nlohmann::json run, shard;
+    std::string run_json_sha256;
+};
+
+std::string short_text(const nlohmann::json& v) {
+    std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+    return s.size() > 80 ? s.substr(0, 77) + "..." : s;
+}
+
+SliceIn read_slice(const std::string& dir) {
+    SliceIn s;
+    s.dir = dir;
+    std::cout << verify_results_folder(dir, false) << "\n";  // InputError unless intact
+    const fs::path run_json = fs::path(dir) / "run.json";
+    const std::string text = read_regular_file(run_json.string());
+    s.run_json_sha256 = sha256_hex(text);
+    try {
+        s.run = nlohmann::json::parse(text);
+    } catch (const std::exception& e) {
+        throw InputError(run_json.string(), std::string("unreadable: ") + e.what());
+    }
+    if (!s.run.contains("shard") || !s.run["shard"].is_object())
+        throw InputError(dir, "is not a slice: its run.json has no shard record (written by pxh "
+                              "run --shard I/N)");
+    s.shard = s.run["shard"];
+    for (const char* k : {"index", "count", "units_total"})
+        if (!s.shard.contains(k) || !s.shard[k].is_number_unsigned())
+            throw InputError(run_json.string(), std::string("shard record without '") + k + "'");
+    for (const char* k : {"partition", "experiment_sha256", "selection", "build", "units"})
+        if (!s.shard.contains(k))
+            throw InputError(run_json.string(), std::string("shard record without '") + k + "'");
+    if (!s.shard["units"].is_array())
+        throw InputError(run_json.string(), "shard record: 'units' is not a list");
+    return s;
+}
+
+std::string shard_text(const SliceIn& s) {
+    return std::to_string(s.shard["index"].get<size_t>()) + "/" +
+           std::to_string(s.shard["count"].get<size_t>());
+}
+
+// The refusals: `b` against the first slice `a`, each one line naming `b`.
+void check_same_run(const SliceIn& a, const SliceIn& b) {
+    const auto& sa = a.shard;
+    const auto& sb = b.shard;
+    if (sa["experiment_sha256"] != sb["experiment_sha256"])
+        throw InputError(
+            b.dir, "is a slice of another experiment: " + short_text(b.run.value("experiment_file", "")) +
+                       " (sha256 " + short_text(sb["experiment_sha256"]).substr(0, 12) + ") where " +
+                       a.dir + " ran " + short_text(a.run.value("experiment_file", "")) +
+                       " (sha256 " + short_text(sa["experiment_sha256"]).substr(0, 12) + ")");
+    const auto& ba = sa["build"];
+    const auto& bb = sb["build"];
+    if (ba.value("pxh_version", "") != bb.value("pxh_version", ""))
+        throw InputError(b.dir, "was run by another pxh version: " +
+                                    short_text(bb.value("pxh_version", "")) + " where " + a.dir +
+                                    " was run by " + short_text(ba.value("pxh_version", "")));
+    for (const auto& [k, v] : ba.items())
+        if (!bb.contains(k) || bb[k] != v)
+            throw InputError(b.dir, "was run by another build of pxh: " + k + " " +
+                                        short_text(bb.contains(k) ? bb[k] : nlohmann::json("none")) +
+                                        " where " + a.dir + " has " + short_text(v));
+    if (a.run.contains("gl") != b.run.contains("gl") ||
+        (a.run.contains("gl") && a.run["gl"] != b.run["gl"]))
+        throw InputError(b.dir, "ran its GLSL rows on another GL driver: " +
+                                    short_text(b.run.value("gl", nlohmann::json("none"))) +
+                                    " where " + a.dir + " has " +
+                                    short_text(a.run.value("gl", nlohmann::json("none"))));
+    for (const auto& [k, v] : sa["selection"].items())
+        if (!sb["selection"].contains(k) || sb["selection"][k] != v)
+            throw InputError(b.dir, "is a slice of another selection of the experiment: " + k + " " +
+                                        short_text(sb["selection"].value(k, nlohmann::json())) +
+                                        " where " + a.dir + " has " + short_text(v));
+    if (sa["partition"] != sb["partition"] || sa["count"] != sb["count"] ||
+        sa["units_total"] != sb["units_total"])
+        throw InputError(b.dir, "is cut another way: shard " + shard_text(b) + " of " +
+                                    short_text(sb["units_total"]) + " units (" +
+                                    short_text(sb["partition"]) + ") where " + a.dir +
+                                    " is shard " + shard_text(a) + " of " +
+                                    short_text(sa["units_total"]) + " units");
+}
+
+bool same_number(double a, double b) {
+    return a == b || std::fabs(a - b) <= 1e-9 * std::max(std::fabs(a), std::fabs(b));
+}
+
+// The rows of one unit, checked against what the slice's run.json says the unit is.
+struct UnitRows {
+    const SliceIn* slice = nullptr;
+    std::vector<std::vector<std::string>> rows;
+};
+
+void check_unit_rows(const CsvTable& t, size_t first, const nlohmann::json& u) {
+    const size_t n = u["rows"].get<size_t>();
+    const auto& thetas = u["theta_deg"];
+    if (thetas.empty() || n % thetas.size() != 0)
+        throw InputError(t.path, "run.json's unit " + u["unit"].dump() + " records " +
+                                     std::to_string(n) + " rows for " +
+                                     std::to_string(thetas.size()) + " views");
+    const size_t per_view = n / thetas.size();
+    for (size_t k = 0; k < n; ++k) {
+        const size_t r = first + k;
+        const double theta = thetas[k / per_view].get<double>();
+        const bool ok = t.get(r, "heightfield") == u["heightfield"].get<std::string>() &&
+                        same_number(t.number(r, "scale"), u["scale"].get<double>()) &&
+                        same_number(t.number(r, "bias"), u["bias"].get<double>()) &&
+                        same_number(t.number(r, "phi_deg"), u["phi_deg"].get<double>()) &&
+                        same_number(t.number(r, "theta_deg"), theta);
+        if (!ok)
+            throw InputError(t.where(r), "row is not of unit " + u["unit"].dump() + " (" +
+                                             u["heightfield"].get<std::string>() + " phi " +
+                                             u["phi_deg"].dump() + " theta " +
+                                             format_number(theta) + ") as run.json records");
+    }
+}
+
+nlohmann::json slice_provenance(const SliceIn& s) {
+    nlohmann::json units = nlohmann::json::array();
+    for (const auto& u : s.shard["units"]) units.push_back(u["unit"]);
+    nlohmann::json p = {{"dir", fs::absolute(s.dir).lexically_normal().string()},
+                        {"shard", shard_text(s)},
+                        {"run_json_sha256", s.run_json_sha256},
+                        {"units", units},
+                        {"cost", s.shard.value("cost", 0.0)}};
+    for (const char* k : {"host", "cpu_model", "threads", "date_utc", "seconds", "rows",
+                          "failed_rows", "command_line", "git_commit", "pxh_version",
+                          "LP_NUM_THREADS"})
+        if (s.run.contains(k)) p[k] = s.run[k];
+    return p;
+}
+
+int cmd_merge(const MergeArgs& a, const std::string& command_line) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::error_code ec;
+    const fs::path out_abs = fs::weakly_canonical(fs::absolute(a.out), ec);
+    for (const auto& d : a.dirs)
+        if (fs::weakly_canonical(fs::absolute(d), ec) == out_abs)
+            throw InputError(a.out, "is one of the slices: merge into another folder");
+    std::vector<SliceIn> slices;
+    for (const auto& d : a.dirs) slices.push_back(read_slice(d));
+    const SliceIn& first = slices[0];
+    for (size_t i = 1; i < slices.size(); ++i) check_same_run(first, slices[i]);
+
+    // Every shard 0..N-1 exactly once.
+    const size_t count = first.shard["count"].get<size_t>();
+    std::map<size_t, const SliceIn*> by_index;
+    for (const auto& s : slices) {
+        const size_t i = s.shard["index"].get<size_t>();
+        if (by_index.count(i))
+            throw InputError(s.dir, "overlaps " + by_index[i]->dir + ": both are shard " +
+                                        shard_text(s));
+        by_index[i] = &s;
+    }
+    std::string missing;
+    for (size_t i = 0; i < count; ++i)
+        if (!by_index.count(i))
+            missing += (missing.empty() ? "" : "; ") + std::string("shard ") + std::to_string(i) +
+                       "/" + std::to_string(count) + " missing";
+    if (!missing.empty())
+        throw InputError("merge", missing + " (slices given: " + std::to_string(slices.size()) +
+                                      " of " + std::to_string(count) + ")");
+
+    // Every unit in exactly one slice; the rows unit by unit, in each slice's order.
+    const size_t units_total = first.shard["units_total"].get<size_t>();
+    std::vector<UnitRows> units(units_total);
+    std::vector<std::string> header;
+    size_t rows = 0, failed = 0;
+    for (const auto& [index, s] : by_index) {
+        const std::string csv = (fs::path(s->dir) / "results.csv").string();
+        const CsvTable t = read_csv(csv);
+        if (header.empty()) header = t.columns;
+        if (t.columns != header)
+            throw InputError(csv, "has other columns than the first slice's results.csv");
+        size_t next = 0;
+        for (const auto& u : s->shard["units"]) {
+            const size_t k = u.value("unit", units_total);
+            if (k >= units_total || !u.contains("rows") || !u["rows"].is_number_unsigned())
+                throw InputError(s->dir, "run.json records a malformed unit: " + short_text(u));
+            if (units[k].slice)
+                throw InputError(s->dir, "overlaps " + units[k].slice->dir +
+                                             ": both ran unit " + std::to_string(k) + " (" +
+                                             short_text(u.value("heightfield", "")) + ")");
+            const size_t n = u["rows"].get<size_t>();
+            if (next + n > t.rows.size())
+                throw InputError(csv, std::to_string(t.rows.size()) +
+                                          " rows, fewer than run.json's units record");
+            check_unit_rows(t, next, u);
+            units[k].slice = s;
+            units[k].rows.assign(t.rows.begin() + long(next), t.rows.begin() + long(next + n));
+            next += n;
+        }
+        if (next != t.rows.size())
+            throw InputError(csv, std::to_string(t.rows.size()) + " rows, run.json's units record " +
+                                      std::to_string(next));
+        const int status = t.index("status");
+        for (const auto& r : t.rows) failed += status >= 0 && r[size_t(status)] != "ok";
+        rows += t.rows.size();
+    }
+    for (size_t k = 0; k < units_total; ++k)
+        if (!units[k].slice)
+            throw InputError("merge", "unit " + std::to_string(k) + " of " +
+                                          std::to_string(units_total) +
+                                          " is in no slice (the slices do not cover the run)");
+
+    RunFolder folder(a.out, a.force);
+    const fs::path tmp = folder.partial();
+    std::string text;
+    for (size_t c = 0; c < header.size(); ++c) text += (c ? "," : "") + csv_quote(header[c]);
+    text += "\n";
+    for (const auto& u : units)
+        for (const auto& r : u.rows) {
+            for (size_t c = 0; c < r.size(); ++c) text += (c ? "," : "") + csv_quote(r[c]);
+            text += "\n";
+        }
+    write_file_synced(tmp / "results.csv", text);
+
+    // The slices' other files (maps, pictures): named by the whole run's row index already.
+    std::map<std::string, std::string> copied;  // relative path -> slice
+    for (const auto& [index, s] : by_index)
+        for (const auto& [rel, rec] : s->run["files"].items()) {
+            if (rel == "results.csv") continue;
+            const fs::path rp = fs::path(rel).lexically_normal();
+            if (rp.is_absolute() || rp.empty() || *rp.begin() == "..")
+                throw InputError((fs::path(s->dir) / "run.json").string(),
+                                 "records a file outside its folder: " + rel);
+            if (copied.count(rel))
+                throw InputError((fs::path(s->dir) / rel).string(),
+                                 "is also in " + copied[rel] + ": the slices overlap");
+            copied[rel] = s->dir;
+            fs::create_directories((tmp / rp).parent_path());
+            fs::copy_file(fs::path(s->dir) / rp, tmp / rp);
+        }
+
+    nlohmann::json run = provenance(int(tbb::info::default_concurrency()));
+    run["command_line"] = command_line;
+    for (const char* k : {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
+                          "plugin_shaders", "gl_renderer", "gl_version", "shader_dir", "gl"})
+        if (first.run.contains(k)) run[k] = first.run[k];
+    nlohmann::json shaders = nlohmann::json::object();
+    double seconds = 0;
+    nlohmann::json from = nlohmann::json::array();
+    for (const auto& [index, s] : by_index) {
+        if (s->run.contains("shaders") && s->run["shaders"].is_object())
+            for (const auto& [k, v] : s->run["shaders"].items()) shaders[k] = v;
+        seconds += s->run.value("seconds", 0.0);
+        from.push_back(slice_provenance(*s));
+    }
+    if (!shaders.empty()) run["shaders"] = shaders;
+    run["rows"] = rows;
+    run["failed_rows"] = failed;
+    run["seconds"] = seconds;  // the slices' run times added up
+    run["merged"] = {{"count", count},
+                     {"partition", first.shard["partition"]},
+                     {"units_total", units_total},
+                     {"experiment_sha256", first.shard["experiment_sha256"]},
+                     {"selection", first.shard["selection"]},
+                     {"build", first.shard["build"]},
+                     {"merge_seconds", std::chrono::duration<double>(
+                                           std::chrono::steady_clock::now() - t0)
+                                           .count()},
+                     {"slices", from}};
+    run["files"] = file_records(tmp);  // written last, as run writes it
+    write_file_synced(tmp / "run.json", run.dump(2) + "\n");
+    folder.commit();
+    std::cout << "merged " << count << " slices: " << rows << " rows (" << failed << " failed), "
+              << copied.size() << " other file(s) -> " << folder.final_dir().string() << "\n";
+    std::cout << verify_results_folder(folder.final_dir().string(), false) << "\n";
+    return failed ? 1 : 0;
+}
+
+}  // namespace
+
+Command add_merge_command(CLI::App& app, const std::string& command_line) {
+    auto* merge = app.add_subcommand(
+        "merge",
+        "join the slices of a sharded run (pxh run --shard I/N) into one results folder "
+        "(exit 0: all rows ok; 1: some row failed, results written; 2: bad input, nothing "
+        "written)");
+    auto a = std::make_shared<MergeArgs>();
+    merge->add_option("out", a->out,
+                      "results folder to write; must not exist, be empty, or (with --force) "
+                      "hold earlier pxh results")
+        ->required();
+    merge->add_option("dirs", a->dirs, "the slices' results folders, every shard 0..N-1 once")
+        ->required();
+    merge->add_flag("--force", a->force,
+                    "replace the earlier pxh results in OUT (only pxh's own files there)");
+    return {merge, [a, &command_line] { return cmd_merge(*a, command_line); }};
+}
+
+}  // namespace pxh

@@ -1,0 +1,136 @@
+#include "harness/experiment/shard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+
+#include "harness/core/error.h"
+#include "harness/core/sha256.h"
+#include "harness/results/provenance.h"
+#include "harness/scene/scene.h"
+#include "harness/scene/view.h"
+
+namespace pxh {
+
+ShardSpec parse_shard(const std::string& text) {
+    const auto bad = [&](const std::string& why) {
+        return InputError("--shard", "'" + text + "' " + why +
+                                         " (I/N with 0 <= I < N, e.g. "
+                                         "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)");
+    };
+    const auto slash = text.find('/');
+    if (slash == std::string::npos) throw bad("is not I/N");
+    const auto number = [&](const std::string& s) -> size_t {
+        if (s.empty() || s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) {
+                return c >= '0' && c <= '9';
+            }))
+            throw bad("is not I/N");
+        return size_t(std::stoul(s));
+    };
+    ShardSpec s{number(text.substr(0, slash)), number(text.substr(slash + 1))};
+    if (s.count == 0) throw bad("has N = 0");
+    if (s.index >= s.count) throw bad("has I >= N (slices are numbered from 0)");
+    return s;
+}
+
+namespace {
+
+constexpr double kSetupPerTexel = 64;  // Embree's BVH and the mipmap, in sample-steps per texel
+constexpr double kGlFrames = 5;        // timed GLSL frames per row (RunOptions::gl_frames)
+
+// One view's cost per sample: both references and every row's method evaluations.
+double view_cost(const Experiment& ex, const HeightfieldSpec& h, const FieldSize& size,
+                 double theta, double phi, const std::vector<std::string>& backends,
+                 const BackendSettings& settings, bool timed) {
+    const double side = double(std::max(size.width, size.height));
+    const double t = std::min(theta, 89.9) * std::numbers::pi / 180.0;
+    double cost = 2 + h.scale * std::tan(t) * side;
+    const Scene<double> scene{h.scale, h.bias, view_vector(theta, phi), int(size.width),
+                              int(size.height)};
+    for (const auto& m : ex.methods) {
+        if (!m.runs_on(h.name)) continue;
+        const double fetches =
+            m.method->max_fetches ? double(m.method->max_fetches(m.params, scene))
+                                  : double(std::max(1, m.method->declared_max_fetches));
+        for (const auto& b : backends) {
+            if (b == "cpu" && !m.method->run_float) continue;  // no C++ twin, no CPU row
+            const double passes = !timed ? 1 : b == "cpu" ? 1.0 + ex.timing_repeats : 1 + kGlFrames;
+            cost += double(backend_variants(b, settings).size()) * std::max(1.0, fetches) * passes;
+        }
+    }
+    return cost;
+}
+
+}  // namespace
+
+std::vector<WorkUnit> work_units(const Experiment& ex,
+                                 const std::vector<std::string>& backends_override) {
+    const auto& backends = backends_override.empty() ? ex.backends : backends_override;
+    const BackendSettings settings = backend_settings(ex);
+    const double samples = double(ex.samples) * double(ex.samples);
+    const bool per_view = ex.sweep_dt_deg > 0;
+    std::vector<WorkUnit> units;
+    for (size_t f = 0; f < ex.heightfields.size(); ++f) {
+        const HeightfieldSpec& h = ex.heightfields[f];
+        const FieldSize size = field_size(h);
+        const double setup = double(size.width) * double(size.height) * kSetupPerTexel;
+        for (size_t p = 0; p < ex.phi_deg.size(); ++p) {
+            const double phi = ex.phi_deg[p];
+            WorkUnit u{f, p, 0, 0, setup};
+            for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
+                const double theta = ex.theta_deg[t];
+                u.cost += samples * view_cost(ex, h, size, theta, phi, backends, settings, true);
+                if (per_view) {
+                    const double other = theta + ex.sweep_dt_deg < 90 ? theta + ex.sweep_dt_deg
+                                                                      : theta - ex.sweep_dt_deg;
+                    u.cost +=
+                        samples * view_cost(ex, h, size, other, phi, backends, settings, false);
+                    u.theta_begin = t;
+                    u.theta_end = t + 1;
+                    units.push_back(u);
+                    u.cost = setup;
+                }
+            }
+            if (!per_view) {
+                u.theta_end = ex.theta_deg.size();
+                units.push_back(u);
+            }
+        }
+    }
+    return units;
+}
+
+std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardSpec& shard) {
+    if (shard.count > units.size())
+        throw InputError("--shard", shard.text() + ": the run has " +
+                                        std::to_string(units.size()) +
+                                        " units of work (theta sweeps of a field at an azimuth; "
+                                        "views with sweep_dt_deg), so at most " +
+                                        std::to_string(units.size()) + " slices");
+    std::vector<size_t> order(units.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return units[a].cost > units[b].cost; });
+    std::vector<double> load(shard.count, 0.0);
+    std::vector<size_t> mine;
+    for (size_t u : order) {
+        const size_t s = size_t(std::min_element(load.begin(), load.end()) - load.begin());
+        load[s] += units[u].cost;
+        if (s == shard.index) mine.push_back(u);
+    }
+    std::sort(mine.begin(), mine.end());
+    return mine;
+}
+
+nlohmann::json build_record() {
+    const nlohmann::json p = provenance(0);
+    nlohmann::json b;
+    for (const char* k : {"pxh_version", "git_commit", "git_dirty", "compiler", "compile_flags",
+                          "build_type", "libraries"})
+        b[k] = p[k];
+    b["binary_sha256"] = sha256_file("/proc/self/exe");
+    return b;
+}
+
+}  // namespace pxh
