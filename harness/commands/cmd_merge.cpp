@@ -60,8 +60,9 @@ SliceIn read_slice(const std::string& dir) {
         throw InputError(run_json.string(), std::string("unreadable: ") + e.what());
     }
     if (!s.run.contains("shard") || !s.run["shard"].is_object())
-        throw InputError(dir, "is not a slice: its run.json has no shard record (written by pxh "
-                              "run --shard I/N)");
+        throw InputError(dir,
+                         "is not a slice: its run.json has no shard record (written by pxh "
+                         "run --shard I/N)");
     s.shard = s.run["shard"];
     for (const char* k : {"index", "count", "units_total"})
         if (!s.shard.contains(k) || !s.shard[k].is_number_unsigned())
@@ -85,10 +86,11 @@ void check_same_run(const SliceIn& a, const SliceIn& b) {
     const auto& sb = b.shard;
     if (sa["experiment_sha256"] != sb["experiment_sha256"])
         throw InputError(
-            b.dir, "is a slice of another experiment: " + short_text(b.run.value("experiment_file", "")) +
-                       " (sha256 " + short_text(sb["experiment_sha256"]).substr(0, 12) + ") where " +
-                       a.dir + " ran " + short_text(a.run.value("experiment_file", "")) +
-                       " (sha256 " + short_text(sa["experiment_sha256"]).substr(0, 12) + ")");
+            b.dir,
+            "is a slice of another experiment: " + short_text(b.run.value("experiment_file", "")) +
+                " (sha256 " + short_text(sb["experiment_sha256"]).substr(0, 12) + ") where " +
+                a.dir + " ran " + short_text(a.run.value("experiment_file", "")) + " (sha256 " +
+                short_text(sa["experiment_sha256"]).substr(0, 12) + ")");
     const auto& ba = sa["build"];
     const auto& bb = sb["build"];
     if (ba.value("pxh_version", "") != bb.value("pxh_version", ""))
@@ -97,9 +99,10 @@ void check_same_run(const SliceIn& a, const SliceIn& b) {
                                     " was run by " + short_text(ba.value("pxh_version", "")));
     for (const auto& [k, v] : ba.items())
         if (!bb.contains(k) || bb[k] != v)
-            throw InputError(b.dir, "was run by another build of pxh: " + k + " " +
-                                        short_text(bb.contains(k) ? bb[k] : nlohmann::json("none")) +
-                                        " where " + a.dir + " has " + short_text(v));
+            throw InputError(
+                b.dir, "was run by another build of pxh: " + k + " " +
+                           short_text(bb.contains(k) ? bb[k] : nlohmann::json("none")) + " where " +
+                           a.dir + " has " + short_text(v));
     if (a.run.contains("gl") != b.run.contains("gl") ||
         (a.run.contains("gl") && a.run["gl"] != b.run["gl"]))
         throw InputError(b.dir, "ran its GLSL rows on another GL driver: " +
@@ -108,7 +111,8 @@ void check_same_run(const SliceIn& a, const SliceIn& b) {
                                     short_text(a.run.value("gl", nlohmann::json("none"))));
     for (const auto& [k, v] : sa["selection"].items())
         if (!sb["selection"].contains(k) || sb["selection"][k] != v)
-            throw InputError(b.dir, "is a slice of another selection of the experiment: " + k + " " +
+            throw InputError(b.dir, "is a slice of another selection of the experiment: " + k +
+                                        " " +
                                         short_text(sb["selection"].value(k, nlohmann::json())) +
                                         " where " + a.dir + " has " + short_text(v));
     if (sa["partition"] != sb["partition"] || sa["count"] != sb["count"] ||
@@ -162,9 +166,9 @@ nlohmann::json slice_provenance(const SliceIn& s) {
                         {"run_json_sha256", s.run_json_sha256},
                         {"units", units},
                         {"cost", s.shard.value("cost", 0.0)}};
-    for (const char* k : {"host", "cpu_model", "threads", "date_utc", "seconds", "rows",
-                          "failed_rows", "command_line", "git_commit", "pxh_version",
-                          "LP_NUM_THREADS"})
+    for (const char* k :
+         {"host", "cpu_model", "threads", "date_utc", "seconds", "rows", "failed_rows",
+          "command_line", "git_commit", "pxh_version", "LP_NUM_THREADS"})
         if (s.run.contains(k)) p[k] = s.run[k];
     return p;
 }
@@ -187,8 +191,8 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
     for (const auto& s : slices) {
         const size_t i = s.shard["index"].get<size_t>();
         if (by_index.count(i))
-            throw InputError(s.dir, "overlaps " + by_index[i]->dir + ": both are shard " +
-                                        shard_text(s));
+            throw InputError(s.dir,
+                             "overlaps " + by_index[i]->dir + ": both are shard " + shard_text(s));
         by_index[i] = &s;
     }
     std::string missing;
@@ -217,8 +221,8 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
             if (k >= units_total || !u.contains("rows") || !u["rows"].is_number_unsigned())
                 throw InputError(s->dir, "run.json records a malformed unit: " + short_text(u));
             if (units[k].slice)
-                throw InputError(s->dir, "overlaps " + units[k].slice->dir +
-                                             ": both ran unit " + std::to_string(k) + " (" +
+                throw InputError(s->dir, "overlaps " + units[k].slice->dir + ": both ran unit " +
+                                             std::to_string(k) + " (" +
                                              short_text(u.value("heightfield", "")) + ")");
             const size_t n = u["rows"].get<size_t>();
             if (next + n > t.rows.size())
@@ -230,8 +234,8 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
             next += n;
         }
         if (next != t.rows.size())
-            throw InputError(csv, std::to_string(t.rows.size()) + " rows, run.json's units record " +
-                                      std::to_string(next));
+            throw InputError(csv, std::to_string(t.rows.size()) +
+                                      " rows, run.json's units record " + std::to_string(next));
         const int status = t.index("status");
         for (const auto& r : t.rows) failed += status >= 0 && r[size_t(status)] != "ok";
         rows += t.rows.size();
@@ -295,9 +299,8 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
                      {"experiment_sha256", first.shard["experiment_sha256"]},
                      {"selection", first.shard["selection"]},
                      {"build", first.shard["build"]},
-                     {"merge_seconds", std::chrono::duration<double>(
-                                           std::chrono::steady_clock::now() - t0)
-                                           .count()},
+                     {"merge_seconds",
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
                      {"slices", from}};
     run["files"] = file_records(tmp);  // written last, as run writes it
     write_file_synced(tmp / "run.json", run.dump(2) + "\n");
@@ -317,9 +320,10 @@ Command add_merge_command(CLI::App& app, const std::string& command_line) {
         "(exit 0: all rows ok; 1: some row failed, results written; 2: bad input, nothing "
         "written)");
     auto a = std::make_shared<MergeArgs>();
-    merge->add_option("out", a->out,
-                      "results folder to write; must not exist, be empty, or (with --force) "
-                      "hold earlier pxh results")
+    merge
+        ->add_option("out", a->out,
+                     "results folder to write; must not exist, be empty, or (with --force) "
+                     "hold earlier pxh results")
         ->required();
     merge->add_option("dirs", a->dirs, "the slices' results folders, every shard 0..N-1 once")
         ->required();

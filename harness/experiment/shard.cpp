@@ -22,9 +22,8 @@ ShardSpec parse_shard(const std::string& text) {
     const auto slash = text.find('/');
     if (slash == std::string::npos) throw bad("is not I/N");
     const auto number = [&](const std::string& s) -> size_t {
-        if (s.empty() || s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) {
-                return c >= '0' && c <= '9';
-            }))
+        if (s.empty() || s.size() > 9 ||
+            !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }))
             throw bad("is not I/N");
         return size_t(std::stoul(s));
     };
@@ -50,9 +49,9 @@ double view_cost(const Experiment& ex, const HeightfieldSpec& h, const FieldSize
                               int(size.height)};
     for (const auto& m : ex.methods) {
         if (!m.runs_on(h.name)) continue;
-        const double fetches =
-            m.method->max_fetches ? double(m.method->max_fetches(m.params, scene))
-                                  : double(std::max(1, m.method->declared_max_fetches));
+        const double fetches = m.method->max_fetches
+                                   ? double(m.method->max_fetches(m.params, scene))
+                                   : double(std::max(1, m.method->declared_max_fetches));
         for (const auto& b : backends) {
             if (b == "cpu" && !m.method->run_float) continue;  // no C++ twin, no CPU row
             const double passes = !timed ? 1 : b == "cpu" ? 1.0 + ex.timing_repeats : 1 + kGlFrames;
@@ -103,8 +102,7 @@ std::vector<WorkUnit> work_units(const Experiment& ex,
 
 std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardSpec& shard) {
     if (shard.count > units.size())
-        throw InputError("--shard", shard.text() + ": the run has " +
-                                        std::to_string(units.size()) +
+        throw InputError("--shard", shard.text() + ": the run has " + std::to_string(units.size()) +
                                         " units of work (theta sweeps of a field at an azimuth; "
                                         "views with sweep_dt_deg), so at most " +
                                         std::to_string(units.size()) + " slices");
