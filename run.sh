@@ -13,10 +13,12 @@ PACKAGES=(
   libosmesa6-dev libegl-dev libegl-mesa0 libgl1-mesa-dri python3-glad fonts-dejavu-core python3-matplotlib libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
   clang-format
 )
+# ./run.sh test only: Slurm for the slurm_array test (a private single-node cluster).
+TEST_PACKAGES=(slurmctld slurmd slurm-client)
 
 install_missing() {
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -39,7 +41,8 @@ case "$mode" in
   *) echo "run.sh: unknown mode '$mode' (run | test | build)" >&2; exit 2 ;;
 esac
 
-install_missing
+if [ "$mode" = test ]; then install_missing "${PACKAGES[@]}" "${TEST_PACKAGES[@]}"
+else install_missing "${PACKAGES[@]}"; fi
 build
 case "$mode" in
   run) ./build/pxh run results/experiments/default.toml ;;

@@ -124,9 +124,12 @@ std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardS
 nlohmann::json build_record() {
     const nlohmann::json p = provenance(0);
     nlohmann::json b;
-    for (const char* k : {"pxh_version", "git_commit", "git_dirty", "compiler", "compile_flags",
-                          "build_type", "libraries"})
-        b[k] = p[k];
+    // The release, not the source tree's state when the slice ran (git describe, commit and
+    // dirty flag are in the slice's own provenance): a tree edited or pulled while an array
+    // waits in the queue does not change the binary that runs.
+    const std::string version = p["pxh_version"].get<std::string>();
+    b["pxh_version"] = version.substr(0, version.find(" ("));
+    for (const char* k : {"compiler", "compile_flags", "build_type", "libraries"}) b[k] = p[k];
     b["binary_sha256"] = sha256_file("/proc/self/exe");
     return b;
 }

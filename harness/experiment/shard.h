@@ -52,8 +52,8 @@ std::vector<WorkUnit> work_units(const Experiment& ex,
 std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardSpec& shard);
 
 // What built this pxh, as run.json's "shard" record keeps it (pxh merge refuses slices whose
-// records differ): pxh_version, git_commit, git_dirty, compiler, compile_flags, build_type,
-// libraries (from provenance) and binary_sha256 (of the running executable).
+// records differ): pxh_version (the release), compiler, compile_flags, build_type, libraries
+// (from provenance) and binary_sha256 (of the running executable).
 nlohmann::json build_record();
 
 // The partition's name, recorded in run.json: pxh merge refuses slices cut by another one.
