@@ -2,18 +2,19 @@
 // bound of the best partition found by brute force), and pxh run --shard I/N + pxh merge
 // through the binary: the merged folder equals the unsharded run cell by cell (timing columns
 // aside) and file by file, and merge refuses what is not one whole run.
+#include "harness/experiment/shard.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <random>
 
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
-#include "harness/experiment/shard.h"
 #include "harness/results/csv_table.h"
 #include "harness/scene/scene.h"
 #include "harness/scene/view.h"
@@ -225,8 +226,8 @@ class ShardMerge : public test::CliTest {
     }
 
     void expect_reproduces(const std::string& exp, const std::string& args) {
-        const auto full = pxh("run " + exp + " " + args + " --quiet --out " +
-                              (dir / "full").string());
+        const auto full =
+            pxh("run " + exp + " " + args + " --quiet --out " + (dir / "full").string());
         ASSERT_EQ(full.status, 0) << full.err;
         for (size_t n : {1, 3, 7}) {
             const std::string name = "merged" + std::to_string(n);
@@ -314,14 +315,20 @@ class ShardRefusals : public test::CliTest {
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         EXPECT_FALSE(fs::exists(dir / "out"));
     }
-    // A copy of slice i whose run.json has `key` of its shard record's build set to `value`.
-    std::string with_build(int i, const std::string& key, const std::string& value) {
-        const fs::path d = dir / ("edited" + key);
+    // A copy of slice i (named `name`) whose run.json `edit` changes (run.json is not in its
+    // own integrity record: the copy still verifies).
+    template <class F>
+    std::string edited(int i, const std::string& name, F edit) {
+        const fs::path d = dir / name;
         fs::copy(s(i), d, fs::copy_options::recursive);
         auto j = nlohmann::json::parse(slurp(d / "run.json"));
-        j["shard"]["build"][key] = value;
+        edit(j);
         std::ofstream(d / "run.json") << j.dump(2);
         return d.string();
+    }
+    std::string with_build(int i, const std::string& key, const std::string& value) {
+        return edited(i, "edited" + key,
+                      [&](nlohmann::json& j) { j["shard"]["build"][key] = value; });
     }
 };
 
@@ -359,9 +366,24 @@ TEST_F(ShardRefusals, ForeignSlices) {
                    "was run by another pxh version: 0.0.9 (abc) where " + s(0));
     expect_refused(s(0) + " " + with_build(1, "binary_sha256", "00ff") + " " + s(2),
                    "was run by another build of pxh: binary_sha256 00ff where " + s(0));
+    // GLSL rows drawn by another GL driver.
+    const std::string gl = edited(1, "gl", [](nlohmann::json& j) {
+        j["gl"] = {{"GL_RENDERER", "llvmpipe (LLVM 99, 512 bits)"}};
+    });
+    expect_refused(s(0) + " " + gl + " " + s(2), gl + ": ran its GLSL rows on another GL driver");
     // Not a slice at all: an unsharded run.
     ASSERT_EQ(pxh("run " + exp + " --quiet --out " + mine(5)).status, 0);
     expect_refused(s(0) + " " + mine(5), mine(5) + ": is not a slice");
+}
+
+TEST_F(ShardRefusals, UnitsCoveredTwiceOrRowsNotOfTheirUnit) {
+    // Slice 0's units again, claiming to be shard 1/3.
+    const std::string twin = edited(0, "twin", [](nlohmann::json& j) { j["shard"]["index"] = 1; });
+    expect_refused(s(0) + " " + twin + " " + s(2), ": both ran unit ");
+    // A unit recorded under another field's name: its rows are not that unit's.
+    const std::string renamed = edited(
+        1, "renamed", [](nlohmann::json& j) { j["shard"]["units"][0]["heightfield"] = "bricks"; });
+    expect_refused(s(0) + " " + renamed + " " + s(2), "row is not of unit ");
 }
 
 TEST_F(ShardRefusals, EditedSliceIsRefusedAsCheckRefusesIt) {
