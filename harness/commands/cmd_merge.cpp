@@ -173,21 +173,12 @@ nlohmann::json slice_provenance(const SliceIn& s) {
     return p;
 }
 
-int cmd_merge(const MergeArgs& a, const std::string& command_line) {
-    const auto t0 = std::chrono::steady_clock::now();
-    std::error_code ec;
-    const fs::path out_abs = fs::weakly_canonical(fs::absolute(a.out), ec);
-    for (const auto& d : a.dirs)
-        if (fs::weakly_canonical(fs::absolute(d), ec) == out_abs)
-            throw InputError(a.out, "is one of the slices: merge into another folder");
-    std::vector<SliceIn> slices;
-    for (const auto& d : a.dirs) slices.push_back(read_slice(d));
-    const SliceIn& first = slices[0];
-    for (size_t i = 1; i < slices.size(); ++i) check_same_run(first, slices[i]);
+using ByIndex = std::map<size_t, const SliceIn*>;
 
-    // Every shard 0..N-1 exactly once.
-    const size_t count = first.shard["count"].get<size_t>();
-    std::map<size_t, const SliceIn*> by_index;
+// Every shard 0..N-1 exactly once: the slices by index.
+ByIndex check_complete(const std::vector<SliceIn>& slices) {
+    const size_t count = slices[0].shard["count"].get<size_t>();
+    ByIndex by_index;
     for (const auto& s : slices) {
         const size_t i = s.shard["index"].get<size_t>();
         if (by_index.count(i))
@@ -203,25 +194,32 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
     if (!missing.empty())
         throw InputError("merge", missing + " (slices given: " + std::to_string(slices.size()) +
                                       " of " + std::to_string(count) + ")");
+    return by_index;
+}
 
-    // Every unit in exactly one slice; the rows unit by unit, in each slice's order.
-    const size_t units_total = first.shard["units_total"].get<size_t>();
-    std::vector<UnitRows> units(units_total);
+// The rows of every unit, each unit from exactly one slice.
+struct Gathered {
+    std::vector<UnitRows> units;
     std::vector<std::string> header;
     size_t rows = 0, failed = 0;
+};
+
+Gathered gather_rows(const ByIndex& by_index, size_t units_total) {
+    Gathered g;
+    g.units.resize(units_total);
     for (const auto& [index, s] : by_index) {
         const std::string csv = (fs::path(s->dir) / "results.csv").string();
         const CsvTable t = read_csv(csv);
-        if (header.empty()) header = t.columns;
-        if (t.columns != header)
+        if (g.header.empty()) g.header = t.columns;
+        if (t.columns != g.header)
             throw InputError(csv, "has other columns than the first slice's results.csv");
         size_t next = 0;
         for (const auto& u : s->shard["units"]) {
             const size_t k = u.value("unit", units_total);
             if (k >= units_total || !u.contains("rows") || !u["rows"].is_number_unsigned())
                 throw InputError(s->dir, "run.json records a malformed unit: " + short_text(u));
-            if (units[k].slice)
-                throw InputError(s->dir, "overlaps " + units[k].slice->dir + ": both ran unit " +
+            if (g.units[k].slice)
+                throw InputError(s->dir, "overlaps " + g.units[k].slice->dir + ": both ran unit " +
                                              std::to_string(k) + " (" +
                                              short_text(u.value("heightfield", "")) + ")");
             const size_t n = u["rows"].get<size_t>();
@@ -229,36 +227,40 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
                 throw InputError(csv, std::to_string(t.rows.size()) +
                                           " rows, fewer than run.json's units record");
             check_unit_rows(t, next, u);
-            units[k].slice = s;
-            units[k].rows.assign(t.rows.begin() + long(next), t.rows.begin() + long(next + n));
+            g.units[k].slice = s;
+            g.units[k].rows.assign(t.rows.begin() + long(next), t.rows.begin() + long(next + n));
             next += n;
         }
         if (next != t.rows.size())
             throw InputError(csv, std::to_string(t.rows.size()) +
                                       " rows, run.json's units record " + std::to_string(next));
         const int status = t.index("status");
-        for (const auto& r : t.rows) failed += status >= 0 && r[size_t(status)] != "ok";
-        rows += t.rows.size();
+        for (const auto& r : t.rows) g.failed += status >= 0 && r[size_t(status)] != "ok";
+        g.rows += t.rows.size();
     }
     for (size_t k = 0; k < units_total; ++k)
-        if (!units[k].slice)
+        if (!g.units[k].slice)
             throw InputError("merge", "unit " + std::to_string(k) + " of " +
                                           std::to_string(units_total) +
                                           " is in no slice (the slices do not cover the run)");
+    return g;
+}
 
-    RunFolder folder(a.out, a.force);
-    const fs::path tmp = folder.partial();
+std::string merged_csv(const Gathered& g) {
     std::string text;
-    for (size_t c = 0; c < header.size(); ++c) text += (c ? "," : "") + csv_quote(header[c]);
+    for (size_t c = 0; c < g.header.size(); ++c) text += (c ? "," : "") + csv_quote(g.header[c]);
     text += "\n";
-    for (const auto& u : units)
+    for (const auto& u : g.units)
         for (const auto& r : u.rows) {
             for (size_t c = 0; c < r.size(); ++c) text += (c ? "," : "") + csv_quote(r[c]);
             text += "\n";
         }
-    write_file_synced(tmp / "results.csv", text);
+    return text;
+}
 
-    // The slices' other files (maps, pictures): named by the whole run's row index already.
+// The slices' other files (maps, pictures), named by the whole run's row index already;
+// returns how many.
+size_t copy_files(const ByIndex& by_index, const fs::path& tmp) {
     std::map<std::string, std::string> copied;  // relative path -> slice
     for (const auto& [index, s] : by_index)
         for (const auto& [rel, rec] : s->run["files"].items()) {
@@ -274,7 +276,13 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
             fs::create_directories((tmp / rp).parent_path());
             fs::copy_file(fs::path(s->dir) / rp, tmp / rp);
         }
+    return copied.size();
+}
 
+// OUT's run.json (less its files record): the slices' experiment and GL record, the merge's
+// own provenance, and the slices' provenance.
+nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, const Gathered& g,
+                             const std::string& command_line, double merge_seconds) {
     nlohmann::json run = provenance(int(tbb::info::default_concurrency()));
     run["command_line"] = command_line;
     for (const char* k : {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
@@ -290,25 +298,49 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
         from.push_back(slice_provenance(*s));
     }
     if (!shaders.empty()) run["shaders"] = shaders;
-    run["rows"] = rows;
-    run["failed_rows"] = failed;
+    run["rows"] = g.rows;
+    run["failed_rows"] = g.failed;
     run["seconds"] = seconds;  // the slices' run times added up
-    run["merged"] = {{"count", count},
+    run["merged"] = {{"count", first.shard["count"]},
                      {"partition", first.shard["partition"]},
-                     {"units_total", units_total},
+                     {"units_total", first.shard["units_total"]},
                      {"experiment_sha256", first.shard["experiment_sha256"]},
                      {"selection", first.shard["selection"]},
                      {"build", first.shard["build"]},
-                     {"merge_seconds",
-                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()},
+                     {"merge_seconds", merge_seconds},
                      {"slices", from}};
+    return run;
+}
+
+int cmd_merge(const MergeArgs& a, const std::string& command_line) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::error_code ec;
+    const fs::path out_abs = fs::weakly_canonical(fs::absolute(a.out), ec);
+    for (const auto& d : a.dirs)
+        if (fs::weakly_canonical(fs::absolute(d), ec) == out_abs)
+            throw InputError(a.out, "is one of the slices: merge into another folder");
+    std::vector<SliceIn> slices;
+    for (const auto& d : a.dirs) slices.push_back(read_slice(d));
+    const SliceIn& first = slices[0];
+    for (size_t i = 1; i < slices.size(); ++i) check_same_run(first, slices[i]);
+    const ByIndex by_index = check_complete(slices);
+    const Gathered g = gather_rows(by_index, first.shard["units_total"].get<size_t>());
+
+    RunFolder folder(a.out, a.force);
+    const fs::path tmp = folder.partial();
+    write_file_synced(tmp / "results.csv", merged_csv(g));
+    const size_t copied = copy_files(by_index, tmp);
+    nlohmann::json run =
+        merged_record(first, by_index, g, command_line,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     run["files"] = file_records(tmp);  // written last, as run writes it
     write_file_synced(tmp / "run.json", run.dump(2) + "\n");
     folder.commit();
-    std::cout << "merged " << count << " slices: " << rows << " rows (" << failed << " failed), "
-              << copied.size() << " other file(s) -> " << folder.final_dir().string() << "\n";
+    std::cout << "merged " << by_index.size() << " slices: " << g.rows << " rows (" << g.failed
+              << " failed), " << copied << " other file(s) -> " << folder.final_dir().string()
+              << "\n";
     std::cout << verify_results_folder(folder.final_dir().string(), false) << "\n";
-    return failed ? 1 : 0;
+    return g.failed ? 1 : 0;
 }
 
 }  // namespace

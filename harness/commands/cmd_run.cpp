@@ -286,6 +286,13 @@ nlohmann::json shard_record(const Experiment& ex, const RunArgs& a, const Slice&
             {"units", units}};
 }
 
+void print_slice(const Slice& s, const nlohmann::json& rec) {
+    std::cout << "shard " << s.shard.text() << ": " << s.mine.size() << " of " << s.units.size()
+              << " units, " << std::setprecision(1) << std::fixed
+              << 100.0 * rec["cost"].get<double>() / rec["cost_total"].get<double>()
+              << "% of the estimated cost (pxh merge OUT DIR... joins the slices)\n";
+}
+
 int cmd_run(const RunArgs& a, const std::string& command_line) {
     if (!a.gl.empty() && !find_gl_context(a.gl))
         throw InputError("--gl",
@@ -358,13 +365,7 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     if (!a.quiet) print_summary(rows);
     std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
               << std::fixed << secs << " s -> " << folder.final_dir().string() << "\n";
-    if (slice) {
-        const auto& rec = run["shard"];
-        std::cout << "shard " << slice->shard.text() << ": " << slice->mine.size() << " of "
-                  << slice->units.size() << " units, " << std::setprecision(1)
-                  << 100.0 * rec["cost"].get<double>() / rec["cost_total"].get<double>()
-                  << "% of the estimated cost (pxh merge OUT DIR... joins the slices)\n";
-    }
+    if (slice) print_slice(*slice, run["shard"]);
     if (failed) print_failed_rows(rows, failed);
     return failed ? 1 : 0;
 }

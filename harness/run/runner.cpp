@@ -349,6 +349,40 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
     }
 }
 
+// Which views run (all, or a slice's), and where each sweep's rows are in the whole run:
+// every view of a field has one row per method setting it runs x backend x variant. `steps`:
+// the views that run.
+std::vector<SweepPlace> plan_sweeps(const Experiment& ex, const RunOptions& opt,
+                                    const std::vector<std::unique_ptr<Backend>>& backends,
+                                    size_t& steps) {
+    const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
+    std::vector<SweepPlace> places;
+    size_t first_row = 0;
+    for (size_t h = 0; h < ex.heightfields.size(); ++h) {
+        size_t per_view = 0;
+        for (const auto& m : ex.methods)
+            if (m.runs_on(ex.heightfields[h].name))
+                for (const auto& b : backends)
+                    if (b->runs(*m.method)) per_view += b->variants().size();
+        for (size_t p = 0; p < np; ++p) {
+            SweepPlace at{h, p, std::vector<bool>(nt, true), first_row, per_view};
+            size_t n = 0;
+            for (size_t t = 0; t < nt; ++t) {
+                if (opt.include) at.runs[t] = opt.include(h, p, t);
+                n += at.runs[t];
+            }
+            if (n != 0 && n != nt && ex.sweep_dt_deg <= 0)
+                throw std::logic_error(
+                    "a slice must take a theta sweep whole (its consecutive "
+                    "views pair up)");
+            steps += n;
+            first_row += nt * per_view;
+            places.push_back(std::move(at));
+        }
+    }
+    return places;
+}
+
 }  // namespace
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
@@ -372,33 +406,9 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
     // reuse it.
     check_field_files(ex);
-    // Which views run (all, or a slice's), and where each sweep's rows are in the whole run:
-    // every view of a field has one row per method setting it runs x backend x variant.
     const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
-    std::vector<SweepPlace> places;
-    size_t steps = 0, first_row = 0;
-    for (size_t h = 0; h < ex.heightfields.size(); ++h) {
-        size_t per_view = 0;
-        for (const auto& m : ex.methods)
-            if (m.runs_on(ex.heightfields[h].name))
-                for (const auto& b : backends)
-                    if (b->runs(*m.method)) per_view += b->variants().size();
-        for (size_t p = 0; p < np; ++p) {
-            SweepPlace at{h, p, std::vector<bool>(nt, true), first_row, per_view};
-            size_t n = 0;
-            for (size_t t = 0; t < nt; ++t) {
-                if (opt.include) at.runs[t] = opt.include(h, p, t);
-                n += at.runs[t];
-            }
-            if (n != 0 && n != nt && ex.sweep_dt_deg <= 0)
-                throw std::logic_error(
-                    "a slice must take a theta sweep whole (its consecutive "
-                    "views pair up)");
-            steps += n;
-            first_row += nt * per_view;
-            places.push_back(std::move(at));
-        }
-    }
+    size_t steps = 0;
+    const std::vector<SweepPlace> places = plan_sweeps(ex, opt, backends, steps);
     std::vector<ResultRow> rows;
     size_t step = 0;
     std::optional<HeightField> field;
