@@ -13,8 +13,10 @@ work=${2:?usage: slurm_test.sh PXH_BINARY WORK_DIR}
 src=$(cd "$(dirname "$0")/../.." && pwd)
 t0=$(date +%s)
 
+reason=""
 fail() {
-  echo "slurm_test: FAILED: $*" >&2
+  reason="slurm_test: FAILED: $*"
+  echo "$reason" >&2
   exit 1
 }
 for tool in slurmctld slurmd sbatch scontrol sinfo python3; do
@@ -41,6 +43,7 @@ stop() {
     done
   fi
   rm -rf "$dir"
+  [ -n "$reason" ] && echo "$reason" >&2  # again, last
   exit "$rc"
 }
 trap stop EXIT
