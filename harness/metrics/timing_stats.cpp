@@ -52,7 +52,7 @@ std::vector<double> u_counts(size_t m, size_t n) {
         next[0] = {1.0};  // j = 0: U = 0 only
         for (size_t j = 1; j <= n; ++j) {
             std::vector<double> d(i * j + 1, 0.0);
-            const auto& up = row[j];        // (i - 1, j): shifted by j
+            const auto& up = row[j];         // (i - 1, j): shifted by j
             const auto& left = next[j - 1];  // (i, j - 1)
             for (size_t u = 0; u < up.size(); ++u) d[u + j] += up[u];
             for (size_t u = 0; u < left.size(); ++u) d[u] += left[u];

@@ -18,9 +18,9 @@ std::string format_repeats(const std::vector<double>& v);
 std::optional<std::vector<double>> parse_repeats(const std::string& cell);
 
 struct UTest {
-    double u = 0;         // U of the first sample: pairs (a_i > b_j), ties counted 1/2
-    double p = 1;         // two-sided p-value
-    bool exact = false;   // from the exact null distribution (no ties, small samples)
+    double u = 0;        // U of the first sample: pairs (a_i > b_j), ties counted 1/2
+    double p = 1;        // two-sided p-value
+    bool exact = false;  // from the exact null distribution (no ties, small samples)
 };
 // Needs both samples non-empty (std::invalid_argument otherwise).
 UTest mann_whitney_u(const std::vector<double>& a, const std::vector<double>& b);

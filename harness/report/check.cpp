@@ -449,15 +449,17 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
 // many failed.
 int print_outcomes(const std::vector<Outcome>& outcomes) {
     int failed = 0;
+    int lw = 12;  // the limit column: wider for a ratio_to limit ("<= 3 x parallax")
+    for (const auto& o : outcomes) lw = std::max(lw, int(o.limit.size()) + 2);
     std::cout << std::left << std::setw(4) << "#" << std::setw(72) << "rows selected"
-              << std::setw(22) << "column" << std::setw(12) << "limit" << std::setw(12) << "worst"
+              << std::setw(22) << "column" << std::setw(lw) << "limit" << std::setw(12) << "worst"
               << std::setw(6) << "rows"
               << "result\n";
     for (size_t i = 0; i < outcomes.size(); ++i) {
         const auto& o = outcomes[i];
         failed += !o.pass;
         std::cout << std::left << std::setw(4) << i + 1 << std::setw(72) << o.what << std::setw(22)
-                  << o.column << std::setw(12) << o.limit << std::setw(12)
+                  << o.column << std::setw(lw) << o.limit << std::setw(12)
                   << (std::isfinite(o.worst) ? short_number(o.worst) : "-") << std::setw(6)
                   << o.rows << (o.pass ? "pass" : "FAIL")
                   << (o.note.empty() ? "" : "  (" + o.note + ")") << "\n";

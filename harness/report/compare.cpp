@@ -344,8 +344,8 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const CompareOpt
             }
         }
     }
-    // Per row.
-    if (!any) return;
+    // Per row: errors, fetches or status changed, or a time that significantly did.
+    if (!any && timing.kind != Timing::slower && timing.kind != Timing::faster) return;
     ++tally.rows_changed;
     auto change = [&](int i) {
         if (!n.ok) return std::string("failed");
@@ -392,10 +392,12 @@ TextTable row_table(Tally& tally) {
     t.header = {"changed row", "err_mean", "err_p95", "err_max", "fetches", "time ratio"};
     t.align = "lrrrrr";
     for (const Changed& c : tally.rows) t.rows.push_back(c.cells);
-    if (tally.rows_changed == 0) t.notes.push_back("No row's errors, fetches or status changed.");
+    if (tally.rows_changed == 0)
+        t.notes.push_back("No row's errors, fetches, status or time (p < 0.05) changed.");
     else if (tally.rows.size() < tally.rows_changed)
-        t.notes.push_back("... and " + std::to_string(tally.rows_changed - tally.rows.size()) +
-                          " more changed rows (largest change of err_p95 first).");
+        t.notes.push_back(
+            "... and " + std::to_string(tally.rows_changed - tally.rows.size()) +
+            " more changed rows (largest change of err_p95 first; then significant time changes).");
     return t;
 }
 
