@@ -108,8 +108,7 @@ TEST_F(CheckRatio, BadBaselinesAreExit2) {
     // No row of the baseline method at all.
     auto r = check(head + "ratio_to = { method = \"relief\" }\n");
     EXPECT_EQ(r.status, 2);
-    EXPECT_NE(r.err.find("t.toml:5: ratio_to: no row of results.csv is relief"),
-              std::string::npos)
+    EXPECT_NE(r.err.find("t.toml:5: ratio_to: no row of results.csv is relief"), std::string::npos)
         << r.err;
     // pom divided by pom without params: two settings share each field and view.
     r = check(head + "backend = \"cpu\"\nratio_to = { method = \"pom\" }\n");
@@ -120,15 +119,16 @@ TEST_F(CheckRatio, BadBaselinesAreExit2) {
               std::string::npos)
         << r.err;
     // GLSL pom layers=16 has no GLSL pom layers=64 to divide by.
-    r = check(head + "backend = \"glsl\"\nratio_to = { method = \"pom\", params = \"layers=64\" }\n");
+    r = check(head +
+              "backend = \"glsl\"\nratio_to = { method = \"pom\", params = \"layers=64\" }\n");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.err.find("has no baseline row (pom layers=64 on the same field, view and "
                          "backend)"),
               std::string::npos)
         << r.err;
-    for (const char* bad : {"ratio_to = \"parallax\"\n", "ratio_to = { methd = \"parallax\" }\n",
-                            "ratio_to = { params = \"layers=16\" }\n",
-                            "ratio_to = { method = 3 }\n"}) {
+    for (const char* bad :
+         {"ratio_to = \"parallax\"\n", "ratio_to = { methd = \"parallax\" }\n",
+          "ratio_to = { params = \"layers=16\" }\n", "ratio_to = { method = 3 }\n"}) {
         r = check(head + bad);
         EXPECT_EQ(r.status, 2) << bad;
         EXPECT_NE(r.err.find("t.toml:5: "), std::string::npos) << bad << r.err;

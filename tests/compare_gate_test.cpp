@@ -110,11 +110,12 @@ TEST_F(CompareGate, BusierShaderIsASignificantSlowdown) {
     fs::create_directories(dir / "busy");
     write("fast/my.frag.glsl", kFast);
     write("busy/my.frag.glsl", kBusy);
-    const std::string exp = "name = \"busy\"\nsamples = 32\nbackends = [\"glsl\"]\n"
-                            "[views]\ntheta_deg = [60]\n[[heightfields]]\ngenerator = \"fbm\"\n"
-                            "size = 64\nscale = 0.05\nbias = 1.0\n[[methods]]\nname = \"my\"\n"
-                            "shader = \"my.frag.glsl\"\nmax_fetches = 1\n"
-                            "uniforms = { p_k = 1.0 }\n";
+    const std::string exp =
+        "name = \"busy\"\nsamples = 32\nbackends = [\"glsl\"]\n"
+        "[views]\ntheta_deg = [60]\n[[heightfields]]\ngenerator = \"fbm\"\n"
+        "size = 64\nscale = 0.05\nbias = 1.0\n[[methods]]\nname = \"my\"\n"
+        "shader = \"my.frag.glsl\"\nmax_fetches = 1\n"
+        "uniforms = { p_k = 1.0 }\n";
     run_into("fast/exp", exp);
     run_into("busy/exp", exp);
     const auto r = pxh("compare " + d("fast/exp") + " " + d("busy/exp") +
@@ -133,8 +134,8 @@ TEST_F(CompareGate, BusierShaderIsASignificantSlowdown) {
     // The shader's hash changed, and is listed.
     EXPECT_NE(r.out.find("shader changes: 1\n  my p_k=1: "), std::string::npos) << r.out;
     // The other way round: significantly faster, no regression.
-    const auto back = pxh("compare " + d("busy/exp") + " " + d("fast/exp") +
-                          " --fail-on ms_per_frame=+10%");
+    const auto back =
+        pxh("compare " + d("busy/exp") + " " + d("fast/exp") + " --fail-on ms_per_frame=+10%");
     EXPECT_EQ(back.status, 0) << back.out;
     EXPECT_NE(back.out.find("x faster (p=0.007937)"), std::string::npos) << back.out;
 }
@@ -173,12 +174,10 @@ TEST_F(CompareGate, FourDigitsVerdictFirstMarkdownDetails) {
                        " --accept-edited --fail-on err_p95=+5% --markdown");
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     // The verdict first, then the summary, the regressions, and the tables folded away.
-    EXPECT_EQ(r.out.rfind("### pxh compare: FAIL: 1 regression(s) beyond --fail-on err_p95=+5%\n",
-                          0),
-              0u)
+    EXPECT_EQ(
+        r.out.rfind("### pxh compare: FAIL: 1 regression(s) beyond --fail-on err_p95=+5%\n", 0), 0u)
         << r.out;
-    const size_t reg = r.out.find("err_p95 " + std::string(base) + " -> " + now +
-                                  " (allowed +5%)"),
+    const size_t reg = r.out.find("err_p95 " + std::string(base) + " -> " + now + " (allowed +5%)"),
                  det = r.out.find("<details><summary>"), end = r.out.find("</details>"),
                  table = r.out.find("| method [backend] |");
     EXPECT_NE(reg, std::string::npos) << r.out;
@@ -201,8 +200,7 @@ TEST_F(CompareGate, CommonLeavesOutRowsInOneRunOnly) {
                          "only in NEW\n--common: 2 rows only in BASE and 0 only in NEW left out"),
               std::string::npos)
         << r.out;
-    EXPECT_NE(r.out.find("Rows only in BASE (left out: --common) (2)"), std::string::npos)
-        << r.out;
+    EXPECT_NE(r.out.find("Rows only in BASE (left out: --common) (2)"), std::string::npos) << r.out;
 }
 
 TEST_F(CompareGate, RefusesWhatCannotBeCompared) {
@@ -218,12 +216,13 @@ TEST_F(CompareGate, RefusesWhatCannotBeCompared) {
     EXPECT_EQ(r.status, 2) << r.out;
     EXPECT_NE(r.err.find("wide/results.csv:2: parallax [cpu/float] on fbm s=0.05 b=1 theta=0 "
                          "phi=0 is on a 128x64 field here but 64x64 in BASE (" +
-                         d("a") + "/results.csv:2): compare refuses to match rows across "
-                                  "different field sizes"),
+                         d("a") +
+                         "/results.csv:2): compare refuses to match rows across "
+                         "different field sizes"),
               std::string::npos)
         << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << "a warning and the error: "
-                                                               << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2)
+        << "a warning and the error: " << r.err;
     // Another ground truth.
     edited_copy("a", "embree", "ground_truth", "embree");
     r = pxh("compare " + d("a") + " " + d("embree") + " --accept-edited");

@@ -450,7 +450,7 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
 int print_outcomes(const std::vector<Outcome>& outcomes) {
     int failed = 0;
     int lw = 12;  // the limit column: wider for a ratio_to limit ("<= 3 x parallax")
-    for (const auto& o : outcomes) lw = std::max(lw, int(o.limit.size()) + 2);
+    for (const auto& o : outcomes) lw = std::max(lw, int(o.limit.size()) + 1);
     std::cout << std::left << std::setw(4) << "#" << std::setw(72) << "rows selected"
               << std::setw(22) << "column" << std::setw(lw) << "limit" << std::setw(12) << "worst"
               << std::setw(6) << "rows"

@@ -56,61 +56,78 @@ std::string signed_sig(double v) {
     if (!std::isfinite(v)) return "-";
     return (v > 0 ? "+" : "") + sig(v);
 }
-std::string cell_sig(const std::string& cell, double v) { return cell.empty() ? "-" : sig(v); }
 
 // The timing column of a row's backend (CPU: ns per sample, GLSL: ms per frame).
 std::string timing_column(const ResultRow& r) {
     return r.text("backend") == "cpu" ? "ns_per_sample" : "ms_per_frame";
 }
 
-// What compare keeps of a row: the keys' digest, its name, and the few values it compares.
-// BASE's rows are kept like this (NEW's are streamed past them), so memory is what the matched
-// keys take, not what the rows hold.
+// The row's name from its key (row_name of the row the key was made of).
+std::string name_of_key(const std::string& key) {
+    std::vector<std::string> f;
+    size_t at = 0;
+    for (size_t end; (end = key.find('\x1f', at)) != std::string::npos; at = end + 1)
+        f.push_back(key.substr(at, end - at));
+    if (f.size() != std::size(kKeys)) return key;
+    // method, params, heightfield, scale, bias, theta, phi, samples, backend, precision, format
+    return f[0] + (f[1].empty() ? "" : " " + f[1]) + " [" + f[8] + "/" +
+           (f[10].empty() ? f[9] : f[10]) + "] on " + f[2] + " s=" + f[3] + " b=" + f[4] +
+           " theta=" + f[5] + " phi=" + f[6];
+}
+
+// Texts shared by many rows (shader files, hashes, ground truths), kept once.
+class Pool {
+  public:
+    const std::string* of(const std::string& s) { return &*texts_.insert(s).first; }
+
+  private:
+    std::set<std::string> texts_;
+};
+
+// What compare keeps of a row: the few values it compares (numbers, shared texts), not the
+// row. BASE's rows are kept like this by key (NEW's are streamed past them), so memory is what
+// the keys take plus a few numbers per row, not what the rows hold.
 struct Rec {
-    std::string key, name, where, error, shader, shader_sha256;
-    std::string width, height, ground_truth;
-    bool ok = false, matched = false;
-    double theta = NAN;
-    std::string err_cells[4];
+    size_t line = 0;  // in its results.csv
+    std::string error;
+    const std::string *shader = nullptr, *shader_sha256 = nullptr, *ground_truth = nullptr;
+    double width = NAN, height = NAN, theta = NAN;
+    bool ok = false, matched = false, cpu = false;
     double err[4] = {NAN, NAN, NAN, NAN};
-    std::vector<double> tol;             // the --fail-on columns' values
-    std::vector<std::string> tol_cells;  // as written
-    std::string timing_col;
-    double t_median = NAN;
+    std::vector<double> tol;  // the --fail-on columns' values
+    double t_median = NAN;    // the backend's timing column
     std::vector<double> repeats;
 };
 
-Rec rec_of(const ResultRow& r, const std::string& where, const CompareOptions& opt) {
+Rec rec_of(const ResultRow& r, size_t line, const std::string& where, const CompareOptions& opt,
+           Pool& pool) {
     Rec x;
-    x.key = key_of(r);
-    x.name = row_name(r);
-    x.where = where;
+    x.line = line;
     x.ok = r.ok();
     x.error = r.text("error");
-    x.shader = r.text("shader");
-    x.shader_sha256 = r.text("shader_sha256");
-    x.width = r.cell("width");
-    x.height = r.cell("height");
-    x.ground_truth = r.text("ground_truth");
+    x.shader = pool.of(r.text("shader"));
+    x.shader_sha256 = pool.of(r.text("shader_sha256"));
+    x.ground_truth = pool.of(r.text("ground_truth"));
+    x.width = r.num("width");
+    x.height = r.num("height");
     x.theta = r.num("theta_deg");
-    for (int i = 0; i < 4; ++i) {
-        x.err_cells[i] = r.cell(kErrors[i]);
-        x.err[i] = r.num(kErrors[i]);
-    }
-    for (const CompareTolerance& t : opt.fail_on) {
-        x.tol.push_back(r.num(t.column));
-        x.tol_cells.push_back(r.cell(t.column));
-    }
-    x.timing_col = timing_column(r);
-    x.t_median = r.num(x.timing_col);
-    const auto reps = parse_repeats(r.text(x.timing_col + "_repeats"));
+    for (int i = 0; i < 4; ++i) x.err[i] = r.num(kErrors[i]);
+    for (const CompareTolerance& t : opt.fail_on) x.tol.push_back(r.num(t.column));
+    const std::string col = timing_column(r);
+    x.cpu = col == "ns_per_sample";
+    x.t_median = r.num(col);
+    const auto reps = parse_repeats(r.text(col + "_repeats"));
     if (!reps)
-        throw InputError(where, "column '" + x.timing_col + "_repeats': '" +
-                                    r.text(x.timing_col + "_repeats") +
+        throw InputError(where, "column '" + col + "_repeats': '" + r.text(col + "_repeats") +
                                     "' is not a ';'-separated list of times");
     x.repeats = *reps;
     return x;
 }
+
+// Two cells the same: equal numbers, or both empty.
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+std::string size_of(const Rec& r) { return sig(r.width) + "x" + sig(r.height); }
 
 // results.csv of a results folder, one typed row at a time.
 class RowStream {
@@ -123,6 +140,8 @@ class RowStream {
         return true;
     }
     std::string where() const { return in_.where(); }
+    size_t line() const { return in_.line(); }
+    const std::string& path() const { return in_.path(); }
 
   private:
     static std::string path_of(const std::string& dir) {
@@ -271,16 +290,16 @@ void trim(std::vector<Changed>& rows) {
 std::string short_sha(const std::string& s) { return s.empty() ? "none" : s.substr(0, 12); }
 
 // The pair's contribution to every table, list and verdict.
-void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const CompareOptions& opt,
-              Bands& bands, Tally& tally) {
+void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::string& name,
+              const CompareOptions& opt, Bands& bands, Tally& tally) {
     ++tally.matched;
     bool any = b.ok != n.ok;
-    for (int i = 0; i < 4; ++i) any = any || b.err_cells[i] != n.err_cells[i];
+    for (int i = 0; i < 4; ++i) any = any || !same(b.err[i], n.err[i]);
     tally.changed += any;
-    if (b.shader_sha256 != n.shader_sha256)
-        tally.shader_changes.insert(setting_of(now) + ": " + short_sha(b.shader_sha256) + " -> " +
-                                    short_sha(n.shader_sha256) +
-                                    (n.shader.empty() ? "" : " (" + n.shader + ")"));
+    if (*b.shader_sha256 != *n.shader_sha256)
+        tally.shader_changes.insert(setting_of(now) + ": " + short_sha(*b.shader_sha256) + " -> " +
+                                    short_sha(*n.shader_sha256) +
+                                    (n.shader->empty() ? "" : " (" + *n.shader + ")"));
     const Timing timing = b.ok && n.ok ? timing_change(b, n) : Timing{};
     switch (timing.kind) {
         case Timing::slower:
@@ -304,13 +323,13 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const CompareOpt
     // The gate.
     if (!opt.fail_on.empty()) {
         if (b.ok && !n.ok) {
-            tally.regressions.add(n.name + ": failed (" + one_line(n.error) + ")");
+            tally.regressions.add(name + ": failed (" + one_line(n.error) + ")");
         } else if (n.ok) {
             for (size_t k = 0; k < opt.fail_on.size(); ++k) {
                 const CompareTolerance& t = opt.fail_on[k];
                 if (!regresses(t, b.tol[k], n.tol[k])) continue;
                 std::string why;
-                if (t.column == b.timing_col) {
+                if (t.column == (b.cpu ? "ns_per_sample" : "ms_per_frame")) {
                     // A time regresses only when its repeats show it is slower, not noise.
                     if (timing.kind == Timing::noise || timing.kind == Timing::faster) continue;
                     if (timing.kind == Timing::slower) why = "; slower, p=" + sig(timing.p);
@@ -320,9 +339,8 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const CompareOpt
                     else if (timing.kind == Timing::no_repeats)
                         why = "; no verdict: no repeats recorded";
                 }
-                tally.regressions.add(
-                    n.name + ": " + t.column + " " + cell_sig(b.tol_cells[k], b.tol[k]) + " -> " +
-                    cell_sig(n.tol_cells[k], n.tol[k]) + " (allowed " + allowance(t) + why + ")");
+                tally.regressions.add(name + ": " + t.column + " " + sig(b.tol[k]) + " -> " +
+                                      sig(n.tol[k]) + " (allowed " + allowance(t) + why + ")");
             }
         }
     }
@@ -349,12 +367,12 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const CompareOpt
     ++tally.rows_changed;
     auto change = [&](int i) {
         if (!n.ok) return std::string("failed");
-        return cell_sig(b.err_cells[i], b.err[i]) + " -> " + cell_sig(n.err_cells[i], n.err[i]) +
-               " (" + signed_sig(n.err[i] - b.err[i]) + ")";
+        return sig(b.err[i]) + " -> " + sig(n.err[i]) + " (" + signed_sig(n.err[i] - b.err[i]) +
+               ")";
     };
     const double d = std::abs(n.err[1] - b.err[1]);
     tally.rows.push_back({std::isfinite(d) ? d : INFINITY,
-                          {n.name, change(0), change(1), change(2), change(3), ratio_fmt(timing)}});
+                          {name, change(0), change(1), change(2), change(3), ratio_fmt(timing)}});
     if (tally.rows.size() > 4 * kShown) trim(tally.rows);
 }
 
@@ -474,16 +492,18 @@ std::vector<CompareTolerance> parse_fail_on(const std::string& spec) {
 int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
                 std::ostream& out) {
     // BASE: kept as compact records, by key.
+    Pool pool;
     std::vector<Rec> base;
     std::unordered_map<std::string, size_t> by_key;
+    std::string base_csv;
     {
         RowStream in(base_dir);
+        base_csv = in.path();
         ResultRow row;
         while (in.next(row)) {
-            Rec r = rec_of(row, in.where(), opt);
-            if (!by_key.emplace(r.key, base.size()).second)
-                throw InputError(in.where(), "two rows with the same keys (" + r.name + ")");
-            base.push_back(std::move(r));
+            if (!by_key.emplace(key_of(row), base.size()).second)
+                throw InputError(in.where(), "two rows with the same keys (" + row_name(row) + ")");
+            base.push_back(rec_of(row, in.line(), in.where(), opt, pool));
         }
     }
     // NEW: streamed past it.
@@ -491,39 +511,45 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
     Tally tally;
     {
         RowStream in(new_dir);
-        std::unordered_set<std::string> seen;
+        std::unordered_set<std::string> only_new;  // the keys of NEW's rows that BASE lacks
         ResultRow row;
         while (in.next(row)) {
-            const Rec n = rec_of(row, in.where(), opt);
-            if (!seen.insert(n.key).second)
-                throw InputError(in.where(), "two rows with the same keys (" + n.name + ")");
-            const auto it = by_key.find(n.key);
-            if (it == by_key.end()) {
+            const Rec n = rec_of(row, in.line(), in.where(), opt, pool);
+            const std::string key = key_of(row), name = row_name(row);
+            const auto it = by_key.find(key);
+            Rec* b = it == by_key.end() ? nullptr : &base[it->second];
+            if (b ? b->matched : !only_new.insert(key).second)
+                throw InputError(in.where(), "two rows with the same keys (" + name + ")");
+            if (!b) {
                 ++tally.only_new;
-                tally.only_new_names.add(n.name);
+                tally.only_new_names.add(name);
                 continue;
             }
-            Rec& b = base[it->second];
-            b.matched = true;
+            b->matched = true;
+            const std::string there = base_csv + ":" + std::to_string(b->line);
             // Rows that only look alike: refused, not compared.
-            if (b.width != n.width || b.height != n.height)
-                throw InputError(n.where, n.name + " is on a " + n.width + "x" + n.height +
-                                              " field here but " + b.width + "x" + b.height +
-                                              " in BASE (" + b.where +
-                                              "): compare refuses to match rows across "
-                                              "different field sizes");
-            if (b.ground_truth != n.ground_truth)
-                throw InputError(n.where, n.name + " is measured against ground truth '" +
-                                              n.ground_truth + "' here but '" + b.ground_truth +
-                                              "' in BASE (" + b.where +
-                                              "): compare refuses to match rows across "
-                                              "different ground truths");
-            add_pair(b, n, row, opt, bands, tally);
+            if (!same(b->width, n.width) || !same(b->height, n.height))
+                throw InputError(in.where(), name + " is on a " + size_of(n) + " field here but " +
+                                                 size_of(*b) + " in BASE (" + there +
+                                                 "): compare refuses to match rows across "
+                                                 "different field sizes");
+            if (*b->ground_truth != *n.ground_truth)
+                throw InputError(in.where(), name + " is measured against ground truth '" +
+                                                 *n.ground_truth + "' here but '" +
+                                                 *b->ground_truth + "' in BASE (" + there +
+                                                 "): compare refuses to match rows across "
+                                                 "different ground truths");
+            add_pair(*b, n, row, name, opt, bands, tally);
         }
     }
     Capped only_base;
-    for (const Rec& b : base)
-        if (!b.matched) only_base.add(b.name);
+    {
+        std::vector<std::pair<size_t, const std::string*>> missing;  // by line: file order
+        for (const auto& [key, i] : by_key)
+            if (!base[i].matched) missing.push_back({base[i].line, &key});
+        std::sort(missing.begin(), missing.end());
+        for (const auto& m : missing) only_base.add(name_of_key(*m.second));
+    }
     if (!opt.fail_on.empty() && !opt.common)
         for (const std::string& r : only_base.items)
             tally.regressions.add(r + ": missing from NEW");
