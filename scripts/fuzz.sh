@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes pxh's hostile-input parsers with libFuzzer (clang; ASan + UBSan, leaks detected).
 #   scripts/fuzz.sh [SECONDS [TARGET...]]   SECONDS per target (default 60); targets default
-#                                           to all: experiment thresholds csv image
+#                                           to all: experiment thresholds csv image compare
 # Configures build-fuzz with clang (-DPXH_FUZZ=ON: the project instrumented for coverage, ASan
 # and UBSan), builds fuzz_TARGET, and runs each target for SECONDS (-max_total_time) from the
 # committed seeds fuzz/corpus/TARGET/ plus what earlier runs kept (build-fuzz/corpus/TARGET/,
@@ -20,7 +20,7 @@ root=$PWD
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(experiment thresholds csv image)
+[ ${#targets[@]} -eq 0 ] && targets=(experiment thresholds csv image compare)
 jobs=${JOBS:-$(nproc)}
 build=build-fuzz
 

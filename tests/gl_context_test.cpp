@@ -148,7 +148,7 @@ TEST_F(GlCli, EglEqualsOsmesaOnEveryGlslRowOfTheDefaultExperiment) {
         EXPECT_GT(b.number(r, "gpu_ms_per_frame"), 0.0);  // llvmpipe: 64-bit timer queries
     }
     EXPECT_EQ(differ, 0u);
-    EXPECT_EQ(compared, a.rows.size() * (a.columns.size() - 6));  // all but 6 timing columns
+    EXPECT_EQ(compared, a.rows.size() * (a.columns.size() - 7));  // all but 7 timing columns
     // run.json records which context ran, and what is behind it.
     for (const char* gl : {"osmesa", "egl"}) {
         const auto run = nlohmann::json::parse(slurp(dir / gl / "run.json"));

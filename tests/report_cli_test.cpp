@@ -500,8 +500,8 @@ TEST_F(ReportFolder, CheckFilterErrorsNameTheKeyLine) {
         {"heightfield = 1", "limits.toml:4: 'heightfield' must be a string or a list of strings"},
         {"phi = 0",
          "limits.toml:4: unknown key 'phi' in [[limit]] (keys: column, min, max, "
-         "theta_min, theta_max, note, method, params, heightfield, backend, precision, "
-         "texture_format, ground_truth, scale, bias, phi_deg, samples)"},
+         "theta_min, theta_max, note, ratio_to, method, params, heightfield, backend, "
+         "precision, texture_format, ground_truth, scale, bias, phi_deg, samples)"},
     };
     for (const auto& c : cases) {
         const std::string e = input_error([&] {

@@ -25,6 +25,9 @@ struct MethodOutput {
            gpu_ms_per_frame_max = NAN;            // GLSL: timer queries
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
     double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
+    // Every timed repeat in the order measured (CPU: ns per sample; GLSL: wall ms per frame):
+    // what `pxh compare`'s significance test needs (empty when not timed).
+    std::vector<double> ns_per_sample_repeats, ms_per_frame_repeats;
     std::string shader;         // GLSL: "builtin" or the shader file(s) compiled
     std::string shader_sha256;  // GLSL: sha256 of the method's shader source
 };

@@ -45,6 +45,7 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
         out.ns_per_sample = t.median / double(n);
         out.ns_per_sample_min = t.min / double(n);
         out.ns_per_sample_max = t.max / double(n);
+        for (double ns : times) out.ns_per_sample_repeats.push_back(ns / double(n));
     }
     return out;
 }

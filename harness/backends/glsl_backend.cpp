@@ -318,6 +318,7 @@ void GlslBackend::draw_frames(int frames, MethodOutput& out) {
     out.ms_per_frame = t.median;
     out.ms_per_frame_min = t.min;
     out.ms_per_frame_max = t.max;
+    out.ms_per_frame_repeats = ms;
     const Spread g = spread(gpu_ms);
     out.gpu_ms_per_frame = g.median;
     out.gpu_ms_per_frame_min = g.min;

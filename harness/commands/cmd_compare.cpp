@@ -15,28 +15,37 @@ Command add_compare_command(CLI::App& app) {
         "backend, precision, format); exit 1 with --fail-on when NEW regresses");
     struct Args {
         std::string base, now, fail_on;
-        bool markdown = false, accept_edited = false;
+        bool markdown = false, accept_edited = false, common = false;
         std::vector<double> bands;
     };
     auto a = std::make_shared<Args>();
     cmp->add_option("base", a->base, "the baseline results folder")->required();
     cmp->add_option("new", a->now, "the results folder to compare with it")->required();
-    cmp->add_option("--fail-on", a->fail_on,
-                    "tolerances, e.g. err_p95=+5%,err_mean=+0.01,fetches_mean=+0: exit 1 when a "
-                    "matched row grows beyond one (relative with %, else absolute), a row that "
-                    "was ok failed, or a BASE row is missing from NEW");
-    cmp->add_flag("--markdown", a->markdown, "Markdown output (e.g. for a pull-request comment)");
+    auto* fail_on = cmp->add_option(
+        "--fail-on", a->fail_on,
+        "tolerances, e.g. err_p95=+5%,err_mean=+0.01,fetches_mean=+0: exit 1 when a "
+        "matched row grows beyond one (relative with %, else absolute), a row that "
+        "was ok failed, or a BASE row is missing from NEW; a time (ns_per_sample, "
+        "ms_per_frame) only when its repeats show it slower (Mann-Whitney U)");
+    cmp->add_flag("--markdown", a->markdown,
+                  "Markdown output for a pull-request comment (the verdict first, the tables in a "
+                  "collapsible <details> block)");
+    cmp->add_flag("--common", a->common,
+                  "compare only the rows both runs have (how many were left out is said; a BASE "
+                  "row missing from NEW is then no regression)");
     cmp->add_option("--bands", a->bands,
                     "view-angle band edges in degrees (default 0,30,60,75,85,90)")
         ->delimiter(',');
     cmp->add_flag("--accept-edited", a->accept_edited, kAcceptEditedHelp);
-    return {cmp, [a] {
+    return {cmp, [a, fail_on] {
                 CompareOptions opt;
                 opt.markdown = a->markdown;
+                opt.common = a->common;
                 opt.band_edges = a->bands;
-                if (!a->fail_on.empty()) opt.fail_on = parse_fail_on(a->fail_on);
-                for (const std::string& d : {a->base, a->now})
-                    std::cout << verify_results_folder(d, a->accept_edited) << "\n";
+                // Given is given: --fail-on "" is an error, not a gate switched off.
+                if (fail_on->count()) opt.fail_on = parse_fail_on(a->fail_on);
+                for (const std::string& d : {a->base, a->now})  // printed under the verdict
+                    opt.notes.push_back(verify_results_folder(d, a->accept_edited));
                 return run_compare(a->base, a->now, opt, std::cout);
             }};
 }

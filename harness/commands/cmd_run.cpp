@@ -46,10 +46,10 @@ struct RunArgs {
     std::vector<std::string> backends;
     bool quiet = false, maps = false, force = false;
     size_t max_rows = kDefaultMaxRows;
-    std::string max_memory;  // e.g. "8G"; empty = kDefaultMaxMemoryBytes
-    std::string only;        // --only KEY=V,...: a subset of the experiment
-    int samples = 0;         // --samples N: overrides the file (0: the file's)
-    std::string shard;       // --shard I/N: run slice I of N (harness/experiment/shard.h)
+    std::string max_memory;      // e.g. "8G"; empty = kDefaultMaxMemoryBytes
+    std::string only;            // --only KEY=V,...: a subset of the experiment
+    std::optional<int> samples;  // --samples N: overrides the file (absent: the file's)
+    std::string shard;           // --shard I/N: run slice I of N (harness/experiment/shard.h)
 };
 
 // "123", "512M", "8G", "1.5T" (binary units) -> bytes.
@@ -300,10 +300,10 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     Experiment ex = load_experiment(a.file);
     ex.maps = ex.maps || a.maps;
     if (!a.only.empty()) apply_only(ex, a.only);
-    if (a.samples != 0) {
-        if (a.samples < 1 || a.samples > 8192)
-            throw InputError("--samples", std::to_string(a.samples) + " is not in [1, 8192]");
-        ex.samples = a.samples;
+    if (a.samples) {  // given, so checked: 0 is refused, not read as "the file's"
+        if (*a.samples < 1 || *a.samples > 8192)
+            throw InputError("--samples", std::to_string(*a.samples) + " is not in [1, 8192]");
+        ex.samples = *a.samples;
     }
     check_run_size(ex, a);  // of the whole run, also for a slice (merge holds every row)
     std::optional<Slice> slice;

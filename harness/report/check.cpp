@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "harness/core/error.h"
@@ -26,8 +27,13 @@ const std::vector<std::string> kTextFilters = {
     "method", "params", "heightfield", "backend", "precision", "texture_format", "ground_truth"};
 const std::vector<std::string> kNumberFilters = {"scale", "bias", "phi_deg", "samples"};
 // The other keys of a [[limit]].
-const std::vector<std::string> kLimitKeys = {"column",    "min",       "max",
-                                             "theta_min", "theta_max", "note"};
+const std::vector<std::string> kLimitKeys = {"column",    "min",  "max",     "theta_min",
+                                             "theta_max", "note", "ratio_to"};
+// What identifies a row's baseline for `ratio_to`: the same field, view and backend (and
+// variant and reference) as the row, another method.
+const std::vector<std::string> kSameAsBaseline = {
+    "heightfield", "scale",   "bias",      "theta_deg",      "phi_deg",
+    "samples",     "backend", "precision", "texture_format", "ground_truth"};
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
@@ -85,12 +91,21 @@ struct Filter {
     }
 };
 
+// `ratio_to = { method = "parallax", params = "..." }`: the limit is on the row's value divided
+// by the value of its baseline row (the same field, view and backend; this method).
+struct RatioTo {
+    std::string where, method, params;  // params canonical; "" = any (then it must be unique)
+    bool has_params = false;
+    std::string shown() const { return method + (has_params ? " " + params : ""); }
+};
+
 // One [[limit]] as read: where it is, its column, bounds, θ range and row filters.
 struct Limit {
     std::string where, column, what;
     std::optional<double> lo, hi;
     double tmin = -1, tmax = 1e9;
     std::vector<Filter> filters;
+    std::optional<RatioTo> ratio;
 };
 
 struct Outcome {
@@ -209,6 +224,34 @@ Filter read_filter(const std::string& key, const toml::node& node, const std::st
     return flt;
 }
 
+RatioTo read_ratio_to(const toml::node& node, const std::string& where, const ResultsFile& f) {
+    const toml::table* t = node.as_table();
+    if (!t)
+        throw InputError(where,
+                         "'ratio_to' must be a table, e.g. ratio_to = { method = \"parallax\" }");
+    RatioTo r;
+    r.where = where;
+    for (const auto& [k, v] : *t) {
+        const std::string key(k.str());
+        if (key != "method" && key != "params")
+            throw InputError(where, "unknown key '" + key + "' in ratio_to (keys: method, params)");
+        if (!v.is_string()) throw InputError(where, "ratio_to." + key + " must be a string");
+    }
+    const auto method = t->get_as<std::string>("method");
+    if (!method) throw InputError(where, "ratio_to needs 'method' (the baseline method)");
+    r.method = method->get();
+    if (const auto params = t->get_as<std::string>("params")) {
+        r.has_params = true;
+        r.params = canonical_params(params->get());
+    }
+    for (const auto& row : f.rows)
+        if (row.text("method") == r.method &&
+            (!r.has_params || canonical_params(row.text("params")) == r.params))
+            return r;
+    throw InputError(where, "ratio_to: no row of results.csv is " + r.shown() +
+                                ": there is no baseline to divide by");
+}
+
 Limit read_limit(const toml::node& node, const std::string& file, const ResultsFile& f) {
     const toml::table& lt = *node.as_table();
     Limit l;
@@ -252,6 +295,7 @@ Limit read_limit(const toml::node& node, const std::string& file, const ResultsF
     l.lo = num("min");
     l.hi = num("max");
     if (!l.lo && !l.hi) throw InputError(l.where, "[[limit]] needs 'min' or 'max'");
+    if (const toml::node* rn = lt.get("ratio_to")) l.ratio = read_ratio_to(*rn, at("ratio_to"), f);
     l.tmin = num("theta_min").value_or(-1);
     l.tmax = num("theta_max").value_or(1e9);
     std::vector<std::string> filters = kTextFilters;
@@ -270,6 +314,7 @@ Limit read_limit(const toml::node& node, const std::string& file, const ResultsF
         l.what += std::string(l.what.empty() ? "" : " ") + "theta in [" +
                   format_number(l.tmin < 0 ? 0 : l.tmin) + ", " +
                   (l.tmax > 1e8 ? std::string("90") : format_number(l.tmax)) + "]";
+    if (l.ratio) l.what += std::string(l.what.empty() ? "" : " ") + "(/ " + l.ratio->shown() + ")";
     return l;
 }
 
@@ -302,23 +347,72 @@ std::string short_number(double v) {
     return s;
 }
 
+// The key a row shares with its ratio_to baseline (kSameAsBaseline).
+std::string baseline_key(const ResultRow& row) {
+    std::string k;
+    for (const auto& c : kSameAsBaseline) k += row.cell(c) + '\x1f';
+    return k;
+}
+
+// A matched row's value for the limit: its column's value, or (ratio_to) that divided by its
+// baseline row's. `why` is set when it has none: the row (or its baseline) failed.
+double limit_value(const Limit& l, const ResultsFile& f, size_t r,
+                   const std::map<std::string, std::vector<size_t>>& baselines, std::string& why) {
+    const ResultRow& row = f.rows[r];
+    // A failed row fails every limit that matches it: it has no value to pass with.
+    if (!row.ok()) {
+        why = one_line(row.text("error"));
+        return NAN;
+    }
+    const double v = row.num(l.column);
+    if (!l.ratio) return v;
+    const auto it = baselines.find(baseline_key(row));
+    if (it == baselines.end())
+        throw InputError(l.ratio->where, "ratio_to: " + row_named(row) + " has no baseline row (" +
+                                             l.ratio->shown() +
+                                             " on the same field, view and backend)");
+    if (it->second.size() > 1)
+        throw InputError(l.ratio->where, "ratio_to: " + std::to_string(it->second.size()) +
+                                             " rows of " + l.ratio->shown() +
+                                             " share the field, view and backend of " +
+                                             row_named(row) + " (name the baseline's params)");
+    const ResultRow& base = f.rows[it->second[0]];
+    if (!base.ok()) {
+        why = "its baseline " + row_named(base) + " failed: " + one_line(base.text("error"));
+        return NAN;
+    }
+    const double b = base.num(l.column);
+    return b > 0 || b < 0 ? v / b : NAN;  // a zero or empty baseline: no ratio
+}
+
 Outcome evaluate(const Limit& l, const ResultsFile& f) {
     const std::vector<size_t> match = matching_rows(l, f);
     Outcome o{l.what.empty() ? "all rows" : l.what, l.column, "", NAN, match.size(), true, "", {}};
-    o.limit = (l.lo ? ">= " + format_number(*l.lo) : "") + (l.lo && l.hi ? ", " : "") +
-              (l.hi ? "<= " + format_number(*l.hi) : "");
+    const std::string times = l.ratio ? " x " + l.ratio->method : "";
+    o.limit = (l.lo ? ">= " + format_number(*l.lo) + times : "") + (l.lo && l.hi ? ", " : "") +
+              (l.hi ? "<= " + format_number(*l.hi) + times : "");
+    std::map<std::string, std::vector<size_t>> baselines;
+    if (l.ratio)
+        for (size_t r = 0; r < f.rows.size(); ++r) {
+            const ResultRow& row = f.rows[r];
+            if (row.text("method") == l.ratio->method &&
+                (!l.ratio->has_params || canonical_params(row.text("params")) == l.ratio->params))
+                baselines[baseline_key(row)].push_back(r);
+        }
     double worst_hi = -INFINITY, worst_lo = INFINITY;
     size_t row_hi = 0, row_lo = 0;
     std::vector<size_t> failed, nonfinite;
+    std::string first_why, first_cell;
     for (size_t r : match) {
-        const ResultRow& row = f.rows[r];
-        // A failed row fails every limit that matches it: it has no value to pass with.
-        if (!row.ok()) {
+        std::string why;
+        const double v = limit_value(l, f, r, baselines, why);
+        if (!why.empty()) {
+            if (failed.empty()) first_why = why;
             failed.push_back(r);
             continue;
         }
-        const double v = row.num(l.column);
         if (!std::isfinite(v)) {
+            if (nonfinite.empty()) first_cell = std::isnan(v) ? "" : format_number(v);
             nonfinite.push_back(r);
             continue;
         }
@@ -326,11 +420,11 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
         if (v < worst_lo) worst_lo = v, row_lo = r;
     }
     if (!failed.empty())
-        o.note = std::to_string(failed.size()) +
-                 " matching rows failed: " + one_line(f.rows[failed[0]].text("error"));
+        o.note = std::to_string(failed.size()) + " matching rows failed: " + first_why;
     if (!nonfinite.empty())
         o.note += (o.note.empty() ? "" : "; ") + std::to_string(nonfinite.size()) +
-                  " matching rows have a non-finite or empty value";
+                  " matching rows have a non-finite or empty value" +
+                  (l.ratio ? " (or a zero or empty baseline)" : "");
     const bool over = l.hi && worst_hi > *l.hi, under = l.lo && worst_lo < *l.lo;
     o.pass = failed.empty() && nonfinite.empty() && !over && !under;
     // The worst value is the one beyond a bound when one is (the lower when only it is).
@@ -338,17 +432,16 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
     o.worst = low_side ? worst_lo : worst_hi;
     if (over || under) {
         const size_t r = low_side ? row_lo : row_hi;
-        o.details.push_back("worst: " + row_named(f.rows[r]) + ": " + short_number(o.worst));
+        o.details.push_back("worst: " + row_named(f.rows[r]) + ": " + short_number(o.worst) +
+                            times);
     }
     auto more = [](size_t n) { return n > 1 ? " (and " + std::to_string(n - 1) + " more)" : ""; };
     if (!failed.empty())
-        o.details.push_back("failed: " + row_named(f.rows[failed[0]]) + ": " +
-                            one_line(f.rows[failed[0]].text("error")) + more(failed.size()));
-    if (!nonfinite.empty()) {
-        const std::string cell = f.rows[nonfinite[0]].cell(l.column);
+        o.details.push_back("failed: " + row_named(f.rows[failed[0]]) + ": " + first_why +
+                            more(failed.size()));
+    if (!nonfinite.empty())
         o.details.push_back("non-finite: " + row_named(f.rows[nonfinite[0]]) + ": " +
-                            (cell.empty() ? "empty" : cell) + more(nonfinite.size()));
-    }
+                            (first_cell.empty() ? "empty" : first_cell) + more(nonfinite.size()));
     return o;
 }
 
@@ -356,15 +449,17 @@ Outcome evaluate(const Limit& l, const ResultsFile& f) {
 // many failed.
 int print_outcomes(const std::vector<Outcome>& outcomes) {
     int failed = 0;
+    int lw = 12;  // the limit column: wider for a ratio_to limit ("<= 3 x parallax")
+    for (const auto& o : outcomes) lw = std::max(lw, int(o.limit.size()) + 1);
     std::cout << std::left << std::setw(4) << "#" << std::setw(72) << "rows selected"
-              << std::setw(22) << "column" << std::setw(12) << "limit" << std::setw(12) << "worst"
+              << std::setw(22) << "column" << std::setw(lw) << "limit" << std::setw(12) << "worst"
               << std::setw(6) << "rows"
               << "result\n";
     for (size_t i = 0; i < outcomes.size(); ++i) {
         const auto& o = outcomes[i];
         failed += !o.pass;
         std::cout << std::left << std::setw(4) << i + 1 << std::setw(72) << o.what << std::setw(22)
-                  << o.column << std::setw(12) << o.limit << std::setw(12)
+                  << o.column << std::setw(lw) << o.limit << std::setw(12)
                   << (std::isfinite(o.worst) ? short_number(o.worst) : "-") << std::setw(6)
                   << o.rows << (o.pass ? "pass" : "FAIL")
                   << (o.note.empty() ? "" : "  (" + o.note + ")") << "\n";

@@ -2,26 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "harness/core/error.h"
 #include "harness/core/params.h"
 #include "harness/metrics/columns.h"
+#include "harness/metrics/timing_stats.h"
 #include "harness/report/bands.h"
 #include "harness/report/text_table.h"
+#include "harness/results/csv_table.h"
 #include "harness/results/results.h"
 
 namespace pxh {
 namespace {
 
-// What identifies a row across runs (issue 16): what ran, on what, from where, where.
+// What identifies a row across runs: what ran, on what, from where, where.
 const char* const kKeys[] = {"method",  "params",    "heightfield",   "scale",
                              "bias",    "theta_deg", "phi_deg",       "samples",
                              "backend", "precision", "texture_format"};
 // The changes reported (differences; timings as ratios).
 const char* const kErrors[] = {"err_mean", "err_p95", "err_max", "fetches_mean"};
+constexpr size_t kShown = 50;  // rows listed per list; the rest counted
 
 std::string key_of(const ResultRow& r) {
     std::string k;
@@ -35,44 +44,168 @@ std::string row_name(const ResultRow& r) {
            " phi=" + r.cell("phi_deg");
 }
 
-struct Run {
-    ResultsFile file;
-    std::map<std::string, size_t> by_key;
-};
-
-Run load(const std::string& dir) {
-    const auto path = std::filesystem::path(dir) / "results.csv";
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        throw InputError(dir, "no results.csv here (a pxh run's results folder is needed)");
-    Run run{read_results(path.string()), {}};
-    for (size_t i = 0; i < run.file.rows.size(); ++i)
-        if (!run.by_key.emplace(key_of(run.file.rows[i]), i).second)
-            throw InputError(run.file.where(i),
-                             "two rows with the same keys (" + row_name(run.file.rows[i]) + ")");
-    return run;
+// Four significant digits, "-" when missing.
+std::string sig(double v) {
+    if (std::isnan(v)) return "-";
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4g", v);
+    return b;
+}
+std::string signed_sig(double v) {
+    if (!std::isfinite(v)) return "-";
+    return (v > 0 ? "+" : "") + sig(v);
 }
 
 // The timing column of a row's backend (CPU: ns per sample, GLSL: ms per frame).
-const char* timing_column(const ResultRow& r) {
+std::string timing_column(const ResultRow& r) {
     return r.text("backend") == "cpu" ? "ns_per_sample" : "ms_per_frame";
 }
 
-struct Timing {
-    double ratio = NAN;  // new / base median
-    bool noise = false;  // the repeats' ranges overlap: the change is within their spread
+// The row's name from its key (row_name of the row the key was made of).
+std::string name_of_key(const std::string& key) {
+    std::vector<std::string> f;
+    size_t at = 0;
+    for (size_t end; (end = key.find('\x1f', at)) != std::string::npos; at = end + 1)
+        f.push_back(key.substr(at, end - at));
+    if (f.size() != std::size(kKeys)) return key;
+    // method, params, heightfield, scale, bias, theta, phi, samples, backend, precision, format
+    return f[0] + (f[1].empty() ? "" : " " + f[1]) + " [" + f[8] + "/" +
+           (f[10].empty() ? f[9] : f[10]) + "] on " + f[2] + " s=" + f[3] + " b=" + f[4] +
+           " theta=" + f[5] + " phi=" + f[6];
+}
+
+// Texts shared by many rows (shader files, hashes, ground truths), kept once.
+class Pool {
+  public:
+    const std::string* of(const std::string& s) { return &*texts_.insert(s).first; }
+
+  private:
+    std::set<std::string> texts_;
 };
 
-Timing timing_change(const ResultRow& b, const ResultRow& n) {
-    const std::string c = timing_column(b);
+// What compare keeps of a row: the few values it compares (numbers, shared texts), not the
+// row. BASE's rows are kept like this by key (NEW's are streamed past them), so memory is what
+// the keys take plus a few numbers per row, not what the rows hold.
+struct Rec {
+    size_t line = 0;  // in its results.csv
+    std::string error;
+    const std::string *shader = nullptr, *shader_sha256 = nullptr, *ground_truth = nullptr;
+    double width = NAN, height = NAN, theta = NAN;
+    bool ok = false, matched = false, cpu = false;
+    double err[4] = {NAN, NAN, NAN, NAN};
+    std::vector<double> tol;  // the --fail-on columns' values
+    double t_median = NAN;    // the backend's timing column
+    std::vector<double> repeats;
+};
+
+Rec rec_of(const ResultRow& r, size_t line, const std::string& where, const CompareOptions& opt,
+           Pool& pool) {
+    Rec x;
+    x.line = line;
+    x.ok = r.ok();
+    x.error = r.text("error");
+    x.shader = pool.of(r.text("shader"));
+    x.shader_sha256 = pool.of(r.text("shader_sha256"));
+    x.ground_truth = pool.of(r.text("ground_truth"));
+    x.width = r.num("width");
+    x.height = r.num("height");
+    x.theta = r.num("theta_deg");
+    for (int i = 0; i < 4; ++i) x.err[i] = r.num(kErrors[i]);
+    for (const CompareTolerance& t : opt.fail_on) x.tol.push_back(r.num(t.column));
+    const std::string col = timing_column(r);
+    x.cpu = col == "ns_per_sample";
+    x.t_median = r.num(col);
+    const auto reps = parse_repeats(r.text(col + "_repeats"));
+    if (!reps)
+        throw InputError(where, "column '" + col + "_repeats': '" + r.text(col + "_repeats") +
+                                    "' is not a ';'-separated list of times");
+    x.repeats = *reps;
+    return x;
+}
+
+// Two cells the same: equal numbers, or both empty.
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+std::string size_of(const Rec& r) { return sig(r.width) + "x" + sig(r.height); }
+
+// results.csv of a results folder, one typed row at a time.
+class RowStream {
+  public:
+    explicit RowStream(const std::string& dir)
+        : in_(path_of(dir)), specs_(column_specs_of(in_.columns())) {}
+    bool next(ResultRow& row) {
+        if (!in_.next(fields_)) return false;
+        row = parse_result_row(specs_, fields_, in_.where());
+        return true;
+    }
+    std::string where() const { return in_.where(); }
+    size_t line() const { return in_.line(); }
+    const std::string& path() const { return in_.path(); }
+
+  private:
+    static std::string path_of(const std::string& dir) {
+        const auto path = std::filesystem::path(dir) / "results.csv";
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(path, ec))
+            throw InputError(dir, "no results.csv here (a pxh run's results folder is needed)");
+        return path.string();
+    }
+    CsvReader in_;
+    std::vector<const ColumnSpec*> specs_;
+    std::vector<std::string> fields_;
+};
+
+struct Timing {
+    enum Kind { none, no_repeats, too_few, noise, slower, faster };
+    Kind kind = none;
+    double ratio = NAN;  // new / base median
+    double p = NAN;      // Mann-Whitney U, two-sided
+    size_t n_base = 0, n_new = 0;
+};
+
+// The change of a matched row's time: the ratio of medians, and whether the repeats tell it
+// from noise (a two-sided Mann-Whitney U test at kTimingAlpha), or too few repeats to say.
+Timing timing_change(const Rec& b, const Rec& n) {
     Timing t;
-    const double mb = b.num(c), mn = n.num(c);
-    if (!(mb > 0) || !std::isfinite(mn)) return t;
-    t.ratio = mn / mb;
-    const double b_lo = b.num(c + "_min"), b_hi = b.num(c + "_max");
-    const double n_lo = n.num(c + "_min"), n_hi = n.num(c + "_max");
-    t.noise = n_lo <= b_hi && b_lo <= n_hi;
+    if (!(b.t_median > 0) || !std::isfinite(n.t_median)) return t;
+    t.ratio = n.t_median / b.t_median;
+    t.n_base = b.repeats.size();
+    t.n_new = n.repeats.size();
+    if (b.repeats.empty() || n.repeats.empty()) {
+        t.kind = Timing::no_repeats;
+        return t;
+    }
+    if (min_p_value(t.n_base, t.n_new) >= kTimingAlpha) {
+        t.kind = Timing::too_few;
+        return t;
+    }
+    const UTest u = mann_whitney_u(n.repeats, b.repeats);
+    t.p = u.p;
+    if (u.p >= kTimingAlpha) t.kind = Timing::noise;
+    else t.kind = u.u > double(t.n_base * t.n_new) / 2 ? Timing::slower : Timing::faster;
     return t;
+}
+
+std::string ratio_fmt(const Timing& t) {
+    if (!std::isfinite(t.ratio)) return "-";
+    const std::string r = sig(t.ratio) + "x";
+    switch (t.kind) {
+        case Timing::slower:
+            return r + " slower (p=" + sig(t.p) + ")";
+        case Timing::faster:
+            return r + " faster (p=" + sig(t.p) + ")";
+        case Timing::noise:
+            return r + " (noise, p=" + sig(t.p) + ")";
+        case Timing::too_few:
+            return r + " (too few repeats for a verdict: " + std::to_string(t.n_base) + " and " +
+                   std::to_string(t.n_new) + ")";
+        case Timing::no_repeats:
+            return r + " (no repeats recorded: no verdict)";
+        case Timing::none:
+            break;
+    }
+    return r;
 }
 
 // How far a value may grow under a tolerance; NaN base: any finite value is fine.
@@ -83,15 +216,8 @@ bool regresses(const CompareTolerance& t, double base, double now) {
     return now - base > allowed + 1e-12 * std::max(1.0, std::abs(base));
 }
 
-std::string signed_fmt(double v, int prec = 3) {
-    if (!std::isfinite(v)) return "-";
-    std::string s = fmt(v, prec);
-    return v > 0 ? "+" + s : s;
-}
-
-std::string ratio_fmt(const Timing& t) {
-    if (!std::isfinite(t.ratio)) return "-";
-    return fmt(t.ratio, 2) + "x" + (t.noise ? " (noise)" : "");
+std::string allowance(const CompareTolerance& t) {
+    return "+" + (t.relative ? sig(100 * t.amount) + "%" : sig(t.amount));
 }
 
 void write_table(const TextTable& t, bool markdown, std::ostream& out) {
@@ -121,86 +247,199 @@ void write_table(const TextTable& t, bool markdown, std::ostream& out) {
     out << "\n";
 }
 
-struct Pair {
-    const ResultRow* base;
-    const ResultRow* now;
+// A list of names: the first kShown kept, the rest counted.
+struct Capped {
+    std::vector<std::string> items;
+    size_t total = 0;
+    void add(std::string s) {
+        if (items.size() < kShown) items.push_back(std::move(s));
+        ++total;
+    }
 };
 
-// Per method setting and theta band: mean changes, geometric-mean timing ratio.
-TextTable band_table(const std::vector<Pair>& pairs, Bands& bands) {
-    struct Acc {
-        Mean d[4];
-        double log_ratio = 0;
-        int n_ratio = 0, rows = 0;
-        bool all_noise = true;
-    };
-    std::map<std::pair<std::string, int>, Acc> acc;
-    for (const Pair& p : pairs) {
-        if (!p.base->ok() || !p.now->ok()) continue;
-        const double theta = p.base->num("theta_deg");
-        const int band = bands.of(theta);
-        if (band < 0) continue;
-        bands.add_view(band, theta);
-        Acc& a = acc[{series_of(*p.base), band}];
-        ++a.rows;
-        for (int i = 0; i < 4; ++i) a.d[i].add(p.now->num(kErrors[i]) - p.base->num(kErrors[i]));
-        const Timing t = timing_change(*p.base, *p.now);
-        if (std::isfinite(t.ratio) && t.ratio > 0) {
-            a.log_ratio += std::log(t.ratio);
-            ++a.n_ratio;
-            a.all_noise = a.all_noise && t.noise;
+// Per method setting and theta band: mean changes, geometric-mean timing ratio and verdicts.
+struct BandAcc {
+    Mean d[4];
+    double log_ratio = 0;
+    int n_ratio = 0, rows = 0, slower = 0, faster = 0, noise = 0, no_verdict = 0;
+};
+
+// One changed row of the per-row table.
+struct Changed {
+    double order;  // |d err_p95|, inf when not finite
+    std::vector<std::string> cells;
+};
+
+// Everything compare prints, gathered while NEW streams past BASE.
+struct Tally {
+    size_t matched = 0, changed = 0, only_new = 0;
+    Capped only_new_names, regressions;
+    std::map<std::pair<std::string, int>, BandAcc> bands;
+    std::vector<Changed> rows;  // kept to the kShown largest (trimmed as it grows)
+    size_t rows_changed = 0;
+    int t_slower = 0, t_faster = 0, t_noise = 0, t_too_few = 0, t_no_repeats = 0;
+    std::set<std::string> shader_changes;
+};
+
+void trim(std::vector<Changed>& rows) {
+    std::stable_sort(rows.begin(), rows.end(),
+                     [](const Changed& a, const Changed& b) { return a.order > b.order; });
+    if (rows.size() > kShown) rows.resize(kShown);
+}
+
+std::string short_sha(const std::string& s) { return s.empty() ? "none" : s.substr(0, 12); }
+
+// The pair's contribution to every table, list and verdict.
+void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::string& name,
+              const CompareOptions& opt, Bands& bands, Tally& tally) {
+    ++tally.matched;
+    bool any = b.ok != n.ok;
+    for (int i = 0; i < 4; ++i) any = any || !same(b.err[i], n.err[i]);
+    tally.changed += any;
+    if (*b.shader_sha256 != *n.shader_sha256)
+        tally.shader_changes.insert(setting_of(now) + ": " + short_sha(*b.shader_sha256) + " -> " +
+                                    short_sha(*n.shader_sha256) +
+                                    (n.shader->empty() ? "" : " (" + *n.shader + ")"));
+    const Timing timing = b.ok && n.ok ? timing_change(b, n) : Timing{};
+    switch (timing.kind) {
+        case Timing::slower:
+            ++tally.t_slower;
+            break;
+        case Timing::faster:
+            ++tally.t_faster;
+            break;
+        case Timing::noise:
+            ++tally.t_noise;
+            break;
+        case Timing::too_few:
+            ++tally.t_too_few;
+            break;
+        case Timing::no_repeats:
+            ++tally.t_no_repeats;
+            break;
+        case Timing::none:
+            break;
+    }
+    // The gate.
+    if (!opt.fail_on.empty()) {
+        if (b.ok && !n.ok) {
+            tally.regressions.add(name + ": failed (" + one_line(n.error) + ")");
+        } else if (n.ok) {
+            for (size_t k = 0; k < opt.fail_on.size(); ++k) {
+                const CompareTolerance& t = opt.fail_on[k];
+                if (!regresses(t, b.tol[k], n.tol[k])) continue;
+                std::string why;
+                if (t.column == (b.cpu ? "ns_per_sample" : "ms_per_frame")) {
+                    // A time regresses only when its repeats show it is slower, not noise.
+                    if (timing.kind == Timing::noise || timing.kind == Timing::faster) continue;
+                    if (timing.kind == Timing::slower) why = "; slower, p=" + sig(timing.p);
+                    else if (timing.kind == Timing::too_few)
+                        why = "; no verdict: too few repeats, " + std::to_string(timing.n_base) +
+                              " and " + std::to_string(timing.n_new);
+                    else if (timing.kind == Timing::no_repeats)
+                        why = "; no verdict: no repeats recorded";
+                }
+                tally.regressions.add(name + ": " + t.column + " " + sig(b.tol[k]) + " -> " +
+                                      sig(n.tol[k]) + " (allowed " + allowance(t) + why + ")");
+            }
         }
     }
+    // Per band.
+    if (b.ok && n.ok) {
+        const int band = bands.of(b.theta);
+        if (band >= 0) {
+            bands.add_view(band, b.theta);
+            BandAcc& a = tally.bands[{series_of(now), band}];
+            ++a.rows;
+            for (int i = 0; i < 4; ++i) a.d[i].add(n.err[i] - b.err[i]);
+            if (std::isfinite(timing.ratio) && timing.ratio > 0) {
+                a.log_ratio += std::log(timing.ratio);
+                ++a.n_ratio;
+                a.slower += timing.kind == Timing::slower;
+                a.faster += timing.kind == Timing::faster;
+                a.noise += timing.kind == Timing::noise;
+                a.no_verdict += timing.kind == Timing::too_few || timing.kind == Timing::no_repeats;
+            }
+        }
+    }
+    // Per row: errors, fetches or status changed, or a time that significantly did.
+    if (!any && timing.kind != Timing::slower && timing.kind != Timing::faster) return;
+    ++tally.rows_changed;
+    auto change = [&](int i) {
+        if (!n.ok) return std::string("failed");
+        return sig(b.err[i]) + " -> " + sig(n.err[i]) + " (" + signed_sig(n.err[i] - b.err[i]) +
+               ")";
+    };
+    const double d = std::abs(n.err[1] - b.err[1]);
+    tally.rows.push_back({std::isfinite(d) ? d : INFINITY,
+                          {name, change(0), change(1), change(2), change(3), ratio_fmt(timing)}});
+    if (tally.rows.size() > 4 * kShown) trim(tally.rows);
+}
+
+TextTable band_table(const Tally& tally, const Bands& bands) {
     TextTable t;
     t.header = {"method [backend]", "theta band", "rows",      "d err_mean",
                 "d err_p95",        "d err_max",  "d fetches", "time ratio"};
     t.align = "llrrrrrr";
-    for (const auto& [k, a] : acc) {
-        Timing g;
-        if (a.n_ratio) g = {std::exp(a.log_ratio / a.n_ratio), a.all_noise};
+    for (const auto& [k, a] : tally.bands) {
+        std::string ratio = "-";
+        if (a.n_ratio) {
+            ratio = sig(std::exp(a.log_ratio / a.n_ratio)) + "x";
+            if (a.slower || a.faster)
+                ratio += " (" + std::to_string(a.slower) + " slower, " + std::to_string(a.faster) +
+                         " faster of " + std::to_string(a.n_ratio) + ")";
+            else if (a.noise == a.n_ratio) ratio += " (noise)";
+            else if (a.noise == 0) ratio += " (no verdict: too few repeats)";
+            else ratio += " (noise; " + std::to_string(a.no_verdict) + " without a verdict)";
+        }
         t.rows.push_back({k.first, bands.edges(size_t(k.second)), std::to_string(a.rows),
-                          signed_fmt(a.d[0].get()), signed_fmt(a.d[1].get()),
-                          signed_fmt(a.d[2].get()), signed_fmt(a.d[3].get(), 2), ratio_fmt(g)});
+                          signed_sig(a.d[0].get()), signed_sig(a.d[1].get()),
+                          signed_sig(a.d[2].get()), signed_sig(a.d[3].get()), ratio});
     }
     t.notes.push_back(
         "d: mean over the band's rows of NEW - BASE (texels; fetches per sample); time ratio: "
-        "geometric mean of NEW / BASE medians (CPU ns_per_sample, GLSL ms_per_frame), "
-        "(noise) when every row's repeat ranges overlap.");
+        "geometric mean of NEW / BASE medians (CPU ns_per_sample, GLSL ms_per_frame); a row is "
+        "slower or faster when a two-sided Mann-Whitney U test over its timed repeats gives "
+        "p < 0.05, noise otherwise.");
     return t;
 }
 
-// Per row: the rows whose errors, fetches or status changed, largest |d err_p95| first.
-TextTable row_table(const std::vector<Pair>& pairs) {
-    std::vector<std::pair<double, const Pair*>> changed;
-    for (const Pair& p : pairs) {
-        bool any = p.base->ok() != p.now->ok();
-        for (const char* c : kErrors) any = any || p.base->cell(c) != p.now->cell(c);
-        if (!any) continue;
-        const double d = std::abs(p.now->num("err_p95") - p.base->num("err_p95"));
-        changed.push_back({std::isfinite(d) ? d : INFINITY, &p});
-    }
-    std::stable_sort(changed.begin(), changed.end(),
-                     [](const auto& a, const auto& b) { return a.first > b.first; });
+TextTable row_table(Tally& tally) {
+    trim(tally.rows);
     TextTable t;
     t.header = {"changed row", "err_mean", "err_p95", "err_max", "fetches", "time ratio"};
     t.align = "lrrrrr";
-    auto change = [](const Pair& p, const char* c, int prec) {
-        if (!p.now->ok()) return std::string("failed");
-        return p.base->cell(c) + " -> " + p.now->cell(c) + " (" +
-               signed_fmt(p.now->num(c) - p.base->num(c), prec) + ")";
-    };
-    const size_t shown = std::min<size_t>(changed.size(), 50);
-    for (size_t i = 0; i < shown; ++i) {
-        const Pair& p = *changed[i].second;
-        t.rows.push_back({row_name(*p.now), change(p, "err_mean", 4), change(p, "err_p95", 4),
-                          change(p, "err_max", 4), change(p, "fetches_mean", 2),
-                          ratio_fmt(timing_change(*p.base, *p.now))});
-    }
-    if (changed.empty()) t.notes.push_back("No row's errors, fetches or status changed.");
-    else if (shown < changed.size())
-        t.notes.push_back("... and " + std::to_string(changed.size() - shown) +
-                          " more changed rows (largest change of err_p95 first).");
+    for (const Changed& c : tally.rows) t.rows.push_back(c.cells);
+    if (tally.rows_changed == 0)
+        t.notes.push_back("No row's errors, fetches, status or time (p < 0.05) changed.");
+    else if (tally.rows.size() < tally.rows_changed)
+        t.notes.push_back(
+            "... and " + std::to_string(tally.rows_changed - tally.rows.size()) +
+            " more changed rows (largest change of err_p95 first; then significant time changes).");
     return t;
+}
+
+// "0.1.0 (28c5cbf-dirty)" from a folder's run.json; "unknown" without one.
+std::string pxh_version_of(const std::string& dir) {
+    std::error_code ec;
+    const auto p = std::filesystem::path(dir) / "run.json";
+    if (!std::filesystem::is_regular_file(p, ec)) return "unknown (no run.json)";
+    try {
+        std::ifstream f(p, std::ios::binary);
+        const auto j = nlohmann::json::parse(f);
+        if (j.is_object() && j.contains("pxh_version") && j["pxh_version"].is_string())
+            return one_line(j["pxh_version"].get<std::string>());
+    } catch (const std::exception&) {
+    }
+    return "unknown";
+}
+
+void list(std::ostream& out, bool markdown, const std::string& title, const Capped& v) {
+    if (v.total == 0) return;
+    out << (markdown ? "#### " : "") << title << " (" << v.total << ")\n";
+    for (const std::string& s : v.items) out << (markdown ? "- " : "  ") << s << "\n";
+    if (v.items.size() < v.total) out << "  ... and " << v.total - v.items.size() << " more\n";
+    out << "\n";
 }
 
 }  // namespace
@@ -243,65 +482,132 @@ std::vector<CompareTolerance> parse_fail_on(const std::string& spec) {
         if (t.relative) t.amount /= 100;
         out.push_back(t);
     }
-    if (out.empty()) throw InputError("--fail-on", "no tolerance given");
+    if (out.empty())
+        throw InputError("--fail-on", "'" + spec +
+                                          "' gives no tolerance (leave --fail-on out for a report "
+                                          "without a gate; an empty one does not switch it off)");
     return out;
 }
 
 int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
                 std::ostream& out) {
-    const Run base = load(base_dir), now = load(new_dir);
-    std::vector<Pair> pairs;
-    std::vector<std::string> only_base, only_new, regressions;
-    for (size_t i = 0; i < base.file.rows.size(); ++i) {
-        const auto it = now.by_key.find(key_of(base.file.rows[i]));
-        if (it == now.by_key.end()) only_base.push_back(row_name(base.file.rows[i]));
-        else pairs.push_back({&base.file.rows[i], &now.file.rows[it->second]});
-    }
-    for (const ResultRow& r : now.file.rows)
-        if (!base.by_key.count(key_of(r))) only_new.push_back(row_name(r));
-
-    size_t changed = 0;
-    for (const Pair& p : pairs) {
-        bool any = p.base->ok() != p.now->ok();
-        for (const char* c : kErrors) any = any || p.base->cell(c) != p.now->cell(c);
-        changed += any;
-        if (opt.fail_on.empty()) continue;
-        if (p.base->ok() && !p.now->ok()) {
-            regressions.push_back(row_name(*p.now) + ": failed (" + p.now->text("error") + ")");
-            continue;
+    // BASE: kept as compact records, by key.
+    Pool pool;
+    std::vector<Rec> base;
+    std::unordered_map<std::string, size_t> by_key;
+    std::string base_csv;
+    {
+        RowStream in(base_dir);
+        base_csv = in.path();
+        ResultRow row;
+        while (in.next(row)) {
+            if (!by_key.emplace(key_of(row), base.size()).second)
+                throw InputError(in.where(), "two rows with the same keys (" + row_name(row) + ")");
+            base.push_back(rec_of(row, in.line(), in.where(), opt, pool));
         }
-        for (const CompareTolerance& t : opt.fail_on)
-            if (p.now->ok() && regresses(t, p.base->num(t.column), p.now->num(t.column)))
-                regressions.push_back(
-                    row_name(*p.now) + ": " + t.column + " " + p.base->cell(t.column) + " -> " +
-                    p.now->cell(t.column) + " (allowed +" +
-                    (t.relative ? fmt(100 * t.amount, 2) + "%" : fmt(t.amount, 6)) + ")");
     }
-    if (!opt.fail_on.empty())
-        for (const std::string& r : only_base) regressions.push_back(r + ": missing from NEW");
-
-    const std::string h = opt.markdown ? "### " : "";
-    out << h << "pxh compare: " << base_dir << " (BASE) -> " << new_dir << " (NEW)\n\n";
-    out << pairs.size() << " rows matched (" << changed << " with changed errors or status), "
-        << only_base.size() << " only in BASE, " << only_new.size() << " only in NEW\n\n";
+    // NEW: streamed past it.
     Bands bands(opt.band_edges);
-    write_table(band_table(pairs, bands), opt.markdown, out);
-    auto list = [&](const std::string& title, const std::vector<std::string>& v) {
-        if (v.empty()) return;
-        out << h << title << " (" << v.size() << ")\n";
-        const size_t shown = std::min<size_t>(v.size(), 50);
-        for (size_t i = 0; i < shown; ++i) out << (opt.markdown ? "- " : "  ") << v[i] << "\n";
-        if (shown < v.size()) out << "  ... and " << v.size() - shown << " more\n";
-        out << "\n";
-    };
-    write_table(row_table(pairs), opt.markdown, out);
-    list("Rows only in BASE", only_base);
-    list("Rows only in NEW", only_new);
+    Tally tally;
+    {
+        RowStream in(new_dir);
+        std::unordered_set<std::string> only_new;  // the keys of NEW's rows that BASE lacks
+        ResultRow row;
+        while (in.next(row)) {
+            const Rec n = rec_of(row, in.line(), in.where(), opt, pool);
+            const std::string key = key_of(row), name = row_name(row);
+            const auto it = by_key.find(key);
+            Rec* b = it == by_key.end() ? nullptr : &base[it->second];
+            if (b ? b->matched : !only_new.insert(key).second)
+                throw InputError(in.where(), "two rows with the same keys (" + name + ")");
+            if (!b) {
+                ++tally.only_new;
+                tally.only_new_names.add(name);
+                continue;
+            }
+            b->matched = true;
+            const std::string there = base_csv + ":" + std::to_string(b->line);
+            // Rows that only look alike: refused, not compared.
+            if (!same(b->width, n.width) || !same(b->height, n.height))
+                throw InputError(in.where(), name + " is on a " + size_of(n) + " field here but " +
+                                                 size_of(*b) + " in BASE (" + there +
+                                                 "): compare refuses to match rows across "
+                                                 "different field sizes");
+            if (*b->ground_truth != *n.ground_truth)
+                throw InputError(in.where(), name + " is measured against ground truth '" +
+                                                 *n.ground_truth + "' here but '" +
+                                                 *b->ground_truth + "' in BASE (" + there +
+                                                 "): compare refuses to match rows across "
+                                                 "different ground truths");
+            add_pair(*b, n, row, name, opt, bands, tally);
+        }
+    }
+    Capped only_base;
+    {
+        std::vector<std::pair<size_t, const std::string*>> missing;  // by line: file order
+        for (const auto& [key, i] : by_key)
+            if (!base[i].matched) missing.push_back({base[i].line, &key});
+        std::sort(missing.begin(), missing.end());
+        for (const auto& m : missing) only_base.add(name_of_key(*m.second));
+    }
+    if (!opt.fail_on.empty() && !opt.common)
+        for (const std::string& r : only_base.items)
+            tally.regressions.add(r + ": missing from NEW");
+    if (!opt.fail_on.empty() && !opt.common && only_base.total > only_base.items.size())
+        tally.regressions.total += only_base.total - only_base.items.size();
+
+    const bool md = opt.markdown;
+    const std::string h = md ? "### " : "";
+    // The verdict first.
+    std::string verdict;
+    if (opt.fail_on.empty())
+        verdict = "REPORT ONLY (no --fail-on): " + std::to_string(tally.changed) +
+                  " matched row(s) with changed errors or status";
+    else {
+        std::string spec;
+        for (const CompareTolerance& t : opt.fail_on)
+            spec += (spec.empty() ? "" : ",") + t.column + "=" + allowance(t);
+        verdict = std::string(tally.regressions.total ? "FAIL" : "PASS") + ": " +
+                  std::to_string(tally.regressions.total) + " regression(s) beyond --fail-on " +
+                  spec;
+    }
+    out << h << "pxh compare: " << verdict << "\n\n";
+    const std::string br = md ? "  \n" : "\n";  // a Markdown line break
+    out << "BASE " << base_dir << " -> NEW " << new_dir << br;
+    for (const std::string& n : opt.notes) out << n << br;
+    out << tally.matched << " rows matched (" << tally.changed
+        << " with changed errors or status), " << only_base.total << " only in BASE, "
+        << tally.only_new << " only in NEW" << br;
+    if (opt.common)
+        out << "--common: " << only_base.total << " rows only in BASE and " << tally.only_new
+            << " only in NEW left out" << br;
+    out << "timing (two-sided Mann-Whitney U over the timed repeats, p < 0.05): " << tally.t_slower
+        << " slower, " << tally.t_faster << " faster, " << tally.t_noise
+        << " no significant change, " << tally.t_too_few << " too few repeats for a verdict, "
+        << tally.t_no_repeats << " without repeats" << br;
+    const std::string vb = pxh_version_of(base_dir), vn = pxh_version_of(new_dir);
+    out << "pxh version: "
+        << (vb == vn ? vb + " (both)" : "BASE " + vb + ", NEW " + vn + " (changed)") << br;
+    out << "shader changes: "
+        << (tally.shader_changes.empty() ? "none" : std::to_string(tally.shader_changes.size()))
+        << "\n";
+    for (const std::string& c : tally.shader_changes) out << (md ? "- " : "  ") << c << "\n";
+    out << "\n";
+    if (!opt.fail_on.empty()) list(out, md, "Regressions beyond --fail-on", tally.regressions);
+    // The details.
+    if (md)
+        out << "<details><summary>Details: per method and theta band, per changed "
+               "row</summary>\n\n";
+    write_table(band_table(tally, bands), md, out);
+    write_table(row_table(tally), md, out);
+    list(out, md, std::string("Rows only in BASE") + (opt.common ? " (left out: --common)" : ""),
+         only_base);
+    list(out, md, std::string("Rows only in NEW") + (opt.common ? " (left out: --common)" : ""),
+         tally.only_new_names);
+    if (md) out << "</details>\n\n";
     if (opt.fail_on.empty()) return 0;
-    list("Regressions beyond --fail-on", regressions);
-    out << (regressions.empty() ? "PASS" : "FAIL") << ": " << regressions.size()
-        << " regression(s) beyond --fail-on\n";
-    return regressions.empty() ? 0 : 1;
+    out << verdict << "\n";
+    return tally.regressions.total ? 1 : 0;
 }
 
 }  // namespace pxh

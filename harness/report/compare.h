@@ -1,6 +1,9 @@
 // `pxh compare BASE NEW`: two runs' results.csv, rows matched by their keys, the change of the
 // error metrics, fetches and timings per row and per method setting and theta band, rows found
-// in one run only, and an optional gate (--fail-on) for CI.
+// in one run only, and an optional gate (--fail-on) for CI. The verdict comes first; timings
+// change only when a two-sided Mann-Whitney U test over the rows' timed repeats says so
+// (harness/metrics/timing_stats.h). BASE is kept as compact records by key and NEW streamed
+// past it: memory grows with BASE's keys, not with what the rows hold.
 #pragma once
 #include <ostream>
 #include <string>
@@ -22,14 +25,18 @@ std::vector<CompareTolerance> parse_fail_on(const std::string& spec);
 
 struct CompareOptions {
     bool markdown = false;
+    std::vector<std::string> notes;  // lines printed under the verdict (the folders' checks)
+    bool common = false;  // only the rows both runs have (the others counted, not a regression)
     std::vector<CompareTolerance> fail_on;  // empty: report only, exit 0
     std::vector<double> band_edges;         // theta bands (empty: the report's default)
 };
 
 // Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and
-// a matched row regresses beyond it, a row that was ok failed, or a base row is missing from
-// NEW. Bad input (no results.csv, a malformed one, two rows with the same keys) is an
-// InputError naming the file and line.
+// a matched row regresses beyond it (a timing column: only when its repeats show it slower, or
+// when there are too few repeats to say), a row that was ok failed, or (without `common`) a base
+// row is missing from NEW. Bad input (no results.csv, a malformed one, two rows with the same
+// keys, a matched row on another field size or ground truth) is an InputError naming the file
+// and line.
 int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
                 std::ostream& out);
 

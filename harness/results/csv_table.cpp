@@ -54,23 +54,42 @@ std::string read_regular_file(const std::string& path) {
     return ss.str();
 }
 
-CsvTable read_csv(const std::string& path) {
-    const std::string text = read_regular_file(path);
-    std::vector<std::vector<std::string>> records;
-    std::vector<size_t> starts;  // the line each record starts on
-    std::vector<std::string> rec;
+CsvReader::CsvReader(const std::string& path) : path_(path) {
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(st)) throw InputError(path, "cannot open: no such file");
+    if (!std::filesystem::is_regular_file(st))
+        throw InputError(path, "is not a regular file (a folder, FIFO or device is refused)");
+    file_ = std::fopen(path.c_str(), "rb");
+    if (!file_) throw InputError(path, "cannot open");
+    if (!record(columns_)) throw InputError(path, "empty file");
+}
+
+CsvReader::~CsvReader() {
+    if (file_) std::fclose(file_);
+}
+
+int CsvReader::get() { return getc_unlocked(file_); }  // one reader per FILE
+
+// One record: fields separated by commas, ended by a newline or the end of the file, quoted
+// fields as RFC 4180 ("" a quote), CR outside quotes dropped. False when nothing is left.
+bool CsvReader::record(std::vector<std::string>& fields) {
+    fields.clear();
     std::string field;
     bool quoted = false, any = false;
-    size_t line = 1, start = 1;
-    for (size_t i = 0; i < text.size(); ++i) {
-        const char c = text[i];
-        if (c == '\n') ++line;
+    start_ = line_;
+    for (int ch = get(); ch != EOF; ch = get()) {
+        const char c = char(ch);
+        if (c == '\n') ++line_;
         if (quoted) {
             if (c == '"') {
-                if (i + 1 < text.size() && text[i + 1] == '"') {
+                const int after = get();
+                if (after == '"') {
                     field += '"';
-                    ++i;
-                } else quoted = false;
+                } else {
+                    quoted = false;
+                    if (after != EOF) std::ungetc(after, file_);
+                }
             } else {
                 field += c;
             }
@@ -80,39 +99,41 @@ CsvTable read_csv(const std::string& path) {
             quoted = true;
             any = true;
         } else if (c == ',') {
-            rec.push_back(field);
+            fields.push_back(std::move(field));
             field.clear();
             any = true;
         } else if (c == '\n') {
-            rec.push_back(field);
-            records.push_back(rec);
-            starts.push_back(start);
-            start = line;
-            rec.clear();
-            field.clear();
-            any = false;
+            fields.push_back(std::move(field));
+            return true;
         } else if (c != '\r') {
             field += c;
             any = true;
         }
     }
-    if (quoted) throw InputError(path, "unterminated quoted field");
-    if (any) {
-        rec.push_back(field);
-        records.push_back(rec);
-        starts.push_back(start);
-    }
-    if (records.empty()) throw InputError(path, "empty file");
+    if (std::ferror(file_)) throw InputError(path_, "read error");
+    if (quoted) throw InputError(path_, "unterminated quoted field");
+    if (!any) return false;
+    fields.push_back(std::move(field));
+    return true;
+}
+
+bool CsvReader::next(std::vector<std::string>& fields) {
+    if (!record(fields)) return false;
+    if (fields.size() != columns_.size())
+        throw InputError(where(), "has " + std::to_string(fields.size()) + " fields, the header " +
+                                      std::to_string(columns_.size()));
+    return true;
+}
+
+CsvTable read_csv(const std::string& path) {
+    CsvReader in(path);
     CsvTable t;
     t.path = path;
-    t.columns = records[0];
-    for (size_t r = 1; r < records.size(); ++r) {
-        if (records[r].size() != t.columns.size())
-            throw InputError(path + ":" + std::to_string(starts[r]),
-                             "has " + std::to_string(records[r].size()) + " fields, the header " +
-                                 std::to_string(t.columns.size()));
-        t.rows.push_back(std::move(records[r]));
-        t.lines.push_back(starts[r]);
+    t.columns = in.columns();
+    std::vector<std::string> rec;
+    while (in.next(rec)) {
+        t.rows.push_back(rec);
+        t.lines.push_back(in.line());
     }
     return t;
 }

@@ -1,6 +1,7 @@
 // Reading results.csv back: a table of named string columns (RFC 4180 quoting).
 #pragma once
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <string>
@@ -32,5 +33,31 @@ std::string read_regular_file(const std::string& path);
 
 // Throws InputError(path, ...) on a missing, non-regular or malformed file.
 CsvTable read_csv(const std::string& path);
+
+// The same file one record at a time (read_csv is built on it): memory independent of the
+// number of rows (pxh compare streams its inputs). The constructor reads the header (an empty
+// file, a missing or non-regular one is an InputError naming the path); next() the following
+// records, each with exactly the header's number of fields (InputError "PATH:LINE: has N
+// fields, the header M" otherwise, or "PATH: unterminated quoted field").
+class CsvReader {
+  public:
+    explicit CsvReader(const std::string& path);
+    ~CsvReader();
+    CsvReader(const CsvReader&) = delete;
+    CsvReader& operator=(const CsvReader&) = delete;
+    const std::vector<std::string>& columns() const { return columns_; }
+    bool next(std::vector<std::string>& fields);  // false at the end of the file
+    size_t line() const { return start_; }        // the line the last record started on
+    std::string where() const { return path_ + ":" + std::to_string(start_); }
+    const std::string& path() const { return path_; }
+
+  private:
+    bool record(std::vector<std::string>& fields);  // any record, header included
+    int get();
+    std::string path_;
+    std::vector<std::string> columns_;
+    std::FILE* file_ = nullptr;
+    size_t line_ = 1, start_ = 1;
+};
 
 }  // namespace pxh

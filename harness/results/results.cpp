@@ -48,34 +48,43 @@ std::string ResultsFile::where(size_t row) const {
     return path + ":" + std::to_string(row < lines.size() ? lines[row] : row + 2);
 }
 
+std::vector<const ColumnSpec*> column_specs_of(const std::vector<std::string>& header) {
+    std::vector<const ColumnSpec*> specs;
+    for (const auto& name : header) specs.push_back(find_column(name));
+    return specs;
+}
+
+ResultRow parse_result_row(const std::vector<const ColumnSpec*>& specs,
+                           const std::vector<std::string>& fields, const std::string& where) {
+    ResultRow row;
+    row.set_text("status", "");  // a file without a status column has no ok row
+    for (size_t c = 0; c < specs.size() && c < fields.size(); ++c) {
+        if (!specs[c]) continue;
+        const std::string& cell = fields[c];
+        if (specs[c]->type == ColumnType::text) {
+            row.set_text(specs[c]->name, cell);
+            continue;
+        }
+        if (cell.empty()) continue;
+        const auto v = parse_number(cell);
+        if (!v)
+            throw InputError(where,
+                             "column '" + specs[c]->name + "': '" + cell + "' is not a number");
+        row.set(specs[c]->name, *v);
+    }
+    return row;
+}
+
 ResultsFile read_results(const std::string& path) {
     const CsvTable t = read_csv(path);
     ResultsFile f;
     f.path = path;
     f.header = t.columns;
     f.lines = t.lines;
-    std::vector<const ColumnSpec*> specs;
-    for (const auto& name : t.columns) specs.push_back(find_column(name));
+    const std::vector<const ColumnSpec*> specs = column_specs_of(t.columns);
     f.rows.reserve(t.rows.size());
-    for (size_t r = 0; r < t.rows.size(); ++r) {
-        ResultRow row;
-        row.set_text("status", "");  // a file without a status column has no ok row
-        for (size_t c = 0; c < specs.size(); ++c) {
-            if (!specs[c]) continue;
-            const std::string& cell = t.rows[r][c];
-            if (specs[c]->type == ColumnType::text) {
-                row.set_text(specs[c]->name, cell);
-                continue;
-            }
-            if (cell.empty()) continue;
-            const auto v = parse_number(cell);
-            if (!v)
-                throw InputError(t.where(r),
-                                 "column '" + specs[c]->name + "': '" + cell + "' is not a number");
-            row.set(specs[c]->name, *v);
-        }
-        f.rows.push_back(std::move(row));
-    }
+    for (size_t r = 0; r < t.rows.size(); ++r)
+        f.rows.push_back(parse_result_row(specs, t.rows[r], t.where(r)));
     return f;
 }
 

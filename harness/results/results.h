@@ -31,6 +31,13 @@ struct ResultsFile {
 };
 ResultsFile read_results(const std::string& path);
 
+// The same one row at a time (pxh compare streams results.csv through CsvReader): the registered
+// column of each header name (nullptr for one the registry does not know), and one record as a
+// typed row; a numeric cell that is not a number is the InputError above, at `where`.
+std::vector<const ColumnSpec*> column_specs_of(const std::vector<std::string>& header);
+ResultRow parse_result_row(const std::vector<const ColumnSpec*>& specs,
+                           const std::vector<std::string>& fields, const std::string& where);
+
 // How rows are named in tables and messages:
 std::string setting_of(const ResultRow& r);  // method and parameters: "pom layers=8"
 std::string group_of(const ResultRow& r);    // backend/precision or format: "glsl/r32f"
