@@ -43,8 +43,7 @@ class Out {
     template <class T>
     void operator()(const std::vector<T>& v) {
         (*this)(uint64_t(v.size()));
-        if constexpr (std::is_trivially_copyable_v<T>)
-            raw(v.data(), v.size() * sizeof(T));
+        if constexpr (std::is_trivially_copyable_v<T>) raw(v.data(), v.size() * sizeof(T));
         else
             for (const T& e : v) (*this)(e);
     }
@@ -67,10 +66,8 @@ class In {
     }
     template <class T>
     void operator()(T& v) {
-        if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>)
-            raw(&v, sizeof v);
-        else
-            visit(*this, v);
+        if constexpr (std::is_arithmetic_v<T> || std::is_enum_v<T>) raw(&v, sizeof v);
+        else visit(*this, v);
     }
     size_t count(size_t element) {
         uint64_t n = 0;
@@ -325,7 +322,8 @@ std::string describe_status(int status) {
     if (WIFSIGNALED(status)) {
         const int sig = WTERMSIG(status);
         const char* name = strsignal(sig);
-        return "died with signal " + std::to_string(sig) + (name ? std::string(" (") + name + ")" : "");
+        return "died with signal " + std::to_string(sig) +
+               (name ? std::string(" (") + name + ")" : "");
     }
     if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
     return "stopped";
@@ -396,12 +394,11 @@ void GlslChildBackend::start() {
     const Got g = recv_frame(fd_, hello, deadline, true);
     if (g != Got::frame) {
         stop();
-        throw std::runtime_error(g == Got::timeout
-                                     ? "glsl: the GL process made no context within " +
-                                           seconds(settings_.gl_time_limit_s) +
-                                           " s (gl_time_limit_s)"
-                                     : std::string("glsl: the GL process ended before it made "
-                                                   "a context"));
+        throw std::runtime_error(
+            g == Got::timeout ? "glsl: the GL process made no context within " +
+                                    seconds(settings_.gl_time_limit_s) + " s (gl_time_limit_s)"
+                              : std::string("glsl: the GL process ended before it made "
+                                            "a context"));
     }
     In in(hello);
     uint8_t ok = 0;

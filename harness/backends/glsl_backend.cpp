@@ -52,6 +52,8 @@ void main() {
 }
 )";
 
+constexpr long kBodyLine = 100000;  // the method's file starts at line kBodyLine + 1
+
 // The raw log (several lines) of a shader or program.
 std::string raw_log(GLuint object, bool program) {
     GLint len = 0;
@@ -87,6 +89,12 @@ std::vector<std::string> located(const std::string& log, const std::map<int, std
             ok = number(col) && i < line.size() && line[i++] == ')';
         }
         ok = ok && i < line.size() && line[i++] == ':';
+        if (ln > kBodyLine) {  // the method's file, whatever string number Mesa gives
+            src = 2;
+            ln -= kBodyLine;
+        } else if (src == 0) {
+            src = 1;
+        }
         const auto f = files.find(int(src));
         if (!ok || f == files.end()) {
             out.push_back(line);
@@ -224,8 +232,10 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
     // Every source compiled is recorded with its sha256 (run.json), builtin or read from a file.
     compiled_sources_[common_name] = sha256_hex(common.text);
     compiled_sources_[body_name] = sha256_hex(body.text);
-    const std::string src =
-        "#version 450 core\n#line 1 1\n" + common.text + "\n#line 1 2\n" + body.text;
+    // The method's lines are numbered from kBodyLine + 1: Mesa reports some errors with source
+    // string 0 instead of #line's, so the line itself tells the files apart.
+    const std::string src = "#version 450 core\n#line 1 1\n" + common.text + "\n#line " +
+                            std::to_string(kBodyLine + 1) + " 2\n" + body.text;
     // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
     const std::string what =
         "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";

@@ -114,8 +114,9 @@ std::string utf8_problem(const std::string& s) {
             cp = (cp << 6) | (d & 0x3F);
         }
         if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
-            return bad("byte " + byte + " starts an invalid UTF-8 sequence (the file must be "
-                                        "UTF-8 text)");
+            return bad("byte " + byte +
+                       " starts an invalid UTF-8 sequence (the file must be "
+                       "UTF-8 text)");
         if (c == '\n') {
             ++line;
             col = 1;
@@ -151,8 +152,9 @@ PluginSource read_plugin_source(const std::string& experiment_path, const std::s
                                     ": a symbolic link to nothing?)");
     const fs::path inside = canon.lexically_relative(base);
     if (inside.empty() || *inside.begin() == "..")
-        throw InputError(where, what + ": lies outside the experiment's folder once links are "
-                                       "resolved (" +
+        throw InputError(where, what +
+                                    ": lies outside the experiment's folder once links are "
+                                    "resolved (" +
                                     canon.string() + "); " + rule);
     const fs::file_status st = fs::status(canon, ec);
     if (fs::is_directory(st)) throw InputError(where, what + ": is a directory, not a file");
@@ -243,7 +245,8 @@ std::vector<std::string> plugin_source_problems(const std::string& display, cons
                           "' is a reserved name: methods/common.glsl declares it (a uniform of "
                           "its layer search, pxh_layer_search); do not declare it, give its "
                           "value in the entry's uniforms (" +
-                          name.text + " = ...), or call pxh_layer_search_n(P, n), which needs none");
+                          name.text +
+                          " = ...), or call pxh_layer_search_n(P, n), which needs none");
         else
             out.push_back(at(name) + "'" + name.text +
                           "' is a reserved name: methods/common.glsl declares it and pxh sets "
