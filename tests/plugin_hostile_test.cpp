@@ -65,7 +65,8 @@ class PluginFixture : public ::testing::Test {
         std::ofstream(dir / "exp" / name, std::ios::binary) << text;
     }
     // The experiment: maxmip and pom (CPU and GLSL), then the plug-in entry given.
-    void experiment(const std::string& plugin_entry, const std::string& backends = "\"cpu\", \"glsl\"",
+    void experiment(const std::string& plugin_entry,
+                    const std::string& backends = "\"cpu\", \"glsl\"",
                     const std::string& thetas = "0, 60") {
         write("exp.toml", "samples = 32\nbackends = [" + backends +
                               "]\ntiming_repeats = 0\n[views]\ntheta_deg = [" + thetas +
@@ -265,6 +266,39 @@ TEST_F(PluginRows, DiscardedSamplesAreCountedNotInherited) {
         else EXPECT_GT(std::stod(t.get(r, "err_mean")), 0.5);
     }
     EXPECT_EQ(mine, 2);
+    // The gate can limit it: samples_discarded <= 0 fails for the plug-in, holds for maxmip.
+    std::ofstream(dir / "t.toml") << "[[limit]]\nmethod = \"mine\"\ncolumn = "
+                                     "\"samples_discarded\"\nmax = 0\n";
+    EXPECT_EQ(sh(std::string(PXH_BINARY) + " check " + (dir / "r").string() + " --thresholds " +
+                 (dir / "t.toml").string()),
+              1)
+        << slurp(dir / "out.txt") << err();
+    std::ofstream(dir / "t.toml") << "[[limit]]\nmethod = \"maxmip\"\ncolumn = "
+                                     "\"samples_discarded\"\nmax = 0\n";
+    EXPECT_EQ(sh(std::string(PXH_BINARY) + " check " + (dir / "r").string() + " --thresholds " +
+                 (dir / "t.toml").string()),
+              0)
+        << slurp(dir / "out.txt") << err();
+}
+
+// The finding as reported: `if (p_x > 0.0) discard; return P;` after maxmip reported maxmip's
+// numbers (err_mean 5.7e-7, status ok). Every sample is discarded: no number at all.
+TEST_F(PluginRows, DiscardEverythingAfterMaxmipHasNoNumbers) {
+    write("d.frag.glsl",
+          "uniform float p_x;\nvec2 pxh_method(vec2 P) { if (p_x > 0.0) discard; return P; }\n");
+    plugin("d.frag.glsl", "uniforms = { p_x = 1.0 }\n");
+    ASSERT_EQ(run(), 0) << err();
+    const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
+    int mine = 0;
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        if (t.get(r, "method") != "mine") continue;
+        ++mine;
+        EXPECT_EQ(t.get(r, "samples_discarded"), "1024");
+        EXPECT_EQ(t.get(r, "nonfinite"), "1024");
+        EXPECT_EQ(t.get(r, "err_mean"), "") << "maxmip's numbers leaked into a discarding shader";
+        EXPECT_EQ(t.get(r, "fetches_max"), "0");
+    }
+    EXPECT_EQ(mine, 2);
 }
 
 TEST_F(PluginRows, OverItsBoundFails) {
@@ -321,8 +355,9 @@ vec2 pxh_method(vec2 P) {
             ++slow;
             EXPECT_EQ(t.get(r, "status"), "failed");
             EXPECT_EQ(t.get(r, "err_mean"), "");
-            EXPECT_NE(t.get(r, "error").find("GL time limit: the row's GL work did not finish "
-                                             "within 2 s"),
+            EXPECT_NE(t.get(r, "error")
+                          .find("GL time limit: the row's GL work did not finish "
+                                "within 2 s"),
                       std::string::npos)
                 << t.get(r, "error");
         } else {
@@ -354,8 +389,8 @@ TEST(GlWorker, ChildAnswersAsTheInProcessBackend) {
     ASSERT_TRUE(pom);
     const pxh::ParamValues params = pxh::test::params_for(*pom);
     const pxh::GeneratorInfo* g = pxh::find_generator("bricks");
-    const pxh::HeightField hf = pxh::generate_heightfield(
-        *g, 64, 64, pxh::resolve_params(g->params, {}, "test", "bricks"));
+    const pxh::HeightField hf =
+        pxh::generate_heightfield(*g, 64, 64, pxh::resolve_params(g->params, {}, "test", "bricks"));
     pxh::GlslDraw d;
     d.method = pxh::GlslMethod::of(*pom);
     d.uniforms = pxh::method_uniforms(*pom, params);
