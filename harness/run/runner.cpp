@@ -376,18 +376,22 @@ bool software_renderer(const std::map<std::string, std::string>& f) {
 }
 
 std::vector<std::string> check_plugin_shaders(const Experiment& ex, const RunOptions& opt) {
-    if (ex.plugins.empty()) return {};
+    // Each plug-in's first setting (left out by --only: none): every setting of a plug-in has
+    // the same uniforms (names and types), so one check each.
+    std::vector<const MethodSpec*> firsts;
+    for (const auto& p : ex.plugins)
+        for (const auto& m : ex.methods)
+            if (m.method == p.get()) {
+                firsts.push_back(&m);
+                break;
+            }
+    if (firsts.empty()) return {};
     GlslChildBackend gl(settings_of(ex, opt));
     std::vector<std::string> problems;
-    for (const auto& p : ex.plugins) {
-        const MethodSpec* first = nullptr;
-        for (const auto& m : ex.methods)
-            if (m.method == p.get() && !first) first = &m;
-        if (!first) continue;  // left out by --only
-        // Every setting of a plug-in has the same uniforms (names and types): one check each.
-        for (auto& line : gl.check(GlslMethod::of(*p), method_uniforms(*p, first->params)))
+    for (const MethodSpec* m : firsts)
+        for (auto& line :
+             gl.check(GlslMethod::of(*m->method), method_uniforms(*m->method, m->params)))
             problems.push_back(std::move(line));
-    }
     return problems;
 }
 
