@@ -240,6 +240,20 @@ TEST_F(PluginRefused, FloatUniformThatDoesNotFitAFloat) {
     EXPECT_EQ(run(), 0) << err();
 }
 
+TEST_F(PluginRefused, TimeLimitOutOfRange) {
+    write("ok.frag.glsl", kOk);
+    plugin("ok.frag.glsl");
+    for (const char* bad : {"0", "-1", "1e9"}) {
+        EXPECT_EQ(run(std::string("--gl-time-limit ") + bad), 2) << bad;
+        EXPECT_NE(err().find("--gl-time-limit: "), std::string::npos) << err();
+        EXPECT_NE(err().find("is outside (0, 86400]"), std::string::npos) << err();
+    }
+    const std::string text = slurp(dir / "exp" / "exp.toml");
+    write("exp.toml", "gl_time_limit_s = 0\n" + text);
+    expect_refused("exp.toml:1: gl_time_limit_s = 0 is outside (0, 86400]");
+    EXPECT_FALSE(fs::exists(dir / "r"));
+}
+
 using PluginRows = PluginFixture;
 
 // Discards the right half (P.x > 0.5: columns i >= N/2 of the N x N grid), run after maxmip:
@@ -405,6 +419,10 @@ TEST(GlWorker, ChildAnswersAsTheInProcessBackend) {
     d.frames = 1;
     pxh::BackendSettings s;
     pxh::GlslChildBackend child(s);
+    // A child process unless this test process made a GL context before (then in-process).
+    if (!child.in_process()) {
+        EXPECT_GT(child.child_pid(), 0);
+    }
     const pxh::MethodOutput a = child.draw(d);
     pxh::GlslBackend in_process(pxh::GlslOptions{"", 1});
     const pxh::MethodOutput b = in_process.draw(d);

@@ -11,6 +11,11 @@
 // textures) answered with the MethodOutput, or a check of a program (compile, link, interface)
 // answered with its problems. It dies with pxh (PR_SET_PDEATHSIG).
 //
+// A process that has made a GL context itself (a test's in-process GlslBackend) cannot fork a
+// GL child safely: the child would inherit Mesa's state without its threads and can deadlock.
+// There (harness/gl/context.h: gl_context_made_in_process) the backend draws in-process, without
+// the time limit (in_process() says so); pxh itself never makes a context outside the child.
+//
 // Adding a field to MethodOutput (or to GlslDraw): one line in its visit() in gl_worker.cpp,
 // which both writes and reads it; a static_assert on sizeof(MethodOutput) there stops a build
 // whose MethodOutput grew without it.
@@ -41,7 +46,9 @@ class GlslChildBackend : public Backend {
     MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
     std::string shader_of(const MethodInfo& m) const override;
     std::map<std::string, std::string> facts() const override { return facts_; }
-    std::map<std::string, std::string> sources() const override { return sources_; }
+    std::map<std::string, std::string> sources() const override {
+        return local_ ? local_->compiled_sources() : sources_;
+    }
 
     // A draw from plain data (the time limit applies).
     MethodOutput draw(const GlslDraw& d);
@@ -50,6 +57,8 @@ class GlslChildBackend : public Backend {
     // Children killed (time limit) or lost (died) so far.
     int restarts() const { return restarts_; }
     pid_t child_pid() const { return pid_; }
+    // True when it draws in this process (no child, no time limit): see above.
+    bool in_process() const { return local_ != nullptr; }
 
   private:
     void start();
@@ -63,6 +72,7 @@ class GlslChildBackend : public Backend {
     pid_t pid_ = -1;
     int restarts_ = 0;
     std::map<std::string, std::string> facts_, sources_;
+    std::unique_ptr<GlslBackend> local_;  // in-process fallback
 };
 
 }  // namespace pxh

@@ -48,6 +48,7 @@ struct RunArgs {
     std::string only;          // --only KEY=V,...: a subset of the experiment
     int samples = 0;           // --samples N: overrides the file (0: the file's)
     double gl_time_limit = 0;  // --gl-time-limit S: overrides the file's gl_time_limit_s
+    bool gl_time_limit_given = false;
 };
 
 // "123", "512M", "8G", "1.5T" (binary units) -> bytes.
@@ -227,7 +228,7 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
         ex.samples = a.samples;
     }
     check_plugin_backends(ex, a.backends);
-    if (a.gl_time_limit != 0 && !(a.gl_time_limit > 0 && a.gl_time_limit <= kMaxGlTimeLimitS))
+    if (a.gl_time_limit_given && !(a.gl_time_limit > 0 && a.gl_time_limit <= kMaxGlTimeLimitS))
         throw InputError("--gl-time-limit", format_number(a.gl_time_limit) +
                                                 " is outside (0, 86400] (seconds per row)");
     check_run_size(ex, a);
@@ -349,6 +350,7 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                 if (ra->threads < 0 || (run->count("--threads") && ra->threads == 0))
                     throw InputError("--threads",
                                      std::to_string(ra->threads) + " is not a thread count (>= 1)");
+                ra->gl_time_limit_given = run->count("--gl-time-limit") > 0;
                 return cmd_run(*ra, command_line);
             }};
 }
