@@ -216,6 +216,10 @@ TEST_F(PluginRefused, UnusedUniformIsFoundBeforeAnyRow) {
     plugin("u.frag.glsl", "uniforms = { p_steps = 3.0 }\n");
     expect_refused("the method declares float uniform 'p_steps' but the shader does not use it");
     EXPECT_NE(err().find("u.frag.glsl"), std::string::npos);
+    // A uniform the shader reads and the entry does not give: at its declaration's line.
+    write("v.frag.glsl", "// v\nuniform float p_k;\nvec2 pxh_method(vec2 P) { return P * p_k; }\n");
+    plugin("v.frag.glsl");
+    expect_refused("v.frag.glsl:2:15: the shader reads float uniform 'p_k' but nothing sets it");
 }
 
 TEST_F(PluginRefused, PluginInCpuOnlyRun) {

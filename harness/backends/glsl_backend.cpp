@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"
 #include "harness/core/sha256.h"
@@ -386,8 +387,17 @@ std::vector<std::string> GlslBackend::check(const GlslMethod& m, const GlUniform
         for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
         for (const ResourceSpec& r : m.resources) declared.push_back({r.name, "sampler2D"});
         const std::string what = m.plugin_display.empty() ? program.what : m.plugin_display;
-        if (const std::string why = interface_problem(program.active, declared, what); !why.empty())
-            return {why};
+        if (const std::string why = interface_problem(program.active, declared, what);
+            !why.empty()) {
+            // A plug-in's: at the shader's declaration of the uniform named, when it has one.
+            const size_t q = why.find(" uniform '");
+            if (m.plugin_display.empty() || q == std::string::npos) return {why};
+            const size_t start = q + 10, end = why.find('\'', start);
+            const std::string at =
+                uniform_declaration(m.plugin_source, why.substr(start, end - start));
+            if (at.empty()) return {why};
+            return {m.plugin_display + ":" + at + why.substr(m.plugin_display.size())};
+        }
     } catch (const GlslProgramError& e) {
         return e.lines;
     } catch (const std::exception& e) {

@@ -201,6 +201,16 @@ PluginSource read_plugin_source(const std::string& experiment_path, const std::s
     return out;
 }
 
+std::string uniform_declaration(const std::string& text, const std::string& name) {
+    const std::vector<Token> t = tokens(text);
+    for (size_t i = 0; i + 2 < t.size(); ++i)
+        if (t[i].text == "uniform")
+            for (size_t j = i + 1; j < t.size() && j <= i + 3; ++j)
+                if (t[j].text == name)
+                    return std::to_string(t[j].line) + ":" + std::to_string(t[j].col);
+    return "";
+}
+
 std::vector<std::string> common_uniform_names(const std::string& common) {
     std::vector<std::string> out;
     const std::vector<Token> t = tokens(common);

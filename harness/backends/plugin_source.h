@@ -40,6 +40,9 @@ std::string utf8_problem(const std::string& text);
 std::vector<std::string> plugin_source_problems(const std::string& display, const std::string& text,
                                                 const std::string& common);
 
+// "LINE:COL" of the uniform declaration of `name` in `text` (`uniform TYPE name`), "" if none.
+std::string uniform_declaration(const std::string& text, const std::string& name);
+
 // The names common.glsl declares at global scope as uniforms (u_*, p_layers*).
 std::vector<std::string> common_uniform_names(const std::string& common);
 
