@@ -2,7 +2,7 @@
 // march, and main(). The harness prepends "#version 450 core" and the method's file follows.
 // Every function mirrors the CPU reference's operation order (methods/*.h, methods/*/*.cpp).
 
-layout(location = 0) out vec4 pxh_out_uv;      // uv.x, uv.y, fetches, 0
+layout(location = 0) out vec4 pxh_out_uv;      // uv.x, uv.y, fetches, 1 (written)
 layout(location = 1) out vec4 pxh_out_shadow;  // hard, soft light factor (1 lit, 0 shadowed)
 
 uniform sampler2D u_height;  // GL_LINEAR + GL_REPEAT
@@ -59,9 +59,10 @@ float pxh_layer_count() {
 vec2 pxh_uv_at(PxhLayers r, float layer) { return r.uv0 + r.duv * layer; }
 float pxh_z_at(PxhLayers r, float layer) { return r.z0 - r.dz * layer; }
 
-PxhLayers pxh_layer_search(vec2 P) {
+// The search with n layers given (a plug-in's own count: it needs no p_layers* uniform).
+PxhLayers pxh_layer_search_n(vec2 P, float n) {
     PxhLayers r;
-    r.n = pxh_layer_count();
+    r.n = n;
     vec2 dir = pxh_V.xy * (1.0 / pxh_V.z);
     r.dz = u_scale / r.n;
     r.duv = dir * (-r.dz);
@@ -79,6 +80,9 @@ PxhLayers pxh_layer_search(vec2 P) {
     r.crossed = !(r.g_k > 0.0);
     return r;
 }
+
+// The search with the method's p_layers* uniforms (n = pxh_layer_count()).
+PxhLayers pxh_layer_search(vec2 P) { return pxh_layer_search_n(P, pxh_layer_count()); }
 
 // ---- Self-shadowing (methods/shadow.h): hard and soft light factors at uv ----
 vec2 pxh_shadow(vec2 uv) {
@@ -111,6 +115,6 @@ void main() {
     vec2 uv = pxh_method(P);
     float fetches = float(pxh_fetches);
     vec2 shadow = u_light_on != 0 ? pxh_shadow(uv) : vec2(1.0);
-    pxh_out_uv = vec4(uv, fetches, 0.0);
+    pxh_out_uv = vec4(uv, fetches, 1.0);  // alpha 1: written (the targets clear to alpha 0)
     pxh_out_shadow = vec4(shadow, 0.0, 0.0);
 }

@@ -105,6 +105,10 @@ struct MethodInfo {
     // read when compiled) and the fetch bound its entry declares (max_fetches). No CPU twin.
     std::string plugin_shader{};
     int declared_max_fetches = -1;
+    // ... its text as read (and checked) when the experiment was parsed: what is compiled and
+    // recorded, never the file read again; and its path as the user reaches it (messages).
+    std::string plugin_source{};
+    std::string plugin_display{};
     // The shader's path relative to the source tree (shader_path or the default).
     std::string shader_file() const {
         return shader_path.empty() ? "methods/" + name + "/" + name + ".frag.glsl" : shader_path;

@@ -1,7 +1,8 @@
 // Plug-in shaders ([[methods]] shader = FILE) through the binary: a copy of the built-in pom
-// shader gives the built-in pom's GLSL rows; a broken one fails only its own rows, naming the
-// file; bad entries are one line and exit 2; and README's worked example (examples/shader_gate)
-// passes its gate, while a deliberately worse shader fails both pxh check and pxh compare.
+// shader gives the built-in pom's GLSL rows; a broken one is exit 2 before any row, at its
+// FILE:LINE:COL; bad entries are one line and exit 2; and README's worked example
+// (examples/shader_gate) passes its gate, while a deliberately worse shader fails both pxh check
+// and pxh compare.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -121,7 +122,10 @@ uniforms = { p_layers_adaptive = false, p_layers = 24.0, p_layers_min = 8.0, p_l
     EXPECT_NE(run_json.find("pxh_layer_search(P)"), std::string::npos) << "source not recorded";
 }
 
-TEST_F(Plugin, BrokenShaderFailsOnlyItsOwnRows) {
+// A shader that does not compile is found before any row runs: exit 2, the driver's message at
+// the user's FILE:LINE:COL (not Mesa's "2:2(14)"), and no results folder (it used to write a
+// folder of failed rows, exit 1).
+TEST_F(Plugin, BrokenShaderIsExit2BeforeAnyRow) {
     write("broken.frag.glsl", "vec2 pxh_method(vec2 P) {\n  return P + oops;\n}\n");
     write("exp.toml", std::string(kHead) + R"([[methods]]
 name = "broken"
@@ -129,23 +133,15 @@ shader = "broken.frag.glsl"
 max_fetches = 1
 )");
     EXPECT_EQ(pxh("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "r").string()),
-              1);
-    const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
-    size_t failed = 0, ok = 0;
-    for (size_t r = 0; r < t.rows.size(); ++r) {
-        if (t.get(r, "method") == "broken") {
-            ++failed;
-            EXPECT_EQ(t.get(r, "status"), "failed");
-            EXPECT_EQ(t.get(r, "err_mean"), "") << "a failure is never a number";
-            EXPECT_NE(t.get(r, "error").find((dir / "broken.frag.glsl").string()),
-                      std::string::npos);
-            EXPECT_NE(t.get(r, "error").find("oops"), std::string::npos) << t.get(r, "error");
-        } else {
-            ok += t.get(r, "status") == "ok";
-        }
-    }
-    EXPECT_EQ(failed, 8u);
-    EXPECT_EQ(ok, 16u);  // pom: cpu and glsl, 2 fields x 4 views
+              2);
+    const std::string err = slurp("err.txt");
+    EXPECT_NE(err.find("pxh: error: " + (dir / "broken.frag.glsl").string() + ":2:"),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find("oops"), std::string::npos) << err;
+    EXPECT_EQ(err.find("2:2("), std::string::npos) << "Mesa's location left in: " << err;
+    EXPECT_FALSE(fs::exists(dir / "r")) << "nothing is written";
+    EXPECT_EQ(slurp("out.txt"), "");
 }
 
 TEST_F(Plugin, BadEntriesAreOneLineExit2) {

@@ -17,6 +17,9 @@
 
 namespace pxh {
 
+constexpr double kDefaultGlTimeLimitS = 120;  // gl_time_limit_s, pxh run --gl-time-limit
+constexpr double kMaxGlTimeLimitS = 86400;    // the largest accepted (one day)
+
 struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
@@ -30,6 +33,9 @@ struct MethodOutput {
     std::vector<double> ns_per_sample_repeats, ms_per_frame_repeats;
     std::string shader;         // GLSL: "builtin" or the shader file(s) compiled
     std::string shader_sha256;  // GLSL: sha256 of the method's shader source
+    // GLSL: samples the shader discarded or left unwritten (their uv is NaN, fetches 0); 0 on
+    // the CPU.
+    long long samples_discarded = 0;
 };
 
 // Median, minimum and maximum of repeated timings (NaN when there are none).
@@ -46,6 +52,9 @@ struct BackendSettings {
     int gl_frames = 5;                                 // GLSL: timed frames (median)
     std::string shader_dir;                            // GLSL sources override (development)
     std::string gl = "osmesa";                         // GLSL: the GL context (harness/gl)
+    // GLSL: a row's GL work (compile, upload, frames, read-back) runs in a child process that
+    // is killed after this many seconds (the row fails; the next row gets a fresh context).
+    double gl_time_limit_s = kDefaultGlTimeLimitS;
 };
 
 // The variant a row of a backend runs in: its precision and (GLSL) height texture format.

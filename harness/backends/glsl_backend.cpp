@@ -3,11 +3,15 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <sstream>
 #include <stdexcept>
 
+#include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"
 #include "harness/core/sha256.h"
@@ -15,6 +19,30 @@
 #include "harness/truth/ground_truth.h"
 
 namespace pxh {
+
+GlslProgramError::GlslProgramError(const std::string& what, std::vector<std::string> l)
+    : std::runtime_error(what), lines(std::move(l)) {}
+
+GlslMethod GlslMethod::of(const MethodInfo& m) {
+    GlslMethod g;
+    g.name = m.name;
+    g.shader_file = m.shader_file();
+    g.has_builtin_text = m.shader_text != nullptr;
+    if (m.shader_text) g.builtin_text = m.shader_text;
+    g.plugin_shader = m.plugin_shader;
+    g.plugin_source = m.plugin_source;
+    g.plugin_display = m.plugin_display;
+    for (const ResourceSpec& r : m.resources) {
+        ResourceSpec c;
+        c.name = r.name;
+        c.format = r.format;
+        c.filter = r.filter;
+        c.wrap = r.wrap;
+        g.resources.push_back(c);
+    }
+    return g;
+}
+
 namespace {
 
 const char* kVertexShader = R"(#version 450 core
@@ -25,23 +53,70 @@ void main() {
 }
 )";
 
-std::string one_line(std::string s) {
-    while (!s.empty() && (s.back() == '\n' || s.back() == '\r' || s.back() == ' ')) s.pop_back();
-    for (char& c : s)
-        if (c == '\n' || c == '\r') c = ';';
-    return s;
-}
+constexpr long kBodyLine = 100000;  // the method's file starts at line kBodyLine + 1
 
-// The driver's log of a shader or program, on one line.
-std::string info_log(GLuint object, bool program) {
+// The raw log (several lines) of a shader or program.
+std::string raw_log(GLuint object, bool program) {
     GLint len = 0;
     (program ? glGetProgramiv : glGetShaderiv)(object, GL_INFO_LOG_LENGTH, &len);
     std::string log(size_t(std::max(len, 1)), '\0');
     (program ? glGetProgramInfoLog : glGetShaderInfoLog)(object, len, nullptr, log.data());
-    return one_line(log.c_str());
+    return log.c_str();
 }
 
-unsigned compile(GLenum type, const std::string& src, const std::string& what) {
+// The driver's messages, one per line, with Mesa's "S:L(C): " (source string S, line L, column
+// C) or "S:L: " written as "FILE:L:C: " for the files the source strings are (`files`, by
+// string number: 1 = common.glsl, 2 = the method's file, after pxh's #line directives).
+std::vector<std::string> located(const std::string& log, const std::map<int, std::string>& files) {
+    std::vector<std::string> out;
+    std::istringstream in(log);
+    std::string line;
+    while (std::getline(in, line)) {
+        while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+        if (line.empty()) continue;
+        size_t i = 0;
+        auto number = [&](long& v) {
+            const size_t start = i;
+            v = 0;
+            while (i < line.size() && std::isdigit(static_cast<unsigned char>(line[i])) &&
+                   i < 9 + start)
+                v = v * 10 + (line[i++] - '0');
+            return i > start;
+        };
+        long src = 0, ln = 0, col = 0;
+        bool ok = number(src) && i < line.size() && line[i++] == ':' && number(ln);
+        if (ok && i < line.size() && line[i] == '(') {
+            ++i;
+            ok = number(col) && i < line.size() && line[i++] == ')';
+        }
+        ok = ok && i < line.size() && line[i++] == ':';
+        if (ln > kBodyLine) {  // the method's file, whatever string number Mesa gives
+            src = 2;
+            ln -= kBodyLine;
+        } else if (src == 0) {
+            src = 1;
+        }
+        const auto f = files.find(int(src));
+        if (!ok || f == files.end()) {
+            out.push_back(line);
+            continue;
+        }
+        while (i < line.size() && line[i] == ' ') ++i;
+        out.push_back(f->second + ":" + std::to_string(ln) +
+                      (col > 0 ? ":" + std::to_string(col) : "") + ": " + line.substr(i));
+    }
+    if (out.empty()) out.push_back("(the driver gave no log)");
+    return out;
+}
+
+std::string joined(const std::vector<std::string>& lines) {
+    std::string s;
+    for (const auto& l : lines) s += (s.empty() ? "" : "; ") + l;
+    return s;
+}
+
+unsigned compile(GLenum type, const std::string& src, const std::string& what,
+                 const std::map<int, std::string>& files = {}) {
     const GLuint sh = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(sh, 1, &p, nullptr);
@@ -49,9 +124,14 @@ unsigned compile(GLenum type, const std::string& src, const std::string& what) {
     GLint ok = 0;
     glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        const std::string log = info_log(sh, false);
+        std::vector<std::string> lines = located(raw_log(sh, false), files);
         glDeleteShader(sh);
-        throw std::runtime_error(what + ": shader compile failed: " + log);
+        // Errors only, when the log has any (Mesa's warnings would bury them).
+        std::vector<std::string> errors;
+        for (const auto& l : lines)
+            if (l.find("error") != std::string::npos) errors.push_back(l);
+        if (!errors.empty()) lines = errors;
+        throw GlslProgramError(what + ": shader compile failed: " + joined(lines), lines);
     }
     return sh;
 }
@@ -115,14 +195,17 @@ struct MethodSources {
     }
 };
 
-MethodSources method_sources(const MethodInfo& m, const std::string& shader_dir) {
-    const std::string method_path = m.shader_file();
+MethodSources method_sources(const GlslMethod& m, const std::string& shader_dir) {
+    const std::string method_path = m.shader_file;
     MethodSources s;
     try {
         s.common = shader_source("methods/common.glsl", shader_dir);
-        // A plug-in's file is read as it is now (--shader-dir does not apply to it).
-        s.body = m.plugin_shader.empty() ? shader_source(method_path, shader_dir, m.shader_text)
-                                         : shader_file_source(m.plugin_shader);
+        // A plug-in's text as read when the experiment was parsed (--shader-dir does not
+        // apply to it).
+        if (!m.plugin_shader.empty()) s.body = {m.plugin_source, m.plugin_shader};
+        else
+            s.body = shader_source(method_path, shader_dir,
+                                   m.has_builtin_text ? m.builtin_text.c_str() : nullptr);
     } catch (const std::exception& e) {
         throw std::runtime_error("method '" + m.name + "': " + e.what());
     }
@@ -133,15 +216,15 @@ MethodSources method_sources(const MethodInfo& m, const std::string& shader_dir)
 
 }  // namespace
 
-std::string GlslBackend::shader_description(const MethodInfo& m) const {
+std::string glsl_shader_description(const GlslMethod& m, const std::string& shader_dir) {
     try {
-        return method_sources(m, opt_.shader_dir).description();
+        return method_sources(m, shader_dir).description();
     } catch (const std::exception&) {
         return "";
     }
 }
 
-const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
+const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
     auto it = programs_.find(m.name);
     if (it != programs_.end()) return it->second;
     const MethodSources ms = method_sources(m, opt_.shader_dir);
@@ -150,15 +233,20 @@ const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
     // Every source compiled is recorded with its sha256 (run.json), builtin or read from a file.
     compiled_sources_[common_name] = sha256_hex(common.text);
     compiled_sources_[body_name] = sha256_hex(body.text);
-    const std::string src =
-        "#version 450 core\n#line 1 1\n" + common.text + "\n#line 1 2\n" + body.text;
+    // The method's lines are numbered from kBodyLine + 1: Mesa reports some errors with source
+    // string 0 instead of #line's, so the line itself tells the files apart.
+    const std::string src = "#version 450 core\n#line 1 1\n" + common.text + "\n#line " +
+                            std::to_string(kBodyLine + 1) + " 2\n" + body.text;
     // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
     const std::string what =
         "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
     const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, "pxh vertex shader");
     GLuint fs = 0;
     try {
-        fs = compile(GL_FRAGMENT_SHADER, src, what);
+        // The driver's locations, mapped to the files: a plug-in's as the user reaches it.
+        const std::map<int, std::string> files = {
+            {1, common_name}, {2, m.plugin_display.empty() ? body_name : m.plugin_display}};
+        fs = compile(GL_FRAGMENT_SHADER, src, what, files);
     } catch (...) {
         glDeleteShader(vs);
         throw;
@@ -172,9 +260,10 @@ const GlslBackend::Program& GlslBackend::program_for(const MethodInfo& m) {
     GLint ok = 0;
     glGetProgramiv(prog, GL_LINK_STATUS, &ok);
     if (!ok) {
-        const std::string log = info_log(prog, true);
+        const std::vector<std::string> lines =
+            located(raw_log(prog, true), {{1, common_name}, {2, body_name}});
         glDeleteProgram(prog);
-        throw std::runtime_error(what + ": program link failed: " + log);
+        throw GlslProgramError(what + ": program link failed: " + joined(lines), lines);
     }
     Program& p = programs_[m.name];
     p.id = prog;
@@ -262,7 +351,7 @@ void GlslBackend::upload_view_map(const std::vector<Vec3d>& V, int samples) {
 
 // The harness's uniforms (common.glsl's u_*), then the method's, checked against the linked
 // program's active ones (a misspelt or unused uniform is an error, not a value GL drops).
-void GlslBackend::set_uniforms(const Program& program, const MethodSpec& m, const Frame& f) {
+void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     const GLuint prog = program.id;
     auto loc = [&](const char* n) { return glGetUniformLocation(prog, n); };
     const Scene<float> sc = scene_cast<float>(f.scene);
@@ -272,7 +361,7 @@ void GlslBackend::set_uniforms(const Program& program, const MethodSpec& m, cons
     glUniform3f(loc("u_view"), sc.V.x, sc.V.y, sc.V.z);
     glUniform1i(loc("u_view_per_sample"), f.V ? 1 : 0);
     glUniform1i(loc("u_view_map"), 1);
-    glUniform2i(loc("u_size"), f.hf.width, f.hf.height);
+    glUniform2i(loc("u_size"), f.hf->width, f.hf->height);
     glUniform1f(loc("u_samples"), float(f.samples));
     glUniform1i(loc("u_light_on"), f.light ? 1 : 0);
     if (f.light) {
@@ -281,14 +370,40 @@ void GlslBackend::set_uniforms(const Program& program, const MethodSpec& m, cons
         glUniform1f(loc("u_shadow_layers_min"), float(f.light->layers_min));
         glUniform1f(loc("u_shadow_layers_max"), float(f.light->layers_max));
     }
-    const GlUniforms uniforms = method_uniforms(*m.method, m.params);
     std::vector<DeclaredUniform> declared;
-    for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
-    for (const ResourceSpec& r : m.method->resources) declared.push_back({r.name, "sampler2D"});
+    for (const GlUniform& u : f.uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
+    for (const ResourceSpec& r : f.method.resources) declared.push_back({r.name, "sampler2D"});
     if (const std::string why = interface_problem(program.active, declared, program.what);
         !why.empty())
         throw std::runtime_error(why);
-    set_method_uniforms(prog, uniforms);
+    set_method_uniforms(prog, f.uniforms);
+}
+
+std::vector<std::string> GlslBackend::check(const GlslMethod& m, const GlUniforms& uniforms) {
+    use_gl_context(*ctx_);
+    try {
+        const Program& program = program_for(m);
+        std::vector<DeclaredUniform> declared;
+        for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
+        for (const ResourceSpec& r : m.resources) declared.push_back({r.name, "sampler2D"});
+        const std::string what = m.plugin_display.empty() ? program.what : m.plugin_display;
+        if (const std::string why = interface_problem(program.active, declared, what);
+            !why.empty()) {
+            // A plug-in's: at the shader's declaration of the uniform named, when it has one.
+            const size_t q = why.find(" uniform '");
+            if (m.plugin_display.empty() || q == std::string::npos) return {why};
+            const size_t start = q + 10, end = why.find('\'', start);
+            const std::string at =
+                uniform_declaration(m.plugin_source, why.substr(start, end - start));
+            if (at.empty()) return {why};
+            return {m.plugin_display + ":" + at + why.substr(m.plugin_display.size())};
+        }
+    } catch (const GlslProgramError& e) {
+        return e.lines;
+    } catch (const std::exception& e) {
+        return {e.what()};
+    }
+    return {};
 }
 
 // One untimed frame (the shader JIT), then `frames` timed ones: wall time, and GL_TIME_ELAPSED
@@ -299,6 +414,12 @@ void GlslBackend::draw_frames(int frames, MethodOutput& out) {
     if (timer_bits_ > 0 && frames > 0) glGenQueries(1, &query);
     for (int frame = 0; frame <= frames; ++frame) {
         const bool timed = frame > 0;
+        // Every draw starts from targets whose clear value means "no output" (alpha 0; main()
+        // writes alpha 1): a sample the shader discards or leaves unwritten cannot keep what an
+        // earlier draw, another method's, left there.
+        static const float kNoOutput[4] = {0, 0, 0, 0};
+        glClearBufferfv(GL_COLOR, 0, kNoOutput);
+        glClearBufferfv(GL_COLOR, 1, kNoOutput);
         const auto t0 = std::chrono::steady_clock::now();
         if (query && timed) glBeginQuery(GL_TIME_ELAPSED, query);
         glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -335,7 +456,14 @@ void GlslBackend::read_back(int samples, bool light, MethodOutput& out) {
     glReadPixels(0, 0, samples, samples, GL_RGBA, GL_FLOAT, sh.data());
     out.uv.resize(n);
     out.fetches.resize(n);
+    out.samples_discarded = 0;
     for (size_t k = 0; k < n; ++k) {  // row 0 of the read-back is gl_FragCoord.y = 0.5: j = 0
+        if (px[4 * k + 3] != 1.0f) {  // discarded or unwritten: no uv (counted, never scored)
+            out.uv[k] = {NAN, NAN};
+            out.fetches[k] = 0;
+            ++out.samples_discarded;
+            continue;
+        }
         out.uv[k] = {px[4 * k], px[4 * k + 1]};
         out.fetches[k] = int(px[4 * k + 2]);
     }
@@ -352,9 +480,30 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                               const HeightField& hf, int samples, const std::string& texture_format,
                               const LightSpec* light, int frames, const MethodResources* resources,
                               const std::vector<Vec3d>* V) {
+    GlslDraw d;
+    d.method = GlslMethod::of(*m.method);
+    d.uniforms = method_uniforms(*m.method, m.params);
+    d.scene = scene;
+    d.hf = &hf;
+    d.samples = samples;
+    d.texture_format = texture_format;
+    d.light = light;
+    d.frames = frames;
+    d.resources = resources;
+    d.V = V;
+    return draw(d);
+}
+
+MethodOutput GlslBackend::draw(const GlslDraw& d) {
+    const HeightField& hf = *d.hf;
+    const int samples = d.samples;
+    const LightSpec* light = d.light;
+    const int frames = d.frames;
+    const MethodResources* resources = d.resources;
+    const std::vector<Vec3d>* V = d.V;
     use_gl_context(*ctx_);
-    const Program& program = program_for(*m.method);
-    upload(hf, texture_format);
+    const Program& program = program_for(d.method);
+    upload(hf, d.texture_format);
     if (V) upload_view_map(*V, samples);
     ensure_framebuffer(samples);
     glUseProgram(program.id);
@@ -362,10 +511,10 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     glBindTexture(GL_TEXTURE_2D, texture_);
     glActiveTexture(GL_TEXTURE1);  // u_view_map: bound (the sampler is active) even when unused
     glBindTexture(GL_TEXTURE_2D, V ? view_map_ : texture_);
-    set_uniforms(program, m, {scene, hf, samples, light, V});
-    if (!m.method->resources.empty()) {
-        if (!resources || resources->items.size() != m.method->resources.size())
-            throw std::logic_error("method '" + m.method->name + "': resources not built");
+    set_uniforms(program, d);
+    if (!d.method.resources.empty()) {
+        if (!resources || resources->items.size() != d.method.resources.size())
+            throw std::logic_error("method '" + d.method.name + "': resources not built");
         resource_textures_.bind(program.id, *resources, 2);  // 0: heights, 1: the view map
     }
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -374,8 +523,8 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     MethodOutput out;
     draw_frames(frames < 0 ? opt_.frames : frames, out);
     if (const GLenum err = glGetError(); err != GL_NO_ERROR)
-        throw std::runtime_error("method '" + m.method->name + "': GL error " +
-                                 std::to_string(err) + " while rendering");
+        throw std::runtime_error("method '" + d.method.name + "': GL error " + std::to_string(err) +
+                                 " while rendering");
     read_back(samples, light != nullptr, out);
     out.shader = program.shader;
     out.shader_sha256 = program.sha256;
@@ -394,15 +543,29 @@ std::vector<Variant> GlslBackend::variants() const {
     return glsl_variants(s);
 }
 
-MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
+GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v) {
     const View& rays = view.rays;
     // The shader derives P_k from its fragment: only the N x N sample grid can be drawn.
     if (rays.grid <= 0)
         throw std::runtime_error(
             "the glsl backend draws the N x N sample grid; this view's "
             "samples lie elsewhere");
-    return run(m, view.scene, view.hf, rays.grid, v.texture_format, view.light, view.timed ? -1 : 0,
-               view.resources, rays.parallel ? nullptr : &rays.V);
+    GlslDraw d;
+    d.method = GlslMethod::of(*m.method);
+    d.uniforms = method_uniforms(*m.method, m.params);
+    d.scene = view.scene;
+    d.hf = &view.hf;
+    d.samples = rays.grid;
+    d.texture_format = v.texture_format;
+    d.light = view.light;
+    d.frames = view.timed ? -1 : 0;
+    d.resources = view.resources;
+    d.V = rays.parallel ? nullptr : &rays.V;
+    return d;
+}
+
+MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
+    return draw(glsl_draw_of(m, view, v));
 }
 
 std::map<std::string, std::string> GlslBackend::facts() const {
@@ -413,11 +576,6 @@ std::map<std::string, std::string> GlslBackend::facts() const {
                                             {"gl_timer_bits", std::to_string(timer_bits_)}};
     for (const auto& [k, v] : ctx_->driver()) f["gl_driver." + k] = v;
     return f;
-}
-
-std::unique_ptr<Backend> make_glsl_backend(const BackendSettings& s) {
-    return std::make_unique<GlslBackend>(
-        GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats, s.gl});
 }
 
 }  // namespace pxh

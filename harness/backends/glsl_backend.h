@@ -4,7 +4,9 @@
 #pragma once
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "harness/backends/backend.h"
 #include "harness/backends/resource_textures.h"
@@ -13,6 +15,46 @@
 namespace pxh {
 
 class GlContext;
+
+// What a GLSL program is compiled from, as plain data (it crosses to the GL child process,
+// harness/backends/gl_worker.h): the method's name (the program cache's key), its shader.
+struct GlslMethod {
+    std::string name;
+    std::string shader_file;  // MethodInfo::shader_file(): the built-in's embedded path
+    bool has_builtin_text = false;
+    std::string builtin_text;  // MethodInfo::shader_text (a method registered outside pxh)
+    std::string plugin_shader, plugin_source, plugin_display;  // a plug-in's (MethodInfo)
+    std::vector<ResourceSpec> resources;  // name, format, filter, wrap (not built here)
+    static GlslMethod of(const MethodInfo& m);
+};
+
+// One row's draw: the program, its uniforms, and what it draws with (pointers to the caller's
+// data, which must outlive the call).
+struct GlslDraw {
+    GlslMethod method;
+    GlUniforms uniforms;  // method_uniforms(method, params)
+    Scene<double> scene{};
+    const HeightField* hf = nullptr;
+    int samples = 0;
+    std::string texture_format = "r32f";
+    const LightSpec* light = nullptr;
+    int frames = -1;  // < 0: the configured number of timed frames; 0: once, untimed
+    const MethodResources* resources = nullptr;
+    const std::vector<Vec3d>* V = nullptr;  // nullptr: every sample looks along scene.V
+};
+// The draw of one method setting on one view (the Backend interface's arguments).
+GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v);
+
+// A program that does not compile or link: the driver's log, one line per message, its
+// locations mapped back to the files (FILE:LINE:COL: ...).
+class GlslProgramError : public std::runtime_error {
+  public:
+    GlslProgramError(const std::string& what, std::vector<std::string> lines);
+    std::vector<std::string> lines;
+};
+
+// "builtin", or the shader file(s) the method's program is (or would be) compiled from.
+std::string glsl_shader_description(const GlslMethod& m, const std::string& shader_dir);
 
 struct GlslOptions {
     std::string shader_dir;  // overrides the embedded shaders when non-empty
@@ -54,6 +96,12 @@ class GlslBackend : public Backend {
                      int samples, const std::string& texture_format, const LightSpec* light,
                      int frames = -1, const MethodResources* resources = nullptr,
                      const std::vector<Vec3d>* V = nullptr);
+    // The same from plain data (what the GL child process runs).
+    MethodOutput draw(const GlslDraw& d);
+    // Compiles and links the method's program and checks its interface against `uniforms`
+    // (and its resources' samplers): one line per problem ("FILE:LINE:COL: ..." for the
+    // driver's messages), empty when it is ready to draw.
+    std::vector<std::string> check(const GlslMethod& m, const GlUniforms& uniforms);
 
   private:
     struct Program {
@@ -63,25 +111,19 @@ class GlslBackend : public Backend {
         std::string what;    // "method 'NAME' (its shader files)", for messages
         std::map<std::string, ActiveUniform> active;  // the linked program's uniforms
     };
-    const Program& program_for(const MethodInfo& m);
+    const Program& program_for(const GlslMethod& m);
 
   public:
     // "builtin", or the shader file(s) the method's program is (or would be) compiled from.
-    std::string shader_description(const MethodInfo& m) const;
+    std::string shader_description(const MethodInfo& m) const {
+        return glsl_shader_description(GlslMethod::of(m), opt_.shader_dir);
+    }
 
   private:
-    // What one render draws with.
-    struct Frame {
-        const Scene<double>& scene;
-        const HeightField& hf;
-        int samples;
-        const LightSpec* light;
-        const std::vector<Vec3d>* V;
-    };
     void upload(const HeightField& hf, const std::string& format);
     void upload_view_map(const std::vector<Vec3d>& V, int samples);
     void ensure_framebuffer(int n);
-    void set_uniforms(const Program& program, const MethodSpec& m, const Frame& f);
+    void set_uniforms(const Program& program, const GlslDraw& d);
     void draw_frames(int frames, MethodOutput& out);
     void read_back(int samples, bool light, MethodOutput& out);
 

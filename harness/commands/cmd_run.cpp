@@ -50,6 +50,8 @@ struct RunArgs {
     std::string only;            // --only KEY=V,...: a subset of the experiment
     std::optional<int> samples;  // --samples N: overrides the file (absent: the file's)
     std::string shard;           // --shard I/N: run slice I of N (harness/experiment/shard.h)
+    double gl_time_limit = 0;    // --gl-time-limit S: overrides the file's gl_time_limit_s
+    bool gl_time_limit_given = false;
 };
 
 // "123", "512M", "8G", "1.5T" (binary units) -> bytes.
@@ -173,17 +175,14 @@ nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo&
     run["experiment_name"] = ex.name;
     run["inputs"] = input_records(ex);
     run["warnings"] = ex.warnings;
-    // Plug-in shaders: each file's source as it was when the run started, and its sha256.
+    // Plug-in shaders: each file's source as read (and checked) when the experiment was
+    // parsed, the text that was compiled, and its sha256.
     nlohmann::json plugins = nlohmann::json::array();
-    for (const auto& p : ex.plugins) {
-        std::ifstream f(p->plugin_shader, std::ios::binary);
-        std::stringstream ss;
-        ss << f.rdbuf();
+    for (const auto& p : ex.plugins)
         plugins.push_back({{"method", p->name},
                            {"path", p->plugin_shader},
-                           {"sha256", sha256_hex(ss.str())},
-                           {"source", ss.str()}});
-    }
+                           {"sha256", sha256_hex(p->plugin_source)},
+                           {"source", p->plugin_source}});
     if (!plugins.empty()) run["plugin_shaders"] = plugins;
     if (!info.gl_renderer.empty()) {
         run["gl_renderer"] = info.gl_renderer;
@@ -305,6 +304,10 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
             throw InputError("--samples", std::to_string(*a.samples) + " is not in [1, 8192]");
         ex.samples = *a.samples;
     }
+    check_plugin_backends(ex, a.backends);
+    if (a.gl_time_limit_given && !(a.gl_time_limit > 0 && a.gl_time_limit <= kMaxGlTimeLimitS))
+        throw InputError("--gl-time-limit", format_number(a.gl_time_limit) +
+                                                " is outside (0, 86400] (seconds per row)");
     check_run_size(ex, a);  // of the whole run, also for a slice (merge holds every row)
     std::optional<Slice> slice;
     if (!a.shard.empty()) slice = make_slice(ex, a);
@@ -315,6 +318,19 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(nthreads));
     // llvmpipe's rasteriser threads follow --threads unless LP_NUM_THREADS is set already.
     setenv("LP_NUM_THREADS", std::to_string(nthreads).c_str(), 0);
+
+    // Every plug-in shader compiled, linked and its uniforms checked before any row runs and
+    // before anything is written: one line per problem, exit 2.
+    if (!ex.plugins.empty()) {
+        RunOptions pre;
+        pre.backends = a.backends;
+        pre.shader_dir = a.shader_dir;
+        pre.gl = a.gl;
+        pre.gl_time_limit_s = a.gl_time_limit;
+        const std::vector<std::string> problems = check_plugin_shaders(ex, pre);
+        for (const auto& p : problems) std::cerr << "pxh: error: " << one_line(p) << "\n";
+        if (!problems.empty()) return 2;
+    }
 
     // Written into DIR.partial-PID, renamed into place only when complete (before any worker
     // thread exists: the folder's signal clean-up needs every thread to block the signals).
@@ -330,6 +346,11 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
         opt.include = [&](size_t f, size_t p, size_t t) {
             return slice->unit_of[slice->view_index(ex, f, p, t)] >= 0;
         };
+    opt.gl_time_limit_s = a.gl_time_limit;
+    opt.warning = [](const std::string& line) {
+        std::cerr << "pxh: warning: " << one_line(line) << "
+";
+    };
     if (ex.maps || ex.render)
         opt.on_view = [&](std::vector<ResultRow>& rows,
                           const std::vector<std::vector<Vec2d>>& errors,
@@ -394,6 +415,10 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                     "GL context of the glsl backend, overriding the file's gl key: osmesa "
                     "(default; software) or egl (headless: a GPU's device, else Mesa's "
                     "surfaceless llvmpipe)");
+    run->add_option("--gl-time-limit", ra->gl_time_limit,
+                    "seconds a GLSL row's GL work may take, overriding the file's "
+                    "gl_time_limit_s (default 120): past it the row fails and the run goes on "
+                    "in a fresh GL context");
     run->add_flag("--quiet", ra->quiet,
                   "no progress or summary (the final one-line count is still printed)");
     run->add_flag("--maps", ra->maps, "write an error map (EXR + false-colour PNG) per row");
@@ -414,6 +439,7 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                 if (ra->threads < 0 || (run->count("--threads") && ra->threads == 0))
                     throw InputError("--threads",
                                      std::to_string(ra->threads) + " is not a thread count (>= 1)");
+                ra->gl_time_limit_given = run->count("--gl-time-limit") > 0;
                 return cmd_run(*ra, command_line);
             }};
 }

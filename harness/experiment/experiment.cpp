@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cfloat>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,8 @@
 #include <tuple>
 
 #include "harness/backends/backend.h"
+#include "harness/backends/plugin_source.h"
+#include "harness/backends/shaders.h"
 #include "harness/core/error.h"
 #include "harness/core/registry.h"
 #include "harness/core/sha256.h"
@@ -401,11 +404,20 @@ const MethodInfo* make_plugin(const toml::table& t, const std::string& path,
                                  "reference_params, heightfields)");
     }
     const std::string rel = get_string(sn, path, "shader");
-    const fs::path file = fs::absolute(fs::path(path).parent_path() / rel).lexically_normal();
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec))
-        throw InputError(where, "shader '" + rel + "': no such file (" + file.string() +
-                                    "; paths are relative to the experiment file)");
+    // Inside the experiment's folder, a regular UTF-8 text file under 1 MiB, read once here.
+    PluginSource src = read_plugin_source(path, rel, where);
+    if (const auto problems = plugin_source_problems(src.display, src.text,
+                                                     shader_source("methods/common.glsl", "").text);
+        !problems.empty()) {
+        const size_t colon = problems[0].find(": ");  // "FILE:LINE:COL: why"
+        throw InputError(problems[0].substr(0, colon), problems[0].substr(colon + 2));
+    }
+    if (std::find(ex.backends.begin(), ex.backends.end(), "glsl") == ex.backends.end())
+        throw InputError(where_of(path, *t.get("name")),
+                         "plug-in '" + name +
+                             "' is a GLSL shader (it has no CPU rows) and the "
+                             "experiment's backends are " +
+                             join_names(ex.backends) + ": add \"glsl\" to backends");
     if (!t.contains("max_fetches"))
         throw InputError(
             where_of(path, *t.get("name")),
@@ -415,8 +427,10 @@ const MethodInfo* make_plugin(const toml::table& t, const std::string& path,
     info->citation = "plug-in shader " + rel + " (from " + path + ")";
     info->summary = "GLSL only: " + rel;
     info->order = 1000;
-    info->plugin_shader = file.string();
-    info->shader_path = file.string();
+    info->plugin_shader = src.resolved;
+    info->shader_path = src.resolved;
+    info->plugin_source = std::move(src.text);
+    info->plugin_display = src.display;
     info->declared_max_fetches = get_int(*t.get("max_fetches"), path, "max_fetches", 1, 1000000);
     static const toml::table kNone;
     param_table = &kNone;
@@ -439,7 +453,9 @@ const MethodInfo* make_plugin(const toml::table& t, const std::string& path,
                 : first->is_integer()
                     ? ParamSpec::integer(key, std::nullopt, -2147483647.0, 2147483647.0,
                                          "plug-in uniform")
-                    : ParamSpec::real(key, std::nullopt, -1e300, 1e300, "plug-in uniform");
+                    // What a GLSL float holds: 1e300 would reach the shader as inf.
+                    : ParamSpec::real(key, std::nullopt, -double(FLT_MAX), double(FLT_MAX),
+                                      "plug-in uniform (a GLSL float)");
             spec.default_value.reset();
             spec.to_uniform(key);
             info->params.push_back(spec);
@@ -624,6 +640,13 @@ void parse_choices(const toml::table& root, const std::string& path, Experiment&
         if (!find_gl_context(ex.gl))
             throw InputError(where_of(path, *n), "unknown GL context '" + ex.gl +
                                                      "' (known: " + gl_context_names() + ")");
+    }
+    if (auto n = root.get("gl_time_limit_s")) {
+        ex.gl_time_limit_s = get_number(*n, path, "gl_time_limit_s");
+        if (!(ex.gl_time_limit_s > 0 && ex.gl_time_limit_s <= kMaxGlTimeLimitS))
+            throw InputError(where_of(path, *n),
+                             "gl_time_limit_s = " + format_number(ex.gl_time_limit_s) +
+                                 " is outside (0, 86400] (seconds per row)");
     }
     if (auto n = root.get("texture_format")) {
         ex.texture_formats = get_strings(*n, path, "texture_format");
@@ -851,7 +874,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     check_keys(root,
                {"name", "description", "samples", "backends", "precision", "timing_repeats",
                 "texture_format", "ground_truth", "sweep_dt_deg", "maps", "exclude_filled", "gl",
-                "views", "heightfields", "methods", "light", "render"},
+                "gl_time_limit_s", "views", "heightfields", "methods", "light", "render"},
                path, "the experiment");
     parse_settings(root, path, ex);
     parse_choices(root, path, ex);
@@ -1017,7 +1040,20 @@ BackendSettings backend_settings(const Experiment& ex) {
     s.texture_formats = ex.texture_formats;
     s.timing_repeats = ex.timing_repeats;
     s.gl = ex.gl;
+    s.gl_time_limit_s = ex.gl_time_limit_s;
     return s;
+}
+
+void check_plugin_backends(const Experiment& ex,
+                           const std::vector<std::string>& backends_override) {
+    const auto& names = backends_override.empty() ? ex.backends : backends_override;
+    if (ex.plugins.empty() || std::find(names.begin(), names.end(), "glsl") != names.end()) return;
+    std::string plugins;
+    for (const auto& p : ex.plugins) plugins += (plugins.empty() ? "'" : ", '") + p->name + "'";
+    throw InputError(backends_override.empty() ? "--only" : "--backend",
+                     "the plug-in shader(s) " + plugins +
+                         " run on the glsl backend only, and this run has backends " +
+                         join_names(names) + ": add glsl (a plug-in has no CPU rows)");
 }
 
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {

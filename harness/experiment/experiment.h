@@ -61,7 +61,8 @@ struct Experiment {
     std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
     int timing_repeats = 5;
     std::string ground_truth = "exact";
-    std::string gl = "osmesa";    // the GLSL backend's GL context (pxh run --gl overrides it)
+    std::string gl = "osmesa";  // the GLSL backend's GL context (pxh run --gl overrides it)
+    double gl_time_limit_s = kDefaultGlTimeLimitS;  // per GLSL row (pxh run --gl-time-limit)
     double sweep_dt_deg = 0;      // > 0: sliding/shimmering from a companion view dt away
     bool maps = false;            // write per-row error maps
     bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the
@@ -96,6 +97,10 @@ ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
 // repeated key or V|V is "any of"). A key that matches nothing is an InputError("--only", ...)
 // naming what there is.
 void apply_only(Experiment& ex, const std::string& spec);
+
+// A run with plug-in shaders needs the glsl backend: an InputError naming them otherwise (the
+// experiment's backends after --only, or `backends_override`, pxh run --backend, when given).
+void check_plugin_backends(const Experiment& ex, const std::vector<std::string>& backends_override);
 
 // What the experiment's keys ask of the backends (precisions, texture formats, timing
 // repeats, GL context); the command line's overrides are the runner's.

@@ -1,6 +1,7 @@
 // The GL contexts pxh knows. Adding one: a file harness/gl/NAME_context.cpp that defines
 // std::unique_ptr<GlContext> make_NAME_context(), and one line in PXH_GL_CONTEXTS below.
 #include <algorithm>
+#include <atomic>
 
 #include "harness/core/error.h"
 #include "harness/gl/context.h"
@@ -39,11 +40,18 @@ std::string gl_context_names() {
     return s;
 }
 
+namespace {
+std::atomic<bool> g_context_made{false};
+}
+
+bool gl_context_made_in_process() { return g_context_made.load(); }
+
 std::unique_ptr<GlContext> make_gl_context(const std::string& name) {
     const GlContextType* t = find_gl_context(name);
     if (!t)
         throw InputError("--gl",
                          "unknown GL context '" + name + "' (known: " + gl_context_names() + ")");
+    g_context_made = true;
     return t->make();
 }
 

@@ -44,6 +44,8 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"frac_gt_0_5", kNum, kMeasured, "fraction of finite samples more than 0.5 texel off"},
         {"frac_gt_1", kNum, kMeasured, "fraction of finite samples more than 1 texel off"},
         {"nonfinite", kInt, kMeasured, "samples whose output is NaN/Inf (left out above)"},
+        {"samples_discarded", kInt, kMeasured,
+         "GLSL: samples the shader discarded or left unwritten (no uv: also in nonfinite); CPU 0"},
         // Height fetches (harness/metrics/fetches.cpp).
         {"fetches_mean", kNum, kMeasured,
          "filtered lookups (height map or precomputed map) per sample, mean"},

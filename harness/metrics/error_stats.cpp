@@ -29,6 +29,7 @@ void add_error_stats(const MetricInput& in, ResultRow& row) {
     row.set("frac_gt_0_5", st.frac_gt_0_5);
     row.set("frac_gt_1", st.frac_gt_1);
     row.set("nonfinite", double(st.nonfinite));
+    row.set("samples_discarded", double(in.out.samples_discarded));
     row.set("excluded", double(excluded));
 }
 

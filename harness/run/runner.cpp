@@ -1,12 +1,14 @@
 #include "harness/run/runner.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
 
+#include "harness/backends/gl_worker.h"
 #include "harness/core/error.h"
 #include "harness/metrics/agreement.h"
 #include "harness/metrics/metric.h"
@@ -212,6 +214,20 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude);
+                // The declared bound is enforced: a row over it fails, naming both numbers.
+                if (const int bound = job.fetches_bound(m);
+                    bound >= 0 && row.num("fetches_max") > bound)
+                    throw std::runtime_error(
+                        "fetches_max = " + format_number(row.num("fetches_max")) +
+                        " exceeds the declared bound fetches_bound = " + std::to_string(bound) +
+                        (m.method->plugin_shader.empty() ? " (the method's max_fetches)"
+                                                         : " (the entry's max_fetches)"));
+                if (o.samples_discarded > 0)  // says so; the numbers stay (samples_discarded)
+                    row.set_text("error", "note: " + std::to_string(o.samples_discarded) + " of " +
+                                              std::to_string(o.uv.size()) +
+                                              " samples discarded or unwritten by the shader "
+                                              "(no uv: counted in samples_discarded and "
+                                              "nonfinite, left out of the errors)");
                 row.set("precompute_ms", res.precompute_ms());
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
@@ -385,12 +401,67 @@ std::vector<SweepPlace> plan_sweeps(const Experiment& ex, const RunOptions& opt,
 
 }  // namespace
 
-std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
+namespace {
+
+BackendSettings settings_of(const Experiment& ex, const RunOptions& opt) {
     BackendSettings settings = backend_settings(ex);
     settings.gl_frames = opt.gl_frames;
     settings.shader_dir = opt.shader_dir;
     settings.gl = opt.gl.empty() ? ex.gl : opt.gl;
+    if (opt.gl_time_limit_s > 0) settings.gl_time_limit_s = opt.gl_time_limit_s;
+    return settings;
+}
+
+}  // namespace
+
+bool software_renderer(const std::map<std::string, std::string>& f) {
+    auto has = [](const std::string& s, const char* what) {
+        std::string low;
+        for (char c : s) low += char(std::tolower(static_cast<unsigned char>(c)));
+        return low.find(what) != std::string::npos;
+    };
+    const auto r = f.find("gl_renderer");
+    const auto p = f.find("gl_driver.platform");
+    const std::string renderer = r == f.end() ? "" : r->second;
+    const std::string platform = p == f.end() ? "" : p->second;
+    return has(renderer, "llvmpipe") || has(renderer, "softpipe") || has(renderer, "swiftshader") ||
+           has(renderer, "software") || has(platform, "software");
+}
+
+std::vector<std::string> check_plugin_shaders(const Experiment& ex, const RunOptions& opt) {
+    // Each plug-in's first setting (left out by --only: none): every setting of a plug-in has
+    // the same uniforms (names and types), so one check each.
+    std::vector<const MethodSpec*> firsts;
+    for (const auto& p : ex.plugins)
+        for (const auto& m : ex.methods)
+            if (m.method == p.get()) {
+                firsts.push_back(&m);
+                break;
+            }
+    if (firsts.empty()) return {};
+    GlslChildBackend gl(settings_of(ex, opt));
+    std::vector<std::string> problems;
+    for (const MethodSpec* m : firsts)
+        for (auto& line :
+             gl.check(GlslMethod::of(*m->method), method_uniforms(*m->method, m->params)))
+            problems.push_back(std::move(line));
+    return problems;
+}
+
+std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
+    const BackendSettings settings = settings_of(ex, opt);
     const auto backends = make_backends(ex, opt, settings);
+    if (opt.warning && settings.gl == "egl")
+        for (const auto& b : backends)
+            if (b->name() == "glsl" && software_renderer(b->facts())) {
+                const auto f = b->facts();
+                opt.warning("--gl egl gave a software renderer (GL_RENDERER '" +
+                            (f.count("gl_renderer") ? f.at("gl_renderer") : "") +
+                            "', EGL platform '" +
+                            (f.count("gl_driver.platform") ? f.at("gl_driver.platform") : "") +
+                            "'): no GPU's EGL device was usable, so the GLSL timings are the "
+                            "CPU's");
+            }
     CpuBackend reference(settings);
     if (info)
         for (const auto& b : backends)

@@ -25,6 +25,10 @@ struct RunOptions {
     std::string shader_dir;             // GLSL sources override (development)
     int gl_frames = 5;                  // timed GLSL frames per row
     std::string gl;                     // GL context (osmesa, egl); empty: the experiment's
+    double gl_time_limit_s = 0;         // > 0: a GLSL row's time limit, overriding the experiment's
+    // Called with a warning line (no "pxh: warning: " prefix), e.g. `--gl egl` that gave a
+    // software renderer.
+    std::function<void(const std::string&)> warning;
     // Called once per view with its rows (before they join the run), their per-sample error
     // vectors and the truth's uv (per sample, unwrapped); first_index is the index the view's
     // first row has in the whole run's results.csv (a slice's maps and pictures are named as
@@ -53,6 +57,16 @@ struct RunInfo {
     };
     std::vector<ViewDone> views;
 };
+
+// Every plug-in shader of the experiment compiled and linked, and its uniforms checked against
+// its entry, in a GL process of its own, before any row runs: one line per problem (the
+// driver's messages as FILE:LINE:COL: ... of the user's file), empty when all are ready (and
+// at once, without GL, when there is no plug-in). std::runtime_error when no GL context can be
+// made.
+std::vector<std::string> check_plugin_shaders(const Experiment& ex, const RunOptions& opt);
+
+// Whether a GL renderer is software (llvmpipe, softpipe, SwiftShader, an EGL software device).
+bool software_renderer(const std::map<std::string, std::string>& backend_facts);
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
                                       RunInfo* info = nullptr);
