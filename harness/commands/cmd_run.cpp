@@ -231,6 +231,10 @@ void check_run_args(const RunArgs& a, const std::string& command_line) {
         throw InputError("command line", "an argument is not UTF-8 (" +
                                              why.substr(why.find(',') + 2) +
                                              "); run.json records the command line");
+    if (!a.shader_dir.empty())  // recorded as an absolute path: the current folder's too
+        if (const std::string why = utf8_problem(fs::absolute(a.shader_dir).string()); !why.empty())
+            throw InputError("--shader-dir",
+                             "its absolute path is not UTF-8 (" + why + "); run.json records it");
     if (a.max_rows < 1)
         throw InputError("--max-rows", std::to_string(a.max_rows) + " is not a row count (>= 1)");
     if (!a.gl.empty() && !find_gl_context(a.gl))
