@@ -355,6 +355,8 @@ TEST_F(HostileFolders, BadArgumentsAndTextAreRefusedBeforeWork) {
              {"run " + exp + " --quiet --max-rows -1 --out " + (dir / "r").string(),
               "--max-rows: -1 is not a row count"},
              {"run " + exp + " --quiet --out " + (dir / "r\xe9").string(), "--out: is not UTF-8"},
+             {"run " + exp + " --quiet --backend foo --out " + (dir / "r").string(),
+              "--backend: unknown backend 'foo'"},
              {"run " + bad + " --quiet --out " + (dir / "r").string(),
               bad + ":5: column 6: byte 0xE9 is not UTF-8"},
              {"run " + bad_name + " --quiet --out " + (dir / "r").string(),

@@ -235,6 +235,7 @@ void check_run_args(const RunArgs& a, const std::string& command_line) {
         if (const std::string why = utf8_problem(fs::absolute(a.shader_dir).string()); !why.empty())
             throw InputError("--shader-dir",
                              "its absolute path is not UTF-8 (" + why + "); run.json records it");
+    for (const auto& b : a.backends) check_backend_name(b, "--backend");
     if (a.max_rows < 1)
         throw InputError("--max-rows", std::to_string(a.max_rows) + " is not a row count (>= 1)");
     if (!a.gl.empty() && !find_gl_context(a.gl))
