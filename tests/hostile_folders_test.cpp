@@ -371,6 +371,35 @@ TEST_F(HostileFolders, BadArgumentsAndTextAreRefusedBeforeWork) {
                                               "tiny.toml"}));
 }
 
+// A parameter combination the parser lets through but that gives no answer at a view (march
+// mix_negated with layers_min = 2 layers_max: 0 layers head-on): that row fails, naming why;
+// the other view's row is measured.
+TEST_F(HostileFolders, RowWithEveryNonFiniteSampleFails) {
+    const auto exp = write("neg.toml", R"(
+samples = 8
+timing_repeats = 0
+[views]
+theta_deg = [0, 45]
+[[heightfields]]
+generator = "fbm"
+size = 16
+[[methods]]
+name = "march"
+count = "mix_negated"
+layers_min = 16
+layers_max = 8
+)");
+    const CliResult r = pxh("run " + exp + " --quiet --out " + (dir / "res").string());
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("theta 0 phi 0 | cpu/float: every sample (64) gave a non-finite uv"),
+              std::string::npos)
+        << r.err;
+    const std::string csv = slurp(dir / "res" / "results.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+    EXPECT_NE(csv.find(",failed,"), std::string::npos);
+    EXPECT_NE(csv.find(",ok,"), std::string::npos);
+}
+
 // ---- the parser: sweeps counted before they are expanded --------------------------------
 
 std::string list(int from, int to, double scale = 1) {

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <set>
 #include <sstream>
 
 #include "harness/core/error.h"
+#include "harness/core/params.h"
 #include "harness/metrics/agreement.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
@@ -212,6 +214,13 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude);
+                // Every sample non-finite (a parameter combination that gives no answer at
+                // this view, e.g. a layer count of 0): a failure, never a row of NaN "ok".
+                if (row.num("nonfinite") > 0 && !std::isfinite(row.num("err_mean")))
+                    throw std::runtime_error(
+                        "every sample (" + format_number(row.num("nonfinite")) +
+                        ") gave a non-finite uv: the method's parameters give no answer at "
+                        "this view");
                 row.set("precompute_ms", res.precompute_ms());
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
