@@ -32,8 +32,9 @@ PXH_FUZZ_TARGET(compare) {
             pxh::CompareOptions opt;
             if (pass == 0) {
                 opt.markdown = true;
-                opt.fail_on = pxh::parse_fail_on("err_p95=+5%,err_mean=+0,ns_per_sample=+0%,"
-                                                 "ms_per_frame=+10%,nonfinite=+0");
+                opt.fail_on = pxh::parse_fail_on(
+                    "err_p95=+5%,err_mean=+0,ns_per_sample=+0%,"
+                    "ms_per_frame=+10%,nonfinite=+0");
             } else {
                 opt.common = true;
                 opt.band_edges = {0, 45, 90};

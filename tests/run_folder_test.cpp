@@ -182,14 +182,16 @@ TEST_F(RunFolder, SignalsLeaveNoCompleteLookingFolder) {
 // A write error (here a file-size limit) fails the run: no complete-looking folder.
 TEST_F(RunFolder, WriteErrorsFailTheRun) {
     const auto exp = write("tiny.toml", kTiny);
-    // 4 blocks of 512 bytes: results.csv (~3 KB) cannot be written whole.
-    const std::string cmd = "sh -c \"trap '' XFSZ; ulimit -f 4; exec " + std::string(PXH_BINARY) +
+    // 4 blocks of 512 bytes: results.csv (~3 KB) cannot be written whole. SIGXFSZ keeps its
+    // default action (ending the process): pxh itself ignores it, so the write fails.
+    const std::string cmd = "sh -c \"trap - XFSZ; ulimit -f 4; exec " + std::string(PXH_BINARY) +
                             " run " + exp + " --quiet --out " + (dir / "res3").string() + "\" > " +
                             (dir / "o.txt").string() + " 2> " + (dir / "e.txt").string();
     const int rc = std::system(cmd.c_str());
     EXPECT_EQ(WEXITSTATUS(rc), 1) << slurp(dir / "e.txt");
     EXPECT_NE(slurp(dir / "e.txt").find("write failed"), std::string::npos) << slurp(dir / "e.txt");
     EXPECT_FALSE(fs::exists(dir / "res3"));
+    EXPECT_FALSE(fs::exists(dir / ".res3.pxh-lock"));
     for (const auto& p : partials()) EXPECT_EQ(p.find("res3"), std::string::npos) << p;
 }
 

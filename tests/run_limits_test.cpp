@@ -45,14 +45,22 @@ TEST_F(RunLimits, RowsAndMemoryAreBoundedBeforeAnyWork) {
     const auto t0 = std::chrono::steady_clock::now();
     pxh::test::CliResult r = pxh("run " + exp + " --max-rows 1000 --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_NE(
-        r.err.find("would write 24000 rows, over the limit of 1000 (raise it with --max-rows N)"),
-        std::string::npos)
+    // Counted from the entry's factors while the file is read, before the fields are expanded.
+    EXPECT_NE(r.err.find("huge.toml:5: this [[heightfields]] entry would write 24000 rows (12 "
+                         "octaves x 10 gain x 100 seed x 1 scale x 1 bias x 2 theta x 1 phi x 1 "
+                         "backend variant(s) x 1 method setting (at least)) > --max-rows 1000"),
+              std::string::npos)
         << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    // The rows alone (1 KiB each) past --max-memory: refused the same way.
     r = pxh("run " + exp + " --max-memory 1M --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_NE(r.err.find("of memory, over the limit of 1.0 MiB"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("24000 rows"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("need more than --max-memory 1.0 MiB"), std::string::npos) << r.err;
+    // Rows that fit, a run that does not (the process and the fields): the estimate's message.
+    r = pxh("run " + exp + " --max-memory 100M --out " + (dir / "res").string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("of memory, over the limit of 100.0 MiB"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
     r = pxh("run " + exp + " --max-memory 12parsecs --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;

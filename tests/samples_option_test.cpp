@@ -19,8 +19,8 @@ TEST_F(SamplesOption, ZeroAndOutOfRangeAreRefused) {
                                   "[[heightfields]]\ngenerator = \"sine\"\nsize = 32\n"
                                   "scale = 0.05\nbias = 1.0\n[[methods]]\nname = \"parallax\"\n");
     for (const char* n : {"0", "-1", "8193"}) {
-        const auto r = pxh("run " + exp + " --samples " + n + " --quiet --out " +
-                           (dir / "out").string());
+        const auto r =
+            pxh("run " + exp + " --samples " + n + " --quiet --out " + (dir / "out").string());
         EXPECT_EQ(r.status, 2) << n << r.err;
         EXPECT_EQ(r.err, "pxh: error: --samples: " + std::string(n) + " is not in [1, 8192]\n");
         EXPECT_FALSE(std::filesystem::exists(dir / "out")) << n;

@@ -358,7 +358,7 @@ TEST_F(TruthLimitsCli, BenchWithOneSampleAndOnlyMeasuredColumns) {
     for (const auto& [key, value] : row.items()) EXPECT_FALSE(value.is_null()) << key;
     EXPECT_GT(row["exact_mrays_per_s"].get<double>(), 0);
 
-    r = pxh("bench --samples 3 --sizes 16 --repeats 1 --theta 30 --naive --out " + json);
+    r = pxh("bench --samples 3 --sizes 16 --repeats 1 --theta 30 --naive --force --out " + json);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("naive Mr/s"), std::string::npos) << r.out;
@@ -410,10 +410,13 @@ TEST_F(TruthLimitsCli, LargestAcceptedTravelFinishesInBoundedMemory) {
         EXPECT_LT(peak, 1024 * 1024) << field << ": peak " << peak << " kB";
         EXPECT_LT(sec, 60) << field;
     }
-    // And straight down at an absurd scale (no travel at all).
+    // And straight down at an absurd scale (no travel at all): the truths finish; the method's
+    // every sample is non-finite there, so its row fails (exit 1), never NaN called ok.
     const test::CliResult r =
         pxh("run " + experiment(16, "fbm", 1e300, 0) + " --quiet --out " + (dir / "huge").string());
-    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("gave a non-finite uv"), std::string::npos) << r.err;
+    EXPECT_TRUE(std::filesystem::exists(dir / "huge" / "run.json"));
 }
 
 }  // namespace

@@ -1,17 +1,23 @@
 #include "harness/commands/bench.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 
 #include "harness/core/error.h"
+#include "harness/core/safe_files.h"
 #include "harness/metrics/agreement.h"
 #include "harness/results/provenance.h"
 #include "harness/truth/embree_truth.h"
@@ -113,32 +119,103 @@ nlohmann::json report_view(const BenchOptions& opt, int size, double theta, cons
     return row;
 }
 
+const char* const kBenchTitle =
+    "ground truth throughput: exact (trace_grid: the view's parallel rays in bands over "
+    "max-mipmap bounds) vs Embree rtcIntersect16, both on the same sample grid";
+
+// Whether `path` (a regular file) is a JSON document pxh bench wrote.
+bool is_pxh_bench_file(const std::string& path) {
+    try {
+        std::ifstream f(path, std::ios::binary);
+        const auto doc = nlohmann::json::parse(f);
+        return doc.is_object() && doc.contains("benchmark") && doc["benchmark"] == kBenchTitle &&
+               doc.contains("pxh_version") && doc.contains("results");
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+// Writes `text` as `out`: a new file beside it, renamed over `out` only when `replace` (an
+// earlier pxh bench file, checked again now), else into a name that must still be free.
+void write_bench_file(const std::string& out, const std::string& text, bool replace) {
+    const std::string tmp = out + ".partial-" + std::to_string(::getpid()) + "-" + random_hex8();
+    create_new_file(tmp, text);
+    int rc = 0;
+    if (replace) {
+        if (!is_pxh_bench_file(out)) {
+            ::unlink(tmp.c_str());
+            throw InputError(out, "is no longer a pxh bench file; not replaced");
+        }
+        rc = ::rename(tmp.c_str(), out.c_str());
+    } else {
+        rc = ::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, out.c_str(), RENAME_NOREPLACE);
+    }
+    if (rc != 0) {
+        const std::string why = std::strerror(errno);
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(out + ": cannot put the results in place: " + why);
+    }
+}
+
 // The JSON document: provenance, the settings and every view's entry.
 void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t rays) {
     nlohmann::json doc = provenance(opt.threads);
-    doc["benchmark"] =
-        "ground truth throughput: exact (trace_grid: the view's parallel rays in bands over "
-        "max-mipmap bounds) vs Embree rtcIntersect16, both on the same sample grid";
+    doc["benchmark"] = kBenchTitle;
     doc["field"] = opt.field;
     doc["scale"] = opt.scale;
     doc["bias"] = opt.bias;
     doc["repeats"] = opt.repeats;
     doc["statistic"] = "median over repeats; ratio from medians measured in the same run";
     doc["results"] = results;
-    const std::string out = opt.out.empty()
-                                ? "results/runs/bench-" + utc_timestamp("%Y%m%d-%H%M%S") + ".json"
-                                : opt.out;
+    const std::string& out = opt.out;
     const auto parent = std::filesystem::path(out).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    std::ofstream(out) << doc.dump(2) << "\n";
+    std::error_code ec;
+    write_bench_file(out, doc.dump(2) + "\n", std::filesystem::exists(out, ec));
     std::cout << "ratio = exact / Embree throughput (median of " << opt.repeats << " repeats, "
               << opt.threads << " threads, " << rays << " rays); agreement in texels -> " << out
-              << "\n";
+              << std::endl;
+    std::fflush(stdout);
+    if (!std::cout || std::ferror(stdout))
+        throw std::runtime_error(
+            "cannot write to standard output (a closed pipe?); the results "
+            "are complete in " +
+            out);
 }
 
 }  // namespace
 
-int run_bench(const BenchOptions& opt) {
+void check_bench_out(const std::string& out, bool force) {
+    if (out.empty()) throw InputError("--out", "is empty: name the JSON file");
+    if (const std::string why = utf8_problem(out); !why.empty())
+        throw InputError("--out", "is not UTF-8 (" + why + ")");
+    struct stat st;
+    if (::lstat(out.c_str(), &st) != 0) {
+        if (errno == ENOENT) return;  // a new file: the usual case
+        throw InputError(out, std::string("cannot inspect: ") + std::strerror(errno));
+    }
+    if (S_ISLNK(st.st_mode))
+        throw InputError(out,
+                         "is a symbolic link: pxh bench writes a file of its own, never "
+                         "through a link (name the file itself)");
+    if (!S_ISREG(st.st_mode))
+        throw InputError(out,
+                         "exists and is not a regular file (a device, a folder?): pxh "
+                         "bench writes a new file; choose another --out");
+    if (!is_pxh_bench_file(out))
+        throw InputError(out,
+                         "exists and is not a pxh bench file: pxh never overwrites what it "
+                         "did not create; choose another --out");
+    if (!force)
+        throw InputError(out,
+                         "holds an earlier pxh bench result: pass --force to replace it, or "
+                         "choose another --out");
+}
+
+int run_bench(const BenchOptions& options) {
+    BenchOptions opt = options;
+    if (opt.out.empty()) opt.out = "results/runs/bench-" + utc_timestamp("%Y%m%d-%H%M%S") + ".json";
+    check_bench_out(opt.out, opt.force);  // before any measurement
     const GeneratorInfo* gen = find_generator(opt.field);
     if (!gen) throw InputError("--field", "unknown generator '" + opt.field + "'");
     // Views the ground truths would refuse (the travel limit), before any work.

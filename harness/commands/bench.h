@@ -16,7 +16,14 @@ struct BenchOptions {
     int threads = 2;
     bool naive = false;  // also time the per-ray tracers: max-mipmap walk and per-cell DDA
     std::string out;     // JSON file (default: results/runs/bench-DATE.json)
+    bool force = false;  // replace `out` when it is an earlier pxh bench file (only then)
 };
+
+// The bench's JSON is a new file of its own: `out` must not exist, or be (with force) an
+// earlier pxh bench file; a link, a device (/dev/full), a folder or anyone else's file is an
+// InputError before any measurement. Written to OUT.partial-PID-HEX (never through a link),
+// then renamed into place; a write error is a std::runtime_error naming the file.
+void check_bench_out(const std::string& out, bool force);
 
 int run_bench(const BenchOptions& opt);
 

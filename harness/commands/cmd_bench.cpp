@@ -3,6 +3,7 @@
 
 #include "harness/commands/bench.h"
 #include "harness/commands/commands.h"
+#include "harness/core/error.h"
 
 namespace pxh {
 
@@ -24,8 +25,15 @@ Command add_bench_command(CLI::App& app) {
     bench->add_flag(
         "--naive", bo->naive,
         "also time the per-ray tracers (max-mipmap walk, per-cell DDA) on the same rays");
-    bench->add_option("--out", bo->out, "JSON output (default results/runs/bench-DATE.json)");
-    return {bench, [bo] { return run_bench(*bo); }};
+    auto* out = bench->add_option("--out", bo->out,
+                                  "JSON output, a new file (default results/runs/bench-DATE.json)");
+    bench->add_flag("--force", bo->force,
+                    "replace --out when it is an earlier pxh bench file (never anything else)");
+    return {bench, [bo, out] {
+                if (out->count() && bo->out.empty())
+                    throw InputError("--out", "is empty: name the JSON file");
+                return run_bench(*bo);
+            }};
 }
 
 }  // namespace pxh

@@ -23,6 +23,7 @@
 #include "harness/commands/summary.h"
 #include "harness/core/error.h"
 #include "harness/core/params.h"
+#include "harness/core/safe_files.h"
 #include "harness/core/sha256.h"
 #include "harness/experiment/experiment.h"
 #include "harness/experiment/shard.h"
@@ -45,8 +46,9 @@ struct RunArgs {
     int threads = 0;
     std::vector<std::string> backends;
     bool quiet = false, maps = false, force = false;
-    size_t max_rows = kDefaultMaxRows;
-    std::string max_memory;      // e.g. "8G"; empty = kDefaultMaxMemoryBytes
+    long long max_rows = (long long)kDefaultMaxRows;  // checked >= 1 (-1 must not wrap)
+    bool out_given = false;                           // --out given (then never empty)
+    std::string max_memory;                           // e.g. "8G"; empty = kDefaultMaxMemoryBytes
     std::string only;            // --only KEY=V,...: a subset of the experiment
     std::optional<int> samples;  // --samples N: overrides the file (absent: the file's)
     std::string shard;           // --shard I/N: run slice I of N (harness/experiment/shard.h)
@@ -80,7 +82,7 @@ void check_run_size(const Experiment& ex, const RunArgs& a) {
     const size_t max_memory =
         a.max_memory.empty() ? kDefaultMaxMemoryBytes : parse_bytes(a.max_memory);
     const RunEstimate est = estimate_run(ex, a.backends);
-    if (est.rows > a.max_rows)
+    if (est.rows > size_t(a.max_rows))
         throw InputError(ex.path, "the run would write " + std::to_string(est.rows) +
                                       " rows, over the limit of " + std::to_string(a.max_rows) +
                                       " (raise it with --max-rows N)");
@@ -149,7 +151,7 @@ void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<Resu
         const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
                            row.text("params") == r.strip_params;
         if (!montage && !strip) continue;
-        fs::create_directories(dir);
+        make_own_folder(dir);
         if (truth_file.empty()) {
             truth_file = truth_picture_name(row);
             write_picture(truth_pic, n, (dir / truth_file).string());
@@ -292,11 +294,38 @@ void print_slice(const Slice& s, const nlohmann::json& rec) {
               << "% of the estimated cost (pxh merge OUT DIR... joins the slices)\n";
 }
 
-int cmd_run(const RunArgs& a, const std::string& command_line) {
+// The command line's own checks, before the experiment is read: --out and every argument go
+// into run.json, so they must be UTF-8 (else the run would end in a JSON error).
+void check_run_args(const RunArgs& a, const std::string& command_line) {
+    if (a.out_given && a.out_dir.empty())
+        throw InputError("--out",
+                         "is empty: name the results folder (or leave --out out for "
+                         "results/runs/NAME-DATE)");
+    if (const std::string why = utf8_problem(a.out_dir); !why.empty())
+        throw InputError("--out", "is not UTF-8 (" + why + "); run.json records it");
+    if (const std::string why = utf8_problem(command_line); !why.empty())
+        throw InputError("command line", "an argument is not UTF-8 (" +
+                                             why.substr(why.find(',') + 2) +
+                                             "); run.json records the command line");
+    if (!a.shader_dir.empty())  // recorded as an absolute path: the current folder's too
+        if (const std::string why = utf8_problem(fs::absolute(a.shader_dir).string()); !why.empty())
+            throw InputError("--shader-dir",
+                             "its absolute path is not UTF-8 (" + why + "); run.json records it");
+    for (const auto& b : a.backends) check_backend_name(b, "--backend");
+    if (a.max_rows < 1)
+        throw InputError("--max-rows", std::to_string(a.max_rows) + " is not a row count (>= 1)");
     if (!a.gl.empty() && !find_gl_context(a.gl))
         throw InputError("--gl",
                          "unknown GL context '" + a.gl + "' (known: " + gl_context_names() + ")");
-    Experiment ex = load_experiment(a.file);
+}
+
+int cmd_run(const RunArgs& a, const std::string& command_line) {
+    check_run_args(a, command_line);
+    ParseLimits limits;  // sweeps are counted against these before they are expanded
+    limits.max_rows = size_t(a.max_rows);
+    limits.max_memory = a.max_memory.empty() ? kDefaultMaxMemoryBytes : parse_bytes(a.max_memory);
+    limits.backends = a.backends;
+    Experiment ex = load_experiment(a.file, limits);
     ex.maps = ex.maps || a.maps;
     if (!a.only.empty()) apply_only(ex, a.only);
     if (a.samples) {  // given, so checked: 0 is refused, not read as "the file's"
@@ -348,8 +377,7 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
         };
     opt.gl_time_limit_s = a.gl_time_limit;
     opt.warning = [](const std::string& line) {
-        std::cerr << "pxh: warning: " << one_line(line) << "
-";
+        std::cerr << "pxh: warning: " << one_line(line) << "\n";
     };
     if (ex.maps || ex.render)
         opt.on_view = [&](std::vector<ResultRow>& rows,
@@ -385,9 +413,15 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
 
     if (!a.quiet) print_summary(rows);
     std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
-              << std::fixed << secs << " s -> " << folder.final_dir().string() << "\n";
+              << std::fixed << secs << " s -> " << folder.final_dir().string() << std::endl;
     if (slice) print_slice(*slice, run["shard"]);
     if (failed) print_failed_rows(rows, failed);
+    // A closed pipe (SIGPIPE is ignored): the results are complete, the output is not.
+    if (!std::cout)
+        throw std::runtime_error(
+            "cannot write to standard output (a closed pipe?); the results "
+            "are complete in " +
+            folder.final_dir().string());
     return failed ? 1 : 0;
 }
 
@@ -429,13 +463,15 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
     run->add_option("--shard", ra->shard,
                     "run slice I of N (0 <= I < N): whole theta sweeps, balanced by estimated "
                     "cost; pxh merge joins the N results folders into the whole run's");
+    auto* out_opt = run->get_option("--out");
     run->add_option("--max-rows", ra->max_rows,
                     "refuse a run estimated to write more rows (default " +
                         std::to_string(kDefaultMaxRows) + ")");
     run->add_option("--max-memory", ra->max_memory,
                     "refuse a run estimated to need more memory, e.g. 512M, 16G (default " +
                         format_bytes(kDefaultMaxMemoryBytes) + ")");
-    return {run, [run, ra, &command_line] {
+    return {run, [run, ra, out_opt, &command_line] {
+                ra->out_given = out_opt->count() > 0;
                 if (ra->threads < 0 || (run->count("--threads") && ra->threads == 0))
                     throw InputError("--threads",
                                      std::to_string(ra->threads) + " is not a thread count (>= 1)");

@@ -6,10 +6,13 @@
 
 #include "harness/commands/commands.h"
 #include "harness/core/error.h"
+#include "harness/core/safe_files.h"
 
 using namespace pxh;
 
 int main(int argc, char** argv) {
+    // A closed pipe or a file-size limit fails the write (reported), never ends pxh silently.
+    ignore_write_signals();
     CLI::App app{
         "pxh: measures how far parallax-mapping methods are from the true displaced "
         "surface, and what they cost"};

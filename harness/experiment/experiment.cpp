@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -21,6 +22,7 @@
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"
 #include "harness/core/registry.h"
+#include "harness/core/safe_files.h"
 #include "harness/core/sha256.h"
 #include "harness/gl/context.h"
 #include "harness/scene/view.h"
@@ -169,6 +171,60 @@ std::string describe_field(const HeightfieldSpec& h) {
 // A warning, "FILE:LINE: ..." on one line.
 void warn(Experiment& ex, const std::string& text) { ex.warnings.push_back(one_line(text)); }
 
+// A row count as a product of its factors, saturating (never wraps), with its text:
+// "3000 p_a x 3000 p_b x 2 heightfields x ...".
+struct RowProduct {
+    size_t value = 1;
+    std::string text;
+    void times(size_t n, const std::string& what) {
+        value = n != 0 && value > SIZE_MAX / n ? SIZE_MAX : value * n;
+        text += (text.empty() ? "" : " x ") + std::to_string(n) + " " + what;
+    }
+};
+
+std::string count_text(size_t n) { return n == SIZE_MAX ? "more than 2^64" : std::to_string(n); }
+
+// What parsing carries from entry to entry: the limits, the rows counted so far, and every
+// method setting seen (method, canonical parameters, reference) with its index in ex.methods
+// and the entry that gave it first.
+struct ParseState {
+    ParseLimits limits;
+    size_t field_rows = 0, method_rows = 0;
+    std::map<std::string, std::pair<size_t, std::string>> settings;
+};
+
+// Refuses an entry whose rows, counted from its factors before anything is expanded, take the
+// total past --max-rows or its rows' memory past --max-memory.
+void check_entry_rows(size_t& total, const RowProduct& rows, const std::string& where,
+                      const std::string& entry, const ParseLimits& lim) {
+    const size_t before = total;
+    total = rows.value > SIZE_MAX - before ? SIZE_MAX : before + rows.value;
+    const std::string also =
+        before ? " (" + std::to_string(before) + " more from the entries before it)" : "";
+    if (total > lim.max_rows)
+        throw InputError(where, "this " + entry + " entry would write " + count_text(rows.value) +
+                                    " rows (" + rows.text + ")" + also + " > --max-rows " +
+                                    std::to_string(lim.max_rows) +
+                                    ": refused before expanding it (raise --max-rows N)");
+    if (total > lim.max_memory / kBytesPerRow)
+        throw InputError(
+            where, "this " + entry + " entry would write " + count_text(rows.value) + " rows (" +
+                       rows.text + ")" + also + ", whose " + std::to_string(kBytesPerRow) +
+                       " bytes each need more than --max-memory " + format_bytes(lim.max_memory) +
+                       ": refused before expanding it (raise --max-memory SIZE)");
+}
+
+// Rows per method setting and view: the backends' variants (a plug-in: the glsl backend's
+// only); at least 1, so that an entry's own size always counts.
+size_t variants_per_setting(const Experiment& ex, const ParseLimits& lim, bool glsl_only) {
+    const auto& backends = lim.backends.empty() ? ex.backends : lim.backends;
+    const BackendSettings settings = backend_settings(ex);
+    size_t n = 0;
+    for (const auto& b : backends)
+        if (!glsl_only || b == "glsl") n += backend_variants(b, settings).size();
+    return std::max<size_t>(n, 1);
+}
+
 // Cartesian product of parameter sweeps: {a: [1,2], b: [3]} -> [{a:1,b:3}, {a:2,b:3}].
 std::vector<GivenParams> expand(
     const std::vector<std::pair<std::string, std::vector<ParamValue>>>& sweeps) {
@@ -204,6 +260,10 @@ std::vector<ParamValue> get_param_values(const toml::node& n, const std::string&
     };
     return get_list<ParamValue>(n, path, spec.name, one);
 }
+
+// The smallest scale accepted: at 1e-6 the parallax offset s tan(theta) is below 1/30 of a
+// texel of the largest field (16384 texels) up to theta = 60 degrees.
+constexpr double kMinScale = 1e-6;
 
 // Scales whose errors saturate, with the file:line of each entry that uses them (one
 // warning per scale value, however many entries share it).
@@ -309,10 +369,18 @@ std::pair<std::vector<double>, std::vector<double>> heightfield_scales(const tom
     std::vector<double> scales{0.05}, biases{1.0};
     if (auto n = t.get("scale")) scales = get_numbers(*n, path, "scale");
     if (auto n = t.get("bias")) biases = get_numbers(*n, path, "bias");
-    for (double s : scales)
+    for (double s : scales) {
         if (!(s > 0) || !std::isfinite(s))
             throw InputError(where_of(path, *t.get("scale")),
                              "scale must be > 0 (got " + format_number(s) + ")");
+        // Tiny and denormal scales: no parallax to measure, and 1 / s overflows in the truths.
+        if (s < kMinScale)
+            throw InputError(where_of(path, *t.get("scale")),
+                             "scale = " + format_number(s) + " is below " +
+                                 format_number(kMinScale) +
+                                 ": a relief that thin offsets no sample by a measurable part of "
+                                 "a texel (and a denormal scale overflows the ground truth)");
+    }
     for (double b : biases)
         if (!(b >= 0 && b <= 1))
             throw InputError(where_of(path, *t.get("bias")),
@@ -329,7 +397,7 @@ std::pair<std::vector<double>, std::vector<double>> heightfield_scales(const tom
 }
 
 void parse_heightfield(const toml::table& t, const toml::node& node, const std::string& path,
-                       Experiment& ex, LargeScales& large_scales) {
+                       Experiment& ex, LargeScales& large_scales, ParseState& state) {
     const std::string where = where_of(path, node);
     const bool has_gen = t.contains("generator"), has_file = t.contains("file");
     const bool has_scan = t.contains("scan");
@@ -352,6 +420,16 @@ void parse_heightfield(const toml::table& t, const toml::node& node, const std::
             if (auto n = t.get(p.name))
                 sweeps.emplace_back(p.name,
                                     get_param_values(*n, path, p, "generator '" + gen->name + "'"));
+    RowProduct rows;  // at least one method setting on each of its fields
+    for (const auto& [key, values] : sweeps)
+        if (values.size() > 1) rows.times(values.size(), key);
+    rows.times(scales.size(), "scale");
+    rows.times(biases.size(), "bias");
+    rows.times(ex.theta_deg.size(), "theta");
+    rows.times(ex.phi_deg.size(), "phi");
+    rows.times(variants_per_setting(ex, state.limits, false), "backend variant(s)");
+    rows.times(1, "method setting (at least)");
+    check_entry_rows(state.field_rows, rows, where, "[[heightfields]]", state.limits);
     const auto combos = expand(sweeps);
     for (const auto& given : combos) {
         HeightfieldSpec hs = base;
@@ -466,7 +544,7 @@ const MethodInfo* make_plugin(const toml::table& t, const std::string& path,
 }
 
 void parse_method(const toml::table& t, const toml::node& node, const std::string& path,
-                  Experiment& ex) {
+                  Experiment& ex, ParseState& state) {
     const std::string where = where_of(path, node);
     if (!t.contains("name")) throw InputError(where, "a [[methods]] entry needs 'name'");
     const std::string name = get_string(*t.get("name"), path, "name");
@@ -546,11 +624,52 @@ void parse_method(const toml::table& t, const toml::node& node, const std::strin
         throw InputError(where_of(path, *t.get("reference_params")),
                          "'reference_params' without 'reference'");
     }
+    // Its rows from its factors, before the sweep is expanded.
+    RowProduct rows;
+    for (const auto& [key, values] : sweeps)
+        if (values.size() > 1) rows.times(values.size(), key);
+    size_t fields_run = 0;
+    for (const auto& h : ex.heightfields) fields_run += proto.runs_on(h.name);
+    rows.times(fields_run, "heightfield(s)");
+    rows.times(ex.theta_deg.size(), "theta");
+    rows.times(ex.phi_deg.size(), "phi");
+    rows.times(variants_per_setting(ex, state.limits, !m->plugin_shader.empty()),
+               "backend variant(s)");
+    check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
+    // A setting given twice (a repeated value, or two entries) is measured once: its rows
+    // would repeat, and pxh compare refuses repeated rows.
+    size_t repeats = 0;
+    std::string first_repeat;
     for (const auto& given : expand(sweeps)) {
         MethodSpec ms = proto;
         ms.params = resolve_method_params(*m, given, where);
-        ex.methods.push_back(std::move(ms));
+        std::string key = m->name + "\x1f" + ms.params.canonical();
+        if (ms.reference)
+            key += "\x1f" + ms.reference->name + "\x1f" + ms.reference_params.canonical();
+        const auto [it, fresh] =
+            state.settings.emplace(key, std::make_pair(ex.methods.size(), where));
+        if (fresh) {
+            ex.methods.push_back(std::move(ms));
+            continue;
+        }
+        // Measured on the union of both entries' fields (empty: every field); a repeat when
+        // they share one (the same setting on other fields is no repeat).
+        MethodSpec& kept = ex.methods[it->second.first];
+        bool shared = kept.heightfields.empty() || ms.heightfields.empty();
+        for (const auto& f : ms.heightfields) shared = shared || kept.runs_on(f);
+        if (!kept.heightfields.empty()) {
+            if (ms.heightfields.empty()) kept.heightfields.clear();
+            else
+                for (const auto& f : ms.heightfields)
+                    if (!kept.runs_on(f)) kept.heightfields.push_back(f);
+        }
+        if (shared && repeats++ == 0)
+            first_repeat = "[" + ms.params.canonical() + "], as at " + it->second.second;
     }
+    if (repeats)
+        warn(ex, where + ": " + std::to_string(repeats) + " setting(s) of method '" + name +
+                     "' repeat one given before (first: " + first_repeat +
+                     "): each setting is measured once, one row per view");
 }
 
 // One name, one field: a name shared by different fields would merge them into one series
@@ -858,7 +977,16 @@ void check_ray_travel(const Experiment& ex) {
 
 }  // namespace
 
-Experiment parse_experiment(const std::string& text, const std::string& path) {
+Experiment parse_experiment(const std::string& text, const std::string& path,
+                            const ParseLimits& limits) {
+    // run.json records the path and the text: both must be UTF-8, checked before any work.
+    if (const std::string why = utf8_problem(path); !why.empty())
+        throw InputError(path,
+                         "the experiment file's name is not UTF-8 (" + why + "): rename the file");
+    if (const std::string why = utf8_problem(text); !why.empty())
+        throw InputError(path + ":" + why.substr(5, why.find(',') - 5),
+                         why.substr(why.find(',') + 2) +
+                             " (experiment files are UTF-8 text: re-save it as UTF-8)");
     toml::table root;
     try {
         root = toml::parse(text, path);
@@ -881,17 +1009,19 @@ Experiment parse_experiment(const std::string& text, const std::string& path) {
     parse_views(root, path, ex);
     if (auto n = root.get("light")) parse_light(*n, path, ex);
     LargeScales large_scales;
+    ParseState state{limits, 0, 0, {}};
     for (const auto& e : tables_of(root, path, "heightfields"))
-        parse_heightfield(*e.as_table(), e, path, ex, large_scales);
+        parse_heightfield(*e.as_table(), e, path, ex, large_scales, state);
     warn_large_scales(large_scales, ex);
     check_heightfield_names(ex);
-    for (const auto& e : tables_of(root, path, "methods")) parse_method(*e.as_table(), e, path, ex);
+    for (const auto& e : tables_of(root, path, "methods"))
+        parse_method(*e.as_table(), e, path, ex, state);
     if (auto n = root.get("render")) parse_render(*n, path, ex);
     check_ray_travel(ex);
     return ex;
 }
 
-Experiment load_experiment(const std::string& path) {
+Experiment load_experiment(const std::string& path, const ParseLimits& limits) {
     std::error_code ec;
     const auto st = fs::status(path, ec);  // follows symlinks
     if (!fs::exists(st)) throw InputError(path, "no such file");
@@ -905,7 +1035,7 @@ Experiment load_experiment(const std::string& path) {
     if (!f) throw InputError(path, "cannot open");
     std::stringstream ss;
     ss << f.rdbuf();
-    Experiment ex = parse_experiment(ss.str(), path);
+    Experiment ex = parse_experiment(ss.str(), path, limits);
     for (const auto& w : ex.warnings) std::cerr << "pxh: warning: " << one_line(w) << "\n";
     return ex;
 }
@@ -1065,7 +1195,6 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     constexpr size_t kEmbreeBytesPerTexel = 45;
     constexpr size_t kViewBytesPerSample = 16 + 40 + 16 + 8;  // P, exact hits, Embree hits, gap
     constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring
-    constexpr size_t kBytesPerRow = 1024;
     const auto& backends = backends_override.empty() ? ex.backends : backends_override;
     const BackendSettings settings = backend_settings(ex);
     size_t per_method = 0;  // rows per method setting: every backend's variants

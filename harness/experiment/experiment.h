@@ -72,7 +72,9 @@ struct Experiment {
     std::optional<LightSpec> light;
     std::optional<RenderSpec> render;           // [render]: pictures of these views
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
-    std::vector<MethodSpec> methods;            // arrays of parameter values already expanded
+    // Arrays of parameter values already expanded; a setting given twice (same method and
+    // canonical parameters) is kept once, with a warning, its fields merged.
+    std::vector<MethodSpec> methods;
     // Plug-in shaders' methods ([[methods]] shader = FILE), owned here (MethodSpec points in).
     std::vector<std::shared_ptr<const MethodInfo>> plugins;
     // "FILE:LINE: ..." one line each (radian-looking theta, phi normalised, theta sorted or
@@ -81,10 +83,30 @@ struct Experiment {
     std::vector<std::string> warnings;
 };
 
+constexpr size_t kDefaultMaxRows = 1000000;
+constexpr size_t kDefaultMaxMemoryBytes = size_t(8) << 30;  // 8 GiB
+constexpr size_t kBytesPerRow = 1024;  // a result row kept until results.csv is written
+
+// Limits checked while the file is read, before any sweep is expanded (pxh run's --max-rows,
+// --max-memory and --backend): the rows of every [[heightfields]] and [[methods]] entry are
+// counted from its factors (values per swept key x fields x theta x phi x backend variants;
+// a field entry at least one method) and added to the entries before it; past max_rows, or
+// past max_memory for the rows alone (kBytesPerRow each), the entry is an InputError at its
+// FILE:LINE naming the product, e.g. "would write 9000000 rows (3000 p_a x 3000 p_b x 1
+// heightfield x 1 theta x 1 phi x 1 backend variant) > --max-rows 1000000". The counts are
+// of the whole file (pxh run --only selects after it is read).
+struct ParseLimits {
+    size_t max_rows = kDefaultMaxRows;
+    size_t max_memory = kDefaultMaxMemoryBytes;
+    std::vector<std::string> backends;  // pxh run --backend (empty: the file's)
+};
+
 // Reads a regular file (anything else, e.g. a FIFO, is refused without opening it), parses
-// it, and prints the warnings to stderr.
-Experiment load_experiment(const std::string& path);
-Experiment parse_experiment(const std::string& text, const std::string& path);
+// it, and prints the warnings to stderr. The text must be UTF-8 (else "FILE:LINE: ... byte 0xNN
+// is not UTF-8"), and so must the path (it is recorded in run.json).
+Experiment load_experiment(const std::string& path, const ParseLimits& limits = {});
+Experiment parse_experiment(const std::string& text, const std::string& path,
+                            const ParseLimits& limits = {});
 
 // A method's resolved parameter set: given values checked against its declarations (an
 // InputError naming `where` otherwise), defaults and the values unset optional parameters
@@ -144,8 +166,5 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
 
 // "512 MiB", "12.5 GiB": sizes in messages.
 std::string format_bytes(size_t bytes);
-
-constexpr size_t kDefaultMaxRows = 1000000;
-constexpr size_t kDefaultMaxMemoryBytes = size_t(8) << 30;  // 8 GiB
 
 }  // namespace pxh

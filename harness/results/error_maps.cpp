@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "harness/core/params.h"
+#include "harness/results/image_file.h"
 
 namespace pxh {
 namespace {
@@ -45,7 +46,7 @@ void error_colour(double e, float rgb[3]) {
 std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
                             const std::string& stem, const std::string& title) {
     namespace fs = std::filesystem;
-    fs::create_directories(dir);
+    make_own_folder(dir);  // inside the run's own partial folder: never through a link
     // Data: N x N x 3 floats.
     OIIO::ImageBuf data(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::FLOAT));
     for (int j = 0; j < n; ++j)
@@ -55,7 +56,7 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
             data.setpixel(i, j, px);
         }
     const std::string exr = (fs::path(dir) / (stem + ".exr")).string();
-    if (!data.write(exr)) throw std::runtime_error(exr + ": " + data.geterror());
+    write_new_image(data, exr);
 
     // Picture: the map scaled up (nearest) to at least 384 px, a title above, legend below.
     const int k = std::max(1, (384 + n - 1) / n), side = n * k;
@@ -89,7 +90,7 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
     OIIO::ImageBufAlgo::render_text(
         pic, bx0, by1 + 34, "texel error (log scale; magenta: non-finite)", 12, kFont, black);
     const std::string png = (fs::path(dir) / (stem + ".png")).string();
-    if (!pic.write(png)) throw std::runtime_error(png + ": " + pic.geterror());
+    write_new_image(pic, png);
     return stem + ".png";
 }
 

@@ -14,7 +14,8 @@ namespace pxh {
 void error_colour(double texels, float rgb[3]);
 
 // Writes DIR/STEM.exr (channels e_x, e_y, |e| in texels; row j of the sample grid is file row
-// j, as for height maps) and DIR/STEM.png; returns the PNG's file name.
+// j, as for height maps) and DIR/STEM.png, both new files (never through a link, never over a
+// file; DIR is created if missing); returns the PNG's file name.
 std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
                             const std::string& stem, const std::string& title);
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "harness/results/image_file.h"
+
 namespace pxh {
 namespace {
 
@@ -85,7 +87,7 @@ void write_picture(const std::vector<float>& rgb, int n, const std::string& path
                 px[c] = std::clamp(rgb[(size_t(j) * n + size_t(i)) * 3 + size_t(c)], 0.0f, 1.0f);
             img.setpixel(i, j, px);
         }
-    if (!img.write(path)) throw std::runtime_error(path + ": " + img.geterror());
+    write_new_image(img, path);
 }
 
 }  // namespace pxh

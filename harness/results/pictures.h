@@ -30,7 +30,8 @@ std::vector<Vec2d> uv_from_errors(const std::vector<Vec2d>& truth_uv,
 // |a - b| per channel: black where the pictures agree.
 std::vector<float> difference(const std::vector<float>& a, const std::vector<float>& b);
 
-// Writes an n x n RGB picture as an 8-bit PNG (values clamped to [0, 1], rounded).
+// Writes an n x n RGB picture as an 8-bit PNG (values clamped to [0, 1], rounded), a new
+// file (harness/results/image_file.h: never through a link, never over a file).
 void write_picture(const std::vector<float>& rgb, int n, const std::string& path);
 
 }  // namespace pxh

@@ -1,11 +1,14 @@
 // A results folder: written whole or not at all, never over what pxh did not create, and
 // checkable afterwards (run.json records the sha256 of every file the run wrote).
 //
-// A run writes into DIR.partial-PID beside DIR and renames it into place only when every
-// file is written, flushed and fsync'ed; SIGINT, SIGTERM and SIGHUP remove the partial folder;
-// after a SIGKILL only DIR.partial-PID can remain, which the next run into the same parent
-// mentions. One run at a time writes a given DIR (an advisory lock, released by the kernel
-// when the process dies).
+// A run writes into DIR.partial-PID-HEX beside DIR, a folder of a new name that this run's
+// mkdir created (never one that exists: a leftover of the same name is never adopted), and
+// renames it into place only when every file is written, flushed and fsync'ed. Every signal
+// that ends a process (SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1/2, SIGALRM, SIGXCPU, ...; not
+// SIGKILL and not a crash) removes the partial folder and the lock; SIGPIPE and SIGXFSZ are
+// ignored, so the write fails and is reported. After a SIGKILL only DIR.partial-PID-HEX can
+// remain, which the next run into the same parent mentions and pxh check refuses. One run at a
+// time writes a given DIR (an advisory lock, released by the kernel when the process dies).
 #pragma once
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -17,9 +20,11 @@ class RunFolder {
   public:
     // Checks `out` and reserves it: refuses (InputError naming it) the current folder or one
     // of its parents, a path that exists and is not a folder, a non-empty folder that is not a
-    // pxh results folder (no run.json), and a pxh results folder unless `force` (which then
-    // replaces only what pxh writes there: results.csv, run.json, maps/, report/). Creates
-    // the partial folder and installs the signal clean-up.
+    // pxh results folder (no run.json), and a pxh results folder unless `force`, which then
+    // replaces only pxh's own files there: run.json, the files its "files" record lists
+    // (results.csv, maps/, pictures/) whose bytes still match it, and report/; anything else
+    // there (a file of yours in pictures/, a recorded file changed since, a link) refuses the
+    // run, naming it. Installs the signal clean-up and creates the partial folder.
     RunFolder(const std::string& out, bool force);
     ~RunFolder();  // not committed: removes the partial folder
     RunFolder(const RunFolder&) = delete;
@@ -39,7 +44,8 @@ class RunFolder {
     bool replace_ = false;
 };
 
-// Writes `text` to `path` (created or truncated), checking every write, fsync and close.
+// Creates `path` (it must not exist: never through a link, never over a file; see
+// harness/core/safe_files.h) with `text`, checking every write, fsync and close.
 void write_file_synced(const std::filesystem::path& path, const std::string& text);
 
 // The integrity record of a folder's files (every regular file under `dir` except run.json,

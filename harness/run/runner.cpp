@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <set>
@@ -10,6 +11,7 @@
 
 #include "harness/backends/gl_worker.h"
 #include "harness/core/error.h"
+#include "harness/core/params.h"
 #include "harness/metrics/agreement.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
@@ -214,6 +216,18 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude);
+                // Every sample non-finite (a parameter combination that gives no answer at
+                // this view, e.g. a layer count of 0, or a shader that discards every sample):
+                // a failure, never a row of NaN "ok".
+                if (row.num("nonfinite") > 0 && !std::isfinite(row.num("err_mean")))
+                    throw std::runtime_error(
+                        "every sample (" + format_number(row.num("nonfinite")) + ") " +
+                        (o.samples_discarded > 0 &&
+                                 double(o.samples_discarded) >= row.num("nonfinite")
+                             ? std::string("was discarded or left unwritten by the shader "
+                                           "(samples_discarded)")
+                             : std::string("gave a non-finite uv: the method's parameters give no "
+                                           "answer at this view")));
                 // The declared bound is enforced: a row over it fails, naming both numbers.
                 if (const int bound = job.fetches_bound(m);
                     bound >= 0 && row.num("fetches_max") > bound)

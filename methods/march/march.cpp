@@ -102,6 +102,14 @@ MarchConfig march_config(const ParamValues& p, const std::string& where) {
     if (c.count != MarchConfig::Fixed && c.count != MarchConfig::MixScaled &&
         !(c.layers_min >= 1 && c.layers_max >= 1))
         throw InputError(where, "layers_min and layers_max must be at least 1");
+    // mix_scaled: n = layers_min V.z + layers_max s (1 - V.z) is layers_min head-on, so
+    // layers_min = 0 gives n = 0 layers there (dz = s / 0: every sample NaN).
+    if (c.count == MarchConfig::MixScaled && !(c.layers_min >= 1))
+        throw InputError(where,
+                         "count = \"mix_scaled\" needs layers_min >= 1 (got " +
+                             format_number(c.layers_min) +
+                             "): its layer count is layers_min at theta = 0, and 0 layers give "
+                             "no answer");
     return c;
 }
 
