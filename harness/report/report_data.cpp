@@ -243,6 +243,7 @@ void open_report_folder(const fs::path& out) {
                   "pxh report removes exactly these, and nothing else.\n");
     const int e = errno;
     if (::close(fd) != 0 || !wrote) throw std::runtime_error(sys_error(m, "cannot write", e));
+    std::cout << "wrote " << m.string() << "\n";
 }
 
 void report_folder(const fs::path& out, const std::string& rel) {
