@@ -436,7 +436,7 @@ def vs_theta(F, st, rows):
         series += n
         top = top_of([num(r["err_p95"]) for r in rows if r["heightfield"] == field], 0.01)
         error_axis(ax, 0.01, top, ph)
-        ax.set_title(fit(titles[field], 0.72 * pw, 8, 1))
+        ax.set_title(fit(titles[field], 0.8 * pw, 8, 2))
         theta_axis(ax, k >= len(fields) - nc)
         if k % nc == 0:
             ax.set_ylabel("texel error")
@@ -483,7 +483,7 @@ def sweep_vs_theta(F, st, rows):
             panels += 1
             top = top_of([num(r[column]) for r in rows if r["heightfield"] == field], 0.001)
             error_axis(ax, 0.001, top, ph)
-            ax.set_title(fit(f"{column}: {titles[field]}", 0.72 * pw, 8, 1))
+            ax.set_title(fit(f"{column}: {titles[field]}", 0.8 * pw, 8, 2))
             bottom = k >= len(fields) - nc
             theta_axis(ax, bottom)
             if k % nc == 0:
