@@ -157,7 +157,7 @@ def fit(text, width_in, fontsize, lines=2):
     n = chars_for(width_in, fontsize)
     out = []
     for para in text.split("\n"):
-        out += textwrap.wrap(para, n, break_long_words=True, break_on_hyphens=False) or [""]
+        out += textwrap.wrap(para, n, break_long_words=False, break_on_hyphens=False) or [""]
     if len(out) > lines:
         out = out[: lines - 1] + [ellipsize(" ".join(out[lines - 1:]), n)]
     return "\n".join(ellipsize(line, n) for line in out)
@@ -786,7 +786,7 @@ def picture_montage(F, st, results, rows):
     cells = [(None, None, r0)] + tiles
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
-    pads = [p for k in range(blocks) for p in ((0.75 if k == 0 else 0.55), 0.25)]
+    pads = [p for k in range(blocks) for p in ((0.9 if k == 0 else 0.62), 0.03)]
     fig, axes = image_grid(F.width, nc, pads, 0.3)
     for ax in (a for row in axes for a in row):
         ax.axis("off")
@@ -812,7 +812,7 @@ def picture_montage(F, st, results, rows):
     fig.suptitle(fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
                      f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
                      "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
-                     F.width, 7, 3), fontsize=7, y=1.0, va="top")
+                     F.width, 7, 4), fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
@@ -836,8 +836,10 @@ def strip(F, st, results, rows):
                         .replace("PSNR ", "").replace("SSIM ", ""), fontsize=5 if cell < 0.62
                         else 5.5, ha="center", va="top", transform=axes[2][j].transAxes)
     side = axes[0][0].get_position().height * fig.get_figheight()
-    for i, lab in enumerate(("truth", st.labels[s], "|difference|")):
-        axes[i][0].set_ylabel(fit(lab, side, 6, 2), fontsize=6, labelpad=2)
+    small = side < 0.6
+    for i, lab in enumerate(("truth", st.labels[s], "|diff.|" if small else "|difference|")):
+        axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
+                              fontsize=5 if small else 6, labelpad=2)
     r0 = rows[0]
     fig.suptitle(fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
                      f"(φ = {num(r0['phi_deg']):g}°); under each: PSNR dB, SSIM", F.width, 7, 2),
