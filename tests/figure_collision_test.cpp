@@ -116,7 +116,7 @@ timing_repeats = 1
 maps = true
 [views]
 theta_deg = [0, 40, 65, 75, 85]
-phi_deg = [0, 45]
+phi_deg = [30]
 [[heightfields]]
 generator = "sine"
 size = 48
@@ -168,7 +168,7 @@ max_fetches = 70
 uniforms = { p_sample_count_of_the_linear_search_for_the_first_intersection = 24.0 }
 [render]
 heightfields = ["bricks"]
-phi_deg = 45
+phi_deg = 30
 theta_deg = [40, 85]
 strip_method = "pom"
 )";
