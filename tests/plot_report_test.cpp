@@ -159,6 +159,31 @@ TEST_F(PlotScript, SingleColumnWidthAndBadWidth) {
     }
 }
 
+// Any name draws: a 3000-character parameter (a plug-in's uniform) and a field named outside
+// Latin-1; legend entries are shortened in the middle to fit the width.
+TEST_F(PlotScript, LongAndNonLatinNamesDraw) {
+    const std::string longp = "layers=8;p_" + std::string(3000, 'u') + "=1";
+    for (const char* f : {"vs_theta.csv", "cost_vs_error.csv", "cost_vs_error_bands.csv"}) {
+        std::string t = slurp(dir / "data" / f);
+        for (size_t at = 0; (at = t.find("layers=8", at)) != std::string::npos; at += longp.size())
+            t.replace(at, 8, longp);
+        for (size_t at = 0; (at = t.find("sand,", at)) != std::string::npos; at += 7)
+            t.replace(at, 5, "砂岩,");
+        std::ofstream(dir / "data" / f, std::ios::binary) << t;
+    }
+    auto figs = plot("3.5", "png");
+    ASSERT_EQ(figs.size(), 4u);
+    for (const auto& [name, f] : figs)
+        for (const auto& label : f["legend"]) {
+            const std::string l = label;
+            EXPECT_LT(l.size(), 120u) << name << ": " << l.substr(0, 200);
+        }
+    const std::string legend = figs["error_vs_theta"]["legend"].dump();
+    EXPECT_NE(legend.find("pom layers=8, p_uuu"), std::string::npos) << legend;
+    EXPECT_NE(legend.find("…"), std::string::npos) << legend;
+    EXPECT_LT(png_width("error_vs_theta.png"), 1.05 * 3.5 * 300);
+}
+
 }  // namespace
 
 namespace {

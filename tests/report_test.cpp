@@ -172,11 +172,15 @@ TEST_F(ReportCheck, MalformedOrEmptyLimitsExitTwo) {
 TEST_F(ReportCheck, ReportTablesAndPlots) {
     ASSERT_EQ(run("report " + (dir / "res").string()), 0) << slurp(dir / "err.txt");
     const fs::path rep = dir / "res" / "report";
-    for (const char* f :
-         {"summary.csv", "summary.md", "summary.tex", "budget.md", "budget.tex", "sweep.md",
-          "error_vs_theta.png", "error_vs_theta.svg", "sweep_vs_theta.png", "cost_vs_error.png",
-          "cost_vs_error.svg", "error_maps_montage.png"})
+    for (const char* f : {"summary.csv", "summary.md", "summary.tex", "budget.md", "budget.tex",
+                          "sweep.md", "error_vs_theta.png", "error_vs_theta.svg",
+                          "sweep_vs_theta.png", "cost_vs_error.png", "cost_vs_error.svg"})
         EXPECT_TRUE(fs::exists(rep / f)) << f;
+    int montages = 0;  // error_maps_FIELD_pPHI.png: one per field and azimuth
+    for (const auto& e : fs::directory_iterator(rep))
+        montages += e.path().filename().string().rfind("error_maps_", 0) == 0 &&
+                    e.path().extension() == ".png";
+    EXPECT_GT(montages, 0);
     const pxh::CsvTable res = pxh::read_csv((dir / "res" / "results.csv").string());
     const pxh::CsvTable sum = pxh::read_csv((rep / "summary.csv").string());
     // pom layers=32 on the CPU, band 60 <= θ < 75 (only θ = 70: flagged †): mean of err_mean

@@ -1,6 +1,7 @@
 // The figures: data/*.csv (what the plots draw, with each series' keys as separate fields)
 // and harness/report/plot_report.py, which only draws them.
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "harness/core/error.h"
 #include "harness/core/shipped_files.h"
 #include "harness/report/report_data.h"
 
@@ -31,11 +33,36 @@ std::string key_fields(const ResultRow& r) {
     return out;
 }
 
+// A picture or map path of row i (column c): relative to the results folder and inside it, no
+// part of it a symbolic link (a path that leaves the folder is refused: the plotter would read
+// whatever it names). A missing file is left to the plotter (a blank tile, with a warning).
+const std::string& inside_path(const ReportData& d, size_t i, const char* c) {
+    const std::string& rel = d.row(i).text(c);
+    if (rel.empty()) return rel;
+    const auto bad = [&](const std::string& why) {
+        return InputError(d.file.path + ":" + std::to_string(d.file.lines[i]),
+                          std::string("column ") + c + ": '" + rel + "' " + why);
+    };
+    const fs::path p(rel);
+    if (p.is_absolute()) throw bad("is an absolute path; pictures lie inside the results folder");
+    fs::path at(d.dir);
+    for (const auto& part : p) {
+        if (part == "..") throw bad("leaves the results folder ('..')");
+        at /= part;
+        struct stat st {};
+        if (::lstat(at.c_str(), &st) != 0) return rel;  // missing: the plotter says so
+        if (S_ISLNK(st.st_mode))
+            throw bad("passes through a symbolic link (" + at.string() + "); refused");
+    }
+    return rel;
+}
+
 // data/vs_theta.csv: error and sweeps against θ per field and series (means over φ).
 void vs_theta(const ReportData& d) {
     using Key = std::tuple<std::string, std::string, double>;
     std::map<Key, std::array<Mean, 4>> acc;
     std::map<Key, size_t> first;
+    std::map<Key, std::vector<std::string>> phis;  // the azimuths each mean is over
     std::vector<Key> order;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
@@ -44,6 +71,9 @@ void vs_theta(const ReportData& d) {
             order.push_back(key);
             first[key] = i;
         }
+        auto& p = phis[key];
+        if (std::find(p.begin(), p.end(), r.cell("phi_deg")) == p.end())
+            p.push_back(r.cell("phi_deg"));
         auto& a = acc[key];
         a[0].add(r.num("err_p50"));
         a[1].add(r.num("err_p95"));
@@ -51,34 +81,35 @@ void vs_theta(const ReportData& d) {
         a[3].add(r.num("shimmering"));
     }
     std::ostringstream o;
-    o << "heightfield,series," << kKeyHeader << ",theta_deg,err_p50,err_p95,sliding,shimmering\n";
+    o << "heightfield,series," << kKeyHeader
+      << ",theta_deg,err_p50,err_p95,sliding,shimmering,"
+         "phi_deg_list\n";
     for (const auto& k : order) {
         const auto& a = acc[k];
         o << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
           << key_fields(d.row(first[k])) << "," << csv_num(std::get<2>(k)) << ","
           << csv_num(a[0].get()) << "," << csv_num(a[1].get()) << "," << csv_num(a[2].get()) << ","
-          << csv_num(a[3].get()) << "\n";
+          << csv_num(a[3].get());
+        std::string pl;
+        for (const auto& p : phis[k]) pl += (pl.empty() ? "" : ";") + p;
+        o << "," << csv_quote(pl) << "\n";
     }
     d.write("data/vs_theta.csv", o.str());
 }
 
-// data/maps.csv: error maps for a montage: the first field and azimuth, every series x θ;
-// paths relative to the results folder (as results.csv has them), so the folder can move.
+// data/maps.csv: the error maps, every field x azimuth x series x θ (a montage per field and
+// azimuth); paths relative to the results folder (as results.csv has them), so the folder can
+// move.
 void maps(const ReportData& d) {
     std::ostringstream o;
-    o << "series," << kKeyHeader << ",theta_deg,map\n";
-    std::string first_field, first_phi;
+    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
-        const std::string& map = r.text("map");
+        const std::string& map = inside_path(d, i, "map");
         if (map.empty()) continue;
-        if (first_field.empty()) {
-            first_field = field_of(r);
-            first_phi = r.cell("phi_deg");
-        }
-        if (field_of(r) != first_field || r.cell("phi_deg") != first_phi) continue;
-        o << csv_quote(series_of(r)) << "," << key_fields(r) << ","
+        o << csv_quote(field_of(r)) << "," << csv_quote(r.cell("phi_deg")) << ","
+          << csv_quote(series_of(r)) << "," << key_fields(r) << ","
           << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "\n";
         ++n;
     }
@@ -147,7 +178,7 @@ void cost_vs_error_bands(const ReportData& d) {
     std::ostringstream o;
     o << "band,band_lo,band_hi,band_label,series,setting,group,err_mean,err_p95,fetches_mean,"
          "ns_per_sample,ms_per_frame,pareto_fetches,pareto_ns,pareto_ms,"
-      << kKeyHeader << "\n";
+      << kKeyHeader << ",ns_per_sample_min,ns_per_sample_max,ms_per_frame_min,ms_per_frame_max\n";
     for (size_t b : d.present_bands()) {
         std::vector<std::array<double, 3>> cost(n, {NAN, NAN, NAN});
         std::vector<double> err(n, NAN);
@@ -168,7 +199,11 @@ void cost_vs_error_bands(const ReportData& d) {
               << csv_num(s.band.at(b).err_p95.get());
             for (double c : cost[i]) o << "," << csv_num(c);
             for (const char* f : flag[i]) o << "," << f;
-            o << "," << key_fields(d.row(s.first_row)) << "\n";
+            const Acc& a = s.band.at(b);
+            o << "," << key_fields(d.row(s.first_row));
+            for (const Mean* m : {&a.ns_min, &a.ns_max, &a.ms_min, &a.ms_max})
+                o << "," << csv_num(m->get());
+            o << "\n";
         }
     }
     d.write("data/cost_vs_error_bands.csv", o.str());
@@ -183,6 +218,7 @@ void pictures(const ReportData& d) {
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
+        for (const char* c : {"picture", "picture_diff", "picture_truth"}) inside_path(d, i, c);
         if (r.text("picture").empty()) continue;
         o << csv_quote(r.text("heightfield")) << "," << csv_quote(r.cell("theta_deg")) << ","
           << csv_quote(r.cell("phi_deg")) << "," << csv_quote(series_of(r)) << "," << key_fields(r)
@@ -262,6 +298,8 @@ void run_plotter(const fs::path& out, double figure_width) {
     while (waitpid(pid, &status, 0) < 0)
         if (errno != EINTR)
             throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 2)  // it said why on one line
+        throw InputError(script, "refused its input (the line above); the tables are written");
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
         throw std::runtime_error("plotting failed (" + python + " " + script + ": " +
                                  (WIFEXITED(status)

@@ -12,9 +12,17 @@ colour-blind-safe "muted" palette plus black, markers cycling with it). Series o
 whose numbers agree within 0.1% on every backend / precision / texture format are drawn once,
 and the legend says which agree; where they differ, each is drawn with its own line style.
 report/figures.json lists what was drawn: per figure its files, panels, series and legend.
+
+Files are written as pxh report writes them (report/manifest.txt lists every one): through a
+temporary name created exclusively, never following a link, then linked to their name; a name
+that exists and is not in the manifest is someone else's file and stops the script (exit 2).
+Picture and map paths must lie inside the results folder with no link on the way (exit 2).
+Any field or method name draws: labels too long for the width are shortened in the middle (…).
 """
 import argparse
 import csv
+import errno
+import io
 import json
 import math
 import os
@@ -46,6 +54,115 @@ GROUP_STYLES = ["-", "--", ":", "-."]
 REL_TOL = 1e-3  # series within 0.1% of each other (and 1e-6 absolute) are drawn once
 
 
+MANIFEST = "manifest.txt"
+
+
+def fail(msg, status=2):
+    print("pxh: error: " + msg.replace("\n", "\\n"), file=sys.stderr)
+    sys.exit(status)
+
+
+class Own:
+    """The report folder's files as pxh report writes them (harness/report/report_data.h)."""
+
+    def __init__(self, out):
+        self.out = out
+        self.manifest = os.path.join(out, MANIFEST)
+        if os.path.islink(out):
+            fail(f"{out}: is a symbolic link; pxh report writes only into a folder of its own")
+        try:
+            fd = os.open(self.manifest, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW,
+                         0o644)
+            os.write(fd, b"# The files pxh report wrote in this folder, one a line: the next "
+                         b"pxh report removes exactly these, and nothing else.\n")
+            os.close(fd)
+        except FileExistsError:
+            pass
+        if os.path.islink(self.manifest) or not os.path.isfile(self.manifest):
+            fail(f"{self.manifest}: is not a regular file (a link?), so not pxh report's list "
+                 "of its files")
+        with open(self.manifest, encoding="utf-8", errors="replace") as f:
+            self.ours = {line.rstrip("\n") for line in f if not line.startswith("#")}
+
+    def record(self, name):
+        fd = os.open(self.manifest, os.O_WRONLY | os.O_APPEND | os.O_NOFOLLOW)
+        try:
+            os.write(fd, (name + "\n").encode("utf-8", "surrogateescape"))
+        finally:
+            os.close(fd)
+        self.ours.add(name)
+
+    def write(self, name, writer):
+        """writer(binary file) writes the contents; then the file takes its name."""
+        path = os.path.join(self.out, name)
+        tmp_name = f".{name}.tmp-{os.getpid()}"
+        tmp = os.path.join(self.out, tmp_name)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
+        self.record(tmp_name)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                writer(f)
+        except BaseException:
+            os.unlink(tmp)
+            raise
+        if name in self.ours and os.path.isfile(path) and not os.path.islink(path):
+            os.unlink(path)  # ours, from an earlier drawing: replaced
+        try:
+            os.link(tmp, path)
+        except FileExistsError:
+            os.unlink(tmp)
+            fail(f"{path}: exists and pxh report did not write it (it is not in "
+                 f"{self.manifest}); move it away or remove it")
+        except OSError as e:
+            if e.errno not in (errno.EPERM, errno.ENOTSUP, errno.EXDEV, errno.EMLINK) or \
+                    os.path.lexists(path):
+                os.unlink(tmp)
+                raise
+            os.rename(tmp, path)  # a file system without hard links
+        else:
+            os.unlink(tmp)
+        self.record(name)
+
+
+def inside(results, rel, what):
+    """RESULTS/rel, refused (exit 2) unless rel is relative, without '..' and with no link on
+    the way."""
+    if os.path.isabs(rel) or ".." in rel.split("/"):
+        fail(f"{what}: '{rel}' lies outside the results folder {results}; refused")
+    at = results
+    for part in rel.split("/"):
+        at = os.path.join(at, part)
+        if os.path.islink(at):
+            fail(f"{what}: '{rel}' passes through a symbolic link ({at}); refused")
+    return os.path.join(results, rel)
+
+
+def ellipsize(text, n):
+    """text shortened in the middle to n characters (…) when longer."""
+    n = max(n, 5)
+    if len(text) <= n:
+        return text
+    head = (n - 1) - (n - 1) // 2
+    return text[:head] + "…" + text[len(text) - (n - 1) // 2:]
+
+
+def chars_for(width_in, fontsize):
+    """How many characters of an fontsize-pt label fit width_in inches (DejaVu Sans averages
+    about 0.6 em a character)."""
+    return max(5, int(width_in * 72 / (fontsize * 0.62)))
+
+
+def fit(text, width_in, fontsize, lines=2):
+    """text wrapped into at most `lines` lines of width_in inches, the rest shortened (…)."""
+    n = chars_for(width_in, fontsize)
+    out = []
+    for para in text.split("\n"):
+        out += textwrap.wrap(para, n, break_long_words=False, break_on_hyphens=False) or [""]
+    if len(out) > lines:
+        out = out[: lines - 1] + [ellipsize(" ".join(out[lines - 1:]), n)]
+    return "\n".join(ellipsize(line, n) for line in out)
+
+
 def read(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
@@ -75,12 +192,16 @@ def short_params(params):
 class Styles:
     """One colour + marker per method setting, in the order the report lists the settings."""
 
-    def __init__(self, settings):
+    def __init__(self, settings, width=7.0):
         self.order = list(dict.fromkeys(settings))
         labels = [(m + " " + short_params(p)).strip() for m, p in self.order]
         if len(set(labels)) < len(labels):  # shortening merged two settings: keep them whole
             labels = [(m + " " + p).strip() for m, p in self.order]
-        self.labels = dict(zip(self.order, labels))
+        n = chars_for(0.85 * width - 0.5, 7)  # a legend entry: at most the width, less a handle
+        short = [ellipsize(lab, n) for lab in labels]
+        if len(set(short)) < len(short):  # two shortened alike: numbered
+            short = [f"{lab} ({i + 1})" for i, lab in enumerate(short)]
+        self.labels = dict(zip(self.order, short))
 
     def colour(self, s):
         return PALETTE[self.order.index(s) % len(PALETTE)]
@@ -99,6 +220,7 @@ class Figures:
 
     def __init__(self, out, width, formats):
         self.out, self.width, self.formats, self.drawn = out, width, formats, []
+        self.own = Own(out)
 
     def columns(self, n):
         return max(1, min(n, 3 if self.width >= 6 else 2))
@@ -118,18 +240,27 @@ class Figures:
         bounding box is the panels' and the legend's)."""
         if not handles:
             return []
+        if title:
+            title = "\n".join(fit(t, self.width - 0.1, 7, lines=3) for t in title.split("\n"))
         chars = max(len(h.get_label()) for h in handles) + 4
         ncol = max(1, min(len(handles), int(self.width * 72 / (chars * 7 * 0.55))))
-        fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=ncol,
-                   title=title, title_fontsize=7, handlelength=2.6, columnspacing=1.2)
+        renderer = fig.canvas.get_renderer()
+        while True:  # as many columns as fit the width, measured
+            leg = fig.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+                             ncol=ncol, title=title, title_fontsize=7, handlelength=2.6,
+                             columnspacing=1.2)
+            if ncol == 1 or leg.get_window_extent(renderer).width <= self.width * fig.dpi - 4:
+                break
+            leg.remove()
+            ncol -= 1
         return [h.get_label() for h in handles]
 
     def save(self, fig, name, panels, series, legend, **extra):
         files = []
         for ext in self.formats:
-            path = os.path.join(self.out, f"{name}.{ext}")
-            fig.savefig(path, dpi=300, bbox_inches="tight", pad_inches=0.02,
-                        metadata={"svg": {"Date": None}, "pdf": {"CreationDate": None}}.get(ext))
+            meta = {"svg": {"Date": None}, "pdf": {"CreationDate": None}}.get(ext)
+            self.own.write(f"{name}.{ext}", lambda f: fig.savefig(
+                f, format=ext, dpi=300, bbox_inches="tight", pad_inches=0.02, metadata=meta))
             files.append(f"{name}.{ext}")
         plt.close(fig)
         print(f"plot: {os.path.join(self.out, name)}." + "/.".join(self.formats))
@@ -138,8 +269,8 @@ class Figures:
 
     def manifest(self):
         path = os.path.join(self.out, "figures.json")
-        with open(path, "w") as f:
-            json.dump({"width_in": self.width, "figures": self.drawn}, f, indent=1)
+        text = json.dumps({"width_in": self.width, "figures": self.drawn}, indent=1)
+        self.own.write("figures.json", lambda f: f.write(text.encode("utf-8")))
         print(f"wrote {path}")
 
 
@@ -228,66 +359,152 @@ def draw_curves(ax, st, per, thin_second=False):
     return folded, lines
 
 
-def log_axis(ax, linthresh):
+def decade_ticks(lo, hi, max_n, first_step=0):
+    """Decades 10^k in [lo, hi], every k-th so that at most max_n remain (the highest kept)."""
+    if not (hi > 0 and lo > 0):
+        return []
+    ks = list(range(math.ceil(math.log10(lo) - 1e-9) + first_step,
+                    math.floor(math.log10(hi) + 1e-9) + 1))
+    if not ks:
+        return []
+    step = max(1, math.ceil(len(ks) / max(1, max_n)))
+    return [10.0 ** k for k in ks[::-1][::step][::-1]]
+
+
+def log_ticks(lo, hi, max_n):
+    """Ticks for a log axis over [lo, hi]: 1-2-5 steps where they fit, else 1-3, else
+    decades (every k-th where even those do not fit)."""
+    for subs in ((1, 2, 5), (1, 3)):
+        t = [m * 10.0 ** e for e in range(math.floor(math.log10(lo)) - 1,
+                                          math.ceil(math.log10(hi)) + 1) for m in subs]
+        t = [v for v in t if lo * (1 - 1e-9) <= v <= hi * (1 + 1e-9)]
+        if 2 <= len(t) <= max_n:
+            return t
+    t = decade_ticks(lo, hi, max_n)
+    return t if len(t) >= 2 else [v for v in (lo, hi)]
+
+
+def tick_text(v):
+    if v == 0:
+        return "0"
+    if abs(v) >= 1e4 or abs(v) < 1e-2:
+        e = math.floor(math.log10(abs(v)) + 1e-9)
+        m = v / 10 ** e
+        return f"$10^{{{e}}}$" if abs(m - 1) < 1e-9 else f"${m:g}\\times10^{{{e}}}$"
+    return f"{v:g}"
+
+
+def error_axis(ax, linthresh, top, height_in):
+    """A symlog error axis from 0 to top: ticks 0 and decades (none crowding the 0)."""
     ax.set_yscale("symlog", linthresh=linthresh, linscale=0.4)
+    ax.set_ylim(0, top)
+    max_n = max(2, int(height_in * 72 / 16))
+    ticks = [0.0] + decade_ticks(linthresh, top, max_n - 1, first_step=1)
+    ax.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
+    ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: tick_text(v)))
     ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
     ax.grid(True, which="major", alpha=0.3, lw=0.4)
+
+
+def top_of(values, linthresh):
+    v = [x for x in values if x is not None and math.isfinite(x)]
+    return max(max(v) * 1.6 if v else 0, linthresh * 10)
+
+
+def theta_axis(ax, show_labels):
+    ax.set_xlim(-3, 93)
+    ax.set_xticks([0, 30, 60, 90])
+    if not show_labels:
+        ax.tick_params(labelbottom=False)
+
+
+def panel_size(F, nc, aspect):
+    pw = F.width / nc
+    return pw, pw * aspect
 
 
 def vs_theta(F, st, rows):
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
     titles, common = field_titles(fields)
+    nc = F.columns(len(fields))
     fig, axes = F.grid(len(fields))
+    pw, ph = panel_size(F, nc, 0.72)
     folded_all, series = {}, 0
     for k, (ax, field) in enumerate(zip(axes, fields)):
         folded, n = draw_curves(ax, st, curves_of(rows, field, ("err_p50", "err_p95")), True)
         folded_all.update(folded)
         series += n
-        log_axis(ax, 0.01)
-        ax.set_title(titles[field])
-        ax.set_xticks([0, 30, 60, 90])
-        if k % F.columns(len(fields)) == 0:
+        top = top_of([num(r["err_p95"]) for r in rows if r["heightfield"] == field], 0.01)
+        error_axis(ax, 0.01, top, ph)
+        ax.set_title(fit(titles[field], 0.8 * pw, 8, 2))
+        theta_axis(ax, k >= len(fields) - nc)
+        if k % nc == 0:
             ax.set_ylabel("texel error")
-        if k >= len(fields) - F.columns(len(fields)):
-            ax.set_xlabel("view angle θ (degrees)")
+        if k >= len(fields) - nc:
+            ax.set_xlabel("view angle θ (°)")
     handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
     handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="p50"),
-                mlines.Line2D([], [], color="0.3", lw=0.6, alpha=0.55, label="p95")]
-    note = join_notes(common, fold_note(folded_all))
+                mlines.Line2D([], [], color="0.3", lw=0.7, marker="o", mfc="white",
+                              label="p95")]
+    phis = sorted({p for r in rows for p in r.get("phi_deg_list", "").split(";") if p},
+                  key=lambda p: num(p) if num(p) is not None else 0)
+    azimuth = ("means over the azimuths φ = " + ", ".join(phis) + "°") if len(phis) > 1 else (
+        f"φ = {phis[0]}°" if phis else None)
+    note = join_notes(azimuth, common, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
     F.save(fig, "error_vs_theta", len(fields), series, legend, note=note)
 
 
 def sweep_vs_theta(F, st, rows):
+    last_theta = max((num(r["theta_deg"]) for r in rows if num(r["theta_deg"]) is not None),
+                     default=None)
     rows = [r for r in rows if num(r["sliding"]) is not None or num(r["shimmering"]) is not None]
     if not rows:
         return
+    missing_last = all(num(r["theta_deg"]) != last_theta for r in rows)
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
     titles, common = field_titles(fields)
-    panels = [(c, f) for c in ("sliding", "shimmering") for f in fields]
-    fig, axes = F.grid(len(panels))
-    folded_all, series = {}, 0
-    nc = F.columns(len(panels))
-    for k, (ax, (column, field)) in enumerate(zip(axes, panels)):
-        folded, n = draw_curves(ax, st, curves_of(rows, field, (column,)))
-        folded_all.update(folded)
-        series += n
-        log_axis(ax, 0.001)
-        ax.set_title(f"{column}: {titles[field]}")
-        ax.set_xticks([0, 30, 60, 90])
-        if k % nc == 0:
-            ax.set_ylabel("texels per degree")
-        if k >= len(panels) - nc:
-            ax.set_xlabel("view angle θ (degrees)")
+    nc = F.columns(len(fields))
+    per = math.ceil(len(fields) / nc)  # rows of panels per quantity
+    fig, grid = plt.subplots(2 * per, nc, figsize=(F.width, F.width / nc * 0.72 * 2 * per + 0.35),
+                             squeeze=False, constrained_layout=True)
+    pw, ph = panel_size(F, nc, 0.72)
+    folded_all, series, panels = {}, 0, 0
+    for q, column in enumerate(("sliding", "shimmering")):
+        for k in range(per * nc):
+            ax = grid[q * per + k // nc][k % nc]
+            if k >= len(fields):
+                ax.axis("off")
+                continue
+            field = fields[k]
+            folded, n = draw_curves(ax, st, curves_of(rows, field, (column,)))
+            folded_all.update(folded)
+            series += n
+            panels += 1
+            top = top_of([num(r[column]) for r in rows if r["heightfield"] == field], 0.001)
+            error_axis(ax, 0.001, top, ph)
+            ax.set_title(fit(f"{column}: {titles[field]}", 0.8 * pw, 8, 2))
+            bottom = k >= len(fields) - nc
+            theta_axis(ax, bottom)
+            if k % nc == 0:
+                ax.set_ylabel("texels / degree")
+            if bottom:
+                ax.set_xlabel("view angle θ (°)")
     handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
-    note = join_notes(common, fold_note(folded_all))
+    why = (f"sliding, shimmering: change to the next θ of the sweep, so the last θ "
+           f"({last_theta:g}°) has none (sweep_dt_deg gives every θ a step)"
+           ) if missing_last else None
+    note = join_notes("top rows: sliding; bottom rows: shimmering (each a mean over φ)", why,
+                      common, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, "sweep_vs_theta", len(panels), series, legend, note=note)
+    F.save(fig, "sweep_vs_theta", panels, series, legend, note=note)
 
 
-COSTS = {"fetches_mean": ("pareto_fetches", "fetches / sample (height and map lookups)"),
-         "ns_per_sample": ("pareto_ns", "CPU ns / sample"),
-         "ms_per_frame": ("pareto_ms", "GLSL ms / frame")}
+COSTS = {"fetches_mean": ("pareto_fetches", "fetches / sample", "fetches: height and map lookups"),
+         "ns_per_sample": ("pareto_ns", "CPU ns / sample", None),
+         "ms_per_frame": ("pareto_ms", "GLSL ms / frame", None)}
+SPREAD = {"ns_per_sample": ("ns_per_sample_min", "ns_per_sample_max"),
+          "ms_per_frame": ("ms_per_frame_min", "ms_per_frame_max")}
 
 
 def band_rows(rows, cost):
@@ -319,34 +536,56 @@ def fold_groups(per_group, cost):
     return out
 
 
+def spread_of(r, cost):
+    """The timing repeats' range of a point (mean of the rows' min and max), or None."""
+    if cost not in SPREAD:
+        return None
+    lo, hi = (num(r.get(c, "")) for c in SPREAD[cost])
+    return (lo, hi) if lo is not None and hi is not None and hi >= lo else None
+
+
 def draw_front(ax, st, pts, front_col, cost):
-    """The points of one panel and the front computed over exactly them."""
+    """The points of one panel (with the timing spread) and the front over exactly them."""
+    spreads = 0
     for r in pts:
         s = setting(r)
-        ax.plot([num(r[cost])], [num(r["err_mean"])], ls="none", marker=st.marker(s),
-                color=st.colour(s), ms=4.5, zorder=3)
+        x, y = num(r[cost]), num(r["err_mean"])
+        sp = spread_of(r, cost)
+        if sp and sp[1] > sp[0]:
+            ax.plot(list(sp), [y, y], color=st.colour(s), lw=0.9, alpha=0.8, zorder=2.5,
+                    solid_capstyle="butt")
+            spreads += 1
+        ax.plot([x], [y], ls="none", marker=st.marker(s), color=st.colour(s), ms=4, zorder=3)
     fr = sorted((num(r[cost]), num(r["err_mean"])) for r in pts if r[front_col] == "1")
     if fr:
         ax.step([p[0] for p in fr], [p[1] for p in fr], where="post", color="0.2", lw=0.8,
                 ls=":", zorder=2)
-    return len(fr)
+    return len(fr), spreads
 
 
-def cost_axes(ax, cost, xs):
+def cost_axis(ax, cost, lo, hi, width_in, show_labels):
+    """One x range for a row of panels: [lo, hi] with a margin; ticks that fit the panel."""
+    max_n = max(2, int(width_in * 72 / 26))
     if cost == "fetches_mean":
         ax.set_xscale("symlog", linthresh=1, linscale=0.4)
+        ax.set_xlim(0 if lo < 1 else lo / 1.4, hi * 1.4)
+        ticks = ([0.0] if lo < 1 else []) + log_ticks(max(1, lo), max(hi, 2),
+                                                      max_n - (lo < 1))
     else:
         ax.set_xscale("log")
-        if xs and max(xs) / min(xs) < 30:
-            ax.xaxis.set_major_locator(matplotlib.ticker.LogLocator(subs=(1, 2, 5)))
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-    log_axis(ax, 0.001)
+        ax.set_xlim(lo / 1.4, hi * 1.4)
+        ticks = log_ticks(lo / 1.4, hi * 1.4, max_n)
+    ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: tick_text(v)))
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    if not show_labels:
+        ax.tick_params(labelbottom=False)
 
 
 def cost_figure(F, st, rows, name, costs):
-    """One panel per band (all bands side by side at double width, two per row at single) and
-    per group (groups with equal points folded into one)."""
+    """Per cost and group (groups with equal points folded into one) a block of panels, one
+    per band (all bands side by side at double width, two per row at single); one x range per
+    block and one y range per row of panels, so a row reads across."""
     lines = []  # (cost, groups, {band: rows})
     for cost in costs:
         lines += [(cost, gs, bands) for gs, bands in fold_groups(band_rows(rows, cost), cost)]
@@ -355,74 +594,127 @@ def cost_figure(F, st, rows, name, costs):
     bands = list(dict.fromkeys(r["band"] for r in rows))
     label = {r["band"]: r["band_label"].replace("<=", "≤") for r in rows}
     nc = len(bands) if F.width >= 6 else min(2, len(bands))
-    panels = [(line, b) for line in lines for b in bands]
-    fig, axes = F.grid(len(panels), aspect=0.95 if nc > 3 else 0.75, ncols=nc)
-    drawn, fronts = set(), []
-    for k, ((cost, gs, per_band), b) in enumerate(panels):
-        ax = axes[k]
-        pts = per_band.get(b, [])
-        drawn.update(setting(r) for r in pts)
-        fronts.append(draw_front(ax, st, pts, COSTS[cost][0], cost))
-        cost_axes(ax, cost, [num(r[cost]) for rs in per_band.values() for r in rs
-                             if num(r[cost]) > 0])
-        ys = [num(r["err_mean"]) for rs in per_band.values() for r in rs]
-        ax.set_ylim(-0.0002, max(ys) * 1.6)
-        ax.set_title(label[b] + (f"  [{' = '.join(gs)}]" if len(lines) > 1 else ""), fontsize=7)
-        ax.set_xlabel(COSTS[cost][1], fontsize=7)
-        if k % nc == 0:
-            ax.set_ylabel("mean texel error" + ("" if len(lines) > 1 else f"\n({' = '.join(gs)})"),
-                          fontsize=7)
-        else:
-            ax.tick_params(labelleft=False)
+    per = math.ceil(len(bands) / nc)
+    aspect = 0.95 if nc > 3 else 0.75
+    pw, ph = panel_size(F, nc, aspect)
+    fig, grid = plt.subplots(per * len(lines), nc, figsize=(F.width, ph * per * len(lines) + 0.3),
+                             squeeze=False, constrained_layout=True)
+    drawn, fronts, spreads = set(), [], 0
+    for li, (cost, gs, per_band) in enumerate(lines):
+        xs = [v for rs in per_band.values() for r in rs
+              for v in [num(r[cost])] + list(spread_of(r, cost) or ())]
+        positive = [x for x in xs if x > 0]
+        lo, hi = (min(positive), max(positive)) if positive else (1, 10)
+        if cost == "fetches_mean" and any(x <= 0 for x in xs):
+            lo = 0
+        for row in range(per):
+            ys = [num(r["err_mean"]) for b in bands[row * nc:(row + 1) * nc]
+                  for r in per_band.get(b, [])]
+            top = top_of(ys, 0.001)
+            for col in range(nc):
+                ax = grid[li * per + row][col]
+                bi = row * nc + col
+                if bi >= len(bands):
+                    ax.axis("off")
+                    continue
+                b = bands[bi]
+                pts = per_band.get(b, [])
+                drawn.update(setting(r) for r in pts)
+                f, n = draw_front(ax, st, pts, COSTS[cost][0], cost)
+                fronts.append(f)
+                spreads += n
+                last = row == per - 1 or bi + nc >= len(bands)
+                cost_axis(ax, cost, lo, hi, pw, last)
+                error_axis(ax, 0.001, top, ph)
+                ax.set_title(label[b], fontsize=7)
+                if last:
+                    ax.set_xlabel(COSTS[cost][1], fontsize=7)
+                if col == 0:
+                    ax.set_ylabel(fit("mean texel error" + (f"\n{' = '.join(gs)}"), ph, 7, 2),
+                                  fontsize=7)
+                else:
+                    ax.tick_params(labelleft=False)
     handles = [st.handle(s, ls="none") for s in st.order if s in drawn]
     handles.append(mlines.Line2D([], [], color="0.2", ls=":", lw=0.8,
                                  label="Pareto front (of the panel's points)"))
-    note = "† the band holds a single view (one θ)" if any("†" in label[b] for b in bands) else None
+    if spreads:
+        handles.append(mlines.Line2D([], [], color="0.3", lw=0.9,
+                                     label="timing repeats' range (min to max)"))
+    notes = [COSTS[c][2] for c in costs if COSTS[c][2]]
+    if any("†" in label[b] for b in bands):
+        notes.append("† the band holds a single view (one θ)")
+    notes.append("means over the fields, azimuths and θ of each band")
+    note = join_notes(*notes)
     legend = F.legend(fig, handles, note)
-    F.save(fig, name, len(panels), len(drawn), legend,
+    F.save(fig, name, sum(1 for _ in fronts), len(drawn), legend,
            rows=[" = ".join(gs) for _, gs, _ in lines], bands=[label[b] for b in bands],
-           front_points=fronts)
+           front_points=fronts, spreads=spreads)
+
+
+def same_image(a, b):
+    return a is not None and b is not None and a.shape == b.shape and (a == b).all()
+
+
+def load_map(results, rel, px):
+    """An error map (not kept: a run has thousands), every k-th pixel so it is about px wide."""
+    path = inside(results, rel, "data/maps.csv")
+    if not os.path.exists(path):
+        print(f"pxh: warning: error map not found: {path} (left blank)", file=sys.stderr)
+        return None
+    img = mpimg.imread(path)
+    k = max(1, img.shape[1] // max(1, px))
+    return img[::k, ::k]
 
 
 def montage(F, rows):
-    """The error maps of the first field and azimuth (each PNG with its own title and legend),
-    one row per series, one column per θ."""
+    """Per field and azimuth, a montage of its error maps (each map PNG is pxh run's, with its
+    own colour scale and title): one row per series (series whose maps are identical, pixel for
+    pixel, shown once), one column per θ."""
     results = os.path.dirname(os.path.abspath(F.out))  # map paths: relative to the results
-    label = {}
+    views = {}
     for r in rows:
-        label.setdefault((setting(r), group(r)), r["series"])
-    series = list(label)
-    thetas = sorted({num(r["theta_deg"]) for r in rows})
-    cw = F.width / len(thetas)
-    fig, axes = plt.subplots(len(series), len(thetas), figsize=(F.width, cw * 1.15 * len(series)),
-                             squeeze=False)
-    for i, s in enumerate(series):
-        for j, th in enumerate(thetas):
-            ax = axes[i][j]
-            ax.axis("off")
-            match = [r for r in rows if (setting(r), group(r)) == s and num(r["theta_deg"]) == th]
-            if match:
-                path = os.path.join(results, match[0]["map"])
-                if os.path.exists(path):
-                    ax.imshow(mpimg.imread(path))
-                else:
-                    print(f"pxh: warning: error map not found: {path} (left blank)",
-                          file=sys.stderr)
-            if i == 0:
-                ax.set_title(f"θ = {th:g}°")
-            if j == 0:
-                ax.text(-0.05, 0.5, label[s], transform=ax.transAxes, rotation=90, ha="right",
-                        va="center", fontsize=6)
-    fig.subplots_adjust(wspace=0.02, hspace=0.05)
-    F.save(fig, "error_maps_montage", len(series) * len(thetas), len(series), [])
+        views.setdefault((r.get("heightfield", ""), r.get("phi_deg", "")), []).append(r)
+    for (field, phi), vrows in views.items():
+        thetas = sorted({num(r["theta_deg"]) for r in vrows})
+        per = {}
+        for r in vrows:
+            per.setdefault((setting(r), group(r)), {})[num(r["theta_deg"])] = r
+        px = int(F.width / len(thetas) * 300)  # a tile's width in pixels at 300 dpi
+        tiles = []  # [(label, [groups], {theta: image})]
+        for (s, g), by_theta in per.items():
+            imgs = {th: load_map(results, r["map"], px) for th, r in by_theta.items()}
+            for t in tiles:
+                if t[0] == s and t[2].keys() == imgs.keys() and all(
+                        same_image(t[2][th], imgs[th]) for th in imgs):
+                    t[1].append(g)
+                    break
+            else:
+                tiles.append((s, [g], imgs))
+        fig, axes = image_grid(F.width, len(thetas), [0.34] + [0.16] * (len(tiles) - 1), 0.04)
+        for i, (s, gs, imgs) in enumerate(tiles):
+            for j, th in enumerate(thetas):
+                ax = axes[i][j]
+                ax.axis("off")
+                if th in imgs and imgs[th] is not None:
+                    ax.imshow(imgs[th])
+                if i == 0:
+                    ax.set_title(f"θ = {th:g}°", fontsize=7, pad=11)
+            name = " ".join(x for x in (s[0], short_params(s[1])) if x) + f" [{' = '.join(gs)}]"
+            fig.text(0.5, axes[i][0].get_position().y1 + 0.02 / fig.get_figheight(),
+                     fit(name, F.width, 6.5, 1), ha="center", va="bottom",
+                     fontsize=6.5)
+        fig.suptitle(fit(f"error maps: {field}, φ = {phi}° (each map's own colour scale)",
+                         F.width, 7, 2), fontsize=7, y=1.0, va="bottom")
+        name = safe(f"error_maps_{field}_p{phi}")
+        F.save(fig, name, len(tiles) * len(thetas), len(tiles), [])
 
 
 def safe(name):
     return "".join(c if c.isalnum() or c in "-_." else "_" for c in name)
 
 
-def load(results, rel, cache={}):
-    path = os.path.join(results, rel)
+def load(results, rel, what="data/pictures.csv", cache={}):
+    path = inside(results, rel, what)
     if path not in cache:
         if not os.path.exists(path):
             print(f"pxh: warning: picture not found: {path} (left blank)", file=sys.stderr)
@@ -471,8 +763,9 @@ def image_grid(width, ncols, pads, bottom, left=0.0):
     """A figure of square image axes, ncols wide: pads[i] inches above row i (titles, labels),
     `bottom` inches below the last row, `left` inches for row labels; exact positions, so the
     images fill the width with no empty band."""
-    gap = 0.04
-    cell = (width - left - (ncols - 1) * gap) / ncols
+    gap, margin = 0.04, 0.03  # margin: each side, so spines and labels stay inside the width
+    left += margin
+    cell = (width - left - margin - (ncols - 1) * gap) / ncols
     height = sum(pads) + len(pads) * cell + bottom
     fig = plt.figure(figsize=(width, height))
     axes, y = [], height
@@ -493,7 +786,7 @@ def picture_montage(F, st, results, rows):
     cells = [(None, None, r0)] + tiles
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
-    pads = [p for k in range(blocks) for p in ((0.58 if k == 0 else 0.55), 0.03)]
+    pads = [p for k in range(blocks) for p in ((0.9 if k == 0 else 0.62), 0.03)]
     fig, axes = image_grid(F.width, nc, pads, 0.3)
     for ax in (a for row in axes for a in row):
         ax.axis("off")
@@ -507,17 +800,19 @@ def picture_montage(F, st, results, rows):
         bottom.axis("on")
         show(top, load(results, r["picture"]))
         show(bottom, load(results, r["picture_diff"]))
-        name = textwrap.fill(st.labels[s], 30) + (f"\n[{' = '.join(gs)}]" if multi else "")
+        cell = F.width / nc - 0.06
+        name = fit(st.labels[s], cell, 6, 2 if multi else 3) + (
+            "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "")
         top.set_title(name, fontsize=6)
-        bottom.text(0.5, -0.04, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
+        bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
                     ha="center", va="top", transform=bottom.transAxes)
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
-    fig.suptitle(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
-                 f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each method's "
-                 "uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
-                 fontsize=7, y=1.0, va="top")
+    fig.suptitle(fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
+                     f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
+                     "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
+                     F.width, 7, 4), fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
@@ -529,18 +824,26 @@ def strip(F, st, results, rows):
     g = group(rows[0])
     rows = sorted((r for r in rows if group(r) == g), key=lambda r: num(r["theta_deg"]))
     n = len(rows)
-    fig, axes = image_grid(F.width, n, [0.4, 0.03, 0.03], 0.3, left=0.16)
+    fig, axes = image_grid(F.width, n, [0.45, 0.03, 0.03], 0.3, left=0.3)
     for j, r in enumerate(rows):
         for i, key in enumerate(("picture_truth", "picture", "picture_diff")):
             show(axes[i][j], load(results, r[key]))
-        axes[0][j].set_title(f"θ = {num(r['theta_deg']):g}°", fontsize=7)
-        axes[2][j].text(0.5, -0.04, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
-                        ha="center", va="top", transform=axes[2][j].transAxes)
-    for i, lab in enumerate(("truth", textwrap.fill(st.labels[s], 18), "|difference|")):
-        axes[i][0].set_ylabel(lab, fontsize=6)
+        cell = (F.width - 0.3) / n
+        axes[0][j].set_title(fit(f"θ = {num(r['theta_deg']):g}°", cell, 6, 1), fontsize=6)
+        # PSNR over SSIM, alternate tiles a line lower when tiles are too narrow for them
+        low = cell < 0.62 and j % 2 == 1
+        axes[2][j].text(0.5, -0.03 - (0.42 if low else 0), metrics_text(r).replace(", ", "\n")
+                        .replace("PSNR ", "").replace("SSIM ", ""), fontsize=5 if cell < 0.62
+                        else 5.5, ha="center", va="top", transform=axes[2][j].transAxes)
+    side = axes[0][0].get_position().height * fig.get_figheight()
+    small = side < 0.6
+    for i, lab in enumerate(("truth", st.labels[s], "|diff.|" if small else "|difference|")):
+        axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
+                              fontsize=5 if small else 6, labelpad=2)
     r0 = rows[0]
-    fig.suptitle(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
-                 f"(φ = {num(r0['phi_deg']):g}°)", fontsize=7, y=1.0, va="top")
+    fig.suptitle(fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
+                     f"(φ = {num(r0['phi_deg']):g}°); under each: PSNR dB, SSIM", F.width, 7, 2),
+                 fontsize=7, y=1.0, va="top")
     name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}")
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
@@ -560,12 +863,16 @@ def animate(F, results, rows, name, what):
             (row.shape[1] * 2, row.shape[0] * 2), Image.NEAREST)
         canvas = Image.new("RGB", (img.width, img.height + 16), "white")
         canvas.paste(img, (0, 16))
-        ImageDraw.Draw(canvas).text(
-            (4, 2), f"{what}  theta = {num(r['theta_deg']):g} deg  (truth | method | difference)"
-            f"  {metrics_text(r).replace('∞', 'inf')}", fill="black")
+        text = (f"{what}  theta = {num(r['theta_deg']):g} deg  (truth | method | difference)"
+                f"  {metrics_text(r).replace('∞', 'inf')}")
+        # PIL's built-in bitmap font draws Latin-1 only: anything else becomes '?'
+        text = ellipsize(text, img.width // 6).replace("…", "...")
+        text = text.encode("latin-1", "replace").decode("latin-1")
+        ImageDraw.Draw(canvas).text((4, 2), text, fill="black")
         frames.append(canvas)
     path = os.path.join(F.out, name + ".gif")
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=900, loop=0)
+    F.own.write(name + ".gif", lambda f: frames[0].save(
+        f, format="GIF", save_all=True, append_images=frames[1:], duration=900, loop=0))
     print(f"plot: {path}")
     F.drawn[-1]["files"].append(name + ".gif")
 
@@ -606,7 +913,7 @@ def main():
     vt = read(os.path.join(data, "vs_theta.csv"))
     cost = read(os.path.join(data, "cost_vs_error.csv"))
     bands = read(os.path.join(data, "cost_vs_error_bands.csv"))
-    st = Styles([setting(r) for r in cost + vt + bands])
+    st = Styles([setting(r) for r in cost + vt + bands], width)
     vs_theta(F, st, vt)
     sweep_vs_theta(F, st, vt)
     cost_figure(F, st, bands, "cost_vs_error", ["fetches_mean"])
@@ -621,4 +928,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except OSError as e:  # a full disk, a file-size limit, a folder that went away
+        fail(f"{e.filename or ''}: {e.strerror or e}", 1)

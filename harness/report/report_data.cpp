@@ -1,7 +1,16 @@
 #include "harness/report/report_data.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "harness/core/error.h"
 
@@ -46,6 +55,10 @@ void Acc::add(const ResultRow& r, const char* budget_column) {
     fetches.add(r.num("fetches_mean"));
     ns.add(r.num("ns_per_sample"));
     ms.add(r.num("ms_per_frame"));
+    ns_min.add(r.num("ns_per_sample_min"));
+    ns_max.add(r.num("ns_per_sample_max"));
+    ms_min.add(r.num("ms_per_frame_min"));
+    ms_max.add(r.num("ms_per_frame_max"));
     sliding.add(r.num("sliding"));
     shimmering.add(r.num("shimmering"));
     budget.add(r.num(budget_column));
@@ -124,10 +137,169 @@ std::vector<std::string> ReportData::notes(bool with_bands) const {
 }
 
 void ReportData::write(const std::string& rel, const std::string& text) const {
+    write_report_file(out, rel, text);
+}
+
+const char* const kReportManifest = "manifest.txt";
+
+namespace {
+
+std::string sys_error(const fs::path& p, const std::string& what, int e) {
+    return p.string() + ": " + what + ": " + std::strerror(e);
+}
+
+// A manifest entry: a relative path of plain characters below OUT (no "..", no empty part).
+bool own_name(const std::string& rel) {
+    if (rel.empty() || rel.front() == '/' || rel == kReportManifest) return false;
+    for (char c : rel)
+        if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-' ||
+              c == '/' || static_cast<unsigned char>(c) >= 0x80))
+            return false;
+    std::stringstream ss(rel.back() == '/' ? rel.substr(0, rel.size() - 1) : rel);
+    for (std::string part; std::getline(ss, part, '/');)
+        if (part.empty() || part == "." || part == "..") return false;
+    return true;
+}
+
+void append_manifest(const fs::path& out, const std::string& rel) {
+    const fs::path m = out / kReportManifest;
+    const int fd = ::open(m.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) throw std::runtime_error(sys_error(m, "cannot open", errno));
+    const std::string line = rel + "\n";
+    const bool wrote = ::write(fd, line.data(), line.size()) == ssize_t(line.size());
+    const int e = errno;
+    if (::close(fd) != 0 || !wrote) throw std::runtime_error(sys_error(m, "cannot write", e));
+}
+
+// Writes all of text to fd; false (errno set) when the disk or a limit stops it.
+bool write_all(int fd, const std::string& text) {
+    size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        done += size_t(n);
+    }
+    return true;
+}
+
+}  // namespace
+
+void open_report_folder(const fs::path& out) {
+    struct stat st {};
+    if (::lstat(out.c_str(), &st) == 0) {
+        if (S_ISLNK(st.st_mode))
+            throw InputError(out.string(),
+                             "is a symbolic link; pxh report writes only into a folder of its "
+                             "own (remove the link)");
+        if (!S_ISDIR(st.st_mode)) throw InputError(out.string(), "exists and is not a folder");
+    } else if (errno != ENOENT || ::mkdir(out.c_str(), 0755) != 0) {
+        throw std::runtime_error(sys_error(out, "cannot make the folder", errno));
+    }
+    const fs::path m = out / kReportManifest;
+    if (::lstat(m.c_str(), &st) == 0) {
+        if (!S_ISREG(st.st_mode))
+            throw InputError(m.string(),
+                             "is not a regular file (a link?), so not pxh report's "
+                             "list of its files; remove it");
+        std::ifstream f(m);
+        std::vector<std::string> dirs;
+        for (std::string rel; std::getline(f, rel);) {
+            if (rel.empty() || rel[0] == '#') continue;
+            if (!own_name(rel)) {
+                std::cerr << "pxh: warning: " << m.string() << ": '" << one_line(rel)
+                          << "' is not a name pxh report writes: left alone\n";
+                continue;
+            }
+            const fs::path p = out / rel;
+            struct stat ps {};
+            if (::lstat(p.c_str(), &ps) != 0) continue;  // already gone
+            if (rel.back() == '/' && S_ISDIR(ps.st_mode)) {
+                dirs.push_back(rel);
+            } else if (rel.back() != '/' && S_ISREG(ps.st_mode)) {
+                if (::unlink(p.c_str()) != 0)
+                    throw std::runtime_error(sys_error(p, "cannot remove", errno));
+            } else {
+                std::cerr << "pxh: warning: " << p.string()
+                          << ": not the file pxh report wrote there (a link or another kind "
+                             "of file now): left alone\n";
+            }
+        }
+        std::sort(dirs.rbegin(), dirs.rend());  // deepest first
+        for (const auto& rel : dirs)
+            if (::rmdir((out / rel).c_str()) != 0 && errno != ENOENT)
+                std::cerr << "pxh: warning: " << (out / rel).string()
+                          << ": holds files pxh report did not write: left as it is\n";
+        if (::unlink(m.c_str()) != 0)
+            throw std::runtime_error(sys_error(m, "cannot remove", errno));
+    } else if (errno != ENOENT) {
+        throw std::runtime_error(sys_error(m, "cannot read", errno));
+    }
+    const int fd = ::open(m.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error(sys_error(m, "cannot create", errno));
+    const bool wrote =
+        write_all(fd,
+                  "# The files pxh report wrote in this folder, one a line: the next "
+                  "pxh report removes exactly these, and nothing else.\n");
+    const int e = errno;
+    if (::close(fd) != 0 || !wrote) throw std::runtime_error(sys_error(m, "cannot write", e));
+    std::cout << "wrote " << m.string() << "\n";
+}
+
+void report_folder(const fs::path& out, const std::string& rel) {
     const fs::path p = out / rel;
-    std::ofstream f(p, std::ios::binary);
-    f << text;
-    if (!f) throw InputError(p.string(), "cannot write");
+    struct stat st {};
+    if (::lstat(p.c_str(), &st) == 0) {
+        if (!S_ISDIR(st.st_mode))
+            throw InputError(p.string(), S_ISLNK(st.st_mode)
+                                             ? "is a symbolic link; pxh report writes only into "
+                                               "folders of its own (remove the link)"
+                                             : "exists and is not a folder");
+        return;  // left from before with someone else's files in it: ours to write into
+    }
+    if (::mkdir(p.c_str(), 0755) != 0)
+        throw std::runtime_error(sys_error(p, "cannot make the folder", errno));
+    append_manifest(out, rel + "/");
+}
+
+void write_report_file(const fs::path& out, const std::string& rel, const std::string& text) {
+    const fs::path p = out / rel;
+    const fs::path tmp =
+        p.parent_path() / ("." + p.filename().string() + ".tmp-" + std::to_string(::getpid()));
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error(sys_error(tmp, "cannot create", errno));
+    const fs::path tmp_rel = fs::path(rel).parent_path() / tmp.filename();
+    append_manifest(out, tmp_rel.string());
+    bool ok = write_all(fd, text);
+    int e = ok ? 0 : errno;
+    if (::close(fd) != 0 && ok) {
+        ok = false;
+        e = errno;
+    }
+    if (!ok) {
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(sys_error(p, "cannot write", e));
+    }
+    // link() never replaces: a name that exists (a user's file, a link) stops the report.
+    if (::link(tmp.c_str(), p.c_str()) != 0) {
+        e = errno;
+        struct stat st {};
+        const bool exists = ::lstat(p.c_str(), &st) == 0;
+        if (!exists && (e == EPERM || e == ENOTSUP || e == EXDEV || e == EMLINK) &&
+            ::rename(tmp.c_str(), p.c_str()) == 0) {
+            append_manifest(out, rel);  // a file system without hard links
+            std::cout << "wrote " << p.string() << "\n";
+            return;
+        }
+        ::unlink(tmp.c_str());
+        if (exists)
+            throw InputError(p.string(), "exists and pxh report did not write it (it is not in " +
+                                             (out / kReportManifest).string() +
+                                             "); move it away or remove it");
+        throw std::runtime_error(sys_error(p, "cannot write", e));
+    }
+    ::unlink(tmp.c_str());
+    append_manifest(out, rel);
     std::cout << "wrote " << p.string() << "\n";
 }
 

@@ -27,6 +27,7 @@ const BudgetMetric& budget_metric(const std::string& name);  // InputError when 
 // Means over the ok rows of a series (or setting), overall or in one band.
 struct Acc {
     Mean err_mean, err_p50, err_p95, fetches, ns, ms, sliding, shimmering, budget;
+    Mean ns_min, ns_max, ms_min, ms_max;  // the timing repeats' range, mean over rows
     double worst_p95 = NAN;
     bool nonfinite = false;  // some row had samples with NaN/Inf output
     void add(const ResultRow& r, const char* budget_column);
@@ -62,13 +63,29 @@ struct ReportData {
     std::vector<size_t> present_bands() const;
     // The notes every table carries: failed rows, and with band columns single-view bands.
     std::vector<std::string> notes(bool with_bands = true) const;
-    // Writes OUT/rel and says so.
+    // Writes OUT/rel and says so (write_report_file).
     void write(const std::string& rel, const std::string& text) const;
 
   private:
     void assign_bands();
     void collect();
 };
+
+// DIR/report/ belongs to pxh report, and only what it wrote there: OUT/manifest.txt lists every
+// file (and folder) it created, one a line, relative to OUT. open_report_folder refuses an OUT
+// (or manifest) that is a symbolic link or not a folder, then removes exactly the files and
+// folders of the previous manifest (a regular file or empty folder of that name; anything else
+// is left alone, with a warning) and starts a new manifest. report_folder makes OUT/rel (a
+// folder) and records it. write_report_file writes OUT/rel through a temporary name created
+// exclusively (O_EXCL | O_NOFOLLOW: no link is followed), then links it to its name, which must
+// not exist (a file pxh did not write is never replaced: InputError); a failed write (a full
+// disk, a file-size limit) removes the temporary file and throws, so no name ever holds a
+// truncated file.
+extern const char* const kReportManifest;  // "manifest.txt"
+void open_report_folder(const std::filesystem::path& out);
+void report_folder(const std::filesystem::path& out, const std::string& rel);
+void write_report_file(const std::filesystem::path& out, const std::string& rel,
+                       const std::string& text);
 
 // Indices of the points on the lower-left Pareto front of (cost, error).
 std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<double>& err);

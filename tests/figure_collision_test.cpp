@@ -1,0 +1,236 @@
+// Every figure `pxh report` draws, at single and double width, checked on the figure itself
+// (tests/figure_text_check.py: matplotlib's renderer extents of every Text artist drawn): no two
+// pieces of text overlap or touch, none leaves the canvas, no figure is wider than asked for.
+// On a reduced copy of the default experiment (its six fields, ten settings, seven angles, two
+// azimuths, both backends and [render]; fewer samples, smaller fields) and on a "wide" one
+// (many settings, long parameter strings, scans, a plug-in shader with a long uniform name).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* kDefaultReduced = R"(name = "default_reduced"
+samples = 24
+backends = ["cpu", "glsl"]
+precision = "float"
+timing_repeats = 1
+[views]
+theta_deg = [0, 30, 45, 60, 70, 80, 85]
+phi_deg = [0, 30]
+[light]
+theta_deg = 50
+phi_deg = 200
+[[heightfields]]
+generator = "sine"
+size = 64
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+generator = "bricks"
+size = 64
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+generator = "fbm"
+size = 64
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+scan = "jacksboro"
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+scan = "lidar_b9"
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+generator = "spikes"
+size = 64
+scale = 0.05
+bias = 1.0
+[[methods]]
+name = "none"
+[[methods]]
+name = "parallax"
+[[methods]]
+name = "parallax_limited"
+[[methods]]
+name = "parallax_clamped"
+[[methods]]
+name = "parallax_halved"
+[[methods]]
+name = "pixel_step"
+[[methods]]
+name = "steep"
+layers = 32
+[[methods]]
+name = "pom"
+layers = 32
+[[methods]]
+name = "pom"
+layers_min = 8
+layers_max = 32
+[[methods]]
+name = "relief"
+layers = 32
+binary_steps = 5
+[render]
+heightfields = ["bricks", "scan:jacksboro"]
+phi_deg = 0
+theta_deg = [60, 80]
+strip_method = "pom"
+)";
+
+// A plug-in with a long uniform name (the legend and the tables carry it) beside many settings.
+const char* kPlugin = R"(
+uniform float p_sample_count_of_the_linear_search_for_the_first_intersection;
+vec2 pxh_method(vec2 P) {
+    float n = p_sample_count_of_the_linear_search_for_the_first_intersection;
+    vec2 dir = pxh_V.xy / pxh_V.z;
+    float dz = u_scale / n;
+    float z = pxh_z_top();
+    vec2 uv = P + dir * z;
+    int k = 0;
+    while (z - pxh_z(uv) > 0.0 && k < int(ceil(n))) {
+        k += 1;
+        uv -= dir * dz;
+        z -= dz;
+    }
+    return uv;
+}
+)";
+
+std::string wide_experiment() {
+    std::string t = R"(name = "wide"
+samples = 16
+backends = ["cpu", "glsl"]
+timing_repeats = 1
+maps = true
+[views]
+theta_deg = [0, 40, 65, 75, 85]
+phi_deg = [30]
+[[heightfields]]
+generator = "sine"
+size = 48
+scale = 0.04
+bias = 1.0
+[[heightfields]]
+generator = "bricks"
+size = 48
+scale = 0.08
+bias = 0.5
+[[heightfields]]
+scan = "jacksboro"
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+scan = "lidar_b9"
+scale = 0.05
+bias = 1.0
+[[methods]]
+name = "parallax"
+[[methods]]
+name = "parallax_clamped"
+[[methods]]
+name = "steep"
+layers = 8
+[[methods]]
+name = "steep"
+layers = 64
+)";
+    for (int l : {4, 8, 16, 32, 64})
+        t += "[[methods]]\nname = \"pom\"\nlayers = " + std::to_string(l) + "\n";
+    t += R"([[methods]]
+name = "pom"
+layers_min = 4
+layers_max = 48
+[[methods]]
+name = "relief"
+layers = 16
+binary_steps = 3
+[[methods]]
+name = "relief"
+layers_min = 8
+layers_max = 64
+binary_steps = 8
+[[methods]]
+name = "my_linear_search_plugin"
+shader = "plugin.frag.glsl"
+max_fetches = 70
+uniforms = { p_sample_count_of_the_linear_search_for_the_first_intersection = 24.0 }
+[render]
+heightfields = ["bricks"]
+phi_deg = 30
+theta_deg = [40, 85]
+strip_method = "pom"
+)";
+    return t;
+}
+
+class FigureCollisions : public ::testing::Test {
+  protected:
+    static fs::path root;
+    static std::string failure;  // set when a run could not be made
+    static int sh(const std::string& cmd, const fs::path& log) {
+        const std::string full = cmd + " >" + log.string() + " 2>&1";
+        const int rc = std::system(full.c_str());
+        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+    }
+    static std::string slurp(const fs::path& p) {
+        std::ifstream f(p, std::ios::binary);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        return ss.str();
+    }
+    static void SetUpTestSuite() {
+        root = fs::temp_directory_path() / ("pxh_figures_" + std::to_string(::getpid()));
+        fs::remove_all(root);
+        fs::create_directories(root);
+        std::ofstream(root / "default.toml") << kDefaultReduced;
+        std::ofstream(root / "wide.toml") << wide_experiment();
+        std::ofstream(root / "plugin.frag.glsl") << kPlugin;
+        for (const char* name : {"default", "wide"}) {
+            const fs::path log = root / (std::string(name) + "_run.txt");
+            const std::string cmd = std::string(PXH_BINARY) + " run " +
+                                    (root / (std::string(name) + ".toml")).string() +
+                                    " --quiet --out " + (root / name).string();
+            if (sh(cmd, log) != 0) failure += std::string(name) + ": " + slurp(log) + "\n";
+        }
+    }
+    static void TearDownTestSuite() { fs::remove_all(root); }
+    // `pxh report` with --no-plots (the tables and data/), then the checker draws every figure.
+    void check(const std::string& run, const std::string& width) {
+        ASSERT_TRUE(failure.empty()) << failure;
+        const fs::path dir = root / run;
+        const fs::path log = root / (run + "_" + width + ".txt");
+        ASSERT_EQ(sh(std::string(PXH_BINARY) + " report --no-plots " + dir.string(), log), 0)
+            << slurp(log);
+        const std::string w = width == "single" ? "3.5" : "7";
+        const int rc =
+            sh("/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) + "/tests/figure_text_check.py " +
+                   std::string(PXH_SOURCE_DIR) + "/harness/report/plot_report.py " +
+                   (dir / "report").string() + " " + w,
+               log);
+        const std::string out = slurp(log);
+        EXPECT_EQ(rc, 0) << out;
+        EXPECT_NE(out.find("checked "), std::string::npos) << out;
+        EXPECT_EQ(out.find("collision:"), std::string::npos) << out;
+    }
+};
+fs::path FigureCollisions::root;
+std::string FigureCollisions::failure;
+
+TEST_F(FigureCollisions, DefaultSingle) { check("default", "single"); }
+TEST_F(FigureCollisions, DefaultDouble) { check("default", "double"); }
+TEST_F(FigureCollisions, WideSingle) { check("wide", "single"); }
+TEST_F(FigureCollisions, WideDouble) { check("wide", "double"); }
+
+}  // namespace
