@@ -174,6 +174,9 @@ TEST_F(HostileFolders, ForceRemovesOnlyPxhsOwnFiles) {
     for (const auto& [rel, rec] : run["files"].items())
         if (rel.rfind("pictures/", 0) == 0) picture = rel;
     ASSERT_FALSE(picture.empty()) << run["files"].dump();
+    r = pxh("report " + out + " --no-plots");  // report/ and its manifest.txt
+    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_TRUE(fs::is_regular_file(dir / "res/report/manifest.txt"));
     write("secret.txt", "mine");
     struct Case {
         std::string name;
@@ -196,6 +199,9 @@ TEST_F(HostileFolders, ForceRemovesOnlyPxhsOwnFiles) {
         {"a link in maps/",
          [&] { fs::create_symlink(dir / "secret.txt", dir / "res/maps/link.png"); },
          [&] { fs::remove(dir / "res/maps/link.png"); }, "a symbolic link pxh did not write"},
+        {"a file of the user's in report/", [&] { write("res/report/notes.txt", "mine"); },
+         [&] { fs::remove(dir / "res/report/notes.txt"); },
+         "'report/notes.txt', which pxh report did not write there"},
     };
     for (const auto& c : cases) {
         c.make();

@@ -155,6 +155,36 @@ struct OwnEntries {
     bool report = false;            // report/ (removed whole)
 };
 
+// report/ is pxh report's: removed whole only when every entry in it is listed in its
+// manifest.txt (what pxh report wrote there); anything else is the user's and refuses --force.
+template <class Refuse>
+void check_report_entries(const fs::path& report, const Refuse& refuse) {
+    std::set<std::string> listed;
+    {
+        const fs::path m = report / "manifest.txt";
+        if (fs::exists(fs::symlink_status(m))) {
+            if (!fs::is_regular_file(fs::symlink_status(m)))
+                throw refuse(fs::path(kReportEntry) / "manifest.txt",
+                             "which is not the manifest pxh report writes");
+            std::ifstream f(m, std::ios::binary);
+            for (std::string line; std::getline(f, line);)
+                if (!line.empty()) listed.insert(line);
+        }
+    }
+    for (auto it = fs::recursive_directory_iterator(report);
+         it != fs::recursive_directory_iterator(); ++it) {
+        const std::string rel = it->path().lexically_relative(report).generic_string();
+        const auto st = it->symlink_status();
+        const fs::path shown = fs::path(kReportEntry) / rel;
+        if (rel == "manifest.txt") continue;
+        if (fs::is_symlink(st)) throw refuse(shown, "a symbolic link pxh did not write");
+        if (fs::is_directory(st) ? !listed.count(rel + "/") : !listed.count(rel))
+            throw refuse(shown,
+                         "which pxh report did not write there (report/manifest.txt does not "
+                         "list it)");
+    }
+}
+
 OwnEntries own_entries(const fs::path& dir) {
     auto refuse = [&](const fs::path& rel, const std::string& why) {
         return InputError(dir.string(), "--force would delete '" + rel.generic_string() + "', " +
@@ -187,6 +217,7 @@ OwnEntries own_entries(const fs::path& dir) {
         if (name == kReportEntry) {
             if (!fs::is_directory(st))
                 throw refuse(rel, "which is not the folder pxh report writes");
+            check_report_entries(dir / kReportEntry, refuse);
             own.report = true;
             it.disable_recursion_pending();
             continue;
