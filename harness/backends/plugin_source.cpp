@@ -89,7 +89,7 @@ const std::map<std::string, std::string>& forbidden_names() {
 
 }  // namespace
 
-std::string utf8_problem(const std::string& s) {
+std::string shader_text_problem(const std::string& s) {
     int line = 1, col = 1;
     for (size_t i = 0; i < s.size();) {
         const unsigned char c = static_cast<unsigned char>(s[i]);
@@ -191,7 +191,7 @@ PluginSource read_plugin_source(const std::string& experiment_path, const std::s
         throw InputError(where, what + ": grew past " + std::to_string(kMaxPluginShaderBytes) +
                                     " bytes while being read");
     buf.resize(got);
-    if (const std::string why = utf8_problem(buf); !why.empty()) {
+    if (const std::string why = shader_text_problem(buf); !why.empty()) {
         const size_t colon = why.find(": ");  // "LINE:COL: why"
         throw InputError(display.string() + ":" + why.substr(0, colon), why.substr(colon + 2));
     }

@@ -33,7 +33,7 @@ PluginSource read_plugin_source(const std::string& experiment_path, const std::s
                                 const std::string& where);
 
 // The first invalid UTF-8 sequence (or NUL byte) of `text` as "LINE:COL: why", "" when none.
-std::string utf8_problem(const std::string& text);
+std::string shader_text_problem(const std::string& text);
 
 // One line per problem of the source's use of pxh's interface, each "DISPLAY:LINE:COL: ...";
 // empty when none. `common` is the text of the common.glsl it is compiled with.
