@@ -355,7 +355,8 @@ def draw_curves(ax, st, per, thin_second=False):
             ax.plot(th, [c[t][0] for t in th], marker=st.marker(s), lw=1.1, **kw)
             lines += 1
             if thin_second:
-                ax.plot(th, [c[t][1] for t in th], lw=0.6, alpha=0.55, **kw)
+                ax.plot(th, [c[t][1] for t in th], lw=0.6, marker=st.marker(s), ms=3,
+                        mfc="white", mew=0.6, **kw)  # p95: hollow markers, as the legend says
     return folded, lines
 
 
