@@ -51,4 +51,27 @@ class CliTest : public ::testing::Test {
     }
 };
 
+// Long enough to be interrupted: many views of a large field (signal and lock tests).
+inline constexpr const char* kSlowExperiment = R"(
+name = "slow"
+samples = 256
+timing_repeats = 3
+[views]
+theta_deg = { from = 0, to = 85, step = 1 }
+phi_deg = [0, 10, 20, 30, 40, 50]
+[[heightfields]]
+generator = "fbm"
+size = 512
+[[methods]]
+name = "relief"
+)";
+
+// A thresholds file every small run passes (parallax err_p95 under 1000 texels).
+inline constexpr const char* kLooseLimits = R"(
+[[limit]]
+method = "parallax"
+column = "err_p95"
+max = 1000
+)";
+
 }  // namespace pxh::test

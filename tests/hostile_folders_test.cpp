@@ -44,28 +44,6 @@ heightfields = ["fbm"]
 theta_deg = [45]
 )";
 
-// Long enough to be interrupted.
-const char* kSlow = R"(
-name = "slow"
-samples = 256
-timing_repeats = 3
-[views]
-theta_deg = { from = 0, to = 85, step = 1 }
-phi_deg = [0, 10, 20, 30, 40, 50]
-[[heightfields]]
-generator = "fbm"
-size = 512
-[[methods]]
-name = "relief"
-)";
-
-const char* kLimits = R"(
-[[limit]]
-method = "parallax"
-column = "err_p95"
-max = 1000
-)";
-
 class HostileFolders : public pxh::test::CliTest {
   protected:
     // Names in `dir` (not recursive), sorted.
@@ -139,7 +117,7 @@ TEST_F(HostileFolders, LeftoverPartialOfTheSamePidIsNotAdopted) {
     // The run's folder holds only what the run wrote.
     EXPECT_FALSE(fs::exists(out / "foreign.txt"));
     EXPECT_FALSE(fs::is_symlink(out / "results.csv"));
-    const auto limits = write("limits.toml", kLimits);
+    const auto limits = write("limits.toml", pxh::test::kLooseLimits);
     CliResult r = pxh("check " + out.string() + " --thresholds " + limits);
     EXPECT_EQ(r.status, 0) << r.err;
 
@@ -224,7 +202,7 @@ TEST_F(HostileFolders, ForceRemovesOnlyPxhsOwnFiles) {
 // Every signal that ends a process by default (but SIGKILL and the faults) removes the partial
 // folder and the lock, and exits 128 + signal.
 TEST_F(HostileFolders, EverySignalCleansUp) {
-    const auto exp = write("slow.toml", kSlow);
+    const auto exp = write("slow.toml", pxh::test::kSlowExperiment);
     for (int sig : {SIGUSR1, SIGALRM, SIGQUIT, SIGUSR2, SIGXCPU}) {
         const fs::path out = dir / ("res" + std::to_string(sig));
         pid_t pid = 0;
@@ -286,7 +264,7 @@ TEST_F(HostileFolders, ClosedPipeIsReportedNotFatal) {
     EXPECT_EQ(WEXITSTATUS(status), 1) << err;
     EXPECT_NE(err.find("cannot write to standard output"), std::string::npos) << err;
     EXPECT_TRUE(leftovers().empty());
-    const auto limits = write("limits.toml", kLimits);
+    const auto limits = write("limits.toml", pxh::test::kLooseLimits);
     EXPECT_EQ(pxh("check " + out.string() + " --thresholds " + limits).status, 0);
     // Through the shell, as the issue ran it.
     const std::string cmd = std::string(PXH_BINARY) + " run " + exp + " --out " +

@@ -33,28 +33,6 @@ name = "parallax"
 name = "pom"
 )";
 
-// Long enough to be interrupted: many views of a large field.
-const char* kSlow = R"(
-name = "slow"
-samples = 256
-timing_repeats = 3
-[views]
-theta_deg = { from = 0, to = 85, step = 1 }
-phi_deg = [0, 10, 20, 30, 40, 50]
-[[heightfields]]
-generator = "fbm"
-size = 512
-[[methods]]
-name = "relief"
-)";
-
-const char* kLimits = R"(
-[[limit]]
-method = "parallax"
-column = "err_p95"
-max = 1000
-)";
-
 class RunFolder : public pxh::test::CliTest {
   protected:
     std::vector<std::string> partials() {
@@ -141,7 +119,7 @@ TEST_F(RunFolder, EarlierResultsNeedForceAndOnlyPxhFilesAreReplaced) {
 // SIGINT and SIGTERM leave nothing; SIGKILL leaves only a partial folder, which the next run
 // into the same parent names.
 TEST_F(RunFolder, SignalsLeaveNoCompleteLookingFolder) {
-    const auto exp = write("slow.toml", kSlow);
+    const auto exp = write("slow.toml", pxh::test::kSlowExperiment);
     for (int sig : {SIGINT, SIGTERM, SIGKILL}) {
         const fs::path out = dir / ("res" + std::to_string(sig));
         const pid_t pid = fork();
@@ -215,7 +193,7 @@ TEST_F(RunFolder, ConcurrentRunsIntoOneFolder) {
 // run.json records rows and sha256; check and report refuse anything else.
 TEST_F(RunFolder, CheckAndReportVerifyTheFolder) {
     const std::string out = run_tiny((dir / "res").string(), "--maps");
-    const auto limits = write("limits.toml", kLimits);
+    const auto limits = write("limits.toml", pxh::test::kLooseLimits);
     const auto run = nlohmann::json::parse(slurp(fs::path(out) / "run.json"));
     EXPECT_EQ(run["rows"], 6);
     EXPECT_EQ(run["files"]["results.csv"]["sha256"], pxh::sha256_file(out + "/results.csv"));
