@@ -4,12 +4,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <set>
 
 #include "harness/core/error.h"
+#include "harness/core/safe_files.h"
 
 namespace pxh {
 namespace {
@@ -90,42 +93,22 @@ const std::map<std::string, std::string>& forbidden_names() {
 }  // namespace
 
 std::string shader_text_problem(const std::string& s) {
-    int line = 1, col = 1;
-    for (size_t i = 0; i < s.size();) {
-        const unsigned char c = static_cast<unsigned char>(s[i]);
-        auto bad = [&](const std::string& why) {
-            return std::to_string(line) + ":" + std::to_string(col) + ": " + why;
-        };
-        if (c == 0) return bad("a NUL byte: a shader must be text");
-        size_t n = 0;
-        unsigned cp = 0, min = 0;
-        if (c < 0x80) n = 1, cp = c;
-        else if ((c & 0xE0) == 0xC0) n = 2, cp = c & 0x1F, min = 0x80;
-        else if ((c & 0xF0) == 0xE0) n = 3, cp = c & 0x0F, min = 0x800;
-        else if ((c & 0xF8) == 0xF0) n = 4, cp = c & 0x07, min = 0x10000;
-        static const char* hex = "0123456789ABCDEF";
-        const std::string byte = std::string("0x") + hex[c >> 4] + hex[c & 15];
-        if (n == 0 || i + n > s.size())
-            return bad("byte " + byte + " is not UTF-8 (the file must be UTF-8 text)");
-        for (size_t k = 1; k < n; ++k) {
-            const unsigned char d = static_cast<unsigned char>(s[i + k]);
-            if ((d & 0xC0) != 0x80)
-                return bad("byte " + byte + " is not UTF-8 (the file must be UTF-8 text)");
-            cp = (cp << 6) | (d & 0x3F);
-        }
-        if (cp < min || cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF))
-            return bad("byte " + byte +
-                       " starts an invalid UTF-8 sequence (the file must be "
-                       "UTF-8 text)");
-        if (c == '\n') {
-            ++line;
-            col = 1;
-        } else {
-            ++col;
-        }
-        i += n;
+    // The first NUL byte or invalid UTF-8 sequence (harness/core/safe_files.h decides which
+    // sequences are valid), as "LINE:COL" with COL counted in characters, as editors do.
+    const size_t nul = s.find('\0');
+    const size_t bad_utf8 = invalid_utf8_at(s);
+    const size_t at = std::min(nul, bad_utf8);
+    if (at == std::string::npos) return "";
+    size_t line = 1, col = 1;
+    for (size_t k = 0; k < at; ++k) {
+        if (s[k] == '\n') ++line, col = 1;
+        else if ((static_cast<unsigned char>(s[k]) & 0xC0) != 0x80) ++col;
     }
-    return "";
+    const std::string where = std::to_string(line) + ":" + std::to_string(col) + ": ";
+    if (at == nul) return where + "a NUL byte: a shader must be text";
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "0x%02X", unsigned(static_cast<unsigned char>(s[at])));
+    return where + "byte " + hex + " is not UTF-8 (the file must be UTF-8 text)";
 }
 
 PluginSource read_plugin_source(const std::string& experiment_path, const std::string& rel,
