@@ -50,29 +50,45 @@ inline float HeightField::wrapped(int64_t i, int64_t j) const {
     return at(int(wrap_index(i, width)), int(wrap_index(j, height)));
 }
 
+// Float coordinate -> texel index for the bilinear rule: clamped before converting (float indices
+// exceed the integer range only for absurd offsets); a NaN coordinate gives texel 0 and the NaN
+// propagates through the fraction.
+template <typename T>
+inline int64_t bilinear_index(T f) {
+    if (!(f == f)) return 0;
+    constexpr T lim = T(int64_t(1) << 52);
+    return int64_t(f < -lim ? -lim : (f > lim ? lim : f));
+}
+
+// Bilinear height in precision T of a W x H texel grid (row-major) at uv, with repeat wrapping:
+// docs/conventions.md section 1, the one rule every CPU height lookup uses (level 0 through
+// HeightSampler, the texture levels through harness/scene/texture_levels.h).
+template <typename T>
+inline T bilinear_texels(const float* texels, int W, int H, Vec2<T> uv) {
+    const T x = uv.x * T(W) - T(0.5), y = uv.y * T(H) - T(0.5);
+    const T fx0 = std::floor(x), fy0 = std::floor(y);
+    const T fx = x - fx0, fy = y - fy0;
+    const int i0 = int(wrap_index(bilinear_index(fx0), W));
+    const int j0 = int(wrap_index(bilinear_index(fy0), H));
+    const int i1 = i0 + 1 == W ? 0 : i0 + 1, j1 = j0 + 1 == H ? 0 : j0 + 1;
+    const float* row0 = texels + size_t(j0) * W;
+    const float* row1 = texels + size_t(j1) * W;
+    const T h00 = T(row0[i0]), h10 = T(row0[i1]), h01 = T(row1[i0]), h11 = T(row1[i1]);
+    const T a = h00 + (h10 - h00) * fx;
+    const T b = h01 + (h11 - h01) * fx;
+    return a + (b - a) * fy;
+}
+
 // Bilinear height in precision T with a fetch counter (one fetch = one filtered lookup, as a
 // shader's texture() call). The scene's s and b turn height into surface z = s (h - b).
 template <typename T>
 class HeightSampler {
   public:
-    HeightSampler(const HeightField& hf, T scale, T bias)
-        : hf_(&hf), w_(T(hf.width)), h_(T(hf.height)), s_(scale), b_(bias) {}
+    HeightSampler(const HeightField& hf, T scale, T bias) : hf_(&hf), s_(scale), b_(bias) {}
 
     T height(Vec2<T> uv) {
         ++fetches;
-        const T x = uv.x * w_ - T(0.5), y = uv.y * h_ - T(0.5);
-        const T fx0 = std::floor(x), fy0 = std::floor(y);
-        const T fx = x - fx0, fy = y - fy0;
-        // Float indices can exceed int range only for absurd offsets; clamp before converting.
-        const int W = hf_->width, H = hf_->height;
-        const int i0 = int(wrap_index(to_index(fx0), W)), j0 = int(wrap_index(to_index(fy0), H));
-        const int i1 = i0 + 1 == W ? 0 : i0 + 1, j1 = j0 + 1 == H ? 0 : j0 + 1;
-        const float* row0 = hf_->texels.data() + size_t(j0) * W;
-        const float* row1 = hf_->texels.data() + size_t(j1) * W;
-        const T h00 = T(row0[i0]), h10 = T(row0[i1]), h01 = T(row1[i0]), h11 = T(row1[i1]);
-        const T a = h00 + (h10 - h00) * fx;
-        const T b = h01 + (h11 - h01) * fx;
-        return a + (b - a) * fy;
+        return bilinear_texels(hf_->texels.data(), hf_->width, hf_->height, uv);
     }
     // Surface z = s (h - b) at uv.
     T z(Vec2<T> uv) { return s_ * (height(uv) - b_); }
@@ -83,13 +99,8 @@ class HeightSampler {
     int fetches = 0;
 
   private:
-    static int64_t to_index(T f) {
-        if (!(f == f)) return 0;  // NaN coordinate: any texel; the NaN propagates via fx
-        constexpr T lim = T(int64_t(1) << 52);
-        return int64_t(f < -lim ? -lim : (f > lim ? lim : f));
-    }
     const HeightField* hf_;
-    T w_, h_, s_, b_;
+    T s_, b_;
 };
 
 }  // namespace pxh

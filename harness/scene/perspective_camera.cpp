@@ -1,0 +1,158 @@
+#include "harness/scene/perspective_camera.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "harness/core/error.h"
+
+namespace pxh {
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+std::string number(double v) {
+    std::ostringstream os;
+    os.precision(10);
+    os << v;
+    return os.str();
+}
+
+}  // namespace
+
+double outside_cos() {
+    static const double c = std::cos(89.0 * kDeg);
+    return c;
+}
+
+std::string perspective_problem(const PerspectiveParams& p) {
+    if (!(p.theta_deg >= 0 && p.theta_deg < 90))
+        return "theta_deg = " + number(p.theta_deg) + " is not in [0, 90)";
+    if (!std::isfinite(p.phi_deg)) return "phi_deg = " + number(p.phi_deg) + " is not finite";
+    if (!(p.distance > 0 && std::isfinite(p.distance)))
+        return "distance = " + number(p.distance) + " is not a positive number of tiles";
+    if (!(p.fov_deg > 0 && p.fov_deg < 180))
+        return "fov_deg = " + number(p.fov_deg) + " is not in (0, 180)";
+    if (p.samples < 1) return "samples = " + std::to_string(p.samples) + " is not at least 1";
+    return "";
+}
+
+std::string eye_slab_problem(const PerspectiveParams& p, double scale, double bias) {
+    const double eye_z = p.distance * view_vector(p.theta_deg, 0).z, top = scale * (1 - bias);
+    if (eye_z > top) return "";
+    return "the eye is not above the slab: distance " + number(p.distance) + " at theta " +
+           number(p.theta_deg) + " puts it at height " + number(eye_z) +
+           ", at or below the top of the relief s (1 - b) = " + number(top);
+}
+
+void check_eye_above_slab(const PerspectiveParams& p, double scale, double bias,
+                          const std::string& where) {
+    const std::string problem = eye_slab_problem(p, scale, bias);
+    if (!problem.empty()) throw InputError(where, problem);
+}
+
+Footprint orthographic_footprint(int n) { return {{1.0 / n, 0.0}, {0.0, 1.0 / n}}; }
+
+double footprint_scale(const Footprint& J, int width, int height) {
+    const double W = width, H = height;
+    const double ix = W * J.dPdi.x, iy = H * J.dPdi.y, jx = W * J.dPdj.x, jy = H * J.dPdj.y;
+    return std::max(std::sqrt(ix * ix + iy * iy), std::sqrt(jx * jx + jy * jy));
+}
+
+double footprint_lod(const Footprint& J, int width, int height) {
+    return std::log2(footprint_scale(J, width, height));
+}
+
+double pixel_error(const Footprint& J, Vec2d e) {
+    // J = [[a, c], [b, d]] with columns dP/di = (a, b), dP/dj = (c, d): solve J (di, dj) = e.
+    const double a = J.dPdi.x, b = J.dPdi.y, c = J.dPdj.x, d = J.dPdj.y;
+    const double det = a * d - b * c;
+    if (!(det != 0) || !std::isfinite(det)) return std::numeric_limits<double>::quiet_NaN();
+    const double di = (d * e.x - c * e.y) / det, dj = (a * e.y - b * e.x) / det;
+    return std::sqrt(di * di + dj * dj);
+}
+
+PerspectiveCamera::PerspectiveCamera(const PerspectiveParams& p) : p_(p) {
+    const std::string problem = perspective_problem(p);
+    if (!problem.empty()) throw InputError("camera", "perspective: " + problem);
+    // The angles as view_vector converts them, so V0 is the orthographic camera's V exactly.
+    const double t = p.theta_deg * M_PI / 180.0, ph = p.phi_deg * M_PI / 180.0;
+    const double st = std::sin(t), ct = std::cos(t), sp = std::sin(ph), cp = std::cos(ph);
+    V0_ = view_vector(p.theta_deg, p.phi_deg);
+    E_ = {0.5 + p.distance * V0_.x, 0.5 + p.distance * V0_.y, p.distance * V0_.z};
+    f_ = {-V0_.x, -V0_.y, -V0_.z};
+    r_ = {-sp, cp, 0.0};
+    w_ = {-ct * cp, -ct * sp, st};
+    a_ = std::tan(0.5 * p.fov_deg * kDeg);
+}
+
+PerspectivePixel PerspectiveCamera::pixel(double i, double j) const {
+    const double n = p_.samples;
+    const double x = 2 * (i + 0.5) / n - 1, y = 2 * (j + 0.5) / n - 1;
+    const double ax = a_ * x, ay = a_ * y;
+    PerspectivePixel px;
+    px.d = {f_.x + ax * r_.x + ay * w_.x, f_.y + ax * r_.y + ay * w_.y,
+            f_.z + ax * r_.z + ay * w_.z};
+    const double len = std::sqrt(px.d.x * px.d.x + px.d.y * px.d.y + px.d.z * px.d.z);
+    px.V = {-px.d.x / len, -px.d.y / len, -px.d.z / len};
+    px.inside = px.V.z > outside_cos();
+    if (px.d.z < 0) {
+        const double k = E_.z / px.d.z;
+        px.P = {E_.x - k * px.d.x, E_.y - k * px.d.y};
+    } else {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        px.P = {nan, nan};  // the ray never meets the plane
+    }
+    return px;
+}
+
+Footprint PerspectiveCamera::footprint(double i, double j) const {
+    const Vec3d d = pixel(i, j).d;
+    const double k = -E_.z * (2 * a_ / p_.samples) / (d.z * d.z);
+    const auto column = [&](Vec3d e) -> Vec2d {
+        return {k * (e.x * d.z - d.x * e.z), k * (e.y * d.z - d.y * e.z)};
+    };
+    return {column(r_), column(w_)};
+}
+
+View PerspectiveCamera::view() const {
+    const int n = p_.samples;
+    View v;
+    v.P.resize(size_t(n) * n);
+    v.V.resize(size_t(n) * n);
+    v.parallel = false;
+    v.grid = 0;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const PerspectivePixel px = pixel(i, j);
+            const size_t k = size_t(j) * n + i;
+            v.P[k] = px.inside ? px.P : Vec2d{0.5, 0.5};
+            v.V[k] = px.inside ? px.V : V0_;
+        }
+    return v;
+}
+
+std::vector<uint8_t> PerspectiveCamera::inside() const {
+    const int n = p_.samples;
+    std::vector<uint8_t> in(size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) in[size_t(j) * n + i] = pixel(i, j).inside ? 1 : 0;
+    return in;
+}
+
+size_t PerspectiveCamera::outside_count() const {
+    size_t c = 0;
+    for (uint8_t in : inside()) c += in ? 0 : 1;
+    return c;
+}
+
+std::vector<Footprint> PerspectiveCamera::footprints() const {
+    const int n = p_.samples;
+    std::vector<Footprint> J(size_t(n) * n);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) J[size_t(j) * n + i] = footprint(i, j);
+    return J;
+}
+
+}  // namespace pxh

@@ -1,0 +1,98 @@
+// The perspective camera and pixel footprints (docs/conventions.md section 10): a pinhole at
+// eye distance D (tiles) from the look-at point C = (0.5, 0.5, 0) along the view direction of
+// (theta, phi), an N x N square image of full field of view F. Per pixel: the sample P where the
+// pixel's ray meets the polygon z = 0, its view vector V, whether it is outside (V.z <= cos 89
+// degrees), and the footprint J = [dP/di, dP/dj] in closed form; rho and lambda from J.
+//
+// Not registered in camera_registry() yet: the keys (distance, fov_deg) and the runner's use of
+// the inside mask are wired with the experiment's parameter reading.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "harness/core/vec.h"
+#include "harness/scene/view.h"
+
+namespace pxh {
+
+// V.z at or below this is outside: at or beyond the horizon, or too grazing to measure.
+double outside_cos();  // cos(89 degrees)
+
+struct PerspectiveParams {
+    double theta_deg = 0, phi_deg = 0;
+    double distance = 0;  // D, tiles from C to the eye
+    double fov_deg = 45;  // F, full field of view of the square image
+    int samples = 0;      // N pixels per side
+};
+
+// "" when the parameters make a camera, else a one-line reason: theta in [0, 90), phi finite,
+// D > 0 finite, F in (0, 180), N >= 1.
+std::string perspective_problem(const PerspectiveParams& p);
+
+// "" when the eye lies above the slab of scale s and bias b (D cos theta > s (1 - b)), else the
+// reason. Call with the scene's s and b before tracing a view.
+std::string eye_slab_problem(const PerspectiveParams& p, double scale, double bias);
+
+// Throws InputError(where, reason) unless the eye lies above the slab.
+void check_eye_above_slab(const PerspectiveParams& p, double scale, double bias,
+                          const std::string& where);
+
+// The uv change per pixel step: dP/di (one column to the right), dP/dj (one row up).
+struct Footprint {
+    Vec2d dPdi, dPdj;
+};
+
+// The N x N orthographic grid of section 3: dP/di = (1/N, 0), dP/dj = (0, 1/N).
+Footprint orthographic_footprint(int n);
+
+// rho = max(|(W dPdi.x, H dPdi.y)|, |(W dPdj.x, H dPdj.y)|): level-0 texels per pixel.
+double footprint_scale(const Footprint& J, int width, int height);
+// lambda = log2(rho): the isotropic level of detail of GL's scale-factor formula.
+double footprint_lod(const Footprint& J, int width, int height);
+
+// The pixel error |J^-1 e_uv| (e_uv the uv error, wrapped per tile): screen pixels between the
+// shown and the true point. NaN for a singular J or a non-finite error.
+double pixel_error(const Footprint& J, Vec2d e_uv);
+
+// One pixel of a perspective camera.
+struct PerspectivePixel {
+    Vec3d d;        // the ray direction f + a x r + a y w (not normalised)
+    Vec2d P;        // where the ray meets z = 0 (meaningful when inside)
+    Vec3d V;        // -d / |d|
+    bool inside;    // V.z > cos(89 degrees)
+};
+
+class PerspectiveCamera final : public Camera {
+  public:
+    // Throws InputError("camera", perspective_problem(p)) for bad parameters.
+    explicit PerspectiveCamera(const PerspectiveParams& p);
+    std::string name() const override { return "perspective"; }
+
+    // Every pixel's ray, sample index j N + i (row j = 0 at the bottom, as gl_FragCoord). An
+    // outside sample carries the look-at ray (P = C, V = V0) so that every stage can process it;
+    // its results must be left out by the mask (inside()).
+    View view() const override;
+    std::vector<uint8_t> inside() const;  // 1 per inside sample, in sample order
+    size_t outside_count() const;
+
+    // Pixel (i, j), at continuous pixel coordinates (integers are pixel centres' indices).
+    PerspectivePixel pixel(double i, double j) const;
+    // The closed-form footprint of pixel (i, j) (valid where the ray meets the plane, d.z < 0).
+    Footprint footprint(double i, double j) const;
+    std::vector<Footprint> footprints() const;  // per sample, in sample order
+
+    const PerspectiveParams& params() const { return p_; }
+    Vec3d eye() const { return E_; }
+    Vec3d forward() const { return f_; }
+    Vec3d right() const { return r_; }
+    Vec3d up() const { return w_; }
+    double half_tan() const { return a_; }  // a = tan(F / 2)
+
+  private:
+    PerspectiveParams p_;
+    Vec3d V0_, E_, f_, r_, w_;
+    double a_;
+};
+
+}  // namespace pxh
