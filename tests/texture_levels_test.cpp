@@ -158,10 +158,10 @@ TEST(TextureLevels, OddSizesAreTheAreaWeightedMean) {
                     double sum = 0, area = 0;
                     for (int y = 0; y < h; ++y)
                         for (int x = 0; x < w; ++x) {
-                            const double ox = std::min((i + 1) * cw, x + 1.0) -
-                                              std::max(i * cw, double(x));
-                            const double oy = std::min((j + 1) * ch, y + 1.0) -
-                                              std::max(j * ch, double(y));
+                            const double ox =
+                                std::min((i + 1) * cw, x + 1.0) - std::max(i * cw, double(x));
+                            const double oy =
+                                std::min((j + 1) * ch, y + 1.0) - std::max(j * ch, double(y));
                             if (ox <= 0 || oy <= 0) continue;
                             sum += ox * oy * f.at(x, y);
                             area += ox * oy;
@@ -242,8 +242,8 @@ TEST(TextureLevels, BetweenLevelsIsTheLinearBlend) {
         for (double lambda : {0.1, 0.5, 1.999, 2.75, 4.3, 5.0 - 1e-9}) {
             const int d1 = int(std::floor(lambda));
             const double tau = lambda - d1;
-            const double want = (1 - tau) * level_bilinear(rt, d1, p) +
-                                tau * level_bilinear(rt, d1 + 1, p);
+            const double want =
+                (1 - tau) * level_bilinear(rt, d1, p) + tau * level_bilinear(rt, d1 + 1, p);
             ASSERT_NEAR(level_fetch<double>(rt, p, lambda), want, 1e-15) << lambda;
             ASSERT_NEAR(level_fetch<float>(rt, Vec2<float>(p), float(lambda)), want, 1e-5)
                 << lambda;

@@ -57,10 +57,10 @@ double pixel_error(const Footprint& J, Vec2d e_uv);
 
 // One pixel of a perspective camera.
 struct PerspectivePixel {
-    Vec3d d;        // the ray direction f + a x r + a y w (not normalised)
-    Vec2d P;        // where the ray meets z = 0 (meaningful when inside)
-    Vec3d V;        // -d / |d|
-    bool inside;    // V.z > cos(89 degrees)
+    Vec3d d;      // the ray direction f + a x r + a y w (not normalised)
+    Vec2d P;      // where the ray meets z = 0 (meaningful when inside)
+    Vec3d V;      // -d / |d|
+    bool inside;  // V.z > cos(89 degrees)
 };
 
 class PerspectiveCamera final : public Camera {
