@@ -209,6 +209,25 @@ TEST(Footprint, CentrePixelInClosedForm) {
     EXPECT_NEAR(footprint_lod(J, W, W), std::log2(W * 2 * a * D / (n * ct)), 1e-13);
 }
 
+// d does not depend on D and J is proportional to E.z = D cos theta: doubling the distance
+// doubles every footprint, one level more at every pixel.
+TEST(Footprint, DoublingTheDistanceAddsOneLevelEverywhere) {
+    const int W = 1024, H = 256;
+    const PerspectiveCamera cam_d(params(65, 10, 1.5, 50, 32)), cam_2d(params(65, 10, 3, 50, 32));
+    const std::vector<double> a = sample_lods(cam_d.footprints(), W, H);
+    const std::vector<double> b = sample_lods(cam_2d.footprints(), W, H);
+    const std::vector<uint8_t> in = cam_d.inside();
+    ASSERT_EQ(a.size(), 32u * 32u);
+    for (size_t k = 0; k < a.size(); ++k) {
+        if (!in[k]) continue;
+        EXPECT_NEAR(b[k] - a[k], 1.0, 1e-12) << k;
+        EXPECT_EQ(a[k], footprint_lod(cam_d.footprint(double(k % 32), double(k / 32)), W, H));
+    }
+    // Farther up the image (toward the horizon) a pixel covers more texture.
+    EXPECT_GT(a[31 * 32 + 16], a[16 * 32 + 16]);
+    EXPECT_GT(a[16 * 32 + 16], a[0 * 32 + 16]);
+}
+
 TEST(Footprint, LodUnderTheOrthographicGridIsLog2OfTexelsPerSample) {
     struct Case {
         int W, H, n;

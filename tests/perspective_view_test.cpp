@@ -1,7 +1,7 @@
 // A perspective camera's View through the stages after it (docs/conventions.md section 10):
 // both tracers take its per-pixel rays, the exact hits match a brute-force march (and Embree on
-// planar patches), and with a
-// vanishing relief the truth and the single-step and layered methods return the sample itself.
+// planar patches), and with a vanishing relief the truth and the single-step and layered methods
+// return the sample itself.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -64,6 +64,12 @@ double footprint_lod(const Footprint& J, int width, int height) {
     return std::log2(footprint_scale(J, width, height));
 }
 
+std::vector<double> sample_lods(const std::vector<Footprint>& J, int width, int height) {
+    std::vector<double> lod(J.size());
+    for (size_t k = 0; k < J.size(); ++k) lod[k] = footprint_lod(J[k], width, height);
+    return lod;
+}
+
 double pixel_error(const Footprint& J, Vec2d e) {
     // J = [[a, c], [b, d]] with columns dP/di = (a, b), dP/dj = (c, d): solve J (di, dj) = e.
     const double a = J.dPdi.x, b = J.dPdi.y, c = J.dPdj.x, d = J.dPdj.y;

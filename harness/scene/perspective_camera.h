@@ -51,6 +51,9 @@ double footprint_scale(const Footprint& J, int width, int height);
 // lambda = log2(rho): the isotropic level of detail of GL's scale-factor formula.
 double footprint_lod(const Footprint& J, int width, int height);
 
+// lambda of every sample: footprint_lod of each footprint, in sample order.
+std::vector<double> sample_lods(const std::vector<Footprint>& J, int width, int height);
+
 // The pixel error |J^-1 e_uv| (e_uv the uv error, wrapped per tile): screen pixels between the
 // shown and the true point. NaN for a singular J or a non-finite error.
 double pixel_error(const Footprint& J, Vec2d e_uv);
