@@ -201,7 +201,7 @@ namespace {
 struct MethodSources {
     ShaderSource common, body;
     std::string common_name, body_name;  // "builtin:PATH" or the file read
-    BodyLines body_lines;                 // where generated declarations went into body.text
+    BodyLines body_lines;                // where generated declarations went into body.text
     std::string description() const {    // the results' shader column
         if (body.origin == "builtin" && common.origin == "builtin") return "builtin";
         return body_name + (common.origin == "builtin" ? "" : " + " + common_name);
@@ -223,8 +223,7 @@ MethodSources method_sources(const GlslMethod& m, const std::string& shader_dir)
             if (!m.declarations.empty()) {
                 const std::string file =
                     s.body.origin == "builtin" ? "builtin:" + method_path : s.body.origin;
-                s.body.text =
-                    with_declarations(s.body.text, m.declarations, file, s.body_lines.at);
+                s.body.text = with_declarations(s.body.text, m.declarations, file, s.body_lines.at);
                 s.body_lines.count =
                     long(std::count(m.declarations.begin(), m.declarations.end(), '\n'));
             }

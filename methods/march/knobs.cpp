@@ -11,22 +11,22 @@ namespace {
 
 std::vector<MarchKnobSpec> make_knobs() {
     std::vector<MarchKnobSpec> k;
-#define PXH_KNOB_ACCESS(member)                                          \
-    [](const MarchConfig& c) { return double(c.member); },               \
+#define PXH_KNOB_ACCESS(member)                            \
+    [](const MarchConfig& c) { return double(c.member); }, \
         [](MarchConfig& c, double v) { c.member = decltype(c.member)(v); }
-#define PXH_KNOB_CHOICE_SPEC(member, Enum, enumerators, names, def, help)                   \
-    {                                                                                       \
-        const std::vector<std::string> n = {PXH_KNOB_UNPAREN names};                        \
+#define PXH_KNOB_CHOICE_SPEC(member, Enum, enumerators, names, def, help)                         \
+    {                                                                                             \
+        const std::vector<std::string> n = {PXH_KNOB_UNPAREN names};                              \
         k.push_back({MarchKnob::member, ParamSpec::choice(#member, n, n[MarchConfig::def], help), \
-                     "pm_" #member, PXH_KNOB_ACCESS(member)});                              \
+                     "pm_" #member, PXH_KNOB_ACCESS(member)});                                    \
     }
-#define PXH_KNOB_REAL_SPEC(member, def, lo, hi, help)                                    \
+#define PXH_KNOB_REAL_SPEC(member, def, lo, hi, help)                                           \
     k.push_back({MarchKnob::member, ParamSpec::real(#member, def, lo, hi, help), "pm_" #member, \
                  PXH_KNOB_ACCESS(member)});
-#define PXH_KNOB_INTEGER_SPEC(member, def, lo, hi, help)                                    \
+#define PXH_KNOB_INTEGER_SPEC(member, def, lo, hi, help)                                           \
     k.push_back({MarchKnob::member, ParamSpec::integer(#member, def, lo, hi, help), "pm_" #member, \
                  PXH_KNOB_ACCESS(member)});
-#define PXH_KNOB_BOOLEAN_SPEC(member, def, help)                                         \
+#define PXH_KNOB_BOOLEAN_SPEC(member, def, help)                                           \
     k.push_back({MarchKnob::member, ParamSpec::boolean(#member, def, help), "pm_" #member, \
                  PXH_KNOB_ACCESS(member)});
     PXH_MARCH_KNOBS(PXH_KNOB_CHOICE_SPEC, PXH_KNOB_REAL_SPEC, PXH_KNOB_INTEGER_SPEC,
@@ -67,9 +67,9 @@ std::string march_glsl_declarations() {
     };
     std::vector<Line> lines;
     for (const MarchKnobSpec& k : march_knobs()) {
-        Line l{"uniform " + std::string(glsl_type_name(glsl_type_of(k.param))) + " " + k.uniform +
-                   ";",
-               ""};
+        Line l{
+            "uniform " + std::string(glsl_type_name(glsl_type_of(k.param))) + " " + k.uniform + ";",
+            ""};
         if (k.param.type == ParamType::Choice)
             for (size_t i = 0; i < k.param.names.size(); ++i)
                 l.comment += (i ? ", " : "") + std::to_string(i) + " " + k.param.names[i];

@@ -78,8 +78,8 @@ struct MarchConfig {
     enum Enum { PXH_KNOB_UNPAREN enumerators };
     PXH_MARCH_KNOBS(PXH_KNOB_ENUM, PXH_KNOB_NONE, PXH_KNOB_NONE, PXH_KNOB_NONE)
 #undef PXH_KNOB_ENUM
-#define PXH_KNOB_NAMES_CHECK(member, Enum, enumerators, names, def, help)                    \
-    static_assert(std::initializer_list<int>{PXH_KNOB_UNPAREN enumerators}.size() ==        \
+#define PXH_KNOB_NAMES_CHECK(member, Enum, enumerators, names, def, help)                \
+    static_assert(std::initializer_list<int>{PXH_KNOB_UNPAREN enumerators}.size() ==     \
                       std::initializer_list<const char*>{PXH_KNOB_UNPAREN names}.size(), \
                   "knob '" #member "': one name per enumerator");
     PXH_MARCH_KNOBS(PXH_KNOB_NAMES_CHECK, PXH_KNOB_NONE, PXH_KNOB_NONE, PXH_KNOB_NONE)

@@ -81,10 +81,12 @@ void check_layer_counts(const MarchConfig& c, const std::string& where) {
 // view-adaptive POM, methods/pom).
 const MarchPresetRow kMarch{
     .name = "march",
-    .citation = "pxh's parametric marcher (methods/march/march.h): the knobs of the engines' "
-                "layered searches (issue 14); defaults = pom with layers_min 8, layers_max 32",
-    .summary = "a layered (or one-fetch offset) search with typed knobs; engine presets are "
-               "named settings of it",
+    .citation =
+        "pxh's parametric marcher (methods/march/march.h): the knobs of the engines' "
+        "layered searches (issue 14); defaults = pom with layers_min 8, layers_max 32",
+    .summary =
+        "a layered (or one-fetch offset) search with typed knobs; engine presets are "
+        "named settings of it",
     .params = every_knob(),
     .exact_on_flat = true,
     .order = 200,

@@ -28,8 +28,8 @@ struct MarchPresetRow {
     // (methods/march/knobs.h); the others keep the table's defaults.
     MarchConfig knobs{};
     std::vector<PresetParam> params{};  // set after `knobs`, in order
-    bool exact_on_flat = false;         // true exactly when it returns the true point on flat fields
-    int order = 300;                    // listing order: 300 + a small number
+    bool exact_on_flat = false;  // true exactly when it returns the true point on flat fields
+    int order = 300;             // listing order: 300 + a small number
     // The bias b the engine draws its surface with (NaN: any b), and why (one phrase).
     double required_bias = NAN;
     std::string bias_reason{};

@@ -18,8 +18,9 @@ using M = MarchConfig;
 const MarchPresetRow kBabylonParallax{
     .name = "babylon_parallax",
     .citation = PXH_BABYLON_SOURCE " (parallaxOffset, useParallax)",
-    .summary = "Babylon.js parallax: offset limiting above the polygon, uv = P + s h(P) V.xy, no "
-               "division by V.z (one fetch)",
+    .summary =
+        "Babylon.js parallax: offset limiting above the polygon, uv = P + s h(P) V.xy, no "
+        "division by V.z (one fetch)",
     .knobs = {.search = M::Offset, .offset_form = M::OffSin},
     .order = 344,
     .required_bias = 0.0,
@@ -31,9 +32,10 @@ PXH_REGISTER_PRESET(kBabylonParallax);
 const MarchPresetRow kBabylonPom{
     .name = "babylon_pom",
     .citation = PXH_BABYLON_SOURCE " (parallaxOcclusion, useParallaxOcclusion)",
-    .summary = "Babylon.js POM: n = 15 + 11 V.z layers (the count from dot(N, -V), inverted), only "
-               "layers 0..14 tested (iMaxSamples 15), hit h > ray, interpolated; no hit: uv of "
-               "layer 15, untested",
+    .summary =
+        "Babylon.js POM: n = 15 + 11 V.z layers (the count from dot(N, -V), inverted), only "
+        "layers 0..14 tested (iMaxSamples 15), hit h > ray, interpolated; no hit: uv of "
+        "layer 15, untested",
     .knobs = {.count = M::MixNegated,
               .layers_min = 4,   // minSamples
               .layers_max = 15,  // maxSamples

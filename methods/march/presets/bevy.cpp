@@ -24,11 +24,12 @@ PresetParam max_layer_count() {
             MarchKnob::layers_max};
 }
 PresetParam mirror_v() {
-    return {ParamSpec::boolean("mirror_v", false,
-                               "march with v mirrored: Bevy's literal (1, -1) step on a mikktspace "
-                               "frame (B = +dP/dv); false: tangents with B = -dP/dv, where the flip "
-                               "cancels"),
-            MarchKnob::mirror_v};
+    return {
+        ParamSpec::boolean("mirror_v", false,
+                           "march with v mirrored: Bevy's literal (1, -1) step on a mikktspace "
+                           "frame (B = +dP/dv); false: tangents with B = -dP/dv, where the flip "
+                           "cancels"),
+        MarchKnob::mirror_v};
 }
 
 // Both: n = mix(max_parallax_layer_count, 1, V.z), the first layer at or below the surface, the
@@ -36,8 +37,9 @@ PresetParam mirror_v() {
 const MarchPresetRow kBevyOcclusion{
     .name = "bevy_occlusion",
     .citation = kBevySource,
-    .summary = "Bevy parallax occlusion mapping: n = mix(max_parallax_layer_count, 1, V.z) layers, "
-               "POM lerp with layer k-1 fetched again, run also at k = 0 and at the cap",
+    .summary =
+        "Bevy parallax occlusion mapping: n = mix(max_parallax_layer_count, 1, V.z) layers, "
+        "POM lerp with layer k-1 fetched again, run also at k = 0 and at the cap",
     .knobs = {.count = M::Mix,
               .layers_min = 1,
               .step = M::StepTan,
@@ -58,8 +60,9 @@ PXH_REGISTER_PRESET(kBevyOcclusion);
 const MarchPresetRow kBevyRelief{
     .name = "bevy_relief",
     .citation = kBevySource,
-    .summary = "Bevy relief mapping: the occlusion search, then bisection from the midpoint of "
-               "layers k-1 and k with max_steps probes (also at k = 0: ends above the polygon)",
+    .summary =
+        "Bevy relief mapping: the occlusion search, then bisection from the midpoint of "
+        "layers k-1 and k with max_steps probes (also at k = 0: ends above the polygon)",
     .knobs = {.count = M::Mix,
               .layers_min = 1,
               .step = M::StepTan,
@@ -68,7 +71,8 @@ const MarchPresetRow kBevyRelief{
               .refine = M::Bisect,
               .refine_at_k0 = true,
               .tie = M::TieBack},
-    .params = {max_layer_count(), mirror_v(),
+    .params = {max_layer_count(),
+               mirror_v(),
                {ParamSpec::integer("max_steps", 5, 0, 256,
                                    "Bevy's ParallaxMappingMethod::Relief max_steps: "
                                    "bisection probes after the midpoint start"),

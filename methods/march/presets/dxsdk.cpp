@@ -20,8 +20,9 @@ const MarchPresetRow kDxsdkPom{
         "walbourn/directx-sdk-legacy-samples Direct3D/ParallaxOcclusionMapping/"
         "ParallaxOcclusionMapping.fx (RenderSceneVS, RenderScenePS) and .cpp @ f35ea7637d51; "
         "s = g_fHeightMapScale (0.02, Stones)",
-    .summary = "POM with n = int(lerp(50, 8, V.z)) layers and height 1 as the previous sample of "
-               "layer 1 (P is never sampled); LOD fade off",
+    .summary =
+        "POM with n = int(lerp(50, 8, V.z)) layers and height 1 as the previous sample of "
+        "layer 1 (P is never sampled); LOD fade off",
     .knobs = {.count = M::MixTrunc,
               .first = M::FirstTop,
               .compare = M::Lt,

@@ -26,8 +26,9 @@ PresetParam flip_binormal() {
 const MarchPresetRow kGodotParallax{
     .name = "godot_parallax",
     .citation = kGodotSource,
-    .summary = "Godot 4 height mapping, deep parallax off: one fetch, uv = P + s (h(P) - 1) V.xy "
-               "(offset limiting, no / V.z); heightmap_flip_tangent is not offered",
+    .summary =
+        "Godot 4 height mapping, deep parallax off: one fetch, uv = P + s (h(P) - 1) V.xy "
+        "(offset limiting, no / V.z); heightmap_flip_tangent is not offered",
     .knobs = {.search = M::Offset, .offset_form = M::OffSin},
     .params = {flip_binormal()},
     .order = 301,
@@ -39,9 +40,10 @@ PXH_REGISTER_PRESET(kGodotParallax);
 const MarchPresetRow kGodotDeep{
     .name = "godot_deep",
     .citation = kGodotSource,
-    .summary = "Godot 4 deep parallax: n = mix(heightmap_max_layers, heightmap_min_layers, V.z) "
-               "layers stepped by (s/n) V.xy (no / V.z: a relief of depth s V.z), POM lerp with "
-               "layer k-1 fetched again, also at k = 0; heightmap_flip_tangent is not offered",
+    .summary =
+        "Godot 4 deep parallax: n = mix(heightmap_max_layers, heightmap_min_layers, V.z) "
+        "layers stepped by (s/n) V.xy (no / V.z: a relief of depth s V.z), POM lerp with "
+        "layer k-1 fetched again, also at k = 0; heightmap_flip_tangent is not offered",
     .knobs = {.count = M::Mix,
               .step = M::StepSin,
               .compare = M::Le,

@@ -13,10 +13,11 @@ using M = MarchConfig;
 // classicParallaxOffset: h = (h s - 0.6 s) normView.z; uv = P + h normView.xy.
 const MarchPresetRow kJmeParallax{
     .name = "jme_parallax",
-    .citation = "jMonkeyEngine classic parallax: jMonkeyEngine/jmonkeyengine "
-                "jme3-core/src/main/resources/Common/ShaderLib/Parallax.glsllib @ "
-                "7277b5d8013f (classicParallaxOffset), Lighting.j3md @ 68c082c13ded; "
-                "s = ParallaxHeight (0.05)",
+    .citation =
+        "jMonkeyEngine classic parallax: jMonkeyEngine/jmonkeyengine "
+        "jme3-core/src/main/resources/Common/ShaderLib/Parallax.glsllib @ "
+        "7277b5d8013f (classicParallaxOffset), Lighting.j3md @ 68c082c13ded; "
+        "s = ParallaxHeight (0.05)",
     .summary = "one fetch: uv = P + s (h - 0.6) V.z V.xy (offset times V.z, largest at 45 degrees)",
     .knobs = {.search = M::Offset, .offset_form = M::OffSinCos},
     .order = 362,
@@ -30,12 +31,14 @@ PXH_REGISTER_PRESET(kJmeParallax);
 // fCurrHeight = 0.0); line intersection of the last two (bound, height) pairs, no guard.
 const MarchPresetRow kJmeSteep{
     .name = "jme_steep",
-    .citation = "jMonkeyEngine steep parallax: jMonkeyEngine/jmonkeyengine "
-                "jme3-core/src/main/resources/Common/ShaderLib/Parallax.glsllib @ "
-                "7277b5d8013f (steepParallaxOffset, SteepParallax true); s = 0.3 "
-                "ParallaxHeight (0.015)",
-    .summary = "POM with n = mix(6, 1000 s, 1 - V.z) layers and height 0 as the previous sample of "
-               "layer 1 (P is never sampled)",
+    .citation =
+        "jMonkeyEngine steep parallax: jMonkeyEngine/jmonkeyengine "
+        "jme3-core/src/main/resources/Common/ShaderLib/Parallax.glsllib @ "
+        "7277b5d8013f (steepParallaxOffset, SteepParallax true); s = 0.3 "
+        "ParallaxHeight (0.015)",
+    .summary =
+        "POM with n = mix(6, 1000 s, 1 - V.z) layers and height 0 as the previous sample of "
+        "layer 1 (P is never sampled)",
     .knobs = {.count = M::MixScaled,
               .layers_min = 6,
               .layers_max = 1000,

@@ -41,8 +41,9 @@ PXH_REGISTER_PRESET(kO3deBasic);
 const MarchPresetRow kO3deSteep{
     .name = "o3de_steep",
     .citation = kO3deSource,
-    .summary = "O3DE Steep: fixed layers (quality), the first layer at or below the surface, no "
-               "refinement",
+    .summary =
+        "O3DE Steep: fixed layers (quality), the first layer at or below the surface, no "
+        "refinement",
     .knobs = {.count = M::Fixed,
               .step = M::StepTan,
               .compare = M::Le,
@@ -58,8 +59,9 @@ PXH_REGISTER_PRESET(kO3deSteep);
 const MarchPresetRow kO3dePom{
     .name = "o3de_pom",
     .citation = kO3deSource,
-    .summary = "O3DE POM (the default algorithm): fixed layers, lerp between layers k-1 and k with "
-               "the loop's previous sample (no re-fetch)",
+    .summary =
+        "O3DE POM (the default algorithm): fixed layers, lerp between layers k-1 and k with "
+        "the loop's previous sample (no re-fetch)",
     .knobs = {.count = M::Fixed,
               .step = M::StepTan,
               .compare = M::Le,
@@ -77,8 +79,9 @@ PXH_REGISTER_PRESET(kO3dePom);
 const MarchPresetRow kO3deRelief{
     .name = "o3de_relief",
     .citation = kO3deSource,
-    .summary = "O3DE Relief: fixed layers, then n sign-steps of halving size (sign 0 stays), each "
-               "followed by a fetch (the last one unused)",
+    .summary =
+        "O3DE Relief: fixed layers, then n sign-steps of halving size (sign 0 stays), each "
+        "followed by a fetch (the last one unused)",
     .knobs = {.count = M::Fixed,
               .step = M::StepTan,
               .compare = M::Le,
@@ -97,8 +100,9 @@ PXH_REGISTER_PRESET(kO3deRelief);
 const MarchPresetRow kO3deContact{
     .name = "o3de_contact",
     .citation = kO3deSource,
-    .summary = "O3DE ContactRefinement: fixed layers, then from layer k-1 a linear search in "
-               "sub-layers of 1/n layer, no interpolation",
+    .summary =
+        "O3DE ContactRefinement: fixed layers, then from layer k-1 a linear search in "
+        "sub-layers of 1/n layer, no interpolation",
     .knobs = {.count = M::Fixed,
               .step = M::StepTan,
               .compare = M::Le,

@@ -15,10 +15,11 @@ const char* const kOgreBias = "OGRE reads depth = 1 - alpha below the polygon";
 // (1 - a) heightScale: pxh parallax with b = 1.
 const MarchPresetRow kOgreParallax{
     .name = "ogre_parallax",
-    .citation = "OGRE RTSS normal_map parallax: OGRECave/ogre "
-                "Media/RTShaderLib/SGXLib_NormalMap.glsl (SGX_Generate_Parallax_Texcoord), "
-                "Components/RTShaderSystem/src/OgreShaderExNormalMapLighting.cpp @ "
-                "3e955a168617; s = height_scale (0.04)",
+    .citation =
+        "OGRE RTSS normal_map parallax: OGRECave/ogre "
+        "Media/RTShaderLib/SGXLib_NormalMap.glsl (SGX_Generate_Parallax_Texcoord), "
+        "Components/RTShaderSystem/src/OgreShaderExNormalMapLighting.cpp @ "
+        "3e955a168617; s = height_scale (0.04)",
     .summary = "one fetch: uv = P + s (h - 1) V.xy / V.z (depth = 1 - normal map alpha)",
     .knobs = {.search = M::Offset, .offset_form = M::OffTan},
     .exact_on_flat = true,
@@ -34,10 +35,11 @@ PXH_REGISTER_PRESET(kOgreParallax);
 // interpolates with the counter's final (unlagged) depths; no guard on 0/0.
 const MarchPresetRow kOgrePom{
     .name = "ogre_pom",
-    .citation = "OGRE RTSS normal_map parallax_occlusion: OGRECave/ogre "
-                "Media/RTShaderLib/SGXLib_NormalMap.glsl (SGX_Generate_Parallax_Texcoord, "
-                "POM_LAYER_COUNT), OgreShaderExNormalMapLighting.cpp @ 3e955a168617; "
-                "s = height_scale (0.04)",
+    .citation =
+        "OGRE RTSS normal_map parallax_occlusion: OGRECave/ogre "
+        "Media/RTShaderLib/SGXLib_NormalMap.glsl (SGX_Generate_Parallax_Texcoord, "
+        "POM_LAYER_COUNT), OgreShaderExNormalMapLighting.cpp @ 3e955a168617; "
+        "s = height_scale (0.04)",
     .summary = "POM with 32 layers, a sin(theta) step and a one-step lag in the comparison",
     .knobs = {.count = M::Fixed,
               .layers = 32,  // POM_LAYER_COUNT

@@ -10,13 +10,15 @@ using M = MarchConfig;
 
 const MarchPresetRow kPlayCanvasBasic{
     .name = "playcanvas_basic",
-    .citation = "PlayCanvas StandardMaterial getParallax: playcanvas/engine "
-                "src/scene/shader-lib/glsl/chunks/standard/frag/parallax.js and "
-                "src/scene/materials/standard-material.js @ "
-                "e287e0c67f3c20c689a52b7c53d2b7fedbe887da (v2.21.4); s = 0.025 heightMapFactor "
-                "(default 1), heightMapChannel g",
-    .summary = "PlayCanvas parallax: uv = P + s (h(P) - 0.5) V.xy / (V.z + 0.42) (one fetch); "
-               "there is no occlusion mode",
+    .citation =
+        "PlayCanvas StandardMaterial getParallax: playcanvas/engine "
+        "src/scene/shader-lib/glsl/chunks/standard/frag/parallax.js and "
+        "src/scene/materials/standard-material.js @ "
+        "e287e0c67f3c20c689a52b7c53d2b7fedbe887da (v2.21.4); s = 0.025 heightMapFactor "
+        "(default 1), heightMapChannel g",
+    .summary =
+        "PlayCanvas parallax: uv = P + s (h(P) - 0.5) V.xy / (V.z + 0.42) (one fetch); "
+        "there is no occlusion mode",
     .knobs = {.search = M::Offset, .offset_form = M::OffSoft, .offset_soften = 0.42},
     .order = 346,
     .required_bias = 0.5,

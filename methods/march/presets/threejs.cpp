@@ -33,8 +33,9 @@ std::vector<PresetParam> layer_params(double max_layers) {
 const MarchPresetRow kThreeJsBasic{
     .name = "threejs_basic",
     .citation = PXH_THREEJS_SOURCE " (USE_BASIC_PARALLAX)",
-    .summary = "three.js basic: offset limiting, uv = P - parallaxScale V.xy t(P), no division by "
-               "V.z (one fetch)",
+    .summary =
+        "three.js basic: offset limiting, uv = P - parallaxScale V.xy t(P), no division by "
+        "V.z (one fetch)",
     .knobs = {.search = M::Offset, .offset_form = M::OffSin},
     .order = 340,
     .required_bias = 1.0,
@@ -47,8 +48,9 @@ PXH_REGISTER_PRESET(kThreeJsBasic);
 const MarchPresetRow kThreeJsSteep{
     .name = "threejs_steep",
     .citation = PXH_THREEJS_SOURCE " (USE_STEEP_PARALLAX)",
-    .summary = "three.js steep: layers mix(25, 20, |V.z|), first layer with t <= depth, at most 30 "
-               "steps; returns that layer's uv",
+    .summary =
+        "three.js steep: layers mix(25, 20, |V.z|), first layer with t <= depth, at most 30 "
+        "steps; returns that layer's uv",
     .knobs = {.count = M::Mix,
               .step = M::StepTan,
               .first = M::FirstSample,
@@ -65,9 +67,10 @@ PXH_REGISTER_PRESET(kThreeJsSteep);
 const MarchPresetRow kThreeJsOcclusion{
     .name = "threejs_occlusion",
     .citation = PXH_THREEJS_SOURCE " (USE_OCLUSION_PARALLAX)",
-    .summary = "three.js occlusion (POM): the steep search, then the previous layer fetched again "
-               "and the uv interpolated, weight unclamped, also at layer 0 and past the 30-step "
-               "cap",
+    .summary =
+        "three.js occlusion (POM): the steep search, then the previous layer fetched again "
+        "and the uv interpolated, weight unclamped, also at layer 0 and past the 30-step "
+        "cap",
     .knobs = {.count = M::Mix,
               .step = M::StepTan,
               .first = M::FirstSample,
@@ -92,8 +95,9 @@ PXH_REGISTER_PRESET(kThreeJsOcclusion);
 const MarchPresetRow kThreeJsRelief{
     .name = "threejs_relief",
     .citation = PXH_THREEJS_SOURCE " (USE_RELIEF_PARALLAX)",
-    .summary = "three.js relief: the steep search, then 5 bisection probes from half a layer back; "
-               "returns the never-sampled bracket centre (also at layer 0, above the slab)",
+    .summary =
+        "three.js relief: the steep search, then 5 bisection probes from half a layer back; "
+        "returns the never-sampled bracket centre (also at layer 0, above the slab)",
     .knobs = {.count = M::Mix,
               .step = M::StepTan,
               .first = M::FirstSample,

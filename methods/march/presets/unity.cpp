@@ -15,11 +15,12 @@ using M = MarchConfig;
 // offset = h v.xy / v.z.  In pxh terms uv = P + s (h - 0.5) V.xy / (V.z + 0.42).
 const MarchPresetRow kUnityParallaxOffset{
     .name = "unity_parallax_offset",
-    .citation = "Unity built-in/URP ParallaxOffset: TwoTailsGames/Unity-Built-in-Shaders "
-                "CGIncludes/UnityStandardUtils.cginc ParallaxOffset1Step, UnityCG.cginc "
-                "ParallaxOffset, UnityStandardInput.cginc Parallax @ 6a63f93bc1f2 (Unity "
-                "2019.4.1); URP Unity-Technologies/Graphics universal/Shaders/LitInput.hlsl "
-                "@ 3b0efc39f87e; s = _Parallax (0.02 built-in, 0.005 URP)",
+    .citation =
+        "Unity built-in/URP ParallaxOffset: TwoTailsGames/Unity-Built-in-Shaders "
+        "CGIncludes/UnityStandardUtils.cginc ParallaxOffset1Step, UnityCG.cginc "
+        "ParallaxOffset, UnityStandardInput.cginc Parallax @ 6a63f93bc1f2 (Unity "
+        "2019.4.1); URP Unity-Technologies/Graphics universal/Shaders/LitInput.hlsl "
+        "@ 3b0efc39f87e; s = _Parallax (0.02 built-in, 0.005 URP)",
     .summary = "one fetch: uv = P + s (h - 0.5) V.xy / (V.z + 0.42) (softened offset)",
     .knobs = {.search = M::Offset, .offset_form = M::OffSoft, .offset_soften = 0.42},
     .order = 360,
@@ -34,14 +35,16 @@ PXH_REGISTER_PRESET(kUnityParallaxOffset);
 // tolerance 0.01, the last probe's offset returned.
 const MarchPresetRow kHdrpPom{
     .name = "hdrp_pom",
-    .citation = "Unity HDRP Lit pixel displacement: Unity-Technologies/Graphics "
-                "render-pipelines.core/ShaderLibrary/PerPixelDisplacement.hlsl @ c8df1d81db96 "
-                "(ParallaxOcclusionMapping), high-definition/Runtime/Material/Lit/"
-                "LitDataDisplacement.hlsl @ d679af29c7a2 (ApplyPerPixelDisplacement), Lit.shader "
-                "@ ba62a5986427 (defaults); s = _HeightPoMAmplitude / 100 (2 cm: 0.02) for a 1 m "
-                "primitive at tiling 1",
-    .summary = "POM with an angle-of-the-scaled-ray layer count, regula falsi (3 probes, "
-               "tolerance 0.01) returning the last probe; LOD fade off",
+    .citation =
+        "Unity HDRP Lit pixel displacement: Unity-Technologies/Graphics "
+        "render-pipelines.core/ShaderLibrary/PerPixelDisplacement.hlsl @ c8df1d81db96 "
+        "(ParallaxOcclusionMapping), high-definition/Runtime/Material/Lit/"
+        "LitDataDisplacement.hlsl @ d679af29c7a2 (ApplyPerPixelDisplacement), Lit.shader "
+        "@ ba62a5986427 (defaults); s = _HeightPoMAmplitude / 100 (2 cm: 0.02) for a 1 m "
+        "primitive at tiling 1",
+    .summary =
+        "POM with an angle-of-the-scaled-ray layer count, regula falsi (3 probes, "
+        "tolerance 0.01) returning the last probe; LOD fade off",
     .knobs = {.count = M::AngleScaled,
               .first = M::FirstSample,  // prevHeight at offset 0 (never a hit: h <= 1)
               .compare = M::Lt,         // currHeight > rayHeight
