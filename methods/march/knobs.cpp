@@ -1,10 +1,10 @@
-// The knob table (methods/march/knobs.h) as data, and the GLSL declarations it generates.
+// The knob table (methods/march/knobs.h) as data, and what it generates for the GLSL twin: the
+// uniforms' values and their declarations.
 #include "methods/march/knobs.h"
 
 #include <algorithm>
-#include <stdexcept>
 
-#include "methods/method.h"
+#include "methods/march/march.h"
 
 namespace pxh {
 namespace {
@@ -36,8 +36,6 @@ std::vector<MarchKnobSpec> make_knobs() {
 #undef PXH_KNOB_REAL_SPEC
 #undef PXH_KNOB_INTEGER_SPEC
 #undef PXH_KNOB_BOOLEAN_SPEC
-    for (size_t i = 0; i < k.size(); ++i)
-        if (int(k[i].id) != int(i)) throw std::logic_error("march knobs out of order");
     return k;
 }
 
@@ -60,6 +58,13 @@ const std::vector<MarchKnobSpec>& march_knobs() {
 }
 
 const MarchKnobSpec& march_knob(MarchKnob k) { return march_knobs()[size_t(k)]; }
+
+GlUniforms march_uniforms(const MarchConfig& c) {
+    GlUniforms u;
+    for (const MarchKnobSpec& k : march_knobs())
+        u.push_back({k.uniform, glsl_type_of(k.param), k.get(c)});
+    return u;
+}
 
 std::string march_glsl_declarations() {
     struct Line {

@@ -1,6 +1,6 @@
-// The parametric marcher as a method of its own (`march`: every knob a typed parameter), the
-// knobs' uniforms, and presets as methods. The search itself is methods/march/march.h, the
-// knobs methods/march/knobs.h; engine presets are data rows (methods/march/presets/).
+// The parametric marcher as a method of its own (`march`: every knob a typed parameter), and
+// preset rows as methods. The search itself is methods/march/march.h, the knobs
+// methods/march/knobs.h; engine presets are data rows (methods/march/presets/).
 #include "methods/march/march.h"
 
 #include <algorithm>
@@ -9,19 +9,6 @@
 #include "methods/march/preset.h"
 
 namespace pxh {
-
-GlUniforms march_uniforms(const MarchConfig& c) {
-    GlUniforms u;
-    for (const MarchKnobSpec& k : march_knobs()) {
-        const ParamType t = k.param.type;
-        u.push_back({k.uniform,
-                     t == ParamType::Real   ? GlslType::Float
-                     : t == ParamType::Bool ? GlslType::Bool
-                                            : GlslType::Int,
-                     k.get(c)});
-    }
-    return u;
-}
 
 MarchConfig preset_config(const MarchPresetRow& row, const ParamValues& p,
                           const std::string& where) {

@@ -231,8 +231,8 @@ inline int march_max_fetches(const MarchConfig& c, const Scene<double>& sc) {
     return f;
 }
 
-// The GLSL twin's uniforms (methods/march/march.frag.glsl): every knob, by its pm_ name
-// (methods/march/knobs.h).
+// The GLSL twin's uniforms (methods/march/march.frag.glsl): every knob, by its pm_ name, in the
+// table's order (methods/march/knobs.h; implemented in knobs.cpp).
 GlUniforms march_uniforms(const MarchConfig& c);
 
 }  // namespace pxh
