@@ -97,6 +97,9 @@ struct MethodInfo {
     // elsewhere (a test's) names its file (relative to the source tree) and gives its text.
     std::string shader_path{};
     const char* shader_text = nullptr;
+    // Generated GLSL the backend writes in place of the shader's `// @pxh-declarations` line
+    // (harness/backends/shaders.h; the marcher's knob uniforms); empty: none.
+    std::string shader_declarations{};
     // An engine preset whose engine fixes the reference plane: the bias b it draws its surface
     // with (NaN: any b), and why (one phrase, for the error an experiment with another b gets).
     double required_bias = NAN;

@@ -17,7 +17,7 @@ groups = [  # (s, b, presets, how s follows from the engine's default)
 ]
 import sys
 have = set(sys.argv[1:])  # presets that exist
-out = ['''# What engines ship: every engine preset at its engine's defaults (methods/march/presets_*.cpp;
+out = ['''# What engines ship: every engine preset at its engine's defaults (methods/march/presets/*.cpp;
 # README "How wrong is each engine's parallax"). Each preset runs on a procedural (bricks) and a
 # measured (jacksboro) field at its engine's default height scale s and reference plane b
 # ([[methods]] heightfields = [...] pairs them), theta 0-85, on the CPU reference and as GLSL.

@@ -1,8 +1,7 @@
 // Godot 4, Bevy and O3DE parallax: the literal transcriptions of
 // tests/engines/literal_godot_bevy_o3de.h against closed forms on flat fields, their documented
-// defects pinned with numbers, and agreement of each preset
-// (methods/march/presets_godot_bevy_o3de.cpp, CPU float) with its literal on random fields, points
-// and views.
+// defects pinned with numbers, and agreement of each preset (methods/march/presets/godot.cpp,
+// bevy.cpp, o3de.cpp, CPU float) with its literal on random fields, points and views.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -12,27 +12,23 @@
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/metrics.h"
+#include "methods/march/preset.h"
 #include "tests/glsl_agreement.h"
 #include "tests/test_util.h"
 
 namespace pxh {
 
 // A test-only preset whose engine fixes b = 0.5 (registered in pxh_tests only).
-struct TestHalfBiasPreset {
-    static MethodInfo info() {
-        MethodInfo m{"test_half_bias", "test only", "offset with b = 0.5", {}, false, 900};
-        m.required_bias = 0.5;
-        m.bias_reason = "the test engine centres heights on 0.5";
-        return m;
-    }
-    static MarchConfig config(const ParamValues&, const std::string&) {
-        MarchConfig c;
-        c.search = MarchConfig::Offset;
-        c.offset_form = MarchConfig::OffSoft;
-        return c;
-    }
+const MarchPresetRow kTestHalfBiasPreset{
+    .name = "test_half_bias",
+    .citation = "test only",
+    .summary = "offset with b = 0.5",
+    .knobs = {.search = MarchConfig::Offset, .offset_form = MarchConfig::OffSoft},
+    .order = 900,
+    .required_bias = 0.5,
+    .bias_reason = "the test engine centres heights on 0.5",
 };
-PXH_REGISTER_PRESET(TestHalfBiasPreset);
+PXH_REGISTER_PRESET(kTestHalfBiasPreset);
 
 namespace {
 

@@ -29,6 +29,7 @@ GlslMethod GlslMethod::of(const MethodInfo& m) {
     g.shader_file = m.shader_file();
     g.has_builtin_text = m.shader_text != nullptr;
     if (m.shader_text) g.builtin_text = m.shader_text;
+    g.declarations = m.shader_declarations;
     g.plugin_shader = m.plugin_shader;
     g.plugin_source = m.plugin_source;
     g.plugin_display = m.plugin_display;
@@ -64,10 +65,21 @@ std::string raw_log(GLuint object, bool program) {
     return log.c_str();
 }
 
+// The method file's line of a line of the compiled method text: the generated declarations
+// (`count` lines written in place of line `at`, shaders.h) are reported at that line.
+struct BodyLines {
+    long at = 0, count = 0;
+    long file_line(long ln) const {
+        if (count == 0 || ln < at) return ln;
+        return ln < at + count ? at : ln - count + 1;
+    }
+};
+
 // The driver's messages, one per line, with Mesa's "S:L(C): " (source string S, line L, column
 // C) or "S:L: " written as "FILE:L:C: " for the files the source strings are (`files`, by
 // string number: 1 = common.glsl, 2 = the method's file, after pxh's #line directives).
-std::vector<std::string> located(const std::string& log, const std::map<int, std::string>& files) {
+std::vector<std::string> located(const std::string& log, const std::map<int, std::string>& files,
+                                 const BodyLines& body = {}) {
     std::vector<std::string> out;
     std::istringstream in(log);
     std::string line;
@@ -92,7 +104,7 @@ std::vector<std::string> located(const std::string& log, const std::map<int, std
         ok = ok && i < line.size() && line[i++] == ':';
         if (ln > kBodyLine) {  // the method's file, whatever string number Mesa gives
             src = 2;
-            ln -= kBodyLine;
+            ln = body.file_line(ln - kBodyLine);
         } else if (src == 0) {
             src = 1;
         }
@@ -116,7 +128,7 @@ std::string joined(const std::vector<std::string>& lines) {
 }
 
 unsigned compile(GLenum type, const std::string& src, const std::string& what,
-                 const std::map<int, std::string>& files = {}) {
+                 const std::map<int, std::string>& files = {}, const BodyLines& body = {}) {
     const GLuint sh = glCreateShader(type);
     const char* p = src.c_str();
     glShaderSource(sh, 1, &p, nullptr);
@@ -124,7 +136,7 @@ unsigned compile(GLenum type, const std::string& src, const std::string& what,
     GLint ok = 0;
     glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        std::vector<std::string> lines = located(raw_log(sh, false), files);
+        std::vector<std::string> lines = located(raw_log(sh, false), files, body);
         glDeleteShader(sh);
         // Errors only, when the log has any (Mesa's warnings would bury them).
         std::vector<std::string> errors;
@@ -189,6 +201,7 @@ namespace {
 struct MethodSources {
     ShaderSource common, body;
     std::string common_name, body_name;  // "builtin:PATH" or the file read
+    BodyLines body_lines;                // where generated declarations went into body.text
     std::string description() const {    // the results' shader column
         if (body.origin == "builtin" && common.origin == "builtin") return "builtin";
         return body_name + (common.origin == "builtin" ? "" : " + " + common_name);
@@ -202,10 +215,19 @@ MethodSources method_sources(const GlslMethod& m, const std::string& shader_dir)
         s.common = shader_source("methods/common.glsl", shader_dir);
         // A plug-in's text as read when the experiment was parsed (--shader-dir does not
         // apply to it).
-        if (!m.plugin_shader.empty()) s.body = {m.plugin_source, m.plugin_shader};
-        else
+        if (!m.plugin_shader.empty()) {
+            s.body = {m.plugin_source, m.plugin_shader};
+        } else {
             s.body = shader_source(method_path, shader_dir,
                                    m.has_builtin_text ? m.builtin_text.c_str() : nullptr);
+            if (!m.declarations.empty()) {
+                const std::string file =
+                    s.body.origin == "builtin" ? "builtin:" + method_path : s.body.origin;
+                s.body.text = with_declarations(s.body.text, m.declarations, file, s.body_lines.at);
+                s.body_lines.count =
+                    long(std::count(m.declarations.begin(), m.declarations.end(), '\n'));
+            }
+        }
     } catch (const std::exception& e) {
         throw std::runtime_error("method '" + m.name + "': " + e.what());
     }
@@ -246,7 +268,7 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
         // The driver's locations, mapped to the files: a plug-in's as the user reaches it.
         const std::map<int, std::string> files = {
             {1, common_name}, {2, m.plugin_display.empty() ? body_name : m.plugin_display}};
-        fs = compile(GL_FRAGMENT_SHADER, src, what, files);
+        fs = compile(GL_FRAGMENT_SHADER, src, what, files, ms.body_lines);
     } catch (...) {
         glDeleteShader(vs);
         throw;
@@ -261,7 +283,7 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
     glGetProgramiv(prog, GL_LINK_STATUS, &ok);
     if (!ok) {
         const std::vector<std::string> lines =
-            located(raw_log(prog, true), {{1, common_name}, {2, body_name}});
+            located(raw_log(prog, true), {{1, common_name}, {2, body_name}}, ms.body_lines);
         glDeleteProgram(prog);
         throw GlslProgramError(what + ": program link failed: " + joined(lines), lines);
     }

@@ -23,6 +23,7 @@ struct GlslMethod {
     std::string shader_file;  // MethodInfo::shader_file(): the built-in's embedded path
     bool has_builtin_text = false;
     std::string builtin_text;  // MethodInfo::shader_text (a method registered outside pxh)
+    std::string declarations;  // MethodInfo::shader_declarations
     std::string plugin_shader, plugin_source, plugin_display;  // a plug-in's (MethodInfo)
     std::vector<ResourceSpec> resources;  // name, format, filter, wrap (not built here)
     static GlslMethod of(const MethodInfo& m);

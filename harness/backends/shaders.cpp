@@ -15,6 +15,21 @@ ShaderSource shader_file_source(const std::string& path) {
     return {ss.str(), path};
 }
 
+std::string with_declarations(const std::string& text, const std::string& declarations,
+                              const std::string& path, long& line) {
+    const std::string marker = kDeclarationsLine;
+    line = 1;
+    for (size_t start = 0; start < text.size(); ++line) {
+        size_t end = text.find('\n', start);
+        end = end == std::string::npos ? text.size() : end + 1;
+        if (text.compare(start, marker.size(), marker) == 0)
+            return text.substr(0, start) + declarations + text.substr(end);
+        start = end;
+    }
+    throw std::runtime_error(path + ": no '" + marker +
+                             "' line for the method's generated declarations");
+}
+
 ShaderSource shader_source(const std::string& path, const std::string& override_dir,
                            const char* builtin_text) {
     namespace fs = std::filesystem;

@@ -26,6 +26,13 @@ struct ShaderSource {
 // MethodInfo::shader_text) instead of the embedded table.
 ShaderSource shader_source(const std::string& path, const std::string& override_dir,
                            const char* builtin_text = nullptr);
+// Generated declarations in a shader (MethodInfo::shader_declarations): the shader has a line
+// that starts with kDeclarationsLine, and the program is compiled with the generated text in its
+// place. with_declarations returns that text and sets `line` to the line's number; it throws
+// std::runtime_error naming `path` when the shader has no such line.
+inline constexpr const char* kDeclarationsLine = "// @pxh-declarations";
+std::string with_declarations(const std::string& text, const std::string& declarations,
+                              const std::string& path, long& line);
 // A shader file read as it is (a plug-in's): origin = its path; std::runtime_error naming it
 // when it cannot be read.
 ShaderSource shader_file_source(const std::string& path);

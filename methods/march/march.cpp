@@ -1,104 +1,56 @@
-// The parametric marcher as a method of its own (`march`: every knob a typed parameter) and
-// the knobs' uniforms. The search itself is methods/march/march.h; engine presets are named
-// settings of it (methods/march/presets_*.cpp).
+// The parametric marcher as a method of its own (`march`: every knob a typed parameter), and
+// preset rows as methods. The search itself is methods/march/march.h, the knobs
+// methods/march/knobs.h; engine presets are data rows (methods/march/presets/).
 #include "methods/march/march.h"
 
 #include <algorithm>
 
 #include "harness/core/error.h"
+#include "methods/march/preset.h"
 
 namespace pxh {
+
+MarchConfig preset_config(const MarchPresetRow& row, const ParamValues& p,
+                          const std::string& where) {
+    MarchConfig c = row.knobs;
+    for (const PresetParam& pp : row.params) {
+        const ParamValue& v = p.value(pp.spec.name);
+        double x = 0;
+        if (pp.spec.type == ParamType::Choice) {
+            const auto& n = pp.spec.names;
+            const size_t i = size_t(std::find(n.begin(), n.end(), v.name()) - n.begin());
+            x = pp.values.empty() ? double(i) : pp.values.at(i);
+        } else if (pp.spec.type == ParamType::Bool) {
+            x = v.boolean() ? 1 : 0;
+        } else {
+            x = v.number();
+        }
+        march_knob(pp.knob).set(c, x);
+    }
+    if (row.derive) row.derive(c);
+    if (row.check) row.check(c, where);
+    return c;
+}
+
+MethodInfo preset_info(const MarchPresetRow& row) {
+    MethodInfo m{row.name, row.citation, row.summary, {}, row.exact_on_flat, row.order};
+    for (const PresetParam& pp : row.params) m.params.push_back(pp.spec);
+    m.required_bias = row.required_bias;
+    m.bias_reason = row.bias_reason;
+    m.shader_path = "methods/march/march.frag.glsl";
+    m.shader_declarations = march_glsl_declarations();
+    return m;
+}
+
 namespace {
 
-// Choice names, in the order of MarchConfig's enums (the uniform gets the index).
-const std::vector<std::string> kSearch = {"offset", "layers"};
-const std::vector<std::string> kOffsetForm = {"tan", "sin", "soft", "sincos"};
-const std::vector<std::string> kCount = {"fixed",       "mix",          "mix_trunc",
-                                         "mix_negated", "angle_scaled", "mix_scaled"};
-const std::vector<std::string> kStep = {"tan", "sin"};
-const std::vector<std::string> kFirst = {"sample", "top", "bottom"};
-const std::vector<std::string> kCompare = {"le", "lt"};
-const std::vector<std::string> kOnMiss = {"last", "next", "refine"};
-const std::vector<std::string> kRefine = {"none", "lerp", "bisect", "secant", "contact"};
-const std::vector<std::string> kTie = {"back", "stay"};
-
-int index_of(const std::vector<std::string>& names, const std::string& n) {
-    return int(std::find(names.begin(), names.end(), n) - names.begin());
+std::vector<PresetParam> every_knob() {
+    std::vector<PresetParam> p;
+    for (const MarchKnobSpec& k : march_knobs()) p.push_back({k.param, k.id});
+    return p;
 }
 
-}  // namespace
-
-std::vector<ParamSpec> march_params() {
-    return {
-        ParamSpec::choice("search", kSearch, "layers",
-                          "offset: one fetch, uv = P + z(P) d f; layers: the layered search"),
-        ParamSpec::choice("offset_form", kOffsetForm, "tan",
-                          "offset search: f = 1/V.z (tan), 1 (sin), 1/(V.z + offset_soften) "
-                          "(soft), V.z (sincos)"),
-        ParamSpec::real("offset_soften", 0.42, 0, 10, "soft offset: added to V.z"),
-        ParamSpec::choice("count", kCount, "mix",
-                          "layer count rule (methods/march/march.h): fixed, mix, mix_trunc, "
-                          "mix_negated, angle_scaled, mix_scaled"),
-        ParamSpec::real("layers", 32, 1, 4096, "count = fixed: n"),
-        ParamSpec::real("layers_min", 8, 0, 4096, "the count rules' lower (head-on) value"),
-        ParamSpec::real("layers_max", 32, 0, 4096,
-                        "the count rules' upper (grazing) value (mix_scaled: times s)"),
-        ParamSpec::choice("step", kStep, "tan",
-                          "per-layer uv step: tan = V.xy/V.z dz (a ray), sin = V.xy dz"),
-        ParamSpec::boolean("mirror_v", false, "negate the v component of the march direction"),
-        ParamSpec::choice("first", kFirst, "sample",
-                          "layer 0: sample (fetched and tested), top / bottom (not fetched; "
-                          "taken as h = 1 / h = 0, the search starts at layer 1)"),
-        ParamSpec::choice("compare", kCompare, "le", "a hit: g <= 0 (le) or g < 0 (lt)"),
-        ParamSpec::boolean("lag", false,
-                           "compare layer k's sample with layer k-1's ray depth (OGRE)"),
-        ParamSpec::integer("max_steps", 0, 0, 4096, "cap on the layer index (0: none)"),
-        ParamSpec::integer("extra_layers", 0, 0, 4, "layers searched beyond ceil(n)"),
-        ParamSpec::choice("on_miss", kOnMiss, "last",
-                          "no hit by the last layer: its uv (last), the next layer's uv (next), "
-                          "or refine anyway (refine)"),
-        ParamSpec::choice("refine", kRefine, "lerp",
-                          "after the search: none, lerp (POM), bisect (relief), secant "
-                          "(regula falsi), contact (sub-layer search)"),
-        ParamSpec::boolean("clamp_weight", true,
-                           "lerp: w clamped to [0, 1], uv_k when the bracket is degenerate"),
-        ParamSpec::boolean("refetch", false, "lerp: fetch layer k-1 again (as engines do)"),
-        ParamSpec::boolean("refine_at_k0", false,
-                           "refine also when the search stops at layer 0 (layer -1 as the "
-                           "previous one)"),
-        ParamSpec::integer("iterations", 5, 0, 256,
-                           "bisect: probes after the first half step; secant: at most"),
-        ParamSpec::boolean("probe_last", false, "bisect: one more (unused) probe at the end"),
-        ParamSpec::choice("tie", kTie, "back", "bisect at g = 0: step back, or stay"),
-        ParamSpec::real("tolerance", 0.01, 0, 1, "secant: stop when |delta| <= tolerance"),
-    };
-}
-
-MarchConfig march_config(const ParamValues& p, const std::string& where) {
-    MarchConfig c;
-    c.search = index_of(kSearch, p.get_name("search"));
-    c.offset_form = index_of(kOffsetForm, p.get_name("offset_form"));
-    c.offset_soften = p.get("offset_soften");
-    c.count = index_of(kCount, p.get_name("count"));
-    c.layers = p.get("layers");
-    c.layers_min = p.get("layers_min");
-    c.layers_max = p.get("layers_max");
-    c.step = index_of(kStep, p.get_name("step"));
-    c.mirror_v = p.get_bool("mirror_v");
-    c.first = index_of(kFirst, p.get_name("first"));
-    c.compare = index_of(kCompare, p.get_name("compare"));
-    c.lag = p.get_bool("lag");
-    c.max_steps = p.get_int("max_steps");
-    c.extra_layers = p.get_int("extra_layers");
-    c.on_miss = index_of(kOnMiss, p.get_name("on_miss"));
-    c.refine = index_of(kRefine, p.get_name("refine"));
-    c.clamp_weight = p.get_bool("clamp_weight");
-    c.refetch = p.get_bool("refetch");
-    c.refine_at_k0 = p.get_bool("refine_at_k0");
-    c.iterations = p.get_int("iterations");
-    c.probe_last = p.get_bool("probe_last");
-    c.tie = index_of(kTie, p.get_name("tie"));
-    c.tolerance = p.get("tolerance");
+void check_layer_counts(const MarchConfig& c, const std::string& where) {
     if (c.count != MarchConfig::Fixed && c.count != MarchConfig::MixScaled &&
         !(c.layers_min >= 1 && c.layers_max >= 1))
         throw InputError(where, "layers_min and layers_max must be at least 1");
@@ -110,57 +62,26 @@ MarchConfig march_config(const ParamValues& p, const std::string& where) {
                              format_number(c.layers_min) +
                              "): its layer count is layers_min at theta = 0, and 0 layers give "
                              "no answer");
-    return c;
 }
-
-GlUniforms march_uniforms(const MarchConfig& c) {
-    return {GlUniform::integer("pm_search", c.search),
-            GlUniform::integer("pm_offset_form", c.offset_form),
-            GlUniform::real("pm_offset_soften", c.offset_soften),
-            GlUniform::integer("pm_count", c.count),
-            GlUniform::real("pm_layers", c.layers),
-            GlUniform::real("pm_layers_min", c.layers_min),
-            GlUniform::real("pm_layers_max", c.layers_max),
-            GlUniform::integer("pm_step", c.step),
-            GlUniform::boolean("pm_mirror_v", c.mirror_v),
-            GlUniform::integer("pm_first", c.first),
-            GlUniform::integer("pm_compare", c.compare),
-            GlUniform::boolean("pm_lag", c.lag),
-            GlUniform::integer("pm_max_steps", c.max_steps),
-            GlUniform::integer("pm_extra_layers", c.extra_layers),
-            GlUniform::integer("pm_on_miss", c.on_miss),
-            GlUniform::integer("pm_refine", c.refine),
-            GlUniform::boolean("pm_clamp_weight", c.clamp_weight),
-            GlUniform::boolean("pm_refetch", c.refetch),
-            GlUniform::boolean("pm_refine_at_k0", c.refine_at_k0),
-            GlUniform::integer("pm_iterations", c.iterations),
-            GlUniform::boolean("pm_probe_last", c.probe_last),
-            GlUniform::integer("pm_tie", c.tie),
-            GlUniform::real("pm_tolerance", c.tolerance)};
-}
-
-namespace {
 
 // The `march` method: the marcher with every knob given in the experiment (defaults: pxh's
 // view-adaptive POM, methods/pom).
-struct MarchDef {
-    static MethodInfo info() {
-        return {"march",
-                "pxh's parametric marcher (methods/march/march.h): the knobs of the engines' "
-                "layered searches (issue 14); defaults = pom with layers_min 8, layers_max 32",
-                "a layered (or one-fetch offset) search with typed knobs; engine presets are "
-                "named settings of it",
-                march_params(),
-                true,
-                200};
-    }
-    static MarchConfig config(const ParamValues& p, const std::string& where) {
-        return march_config(p, where);
-    }
+const MarchPresetRow kMarch{
+    .name = "march",
+    .citation =
+        "pxh's parametric marcher (methods/march/march.h): the knobs of the engines' "
+        "layered searches (issue 14); defaults = pom with layers_min 8, layers_max 32",
+    .summary =
+        "a layered (or one-fetch offset) search with typed knobs; engine presets are "
+        "named settings of it",
+    .params = every_knob(),
+    .exact_on_flat = true,
+    .order = 200,
+    .check = check_layer_counts,
 };
 
 }  // namespace
 
-PXH_REGISTER_PRESET(MarchDef);
+PXH_REGISTER_PRESET(kMarch);
 
 }  // namespace pxh

@@ -1,27 +1,5 @@
 // The parametric marcher (methods/march/march.h): the same operations in the same order.
-uniform int pm_search;       // 0 offset, 1 layers
-uniform int pm_offset_form;  // 0 tan, 1 sin, 2 soft, 3 sincos
-uniform float pm_offset_soften;
-uniform int pm_count;  // 0 fixed, 1 mix, 2 mix_trunc, 3 mix_negated, 4 angle_scaled, 5 mix_scaled
-uniform float pm_layers;
-uniform float pm_layers_min;
-uniform float pm_layers_max;
-uniform int pm_step;  // 0 tan, 1 sin
-uniform bool pm_mirror_v;
-uniform int pm_first;    // 0 sample, 1 top, 2 bottom
-uniform int pm_compare;  // 0 le, 1 lt
-uniform bool pm_lag;
-uniform int pm_max_steps;
-uniform int pm_extra_layers;
-uniform int pm_on_miss;  // 0 last, 1 next, 2 refine
-uniform int pm_refine;   // 0 none, 1 lerp, 2 bisect, 3 secant, 4 contact
-uniform bool pm_clamp_weight;
-uniform bool pm_refetch;
-uniform bool pm_refine_at_k0;
-uniform int pm_iterations;
-uniform bool pm_probe_last;
-uniform int pm_tie;  // 0 back, 1 stay
-uniform float pm_tolerance;
+// @pxh-declarations: the knobs' uniforms, generated from methods/march/knobs.h
 
 float pm_fast_acos_pos(float x) {
     float p = (0.0468878 * x - 0.203471) * x + 1.570796;

@@ -1,8 +1,10 @@
 // The parametric marcher: one search whose knobs reproduce the parallax that engines ship (and
 // pxh's own steep / pom / relief), in pxh's convention (docs/conventions.md): surface
-// z = s (h - b), V toward the eye, P the sample. Engine presets (methods/march/presets_*.cpp) are
-// named settings of it; the `march` method exposes every knob. Its GLSL twin is
-// methods/march/march.frag.glsl (same operations in the same order; pm_* uniforms).
+// z = s (h - b), V toward the eye, P the sample. The knobs are declared once, in
+// methods/march/knobs.h (MarchConfig, the parameters, the uniforms and their GLSL declarations).
+// Engine presets (methods/march/presets/ENGINE.cpp, methods/march/preset.h) are named settings
+// of it; the `march` method exposes every knob. Its GLSL twin is methods/march/march.frag.glsl
+// (same operations in the same order; pm_* uniforms).
 //
 // search = offset (one fetch): uv = P + z(P) * d * f, d = V.xy (v mirrored with mirror_v),
 //   f = 1 / V.z (tan), 1 (sin), 1 / (V.z + offset_soften) (soft), V.z (sincos).
@@ -26,54 +28,21 @@
 //   delta = ih - h, stop when |delta| <= tolerance, else replace the end of the bracket with
 //   delta's sign; uv of the last probe.  contact: from layer k - 1, sub-layers of 1 / n until a
 //   hit (at most ceil(n) + 1), uv of that sub-layer.
+// The count rules: fixed: n = layers.  mix: n = layers_max (1 - |V.z|) + layers_min |V.z|.
+//   mix_trunc: n = trunc(layers_max + (layers_min - layers_max) V.z).  mix_negated:
+//   n = layers_max + (-V.z) (layers_min - layers_max).  angle_scaled: a = fastacos(z of
+//   normalize(s V.xy, V.z)) 2 / pi clamped to [0, 1], n = trunc(layers_min + (layers_max -
+//   layers_min) a).  mix_scaled: n = layers_min (1 - a) + (layers_max s) a, a = 1 - V.z.
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 
+#include "methods/march/knobs.h"
 #include "methods/method.h"
 
 namespace pxh {
-
-struct MarchConfig {
-    enum Search { Offset, Layers };
-    enum OffsetForm { OffTan, OffSin, OffSoft, OffSinCos };
-    enum Count { Fixed, Mix, MixTrunc, MixNegated, AngleScaled, MixScaled };
-    enum Step { StepTan, StepSin };
-    enum First { FirstSample, FirstTop, FirstBottom };
-    enum Compare { Le, Lt };
-    enum OnMiss { MissLast, MissNext, MissRefine };
-    enum Refine { RefineNone, Lerp, Bisect, Secant, Contact };
-    enum Tie { TieBack, TieStay };
-
-    int search = Layers;
-    int offset_form = OffTan;
-    double offset_soften = 0.42;
-    // count = fixed: n = layers.  mix: n = layers_max (1 - |V.z|) + layers_min |V.z|.
-    // mix_trunc: n = trunc(layers_max + (layers_min - layers_max) V.z).  mix_negated:
-    // n = layers_max + (-V.z) (layers_min - layers_max).  angle_scaled: a = fastacos(z of
-    // normalize(s V.xy, V.z)) 2 / pi clamped to [0, 1], n = trunc(layers_min + (layers_max -
-    // layers_min) a).  mix_scaled: n = layers_min (1 - a) + (layers_max s) a, a = 1 - V.z.
-    int count = Mix;
-    double layers = 32, layers_min = 8, layers_max = 32;
-    int step = StepTan;
-    bool mirror_v = false;
-    int first = FirstSample;
-    int compare = Le;
-    bool lag = false;
-    int max_steps = 0;     // 0: no cap beyond ceil(n) + extra_layers
-    int extra_layers = 0;  // layers searched beyond ceil(n)
-    int on_miss = MissLast;
-    int refine = Lerp;
-    bool clamp_weight = true;
-    bool refetch = false;
-    bool refine_at_k0 = false;
-    int iterations = 5;  // bisect: probes after the first half step; secant: at most
-    bool probe_last = false;
-    int tie = TieBack;
-    double tolerance = 0.01;  // secant, in normalised height
-};
 
 // Hastings-style polynomial arccos on [0, 1] as HDRP's FastACosPos: p(x) sqrt(1 - x).
 template <typename T>
@@ -262,40 +231,8 @@ inline int march_max_fetches(const MarchConfig& c, const Scene<double>& sc) {
     return f;
 }
 
-// The GLSL twin's uniforms (methods/march/march.frag.glsl): every knob, by its pm_ name.
+// The GLSL twin's uniforms (methods/march/march.frag.glsl): every knob, by its pm_ name, in the
+// table's order (methods/march/knobs.h; implemented in knobs.cpp).
 GlUniforms march_uniforms(const MarchConfig& c);
-
-// The knobs as typed parameters (the `march` method's), and the config they describe.
-std::vector<ParamSpec> march_params();
-MarchConfig march_config(const ParamValues& p, const std::string& where);
-
-// An engine preset: a named setting of the marcher with the engine's own parameters.
-// Def provides: static MethodInfo info() (name, citation, summary, the engine's ParamSpecs,
-// exact_on_flat, order; required_bias set when the engine fixes the reference plane) and
-// static MarchConfig config(const ParamValues&, const std::string& where).
-template <class Def>
-struct MarchPreset {
-    using Config = MarchConfig;
-    static MethodInfo describe() {
-        MethodInfo m = Def::info();
-        m.shader_path = "methods/march/march.frag.glsl";
-        return m;
-    }
-    static Config configure(const ParamValues& p, const std::string& where) {
-        return Def::config(p, where);
-    }
-    static int max_fetches(const Config& c, const Scene<double>& sc) {
-        return march_max_fetches(c, sc);
-    }
-    static GlUniforms gl_uniforms(const Config& c) { return march_uniforms(c); }
-    template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
-        return march(c, sc, hs, P);
-    }
-};
-
-#define PXH_REGISTER_PRESET(Def)                              \
-    [[maybe_unused]] static const bool pxh_registered_##Def = \
-        ::pxh::register_method(::pxh::make_method_info<::pxh::MarchPreset<Def>>())
 
 }  // namespace pxh
