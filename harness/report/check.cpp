@@ -25,9 +25,6 @@ namespace {
 const std::vector<std::string> kTextFilters = {
     "method", "params", "heightfield", "backend", "precision", "texture_format", "ground_truth"};
 const std::vector<std::string> kNumberFilters = {"scale", "bias", "phi_deg", "samples"};
-// The other keys of a [[limit]].
-const std::vector<std::string> kLimitKeys = {"column",    "min",  "max",     "theta_min",
-                                             "theta_max", "note", "ratio_to"};
 // What identifies a row's baseline for `ratio_to`: the same field, view and backend (and
 // variant and reference) as the row, another method.
 const std::vector<std::string> kSameAsBaseline = {
