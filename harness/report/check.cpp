@@ -162,20 +162,14 @@ void check_column(const ResultsFile& f, const std::string& where, const std::str
 
 // A filter as read: a value or a non-empty list of values, of the column's type, each found
 // in some row of results.csv (a value no row has is a typo, or a limit that checks nothing).
-Filter read_filter(const std::string& key, const ParamDict& lt, const ResultsFile& f) {
+Filter read_filter(const std::string& key, const std::vector<ParamDict::Element>& values,
+                   const std::string& where, const ResultsFile& f) {
     Filter flt;
     flt.key = key;
-    flt.where = lt.where(key);
-    const std::string& where = flt.where;
+    flt.where = where;
     flt.numeric = contains(kNumberFilters, key);
     const std::string expected =
         flt.numeric ? "a number or a list of numbers" : "a string or a list of strings";
-    std::vector<ParamDict::Element> values;
-    try {
-        values = lt.elements(key);
-    } catch (const InputError&) {
-        throw InputError(where, "'" + key + "' is an empty list: it matches no row");
-    }
     for (const auto& v : values) {
         if (flt.numeric) {
             if (!v.value || !v.value->is_number())
@@ -213,23 +207,21 @@ Filter read_filter(const std::string& key, const ParamDict& lt, const ResultsFil
     return flt;
 }
 
-RatioTo read_ratio_to(const ParamDict& lt, const ResultsFile& f) {
-    const std::string where = lt.where("ratio_to");
-    const auto t =
-        lt.table("ratio_to", "ratio_to",
-                 "'ratio_to' must be a table, e.g. ratio_to = { method = \"parallax\" }");
+// `ratio_to = { method = "...", params = "..." }` (`where`: its line).
+RatioTo read_ratio_to(const ParamDict& t, const std::string& where, const ResultsFile& f) {
     RatioTo r;
     r.where = where;
     auto text = [&](const std::string& key) -> std::optional<std::string> {
-        if (!t->has(key)) return std::nullopt;
-        const auto v = t->elements(key);
-        if (v.size() != 1 || t->is_list(key) || !v[0].value || !v[0].value->is_name())
+        if (!t.has(key)) return std::nullopt;
+        if (t.is_list(key)) throw InputError(where, "ratio_to." + key + " must be a string");
+        const auto v = t.elements(key);
+        if (v.size() != 1 || !v[0].value || !v[0].value->is_name())
             throw InputError(where, "ratio_to." + key + " must be a string");
         return v[0].value->name();
     };
     const auto method = text("method");
     const auto params = text("params");
-    t->report_unused([&](const std::string& key, const std::string&) {
+    t.report_unused([&](const std::string& key, const std::string&) {
         return "unknown key '" + key + "' in ratio_to (keys: method, params)";
     });
     if (!method) throw InputError(where, "ratio_to needs 'method' (the baseline method)");
@@ -262,10 +254,21 @@ Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
     l.hi = num("max");
     const auto tmin = num("theta_min"), tmax = num("theta_max");
     lt.string("note");  // a comment for the reader of the file
-    const bool ratio = lt.has("ratio_to");
+    // ratio_to is read (its table taken) before the unread keys are reported, its keys after.
+    const std::optional<ParamDict> ratio =
+        lt.table("ratio_to", "ratio_to",
+                 "'ratio_to' must be a table, e.g. ratio_to = { method = \"parallax\" }");
     std::vector<std::string> filters = kTextFilters;
     filters.insert(filters.end(), kNumberFilters.begin(), kNumberFilters.end());
-    for (const auto& key : filters) lt.has(key);
+    std::vector<std::pair<std::string, std::vector<ParamDict::Element>>> given;
+    for (const auto& key : filters) {
+        if (!lt.has(key)) continue;
+        try {
+            given.emplace_back(key, lt.elements(key));
+        } catch (const InputError&) {
+            throw InputError(lt.where(key), "'" + key + "' is an empty list: it matches no row");
+        }
+    }
     lt.report_unused([](const std::string& key, const std::string& known) {
         return "unknown key '" + key + "' in [[limit]] (keys: " + known + ")";
     });
@@ -273,12 +276,11 @@ Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
     l.column = *column;
     check_column(f, lt.where("column"), l.column);
     if (!l.lo && !l.hi) throw InputError(l.where, "[[limit]] needs 'min' or 'max'");
-    if (ratio) l.ratio = read_ratio_to(lt, f);
+    if (ratio) l.ratio = read_ratio_to(*ratio, lt.where("ratio_to"), f);
     l.tmin = tmin.value_or(-1);
     l.tmax = tmax.value_or(1e9);
-    for (const auto& key : filters) {
-        if (!lt.has(key)) continue;
-        Filter flt = read_filter(key, lt, f);
+    for (const auto& [key, elements] : given) {
+        Filter flt = read_filter(key, elements, lt.where(key), f);
         std::string values;
         for (size_t k = 0; k < flt.size(); ++k) values += (k ? ", " : "") + flt.shown(k);
         l.what += (l.what.empty() ? "" : " ") + key + "=" +
