@@ -35,7 +35,8 @@ class ParamDict {
     std::string where() const;
     // FILE:LINE of the key's value (where() when it has no line or is absent).
     std::string where(const std::string& key) const;
-    // Whether the key is there; the key counts as asked for (one this consumer accepts).
+    // Whether the key is there; the key counts as asked for (one this consumer accepts) but
+    // stays unread: read it with a getter, elements() or table() before report_unused().
     bool has(const std::string& key) const;
     // The keys in the table's order (asks for none).
     std::vector<std::string> keys() const;
