@@ -154,7 +154,7 @@ class RegisteredMetric : public test::CliTest {};
 TEST_F(RegisteredMetric, ReachesResultsCsvAndIsReadBackTyped) {
     Experiment ex;
     ex.samples = 24;
-    ex.timing_repeats = 0;
+    ex.backend.timing_repeats = 0;
     ex.theta_deg = {0, 45, 70};
     HeightfieldSpec hs;
     hs.name = hs.generator = "sine";

@@ -87,7 +87,7 @@ TEST(Sweep, RandomPerSampleOffsetsShimmerWithoutSliding) {
 TEST(Sweep, RealMethodsOrderAsThePapersSay) {
     Experiment ex;
     ex.samples = 96;
-    ex.timing_repeats = 0;
+    ex.backend.timing_repeats = 0;
     ex.theta_deg = {60, 75, 80};
     ex.phi_deg = {30};
     ex.sweep_dt_deg = 0.25;
@@ -144,7 +144,7 @@ TEST(Sweep, RealMethodsOrderAsThePapersSay) {
 TEST(Sweep, ConsecutiveViewsFillAllButTheLastRow) {
     Experiment ex;
     ex.samples = 32;
-    ex.timing_repeats = 0;
+    ex.backend.timing_repeats = 0;
     ex.theta_deg = {20, 40, 60};
     HeightfieldSpec hs;
     hs.name = hs.generator = "sine";

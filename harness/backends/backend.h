@@ -1,8 +1,9 @@
 // The backend stage: runs one method setting over every sample of one view and returns the
 // per-sample output (uv, fetches, shadow factors, timing). Scoring is the metrics' job.
 //
-// Adding a backend: one file harness/backends/NAME_backend.cpp defining a Backend subclass and
-// a factory, plus one line in harness/backends/registry.cpp.
+// Adding a backend: one file harness/backends/NAME_backend.cpp defining a Backend subclass, a
+// factory and the reader of its own experiment keys, plus one line in
+// harness/backends/registry.cpp.
 #pragma once
 #include <cmath>
 #include <map>
@@ -16,6 +17,8 @@
 #include "methods/method.h"
 
 namespace pxh {
+
+class ParamDict;
 
 constexpr double kDefaultGlTimeLimitS = 120;  // gl_time_limit_s, pxh run --gl-time-limit
 constexpr double kMaxGlTimeLimitS = 86400;    // the largest accepted (one day)
@@ -99,6 +102,10 @@ class Backend {
 // The registry (harness/backends/registry.cpp): one line per backend.
 struct BackendEntry {
     const char* name;
+    // Reads its own keys of the experiment's top level into `settings` (the CPU backend:
+    // precision, timing_repeats; GLSL: texture_format, gl, gl_time_limit_s), each checked
+    // there (an InputError at its FILE:LINE).
+    void (*read)(const ParamDict& experiment, BackendSettings& settings);
     std::unique_ptr<Backend> (*make)(const BackendSettings&);
     // Its variants under these settings, without creating it (a run's row estimate).
     std::vector<Variant> (*variants)(const BackendSettings&);
@@ -107,6 +114,9 @@ const std::vector<BackendEntry>& backend_registry();
 std::vector<std::string> backend_names();  // in registry order
 // Throws InputError(where, "unknown backend 'x' (known: cpu, glsl)") for an unknown name.
 void check_backend_name(const std::string& name, const std::string& where);
+// Every registered backend reads its keys (whichever backends the experiment runs: pxh run
+// --backend may pick another).
+void read_backend_settings(const ParamDict& experiment, BackendSettings& settings);
 // Creates it (a GL backend creates its context here; its failure is a std::runtime_error).
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings);
 // The variants a backend would run under these settings (its rows per method setting).

@@ -5,6 +5,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "harness/core/error.h"
+#include "harness/core/param_dict.h"
 #include "harness/truth/ground_truth.h"
 #include "methods/shadow.h"
 
@@ -87,6 +89,17 @@ void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& p
                  const Scene<double>& scene, const HeightField& hf) {
     if (precision == "double") add_shadows_typed<double>(out, light, scene, hf);
     else add_shadows_typed<float>(out, light, scene, hf);
+}
+
+// The experiment's top-level precision (float | double, a value or a list) and
+// timing_repeats (timed passes, the median reported; 0: untimed).
+void read_cpu_settings(const ParamDict& ex, BackendSettings& s) {
+    s.timing_repeats = ex.integer("timing_repeats", s.timing_repeats, 0, 1000);
+    s.precisions = ex.strings("precision", s.precisions);
+    for (const auto& p : s.precisions)
+        if (p != "float" && p != "double")
+            throw InputError(ex.where("precision"),
+                             "unknown precision '" + p + "' (known: float, double)");
 }
 
 std::vector<Variant> cpu_variants(const BackendSettings& settings) {

@@ -14,6 +14,7 @@
 #include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"
+#include "harness/core/param_dict.h"
 #include "harness/core/sha256.h"
 #include "harness/gl/context.h"
 #include "harness/truth/ground_truth.h"
@@ -551,6 +552,25 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
     out.shader = program.shader;
     out.shader_sha256 = program.sha256;
     return out;
+}
+
+// The experiment's top-level gl (the GL context), gl_time_limit_s (seconds per row) and
+// texture_format (r32f | r16 | r8, a value or a list: the height texture's variants).
+void read_glsl_settings(const ParamDict& ex, BackendSettings& s) {
+    s.gl = ex.string("gl", s.gl);
+    if (ex.has("gl") && !find_gl_context(s.gl))
+        throw InputError(ex.where("gl"),
+                         "unknown GL context '" + s.gl + "' (known: " + gl_context_names() + ")");
+    s.gl_time_limit_s = ex.number("gl_time_limit_s", s.gl_time_limit_s);
+    if (!(s.gl_time_limit_s > 0 && s.gl_time_limit_s <= kMaxGlTimeLimitS))
+        throw InputError(ex.where("gl_time_limit_s"),
+                         "gl_time_limit_s = " + format_number(s.gl_time_limit_s) +
+                             " is outside (0, 86400] (seconds per row)");
+    s.texture_formats = ex.strings("texture_format", s.texture_formats);
+    for (const auto& f : s.texture_formats)
+        if (f != "r32f" && f != "r16" && f != "r8")
+            throw InputError(ex.where("texture_format"),
+                             "unknown texture_format '" + f + "' (known: r32f, r16, r8)");
 }
 
 std::vector<Variant> glsl_variants(const BackendSettings& settings) {

@@ -6,15 +6,17 @@
 
 namespace pxh {
 
+void read_cpu_settings(const ParamDict&, BackendSettings&);
 std::unique_ptr<Backend> make_cpu_backend(const BackendSettings&);
 std::vector<Variant> cpu_variants(const BackendSettings&);
+void read_glsl_settings(const ParamDict&, BackendSettings&);
 std::unique_ptr<Backend> make_glsl_backend(const BackendSettings&);
 std::vector<Variant> glsl_variants(const BackendSettings&);
 
 const std::vector<BackendEntry>& backend_registry() {
     static const std::vector<BackendEntry> entries = {
-        {"cpu", &make_cpu_backend, &cpu_variants},
-        {"glsl", &make_glsl_backend, &glsl_variants},
+        {"cpu", &read_cpu_settings, &make_cpu_backend, &cpu_variants},
+        {"glsl", &read_glsl_settings, &make_glsl_backend, &glsl_variants},
     };
     return entries;
 }
@@ -23,6 +25,10 @@ std::vector<std::string> backend_names() { return entry_names(backend_registry()
 
 void check_backend_name(const std::string& name, const std::string& where) {
     find_entry(backend_registry(), name, "backend", where);
+}
+
+void read_backend_settings(const ParamDict& experiment, BackendSettings& settings) {
+    for (const auto& e : backend_registry()) e.read(experiment, settings);
 }
 
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings) {

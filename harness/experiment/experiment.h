@@ -1,5 +1,9 @@
-// Experiment files (TOML): what to run. Parsing checks every key; a bad file is an InputError
-// naming the file and line.
+// Experiment files (TOML): what to run. Every component reads its own keys through one
+// ParamDict (harness/core/param_dict.h), and a key nobody read is an InputError naming the
+// file and line; so is any other bad value. The code, by concept: parse.cpp (the file, its
+// top-level keys, [views], [light], [render]), heightfield_entries.cpp ([[heightfields]]),
+// method_entries.cpp ([[methods]], plug-in shaders, sweeps), only.cpp (--only) and
+// estimate.cpp (the run estimate).
 #pragma once
 #include <cstddef>
 #include <map>
@@ -9,30 +13,13 @@
 #include <vector>
 
 #include "harness/backends/backend.h"
+#include "harness/core/param_dict.h"
 #include "harness/core/params.h"
 #include "harness/scene/heightfield.h"
+#include "heightfields/field_spec.h"
 #include "methods/method.h"
 
 namespace pxh {
-
-struct HeightfieldSpec {
-    std::string name;          // as reported in results: unique within a run (one name, one field)
-    std::string generator;     // either a generator ...
-    std::string file;          // ... or an image file (resolved path)
-    std::string file_written;  // the file's path as written in the experiment
-    std::string scan;          // ... or an imported scan (heightfields/scanned/NAME)
-    int width = 256, height = 256;
-    int channel = 0;
-    ParamValues gen_params;
-    double scale = 0.05, bias = 1.0;
-    std::string where;  // file:line of the entry, for errors
-    // What identifies the field (results column heightfield_id), one line:
-    //   generator:NAME WxH [canonical resolved parameters]
-    //   file:PATH channel:C sha256:HEX   (PATH as written, relative to the experiment file)
-    //   scan:NAME sha256:HEX             (of the committed heightfields/scanned/NAME.png)
-    std::string identity;
-    std::string source_path, source_sha256;  // files and scans: the image read and its sha256
-};
 
 // [render]: the views whose pictures a run writes (harness/results/pictures.h): a numbered
 // checkerboard seen through the truth's uv and through each row's uv, their difference, and the
@@ -57,18 +44,18 @@ struct Experiment {
     std::string text;  // its content, recorded in provenance
     int samples = 256;
     std::vector<std::string> backends{"cpu"};
-    std::vector<std::string> precisions{"float"};
-    std::vector<std::string> texture_formats{"r32f"};  // GLSL height texture: r32f | r16 | r8
-    int timing_repeats = 5;
+    // What every registered backend read from its own top-level keys (precision,
+    // timing_repeats; texture_format, gl, gl_time_limit_s), whichever backends run: pxh run
+    // --backend may pick another. The command line's overrides are the runner's.
+    BackendSettings backend;
     std::string ground_truth = "exact";
-    std::string gl = "osmesa";  // the GLSL backend's GL context (pxh run --gl overrides it)
-    double gl_time_limit_s = kDefaultGlTimeLimitS;  // per GLSL row (pxh run --gl-time-limit)
     double sweep_dt_deg = 0;      // > 0: sliding/shimmering from a companion view dt away
     bool maps = false;            // write per-row error maps
     bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the
                                   // reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
     std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)
+    ParamDict camera_params;              // [views], where the camera reads its own keys
     std::optional<LightSpec> light;
     std::optional<RenderSpec> render;           // [render]: pictures of these views
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
@@ -124,22 +111,9 @@ void apply_only(Experiment& ex, const std::string& spec);
 // experiment's backends after --only, or `backends_override`, pxh run --backend, when given).
 void check_plugin_backends(const Experiment& ex, const std::vector<std::string>& backends_override);
 
-// What the experiment's keys ask of the backends (precisions, texture formats, timing
-// repeats, GL context); the command line's overrides are the runner's.
+// What the experiment's keys ask of the backends (ex.backend); the command line's overrides
+// are the runner's.
 BackendSettings backend_settings(const Experiment& ex);
-
-// Materialises a height field (generates or loads); throws InputError. Errors from an image
-// file read "EXPERIMENT:LINE: heightfield file 'PATH' (paths are relative to the experiment
-// file): REASON".
-HeightField make_heightfield(const HeightfieldSpec& spec);
-
-// Width and height of a field before it is built (files: from the header; the loader's limit
-// when unreadable).
-struct FieldSize {
-    size_t width, height;
-    bool mask;  // a filled-hole mask (scans)
-};
-FieldSize field_size(const HeightfieldSpec& spec);
 
 // What a run will take, estimated before any work (the lead's --max-rows / --max-memory).
 //   rows = height field entries (scale/bias expanded) x theta x phi x method settings x

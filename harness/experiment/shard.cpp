@@ -54,7 +54,9 @@ double view_cost(const Experiment& ex, const HeightfieldSpec& h, const FieldSize
                                    : double(std::max(1, m.method->declared_max_fetches));
         for (const auto& b : backends) {
             if (b == "cpu" && !m.method->run_float) continue;  // no C++ twin, no CPU row
-            const double passes = !timed ? 1 : b == "cpu" ? 1.0 + ex.timing_repeats : 1 + kGlFrames;
+            const double passes = !timed       ? 1
+                                  : b == "cpu" ? 1.0 + ex.backend.timing_repeats
+                                               : 1 + kGlFrames;
             cost += double(backend_variants(b, settings).size()) * std::max(1.0, fetches) * passes;
         }
     }

@@ -1,7 +1,5 @@
 // `pxh check DIR --thresholds FILE`: every [[limit]] of the file against the typed rows of
 // DIR/results.csv.
-#include <toml++/toml.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
@@ -12,6 +10,7 @@
 #include <optional>
 
 #include "harness/core/error.h"
+#include "harness/core/param_dict.h"
 #include "harness/core/params.h"
 #include "harness/report/report.h"
 #include "harness/results/csv_table.h"
@@ -26,9 +25,6 @@ namespace {
 const std::vector<std::string> kTextFilters = {
     "method", "params", "heightfield", "backend", "precision", "texture_format", "ground_truth"};
 const std::vector<std::string> kNumberFilters = {"scale", "bias", "phi_deg", "samples"};
-// The other keys of a [[limit]].
-const std::vector<std::string> kLimitKeys = {"column",    "min",  "max",     "theta_min",
-                                             "theta_max", "note", "ratio_to"};
 // What identifies a row's baseline for `ratio_to`: the same field, view and backend (and
 // variant and reference) as the row, another method.
 const std::vector<std::string> kSameAsBaseline = {
@@ -117,32 +113,25 @@ struct Outcome {
     std::vector<std::string> details;  // printed under a FAIL row: the rows that fail it
 };
 
-// A TOML number as a double (value<double>() is empty for an integer beyond 2^53).
-double number_of(const toml::node& n) {
-    if (const auto* i = n.as_integer()) return static_cast<double>(i->get());
-    return n.as_floating_point()->get();
-}
-
-// "FILE:LINE" of a node of the thresholds file (`fallback` when it has no position).
-std::string where_of(const toml::node& n, const std::string& file, const std::string& fallback) {
-    const auto line = n.source().begin.line;
-    return line ? file + ":" + std::to_string(line) : fallback;
-}
-
-toml::table parse_thresholds(const std::string& file) {
-    toml::table root;
-    try {
-        root = toml::parse(read_regular_file(file), file);
-    } catch (const toml::parse_error& e) {
-        throw InputError(file + ":" + std::to_string(e.source().begin.line),
-                         "TOML syntax error: " + std::string(e.description()));
+// The thresholds file's [[limit]] tables, read by the one reader (harness/core/param_dict.h):
+// [[limit]] is its only key.
+std::vector<ParamDict> read_thresholds(const std::string& file) {
+    const ParamDict root = ParamDict::parse(read_regular_file(file), file, "thresholds");
+    std::vector<ParamDict> limits;
+    if (root.is_list("limit")) {
+        try {
+            limits = root.tables("limit", "[[limit]]");
+        } catch (const InputError&) {
+            throw InputError(root.where("limit"), "no [[limit]] tables");
+        }
+    } else if (root.has("limit")) {
+        throw InputError(root.where("limit"), "no [[limit]] tables");
     }
-    for (const auto& [k, v] : root)
-        if (k.str() != "limit")
-            throw InputError(where_of(v, file, file),
-                             "unknown key '" + std::string(k.str()) +
-                                 "' (a thresholds file holds [[limit]] tables)");
-    return root;
+    root.report_unused([](const std::string& key, const std::string&) {
+        return "unknown key '" + key + "' (a thresholds file holds [[limit]] tables)";
+    });
+    if (limits.empty()) throw InputError(root.where("limit"), "no [[limit]] tables");
+    return limits;
 }
 
 // The measured numeric columns of the file, in its order: what a limit may name.
@@ -173,33 +162,27 @@ void check_column(const ResultsFile& f, const std::string& where, const std::str
 
 // A filter as read: a value or a non-empty list of values, of the column's type, each found
 // in some row of results.csv (a value no row has is a typo, or a limit that checks nothing).
-Filter read_filter(const std::string& key, const toml::node& node, const std::string& where,
-                   const ResultsFile& f) {
+Filter read_filter(const std::string& key, const std::vector<ParamDict::Element>& values,
+                   const std::string& where, const ResultsFile& f) {
     Filter flt;
     flt.key = key;
     flt.where = where;
     flt.numeric = contains(kNumberFilters, key);
     const std::string expected =
         flt.numeric ? "a number or a list of numbers" : "a string or a list of strings";
-    auto add = [&](const toml::node& v) {
+    for (const auto& v : values) {
         if (flt.numeric) {
-            if (!(v.is_integer() || v.is_floating_point()))
+            if (!v.value || !v.value->is_number())
                 throw InputError(where, "'" + key + "' must be " + expected);
-            const double d = number_of(v);
+            const double d = v.value->number();
             if (std::isnan(d)) throw InputError(where, "'" + key + "' is nan: no row has it");
             flt.numbers.push_back(d);
         } else {
-            if (!v.is_string()) throw InputError(where, "'" + key + "' must be " + expected);
-            const std::string s = *v.value<std::string>();
+            if (!v.value || !v.value->is_name())
+                throw InputError(where, "'" + key + "' must be " + expected);
+            const std::string& s = v.value->name();
             flt.texts.push_back(key == "params" ? canonical_params(s) : s);
         }
-    };
-    if (const toml::array* list = node.as_array()) {
-        if (list->empty())
-            throw InputError(where, "'" + key + "' is an empty list: it matches no row");
-        for (const auto& v : *list) add(v);
-    } else {
-        add(node);
     }
     if (!f.has(key))
         throw InputError(where, "results.csv has no column '" + key + "' to filter on");
@@ -224,25 +207,28 @@ Filter read_filter(const std::string& key, const toml::node& node, const std::st
     return flt;
 }
 
-RatioTo read_ratio_to(const toml::node& node, const std::string& where, const ResultsFile& f) {
-    const toml::table* t = node.as_table();
-    if (!t)
-        throw InputError(where,
-                         "'ratio_to' must be a table, e.g. ratio_to = { method = \"parallax\" }");
+// `ratio_to = { method = "...", params = "..." }` (`where`: its line).
+RatioTo read_ratio_to(const ParamDict& t, const std::string& where, const ResultsFile& f) {
     RatioTo r;
     r.where = where;
-    for (const auto& [k, v] : *t) {
-        const std::string key(k.str());
-        if (key != "method" && key != "params")
-            throw InputError(where, "unknown key '" + key + "' in ratio_to (keys: method, params)");
-        if (!v.is_string()) throw InputError(where, "ratio_to." + key + " must be a string");
-    }
-    const auto method = t->get_as<std::string>("method");
+    auto text = [&](const std::string& key) -> std::optional<std::string> {
+        if (!t.has(key)) return std::nullopt;
+        if (t.is_list(key)) throw InputError(where, "ratio_to." + key + " must be a string");
+        const auto v = t.elements(key);
+        if (v.size() != 1 || !v[0].value || !v[0].value->is_name())
+            throw InputError(where, "ratio_to." + key + " must be a string");
+        return v[0].value->name();
+    };
+    const auto method = text("method");
+    const auto params = text("params");
+    t.report_unused([&](const std::string& key, const std::string&) {
+        return "unknown key '" + key + "' in ratio_to (keys: method, params)";
+    });
     if (!method) throw InputError(where, "ratio_to needs 'method' (the baseline method)");
-    r.method = method->get();
-    if (const auto params = t->get_as<std::string>("params")) {
+    r.method = *method;
+    if (params) {
         r.has_params = true;
-        r.params = canonical_params(params->get());
+        r.params = canonical_params(*params);
     }
     for (const auto& row : f.rows)
         if (row.text("method") == r.method &&
@@ -252,65 +238,56 @@ RatioTo read_ratio_to(const toml::node& node, const std::string& where, const Re
                                 ": there is no baseline to divide by");
 }
 
-Limit read_limit(const toml::node& node, const std::string& file, const ResultsFile& f) {
-    const toml::table& lt = *node.as_table();
+Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
     Limit l;
-    l.where = where_of(node, file, file);
-    // Where a key of this limit is: its own line.
-    auto at = [&](const std::string& key) { return where_of(*lt.get(key), file, l.where); };
-    for (const auto& [k, v] : lt) {
-        const std::string key(k.str());
-        if (!contains(kTextFilters, key) && !contains(kNumberFilters, key) &&
-            !contains(kLimitKeys, key)) {
-            std::vector<std::string> known = kLimitKeys;
-            known.insert(known.end(), kTextFilters.begin(), kTextFilters.end());
-            known.insert(known.end(), kNumberFilters.begin(), kNumberFilters.end());
-            throw InputError(
-                where_of(v, file, l.where),
-                "unknown key '" + key + "' in [[limit]] (keys: " + joined(known) + ")");
-        }
-    }
-    auto str = [&](const std::string& key) -> std::optional<std::string> {
-        if (auto n = lt.get(key)) {
-            if (!n->is_string()) throw InputError(at(key), "'" + key + "' must be a string");
-            return *n->value<std::string>();
-        }
-        return std::nullopt;
-    };
+    l.where = lt.where();
     auto num = [&](const std::string& key) -> std::optional<double> {
-        if (auto n = lt.get(key)) {
-            if (!(n->is_integer() || n->is_floating_point()))
-                throw InputError(at(key), "'" + key + "' must be a number");
-            const double v = number_of(*n);
-            // nan compares false with everything: such a limit would pass every row.
-            if (std::isnan(v)) throw InputError(at(key), "'" + key + "' is nan, not a limit");
-            return v;
-        }
-        return std::nullopt;
+        const auto v = lt.number(key);
+        // nan compares false with everything: such a limit would pass every row.
+        if (v && std::isnan(*v))
+            throw InputError(lt.where(key), "'" + key + "' is nan, not a limit");
+        return v;
     };
-    const auto column = str("column");
-    if (!column) throw InputError(l.where, "[[limit]] needs 'column'");
-    l.column = *column;
-    check_column(f, at("column"), l.column);
+    // The keys in the order the message of an unknown one lists them.
+    const auto column = lt.string("column");
     l.lo = num("min");
     l.hi = num("max");
-    if (!l.lo && !l.hi) throw InputError(l.where, "[[limit]] needs 'min' or 'max'");
-    if (const toml::node* rn = lt.get("ratio_to")) l.ratio = read_ratio_to(*rn, at("ratio_to"), f);
-    l.tmin = num("theta_min").value_or(-1);
-    l.tmax = num("theta_max").value_or(1e9);
+    const auto tmin = num("theta_min"), tmax = num("theta_max");
+    lt.string("note");  // a comment for the reader of the file
+    // ratio_to is read (its table taken) before the unread keys are reported, its keys after.
+    const std::optional<ParamDict> ratio =
+        lt.table("ratio_to", "ratio_to",
+                 "'ratio_to' must be a table, e.g. ratio_to = { method = \"parallax\" }");
     std::vector<std::string> filters = kTextFilters;
     filters.insert(filters.end(), kNumberFilters.begin(), kNumberFilters.end());
+    std::vector<std::pair<std::string, std::vector<ParamDict::Element>>> given;
     for (const auto& key : filters) {
-        const toml::node* n = lt.get(key);
-        if (!n) continue;
-        Filter flt = read_filter(key, *n, at(key), f);
+        if (!lt.has(key)) continue;
+        try {
+            given.emplace_back(key, lt.elements(key));
+        } catch (const InputError&) {
+            throw InputError(lt.where(key), "'" + key + "' is an empty list: it matches no row");
+        }
+    }
+    lt.report_unused([](const std::string& key, const std::string& known) {
+        return "unknown key '" + key + "' in [[limit]] (keys: " + known + ")";
+    });
+    if (!column) throw InputError(l.where, "[[limit]] needs 'column'");
+    l.column = *column;
+    check_column(f, lt.where("column"), l.column);
+    if (!l.lo && !l.hi) throw InputError(l.where, "[[limit]] needs 'min' or 'max'");
+    if (ratio) l.ratio = read_ratio_to(*ratio, lt.where("ratio_to"), f);
+    l.tmin = tmin.value_or(-1);
+    l.tmax = tmax.value_or(1e9);
+    for (const auto& [key, elements] : given) {
+        Filter flt = read_filter(key, elements, lt.where(key), f);
         std::string values;
         for (size_t k = 0; k < flt.size(); ++k) values += (k ? ", " : "") + flt.shown(k);
-        l.what +=
-            (l.what.empty() ? "" : " ") + key + "=" + (n->is_array() ? "[" + values + "]" : values);
+        l.what += (l.what.empty() ? "" : " ") + key + "=" +
+                  (lt.is_list(key) ? "[" + values + "]" : values);
         l.filters.push_back(std::move(flt));
     }
-    if (lt.contains("theta_min") || lt.contains("theta_max"))
+    if (tmin || tmax)
         l.what += std::string(l.what.empty() ? "" : " ") + "theta in [" +
                   format_number(l.tmin < 0 ? 0 : l.tmin) + ", " +
                   (l.tmax > 1e8 ? std::string("90") : format_number(l.tmax)) + "]";
@@ -474,13 +451,9 @@ int print_outcomes(const std::vector<Outcome>& outcomes) {
 
 int run_check(const std::string& dir, const std::string& file) {
     const ResultsFile f = read_results((std::filesystem::path(dir) / "results.csv").string());
-    const toml::table root = parse_thresholds(file);
-    const toml::node* node = root.get("limit");
-    const toml::array* limits = node ? node->as_array() : nullptr;
-    if (!limits || limits->empty() || !limits->is_array_of_tables())
-        throw InputError(node ? where_of(*node, file, file) : file, "no [[limit]] tables");
+    const std::vector<ParamDict> limits = read_thresholds(file);
     std::vector<Outcome> outcomes;
-    for (const auto& limit : *limits) outcomes.push_back(evaluate(read_limit(limit, file, f), f));
+    for (const auto& limit : limits) outcomes.push_back(evaluate(read_limit(limit, f), f));
     return print_outcomes(outcomes) ? 1 : 0;
 }
 

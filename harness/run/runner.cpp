@@ -279,7 +279,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
 // timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
 // no timed GLSL frames, no agreement statistics.
 ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool timed) {
-    const View view = make_camera(c.ex.camera, {theta, phi, c.ex.samples, {}})->view();
+    const View view = Camera::create(c.ex.camera, c.ex.camera_params, {theta, phi, c.ex.samples},
+                                     c.ex.camera_params.where())
+                          ->view();
     if (const std::string why = view_problem(view); !why.empty())
         throw std::logic_error("camera '" + c.ex.camera + "': " + why);
     // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
@@ -421,7 +423,7 @@ BackendSettings settings_of(const Experiment& ex, const RunOptions& opt) {
     BackendSettings settings = backend_settings(ex);
     settings.gl_frames = opt.gl_frames;
     settings.shader_dir = opt.shader_dir;
-    settings.gl = opt.gl.empty() ? ex.gl : opt.gl;
+    if (!opt.gl.empty()) settings.gl = opt.gl;
     if (opt.gl_time_limit_s > 0) settings.gl_time_limit_s = opt.gl_time_limit_s;
     return settings;
 }

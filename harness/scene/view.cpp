@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "harness/core/error.h"
+#include "harness/core/param_dict.h"
 #include "harness/core/registry.h"
 
 namespace pxh {
@@ -47,7 +48,9 @@ OrthographicCamera::OrthographicCamera(double theta_deg, double phi_deg, int n)
 
 namespace {
 
-std::unique_ptr<Camera> make_orthographic_camera(const CameraSpec& s) {
+// Reads no keys of its own.
+std::unique_ptr<Camera> make_orthographic_camera(const ParamDict&, const CameraSpec& s,
+                                                 const std::string&) {
     return std::make_unique<OrthographicCamera>(s.theta_deg, s.phi_deg, s.samples);
 }
 
@@ -62,8 +65,13 @@ const std::vector<CameraEntry>& camera_registry() {
 
 std::vector<std::string> camera_names() { return entry_names(camera_registry()); }
 
+std::unique_ptr<Camera> Camera::create(const std::string& name, const ParamDict& params,
+                                       const CameraSpec& spec, const std::string& loc) {
+    return find_entry(camera_registry(), name, "camera", loc).make(params, spec, loc);
+}
+
 std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec) {
-    return find_entry(camera_registry(), name, "camera", "camera").make(spec);
+    return Camera::create(name, ParamDict(), spec, "camera");
 }
 
 }  // namespace pxh

@@ -3,16 +3,20 @@
 // along V_k (unit, V_k.z > 0; docs/conventions.md sections 2, 3).
 //
 // Adding a camera: one file harness/scene/NAME_camera.cpp defining a Camera subclass and a
-// factory, plus one line in camera_registry() (harness/scene/view.cpp).
+// factory that reads the camera's own keys of [views] through the ParamDict it is given
+// (typed getters with defaults, errors at the key's FILE:LINE), plus one line in
+// camera_registry() (harness/scene/view.cpp). A key of [views] that neither the view sweep
+// nor the camera reads is an error at its FILE:LINE.
 #pragma once
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "harness/core/params.h"
 #include "harness/core/vec.h"
 
 namespace pxh {
+
+class ParamDict;
 
 // Sample points of an N x N grid over one tile: ((i + 0.5) / N, (j + 0.5) / N), row-major.
 std::vector<Vec2d> sample_grid(int n);
@@ -40,12 +44,11 @@ View orthographic_view(Vec3d V, int n);
 // when parallel, one per sample otherwise), or `grid` does not match P's size.
 std::string view_problem(const View& view);
 
-// What a camera is made from: the view's angles and samples per side, and the camera's own
-// parameters (none for the orthographic camera).
+// What a camera is made from besides its own keys: the view's angles (the view sweep's
+// theta_deg, phi_deg) and samples per side.
 struct CameraSpec {
     double theta_deg = 0, phi_deg = 0;
     int samples = 0;
-    ParamValues params;
 };
 
 class Camera {
@@ -53,6 +56,12 @@ class Camera {
     virtual ~Camera() = default;
     virtual std::string name() const = 0;
     virtual View view() const = 0;
+    // Camera NAME for one view, reading its own keys from `params` ([views]; the orthographic
+    // camera reads none); `loc` (FILE:LINE of [views]) names the view in its errors. Cheap:
+    // the parser makes one to read the keys (view() makes the rays), the runner one per view. An
+    // unknown NAME is InputError(loc, "unknown camera 'x' (known: orthographic)").
+    static std::unique_ptr<Camera> create(const std::string& name, const ParamDict& params,
+                                          const CameraSpec& spec, const std::string& loc);
 };
 
 // One direction view_vector(theta, phi) for every ray, through the N x N sample grid.
@@ -71,11 +80,12 @@ class OrthographicCamera final : public Camera {
 // The registry (camera_registry() in harness/scene/view.cpp): one line per camera.
 struct CameraEntry {
     const char* name;
-    std::unique_ptr<Camera> (*make)(const CameraSpec&);
+    std::unique_ptr<Camera> (*make)(const ParamDict& params, const CameraSpec& spec,
+                                    const std::string& loc);
 };
 const std::vector<CameraEntry>& camera_registry();
 std::vector<std::string> camera_names();  // in registry order
-// Throws InputError("camera", "unknown camera 'x' (known: orthographic)") for an unknown name.
+// Camera::create with no keys of its own (every key at its default), loc "camera".
 std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec);
 
 }  // namespace pxh

@@ -211,11 +211,11 @@ TEST(TestMaxLevel, MisspeltSamplerInItsShaderIsAOneLineErrorNamingIt) {
 TEST(TestMaxLevel, TheRunnerBuildsResourcesOncePerFieldAndSharesThem) {
     Experiment ex;
     ex.samples = 32;
-    ex.timing_repeats = 0;
+    ex.backend.timing_repeats = 0;
     ex.theta_deg = {0, 50};
     ex.phi_deg = {30};
     ex.backends = {"cpu", "glsl"};
-    ex.precisions = {"float", "double"};
+    ex.backend.precisions = {"float", "double"};
     HeightfieldSpec hs;
     hs.name = hs.generator = "fbm";
     hs.width = 64;

@@ -1,0 +1,63 @@
+// What a run will take, estimated before any work: rows and peak memory (experiment.h).
+#include <algorithm>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+#include "harness/experiment/experiment.h"
+
+namespace pxh {
+
+std::string format_bytes(size_t bytes) {
+    std::ostringstream os;
+    os << std::fixed;
+    if (bytes < (size_t(1) << 30))
+        os << std::setprecision(1) << double(bytes) / double(1 << 20) << " MiB";
+    else os << std::setprecision(1) << double(bytes) / double(size_t(1) << 30) << " GiB";
+    return os.str();
+}
+
+RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
+    // The model's constants (see experiment.h), measured on this project's machine (peak
+    // RSS of pxh run, fbm, samples 8: 181 MiB at 16^2; +52 to +55 bytes per texel from 1024^2
+    // to 8192^2, of which 10 are the field and its mipmap; samples 2048, 6 rows per view:
+    // 290 bytes per sample, which the terms below overestimate by a third).
+    constexpr size_t kBaseBytes = size_t(192) << 20;
+    constexpr size_t kEmbreeBytesPerTexel = 45;
+    constexpr size_t kViewBytesPerSample = 16 + 40 + 16 + 8;  // P, exact hits, Embree hits, gap
+    constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring
+    const auto& backends = backends_override.empty() ? ex.backends : backends_override;
+    const BackendSettings settings = backend_settings(ex);
+    size_t per_method = 0;  // rows per method setting: every backend's variants
+    for (const auto& b : backends) per_method += backend_variants(b, settings).size();
+    size_t rows_per_view = 0;  // the largest view's (a method may run on some fields only)
+    RunEstimate est;
+    for (const auto& h : ex.heightfields) {
+        size_t methods = 0;
+        for (const auto& m : ex.methods) methods += m.runs_on(h.name);
+        rows_per_view = std::max(rows_per_view, methods * per_method);
+        est.rows += ex.theta_deg.size() * ex.phi_deg.size() * methods * per_method;
+    }
+
+    size_t field = 0;  // the largest field's own bytes, its truths' and Embree's
+    std::set<std::string> seen;
+    for (const auto& spec : ex.heightfields) {
+        if (!seen.insert(spec.identity).second) continue;  // scale/bias sweeps: same size
+        const FieldSize sz = field_size(spec);
+        const size_t texels = sz.width * sz.height;
+        field = std::max(field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel));
+    }
+    const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
+    const size_t views_alive = ex.sweep_dt_deg > 0 ? 3 : 2;
+    const size_t view = n2 * (kViewBytesPerSample + rows_per_view * 16 * views_alive +
+                              3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
+    const size_t results = est.rows * kBytesPerRow;
+    est.peak_bytes = kBaseBytes + field + view + results;
+    est.detail = "process " + format_bytes(kBaseBytes) +
+                 " + largest field with its truths and Embree " + format_bytes(field) +
+                 " + one view's sample buffers " + format_bytes(view) + " + result rows " +
+                 format_bytes(results);
+    return est;
+}
+
+}  // namespace pxh

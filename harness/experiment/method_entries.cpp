@@ -1,0 +1,282 @@
+// [[methods]] entries: a built-in method's parameter sweeps, or a plug-in shader (its file,
+// uniforms, fetch bound and CPU reference); each setting resolved and checked, a repeated one
+// kept once.
+#include <algorithm>
+#include <cctype>
+#include <cfloat>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "harness/backends/plugin_source.h"
+#include "harness/backends/shaders.h"
+#include "harness/core/error.h"
+#include "harness/core/registry.h"
+#include "harness/experiment/entries.h"
+
+namespace pxh {
+
+std::vector<GivenParams> expand(const Sweeps& sweeps) {
+    std::vector<GivenParams> out{{}};
+    for (const auto& [key, values] : sweeps) {
+        std::vector<GivenParams> next;
+        for (const auto& partial : out)
+            for (const ParamValue& v : values) {
+                auto m = partial;
+                m[key] = v;
+                next.push_back(std::move(m));
+            }
+        out = std::move(next);
+    }
+    return out;
+}
+
+std::vector<ParamValue> param_values(const ParamDict& entry, const std::string& key,
+                                     const ParamSpec& spec, const std::string& owner) {
+    std::vector<ParamValue> out;
+    for (const auto& e : entry.elements(key)) {
+        if (!e.value)
+            throw InputError(e.where,
+                             owner + " parameter '" + spec.name + "' must be " + spec.accepted());
+        check_param_kind(spec, *e.value, e.where, owner);
+        out.push_back(*e.value);
+    }
+    return out;
+}
+
+namespace {
+
+// A [[methods]] entry with `shader = FILE`: a GLSL-only method from the user's file (relative
+// to the experiment), its uniforms from the `uniforms` table (each p_NAME; a number, bool or a
+// list sweeping them; an integer value makes an int uniform), its declared fetch bound.
+// `uniforms` is set to the table its parameters are read from.
+const MethodInfo* make_plugin(const ParamDict& t, const std::string& name, Experiment& ex,
+                              ParamDict& uniforms) {
+    const std::string where = t.where("shader");
+    if (find_method(name))
+        throw InputError(t.where("name"), "'" + name +
+                                              "' is a built-in method; a plug-in shader needs a "
+                                              "name of its own");
+    for (const auto& p : ex.plugins)
+        if (p->name == name)
+            throw InputError(t.where("name"), "plug-in '" + name + "' is defined twice");
+    check_safe_name(name, t.where("name"), "method name", false);
+    const std::string rel = *t.string("shader");
+    // Inside the experiment's folder, a regular UTF-8 text file under 1 MiB, read once here.
+    PluginSource src = read_plugin_source(ex.path, rel, where);
+    if (const auto problems = plugin_source_problems(src.display, src.text,
+                                                     shader_source("methods/common.glsl", "").text);
+        !problems.empty()) {
+        const size_t colon = problems[0].find(": ");  // "FILE:LINE:COL: why"
+        throw InputError(problems[0].substr(0, colon), problems[0].substr(colon + 2));
+    }
+    if (std::find(ex.backends.begin(), ex.backends.end(), "glsl") == ex.backends.end())
+        throw InputError(t.where("name"), "plug-in '" + name +
+                                              "' is a GLSL shader (it has no CPU rows) and the "
+                                              "experiment's backends are " +
+                                              join_names(ex.backends) +
+                                              ": add \"glsl\" to backends");
+    if (!t.has("max_fetches"))
+        throw InputError(
+            t.where("name"),
+            "plug-in '" + name + "' needs max_fetches (its bound on texture fetches per sample)");
+    auto info = std::make_shared<MethodInfo>();
+    info->name = name;
+    info->citation = "plug-in shader " + rel + " (from " + ex.path + ")";
+    info->summary = "GLSL only: " + rel;
+    info->order = 1000;
+    info->plugin_shader = src.resolved;
+    info->shader_path = src.resolved;
+    info->plugin_source = std::move(src.text);
+    info->plugin_display = src.display;
+    info->declared_max_fetches = *t.integer("max_fetches", 1, 1000000);
+    if (auto u = t.table("uniforms", "'uniforms'", "'uniforms' must be a table")) {
+        uniforms = *u;
+        for (const std::string& key : uniforms.keys()) {
+            bool ident = key.size() > 2 && key.rfind("p_", 0) == 0;
+            for (char c : key)
+                ident = ident && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+            if (!ident)
+                throw InputError(uniforms.where(key),
+                                 "uniform '" + key +
+                                     "': plug-in uniforms are named p_NAME (letters, digits, _)");
+            const ParamDict::Element first = uniforms.elements(key)[0];
+            ParamSpec spec =
+                first.value && first.value->is_bool()
+                    ? ParamSpec::boolean(key, false, "plug-in uniform")
+                : first.integer
+                    ? ParamSpec::integer(key, std::nullopt, -2147483647.0, 2147483647.0,
+                                         "plug-in uniform")
+                    // What a GLSL float holds: 1e300 would reach the shader as inf.
+                    : ParamSpec::real(key, std::nullopt, -double(FLT_MAX), double(FLT_MAX),
+                                      "plug-in uniform (a GLSL float)");
+            spec.default_value.reset();
+            spec.to_uniform(key);
+            info->params.push_back(spec);
+        }
+    }
+    ex.plugins.push_back(info);
+    return info.get();
+}
+
+// A plug-in's CPU twin to compare with: `reference = "NAME"`, `reference_params = { ... }`
+// (one value each).
+void read_reference(const ParamDict& t, const std::string& where, MethodSpec& proto) {
+    if (!t.has("reference")) {
+        if (t.has("reference_params"))
+            throw InputError(t.where("reference_params"), "'reference_params' without 'reference'");
+        return;
+    }
+    const std::string rn = *t.string("reference");
+    proto.reference = find_method(rn);
+    if (!proto.reference || !proto.reference->run_float)
+        throw InputError(t.where("reference"), "reference '" + rn + "' is not a built-in method");
+    GivenParams given;
+    if (auto rt = t.table("reference_params", "'reference_params'",
+                          "'reference_params' must be a table")) {
+        for (const std::string& k : rt->keys()) {
+            const ParamSpec* spec = nullptr;
+            for (const auto& p : proto.reference->params)
+                if (p.name == k) spec = &p;
+            if (!spec) continue;  // left unread: reported below
+            const auto vals = param_values(*rt, k, *spec, "reference '" + rn + "'");
+            if (vals.size() != 1)
+                throw InputError(rt->where(k), "reference parameters take one value");
+            given.emplace(k, vals[0]);
+        }
+        rt->report_unused([&](const std::string& key, const std::string&) {
+            return "unknown parameter '" + key + "' for reference '" + rn + "'";
+        });
+    }
+    proto.reference_params = resolve_method_params(*proto.reference, given, where);
+}
+
+}  // namespace
+
+void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
+    const std::string where = t.where();
+    if (!t.has("name")) throw InputError(where, "a [[methods]] entry needs 'name'");
+    const std::string name = *t.string("name");
+    const bool plugin = t.has("shader");
+    ParamDict uniforms;  // a plug-in's parameters (a built-in's are the entry's other keys)
+    const MethodInfo* m = plugin ? make_plugin(t, name, ex, uniforms) : find_method(name);
+    if (!m) {
+        std::string names;
+        for (const auto& mi : all_methods()) names += (names.empty() ? "" : ", ") + mi.name;
+        throw InputError(t.where("name"), "unknown method '" + name + "' (known: " + names + ")");
+    }
+    // `heightfields`: the entries it runs on (empty: all).
+    const std::vector<std::string> fields = t.strings("heightfields", {});
+    for (const auto& f : fields) {
+        bool known = false;
+        for (const auto& h : ex.heightfields) known = known || h.name == f;
+        if (!known)
+            throw InputError(t.where("heightfields"),
+                             "method '" + name + "': no heightfield named '" + f + "'");
+    }
+    if (!std::isnan(m->required_bias))
+        for (const auto& h : ex.heightfields) {
+            const bool runs =
+                fields.empty() || std::find(fields.begin(), fields.end(), h.name) != fields.end();
+            if (runs && h.bias != m->required_bias)
+                throw InputError(t.where("name"), "method '" + name + "' needs bias = " +
+                                                      format_number(m->required_bias) + " (" +
+                                                      m->bias_reason + "); heightfield '" + h.name +
+                                                      "' has bias = " + format_number(h.bias));
+        }
+    // The parameters in the table's order (the sweep's order), each read by its spec.
+    const ParamDict& pt = plugin ? uniforms : t;
+    Sweeps sweeps;
+    for (const std::string& key : pt.keys()) {
+        const ParamSpec* spec = nullptr;
+        for (const auto& p : m->params)
+            if (p.name == key) spec = &p;
+        if (spec) sweeps.emplace_back(key, param_values(pt, key, *spec, "method '" + name + "'"));
+    }
+    MethodSpec proto{m, {}, fields};
+    if (plugin) {
+        read_reference(t, where, proto);
+        t.report_unused([](const std::string& key, const std::string& known) {
+            return "unknown key '" + key + "' in a plug-in [[methods]] entry (known: " + known +
+                   ")";
+        });
+    } else {
+        t.report_unused([&](const std::string& key, const std::string&) {
+            std::string names;
+            for (const auto& p : m->params) names += (names.empty() ? "" : ", ") + p.name;
+            return "unknown parameter '" + key + "' for method '" + name + "'" +
+                   (names.empty() ? " (it takes none)" : " (known: " + names + ")");
+        });
+    }
+    // Its rows from its factors, before the sweep is expanded.
+    RowProduct rows;
+    for (const auto& [key, values] : sweeps)
+        if (values.size() > 1) rows.times(values.size(), key);
+    size_t fields_run = 0;
+    for (const auto& h : ex.heightfields) fields_run += proto.runs_on(h.name);
+    rows.times(fields_run, "heightfield(s)");
+    rows.times(ex.theta_deg.size(), "theta");
+    rows.times(ex.phi_deg.size(), "phi");
+    rows.times(variants_per_setting(ex, state.limits, !m->plugin_shader.empty()),
+               "backend variant(s)");
+    check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
+    // A setting given twice (a repeated value, or two entries) is measured once: its rows
+    // would repeat, and pxh compare refuses repeated rows.
+    size_t repeats = 0;
+    std::string first_repeat;
+    for (const auto& given : expand(sweeps)) {
+        MethodSpec ms = proto;
+        ms.params = resolve_method_params(*m, given, where);
+        std::string key = m->name + "\x1f" + ms.params.canonical();
+        if (ms.reference)
+            key += "\x1f" + ms.reference->name + "\x1f" + ms.reference_params.canonical();
+        const auto [it, fresh] =
+            state.settings.emplace(key, std::make_pair(ex.methods.size(), where));
+        if (fresh) {
+            ex.methods.push_back(std::move(ms));
+            continue;
+        }
+        // Measured on the union of both entries' fields (empty: every field); a repeat when
+        // they share one (the same setting on other fields is no repeat).
+        MethodSpec& kept = ex.methods[it->second.first];
+        bool shared = kept.heightfields.empty() || ms.heightfields.empty();
+        for (const auto& f : ms.heightfields) shared = shared || kept.runs_on(f);
+        if (!kept.heightfields.empty()) {
+            if (ms.heightfields.empty()) kept.heightfields.clear();
+            else
+                for (const auto& f : ms.heightfields)
+                    if (!kept.runs_on(f)) kept.heightfields.push_back(f);
+        }
+        if (shared && repeats++ == 0)
+            first_repeat = "[" + ms.params.canonical() + "], as at " + it->second.second;
+    }
+    if (repeats)
+        warn(ex, where + ": " + std::to_string(repeats) + " setting(s) of method '" + name +
+                     "' repeat one given before (first: " + first_repeat +
+                     "): each setting is measured once, one row per view");
+}
+
+ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
+                                  const std::string& where) {
+    ParamValues p = resolve_params(m.params, given, where, "method '" + m.name + "'");
+    if (m.check) m.check(p, where);
+    if (m.complete_params) {
+        m.complete_params(p);
+        m.check(p, where);
+    }
+    return p;
+}
+
+void check_plugin_backends(const Experiment& ex,
+                           const std::vector<std::string>& backends_override) {
+    const auto& names = backends_override.empty() ? ex.backends : backends_override;
+    if (ex.plugins.empty() || std::find(names.begin(), names.end(), "glsl") != names.end()) return;
+    std::string plugins;
+    for (const auto& p : ex.plugins) plugins += (plugins.empty() ? "'" : ", '") + p->name + "'";
+    throw InputError(backends_override.empty() ? "--only" : "--backend",
+                     "the plug-in shader(s) " + plugins +
+                         " run on the glsl backend only, and this run has backends " +
+                         join_names(names) + ": add glsl (a plug-in has no CPU rows)");
+}
+
+}  // namespace pxh

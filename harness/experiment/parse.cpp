@@ -1,0 +1,330 @@
+// Reading an experiment file: the file itself (a regular UTF-8 file, TOML), its top-level
+// keys (the backends read theirs), [views] (the view sweep's keys; the camera reads its own),
+// [light] and [render]; the entries are read by heightfield_entries.cpp and
+// method_entries.cpp. Every table's unread keys are errors at their FILE:LINE.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "harness/backends/backend.h"
+#include "harness/core/error.h"
+#include "harness/core/registry.h"
+#include "harness/core/safe_files.h"
+#include "harness/experiment/entries.h"
+#include "harness/scene/view.h"
+#include "harness/truth/tracer.h"
+#include "harness/truth/travel_limit.h"
+
+namespace pxh {
+
+namespace fs = std::filesystem;
+
+void check_safe_name(const std::string& name, const std::string& where, const std::string& what,
+                     bool folder) {
+    std::string problem;
+    if (name.empty()) problem = "is empty";
+    else if (name.size() > 100) problem = "is longer than 100 characters";
+    else if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+        problem = "contains '/' or '\\'";
+    else if (std::any_of(name.begin(), name.end(),
+                         [](unsigned char c) { return c < 0x20 || c == 0x7f; }))
+        problem = "contains control characters";
+    else if (folder && name[0] == '.') problem = "starts with '.'";
+    if (!problem.empty())
+        throw InputError(where, what + " '" + name + "' " + problem + ": it names " +
+                                    (folder ? "the output folder" : "files") +
+                                    ", so it must be a plain file name");
+}
+
+void warn(Experiment& ex, const std::string& text) { ex.warnings.push_back(one_line(text)); }
+
+namespace {
+
+std::string count_text(size_t n) { return n == SIZE_MAX ? "more than 2^64" : std::to_string(n); }
+
+}  // namespace
+
+void check_entry_rows(size_t& total, const RowProduct& rows, const std::string& where,
+                      const std::string& entry, const ParseLimits& lim) {
+    const size_t before = total;
+    total = rows.value > SIZE_MAX - before ? SIZE_MAX : before + rows.value;
+    const std::string also =
+        before ? " (" + std::to_string(before) + " more from the entries before it)" : "";
+    if (total > lim.max_rows)
+        throw InputError(where, "this " + entry + " entry would write " + count_text(rows.value) +
+                                    " rows (" + rows.text + ")" + also + " > --max-rows " +
+                                    std::to_string(lim.max_rows) +
+                                    ": refused before expanding it (raise --max-rows N)");
+    if (total > lim.max_memory / kBytesPerRow)
+        throw InputError(
+            where, "this " + entry + " entry would write " + count_text(rows.value) + " rows (" +
+                       rows.text + ")" + also + ", whose " + std::to_string(kBytesPerRow) +
+                       " bytes each need more than --max-memory " + format_bytes(lim.max_memory) +
+                       ": refused before expanding it (raise --max-memory SIZE)");
+}
+
+size_t variants_per_setting(const Experiment& ex, const ParseLimits& lim, bool glsl_only) {
+    const auto& backends = lim.backends.empty() ? ex.backends : lim.backends;
+    const BackendSettings settings = backend_settings(ex);
+    size_t n = 0;
+    for (const auto& b : backends)
+        if (!glsl_only || b == "glsl") n += backend_variants(b, settings).size();
+    return std::max<size_t>(n, 1);
+}
+
+BackendSettings backend_settings(const Experiment& ex) { return ex.backend; }
+
+namespace {
+
+// The experiment's default name, from its file name: made safe rather than refused.
+std::string safe_default_name(const std::string& stem) {
+    std::string out;
+    for (unsigned char c : stem) out += (c < 0x20 || c == 0x7f || c == '\\') ? '_' : char(c);
+    while (!out.empty() && out[0] == '.') out[0] = '_';
+    if (out.size() > 100) out.resize(100);
+    return out.empty() ? "experiment" : out;
+}
+
+// The experiment's own top-level keys: name, sizes, backends, flags, the reference (the
+// backends read theirs).
+void parse_settings(const ParamDict& root, Experiment& ex) {
+    if (auto n = root.string("name")) {
+        ex.name = *n;
+        check_safe_name(ex.name, root.where("name"), "experiment name", true);
+    }
+    root.string("description");
+    ex.samples = root.integer("samples", ex.samples, 1, 8192);
+    ex.backends = root.strings("backends", ex.backends);
+    for (const auto& b : ex.backends) check_backend_name(b, root.where("backends"));
+    if (auto v = root.number("sweep_dt_deg")) {
+        ex.sweep_dt_deg = *v;
+        if (!(ex.sweep_dt_deg > 0 && ex.sweep_dt_deg < 10))
+            throw InputError(root.where("sweep_dt_deg"), "sweep_dt_deg must lie in (0, 10)");
+    }
+    ex.maps = root.boolean("maps", ex.maps);
+    ex.exclude_filled = root.boolean("exclude_filled", ex.exclude_filled);
+    ex.ground_truth = root.string("ground_truth", ex.ground_truth);
+    const auto known = tracer_names();
+    if (std::find(known.begin(), known.end(), ex.ground_truth) == known.end())
+        throw InputError(root.where("ground_truth"), "unknown ground_truth '" + ex.ground_truth +
+                                                         "' (known: " + join_names(known) + ")");
+}
+
+// [views] theta_deg: in degrees, [0, 90), increasing, each once (warned and fixed otherwise).
+void parse_theta(const ParamDict& vt, Experiment& ex) {
+    ex.theta_deg = vt.angles("theta_deg", {});
+    const std::string theta_where = vt.where("theta_deg");
+    for (double t : ex.theta_deg)
+        if (!(t >= 0 && t < 90))
+            throw InputError(theta_where,
+                             "theta_deg = " + format_number(t) +
+                                 " is impossible: the polar angle must lie in [0, 90)");
+    const bool all_small =
+        std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(), [](double t) { return t < 1.6; });
+    const bool all_whole = std::all_of(ex.theta_deg.begin(), ex.theta_deg.end(),
+                                       [](double t) { return t == std::floor(t); });
+    if (all_small && !all_whole)
+        warn(ex, theta_where +
+                     ": theta_deg values are all below 1.6 and not all whole "
+                     "numbers: they look like radians, but theta_deg is in degrees");
+    // Sweeps (sliding, shimmering) pair consecutive views: increasing, each view once.
+    if (!std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end()) ||
+        std::adjacent_find(ex.theta_deg.begin(), ex.theta_deg.end()) != ex.theta_deg.end()) {
+        const bool sorted = std::is_sorted(ex.theta_deg.begin(), ex.theta_deg.end());
+        const size_t before = ex.theta_deg.size();
+        std::sort(ex.theta_deg.begin(), ex.theta_deg.end());
+        ex.theta_deg.erase(std::unique(ex.theta_deg.begin(), ex.theta_deg.end()),
+                           ex.theta_deg.end());
+        const size_t dropped = before - ex.theta_deg.size();
+        std::string what = sorted ? "" : "is not in increasing order (sorted";
+        if (dropped)
+            what += std::string(sorted ? "repeats values (" : ", ") + std::to_string(dropped) +
+                    " duplicate(s) dropped";
+        warn(ex, theta_where + ": theta_deg " + what +
+                     "): views are measured in increasing theta, each once");
+    }
+}
+
+// [views] phi_deg: normalised into [0, 360), each once (warned).
+void parse_phi(const ParamDict& vt, Experiment& ex) {
+    ex.phi_deg = vt.angles("phi_deg", ex.phi_deg);
+    const std::string phi_where = vt.where("phi_deg");
+    std::string changed;
+    for (double& p : ex.phi_deg) {
+        if (!std::isfinite(p)) throw InputError(phi_where, "phi_deg must be finite");
+        if (p >= 0 && p < 360) continue;
+        double q = std::fmod(p, 360.0);
+        if (q < 0) q += 360;
+        if (q >= 360) q = 0;  // -1e-20 + 360 rounds to 360
+        changed += (changed.empty() ? "" : ", ") + format_number(p) + " -> " + format_number(q);
+        p = q;
+    }
+    if (!changed.empty()) warn(ex, phi_where + ": phi_deg outside [0, 360) normalised: " + changed);
+    std::vector<double> unique;
+    for (double p : ex.phi_deg)
+        if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
+    if (unique.size() != ex.phi_deg.size())
+        warn(ex, phi_where + ": phi_deg repeats an azimuth (" +
+                     std::to_string(ex.phi_deg.size() - unique.size()) +
+                     " duplicate(s) dropped): each view is measured once");
+    ex.phi_deg = std::move(unique);
+}
+
+// [views]: the view sweep (theta_deg, phi_deg) and the camera's name read here; the camera
+// reads its own keys (made once here for that; the runner makes one per view).
+void parse_views(const ParamDict& vt, Experiment& ex) {
+    if (!vt.has("theta_deg")) throw InputError(vt.where(), "[views] needs theta_deg");
+    parse_theta(vt, ex);
+    if (vt.has("phi_deg")) parse_phi(vt, ex);
+    ex.camera = vt.string("camera", ex.camera);
+    const auto known = camera_names();
+    if (std::find(known.begin(), known.end(), ex.camera) == known.end())
+        throw InputError(vt.where("camera"),
+                         "unknown camera '" + ex.camera + "' (known: " + join_names(known) + ")");
+    ex.camera_params = vt;
+    const size_t before = vt.asked().size();
+    Camera::create(ex.camera, vt, {ex.theta_deg.front(), ex.phi_deg.front(), ex.samples},
+                   vt.where());
+    const auto asked = vt.asked();
+    const std::vector<std::string> own(asked.begin() + long(before), asked.end());
+    vt.report_unused([&](const std::string& key, const std::string& all) {
+        return "unknown key '" + key + "' in [views] (known: " + all + "; camera '" + ex.camera +
+               "' reads " + (own.empty() ? "no keys of its own" : join_names(own)) + ")";
+    });
+}
+
+void parse_light(const ParamDict& lt, Experiment& ex) {
+    LightSpec l;
+    l.theta_deg = lt.number("theta_deg", l.theta_deg);
+    l.phi_deg = lt.number("phi_deg", l.phi_deg);
+    l.layers_min = lt.number("layers_min", l.layers_min);
+    l.layers_max = lt.number("layers_max", l.layers_max);
+    lt.report_unused();
+    if (!(l.theta_deg >= 0 && l.theta_deg < 90))
+        throw InputError(lt.where(), "light theta_deg = " + format_number(l.theta_deg) +
+                                         " is impossible: it must lie in [0, 90)");
+    if (!std::isfinite(l.phi_deg)) throw InputError(lt.where(), "light phi_deg must be finite");
+    if (!(l.layers_min >= 1 && l.layers_max >= l.layers_min && l.layers_max <= 4096))
+        throw InputError(lt.where(), "light layers need 1 <= layers_min <= layers_max <= 4096");
+    ex.light = l;
+}
+
+// [render], read after the fields and methods it names: every name, angle and method must be
+// one the experiment has.
+void parse_render(const ParamDict& t, Experiment& ex) {
+    for (const char* k : {"heightfields", "theta_deg"})
+        if (!t.has(k)) throw InputError(t.where(), std::string("[render] needs ") + k);
+    RenderSpec r;
+    r.heightfields = t.strings("heightfields", {});
+    const std::optional<double> phi = t.number("phi_deg");
+    r.theta_deg = t.numbers("theta_deg", {});
+    const std::optional<std::string> strip = t.string("strip_method");
+    t.report_unused();
+    for (const auto& f : r.heightfields)
+        if (std::none_of(ex.heightfields.begin(), ex.heightfields.end(),
+                         [&](const HeightfieldSpec& h) { return h.name == f; }))
+            throw InputError(t.where("heightfields"), "[render] heightfield '" + f +
+                                                          "' is no [[heightfields]] entry's name");
+    auto in = [](const std::vector<double>& v, double x) {
+        return std::find(v.begin(), v.end(), x) != v.end();
+    };
+    r.phi_deg = phi.value_or(ex.phi_deg.front());
+    if (phi && !in(ex.phi_deg, r.phi_deg))
+        throw InputError(t.where("phi_deg"), "[render] phi_deg = " + format_number(r.phi_deg) +
+                                                 " is not one of [views] phi_deg");
+    for (double th : r.theta_deg)
+        if (!in(ex.theta_deg, th))
+            throw InputError(t.where("theta_deg"), "[render] theta_deg = " + format_number(th) +
+                                                       " is not one of [views] theta_deg");
+    if (strip) {
+        r.strip_method = *strip;
+        const auto m = std::find_if(ex.methods.begin(), ex.methods.end(), [&](const MethodSpec& s) {
+            return s.method->name == r.strip_method;
+        });
+        if (m == ex.methods.end())
+            throw InputError(t.where("strip_method"), "[render] strip_method '" + r.strip_method +
+                                                          "' is no [[methods]] entry");
+        r.strip_params = m->params.canonical();
+    }
+    ex.render = r;
+}
+
+// Every eye ray (views, sweep companions) and light ray within the ground truths' travel
+// limit (kMaxRayTravelTiles, harness/truth/travel_limit.h), reported at the field's entry.
+void check_ray_travel(const Experiment& ex) {
+    for (const HeightfieldSpec& h : ex.heightfields) {
+        auto check = [&](double theta, const std::string& what) {
+            if (const std::string why = ray_travel_problem(h.scale, theta); !why.empty())
+                throw InputError(h.where, what + why);
+        };
+        for (double t : ex.theta_deg) {
+            check(t, "");
+            if (ex.sweep_dt_deg > 0 && t + ex.sweep_dt_deg < 90)
+                check(t + ex.sweep_dt_deg, "sweep companion view: ");
+        }
+        if (ex.light) check(ex.light->theta_deg, "light: ");
+    }
+}
+
+}  // namespace
+
+Experiment parse_experiment(const std::string& text, const std::string& path,
+                            const ParseLimits& limits) {
+    // run.json records the path and the text: both must be UTF-8, checked before any work.
+    if (const std::string why = utf8_problem(path); !why.empty())
+        throw InputError(path,
+                         "the experiment file's name is not UTF-8 (" + why + "): rename the file");
+    if (const std::string why = utf8_problem(text); !why.empty())
+        throw InputError(path + ":" + why.substr(5, why.find(',') - 5),
+                         why.substr(why.find(',') + 2) +
+                             " (experiment files are UTF-8 text: re-save it as UTF-8)");
+    const ParamDict root = ParamDict::parse(text, path, "the experiment");
+    Experiment ex;
+    ex.path = path;
+    ex.text = text;
+    ex.name = safe_default_name(fs::path(path).stem().string());
+    parse_settings(root, ex);
+    read_backend_settings(root, ex.backend);
+    const auto views = root.table("views", "[views]", "missing [views] table (theta_deg = [...])");
+    if (!views) throw InputError(path, "missing [views] table (theta_deg = [...])");
+    const auto light = root.table("light", "[light]", "'light' must be a table ([light])");
+    const auto render = root.table("render", "[render]", "'render' must be a table ([render])");
+    const auto heightfields = root.tables("heightfields", "[[heightfields]]");
+    const auto methods = root.tables("methods", "[[methods]]");
+    root.report_unused();
+    parse_views(*views, ex);
+    if (light) parse_light(*light, ex);
+    LargeScales large_scales;
+    ParseState state{limits, 0, 0, {}};
+    for (const auto& e : heightfields) parse_heightfield(e, ex, large_scales, state);
+    warn_large_scales(large_scales, ex);
+    check_heightfield_names(ex);
+    for (const auto& e : methods) parse_method(e, ex, state);
+    if (render) parse_render(*render, ex);
+    check_ray_travel(ex);
+    return ex;
+}
+
+Experiment load_experiment(const std::string& path, const ParseLimits& limits) {
+    std::error_code ec;
+    const auto st = fs::status(path, ec);  // follows symlinks
+    if (!fs::exists(st)) throw InputError(path, "no such file");
+    if (fs::is_directory(st)) throw InputError(path, "is a directory, not an experiment file");
+    // A FIFO or device would block or never end: only regular files are read.
+    if (!fs::is_regular_file(st))
+        throw InputError(path,
+                         "not a regular file (a FIFO, socket or device?): an experiment "
+                         "must be a regular file");
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw InputError(path, "cannot open");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    Experiment ex = parse_experiment(ss.str(), path, limits);
+    for (const auto& w : ex.warnings) std::cerr << "pxh: warning: " << one_line(w) << "\n";
+    return ex;
+}
+
+}  // namespace pxh
