@@ -656,21 +656,49 @@ def same_image(a, b):
     return a is not None and b is not None and a.shape == b.shape and (a == b).all()
 
 
-def load_map(results, rel, px):
-    """An error map (not kept: a run has thousands), every k-th pixel so it is about px wide."""
-    path = inside(results, rel, "data/maps.csv")
+def load_map(results, r, px):
+    """The map of a maps.csv row, cut out of pxh run's PNG (its title and colour bar left out:
+    the montage draws one bar for all), every k-th pixel so it is about px wide; not kept (a
+    run has thousands)."""
+    path = inside(results, r["map"], "data/maps.csv")
     if not os.path.exists(path):
         print(f"pxh: warning: error map not found: {path} (left blank)", file=sys.stderr)
         return None
     img = mpimg.imread(path)
-    k = max(1, img.shape[1] // max(1, px))
+    x0, y0, side = (int(r[k]) for k in ("map_x0", "map_y0", "map_side"))
+    if side <= 0 or y0 + side > img.shape[0] or x0 + side > img.shape[1]:
+        print(f"pxh: warning: {path}: not the layout of a pxh run map (left blank)",
+              file=sys.stderr)
+        return None
+    img = img[y0:y0 + side, x0:x0 + side, :3]
+    k = max(1, side // max(1, px))
     return img[::k, ::k]
 
 
-def montage(F, rows):
-    """Per field and azimuth, a montage of its error maps (each map PNG is pxh run's, with its
-    own colour scale and title): one row per series (series whose maps are identical, pixel for
-    pixel, shown once), one column per θ."""
+def error_colourbar(fig, rect, scale):
+    """The colour scale all maps of a montage share (data/error_scale.csv: pxh's own colours),
+    drawn once in rect (figure fractions)."""
+    l2 = np.array([float(r["log2_texels"]) for r in scale])
+    rgb = np.array([[float(r[c]) for c in "rgb"] for r in scale])
+    ax = fig.add_axes(rect)
+    ax.imshow(rgb[None, :, :], aspect="auto", extent=(l2[0], l2[-1], 0, 1),
+              interpolation="nearest")
+    ax.set_yticks([])
+    ticks = [t for t in range(int(math.ceil(l2[0])), int(math.floor(l2[-1])) + 1) if t % 2 == 0]
+    ax.set_xticks(ticks)
+    ax.set_xticklabels([f"1/{2 ** -t:g}" if t < 0 else f"{2 ** t:g}" for t in ticks])
+    ax.tick_params(axis="x", labelsize=6, length=2, pad=1)
+    for sp in ax.spines.values():
+        sp.set_linewidth(0.3)
+    ax.set_xlabel("texel error (log scale; below 1/16: darkest; magenta: non-finite)",
+                  fontsize=6, labelpad=1)
+    return ax
+
+
+def montage(F, st, rows, scale):
+    """Per field and azimuth, a montage of its error maps: one row per series (series whose
+    maps are identical, pixel for pixel, shown once and named together), one column per θ,
+    every tile on the one colour scale pxh run draws, its bar drawn once below."""
     results = os.path.dirname(os.path.abspath(F.out))  # map paths: relative to the results
     views = {}
     for r in rows:
@@ -681,9 +709,9 @@ def montage(F, rows):
         for r in vrows:
             per.setdefault((setting(r), group(r)), {})[num(r["theta_deg"])] = r
         px = int(F.width / len(thetas) * 300)  # a tile's width in pixels at 300 dpi
-        tiles = []  # [(label, [groups], {theta: image})]
+        tiles = []  # [(setting, [groups], {theta: image})]
         for (s, g), by_theta in per.items():
-            imgs = {th: load_map(results, r["map"], px) for th, r in by_theta.items()}
+            imgs = {th: load_map(results, r, px) for th, r in by_theta.items()}
             for t in tiles:
                 if t[0] == s and t[2].keys() == imgs.keys() and all(
                         same_image(t[2][th], imgs[th]) for th in imgs):
@@ -691,23 +719,32 @@ def montage(F, rows):
                     break
             else:
                 tiles.append((s, [g], imgs))
-        fig, axes = image_grid(F.width, len(thetas), [0.34] + [0.16] * (len(tiles) - 1), 0.04)
+        order = {s: i for i, s in enumerate(st.order)}
+        tiles.sort(key=lambda t: order.get(t[0], len(order)))
+        bar = 0.62  # inches below the last row: the colour bar and its labels
+        fig, axes = image_grid(F.width, len(thetas), [0.36] + [0.15] * (len(tiles) - 1), bar)
         for i, (s, gs, imgs) in enumerate(tiles):
             for j, th in enumerate(thetas):
                 ax = axes[i][j]
                 ax.axis("off")
                 if th in imgs and imgs[th] is not None:
-                    ax.imshow(imgs[th])
+                    ax.imshow(imgs[th], interpolation="nearest")
                 if i == 0:
-                    ax.set_title(f"θ = {th:g}°", fontsize=7, pad=11)
-            name = " ".join(x for x in (s[0], short_params(s[1])) if x) + f" [{' = '.join(gs)}]"
+                    ax.set_title(f"θ = {th:g}°", fontsize=6.5, pad=10)
+            label = st.labels.get(s) or " ".join(x for x in (s[0], short_params(s[1])) if x)
             fig.text(0.5, axes[i][0].get_position().y1 + 0.02 / fig.get_figheight(),
-                     fit(name, F.width, 6.5, 1), ha="center", va="bottom",
-                     fontsize=6.5)
-        fig.suptitle(fit(f"error maps: {field}, φ = {phi}° (each map's own colour scale)",
-                         F.width, 7, 2), fontsize=7, y=1.0, va="bottom")
+                     fit(f"{label} [{' = '.join(gs)}]", F.width - 0.1, 6, 1), ha="center",
+                     va="bottom", fontsize=6)
+        h = fig.get_figheight()
+        bw = min(F.width - 0.6, 4.0)
+        error_colourbar(fig, [(F.width - bw) / 2 / F.width, 0.36 / h, bw / F.width, 0.1 / h],
+                        scale)
+        fig.suptitle(fit(f"error maps: {field}, φ = {phi}°; a row per method setting, "
+                         "settings whose maps are identical pixel for pixel shown once",
+                         F.width - 0.1, 7, 2), fontsize=7, y=1.0, va="bottom")
         name = safe(f"error_maps_{field}_p{phi}")
-        F.save(fig, name, len(tiles) * len(thetas), len(tiles), [])
+        F.save(fig, name, len(tiles) * len(thetas), len(tiles), [],
+               rows=[f"{s[0]} {s[1]} [{' = '.join(gs)}]".strip() for s, gs, _ in tiles])
 
 
 def safe(name):
@@ -921,7 +958,7 @@ def main():
     cost_figure(F, st, bands, "time_vs_error", ["ns_per_sample", "ms_per_frame"])
     maps = os.path.join(data, "maps.csv")
     if os.path.exists(maps):
-        montage(F, read(maps))
+        montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))
     pics = os.path.join(data, "pictures.csv")
     if os.path.exists(pics):
         pictures(F, st, read(pics))
