@@ -99,7 +99,7 @@ class ReportTables : public pxh::test::CliTest {
         for (std::string line; std::getline(in, line);) {
             if (line.rfind("| " + first + " |", 0) != 0) continue;
             std::vector<std::string> cells;
-            size_t at = first.size() + 4;
+            size_t at = first.size() + 5;
             for (size_t bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 3)
                 cells.push_back(line.substr(at, bar - at));
             return cells;
