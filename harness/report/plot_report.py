@@ -824,7 +824,28 @@ def picture_montage(F, st, results, rows):
     cells = [(None, None, r0)] + tiles
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
-    pads = [p for k in range(blocks) for p in ((0.9 if k == 0 else 0.62), 0.03)]
+    cell = F.width / nc - 0.06
+    names = ["truth (ray traced)"] + [fit(st.labels[s], cell, 6, 2 if multi else 3) + (
+        "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
+    groups = sorted({g for t in tiles for g in t[1]})
+    note = None if multi or len(groups) < 2 else (
+        " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
+    title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
+                f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
+                "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
+                F.width, 7, 4)
+
+    def lines_in(k):  # the most title lines of block k
+        return max(n.count("\n") + 1 for n in names[k * nc:(k + 1) * nc])
+
+    def line(pt):  # inches a line of pt-point text takes
+        return pt * 1.25 / 72
+
+    # above block 0: the figure's title and the tiles' titles; above the others: the previous
+    # block's PSNR / SSIM lines (two, 5.5 pt) and the titles
+    pads = [p for k in range(blocks) for p in (
+        ((title.count("\n") + 1) * line(7) + 0.06 if k == 0 else 2 * line(5.5) + 0.08) +
+        lines_in(k) * line(6.5) + 0.06, 0.03)]
     fig, axes = image_grid(F.width, nc, pads, 0.3)
     for ax in (a for row in axes for a in row):
         ax.axis("off")
@@ -838,19 +859,10 @@ def picture_montage(F, st, results, rows):
         bottom.axis("on")
         show(top, load(results, r["picture"]))
         show(bottom, load(results, r["picture_diff"]))
-        cell = F.width / nc - 0.06
-        name = fit(st.labels[s], cell, 6, 2 if multi else 3) + (
-            "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "")
-        top.set_title(name, fontsize=6)
+        top.set_title(names[k], fontsize=6)
         bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
                     ha="center", va="top", transform=bottom.transAxes)
-    groups = sorted({g for t in tiles for g in t[1]})
-    note = None if multi or len(groups) < 2 else (
-        " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
-    fig.suptitle(fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
-                     f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
-                     "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
-                     F.width, 7, 4), fontsize=7, y=1.0, va="top")
+    fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
