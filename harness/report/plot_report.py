@@ -202,6 +202,14 @@ class Styles:
         if len(set(short)) < len(short):  # two shortened alike: numbered
             short = [f"{lab} ({i + 1})" for i, lab in enumerate(short)]
         self.labels = dict(zip(self.order, short))
+        self.full = dict(zip(self.order, labels))  # unshortened, for titles that wrap
+        # legend entries: whole, wrapped onto two lines where one is too narrow (shortened only
+        # beyond that)
+        wrapped = [fit(lab, 0.9 * width - 0.45, 7, 2) for lab in labels]
+        self.legend_labels = dict(zip(self.order, (
+            sh if len(lab) <= n or "…" in w else w for lab, sh, w in zip(labels, short, wrapped))))
+        if len(set(self.legend_labels.values())) < len(labels):
+            self.legend_labels = dict(self.labels)
 
     def colour(self, s):
         return PALETTE[self.order.index(s) % len(PALETTE)]
@@ -212,7 +220,7 @@ class Styles:
 
     def handle(self, s, **kw):
         return mlines.Line2D([], [], color=self.colour(s), marker=self.marker(s),
-                             label=self.labels[s], **kw)
+                             label=self.legend_labels[s], **kw)
 
 
 class Figures:
@@ -242,7 +250,7 @@ class Figures:
             return []
         if title:
             title = "\n".join(fit(t, self.width - 0.1, 7, lines=3) for t in title.split("\n"))
-        chars = max(len(h.get_label()) for h in handles) + 4
+        chars = max(len(line) for h in handles for line in h.get_label().split("\n")) + 4
         ncol = max(1, min(len(handles), int(self.width * 72 / (chars * 7 * 0.55))))
         renderer = fig.canvas.get_renderer()
         while True:  # as many columns as fit the width, measured
@@ -848,7 +856,7 @@ def picture_montage(F, st, results, rows):
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
     cell = F.width / nc - 0.06
-    names = ["truth (ray traced)"] + [fit(st.labels[s], cell, 6, 2 if multi else 3) + (
+    names = ["truth (ray traced)"] + [fit(st.full[s], cell, 6, 2 if multi else 3) + (
         "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
