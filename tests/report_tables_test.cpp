@@ -26,14 +26,14 @@ namespace fs = std::filesystem;
 using Cells = std::map<std::string, std::string>;
 
 const std::vector<std::string> kColumns = {
-    "method",       "params",        "heightfield", "scale",        "bias",
-    "backend",      "precision",     "texture_format", "theta_deg",  "phi_deg",
-    "err_mean",     "err_p50",       "err_p95",     "err_p99",      "frac_gt_1",
-    "nonfinite",    "fetches_mean",  "ns_per_sample", "ms_per_frame", "status"};
+    "method",    "params",       "heightfield",    "scale",        "bias",
+    "backend",   "precision",    "texture_format", "theta_deg",    "phi_deg",
+    "err_mean",  "err_p50",      "err_p95",        "err_p99",      "frac_gt_1",
+    "nonfinite", "fetches_mean", "ns_per_sample",  "ms_per_frame", "status"};
 
 // An ok row of `method params` on `field` (s = 0.05, b = 1) at θ, CPU float or GLSL r32f.
-Cells row(const std::string& method, const std::string& params, const std::string& field,
-          bool glsl, double theta, double err_mean, double err_p95, double fetches = 8) {
+Cells row(const std::string& method, const std::string& params, const std::string& field, bool glsl,
+          double theta, double err_mean, double err_p95, double fetches = 8) {
     char th[32], em[32], ep[32], fe[32];
     std::snprintf(th, sizeof th, "%g", theta);
     std::snprintf(em, sizeof em, "%.17g", err_mean);
@@ -151,8 +151,7 @@ TEST_F(ReportTables, IdenticalBackendsMergedDifferentOnesApart) {
     EXPECT_EQ(count(md, "| parallax ["), 2) << md;
     // LaTeX: the same rows under the compact labels, groups shortened
     const std::string tex = slurp(rep / "summary.tex");
-    EXPECT_NE(tex.find("\npom [cpu = glsl] & " + f3((0.1234 + 0.3) / 2)), std::string::npos)
-        << tex;
+    EXPECT_NE(tex.find("\npom [cpu = glsl] & " + f3((0.1234 + 0.3) / 2)), std::string::npos) << tex;
     EXPECT_NE(tex.find("\nparallax [cpu] & 0.200"), std::string::npos) << tex;
     EXPECT_NE(tex.find("\nparallax [glsl] & 0.205"), std::string::npos) << tex;
     // summary.csv keeps one line per series and band (the data, unrounded)
@@ -196,12 +195,11 @@ TEST_F(ReportTables, OneTablePerFieldWithItsOwnNumbers) {
     for (size_t r = 0; r < t.rows.size(); ++r) {
         const double th = t.number(r, "theta_deg");
         const int b = th < 30 ? 0 : th < 60 ? 1 : 2;
-        const std::string series = t.get(r, "method") + " " + t.get(r, "params") + " [" +
-                                   t.get(r, "backend") + "/" +
-                                   (t.get(r, "texture_format").empty()
-                                        ? t.get(r, "precision")
-                                        : t.get(r, "texture_format")) +
-                                   "]";
+        const std::string series =
+            t.get(r, "method") + " " + t.get(r, "params") + " [" + t.get(r, "backend") + "/" +
+            (t.get(r, "texture_format").empty() ? t.get(r, "precision")
+                                                : t.get(r, "texture_format")) +
+            "]";
         Sum& s = band[{t.get(r, "heightfield"), series, b}];
         s.mean += t.number(r, "err_mean");
         s.p95 += t.number(r, "err_p95");
@@ -243,8 +241,7 @@ TEST_F(ReportTables, OneTablePerFieldWithItsOwnNumbers) {
             EXPECT_EQ(r[2], cell(f, "relief layers=16 [cpu/float]", 2));
         }
         // no other field's number: the table holds exactly its two or three rows
-        EXPECT_EQ(count(section, "\n| pom ") + count(section, "\n| relief "),
-                  f == "fbm" ? 3 : 2)
+        EXPECT_EQ(count(section, "\n| pom ") + count(section, "\n| relief "), f == "fbm" ? 3 : 2)
             << section;
     }
     // The pooled summary is not any one field's: its pom cell is the mean over the fields.
@@ -272,9 +269,7 @@ TEST_F(ReportTables, OneTablePerFieldWithItsOwnNumbers) {
             if (c == ':') c = '_';
         const std::string tex = slurp(rep / "fields" / (name + ".tex"));
         ASSERT_FALSE(tex.empty()) << name;
-        EXPECT_NE(tex.find("Height field: " + f + " s=0.05 b=1."),
-                  std::string::npos)
-            << tex;
+        EXPECT_NE(tex.find("Height field: " + f + " s=0.05 b=1."), std::string::npos) << tex;
         EXPECT_NE(tex.find(cell(f, "pom layers=16 [cpu/float]", 2)), std::string::npos) << tex;
     }
 }
@@ -295,9 +290,9 @@ TEST(CompactLabels, FewestTellingParametersOrLetters) {
         {"x", "name=a_very_long_value_indeed"},
         {"x", "name=another_very_long_value"}};
     const std::vector<std::string> want = {
-        "pom (32)",       "pom (adaptive)", "parallax",       "cone (dummer)",
+        "pom (32)",          "pom (adaptive)",  "parallax",       "cone (dummer)",
         "cone (dummer_min)", "cone (bilinear)", "relief (16, 3)", "relief (16, 8)",
-        "relief (64, 8)", "x (a)",          "x (b)"};
+        "relief (64, 8)",    "x (a)",           "x (b)"};
     EXPECT_EQ(pxh::compact_labels(s), want);
     // the values "a_very_long_value_indeed" would not fit a column: letters instead; and a
     // setting whose values are too long makes its method's every label a letter

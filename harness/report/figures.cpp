@@ -106,8 +106,7 @@ void vs_theta(const ReportData& d) {
 // data/error_scale.csv, the colour scale every map was drawn with (error_colour).
 void maps(const ReportData& d) {
     std::ostringstream o;
-    o << "heightfield,phi_deg,series," << kKeyHeader
-      << ",theta_deg,map,map_x0,map_y0,map_side\n";
+    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map,map_x0,map_y0,map_side\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);

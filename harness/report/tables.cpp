@@ -1,9 +1,9 @@
 // The report's tables: summary, failed rows, sweeps, precision, budgets.
 #include <algorithm>
 #include <cctype>
-#include <set>
 #include <cstdio>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "harness/core/error.h"
@@ -184,10 +184,8 @@ std::string file_name_of(const std::string& field) {
     std::string out;
     for (char c : field) {
         const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-';
-        if (keep)
-            out += c;
-        else if (out.empty() || out.back() != '_')
-            out += '_';
+        if (keep) out += c;
+        else if (out.empty() || out.back() != '_') out += '_';
     }
     return out.empty() ? "field" : out;
 }
@@ -224,7 +222,8 @@ void write_fields(const ReportData& d) {
         auto [m, t] = series_tables(d, sers);
         md << "\n## " << one_line(field) << "\n\n" << m.markdown();
         std::string name = file_name_of(field);
-        for (int k = 2; names.count(name); ++k) name = file_name_of(field) + "_" + std::to_string(k);
+        for (int k = 2; names.count(name); ++k)
+            name = file_name_of(field) + "_" + std::to_string(k);
         names.insert(name);
         const auto extra = t.notes;
         t.notes = summary_notes(d, true);
