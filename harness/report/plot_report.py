@@ -155,6 +155,8 @@ def chars_for(width_in, fontsize):
 def fit(text, width_in, fontsize, lines=2):
     """text wrapped into at most `lines` lines of width_in inches, the rest shortened (…)."""
     n = chars_for(width_in, fontsize)
+    for sym in ("θ", "φ"):  # "φ = 0°" is never broken across lines (no-break spaces)
+        text = text.replace(f"{sym} = ", f"{sym}\u00a0=\u00a0")
     out = []
     for para in text.split("\n"):
         out += textwrap.wrap(para, n, break_long_words=False, break_on_hyphens=False) or [""]
