@@ -394,8 +394,8 @@ std::string cheapest(const ReportData& d, size_t b, double budget, bool tex) {
             best_ns = ns;
         }
     }
-    if (!best) return "no setting meets this budget";
-    return (tex ? d.tex_label.at(*best) : *best) + " (" + fmt(best_f, 1) + " fetches)";
+    if (tex) return best ? d.tex_label.at(*best) + ", " + fmt(best_f, 1) : "--";
+    return best ? *best + " (" + fmt(best_f, 1) + " fetches)" : "no setting meets this budget";
 }
 
 }  // namespace
@@ -427,7 +427,9 @@ void write_budget(const ReportData& d) {
         "texture format it ran on, with no failed row and no non-finite "
         "output there.");
     tex.notes = tt.notes;
-    tex.notes.push_back("Method labels and their parameters: legend.tex.");
+    tex.notes.push_back(
+        "A cell: the setting, its fetches per sample; --: no setting meets this budget. Method "
+        "labels and their parameters: legend.tex.");
     d.write("budget.md", tt.markdown());
     d.write("budget.tex", tex.latex(d.dir + "/results.csv"));
 }
