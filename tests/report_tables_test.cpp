@@ -1,6 +1,7 @@
 // The report's tables for papers: identical backends merged into one row (and only those),
 // one table per height field with that field's numbers, the compact LaTeX method labels and
 // their legend (one-to-one), booktabs rules and no vertical rules in every .tex table.
+#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,6 +18,7 @@
 #include "harness/report/report.h"
 #include "harness/report/report_data.h"
 #include "harness/results/csv_table.h"
+#include "harness/results/error_maps.h"
 #include "harness/results/results.h"
 #include "tests/cli_util.h"
 
@@ -386,6 +388,45 @@ TEST_F(ReportTables, EveryTexTableHasBooktabsRulesAndNoVerticalRules) {
                                         "fields/bricks_s_0.05_b_1.tex"};
     EXPECT_EQ(files, want);
     EXPECT_EQ(tables, 5);
+}
+
+// The montage cuts each map out of pxh run's PNG at error_map_box: inside the box exactly the
+// map's colours (here a left half of 1/16 texel, a right half of 16 texels, so both ends of
+// the scale), and the rows just above and below it are none of the map's colours (title and
+// colour bar left out).
+TEST_F(ReportTables, ErrorMapBoxCutsOutExactlyTheMap) {
+    for (int n : {16, 24, 100, 500}) {
+        std::vector<pxh::Vec2d> errors(size_t(n) * n);
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i)
+                errors[size_t(j) * n + i] = i < n / 2 ? pxh::Vec2d{1.0 / 16, 0} : pxh::Vec2d{0, 16};
+        const std::string stem = "m" + std::to_string(n);
+        pxh::write_error_map(errors, n, (dir / "maps").string(), stem, "a title");
+        OIIO::ImageBuf png((dir / "maps" / (stem + ".png")).string());
+        ASSERT_TRUE(png.read()) << png.geterror();
+        const pxh::ErrorMapBox box = pxh::error_map_box(n);
+        ASSERT_GE(box.side, n);
+        EXPECT_EQ(box.side % n, 0) << n;  // each sample a whole number of pixels
+        float lo[3], hi[3];
+        pxh::error_colour(1.0 / 16, lo);
+        pxh::error_colour(16, hi);
+        const auto is = [](const float* px, const float* c) {
+            for (int k = 0; k < 3; ++k)
+                if (std::abs(px[k] - c[k]) > 1.0f / 255) return false;
+            return true;
+        };
+        float px[4];
+        for (int y = 0; y < box.side; ++y)
+            for (int x = 0; x < box.side; ++x) {
+                png.getpixel(box.x0 + x, box.y0 + y, px);
+                ASSERT_TRUE(is(px, x < box.side / 2 ? lo : hi)) << n << " at " << x << "," << y;
+            }
+        for (int x = 0; x < box.side; ++x)
+            for (int y : {box.y0 - 1, box.y0 + box.side}) {
+                png.getpixel(box.x0 + x, y, px);
+                ASSERT_FALSE(is(px, lo) || is(px, hi)) << n << ": row " << y << " is map";
+            }
+    }
 }
 
 }  // namespace
