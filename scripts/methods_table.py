@@ -11,10 +11,10 @@ median over the setting's rows of each row's median), ms/frame (GLSL: the median
 and, from the precompute runs, the median precompute_ms and the aux_bytes of its maps at 256^2
 and 1024^2 (fbm).
 
-Tables 2 and 3: err_p95 per setting and field, theta 60-75 and 75-85 (every field of the run,
-"-" where a setting did not run).
+The per-field tables of the README come from `pxh report` (report/fields.md: one table per
+height field), not from here.
 
-Table 4 (with precompute runs), per method with precomputed textures (and per slice count for
+Table 2 (with precompute runs), per method with precomputed textures (and per slice count for
 distance: every other setting of a method shares its maps): precompute_ms (the median
 over the runs given, and its range) and aux_bytes at every field size, and the exponent a of
 t ~ N^a fitted by least squares on log-log over the sizes >= 256 (a = 2: linear in the texel
@@ -147,24 +147,6 @@ def table_methods(rows, pre):
         print("| " + " | ".join(cells) + " |")
 
 
-def table_fields(rows, lo, hi):
-    """err_p95 per setting and field, averaged over the views of one theta band (CPU float)."""
-    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
-    order, acc = [], defaultdict(list)
-    for r in rows:
-        k = key(r)
-        if k not in order:
-            order.append(k)
-        if r["backend"] == "cpu" and r["precision"] == "float" and lo <= float(r["theta_deg"]) < hi:
-            acc[(k, r["heightfield"])].append(num(r["err_p95"]))
-    print(f"err_p95 (texels) per field, mean over the views with {lo:g} <= theta < {min(hi, 85):g}:")
-    print()
-    print("| method | " + " | ".join(f"`{f}`" for f in fields) + " |")
-    print("|---|" + "---:|" * len(fields))
-    for k in order:
-        print("| " + " | ".join([label(k)] + [fmt(mean(acc.get((k, f), [])), 2) for f in fields]) + " |")
-
-
 def growth_exponent(by):
     """The exponent a of t ~ N^a: least squares of log t on log N over the sizes >= 256 (smaller
     builds are dominated by fixed costs), or over every size when fewer than two are >= 256."""
@@ -214,10 +196,6 @@ def main():
     rows = read_rows(args[0])
     pre = precompute_by_size([read_rows(a) for a in args[1:]])
     table_methods(rows, pre)
-    print()
-    table_fields(rows, 60, 75)
-    print()
-    table_fields(rows, 75, 85.0001)
     if pre:
         print()
         table_growth(pre, len(args) - 1)

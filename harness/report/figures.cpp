@@ -15,6 +15,7 @@
 #include "harness/core/error.h"
 #include "harness/core/shipped_files.h"
 #include "harness/report/report_data.h"
+#include "harness/results/error_maps.h"
 
 extern char** environ;
 
@@ -100,20 +101,39 @@ void vs_theta(const ReportData& d) {
 // data/maps.csv: the error maps, every field x azimuth x series x θ (a montage per field and
 // azimuth); paths relative to the results folder (as results.csv has them), so the folder can
 // move.
+// map_x0, map_y0, map_side: where the map lies in its PNG (error_map_box), without pxh run's
+// title and colour bar: the montage draws one colour bar for all its tiles. With it
+// data/error_scale.csv, the colour scale every map was drawn with (error_colour).
 void maps(const ReportData& d) {
     std::ostringstream o;
-    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map\n";
+    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map,map_x0,map_y0,map_side\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
         const std::string& map = inside_path(d, i, "map");
         if (map.empty()) continue;
+        const double samples = r.num("samples");
+        const ErrorMapBox box = std::isfinite(samples) && samples >= 1 && samples <= 1 << 16
+                                    ? error_map_box(int(samples))
+                                    : ErrorMapBox{0, 0, 0};
         o << csv_quote(field_of(r)) << "," << csv_quote(r.cell("phi_deg")) << ","
           << csv_quote(series_of(r)) << "," << key_fields(r) << ","
-          << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "\n";
+          << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "," << box.x0 << ","
+          << box.y0 << "," << box.side << "\n";
         ++n;
     }
-    if (n) d.write("data/maps.csv", o.str());
+    if (!n) return;
+    d.write("data/maps.csv", o.str());
+    std::ostringstream scale;
+    scale << "log2_texels,r,g,b\n";
+    for (int k = 0; k <= 256; ++k) {
+        const double l2 = -4 + 8.0 * k / 256;
+        float rgb[3];
+        error_colour(std::exp2(l2), rgb);
+        scale << csv_num(l2) << "," << csv_num(rgb[0]) << "," << csv_num(rgb[1]) << ","
+              << csv_num(rgb[2]) << "\n";
+    }
+    d.write("data/error_scale.csv", scale.str());
 }
 
 // Pareto flags per series and cost: "1" on its group's front, "0" off it, "" when the point
@@ -250,11 +270,26 @@ void images_table(const ReportData& d) {
     tt.header = {"method"};
     for (const auto& v : views) tt.header.push_back(v + " PSNR dB / SSIM");
     tt.align = "l" + std::string(views.size(), 'r');
-    for (const auto& s : d.series_order) {
-        if (!cell.count(s)) continue;
-        std::vector<std::string> row = {s};
-        for (const auto& v : views) row.push_back(cell[s].count(v) ? cell[s][v] : "-");
-        tt.rows.push_back(row);
+    // a setting's series with the same cells are one row naming all their groups
+    for (const auto& set : d.setting_order) {
+        std::vector<std::vector<std::string>> rows;
+        std::vector<std::string> groups;
+        for (const auto& s : d.settings.at(set).series) {
+            if (!cell.count(s)) continue;
+            std::vector<std::string> row;
+            for (const auto& v : views) row.push_back(cell[s].count(v) ? cell[s][v] : "-");
+            size_t i = 0;
+            while (i < rows.size() && rows[i] != row) ++i;
+            if (i == rows.size()) {
+                rows.push_back(row);
+                groups.emplace_back();
+            }
+            groups[i] += (groups[i].empty() ? "" : " = ") + d.series.at(s).group;
+        }
+        for (size_t i = 0; i < rows.size(); ++i) {
+            rows[i].insert(rows[i].begin(), set + " [" + groups[i] + "]");
+            tt.rows.push_back(rows[i]);
+        }
     }
     tt.notes = d.notes(false);
     tt.notes.push_back(

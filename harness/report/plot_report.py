@@ -155,6 +155,8 @@ def chars_for(width_in, fontsize):
 def fit(text, width_in, fontsize, lines=2):
     """text wrapped into at most `lines` lines of width_in inches, the rest shortened (…)."""
     n = chars_for(width_in, fontsize)
+    for sym in ("θ", "φ"):  # "φ = 0°" is never broken across lines (no-break spaces)
+        text = text.replace(f"{sym} = ", f"{sym}\u00a0=\u00a0")
     out = []
     for para in text.split("\n"):
         out += textwrap.wrap(para, n, break_long_words=False, break_on_hyphens=False) or [""]
@@ -202,6 +204,14 @@ class Styles:
         if len(set(short)) < len(short):  # two shortened alike: numbered
             short = [f"{lab} ({i + 1})" for i, lab in enumerate(short)]
         self.labels = dict(zip(self.order, short))
+        self.full = dict(zip(self.order, labels))  # unshortened, for titles that wrap
+        # legend entries: whole, wrapped onto two lines where one is too narrow (shortened only
+        # beyond that)
+        wrapped = [fit(lab, 0.9 * width - 0.45, 7, 2) for lab in labels]
+        self.legend_labels = dict(zip(self.order, (
+            sh if len(lab) <= n or "…" in w else w for lab, sh, w in zip(labels, short, wrapped))))
+        if len(set(self.legend_labels.values())) < len(labels):
+            self.legend_labels = dict(self.labels)
 
     def colour(self, s):
         return PALETTE[self.order.index(s) % len(PALETTE)]
@@ -212,7 +222,7 @@ class Styles:
 
     def handle(self, s, **kw):
         return mlines.Line2D([], [], color=self.colour(s), marker=self.marker(s),
-                             label=self.labels[s], **kw)
+                             label=self.legend_labels[s], **kw)
 
 
 class Figures:
@@ -242,7 +252,7 @@ class Figures:
             return []
         if title:
             title = "\n".join(fit(t, self.width - 0.1, 7, lines=3) for t in title.split("\n"))
-        chars = max(len(h.get_label()) for h in handles) + 4
+        chars = max(len(line) for h in handles for line in h.get_label().split("\n")) + 4
         ncol = max(1, min(len(handles), int(self.width * 72 / (chars * 7 * 0.55))))
         renderer = fig.canvas.get_renderer()
         while True:  # as many columns as fit the width, measured
@@ -656,21 +666,49 @@ def same_image(a, b):
     return a is not None and b is not None and a.shape == b.shape and (a == b).all()
 
 
-def load_map(results, rel, px):
-    """An error map (not kept: a run has thousands), every k-th pixel so it is about px wide."""
-    path = inside(results, rel, "data/maps.csv")
+def load_map(results, r, px):
+    """The map of a maps.csv row, cut out of pxh run's PNG (its title and colour bar left out:
+    the montage draws one bar for all), every k-th pixel so it is about px wide; not kept (a
+    run has thousands)."""
+    path = inside(results, r["map"], "data/maps.csv")
     if not os.path.exists(path):
         print(f"pxh: warning: error map not found: {path} (left blank)", file=sys.stderr)
         return None
     img = mpimg.imread(path)
-    k = max(1, img.shape[1] // max(1, px))
+    x0, y0, side = (int(r[k]) for k in ("map_x0", "map_y0", "map_side"))
+    if side <= 0 or y0 + side > img.shape[0] or x0 + side > img.shape[1]:
+        print(f"pxh: warning: {path}: not the layout of a pxh run map (left blank)",
+              file=sys.stderr)
+        return None
+    img = img[y0:y0 + side, x0:x0 + side, :3]
+    k = max(1, side // max(1, px))
     return img[::k, ::k]
 
 
-def montage(F, rows):
-    """Per field and azimuth, a montage of its error maps (each map PNG is pxh run's, with its
-    own colour scale and title): one row per series (series whose maps are identical, pixel for
-    pixel, shown once), one column per θ."""
+def error_colourbar(fig, rect, scale):
+    """The colour scale all maps of a montage share (data/error_scale.csv: pxh's own colours),
+    drawn once in rect (figure fractions)."""
+    l2 = np.array([float(r["log2_texels"]) for r in scale])
+    rgb = np.array([[float(r[c]) for c in "rgb"] for r in scale])
+    ax = fig.add_axes(rect)
+    ax.imshow(rgb[None, :, :], aspect="auto", extent=(l2[0], l2[-1], 0, 1),
+              interpolation="nearest")
+    ax.set_yticks([])
+    ticks = [t for t in range(int(math.ceil(l2[0])), int(math.floor(l2[-1])) + 1) if t % 2 == 0]
+    ax.set_xticks(ticks)
+    ax.set_xticklabels([f"1/{2 ** -t:g}" if t < 0 else f"{2 ** t:g}" for t in ticks])
+    ax.tick_params(axis="x", labelsize=6, length=2, pad=1)
+    for sp in ax.spines.values():
+        sp.set_linewidth(0.3)
+    ax.set_xlabel("texel error (log scale; below 1/16: darkest; magenta: non-finite)",
+                  fontsize=6, labelpad=1)
+    return ax
+
+
+def montage(F, st, rows, scale):
+    """Per field and azimuth, a montage of its error maps: one row per series (series whose
+    maps are identical, pixel for pixel, shown once and named together), one column per θ,
+    every tile on the one colour scale pxh run draws, its bar drawn once below."""
     results = os.path.dirname(os.path.abspath(F.out))  # map paths: relative to the results
     views = {}
     for r in rows:
@@ -681,9 +719,9 @@ def montage(F, rows):
         for r in vrows:
             per.setdefault((setting(r), group(r)), {})[num(r["theta_deg"])] = r
         px = int(F.width / len(thetas) * 300)  # a tile's width in pixels at 300 dpi
-        tiles = []  # [(label, [groups], {theta: image})]
+        tiles = []  # [(setting, [groups], {theta: image})]
         for (s, g), by_theta in per.items():
-            imgs = {th: load_map(results, r["map"], px) for th, r in by_theta.items()}
+            imgs = {th: load_map(results, r, px) for th, r in by_theta.items()}
             for t in tiles:
                 if t[0] == s and t[2].keys() == imgs.keys() and all(
                         same_image(t[2][th], imgs[th]) for th in imgs):
@@ -691,23 +729,55 @@ def montage(F, rows):
                     break
             else:
                 tiles.append((s, [g], imgs))
-        fig, axes = image_grid(F.width, len(thetas), [0.34] + [0.16] * (len(tiles) - 1), 0.04)
+        order = {s: i for i, s in enumerate(st.order)}
+        tiles.sort(key=lambda t: order.get(t[0], len(order)))
+        # one axes per row of tiles (the tiles side by side in one image, white between them:
+        # a montage of hundreds of maps draws in seconds, not minutes)
+        gap, margin, bar = 0.04, 0.03, 0.62  # inches; bar: below the last row, for the scale
+        nc = len(thetas)
+        cell = (F.width - 2 * margin - (nc - 1) * gap) / nc
+        labels = []
+        for s, gs, _ in tiles:
+            label = " ".join(x for x in (s[0], short_params(s[1])) if x)  # whole: 2 lines
+            labels.append(fit(f"{label} [{' = '.join(gs)}]", F.width - 0.1, 6, 2))
+        # above each row its label (one or two lines of 6 pt), above the first the θ titles
+        pads = [0.05 + (lab.count("\n") + 1) * 6 * 1.25 / 72 for lab in labels]
+        pads[0] += 0.15
+        height = sum(pads) + len(tiles) * cell + bar
+        fig = plt.figure(figsize=(F.width, height))
+        sides = [im.shape[0] for _, _, imgs in tiles for im in imgs.values() if im is not None]
+        px_side = min(sides) if sides else 1
+        gap_px = max(1, round(px_side * gap / cell))
+        y = height
         for i, (s, gs, imgs) in enumerate(tiles):
+            y -= pads[i] + cell
+            row = np.ones((px_side, nc * px_side + (nc - 1) * gap_px, 3))
             for j, th in enumerate(thetas):
-                ax = axes[i][j]
-                ax.axis("off")
-                if th in imgs and imgs[th] is not None:
-                    ax.imshow(imgs[th])
-                if i == 0:
-                    ax.set_title(f"θ = {th:g}°", fontsize=7, pad=11)
-            name = " ".join(x for x in (s[0], short_params(s[1])) if x) + f" [{' = '.join(gs)}]"
-            fig.text(0.5, axes[i][0].get_position().y1 + 0.02 / fig.get_figheight(),
-                     fit(name, F.width, 6.5, 1), ha="center", va="bottom",
-                     fontsize=6.5)
-        fig.suptitle(fit(f"error maps: {field}, φ = {phi}° (each map's own colour scale)",
-                         F.width, 7, 2), fontsize=7, y=1.0, va="bottom")
+                im = imgs.get(th)
+                if im is not None:
+                    idx = np.linspace(0, im.shape[0] - 1, px_side).round().astype(int)
+                    x0 = j * (px_side + gap_px)
+                    row[:, x0:x0 + px_side] = im[idx][:, idx, :3]
+            ax = fig.add_axes([margin / F.width, y / height, (F.width - 2 * margin) / F.width,
+                               cell / height])
+            ax.imshow(row, interpolation="nearest", aspect="auto")
+            ax.axis("off")
+            if i == 0:
+                for j, th in enumerate(thetas):
+                    fig.text((margin + j * (cell + gap) + cell / 2) / F.width,
+                             (y + pads[0] - 0.13) / height + cell / height, f"θ = {th:g}°",
+                             ha="center", va="bottom", fontsize=6.5)
+            fig.text(0.5, (y + cell + 0.02) / height, labels[i], ha="center", va="bottom",
+                     fontsize=6)
+        bw = min(F.width - 0.6, 4.0)
+        error_colourbar(fig, [(F.width - bw) / 2 / F.width, 0.36 / height, bw / F.width,
+                              0.1 / height], scale)
+        fig.suptitle(fit(f"error maps: {field}, φ = {phi}°\na row per method setting; maps "
+                         "identical pixel for pixel shown once, their backends named together",
+                         F.width - 0.1, 7, 4), fontsize=7, y=1.0, va="bottom")
         name = safe(f"error_maps_{field}_p{phi}")
-        F.save(fig, name, len(tiles) * len(thetas), len(tiles), [])
+        F.save(fig, name, len(tiles) * len(thetas), len(tiles), [],
+               rows=[f"{s[0]} {s[1]} [{' = '.join(gs)}]".strip() for s, gs, _ in tiles])
 
 
 def safe(name):
@@ -787,7 +857,28 @@ def picture_montage(F, st, results, rows):
     cells = [(None, None, r0)] + tiles
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
-    pads = [p for k in range(blocks) for p in ((0.9 if k == 0 else 0.62), 0.03)]
+    cell = F.width / nc - 0.06
+    names = ["truth (ray traced)"] + [fit(st.full[s], cell, 6, 2 if multi else 3) + (
+        "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
+    groups = sorted({g for t in tiles for g in t[1]})
+    note = None if multi or len(groups) < 2 else (
+        " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
+    title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
+                f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
+                "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
+                F.width, 7, 4)
+
+    def lines_in(k):  # the most title lines of block k
+        return max(n.count("\n") + 1 for n in names[k * nc:(k + 1) * nc])
+
+    def line(pt):  # inches a line of pt-point text takes
+        return pt * 1.25 / 72
+
+    # above block 0: the figure's title and the tiles' titles; above the others: the previous
+    # block's PSNR / SSIM lines (two, 5.5 pt) and the titles
+    pads = [p for k in range(blocks) for p in (
+        ((title.count("\n") + 1) * line(7) + 0.06 if k == 0 else 2 * line(5.5) + 0.08) +
+        lines_in(k) * line(6.5) + 0.06, 0.03)]
     fig, axes = image_grid(F.width, nc, pads, 0.3)
     for ax in (a for row in axes for a in row):
         ax.axis("off")
@@ -801,19 +892,10 @@ def picture_montage(F, st, results, rows):
         bottom.axis("on")
         show(top, load(results, r["picture"]))
         show(bottom, load(results, r["picture_diff"]))
-        cell = F.width / nc - 0.06
-        name = fit(st.labels[s], cell, 6, 2 if multi else 3) + (
-            "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "")
-        top.set_title(name, fontsize=6)
+        top.set_title(names[k], fontsize=6)
         bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
                     ha="center", va="top", transform=bottom.transAxes)
-    groups = sorted({g for t in tiles for g in t[1]})
-    note = None if multi or len(groups) < 2 else (
-        " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
-    fig.suptitle(fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
-                     f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
-                     "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
-                     F.width, 7, 4), fontsize=7, y=1.0, va="top")
+    fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
@@ -921,7 +1003,7 @@ def main():
     cost_figure(F, st, bands, "time_vs_error", ["ns_per_sample", "ms_per_frame"])
     maps = os.path.join(data, "maps.csv")
     if os.path.exists(maps):
-        montage(F, read(maps))
+        montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))
     pics = os.path.join(data, "pictures.csv")
     if os.path.exists(pics):
         pictures(F, st, read(pics))

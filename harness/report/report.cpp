@@ -16,6 +16,8 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     open_report_folder(d.out);
     report_folder(d.out, "data");
     write_summary(d);
+    write_fields(d);
+    write_legend(d);
     write_failed(d);
     write_sweep(d);
     write_precision(d);

@@ -19,7 +19,9 @@ struct ReportOptions {
                                         //   itself does not read run.json)
 };
 
-// Writes DIR/report/: summary.csv/.md/.tex (per series and angle band), budget.md/.tex
+// Writes DIR/report/: summary.csv/.md/.tex (per series and angle band; in .md/.tex a setting's
+// series whose printed numbers agree are one row), fields.csv/.md and fields/FIELD.tex (the
+// same per height field), legend.md/.tex (the LaTeX tables' compact labels), budget.md/.tex
 // (cheapest method setting under error budgets), sweep.md and precision.md (when measured),
 // failed.md (when rows failed: they are listed, and left out of every number), data/*.csv
 // (plot-ready numbers, Pareto fronts included), and the plots (PNG + SVG) drawn by

@@ -79,6 +79,7 @@ ReportData::ReportData(const std::string& d, const ReportOptions& o)
     if (ok.empty()) throw InputError(file.path, "has no ok rows to report");
     assign_bands();
     collect();
+    name_settings();
 }
 
 void ReportData::assign_bands() {
@@ -106,17 +107,143 @@ void ReportData::collect() {
             if (!settings.count(set)) setting_order.push_back(set);
             settings[set].series.push_back(s);
         }
+        const std::string field = field_of(rr);
+        if (!field_series.count(field)) field_order.push_back(field);
+        auto& per_field = field_series[field];
+        if (!per_field.count(s)) per_field[s] = {set, rr.text("method"), group_of(rr), r, {}, {}};
+        if (std::find(group_order.begin(), group_order.end(), group_of(rr)) == group_order.end())
+            group_order.push_back(group_of(rr));
         Series& ser = series[s];
+        Series& fser = per_field[s];
         ser.all.add(rr, metric.column);
+        fser.all.add(rr, metric.column);
         const int b = bands.of(rr.num("theta_deg"));
         if (b < 0) continue;
         ser.band[size_t(b)].add(rr, metric.column);
+        fser.band[size_t(b)].add(rr, metric.column);
         settings[set].band[size_t(b)].add(rr, metric.column);
     }
     for (size_t r : failed) {
         const int b = bands.of(row(r).num("theta_deg"));
         if (b >= 0) settings[setting_of(row(r))].failed_bands.insert(size_t(b));
     }
+}
+
+namespace {
+
+// "k=v;k=v" as (key, value) pairs, in order.
+std::vector<std::pair<std::string, std::string>> split_params(const std::string& params) {
+    std::vector<std::pair<std::string, std::string>> kv;
+    std::stringstream ss(params);
+    for (std::string part; std::getline(ss, part, ';');) {
+        if (part.empty()) continue;
+        const size_t eq = part.find('=');
+        kv.emplace_back(part.substr(0, eq), eq == std::string::npos ? "" : part.substr(eq + 1));
+    }
+    return kv;
+}
+
+constexpr size_t kMaxLabelValues = 16;  // characters of values in "method (values)"
+
+}  // namespace
+
+std::vector<std::string> compact_labels(
+    const std::vector<std::pair<std::string, std::string>>& settings) {
+    std::vector<std::string> labels(settings.size());
+    std::map<std::string, std::vector<size_t>> by_method;
+    std::vector<std::string> methods;
+    for (size_t i = 0; i < settings.size(); ++i) {
+        if (!by_method.count(settings[i].first)) methods.push_back(settings[i].first);
+        by_method[settings[i].first].push_back(i);
+    }
+    for (const auto& m : methods) {
+        const auto& members = by_method[m];
+        if (members.size() == 1) {
+            labels[members[0]] = m;
+            continue;
+        }
+        // value[k][key]: each setting's parameters; keys in order of first appearance
+        std::vector<std::map<std::string, std::string>> value;
+        std::vector<std::string> keys;
+        for (size_t i : members) {
+            value.emplace_back();
+            for (const auto& [k, v] : split_params(settings[i].second)) {
+                if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
+                value.back()[k] = v;
+            }
+        }
+        const auto of = [&](size_t k, const std::string& key) {
+            auto it = value[k].find(key);
+            return it == value[k].end() ? std::string("-") : it->second;
+        };
+        // Greedy: add the key that tells the most settings apart, until all are apart (or no
+        // key helps: settings whose parameters are all alike, which setting_of never makes).
+        std::vector<std::string> chosen;
+        const auto distinct = [&](const std::vector<std::string>& ks) {
+            std::set<std::vector<std::string>> seen;
+            for (size_t k = 0; k < members.size(); ++k) {
+                std::vector<std::string> t;
+                for (const auto& key : ks) t.push_back(of(k, key));
+                seen.insert(t);
+            }
+            return seen.size();
+        };
+        for (size_t have = 1; have < members.size();) {
+            size_t best = 0;
+            std::string best_key;
+            for (const auto& key : keys) {
+                if (std::find(chosen.begin(), chosen.end(), key) != chosen.end()) continue;
+                auto ks = chosen;
+                ks.push_back(key);
+                const size_t n = distinct(ks);
+                if (n > best) {
+                    best = n;
+                    best_key = key;
+                }
+            }
+            if (best <= have) break;
+            chosen.push_back(best_key);
+            have = best;
+        }
+        // in the order the parameters are written
+        std::vector<std::string> ordered;
+        for (const auto& key : keys)
+            if (std::find(chosen.begin(), chosen.end(), key) != chosen.end())
+                ordered.push_back(key);
+        std::vector<std::string> vals(members.size());
+        bool long_values = distinct(ordered) < members.size();
+        for (size_t k = 0; k < members.size(); ++k) {
+            for (const auto& key : ordered) vals[k] += (vals[k].empty() ? "" : ", ") + of(k, key);
+            long_values = long_values || vals[k].size() > kMaxLabelValues;
+        }
+        for (size_t k = 0; k < members.size(); ++k) {
+            std::string tag = vals[k];
+            if (long_values) {  // a, b, ..., z, aa, ab, ...
+                tag.clear();
+                for (size_t n = k + 1; n > 0; n = (n - 1) / 26)
+                    tag.insert(tag.begin(), char('a' + (n - 1) % 26));
+            }
+            labels[members[k]] = m + " (" + tag + ")";
+        }
+    }
+    return labels;
+}
+
+void ReportData::name_settings() {
+    std::vector<std::pair<std::string, std::string>> keys;
+    for (const auto& set : setting_order) {
+        const ResultRow& r = row(series.at(settings.at(set).series.front()).first_row);
+        keys.emplace_back(r.text("method"), r.text("params"));
+    }
+    const auto labels = compact_labels(keys);
+    for (size_t i = 0; i < setting_order.size(); ++i) tex_label[setting_order[i]] = labels[i];
+}
+
+std::string ReportData::short_group(const std::string& group) const {
+    const std::string backend = group.substr(0, group.find('/'));
+    for (const auto& g : group_order)
+        if (g != group && g.substr(0, g.find('/')) == backend) return group;
+    return backend;
 }
 
 std::vector<size_t> ReportData::present_bands() const {

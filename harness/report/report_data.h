@@ -56,6 +56,17 @@ struct ReportData {
     std::vector<std::string> series_order, setting_order;
     std::map<std::string, Series> series;
     std::map<std::string, Setting> settings;
+    // The same means per height field (field_of: "bricks s=0.05 b=1"), in order of appearance:
+    // field -> series -> its rows on that field.
+    std::vector<std::string> field_order;
+    std::map<std::string, std::map<std::string, Series>> field_series;
+    // Every backend/precision or format of the report, in order of appearance.
+    std::vector<std::string> group_order;
+    // The compact LaTeX name of each setting of setting_order (one-to-one): the method, and
+    // in parentheses the values of the fewest parameters that tell its settings apart
+    // ("pom (32)", "pom (adaptive)"; letters "(a)", "(b)" when those values are long); the
+    // method alone when it has one setting. legend.md/.tex map each back to its parameters.
+    std::map<std::string, std::string> tex_label;
 
     // Reads DIR/results.csv (once, typed) and computes the means.
     ReportData(const std::string& dir, const ReportOptions& o);
@@ -66,10 +77,20 @@ struct ReportData {
     // Writes OUT/rel and says so (write_report_file).
     void write(const std::string& rel, const std::string& text) const;
 
+    // A group as LaTeX tables name it: the backend alone ("glsl") when the report has one
+    // precision / texture format of that backend, else the whole group ("glsl/r16").
+    std::string short_group(const std::string& group) const;
+
   private:
     void assign_bands();
     void collect();
+    void name_settings();
 };
+
+// The compact labels of name_settings, for any list of settings (method, params as
+// results.csv writes them: "k=v;k=v"), in the same order.
+std::vector<std::string> compact_labels(
+    const std::vector<std::pair<std::string, std::string>>& settings);
 
 // DIR/report/ belongs to pxh report, and only what it wrote there: OUT/manifest.txt lists every
 // file (and folder) it created, one a line, relative to OUT. open_report_folder refuses an OUT
@@ -92,6 +113,8 @@ std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<doub
 
 // The tables (harness/report/tables.cpp) and the figures' data and drawing (figures.cpp).
 void write_summary(const ReportData& d);
+void write_fields(const ReportData& d);
+void write_legend(const ReportData& d);
 void write_failed(const ReportData& d);
 void write_sweep(const ReportData& d);
 void write_precision(const ReportData& d);

@@ -1,7 +1,9 @@
 // The report's tables: summary, failed rows, sweeps, precision, budgets.
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "harness/core/error.h"
@@ -12,11 +14,13 @@ namespace pxh {
 
 namespace {
 
-// One line of summary.csv: a series over a band (or "all").
-void summary_csv_line(std::ostream& csv, const std::string& s, const Series& ser,
-                      const std::string& band, double lo, double hi, size_t views, const Acc& a) {
-    csv << csv_quote(s) << "," << csv_quote(ser.setting) << "," << csv_quote(ser.method) << ","
-        << csv_quote(ser.group) << "," << csv_quote(band) << "," << csv_num(lo) << ","
+// One line of summary.csv / fields.csv: a series over a band (or "all"); `lead` holds the
+// fields before it (fields.csv: the height field).
+void summary_csv_line(std::ostream& csv, const std::string& lead, const std::string& s,
+                      const Series& ser, const std::string& band, double lo, double hi,
+                      size_t views, const Acc& a) {
+    csv << lead << csv_quote(s) << "," << csv_quote(ser.setting) << "," << csv_quote(ser.method)
+        << "," << csv_quote(ser.group) << "," << csv_quote(band) << "," << csv_num(lo) << ","
         << csv_num(hi) << "," << (views ? std::to_string(views) : "") << ","
         << csv_num(a.err_mean.get()) << "," << csv_num(a.err_p50.get()) << ","
         << csv_num(a.err_p95.get()) << "," << csv_num(a.worst_p95) << ","
@@ -24,45 +28,235 @@ void summary_csv_line(std::ostream& csv, const std::string& s, const Series& ser
         << "," << csv_num(a.sliding.get()) << "," << csv_num(a.shimmering.get()) << "\n";
 }
 
-}  // namespace
+const char* const kSummaryColumns =
+    "series,setting,method,group,band,theta_lo,theta_hi,band_views,err_mean,err_p50,err_p95,"
+    "err_p95_worst,fetches_mean,ns_per_sample,ms_per_frame,sliding,shimmering\n";
 
-// summary.csv / .md / .tex: per series, mean / p95 per band, cost.
-void write_summary(const ReportData& d) {
+// Every band row and the "all" row of a series.
+void summary_csv(std::ostream& csv, const ReportData& d, const std::string& lead,
+                 const std::string& s, const Series& ser) {
+    for (size_t b : d.present_bands()) {
+        auto it = ser.band.find(b);
+        if (it == ser.band.end()) continue;
+        summary_csv_line(csv, lead, s, ser, d.bands.label(b), d.bands.lo(b), d.bands.hi(b),
+                         d.bands.views(b), it->second);
+    }
+    summary_csv_line(csv, lead, s, ser, "all", NAN, NAN, 0, ser.all);
+}
+
+// A line of a table: the series of one setting whose shown numbers agree, written once.
+struct Line {
+    std::string setting;
+    std::vector<const Series*> members;
+};
+
+// The lines of the series in `sers`, setting by setting (in the report's order), a setting's
+// series merged when `shown` gives them the same cells.
+template <class Shown>
+std::vector<Line> merge_lines(const ReportData& d, const std::map<std::string, Series>& sers,
+                              const Shown& shown) {
+    std::vector<Line> lines;
+    for (const auto& set : d.setting_order) {
+        const size_t first = lines.size();
+        std::vector<std::vector<std::string>> cells;
+        for (const auto& s : d.settings.at(set).series) {
+            auto it = sers.find(s);
+            if (it == sers.end()) continue;
+            const auto c = shown(it->second);
+            size_t i = 0;
+            while (i < cells.size() && cells[i] != c) ++i;
+            if (i == cells.size()) {
+                lines.push_back({set, {}});
+                cells.push_back(c);
+            }
+            lines[first + i].members.push_back(&it->second);
+        }
+    }
+    return lines;
+}
+
+// A line's name: in Markdown the setting and every group it stands for
+// ("pom layers=8 [cpu/float = glsl/r32f]"); in LaTeX the compact label, with the short groups
+// when the report has more than one.
+std::string md_name(const Line& l) {
+    std::string g;
+    for (const Series* s : l.members) g += (g.empty() ? "" : " = ") + s->group;
+    return l.setting + " [" + g + "]";
+}
+std::string tex_name(const ReportData& d, const Line& l, bool with_groups = true) {
+    const std::string& label = d.tex_label.at(l.setting);
+    if (d.group_order.size() < 2 || !with_groups) return label;
+    std::string g;
+    for (const Series* s : l.members) g += (g.empty() ? "" : " = ") + d.short_group(s->group);
+    return label + " [" + g + "]";
+}
+
+// A time cell of a line: the value of each member that has one (CPU time on CPU series, frame
+// time on GLSL series), distinct values joined.
+template <class Get>
+std::string time_cell(const Line& l, int prec, const Get& get) {
+    std::vector<std::string> vals;
+    for (const Series* s : l.members) {
+        const double v = get(*s);
+        if (!std::isfinite(v)) continue;
+        const std::string t = fmt(v, prec);
+        if (std::find(vals.begin(), vals.end(), t) == vals.end()) vals.push_back(t);
+    }
+    if (vals.empty()) return "-";
+    std::string out;
+    for (const auto& v : vals) out += (out.empty() ? "" : " / ") + v;
+    return out;
+}
+
+const char* const kMergeNote =
+    "A row stands for every backend / precision / texture format in its brackets: their "
+    "numbers in it agree as shown (printed once); where they differ each has its own row.";
+
+// The summary table of a set of series (all fields pooled, or one field): Markdown and LaTeX
+// (narrower: "mean / p95" said once in a note, and the groups left out of the rows when every
+// row stands for all of them).
+std::pair<TextTable, TextTable> series_tables(const ReportData& d,
+                                              const std::map<std::string, Series>& sers) {
     const auto bands = d.present_bands();
-    std::ostringstream csv;
-    csv << "series,setting,method,group,band,theta_lo,theta_hi,band_views,err_mean,err_p50,"
-           "err_p95,err_p95_worst,fetches_mean,ns_per_sample,ms_per_frame,sliding,shimmering\n";
-    TextTable tt;
-    tt.header.push_back("method");
-    for (size_t b : bands) tt.header.push_back(d.bands.label(b) + " mean / p95");
-    for (const char* h : {"fetches", "CPU ns/sample", "GLSL ms/frame"}) tt.header.push_back(h);
-    tt.align = "l" + std::string(bands.size() + 3, 'r');
-    for (const auto& s : d.series_order) {
-        const Series& ser = d.series.at(s);
-        std::vector<std::string> row = {s};
+    TextTable md, tex;
+    md.header.push_back("method");
+    tex.header.push_back("method");
+    for (size_t b : bands) {
+        md.header.push_back(d.bands.label(b) + " mean / p95");
+        tex.header.push_back(d.bands.label(b));
+    }
+    for (const char* h : {"fetches", "CPU ns/sample", "GLSL ms/frame"}) {
+        md.header.push_back(h);
+        tex.header.push_back(h);
+    }
+    md.align = tex.align = "l" + std::string(bands.size() + 3, 'r');
+    const auto shown = [&](const Series& ser) {
+        std::vector<std::string> c;
         for (size_t b : bands) {
             auto it = ser.band.find(b);
-            if (it == ser.band.end()) {
-                row.push_back("-");
-                continue;
-            }
-            row.push_back(fmt(it->second.err_mean.get()) + " / " + fmt(it->second.err_p95.get()));
-            summary_csv_line(csv, s, ser, d.bands.label(b), d.bands.lo(b), d.bands.hi(b),
-                             d.bands.views(b), it->second);
+            c.push_back(it == ser.band.end() ? "-"
+                                             : fmt(it->second.err_mean.get()) + " / " +
+                                                   fmt(it->second.err_p95.get()));
         }
-        summary_csv_line(csv, s, ser, "all", NAN, NAN, 0, ser.all);
-        row.push_back(fmt(ser.all.fetches.get(), 1));
-        row.push_back(fmt(ser.all.ns.get(), 1));
-        row.push_back(fmt(ser.all.ms.get(), 2));
-        tt.rows.push_back(row);
+        c.push_back(fmt(ser.all.fetches.get(), 1));
+        return c;
+    };
+    const auto lines = merge_lines(d, sers, shown);
+    std::vector<std::string> groups;  // the groups of these series
+    for (const auto& [name, ser] : sers)
+        if (std::find(groups.begin(), groups.end(), ser.group) == groups.end())
+            groups.push_back(ser.group);
+    const bool all_merged = std::all_of(lines.begin(), lines.end(), [&](const Line& l) {
+        return l.members.size() == groups.size();
+    });
+    for (const Line& l : lines) {
+        std::vector<std::string> row = shown(*l.members.front());
+        row.push_back(time_cell(l, 1, [](const Series& s) { return s.all.ns.get(); }));
+        row.push_back(time_cell(l, 2, [](const Series& s) { return s.all.ms.get(); }));
+        row.insert(row.begin(), md_name(l));
+        md.rows.push_back(row);
+        row.front() = tex_name(d, l, !all_merged);
+        tex.rows.push_back(row);
     }
-    tt.notes = d.notes();
-    tt.notes.push_back(
+    tex.notes.push_back("Band cells: mean / p95 texel error.");
+    if (all_merged && groups.size() > 1 && !lines.empty()) {
+        std::string g;
+        for (const Series* s : lines.front().members)
+            g += (g.empty() ? "" : " = ") + d.short_group(s->group);
+        tex.notes.push_back("Every row stands for " + g +
+                            ": their numbers agree as shown (printed once).");
+    }
+    return {md, tex};
+}
+
+std::vector<std::string> summary_notes(const ReportData& d, bool tex) {
+    auto notes = d.notes();
+    notes.push_back(
         "Texel error, mean over rows of the per-row mean / 95th percentile, per "
         "band of the view angle θ (degrees); fetches and times over all angles.");
+    notes.push_back(kMergeNote);
+    if (tex) notes.push_back("Method labels and their parameters: legend.tex.");
+    return notes;
+}
+
+// A height field's name as a file name: safe characters only.
+std::string file_name_of(const std::string& field) {
+    std::string out;
+    for (char c : field) {
+        const bool keep = std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-';
+        if (keep) out += c;
+        else if (out.empty() || out.back() != '_') out += '_';
+    }
+    return out.empty() ? "field" : out;
+}
+
+}  // namespace
+
+// summary.csv / .md / .tex: per series (merged in .md / .tex), mean / p95 per band, cost.
+void write_summary(const ReportData& d) {
+    std::ostringstream csv;
+    csv << kSummaryColumns;
+    for (const auto& s : d.series_order) summary_csv(csv, d, "", s, d.series.at(s));
+    auto [md, tex] = series_tables(d, d.series);
+    md.notes = summary_notes(d, false);
+    const auto extra = tex.notes;
+    tex.notes = summary_notes(d, true);
+    tex.notes.insert(tex.notes.begin(), extra.begin(), extra.end());
     d.write("summary.csv", csv.str());
-    d.write("summary.md", tt.markdown());
-    d.write("summary.tex", tt.latex(d.dir + "/results.csv"));
+    d.write("summary.md", md.markdown());
+    d.write("summary.tex", tex.latex(d.dir + "/results.csv"));
+}
+
+// fields.csv / fields.md / fields/FIELD.tex: the summary of each height field on its own.
+void write_fields(const ReportData& d) {
+    std::ostringstream csv, md;
+    csv << "heightfield," << kSummaryColumns;
+    md << "# Per height field\n\nThe summary table (summary.md) of each height field on its own "
+          "rows.\n";
+    report_folder(d.out, "fields");
+    std::set<std::string> names;
+    for (const auto& field : d.field_order) {
+        const auto& sers = d.field_series.at(field);
+        for (const auto& s : d.series_order)
+            if (sers.count(s)) summary_csv(csv, d, csv_quote(field) + ",", s, sers.at(s));
+        auto [m, t] = series_tables(d, sers);
+        md << "\n## " << one_line(field) << "\n\n" << m.markdown();
+        std::string name = file_name_of(field);
+        for (int k = 2; names.count(name); ++k)
+            name = file_name_of(field) + "_" + std::to_string(k);
+        names.insert(name);
+        const auto extra = t.notes;
+        t.notes = summary_notes(d, true);
+        t.notes.insert(t.notes.begin(), extra.begin(), extra.end());
+        t.notes.insert(t.notes.begin(), "Height field: " + field + ".");
+        d.write("fields/" + name + ".tex", t.latex(d.dir + "/results.csv"));
+    }
+    md << "\n";
+    for (const auto& n : summary_notes(d, false)) md << n << "\n\n";
+    d.write("fields.csv", csv.str());
+    d.write("fields.md", md.str());
+}
+
+// legend.md / legend.tex: each LaTeX label and the full parameters of its setting.
+void write_legend(const ReportData& d) {
+    TextTable tt;
+    tt.header = {"label", "parameters"};
+    tt.align = "ll";
+    tt.latex_columns = "lp{0.6\\linewidth}";
+    for (const auto& set : d.setting_order) {
+        const ResultRow& r = d.row(d.series.at(d.settings.at(set).series.front()).first_row);
+        std::string params;
+        std::stringstream ss(r.text("params"));
+        for (std::string p; std::getline(ss, p, ';');)
+            if (!p.empty()) params += (params.empty() ? "" : ", ") + p;
+        tt.rows.push_back({d.tex_label.at(set), params.empty() ? "-" : params});
+    }
+    tt.notes.push_back(
+        "The method labels of the LaTeX tables: the method and, in parentheses, the values of "
+        "the fewest parameters that tell its settings apart (letters when those are long); "
+        "here each label's full parameters as results.csv writes them.");
+    d.write("legend.md", tt.markdown());
+    d.write("legend.tex", tt.latex(d.dir + "/results.csv"));
 }
 
 // failed.md: every failed row, what it was and why (nothing else uses them).
@@ -101,15 +295,19 @@ void write_sweep(const ReportData& d) {
     tt.header.push_back("method");
     for (size_t b : bands) tt.header.push_back(d.bands.label(b) + " sliding / shimmering");
     tt.align = "l" + std::string(bands.size(), 'r');
-    for (const auto& s : d.series_order) {
-        std::vector<std::string> row = {s};
-        const auto& band = d.series.at(s).band;
+    const auto shown = [&](const Series& ser) {
+        std::vector<std::string> c;
         for (size_t b : bands) {
-            auto it = band.find(b);
-            row.push_back(it == band.end() ? "-"
-                                           : fmt(it->second.sliding.get()) + " / " +
-                                                 fmt(it->second.shimmering.get()));
+            auto it = ser.band.find(b);
+            c.push_back(it == ser.band.end() ? "-"
+                                             : fmt(it->second.sliding.get()) + " / " +
+                                                   fmt(it->second.shimmering.get()));
         }
+        return c;
+    };
+    for (const Line& l : merge_lines(d, d.series, shown)) {
+        std::vector<std::string> row = shown(*l.members.front());
+        row.insert(row.begin(), md_name(l));
         tt.rows.push_back(row);
     }
     tt.notes = d.notes();
@@ -117,6 +315,7 @@ void write_sweep(const ReportData& d) {
         "Texels per degree of view change (docs/conventions.md section 5.3): "
         "sliding = |mean change of the error vector| / dt, shimmering = mean "
         "|change - mean change| / dt.");
+    tt.notes.push_back(kMergeNote);
     d.write("sweep.md", tt.markdown());
 }
 
@@ -178,8 +377,9 @@ bool meets(const ReportData& d, const Setting& set, size_t band, double budget) 
     return any;
 }
 
-// The cheapest setting meeting a budget in a band (fewest fetches, then CPU time), as a cell.
-std::string cheapest(const ReportData& d, size_t b, double budget) {
+// The cheapest setting meeting a budget in a band (fewest fetches, then CPU time), as a cell
+// (the setting's LaTeX label with `tex`).
+std::string cheapest(const ReportData& d, size_t b, double budget, bool tex) {
     const std::string* best = nullptr;
     double best_f = INFINITY, best_ns = INFINITY;  // missing counts as the dearest
     for (const auto& name : d.setting_order) {
@@ -194,6 +394,7 @@ std::string cheapest(const ReportData& d, size_t b, double budget) {
             best_ns = ns;
         }
     }
+    if (tex) return best ? d.tex_label.at(*best) + ", " + fmt(best_f, 1) : "--";
     return best ? *best + " (" + fmt(best_f, 1) + " fetches)" : "no setting meets this budget";
 }
 
@@ -206,10 +407,15 @@ void write_budget(const ReportData& d) {
     tt.header.push_back(d.metric.header);
     for (size_t b : bands) tt.header.push_back(d.bands.label(b));
     tt.align = "r" + std::string(bands.size(), 'l');
+    TextTable tex = tt;
     for (double budget : d.metric.budgets) {
-        std::vector<std::string> row = {format_number(budget)};
-        for (size_t b : bands) row.push_back(cheapest(d, b, budget));
+        std::vector<std::string> row = {format_number(budget)}, tex_row = row;
+        for (size_t b : bands) {
+            row.push_back(cheapest(d, b, budget, false));
+            tex_row.push_back(cheapest(d, b, budget, true));
+        }
         tt.rows.push_back(row);
+        tex.rows.push_back(tex_row);
     }
     tt.notes = d.notes();
     tt.notes.push_back(
@@ -220,8 +426,12 @@ void write_budget(const ReportData& d) {
         "`) in the band is within the budget on every backend, precision and "
         "texture format it ran on, with no failed row and no non-finite "
         "output there.");
+    tex.notes = tt.notes;
+    tex.notes.push_back(
+        "A cell: the setting, its fetches per sample; --: no setting meets this budget. Method "
+        "labels and their parameters: legend.tex.");
     d.write("budget.md", tt.markdown());
-    d.write("budget.tex", tt.latex(d.dir + "/results.csv"));
+    d.write("budget.tex", tex.latex(d.dir + "/results.csv"));
 }
 
 }  // namespace pxh

@@ -31,7 +31,8 @@ std::string tex_text(const std::string& s);
 
 struct TextTable {
     std::vector<std::string> header;
-    std::string align;  // 'l' or 'r' per column
+    std::string align;          // 'l' or 'r' per column
+    std::string latex_columns;  // the tabular's column spec when not `align` (e.g. a p{} column)
     std::vector<std::vector<std::string>> rows;
     std::vector<std::string> notes;  // paragraphs under the table
 

@@ -43,6 +43,12 @@ void error_colour(double e, float rgb[3]) {
     ramp(e <= 0 ? 0.0 : (std::log2(e) + 4) / 8, rgb);
 }
 
+ErrorMapBox error_map_box(int n) {
+    const int k = std::max(1, (384 + n - 1) / n), side = n * k;
+    const int width = std::max(side, 420), top = 28;
+    return {(width - side) / 2, top, side};
+}
+
 std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
                             const std::string& stem, const std::string& title) {
     namespace fs = std::filesystem;
@@ -59,12 +65,12 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
     write_new_image(data, exr);
 
     // Picture: the map scaled up (nearest) to at least 384 px, a title above, legend below.
-    const int k = std::max(1, (384 + n - 1) / n), side = n * k;
-    const int width = std::max(side, 420), top = 28, legend = 64;
+    const ErrorMapBox box = error_map_box(n);
+    const int side = box.side, k = side / n, top = box.y0, x0 = box.x0, legend = 64;
+    const int width = std::max(side, 420);
     OIIO::ImageBuf pic(OIIO::ImageSpec(width, top + side + legend, 3, OIIO::TypeDesc::UINT8));
     const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0};
     OIIO::ImageBufAlgo::fill(pic, white);
-    const int x0 = (width - side) / 2;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const Vec2d e = errors[size_t(j) * n + i];

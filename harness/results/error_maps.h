@@ -13,6 +13,13 @@ namespace pxh {
 // is the darkest colour, non-finite is magenta.
 void error_colour(double texels, float rgb[3]);
 
+// Where the map itself lies in the PNG of an N x N map: a side x side square whose top-left
+// pixel is (x0, y0), the title above it and the colour bar below (pxh report crops it out).
+struct ErrorMapBox {
+    int x0, y0, side;
+};
+ErrorMapBox error_map_box(int n);
+
 // Writes DIR/STEM.exr (channels e_x, e_y, |e| in texels; row j of the sample grid is file row
 // j, as for height maps) and DIR/STEM.png, both new files (never through a link, never over a
 // file; DIR is created if missing); returns the PNG's file name.
