@@ -21,26 +21,15 @@ namespace fs = std::filesystem;
 using Result = pxh::test::CliResult;
 class Cli : public pxh::test::CliTest {};
 
-const char* kSmall = R"(
-name = "small"
-samples = 24
-timing_repeats = 1
-[views]
-theta_deg = [0, 60, 85]
-phi_deg = [0, 30]
-[[heightfields]]
-generator = "fbm"
-size = 32
-[[heightfields]]
-generator = "spikes"
-size = 16
-bias = 0.5
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "pom"
-layers = [8, 32]
-)";
+const std::string kSmall = pxh::test::ExperimentToml("small")
+                               .samples(24)
+                               .timing_repeats(1)
+                               .theta("[0, 60, 85]")
+                               .phi("[0, 30]")
+                               .field("fbm", 32)
+                               .field("spikes", 16, "bias = 0.5")
+                               .method("parallax")
+                               .method("pom", "layers = [8, 32]");
 
 TEST_F(Cli, RunWritesResultsAndProvenance) {
     const auto exp = write("small.toml", kSmall);

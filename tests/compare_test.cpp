@@ -4,84 +4,54 @@
 #include "harness/report/compare.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "harness/core/error.h"
+#include "tests/cli_util.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-class Compare : public ::testing::Test {
+class Compare : public pxh::test::SuiteCliTest<Compare> {
+  public:
+    static constexpr const char* kDirName = "compare";
+
   protected:
-    static inline fs::path dir;
-    static inline std::string setup_error;
     static void SetUpTestSuite() {
-        dir = fs::temp_directory_path() / ("pxh_compare_" + std::to_string(getpid()));
-        fs::remove_all(dir);
+        make_dir();
         fs::create_directories(dir / "worse");
-        const std::string exp = R"(name = "cmp"
-samples = 32
-backends = ["cpu", "glsl"]
-timing_repeats = 2
-[views]
-theta_deg = [0, 40, 70]
-[[heightfields]]
-generator = "fbm"
-size = 64
-scale = 0.05
-bias = 1.0
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "pom"
-layers = 16
-)";
-        std::ofstream(dir / "exp.toml") << exp;
+        const std::string exp = pxh::test::ExperimentToml("cmp")
+                                    .samples(32)
+                                    .backends("\"cpu\", \"glsl\"")
+                                    .timing_repeats(2)
+                                    .theta("[0, 40, 70]")
+                                    .field("fbm", 64, "scale = 0.05\nbias = 1.0")
+                                    .method("parallax")
+                                    .method("pom", "layers = 16");
+        write("exp.toml", exp);
         // Only the method's list changes: one row set fewer in NEW.
-        std::ofstream(dir / "fewer.toml") << exp.substr(0, exp.find("[[methods]]\nname = \"pom\""));
+        write("fewer.toml", exp.substr(0, exp.find("[[methods]]\nname = \"pom\"")));
         // The parallax shader with half the offset: worse at every oblique view.
-        std::ofstream(dir / "worse" / "parallax.frag.glsl")
-            << "vec2 pxh_method(vec2 P) { return P + pxh_V.xy * (0.5 * pxh_z(P) / pxh_V.z); }\n";
-        const std::string e = (dir / "exp.toml").string();
+        write("worse/parallax.frag.glsl",
+              "vec2 pxh_method(vec2 P) { return P + pxh_V.xy * (0.5 * pxh_z(P) / pxh_V.z); }\n");
+        const std::string e = d("exp.toml");
         for (const std::string& args :
-             {"run " + e + " --quiet --out " + (dir / "base").string(),
-              "run " + e + " --quiet --out " + (dir / "same").string(),
-              "run " + e + " --quiet --out " + (dir / "worse_run").string() + " --shader-dir " +
-                  (dir / "worse").string(),
-              "run " + (dir / "fewer.toml").string() + " --quiet --out " +
-                  (dir / "fewer_run").string()})
-            if (const int rc = run(args); rc != 0)
-                setup_error += "`pxh " + args + "` exited " + std::to_string(rc) + "; ";
+             {"run " + e + " --quiet --out " + d("base"),
+              "run " + e + " --quiet --out " + d("same"),
+              "run " + e + " --quiet --out " + d("worse_run") + " --shader-dir " + d("worse"),
+              "run " + d("fewer.toml") + " --quiet --out " + d("fewer_run")})
+            run_or_record(args);
     }
-    void SetUp() override { ASSERT_EQ(setup_error, "") << "suite set-up failed"; }
-    static void TearDownTestSuite() { fs::remove_all(dir); }
-    static int run(const std::string& args) {
-        const std::string cmd = std::string(PXH_BINARY) + " " + args + " >" +
-                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(cmd.c_str());
-        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    }
-    static std::string slurp(const std::string& name) {
-        std::ifstream f(dir / name);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
-    }
-    static std::string d(const char* name) { return (dir / name).string(); }
 };
 
 TEST_F(Compare, IdenticalRunsPassTheGate) {
     EXPECT_EQ(run("compare " + d("base") + " " + d("same") +
                   " --fail-on err_p95=+0,err_mean=+0,fetches_mean=+0"),
               0)
-        << slurp("out.txt") << slurp("err.txt");
-    const std::string out = slurp("out.txt");
+        << slurp(dir / "out.txt") << slurp(dir / "err.txt");
+    const std::string out = slurp(dir / "out.txt");
     // 2 methods x 3 views x (cpu float + glsl r32f) = 12 rows, none changed.
     EXPECT_NE(out.find("12 rows matched (0 with changed errors or status), 0 only in BASE, 0 "
                        "only in NEW"),
@@ -92,8 +62,8 @@ TEST_F(Compare, IdenticalRunsPassTheGate) {
 
 TEST_F(Compare, WorseShaderFailsAndIsNamed) {
     EXPECT_EQ(run("compare " + d("base") + " " + d("worse_run") + " --fail-on err_p95=+5%"), 1)
-        << slurp("err.txt");
-    const std::string out = slurp("out.txt");
+        << slurp(dir / "err.txt");
+    const std::string out = slurp(dir / "out.txt");
     // Only the GLSL parallax rows changed, and only the oblique ones can regress (theta = 0
     // has no offset at all): 2 regressions, both named with their view.
     EXPECT_NE(out.find("12 rows matched (2 with changed errors or status)"), std::string::npos)
@@ -115,27 +85,28 @@ TEST_F(Compare, WorseShaderFailsAndIsNamed) {
     EXPECT_LT(r70, r40) << "largest change of err_p95 first";
     // Without --fail-on: the same report, exit 0.
     EXPECT_EQ(run("compare " + d("base") + " " + d("worse_run") + " --markdown"), 0);
-    EXPECT_NE(slurp("out.txt").find("| parallax [glsl/r32f] |"), std::string::npos)
-        << slurp("out.txt");
+    EXPECT_NE(slurp(dir / "out.txt").find("| parallax [glsl/r32f] |"), std::string::npos)
+        << slurp(dir / "out.txt");
 }
 
 TEST_F(Compare, RowsInOneRunOnly) {
     EXPECT_EQ(run("compare " + d("base") + " " + d("fewer_run")), 0);
-    EXPECT_NE(slurp("out.txt").find("6 rows matched (0 with changed errors or status), 6 only "
-                                    "in BASE, 0 only in NEW"),
+    EXPECT_NE(slurp(dir / "out.txt")
+                  .find("6 rows matched (0 with changed errors or status), 6 only "
+                        "in BASE, 0 only in NEW"),
               std::string::npos)
-        << slurp("out.txt");
+        << slurp(dir / "out.txt");
     // A gate does not pass when rows disappear.
     EXPECT_EQ(run("compare " + d("base") + " " + d("fewer_run") + " --fail-on err_mean=+1"), 1);
-    EXPECT_NE(slurp("out.txt").find(": missing from NEW"), std::string::npos);
+    EXPECT_NE(slurp(dir / "out.txt").find(": missing from NEW"), std::string::npos);
     // Rows new in NEW are listed, not a regression.
     EXPECT_EQ(run("compare " + d("fewer_run") + " " + d("base") + " --fail-on err_mean=+0"), 0);
-    EXPECT_NE(slurp("out.txt").find("Rows only in NEW (6)"), std::string::npos);
+    EXPECT_NE(slurp(dir / "out.txt").find("Rows only in NEW (6)"), std::string::npos);
 }
 
 TEST_F(Compare, BadInputIsOneLineExit2) {
     EXPECT_EQ(run("compare " + d("base") + " " + d("same") + " --fail-on status=+1"), 2);
-    const std::string err = slurp("err.txt");
+    const std::string err = slurp(dir / "err.txt");
     EXPECT_EQ(err.rfind("pxh: error: --fail-on: 'status' is not a measured numeric column "
                         "(known: err_mean,",
                         0),
@@ -143,8 +114,8 @@ TEST_F(Compare, BadInputIsOneLineExit2) {
         << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     EXPECT_EQ(run("compare " + d("base") + " " + d("nowhere")), 2);
-    EXPECT_NE(slurp("err.txt").find("nowhere: no such results folder"), std::string::npos)
-        << slurp("err.txt");
+    EXPECT_NE(slurp(dir / "err.txt").find("nowhere: no such results folder"), std::string::npos)
+        << slurp(dir / "err.txt");
     EXPECT_THROW(pxh::parse_fail_on("err_p95=+5x"), pxh::InputError);
     EXPECT_THROW(pxh::parse_fail_on("err_p95=-1"), pxh::InputError);
     const auto t = pxh::parse_fail_on("err_p95=+5%,fetches_mean=+0");

@@ -283,11 +283,7 @@ TEST(O3de, PositiveOffsetClipsTheReliefAtThePolygon) {
 
 using Literal = std::function<EngineResult(const HeightField&, float, Vec3<float>, Vec2<float>)>;
 
-const MethodInfo& method(const char* name) {
-    const MethodInfo* m = find_method(name);
-    EXPECT_NE(m, nullptr) << name;
-    return *m;
-}
+using test::method;
 
 // Runs the preset (CPU float, the registered method) and the literal on random fields, points
 // and views (theta 0..85, five phi each); at most 0.1% of samples may differ by more than 1e-3

@@ -23,11 +23,7 @@ using test::make_scene;
 using test::params_for;
 using test::run_method;
 
-const MethodInfo& method(const char* name) {
-    const MethodInfo* m = find_method(name);
-    EXPECT_NE(m, nullptr) << name;
-    return *m;
-}
+using test::method;
 
 Vec3<float> view(double theta, double phi) { return Vec3<float>(view_vector(theta, phi)); }
 

@@ -425,11 +425,7 @@ TEST(EngineDxsdk, NaNStraightDown) {
 
 // ---- Phase 2: each preset (the marcher, CPU float) against the engine's literal loop ----
 
-const MethodInfo& method(const char* name) {
-    const MethodInfo* m = find_method(name);
-    EXPECT_NE(m, nullptr) << name;
-    return *m;
-}
+using test::method;
 
 using LiteralFn = EngineResult (*)(const HeightField&, float, Vec3<float>, Vec2<float>);
 

@@ -88,39 +88,28 @@ TEST_F(ExperimentCli, FifoIsRefusedNotRead) {
     const std::string fifo = (dir / "fifo.toml").string();
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     // Before the fix pxh blocks opening the FIFO; timeout ends it with status 124.
-    const std::string cmd = "timeout 20 " + std::string(PXH_BINARY) + " run " + fifo + " --out " +
-                            (dir / "out").string() + " 2>" + (dir / "err.txt").string();
-    const int rc = std::system(cmd.c_str());
-    EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, 2);
-    EXPECT_EQ(slurp(dir / "err.txt"), "pxh: error: " + fifo +
-                                          ": not a regular file (a FIFO, socket "
-                                          "or device?): an experiment must be a regular file\n");
+    const auto r = pxh_timeout("run " + fifo + " --out " + (dir / "out").string());
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.err, "pxh: error: " + fifo +
+                         ": not a regular file (a FIFO, socket "
+                         "or device?): an experiment must be a regular file\n");
 }
 
 TEST_F(ExperimentCli, ExperimentNameCannotEscapeTheResultsFolder) {
     // Run from a deep folder so that even an escaping name would land inside dir.
     const fs::path cwd = dir / "a" / "b" / "c" / "d";
     fs::create_directories(cwd);
-    const std::string exp = write("e.toml", R"(samples = 4
-name = "../../../escaped"
-timing_repeats = 0
-[views]
-theta_deg = [0]
-[[heightfields]]
-generator = "flat"
-size = 8
-[[methods]]
-name = "none"
-)");
-    const std::string cmd = "cd " + cwd.string() + " && " + PXH_BINARY + " run " + exp +
-                            " --quiet >/dev/null 2>" + (dir / "err.txt").string();
-    const int rc = std::system(cmd.c_str());
-    EXPECT_EQ(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, 2);
-    EXPECT_EQ(slurp(dir / "err.txt"),
-              "pxh: error: " + exp +
-                  ":2: experiment name '../../../escaped' "
-                  "contains '/' or '\\': it names the output folder, so it must "
-                  "be a plain file name\n");
+    const std::string exp = write("e.toml", test::ExperimentToml("../../../escaped")
+                                                .samples(4)
+                                                .theta("[0]")
+                                                .field("flat", 8)
+                                                .method("none"));
+    const auto r = sh("cd " + cwd.string() + " && " + PXH_BINARY + " run " + exp + " --quiet");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.err, "pxh: error: " + exp +
+                         ":1: experiment name '../../../escaped' "
+                         "contains '/' or '\\': it names the output folder, so it must "
+                         "be a plain file name\n");
     for (const auto& e : fs::recursive_directory_iterator(dir))
         EXPECT_EQ(e.path().filename().string().find("escaped"), std::string::npos) << e.path();
 }
@@ -147,16 +136,8 @@ TEST_F(ExperimentCli, MemoryEstimateBoundsAMeasuredRun) {
     GTEST_SKIP() << "ASan's shadow memory inflates the peak RSS this test measures";
 #endif
     // A large field dominates: its floats, the exact tracer's mipmap and Embree's copy.
-    const std::string exp = write("m.toml", R"(samples = 8
-timing_repeats = 0
-[views]
-theta_deg = [30]
-[[heightfields]]
-generator = "fbm"
-size = 2048
-[[methods]]
-name = "none"
-)");
+    const std::string exp =
+        write("m.toml", test::ExperimentToml().theta("[30]").field("fbm", 2048).method("none"));
     const RunEstimate est = estimate_run(parse_experiment(slurp(exp), exp), {});
     EXPECT_EQ(est.rows, 1u);
     const size_t measured = peak_rss_of({"run", exp, "--out", (dir / "out").string(), "--quiet"});

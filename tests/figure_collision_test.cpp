@@ -5,89 +5,41 @@
 // azimuths, both backends and [render]; fewer samples, smaller fields) and on a "wide" one
 // (many settings, long parameter strings, scans, a plug-in shader with a long uniform name).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+
+#include "tests/cli_util.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const char* kDefaultReduced = R"(name = "default_reduced"
-samples = 24
-backends = ["cpu", "glsl"]
-precision = "float"
-timing_repeats = 1
-[views]
-theta_deg = [0, 30, 45, 60, 70, 80, 85]
-phi_deg = [0, 30]
-[light]
+using pxh::test::ExperimentToml;
+
+const char* kSb = "scale = 0.05\nbias = 1.0";
+
+std::string default_reduced() {
+    ExperimentToml t("default_reduced");
+    t.samples(24).backends("\"cpu\", \"glsl\"").set("precision", "\"float\"").timing_repeats(1);
+    t.theta("[0, 30, 45, 60, 70, 80, 85]").phi("[0, 30]");
+    t.field("sine", 64, kSb).field("bricks", 64, kSb).field("fbm", 64, kSb);
+    t.scan("jacksboro", kSb).scan("lidar_b9", kSb).field("spikes", 64, kSb);
+    for (const char* m : {"none", "parallax", "parallax_limited", "parallax_clamped",
+                          "parallax_halved", "pixel_step"})
+        t.method(m);
+    t.method("steep", "layers = 32").method("pom", "layers = 32");
+    t.method("pom", "layers_min = 8\nlayers_max = 32");
+    t.method("relief", "layers = 32\nbinary_steps = 5");
+    return t.tail(R"([light]
 theta_deg = 50
 phi_deg = 200
-[[heightfields]]
-generator = "sine"
-size = 64
-scale = 0.05
-bias = 1.0
-[[heightfields]]
-generator = "bricks"
-size = 64
-scale = 0.05
-bias = 1.0
-[[heightfields]]
-generator = "fbm"
-size = 64
-scale = 0.05
-bias = 1.0
-[[heightfields]]
-scan = "jacksboro"
-scale = 0.05
-bias = 1.0
-[[heightfields]]
-scan = "lidar_b9"
-scale = 0.05
-bias = 1.0
-[[heightfields]]
-generator = "spikes"
-size = 64
-scale = 0.05
-bias = 1.0
-[[methods]]
-name = "none"
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "parallax_limited"
-[[methods]]
-name = "parallax_clamped"
-[[methods]]
-name = "parallax_halved"
-[[methods]]
-name = "pixel_step"
-[[methods]]
-name = "steep"
-layers = 32
-[[methods]]
-name = "pom"
-layers = 32
-[[methods]]
-name = "pom"
-layers_min = 8
-layers_max = 32
-[[methods]]
-name = "relief"
-layers = 32
-binary_steps = 5
 [render]
 heightfields = ["bricks", "scan:jacksboro"]
 phi_deg = 0
 theta_deg = [60, 80]
-strip_method = "pom"
-)";
+strip_method = "pom")");
+}
 
 // A plug-in with a long uniform name (the legend and the tables carry it) beside many settings.
 const char* kPlugin = R"(
@@ -109,92 +61,41 @@ vec2 pxh_method(vec2 P) {
 )";
 
 std::string wide_experiment() {
-    std::string t = R"(name = "wide"
-samples = 16
-backends = ["cpu", "glsl"]
-timing_repeats = 1
-maps = true
-[views]
-theta_deg = [0, 40, 65, 75, 85]
-phi_deg = [30]
-[[heightfields]]
-generator = "sine"
-size = 48
-scale = 0.04
-bias = 1.0
-[[heightfields]]
-generator = "bricks"
-size = 48
-scale = 0.08
-bias = 0.5
-[[heightfields]]
-scan = "jacksboro"
-scale = 0.05
-bias = 1.0
-[[heightfields]]
-scan = "lidar_b9"
-scale = 0.05
-bias = 1.0
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "parallax_clamped"
-[[methods]]
-name = "steep"
-layers = 8
-[[methods]]
-name = "steep"
-layers = 64
-)";
-    for (int l : {4, 8, 16, 32, 64})
-        t += "[[methods]]\nname = \"pom\"\nlayers = " + std::to_string(l) + "\n";
-    t += R"([[methods]]
-name = "pom"
-layers_min = 4
-layers_max = 48
-[[methods]]
-name = "relief"
-layers = 16
-binary_steps = 3
-[[methods]]
-name = "relief"
-layers_min = 8
-layers_max = 64
-binary_steps = 8
-[[methods]]
-name = "my_linear_search_plugin"
-shader = "plugin.frag.glsl"
+    ExperimentToml t("wide");
+    t.samples(16).backends("\"cpu\", \"glsl\"").timing_repeats(1).set("maps", "true");
+    t.theta("[0, 40, 65, 75, 85]").phi("[30]");
+    t.field("sine", 48, "scale = 0.04\nbias = 1.0").field("bricks", 48, "scale = 0.08\nbias = 0.5");
+    t.scan("jacksboro", kSb).scan("lidar_b9", kSb);
+    t.method("parallax").method("parallax_clamped");
+    t.method("steep", "layers = 8").method("steep", "layers = 64");
+    for (int l : {4, 8, 16, 32, 64}) t.method("pom", "layers = " + std::to_string(l));
+    t.method("pom", "layers_min = 4\nlayers_max = 48");
+    t.method("relief", "layers = 16\nbinary_steps = 3");
+    t.method("relief", "layers_min = 8\nlayers_max = 64\nbinary_steps = 8");
+    t.method("my_linear_search_plugin", R"(shader = "plugin.frag.glsl"
 max_fetches = 70
-uniforms = { p_sample_count_of_the_linear_search_for_the_first_intersection = 24.0 }
-[render]
+uniforms = { p_sample_count_of_the_linear_search_for_the_first_intersection = 24.0 })");
+    return t.tail(R"([render]
 heightfields = ["bricks"]
 phi_deg = 30
 theta_deg = [40, 85]
-strip_method = "pom"
-)";
-    return t;
+strip_method = "pom")");
 }
 
 class FigureCollisions : public ::testing::Test {
   protected:
     static fs::path root;
     static std::string failure;  // set when a run could not be made
+    // CMD through the shell, stdout and stderr both into LOG.
     static int sh(const std::string& cmd, const fs::path& log) {
-        const std::string full = cmd + " >" + log.string() + " 2>&1";
-        const int rc = std::system(full.c_str());
-        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+        return pxh::test::shell(cmd, log, log);
     }
-    static std::string slurp(const fs::path& p) {
-        std::ifstream f(p, std::ios::binary);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
-    }
+    static std::string slurp(const fs::path& p) { return pxh::test::slurp(p); }
     static void SetUpTestSuite() {
         root = fs::temp_directory_path() / ("pxh_figures_" + std::to_string(::getpid()));
         fs::remove_all(root);
         fs::create_directories(root);
-        std::ofstream(root / "default.toml") << kDefaultReduced;
+        std::ofstream(root / "default.toml") << default_reduced();
         std::ofstream(root / "wide.toml") << wide_experiment();
         std::ofstream(root / "plugin.frag.glsl") << kPlugin;
         for (const char* name : {"default", "wide"}) {

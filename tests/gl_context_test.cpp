@@ -163,18 +163,12 @@ TEST_F(GlCli, EglEqualsOsmesaOnEveryGlslRowOfTheDefaultExperiment) {
     }
 }
 
-const char* kTiny = R"(name = "tiny"
-samples = 8
-timing_repeats = 1
-backends = ["cpu", "glsl"]
-[views]
-theta_deg = [45]
-[[heightfields]]
-generator = "sine"
-size = 16
-[[methods]]
-name = "parallax"
-)";
+const std::string kTiny = test::ExperimentToml("tiny")
+                              .timing_repeats(1)
+                              .backends("\"cpu\", \"glsl\"")
+                              .theta("[45]")
+                              .field("sine", 16)
+                              .method("parallax");
 
 // (d) An unknown context: one line, exit 2, the known names, nothing written.
 TEST_F(GlCli, UnknownGlNameIsAOneLineInputError) {

@@ -68,12 +68,8 @@ TEST_P(EveryMethodGlsl, AgreesWithCpuFloatReference) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, EveryMethodGlsl, ::testing::ValuesIn([] {
-                             std::vector<std::string> n;
-                             for (const auto& m : all_methods()) n.push_back(m.name);
-                             return n;
-                         }()),
-                         [](const auto& test) { return test.param; });
+INSTANTIATE_TEST_SUITE_P(Registry, EveryMethodGlsl, ::testing::ValuesIn(test::method_names()),
+                         test::MethodName());
 
 TEST(Glsl, EveryMethodHasAShaderBesideItsCpuReference) {
     for (const auto& m : all_methods()) {

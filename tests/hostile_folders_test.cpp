@@ -26,23 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 using pxh::test::CliResult;
 
-const char* kTiny = R"(
-name = "tiny"
-samples = 16
-timing_repeats = 0
-[views]
-theta_deg = [0, 45, 80]
-[[heightfields]]
-generator = "fbm"
-size = 16
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "pom"
-[render]
-heightfields = ["fbm"]
-theta_deg = [45]
-)";
+const std::string kTiny =
+    pxh::test::tiny_experiment().tail("[render]\nheightfields = [\"fbm\"]\ntheta_deg = [45]");
 
 class HostileFolders : public pxh::test::CliTest {
   protected:
@@ -342,9 +327,9 @@ TEST_F(HostileFolders, BadArgumentsAndTextAreRefusedBeforeWork) {
              {"run " + exp + " --quiet --backend foo --out " + (dir / "r").string(),
               "--backend: unknown backend 'foo'"},
              {"run " + bad + " --quiet --out " + (dir / "r").string(),
-              bad + ":5: column 6: byte 0xE9 is not UTF-8"},
+              bad + ":4: column 6: byte 0xE9 is not UTF-8"},
              {"run " + bad_name + " --quiet --out " + (dir / "r").string(),
-              bad_name + ":2: column 10: byte 0xFF is not UTF-8"},
+              bad_name + ":1: column 10: byte 0xFF is not UTF-8"},
          }) {
         const CliResult r = pxh(c.args);
         EXPECT_EQ(r.status, 2) << c.args;
@@ -359,20 +344,9 @@ TEST_F(HostileFolders, BadArgumentsAndTextAreRefusedBeforeWork) {
 // mix_negated with layers_min = 2 layers_max: 0 layers head-on): that row fails, naming why;
 // the other view's row is measured.
 TEST_F(HostileFolders, RowWithEveryNonFiniteSampleFails) {
-    const auto exp = write("neg.toml", R"(
-samples = 8
-timing_repeats = 0
-[views]
-theta_deg = [0, 45]
-[[heightfields]]
-generator = "fbm"
-size = 16
-[[methods]]
-name = "march"
-count = "mix_negated"
-layers_min = 16
-layers_max = 8
-)");
+    const auto exp =
+        write("neg.toml", pxh::test::ExperimentToml().theta("[0, 45]").field("fbm", 16).method(
+                              "march", "count = \"mix_negated\"\nlayers_min = 16\nlayers_max = 8"));
     const CliResult r = pxh("run " + exp + " --quiet --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 1) << r.err;
     EXPECT_NE(r.err.find("theta 0 phi 0 | cpu/float: every sample (64) gave a non-finite uv"),

@@ -27,10 +27,7 @@ namespace fs = std::filesystem;
 
 // ---- helpers ----
 
-std::string slurp(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(f), {}};
-}
+using test::slurp;
 
 long long vm_peak_kb() {
     std::ifstream f("/proc/self/status");
@@ -178,12 +175,7 @@ class HostileImagesCli : public test::CliTest {
   protected:
     // `timeout 20 pxh run EXP`: a hang is exit status 124, not a hung test.
     test::CliResult run_with_timeout(const std::string& exp) {
-        const std::string cmd = "timeout 20 " + std::string(PXH_BINARY) + " run " + exp +
-                                " --out " + (dir / "res").string() + " --quiet >" +
-                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(cmd.c_str());
-        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"),
-                slurp(dir / "err.txt")};
+        return pxh_timeout("run " + exp + " --out " + (dir / "res").string() + " --quiet");
     }
     std::string experiment(const std::string& height_file) {
         return write("exp.toml",

@@ -36,7 +36,7 @@ PXH_REGISTER_PRESET(TestHalfBiasPreset);
 
 namespace {
 
-const MethodInfo& method(const char* name) { return *find_method(name); }
+using test::method;
 
 template <typename T>
 void expect_same(const char* pxh_name, const GivenParams& pxh_params, const GivenParams& knobs) {

@@ -16,11 +16,7 @@ using test::make_scene;
 using test::params_for;
 using test::run_method;
 
-const MethodInfo& method(const char* name) {
-    const MethodInfo* m = find_method(name);
-    EXPECT_NE(m, nullptr) << name;
-    return *m;
-}
+using test::method;
 
 double offset_length(Vec2d uv, Vec2d P) { return std::hypot(uv.x - P.x, uv.y - P.y); }
 

@@ -98,12 +98,8 @@ TEST_P(PerSampleView, EachSampleSeesItsOwnDirectionOnBothBackends) {
     EXPECT_LE(far, size_t(1)) << m.name << ": GLSL vs CPU float beyond 1e-3 texel";
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, PerSampleView, ::testing::ValuesIn([] {
-                             std::vector<std::string> n;
-                             for (const auto& m : all_methods()) n.push_back(m.name);
-                             return n;
-                         }()),
-                         [](const auto& test) { return test.param; });
+INSTANTIATE_TEST_SUITE_P(Registry, PerSampleView, ::testing::ValuesIn(test::method_names()),
+                         test::MethodName());
 
 // A sample set off the grid cannot be drawn by the fragment shader: a clear error, no numbers.
 TEST(PerSampleView, GlslRefusesSamplesOffTheGrid) {

@@ -13,17 +13,13 @@
 
 #include "harness/core/error.h"
 #include "harness/report/report.h"
+#include "tests/cli_util.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+using pxh::test::slurp;
 
 // vs_theta.csv: two fields, two settings, CPU and GLSL. pom's GLSL numbers equal its CPU ones
 // within 1e-5 relative (drawn once); parallax's GLSL p50 on "rock" is 10% higher (drawn apart).

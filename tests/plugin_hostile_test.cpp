@@ -27,38 +27,23 @@
 #include "harness/results/csv_table.h"
 #include "harness/scene/view.h"
 #include "heightfields/heightfields.h"
+#include "tests/cli_util.h"
 #include "tests/test_util.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-class PluginFixture : public ::testing::Test {
+class PluginFixture : public pxh::test::CliTest {
   protected:
-    fs::path dir;
     void SetUp() override {
-        dir = fs::temp_directory_path() /
-              ("pxh_hostile_" + std::to_string(getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
+        CliTest::SetUp();
         fs::create_directories(dir / "exp");
     }
-    void TearDown() override { fs::remove_all(dir); }
-    int sh(const std::string& cmd) {
-        const std::string full =
-            cmd + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(full.c_str());
-        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    }
+    int sh(const std::string& cmd) { return CliTest::sh(cmd).status; }
     int run(const std::string& extra = "") {
         return sh(std::string(PXH_BINARY) + " run " + (dir / "exp" / "exp.toml").string() +
                   " --quiet --out " + (dir / "r").string() + " " + extra);
-    }
-    std::string slurp(const fs::path& p) {
-        std::ifstream f(p);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
     }
     std::string err() { return slurp(dir / "err.txt"); }
     void write(const std::string& name, const std::string& text) {

@@ -14,44 +14,18 @@
 
 #include "harness/core/sha256.h"
 #include "harness/results/csv_table.h"
+#include "tests/cli_util.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-class Plugin : public ::testing::Test {
+class Plugin : public pxh::test::CliTest {
   protected:
-    fs::path dir;
-    void SetUp() override {
-        dir = fs::temp_directory_path() /
-              ("pxh_plugin_" + std::to_string(getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-    int sh(const std::string& cmd) {
-        const std::string full =
-            cmd + " >" + (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(full.c_str());
-        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    }
-    int pxh(const std::string& args) { return sh(std::string(PXH_BINARY) + " " + args); }
-    std::string slurp(const std::string& name) {
-        std::ifstream f(dir / name);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
-    }
-    void write(const std::string& name, const std::string& text) {
-        std::ofstream(dir / name) << text;
-    }
-    static std::string source(const std::string& rel) {
-        std::ifstream f(fs::path(PXH_SOURCE_DIR) / rel);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
-    }
+    int sh(const std::string& cmd) { return CliTest::sh(cmd).status; }
+    int pxh(const std::string& args) { return CliTest::pxh(args).status; }
+    std::string slurp(const std::string& name) { return CliTest::slurp(dir / name); }
+    static std::string source(const std::string& rel) { return pxh::test::source_file(rel); }
 };
 
 const char* kHead = R"(samples = 48

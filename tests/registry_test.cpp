@@ -12,15 +12,9 @@
 namespace pxh {
 namespace {
 
-std::vector<std::string> method_names() {
-    std::vector<std::string> n;
-    for (const auto& m : all_methods()) n.push_back(m.name);
-    return n;
-}
-
 class EveryMethod : public ::testing::TestWithParam<std::string> {
   protected:
-    const MethodInfo& m() const { return *find_method(GetParam()); }
+    const MethodInfo& m() const { return test::method(GetParam()); }
 };
 
 TEST(Registry, HasTheSeedMethods) {
@@ -102,8 +96,8 @@ TEST_P(EveryMethod, FloatAndDoubleAgreeOnSmoothField) {
     EXPECT_LE(off, 2) << m().name;  // a layer decision may flip at a near-tie
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, EveryMethod, ::testing::ValuesIn(method_names()),
-                         [](const auto& test) { return test.param; });
+INSTANTIATE_TEST_SUITE_P(Registry, EveryMethod, ::testing::ValuesIn(test::method_names()),
+                         test::MethodName());
 
 }  // namespace
 }  // namespace pxh

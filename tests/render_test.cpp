@@ -15,24 +15,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* kExperiment = R"(name = "render"
-samples = 32
-backends = ["cpu"]
-timing_repeats = 0
-[views]
-theta_deg = [0, 60, 80]
-[[heightfields]]
-generator = "bricks"
-size = 64
-[[heightfields]]
-generator = "sine"
-size = 64
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "pom"
-layers = 32
-)";
+const std::string kExperiment = pxh::test::ExperimentToml("render")
+                                    .samples(32)
+                                    .backends("\"cpu\"")
+                                    .theta("[0, 60, 80]")
+                                    .field("bricks", 64)
+                                    .field("sine", 64)
+                                    .method("parallax")
+                                    .method("pom", "layers = 32");
 
 class Render : public pxh::test::CliTest {
   protected:

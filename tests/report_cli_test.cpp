@@ -771,13 +771,7 @@ TEST_F(ReportFolder, NonRegularFilesRefused) {
     const std::string fifo = (dir / "limits.fifo").string();
     ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
     // The binary runs under `timeout 20`: a blocking read must not hang the test.
-    auto run = [&](const std::string& args) {
-        const std::string cmd = "timeout 20 " + std::string(PXH_BINARY) + " " + args + " >" +
-                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(cmd.c_str());
-        return pxh::test::CliResult{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"),
-                                    slurp(dir / "err.txt")};
-    };
+    auto run = [&](const std::string& args) { return pxh_timeout(args); };
     auto r = run("check " + res + " --accept-edited --thresholds " + fifo);
     EXPECT_EQ(r.status, 2) << r.out << r.err;
     EXPECT_NE(r.err.find("pxh: error: " + fifo + ": is not a regular file"), std::string::npos)
@@ -795,34 +789,19 @@ TEST_F(ReportFolder, NonRegularFilesRefused) {
 // Plots are drawn by /usr/bin/python3 from an argument vector: folder names with quotes and
 // shell syntax are passed as they are (nothing injected, nothing broken).
 TEST_F(ReportFolder, FolderNamesReachThePlotterAsTheyAre) {
-    const std::string exp = write("exp.toml", R"(
-name = "tiny"
-samples = 8
-backends = ["cpu"]
-timing_repeats = 0
-maps = true
-[views]
-theta_deg = [0, 60]
-[[heightfields]]
-generator = "sine"
-size = 16
-[[methods]]
-name = "parallax"
-)");
-    auto quote = [](const std::string& s) {  // for the shell that runs the binary
-        std::string q = "'";
-        for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-        return q + "'";
-    };
+    const std::string exp = write("exp.toml", pxh::test::ExperimentToml("tiny")
+                                                  .backends("\"cpu\"")
+                                                  .set("maps", "true")
+                                                  .theta("[0, 60]")
+                                                  .field("sine", 16)
+                                                  .method("parallax"));
+    const auto quote = pxh::test::shell_quote;  // for the shell that runs the binary
     for (const std::string name : {"x'; touch INJECTED; echo '", "it's here"}) {
         const fs::path res = dir / name;
         ASSERT_EQ(pxh("run " + exp + " --quiet --out " + quote(res.string())).status, 0) << name;
-        const std::string cmd = "cd " + quote(dir.string()) + " && " + PXH_BINARY + " report " +
-                                quote(name) + " >" + quote((dir / "out.txt").string()) + " 2>" +
-                                quote((dir / "err.txt").string());
-        const int rc = std::system(cmd.c_str());
-        EXPECT_TRUE(WIFEXITED(rc) && WEXITSTATUS(rc) == 0)
-            << name << ": " << slurp(dir / "err.txt");
+        const auto r =
+            sh("cd " + quote(dir.string()) + " && " + PXH_BINARY + " report " + quote(name));
+        EXPECT_EQ(r.status, 0) << name << ": " << r.err;
         EXPECT_FALSE(fs::exists(dir / "INJECTED")) << name;
         EXPECT_TRUE(fs::exists(res / "report" / "cost_vs_error.png")) << name;
         int montages = 0;  // error_maps_FIELD_pPHI.png

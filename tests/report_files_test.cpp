@@ -16,22 +16,14 @@ class ReportFiles : public pxh::test::CliTest {
     // A small run (CPU only, a few rows); with_render: pictures of one field (a strip and a
     // montage).
     std::string make_run(const std::string& field_name = "", bool with_render = false) {
-        std::string exp = R"(name = "tiny"
-samples = 8
-backends = ["cpu"]
-timing_repeats = 1
-[views]
-theta_deg = [0, 45, 70]
-[[heightfields]]
-generator = "bricks"
-size = 32
-)";
-        if (!field_name.empty()) exp += "name = \"" + field_name + "\"\n";
+        pxh::test::ExperimentToml exp("tiny");
+        exp.backends("\"cpu\"").timing_repeats(1).theta("[0, 45, 70]");
+        exp.field("bricks", 32, field_name.empty() ? "" : "name = \"" + field_name + "\"");
         for (const char* m : {"parallax", "parallax_limited", "steep", "relief", "pom"})
-            exp += std::string("[[methods]]\nname = \"") + m + "\"\n";
+            exp.method(m);
         if (with_render)
-            exp += "[render]\nheightfields = [\"" + (field_name.empty() ? "bricks" : field_name) +
-                   "\"]\ntheta_deg = [45]\nstrip_method = \"pom\"\n";
+            exp.tail("[render]\nheightfields = [\"" + (field_name.empty() ? "bricks" : field_name) +
+                     "\"]\ntheta_deg = [45]\nstrip_method = \"pom\"");
         const std::string file = write("exp.toml", exp);
         const std::string res = (dir / "res").string();
         const auto r = pxh("run " + file + " --quiet --out " + res);

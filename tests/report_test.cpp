@@ -8,64 +8,32 @@
 #include <sstream>
 
 #include "harness/results/csv_table.h"
+#include "tests/cli_util.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-class ReportCheck : public ::testing::Test {
+class ReportCheck : public pxh::test::SuiteCliTest<ReportCheck> {
+  public:
+    static constexpr const char* kDirName = "report_test";
+
   protected:
-    static fs::path dir;
-    static std::string setup_error;  // why the suite's run failed ("" when it did not)
     static void SetUpTestSuite() {
-        dir = fs::temp_directory_path() / ("pxh_report_test_" + std::to_string(::getpid()));
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-        std::ofstream(dir / "exp.toml") << R"(
-name = "small"
-samples = 32
-backends = ["cpu", "glsl"]
-timing_repeats = 1
-maps = true
-sweep_dt_deg = 0.5
-[views]
-theta_deg = [10, 45, 70, 80]
-[[heightfields]]
-generator = "bricks"
-size = 64
-[[heightfields]]
-generator = "sine"
-size = 64
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "steep"
-layers = 8
-[[methods]]
-name = "pom"
-layers = [8, 32]
-)";
-        // A failed set-up must fail every test of the suite (SetUp below), not skip them: a
-        // fatal failure here would make gtest skip the tests, and ctest count them as skipped.
-        const int rc =
-            run("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "res").string());
-        if (rc != 0)
-            setup_error = "the suite's `pxh run` exited " + std::to_string(rc) + ": " +
-                          slurp(dir / "err.txt");
-    }
-    void SetUp() override { ASSERT_EQ(setup_error, "") << "suite set-up failed"; }
-    static void TearDownTestSuite() { fs::remove_all(dir); }
-    static int run(const std::string& args) {
-        const std::string cmd = std::string(PXH_BINARY) + " " + args + " >" +
-                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(cmd.c_str());
-        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    }
-    static std::string slurp(const fs::path& p) {
-        std::ifstream f(p);
-        std::stringstream ss;
-        ss << f.rdbuf();
-        return ss.str();
+        make_dir();
+        write("exp.toml", pxh::test::ExperimentToml("small")
+                              .samples(32)
+                              .backends("\"cpu\", \"glsl\"")
+                              .timing_repeats(1)
+                              .set("maps", "true")
+                              .set("sweep_dt_deg", "0.5")
+                              .theta("[10, 45, 70, 80]")
+                              .field("bricks", 64)
+                              .field("sine", 64)
+                              .method("parallax")
+                              .method("steep", "layers = 8")
+                              .method("pom", "layers = [8, 32]"));
+        run_or_record("run " + d("exp.toml") + " --quiet --out " + d("res"));
     }
     // The params of pom's layers=32 setting as results.csv spells them (other parameters of
     // the method may be listed after layers).
@@ -77,12 +45,9 @@ layers = [8, 32]
         return "(no pom layers=32 row)";
     }
     static std::string thresholds(const std::string& name, const std::string& text) {
-        std::ofstream(dir / name) << text;
-        return (dir / name).string();
+        return write(name, text);
     }
 };
-fs::path ReportCheck::dir;
-std::string ReportCheck::setup_error;
 
 TEST_F(ReportCheck, PassingLimitsExitZero) {
     const auto t = thresholds("ok.toml", R"(

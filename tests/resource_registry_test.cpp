@@ -16,16 +16,9 @@
 namespace pxh {
 namespace {
 
-std::vector<std::string> methods_with_resources() {
-    std::vector<std::string> n;
-    for (const auto& m : all_methods())
-        if (!m.resources.empty()) n.push_back(m.name);
-    return n;
-}
-
 class EveryResourceMethod : public ::testing::TestWithParam<std::string> {
   protected:
-    const MethodInfo& m() const { return *find_method(GetParam()); }
+    const MethodInfo& m() const { return test::method(GetParam()); }
 };
 
 // Every level of every resource of the method, built now with `threads` threads.
@@ -123,8 +116,10 @@ TEST_P(EveryResourceMethod, DependsOnScaleAndBiasOnlyWhenDeclared) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, EveryResourceMethod,
-                         ::testing::ValuesIn(methods_with_resources()),
-                         [](const auto& p) { return p.param; });
+                         ::testing::ValuesIn(test::method_names([](const MethodInfo& m) {
+                             return !m.resources.empty();
+                         })),
+                         test::MethodName());
 
 }  // namespace
 }  // namespace pxh

@@ -18,20 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using pxh::test::CliResult;
 
-const char* kTiny = R"(
-name = "tiny"
-samples = 16
-timing_repeats = 0
-[views]
-theta_deg = [0, 45, 80]
-[[heightfields]]
-generator = "fbm"
-size = 16
-[[methods]]
-name = "parallax"
-[[methods]]
-name = "pom"
-)";
+const std::string kTiny = pxh::test::tiny_experiment();
 
 class RunFolder : public pxh::test::CliTest {
   protected:

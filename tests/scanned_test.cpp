@@ -14,6 +14,7 @@
 #include "harness/core/error.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scan_io.h"
+#include "tests/cli_util.h"
 
 namespace pxh {
 namespace {
@@ -40,13 +41,11 @@ TEST(Scanned, TheNineScansAreListedWithProvenance) {
         EXPECT_NE(std::find(names.begin(), names.end(), n), names.end()) << n;
     EXPECT_GE(scans.size(), 9u);
     for (const auto& s : scans) {
-        std::ifstream f(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/" + s.name + ".json");
-        std::stringstream ss;
-        ss << f.rdbuf();
+        const std::string json = test::source_file("heightfields/scanned/" + s.name + ".json");
         for (const char* key :
              {"package", "package_version", "path_in_package", "original", "value_range", "units",
               "grid_spacing", "licence", "holes", "tiling"})
-            EXPECT_NE(ss.str().find(std::string("\"") + key + "\""), std::string::npos)
+            EXPECT_NE(json.find(std::string("\"") + key + "\""), std::string::npos)
                 << s.name << " " << key;
     }
 }
@@ -176,10 +175,7 @@ TEST(Scanned, MirroredToTileWithoutCliffs) {
 
 TEST(Scanned, MotorcycleHolesMatchTheSourcesInfinities) {
     // The source: 7.3% of the disparity map is +inf (no measurement).
-    std::ifstream f(std::string(PXH_SOURCE_DIR) + "/heightfields/scanned/motorcycle.json");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    const std::string j = ss.str();
+    const std::string j = test::source_file("heightfields/scanned/motorcycle.json");
     const auto p = j.find("\"fraction\":");
     ASSERT_NE(p, std::string::npos);
     const double frac = std::stod(j.substr(p + 11));

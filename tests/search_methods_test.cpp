@@ -18,7 +18,7 @@
 namespace pxh {
 namespace {
 
-const MethodInfo& method(const char* name) { return *find_method(name); }
+using test::method;
 
 HeightField generated(const char* name, int size) {
     const GeneratorInfo* g = find_generator(name);

@@ -34,12 +34,11 @@ class ShaderGate : public pxh::test::CliTest {
     }
     // `sh gate.sh PXH DIR OUT` of the example itself: exit status, stdout + stderr in out.
     int gate(const fs::path& d, std::string& out) {
-        const std::string cmd = "sh " + (ex / "gate.sh").string() + " " + PXH_BINARY + " " +
-                                d.string() + " " + (dir / "run").string() + " >" +
-                                (dir / "gate.txt").string() + " 2>&1";
-        const int rc = std::system(cmd.c_str());
+        const int rc = pxh::test::shell("sh " + (ex / "gate.sh").string() + " " + PXH_BINARY + " " +
+                                            d.string() + " " + (dir / "run").string(),
+                                        dir / "gate.txt", dir / "gate.txt");
         out = slurp(dir / "gate.txt");
-        return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+        return rc;
     }
 };
 

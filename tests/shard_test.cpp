@@ -261,21 +261,12 @@ TEST_F(ShardMerge, EnginesExperimentOver1And3And7Shards) {
                       "--samples 8 --only 'theta_deg=0|45|85'");
 }
 
-const char* kTiny = R"(
-name = "tiny"
-samples = 8
-timing_repeats = 0
-sweep_dt_deg = 0.5
-[views]
-theta_deg = [0, 40, 80]
-phi_deg = [0, 45]
-[[heightfields]]
-generator = "fbm"
-size = 16
-[[methods]]
-name = "pom"
-layers = 8
-)";
+const std::string kTiny = test::ExperimentToml("tiny")
+                              .set("sweep_dt_deg", "0.5")
+                              .theta("[0, 40, 80]")
+                              .phi("[0, 45]")
+                              .field("fbm", 16)
+                              .method("pom", "layers = 8");
 
 TEST_F(ShardMerge, ViewUnitsWithSweepPairsAndMapsReproduceTheRun) {
     const std::string exp = write("tiny.toml", kTiny);
@@ -293,15 +284,14 @@ class ShardRefusals : public test::CliTest {
     static inline fs::path shared;
     static inline std::string exp;
     static void SetUpTestSuite() {
-        shared = fs::temp_directory_path() / ("pxh_shard_refusals_" + std::to_string(::getpid()));
-        fs::remove_all(shared);
-        fs::create_directories(shared);
+        shared = test::fresh_dir("shard_refusals");
         exp = (shared / "tiny.toml").string();
         std::ofstream(exp) << kTiny;
         for (int i = 0; i < 3; ++i) {
-            const std::string cmd = std::string(PXH_BINARY) + " run " + exp + " --quiet --out " +
-                                    s(i) + " --shard " + std::to_string(i) + "/3 >/dev/null";
-            ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+            const std::string args =
+                "run " + exp + " --quiet --out " + s(i) + " --shard " + std::to_string(i) + "/3";
+            const test::CliResult r = test::pxh_in(shared, args);
+            ASSERT_EQ(r.status, 0) << args << ": " << r.err;
         }
     }
     static void TearDownTestSuite() { fs::remove_all(shared); }

@@ -324,13 +324,11 @@ class TruthLimitsCli : public test::CliTest {
     }
     // `timeout LIMIT pxh ARGS`, with the peak memory of the pxh process (kB).
     test::CliResult timed_pxh(const std::string& args, int limit_s, long& peak_kb) {
-        const std::string cmd = "timeout " + std::to_string(limit_s) + " /usr/bin/time -f %M -o " +
-                                (dir / "rss.txt").string() + " " + PXH_BINARY + " " + args + " >" +
-                                (dir / "out.txt").string() + " 2>" + (dir / "err.txt").string();
-        const int rc = std::system(cmd.c_str());
+        const test::CliResult r =
+            sh("timeout " + std::to_string(limit_s) + " /usr/bin/time -f %M -o " +
+               (dir / "rss.txt").string() + " " + PXH_BINARY + " " + args);
         peak_kb = std::atol(slurp(dir / "rss.txt").c_str());
-        return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(dir / "out.txt"),
-                slurp(dir / "err.txt")};
+        return r;
     }
 };
 
