@@ -1,5 +1,5 @@
-// Sanity tests of the literal engine transcriptions in tests/engines/literal_unity_jme_ogre_dx.h
-// (issue 14): closed forms on flat and random fields, and the engines' documented defects pinned
+// Sanity tests of the literal engine transcriptions in tests/engines/literal_unity_jme_ogre_dx.h:
+// closed forms on flat and random fields, and the engines' documented defects pinned
 // with numbers. Closed forms are computed here in double, independently of the transcriptions.
 #include <gtest/gtest.h>
 

@@ -115,7 +115,7 @@ TEST(GlContext, OsmesaAndEglRenderTheSameBitsInOneProcess) {
 // ---- Through the pxh binary ----
 class GlCli : public test::CliTest {};
 
-// (b) The "done when": pxh run --gl egl equals --gl osmesa on every GLSL row of the
+// (b) pxh run --gl egl equals --gl osmesa on every GLSL row of the
 // default experiment (results/experiments/default.toml itself, with --backend glsl: the
 // GLSL rows only, the CPU float twin their agreement columns need is still run), cell by
 // cell, every column but the timings (ms_per_frame*, gpu_ms*).

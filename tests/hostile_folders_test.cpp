@@ -251,7 +251,7 @@ TEST_F(HostileFolders, ClosedPipeIsReportedNotFatal) {
     EXPECT_TRUE(leftovers().empty());
     const auto limits = write("limits.toml", pxh::test::kLooseLimits);
     EXPECT_EQ(pxh("check " + out.string() + " --thresholds " + limits).status, 0);
-    // Through the shell, as the issue ran it.
+    // Through the shell, its output cut short by a pipe that closes early.
     const std::string cmd = std::string(PXH_BINARY) + " run " + exp + " --out " +
                             (dir / "res2").string() + " 2>&1 | head -c 20 > /dev/null";
     std::system(cmd.c_str());
@@ -391,7 +391,7 @@ TEST(SweepLimits, PluginUniformListsAreCountedBeforeExpansion) {
     const fs::path d = fs::temp_directory_path() / ("pxh_sweep_" + std::to_string(getpid()));
     fs::create_directories(d);
     std::ofstream(d / "plug.glsl") << "vec2 pxh_method(vec2 P) { return P; }\n";
-    // As the issue's 65 KB entry: two 3000-value uniform lists (9 million settings).
+    // A 65 KB entry: two 3000-value uniform lists (9 million settings).
     const std::string text = std::string("backends = [\"glsl\"]\n") + kHead +
                              "[[methods]]\nname = \"plug\"\nshader = \"plug.glsl\"\n"
                              "max_fetches = 4\nuniforms = { p_a = " +

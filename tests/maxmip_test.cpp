@@ -43,7 +43,7 @@ double worst_vs_truth(const HeightField& hf, double s, double b, double theta, d
     return worst;
 }
 
-// Issue #15: maxmip (double, CPU) matches the exact ground truth within 1e-6 texel on every
+// maxmip (double, CPU) matches the exact ground truth within 1e-6 texel on every
 // procedural generator at theta up to 89. Both compute the same cells with the same closed form;
 // the traversal only skips blocks whose highest corner lies below the ray.
 TEST(MaxMip, DoubleMatchesTheExactTruthOnEveryGenerator) {

@@ -86,7 +86,7 @@ BoxAgreement box_agreement(const HeightField& hf, double s, double theta, double
     return a;
 }
 
-// Issue #15 / the brief: with a large cap and without the refinement, qdm stops at the first hit
+// With a large cap and without the refinement, qdm stops at the first hit
 // of the ray with the box surface its quadtree describes. It never stops before it (the pyramid
 // is conservative, and a stop means the ray is inside a box), and it stops at most the source's
 // nudge past a node border later (fDeltaNC = s / (2 W), in depth) where the ray enters the hit

@@ -1,4 +1,4 @@
-// The search refinements of issue #15: secant, contact, binary, iterative. Closed forms on a
+// The search refinements: secant, contact, binary, iterative. Closed forms on a
 // planar slope (a field exactly linear in u), comparisons against the exact truth and against
 // the seed methods at equivalent settings, a field built to break bisection, and GLSL = CPU at
 // non-default settings (the registry-wide tests cover the defaults).

@@ -147,7 +147,7 @@ struct MarchDef {
     static MethodInfo info() {
         return {"march",
                 "pxh's parametric marcher (methods/march/march.h): the knobs of the engines' "
-                "layered searches (issue 14); defaults = pom with layers_min 8, layers_max 32",
+                "layered searches; defaults = pom with layers_min 8, layers_max 32",
                 "a layered (or one-fetch offset) search with typed knobs; engine presets are "
                 "named settings of it",
                 march_params(),

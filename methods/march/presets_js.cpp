@@ -1,4 +1,4 @@
-// Engine presets of the JavaScript engines (issue 14): three.js' ParallaxShader (four modes),
+// Engine presets of the JavaScript engines: three.js' ParallaxShader (four modes),
 // Babylon.js' StandardMaterial/PBRMaterial parallax and parallax occlusion, PlayCanvas'
 // StandardMaterial parallax. Each is a named setting of the parametric marcher
 // (methods/march/march.h); the engine's height scale is the experiment's `scale`. The literal

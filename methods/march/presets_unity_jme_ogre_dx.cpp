@@ -1,4 +1,4 @@
-// Engine presets (issue 14) for Unity (built-in/URP ParallaxOffset, HDRP PerPixelDisplacement),
+// Engine presets for Unity (built-in/URP ParallaxOffset, HDRP PerPixelDisplacement),
 // jMonkeyEngine (Parallax.glsllib), OGRE (RTSS normal_map parallax / parallax_occlusion) and the
 // DirectX SDK ParallaxOcclusionMapping sample: named settings of the parametric marcher
 // (methods/march/march.h). The engine's height scale is the experiment's scale s (conversions in
