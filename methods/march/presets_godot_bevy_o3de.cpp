@@ -4,7 +4,7 @@
 // s = 0.01 heightmap_scale; Bevy: s = parallax_depth_scale; O3DE: s = factor); every one of these
 // engines marches from the polygon down through a depth 1 - h, so the reference plane is b = 1.
 // Literal transcriptions and the comparisons: tests/engines/literal_godot_bevy_o3de.h,
-// tests/engines_godot_bevy_o3de_test.cpp. Research: the README section on engine presets.
+// tests/methods/engines_godot_bevy_o3de_test.cpp. Research: the README section on engine presets.
 #include <string>
 
 #include "harness/core/error.h"

@@ -3,7 +3,7 @@
 // StandardMaterial parallax. Each is a named setting of the parametric marcher
 // (methods/march/march.h); the engine's height scale is the experiment's `scale`. The literal
 // transcriptions these presets are tested against are tests/engines/literal_js.h
-// (tests/engines_js_test.cpp). PlayCanvas has no occlusion mode: there is no
+// (tests/methods/engines_js_test.cpp). PlayCanvas has no occlusion mode: there is no
 // playcanvas_occlusion.
 #include "harness/core/error.h"
 #include "methods/march/march.h"

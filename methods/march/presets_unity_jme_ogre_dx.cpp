@@ -6,7 +6,7 @@
 // (HDRP's _PPDLodThreshold, the DirectX sample's g_nLODThreshold) are left off: the orthographic
 // scene defines no screen footprint. Literal transcriptions of the engines' loops, and the tests
 // that compare them with these presets: tests/engines/literal_unity_jme_ogre_dx.h,
-// tests/engines_unity_jme_ogre_dx_test.cpp.
+// tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 #include "methods/march/march.h"
 
 namespace pxh {
