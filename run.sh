@@ -29,9 +29,10 @@ install_missing() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# The release presets of CMakePresets.json (build/, Ninja, Release).
 build() {
-  cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DPXH_WERROR="${PXH_WERROR:-OFF}" -Wno-dev >/dev/null
-  cmake --build build -j "$(nproc)"
+  cmake --preset release -DPXH_WERROR="${PXH_WERROR:-OFF}" >/dev/null
+  cmake --build --preset release -j "$(nproc)"
 }
 
 mode="${1:-run}"
@@ -46,5 +47,5 @@ else install_missing "${PACKAGES[@]}"; fi
 build
 case "$mode" in
   run) ./build/pxh run results/experiments/default.toml ;;
-  test) ctest --test-dir build --output-on-failure -j "$(nproc)" ;;
+  test) ctest --preset release -j "$(nproc)" ;;
 esac

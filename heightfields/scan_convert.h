@@ -38,7 +38,7 @@ struct Converted {
 // the number of holes.
 int fill_holes(Grid& g);
 
-// The sources added for issue 18 (heightfields/scanned_sources.cpp).
+// The sources converted in heightfields/scanned_sources.cpp.
 Converted convert_topobathy(const Package& pkg);
 Converted convert_egm96(const Package& pkg);
 Converted convert_olinda(const Package& pkg);

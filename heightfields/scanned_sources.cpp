@@ -1,4 +1,4 @@
-// The scanned sources added for issue 18 (read by `pxh import`, heightfields/scanned.cpp). All
+// Scanned sources beside those of scanned.cpp (read by `pxh import`, heightfields/scanned.cpp). All
 // verified inside the Debian 12 packages (apt-get download + dpkg-deb -x):
 //   topobathy  python-matplotlib-data: mpl-data/sample_data/topobathy.npz, float32 91 x 120
 //              metres (land and sea floor off British Columbia), lat/lon axes in the archive

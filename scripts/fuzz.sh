@@ -22,7 +22,7 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(experiment thresholds csv image compare)
 jobs=${JOBS:-$(nproc)}
-build=build-fuzz
+build=build-fuzz  # the fuzz preset's binaryDir
 
 if ! command -v clang++ >/dev/null; then
   echo "fuzz.sh: clang++ not found (Debian: apt-get install clang)" >&2
@@ -33,9 +33,9 @@ export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:print_stacktrace=1:print_sum
 export LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:print_summary=1"
 
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPXH_FUZZ=ON \
-  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -Wno-dev >/dev/null
-cmake --build "$build" -j "$jobs" --target "${targets[@]/#/fuzz_}"
+# The fuzz presets of CMakePresets.json: build-fuzz, clang, RelWithDebInfo, -DPXH_FUZZ=ON.
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz -j "$jobs" --target "${targets[@]/#/fuzz_}"
 
 failed=()
 for t in "${targets[@]}"; do

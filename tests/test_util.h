@@ -1,7 +1,12 @@
-// Helpers shared by the tests: random fields, a brute-force ray march, method evaluation.
+// Helpers shared by the tests: random fields, a brute-force ray march, method evaluation, the
+// registered methods by name and as the values of a registry-wide suite.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <cstdint>
+#include <functional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -89,6 +94,31 @@ std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const S
 inline ParamValues params_for(const MethodInfo& m, const GivenParams& given = {}) {
     return resolve_params(m.params, given, "test", m.name);
 }
+
+// The registered method NAME (a test failure naming it, not a crash, when there is none).
+inline const MethodInfo& method(const std::string& name) {
+    const MethodInfo* m = find_method(name);
+    if (!m) throw std::runtime_error("no registered method '" + name + "'");
+    return *m;
+}
+
+// The names of the registered methods (those KEEP accepts; all without it), in registry order:
+//   INSTANTIATE_TEST_SUITE_P(Registry, Suite, ValuesIn(method_names()), MethodName())
+// covers every method, a new one included, without editing the suite.
+inline std::vector<std::string> method_names(
+    const std::function<bool(const MethodInfo&)>& keep = nullptr) {
+    std::vector<std::string> n;
+    for (const auto& m : all_methods())
+        if (!keep || keep(m)) n.push_back(m.name);
+    return n;
+}
+
+// gtest's name generator for a suite over method names: each test is named after its method.
+struct MethodName {
+    std::string operator()(const ::testing::TestParamInfo<std::string>& info) const {
+        return info.param;
+    }
+};
 
 inline std::vector<Vec2d> random_points(int n, uint32_t seed) {
     std::mt19937 rng(seed);

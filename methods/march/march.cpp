@@ -70,7 +70,7 @@ const MarchPresetRow kMarch{
     .name = "march",
     .citation =
         "pxh's parametric marcher (methods/march/march.h): the knobs of the engines' "
-        "layered searches (issue 14); defaults = pom with layers_min 8, layers_max 32",
+        "layered searches; defaults = pom with layers_min 8, layers_max 32",
     .summary =
         "a layered (or one-fetch offset) search with typed knobs; engine presets are "
         "named settings of it",

@@ -1,5 +1,5 @@
 // Literal re-expressions of the parallax loops shipped by Godot 4 (BaseMaterial3D), Bevy
-// (StandardMaterial) and O3DE (Atom StandardPBR), for the engine preset tests (issue #14). Each
+// (StandardMaterial) and O3DE (Atom StandardPBR), for the engine preset tests. Each
 // function keeps the engine's variable names, order of operations, loop structure and constants,
 // in float as the GPU runs it, written from the public sources cited above it (read for facts,
 // not pasted). Inputs are pxh's: hf (h, white = high), s (pxh scale), V (unit, toward the eye,

@@ -1,5 +1,5 @@
 // Literal re-expressions of the parallax loops shipped by the JavaScript engines (three.js,
-// Babylon.js, PlayCanvas), for the engine preset tests (issue #14). Each function keeps the
+// Babylon.js, PlayCanvas), for the engine preset tests. Each function keeps the
 // engine's variable names, order of operations, loop structure and constants, in float as the GPU
 // runs it, written from the public sources cited above it (read for facts, not pasted). Inputs are
 // pxh's: hf (h, white = high), s (pxh scale), V (unit, toward the eye, x = +u, y = +v), P (sample

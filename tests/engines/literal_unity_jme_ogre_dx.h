@@ -1,6 +1,6 @@
 // Literal transcriptions of the parallax loops shipped by Unity (built-in/URP ParallaxOffset, HDRP
 // PerPixelDisplacement), jMonkeyEngine (Parallax.glsllib), OGRE (RTSS SGXLib_NormalMap.glsl) and
-// the DirectX SDK ParallaxOcclusionMapping sample (issue 14). Each function re-expresses the
+// the DirectX SDK ParallaxOcclusionMapping sample. Each function re-expresses the
 // engine's shader code with its own variable names, order of operations, loop structure and
 // constants, in float as the GPU runs it; it was written from the engine's public source (cited
 // above each function, read for facts only) and from /work/research/unity_jme_ogre_dx.md.

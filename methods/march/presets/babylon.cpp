@@ -1,6 +1,6 @@
 // Babylon.js StandardMaterial/PBRMaterial parallax and parallax occlusion as presets of the
 // parametric marcher (methods/march/preset.h); parallaxScaleBias = s. Literal transcription and
-// the comparison: tests/engines/literal_js.h, tests/engines_js_test.cpp.
+// the comparison: tests/engines/literal_js.h, tests/methods/engines_js_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {

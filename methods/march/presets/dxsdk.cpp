@@ -2,7 +2,7 @@
 // marcher (methods/march/preset.h). s = g_fHeightMapScale; heights go inward from the polygon,
 // so b = 1. The LOD fade (g_nLODThreshold) is left off: the orthographic scene defines no screen
 // footprint. Literal transcription and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
-// tests/engines_unity_jme_ogre_dx_test.cpp.
+// tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {

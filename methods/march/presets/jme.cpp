@@ -2,7 +2,7 @@
 // (methods/march/preset.h). The engine's height scale is the experiment's scale s (conversions
 // in README); each fixes the reference plane, so each requires its bias. Literal transcriptions
 // and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
-// tests/engines_unity_jme_ogre_dx_test.cpp.
+// tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {

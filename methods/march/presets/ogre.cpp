@@ -1,7 +1,7 @@
 // OGRE's RTSS normal_map parallax and parallax_occlusion as presets of the parametric marcher
 // (methods/march/preset.h). s = height_scale; OGRE reads depth = 1 - alpha below the polygon,
 // so b = 1. Literal transcriptions and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
-// tests/engines_unity_jme_ogre_dx_test.cpp.
+// tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {

@@ -2,7 +2,7 @@
 // (methods/march/preset.h). Fed a depth map (bumpMap.r = 1 - h) with a positive parallaxScale = s:
 // b = 1. The example's negative scale on a height map (a bottom-up march from the slab floor) is
 // not reproduced. Literal transcription and the comparison: tests/engines/literal_js.h,
-// tests/engines_js_test.cpp.
+// tests/methods/engines_js_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {

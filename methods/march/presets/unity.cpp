@@ -3,7 +3,7 @@
 // scale s (conversions in README); each fixes the reference plane, so each requires its bias.
 // HDRP's LOD fade (_PPDLodThreshold) is left off: the orthographic scene defines no screen
 // footprint. Literal transcriptions and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
-// tests/engines_unity_jme_ogre_dx_test.cpp.
+// tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {

@@ -1,0 +1,104 @@
+// examples/shader_gate/gate.sh against the shader mistakes it exists to catch: a copy of the
+// example whose shader flips V.y (a handedness bug, invisible at phi = 0) and one whose shader
+// returns NaN where its search misses (err_* leave NaN samples out: only the nonfinite limit
+// sees them). gate.sh runs both gates whatever the first says, prints both verdicts and exits 1.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+
+#include "tests/cli_util.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class ShaderGate : public pxh::test::CliTest {
+  protected:
+    const fs::path ex = fs::path(PXH_SOURCE_DIR) / "examples" / "shader_gate";
+
+    // A copy of the example (experiment, thresholds, baseline) with the shader's text edited.
+    fs::path copy_with(const std::string& from, const std::string& to) {
+        const fs::path d = dir / "gate";
+        fs::create_directories(d);
+        for (const char* f : {"experiment.toml", "thresholds.toml", "gate.sh"})
+            fs::copy_file(ex / f, d / f);
+        fs::copy(ex / "baseline", d / "baseline", fs::copy_options::recursive);
+        std::string shader = slurp(ex / "my_pom.frag.glsl");
+        const size_t at = shader.find(from);
+        EXPECT_NE(at, std::string::npos) << "the example's shader lacks: " << from;
+        if (at != std::string::npos) shader.replace(at, from.size(), to);
+        write("gate/my_pom.frag.glsl", shader);
+        return d;
+    }
+    // `sh gate.sh PXH DIR OUT` of the example itself: exit status, stdout + stderr in out.
+    int gate(const fs::path& d, std::string& out) {
+        const int rc = pxh::test::shell("sh " + (ex / "gate.sh").string() + " " + PXH_BINARY + " " +
+                                            d.string() + " " + (dir / "run").string(),
+                                        dir / "gate.txt", dir / "gate.txt");
+        out = slurp(dir / "gate.txt");
+        return rc;
+    }
+};
+
+TEST_F(ShaderGate, ExampleCoversAzimuthsAndTheGrazingBand) {
+    // Several azimuths and the grazing band, and the limits look at every one of them.
+    const std::string exp = slurp(ex / "experiment.toml");
+    EXPECT_NE(exp.find("phi_deg = [0, 30, 135]"), std::string::npos) << exp;
+    EXPECT_NE(exp.find("theta_deg = [0, 30, 60, 75, 85, 88]"), std::string::npos) << exp;
+    const std::string th = slurp(ex / "thresholds.toml");
+    EXPECT_NE(th.find("column = \"nonfinite\""), std::string::npos) << th;
+    // The committed baseline is this experiment's run: its rows hold every view of it.
+    const std::string csv = slurp(ex / "baseline" / "results.csv");
+    for (const char* view : {",88,135,64,", ",30,30,64,", ",0,0,64,"})
+        EXPECT_NE(csv.find(view), std::string::npos) << "baseline lacks theta,phi " << view;
+    const std::string gate_sh = slurp(ex / "gate.sh");
+    EXPECT_EQ(gate_sh.find("set -e"), std::string::npos) << "gate.sh must run both gates";
+}
+
+TEST_F(ShaderGate, FlippedVyFailsBothGatesWithBothVerdicts) {
+    const fs::path d = copy_with("vec2 dir = pxh_V.xy / pxh_V.z;",
+                                 "vec2 dir = vec2(pxh_V.x, -pxh_V.y) / pxh_V.z;");
+    std::string out;
+    EXPECT_EQ(gate(d, out), 1) << out;
+    // pxh check's table and pxh compare's verdict are both there, and the gate's summary.
+    EXPECT_NE(out.find("FAIL: "), std::string::npos) << out;
+    EXPECT_NE(out.find(" regression(s) beyond --fail-on"), std::string::npos) << out;
+    EXPECT_NE(out.find(" failed\n"), std::string::npos) << out;
+    EXPECT_NE(out.find("gate: pxh check FAIL, pxh compare FAIL"), std::string::npos) << out;
+    // Caught where the bug shows: an oblique azimuth at a moderate angle (limit 0.05 texel).
+    EXPECT_NE(out.find("method=my_pom theta in [0, 60]"), std::string::npos) << out;
+    EXPECT_NE(out.find("phi=30"), std::string::npos) << out;
+}
+
+TEST_F(ShaderGate, NanOnMissFailsTheNonfiniteLimit) {
+    const fs::path d = copy_with("if (k == 0 || g > 0.0) return uv;",
+                                 "if (g > 0.0) return vec2(intBitsToFloat(0x7fc00000));\n"
+                                 "    if (k == 0) return uv;");
+    std::string out;
+    EXPECT_EQ(gate(d, out), 1) << out;
+    // The nonfinite limit fails (the err_p95 limits alone would not see these samples).
+    const size_t nf = out.find("method=my_pom ");
+    ASSERT_NE(nf, std::string::npos) << out;
+    bool nonfinite_fails = false;
+    for (size_t at = out.find("nonfinite"); at != std::string::npos;
+         at = out.find("nonfinite", at + 1)) {
+        const size_t eol = out.find('\n', at);
+        if (out.substr(at, eol - at).find("FAIL") != std::string::npos) nonfinite_fails = true;
+    }
+    EXPECT_TRUE(nonfinite_fails) << out;
+    EXPECT_NE(out.find(": nonfinite 0 -> "), std::string::npos) << "compare names it too: " << out;
+    EXPECT_NE(out.find("gate: pxh check FAIL, pxh compare FAIL"), std::string::npos) << out;
+}
+
+TEST_F(ShaderGate, BadInputIsExit2) {
+    // An experiment that cannot be read: the gate stops there, with pxh's exit 2.
+    const fs::path d = copy_with("uniform float p_steps;", "uniform float p_steps;");
+    write("gate/experiment.toml", "name = \n");
+    std::string out;
+    EXPECT_EQ(gate(d, out), 2) << out;
+    EXPECT_NE(out.find("gate: pxh run exited 2"), std::string::npos) << out;
+}
+
+}  // namespace

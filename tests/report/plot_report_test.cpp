@@ -1,0 +1,195 @@
+// harness/report/plot_report.py on small hand-written data files: every figure is written (PNG,
+// SVG, PDF), with the panels and series the data call for (report/figures.json, the script's
+// manifest of what it drew), series equal within 0.1% drawn once and unequal ones apart, the
+// width asked for, TrueType fonts embedded in the PDF.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "harness/core/error.h"
+#include "harness/report/report.h"
+#include "tests/cli_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using pxh::test::slurp;
+
+// vs_theta.csv: two fields, two settings, CPU and GLSL. pom's GLSL numbers equal its CPU ones
+// within 1e-5 relative (drawn once); parallax's GLSL p50 on "rock" is 10% higher (drawn apart).
+const char* kVsTheta =
+    "heightfield,series,method,params,backend,precision,texture_format,theta_deg,err_p50,err_p95,"
+    "sliding,shimmering\n"
+    "sand,s,pom,layers=8,cpu,float,,0,0,0,0.01,0.02\n"
+    "sand,s,pom,layers=8,cpu,float,,60,0.5,1.5,,\n"
+    "sand,s,pom,layers=8,glsl,float,r32f,0,0,0,0.01,0.02\n"
+    "sand,s,pom,layers=8,glsl,float,r32f,60,0.500005,1.5,,\n"
+    "sand,s,parallax,,cpu,float,,0,0,0,0.1,0.2\n"
+    "sand,s,parallax,,cpu,float,,60,5,9,,\n"
+    "sand,s,parallax,,glsl,float,r32f,0,0,0,0.1,0.2\n"
+    "sand,s,parallax,,glsl,float,r32f,60,5,9,,\n"
+    "rock,s,pom,layers=8,cpu,float,,0,0,0,0.01,0.02\n"
+    "rock,s,pom,layers=8,cpu,float,,60,0.7,2,,\n"
+    "rock,s,pom,layers=8,glsl,float,r32f,0,0,0,0.01,0.02\n"
+    "rock,s,pom,layers=8,glsl,float,r32f,60,0.7,2,,\n"
+    "rock,s,parallax,,cpu,float,,0,0,0,0.1,0.2\n"
+    "rock,s,parallax,,cpu,float,,60,6,9,,\n"
+    "rock,s,parallax,,glsl,float,r32f,0,0,0,0.1,0.2\n"
+    "rock,s,parallax,,glsl,float,r32f,60,6.6,9,,\n";
+
+const char* kCost =
+    "series,setting,method,group,err_mean,err_p95,fetches_mean,ns_per_sample,ms_per_frame,"
+    "pareto_fetches,pareto_ns,pareto_ms,params,backend,precision,texture_format\n"
+    "a,pom layers=8,pom,cpu/float,0.3,1,17,50,,1,1,,layers=8,cpu,float,\n"
+    "b,parallax,parallax,cpu/float,3,9,1,5,,1,1,,,cpu,float,\n"
+    "c,pom layers=8,pom,glsl/r32f,0.3,1,17,,2,1,,1,layers=8,glsl,float,r32f\n"
+    "d,parallax,parallax,glsl/r32f,3,9,1,,3,1,,0,,glsl,float,r32f\n";
+
+// Two bands; fetches and errors equal on both backends (one row of panels for fetches), CPU ns
+// and GLSL ms (two rows for time). In band 1 a third setting, dominated, is off the fronts.
+const char* kBands =
+    "band,band_lo,band_hi,band_label,series,setting,group,err_mean,err_p95,fetches_mean,"
+    "ns_per_sample,ms_per_frame,pareto_fetches,pareto_ns,pareto_ms,method,params,backend,"
+    "precision,texture_format\n"
+    "0,0,30,0 <= θ < 30 †,a,x,cpu/float,0.1,1,17,50,,1,1,,pom,layers=8,cpu,float,\n"
+    "0,0,30,0 <= θ < 30 †,b,x,cpu/float,1,9,1,5,,1,1,,parallax,,cpu,float,\n"
+    "0,0,30,0 <= θ < 30 †,c,x,glsl/r32f,0.1,1,17,,2,1,,1,pom,layers=8,glsl,float,r32f\n"
+    "0,0,30,0 <= θ < 30 †,d,x,glsl/r32f,1,9,1,,3,1,,0,parallax,,glsl,float,r32f\n"
+    "1,30,90,30 <= θ <= 90,a,x,cpu/float,0.5,1,17,50,,1,1,,pom,layers=8,cpu,float,\n"
+    "1,30,90,30 <= θ <= 90,b,x,cpu/float,5,9,1,5,,1,1,,parallax,,cpu,float,\n"
+    "1,30,90,30 <= θ <= 90,e,x,cpu/float,6,9,2,9,,0,0,,steep,layers=8,cpu,float,\n"
+    "1,30,90,30 <= θ <= 90,c,x,glsl/r32f,0.5,1,17,,2,1,,1,pom,layers=8,glsl,float,r32f\n"
+    "1,30,90,30 <= θ <= 90,d,x,glsl/r32f,5,9,1,,3,1,,0,parallax,,glsl,float,r32f\n"
+    "1,30,90,30 <= θ <= 90,f,x,glsl/r32f,6,9,2,,4,0,,0,steep,layers=8,glsl,float,r32f\n";
+
+class PlotScript : public ::testing::Test {
+  protected:
+    fs::path dir;
+    void SetUp() override {
+        dir =
+            fs::temp_directory_path() / ("pxh_plot_test_" + std::to_string(::getpid())) / "report";
+        fs::remove_all(dir.parent_path());
+        fs::create_directories(dir / "data");
+        std::ofstream(dir / "data" / "vs_theta.csv") << kVsTheta;
+        std::ofstream(dir / "data" / "cost_vs_error.csv") << kCost;
+        std::ofstream(dir / "data" / "cost_vs_error_bands.csv") << kBands;
+    }
+    void TearDown() override { fs::remove_all(dir.parent_path()); }
+    // Runs the script; returns its manifest's figures by name.
+    std::map<std::string, nlohmann::json> plot(const std::string& width,
+                                               const std::string& formats = "png,svg,pdf") {
+        const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) +
+                                "/harness/report/plot_report.py " + dir.string() + " --width " +
+                                width + " --formats " + formats + " >" +
+                                (dir / "out.txt").string() + " 2>&1";
+        EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "out.txt");
+        const auto manifest = nlohmann::json::parse(slurp(dir / "figures.json"));
+        EXPECT_EQ(manifest.at("width_in").get<double>(), std::stod(width));
+        std::map<std::string, nlohmann::json> out;
+        for (const auto& f : manifest.at("figures")) out[f.at("name")] = f;
+        return out;
+    }
+    // A PNG's width in pixels (IHDR, bytes 16..19, big-endian).
+    int png_width(const std::string& name) {
+        const std::string b = slurp(dir / name);
+        if (b.size() < 24) return 0;
+        return (uint8_t(b[16]) << 24) | (uint8_t(b[17]) << 16) | (uint8_t(b[18]) << 8) |
+               uint8_t(b[19]);
+    }
+};
+
+TEST_F(PlotScript, EveryFigureWithItsPanelsAndSeries) {
+    auto figs = plot("7");
+    ASSERT_EQ(figs.size(), 4u);
+    for (const auto& [name, f] : figs)
+        for (const char* ext : {".png", ".svg", ".pdf"})
+            EXPECT_GT(fs::file_size(dir / (name + ext)), 1000u) << name << ext;
+    // error vs θ: a panel per field; sand: pom and parallax once each (GLSL = CPU within
+    // 0.1%); rock: pom once, parallax twice (10% apart) -> 5 lines.
+    EXPECT_EQ(figs["error_vs_theta"]["panels"], 2);
+    EXPECT_EQ(figs["error_vs_theta"]["series"], 5);
+    const std::string note = figs["error_vs_theta"]["note"];
+    EXPECT_NE(note.find("cpu/float = glsl/r32f"), std::string::npos) << note;
+    const auto legend = figs["error_vs_theta"]["legend"].dump();
+    for (const char* l : {"\"pom layers=8\"", "\"parallax\"", "\"cpu/float\"", "\"glsl/r32f\""})
+        EXPECT_NE(legend.find(l), std::string::npos) << l << " not in " << legend;
+    // sweeps: sliding and shimmering per field, every curve equal on both backends.
+    EXPECT_EQ(figs["sweep_vs_theta"]["panels"], 4);
+    EXPECT_EQ(figs["sweep_vs_theta"]["series"], 8);
+    // error vs fetches: both backends' points equal -> one row of panels, one per band;
+    // the fronts drawn through the flagged points of each panel (2 in band 0, 2 in band 1).
+    EXPECT_EQ(figs["cost_vs_error"]["panels"], 2);
+    EXPECT_EQ(figs["cost_vs_error"]["rows"].dump(), "[\"cpu/float = glsl/r32f\"]");
+    EXPECT_EQ(figs["cost_vs_error"]["front_points"].dump(), "[2,2]");
+    EXPECT_EQ(figs["cost_vs_error"]["series"], 3);
+    // error vs time: CPU ns and GLSL ms are two rows of two bands.
+    EXPECT_EQ(figs["time_vs_error"]["panels"], 4);
+    EXPECT_EQ(figs["time_vs_error"]["front_points"].dump(), "[2,2,1,1]");
+    // Width: 7 in at 300 dpi (the tight box trims the margins only).
+    const int w = png_width("error_vs_theta.png");
+    EXPECT_GT(w, 0.85 * 7 * 300);
+    EXPECT_LT(w, 1.05 * 7 * 300);
+    // Fonts embedded as TrueType (Type 42): FontFile2 streams, no Type 3 fonts.
+    const std::string pdf = slurp(dir / "error_vs_theta.pdf");
+    EXPECT_NE(pdf.find("/FontFile2"), std::string::npos);
+    EXPECT_EQ(pdf.find("/Type3"), std::string::npos);
+}
+
+TEST_F(PlotScript, SingleColumnWidthAndBadWidth) {
+    auto figs = plot("3.5", "png");  // PNG only: the test stays short
+    EXPECT_EQ(figs["error_vs_theta"]["panels"], 2);
+    const int w = png_width("cost_vs_error.png");
+    EXPECT_GT(w, 0.85 * 3.5 * 300);
+    EXPECT_LT(w, 1.05 * 3.5 * 300);
+    for (const char* bad : {" --width 0.5", " --formats png,jpg"}) {
+        const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) +
+                                "/harness/report/plot_report.py " + dir.string() + bad +
+                                " >/dev/null 2>&1";
+        EXPECT_NE(std::system(cmd.c_str()), 0) << bad;
+    }
+}
+
+// Any name draws: a 3000-character parameter (a plug-in's uniform) and a field named outside
+// Latin-1; legend entries are shortened in the middle to fit the width.
+TEST_F(PlotScript, LongAndNonLatinNamesDraw) {
+    const std::string longp = "layers=8;p_" + std::string(3000, 'u') + "=1";
+    for (const char* f : {"vs_theta.csv", "cost_vs_error.csv", "cost_vs_error_bands.csv"}) {
+        std::string t = slurp(dir / "data" / f);
+        for (size_t at = 0; (at = t.find("layers=8", at)) != std::string::npos; at += longp.size())
+            t.replace(at, 8, longp);
+        for (size_t at = 0; (at = t.find("sand,", at)) != std::string::npos; at += 7)
+            t.replace(at, 5, "砂岩,");
+        std::ofstream(dir / "data" / f, std::ios::binary) << t;
+    }
+    auto figs = plot("3.5", "png");
+    ASSERT_EQ(figs.size(), 4u);
+    for (const auto& [name, f] : figs)
+        for (const auto& label : f["legend"]) {
+            const std::string l = label;
+            EXPECT_LT(l.size(), 120u) << name << ": " << l.substr(0, 200);
+        }
+    const std::string legend = figs["error_vs_theta"]["legend"].dump();
+    EXPECT_NE(legend.find("pom layers=8, p_uuu"), std::string::npos) << legend;
+    EXPECT_NE(legend.find("…"), std::string::npos) << legend;
+    EXPECT_LT(png_width("error_vs_theta.png"), 1.05 * 3.5 * 300);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(FigureWidth, PresetsAndInches) {
+    EXPECT_EQ(pxh::parse_figure_width("single"), 3.5);
+    EXPECT_EQ(pxh::parse_figure_width("double"), 7.0);
+    EXPECT_EQ(pxh::parse_figure_width("4.75"), 4.75);
+    for (const char* bad : {"", "Single", "7in", "1.9", "20.5", "nan", "inf", "-3"})
+        EXPECT_THROW(pxh::parse_figure_width(bad), pxh::InputError) << bad;
+}
+
+}  // namespace
