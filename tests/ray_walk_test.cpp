@@ -28,12 +28,15 @@ struct Tally {
     long long rays = 0, differ = 0, walk_cells = 0, naive_cells = 0;
 };
 
+// The walk itself (trace_walk, for every ray) and trace_ray (the DDA for short rays) against
+// the DDA.
 void compare_ray(const ExactTracer& t, Vec2d P, Vec3d V, Tally& tally) {
-    const TruthHit a = t.trace_ray(P, V), b = t.trace_naive(P, V);
-    const bool same = a.uv.x == b.uv.x && a.uv.y == b.uv.y && a.z == b.z;
+    const TruthHit a = t.trace_walk(P, V), b = t.trace_naive(P, V), c = t.trace_ray(P, V);
+    const bool same = a.uv.x == b.uv.x && a.uv.y == b.uv.y && a.z == b.z && c.uv.x == b.uv.x &&
+                      c.uv.y == b.uv.y && c.z == b.z;
     if (!same && tally.differ < 5)
-        ADD_FAILURE() << "P = (" << P.x << ", " << P.y << "), V = (" << V.x << ", " << V.y
-                      << ", " << V.z << "): walk (" << a.uv.x << ", " << a.uv.y << ", " << a.z
+        ADD_FAILURE() << "P = (" << P.x << ", " << P.y << "), V = (" << V.x << ", " << V.y << ", "
+                      << V.z << "): walk (" << a.uv.x << ", " << a.uv.y << ", " << a.z
                       << "), naive (" << b.uv.x << ", " << b.uv.y << ", " << b.z << ")";
     tally.differ += !same;
     EXPECT_LE(a.cells, b.cells);  // a subset of the DDA's cells

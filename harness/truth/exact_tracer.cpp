@@ -86,7 +86,7 @@ void ExactTracer::trace_rays(const View& view, Hits& out) const {
     out.resize_all(view.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, view.size(), 256), [&](const auto& rg) {
         for (size_t k = rg.begin(); k < rg.end(); ++k)
-            out.set(k, walk(make_ray_unchecked(view.P[k], view.dir(k))));
+            out.set(k, trace_ray_unchecked(view.P[k], view.dir(k)));
     });
 }
 

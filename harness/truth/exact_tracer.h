@@ -47,7 +47,10 @@ class ExactTracer final : public Tracer {
     // cell exactly, found from the same line-crossing times, skips a block only when the ray leaves
     // it above the block's maximum (so every skipped cell is one trace_naive's solver rejects by
     // the same test) and solves the others with trace_naive's exit times.
+    // Rays of a short horizontal travel (kDdaTravelCells, ray_walk_exact.cpp) take the DDA
+    // itself, faster there; trace_walk is the walk for every ray (tested bit for bit too).
     TruthHit trace_ray(Vec2d P, Vec3d V) const;
+    TruthHit trace_walk(Vec2d P, Vec3d V) const;
     // Every ray of one view at once: the rays through the N x N sample grid (sample_grid(n),
     // out[j * n + i]), all parallel to V. Rays are grouped in narrow lateral bands; each band
     // keeps, per run of grid columns along the view direction, an exact upper bound (from the
@@ -69,10 +72,12 @@ class ExactTracer final : public Tracer {
   private:
     struct Ray;
     Ray make_ray(Vec2d P, Vec3d V) const;
-    Ray make_ray_unchecked(Vec2d P, Vec3d V) const;  // for directions checked already
-    TruthHit walk(const Ray& r) const;               // trace_ray's walk
-    Ray make_ray(Vec2d P, const Ray& like) const;    // same direction as `like`, new start
-    friend class ViewTracer;                         // trace_grid's machinery (band_tracer.cpp)
+    Ray make_ray_unchecked(Vec2d P, Vec3d V) const;        // for directions checked already
+    TruthHit walk(const Ray& r, double dda_travel) const;  // DDA below dda_travel cells
+    TruthHit trace_ray_unchecked(Vec2d P, Vec3d V) const;  // a direction checked already
+    TruthHit dda(const Ray& r) const;                      // trace_naive's DDA
+    Ray make_ray(Vec2d P, const Ray& like) const;          // same direction as `like`, new start
+    friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     // The same, given the cell's index wrapped into the tile (wi, wj).

@@ -40,11 +40,26 @@ struct Axis {
     }
 };
 
+// Rays shorter than this (horizontal travel through the slab, in cells) take the DDA.
+constexpr double kDdaTravelCells = 96;
+
 }  // namespace
 
-TruthHit ExactTracer::trace_ray(Vec2d P, Vec3d V) const { return walk(make_ray(P, V)); }
+TruthHit ExactTracer::trace_ray(Vec2d P, Vec3d V) const {
+    return walk(make_ray(P, V), kDdaTravelCells);
+}
 
-TruthHit ExactTracer::walk(const Ray& r) const {
+TruthHit ExactTracer::trace_ray_unchecked(Vec2d P, Vec3d V) const {
+    return walk(make_ray_unchecked(P, V), kDdaTravelCells);
+}
+
+TruthHit ExactTracer::trace_walk(Vec2d P, Vec3d V) const { return walk(make_ray(P, V), -1); }
+
+TruthHit ExactTracer::walk(const Ray& r, double dda_travel) const {
+    // A short ray crosses few cells: the DDA itself is faster than the walk's block tests
+    // (measured with pxh bench --naive: the DDA ahead at 44 cells of travel, behind at 178).
+    const double travel = r.tau_max * std::max(std::abs(r.dX), std::abs(r.dY));
+    if (travel <= dda_travel) return dda(r);
     const int W = hf_.width, H = hf_.height;
     const int top = int(level_max_.size()) - 1;
     const double inf = std::numeric_limits<double>::infinity();
@@ -60,7 +75,6 @@ TruthHit ExactTracer::walk(const Ray& r) const {
         level_w[l] = level_w_[l];
     }
     // Start with blocks about half the ray's horizontal travel (as trace does).
-    const double travel = r.tau_max * std::max(std::abs(r.dX), std::abs(r.dY));
     int level = std::clamp(int(std::ceil(std::log2(std::max(travel, 1.0)))) - 1, 0, top);
     const double inv_vz = 1 / r.vz;
     int cells = 0;  // cells solved
@@ -98,14 +112,12 @@ TruthHit ExactTracer::walk(const Ray& r) const {
                 // time the ray comes down to it (if every cell skipped provably lies below the
                 // ray), then look closer.
                 const double t = std::min((r.zt - z_block) * inv_vz, tau_out);
-                const int64_t nci = ax.moves ? ax.last_entered(
-                                                   ci, int64_t(std::floor(r.X0 + t * r.dX)), t,
-                                                   false)
-                                             : ci;
-                const int64_t ncj = ay.moves ? ay.last_entered(
-                                                   cj, int64_t(std::floor(r.Y0 + t * r.dY)), t,
-                                                   false)
-                                             : cj;
+                const int64_t nci =
+                    ax.moves ? ax.last_entered(ci, int64_t(std::floor(r.X0 + t * r.dX)), t, false)
+                             : ci;
+                const int64_t ncj =
+                    ay.moves ? ay.last_entered(cj, int64_t(std::floor(r.Y0 + t * r.dY)), t, false)
+                             : cj;
                 if (nci != ci || ncj != cj) {
                     // The last event before t: every skipped cell was left no later.
                     const double t_last = std::max(nci != ci ? ax.entry(nci) : -inf,
