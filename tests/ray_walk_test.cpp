@@ -136,11 +136,11 @@ TEST(RayWalk, RaysThatStressTheDdaHitWhatItHits) {
                 const Vec3d V = view_vector(theta, phi);
                 for (int k = 0; k < 60; ++k) {
                     Vec2d P{unit(rng) * 3 - 1, unit(rng) * 3 - 1};
-                    // Starts on grid lines (the entry point's X0 or Y0 an integer) and at
-                    // texel corners.
+                    // Starts on grid lines (the entry point's X0 or Y0 an integer, or both:
+                    // at phi = 45 on a square field such a ray passes through cell corners).
                     const double zt = c.s * (1 - c.b);
-                    if (k % 3 == 1) P.x = (std::floor(unit(rng) * W) + 0.5) / W - V.x / V.z * zt;
-                    if (k % 3 == 2) P.y = (std::floor(unit(rng) * H) + 0.5) / H - V.y / V.z * zt;
+                    if (k % 3 != 2) P.x = (std::floor(unit(rng) * W) + 0.5) / W - V.x / V.z * zt;
+                    if (k % 3 != 1) P.y = (std::floor(unit(rng) * H) + 0.5) / H - V.y / V.z * zt;
                     compare_ray(t, P, V, tally);
                 }
             }
