@@ -20,8 +20,10 @@
 #include "harness/core/safe_files.h"
 #include "harness/metrics/agreement.h"
 #include "harness/results/provenance.h"
+#include "harness/scene/perspective_camera.h"
 #include "harness/truth/embree_truth.h"
 #include "harness/truth/ground_truth.h"
+#include "harness/truth/travel_limit.h"
 #include "heightfields/heightfields.h"
 
 namespace pxh {
@@ -33,6 +35,16 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+PerspectiveParams perspective_params(const BenchOptions& opt, double theta, double distance) {
+    PerspectiveParams p;
+    p.theta_deg = theta;
+    p.phi_deg = opt.phi;
+    p.distance = distance;
+    p.fov_deg = opt.fov;
+    p.samples = opt.samples;
+    return p;
+}
+
 double seconds(const std::function<void()>& f) {
     const auto t0 = std::chrono::steady_clock::now();
     f();
@@ -41,25 +53,25 @@ double seconds(const std::function<void()>& f) {
 
 // The repeated timings of one view (seconds), and the last run's results of both tracers.
 struct ViewTimings {
-    std::vector<double> exact, embree, per_ray, naive;
+    std::vector<double> exact, embree, per_ray, walk, naive;
     Hits hits, em;  // the exact tracer's, Embree's
 };
 
-ViewTimings time_view(const ExactTracer& exact, const EmbreeTracer& embree,
-                      const std::vector<Vec2d>& P, const OrthographicCamera& camera,
+// Both tracers through the Tracer interface on the same view (an orthographic grid view takes
+// the exact tracer's band path, any other its per-ray path), and with --naive the two other
+// per-ray tracers on the same rays.
+ViewTimings time_view(const ExactTracer& exact, const EmbreeTracer& embree, const View& view,
                       const BenchOptions& opt) {
-    const View view = camera.view();
-    const Vec3d V = camera.direction();
     // Both write into buffers kept from run to run (so neither pays for fresh pages).
     ViewTimings t;
-    auto run_exact = [&] { exact.trace(view, t.hits); };  // trace_grid: on the sample grid
+    auto run_exact = [&] { exact.trace(view, t.hits); };
     auto run_embree = [&] { embree.trace(view, t.em); };
     run_exact();  // warm-up
     run_embree();
     auto per_ray = [&](auto&& trace_one) {
         return seconds([&] {
-            tbb::parallel_for(tbb::blocked_range<size_t>(0, P.size(), 256), [&](const auto& r) {
-                for (size_t k = r.begin(); k < r.end(); ++k) trace_one(P[k]);
+            tbb::parallel_for(tbb::blocked_range<size_t>(0, view.size(), 256), [&](const auto& r) {
+                for (size_t k = r.begin(); k < r.end(); ++k) trace_one(view.P[k], view.dir(k));
             });
         });
     };
@@ -73,30 +85,55 @@ ViewTimings time_view(const ExactTracer& exact, const EmbreeTracer& embree,
             t.exact.push_back(seconds(run_exact));
         }
         if (opt.naive) {
-            t.per_ray.push_back(per_ray([&](Vec2d p) { return exact.trace(p, V); }));
-            t.naive.push_back(per_ray([&](Vec2d p) { return exact.trace_naive(p, V); }));
+            t.per_ray.push_back(per_ray([&](Vec2d p, Vec3d v) { return exact.trace(p, v); }));
+            t.walk.push_back(per_ray([&](Vec2d p, Vec3d v) { return exact.trace_ray(p, v); }));
+            t.naive.push_back(per_ray([&](Vec2d p, Vec3d v) { return exact.trace_naive(p, v); }));
         }
     }
     return t;
 }
 
+// The settings of one view: theta, and for a perspective camera D and F.
+struct ViewSetting {
+    double theta = 0, distance = 0;
+    const std::vector<uint8_t>* inside = nullptr;  // perspective: the inside mask
+    size_t outside = 0;
+};
+
+double spread(const std::vector<double>& seconds_list) {
+    // (max - min) / median of the repeats' times: how much the machine moved the timings.
+    const auto [lo, hi] = std::minmax_element(seconds_list.begin(), seconds_list.end());
+    return (*hi - *lo) / median(seconds_list);
+}
+
 // One view's line on stdout and its entry in the JSON (build times in seconds).
-nlohmann::json report_view(const BenchOptions& opt, int size, double theta, const ViewTimings& t,
-                           double exact_build, double embree_build) {
+nlohmann::json report_view(const BenchOptions& opt, int size, const ViewSetting& vs,
+                           const ViewTimings& t, double exact_build, double embree_build) {
     const size_t n = t.hits.uv.size();
     const double rays = double(n);
-    const ErrorStats agree = reference_agreement(t.em.uv, t.hits.uv, size, size);
+    // Agreement over the pixels that are measured (a perspective view's inside pixels).
+    std::vector<Vec2d> em_uv, exact_uv;
+    for (size_t k = 0; k < n; ++k)
+        if (!vs.inside || (*vs.inside)[k]) {
+            em_uv.push_back(t.em.uv[k]);
+            exact_uv.push_back(t.hits.uv[k]);
+        }
+    const ErrorStats agree = reference_agreement(em_uv, exact_uv, size, size);
     const double exact_mrays = rays / median(t.exact) / 1e6;
     const double embree_mrays = rays / median(t.embree) / 1e6;
-    std::printf("%-6d %-6g %12.2f %12.2f %8.2f", size, theta, exact_mrays, embree_mrays,
-                exact_mrays / embree_mrays);
+    const bool persp = vs.inside != nullptr;
+    std::printf("%-6d %-6g", size, vs.theta);
+    if (persp) std::printf(" %-6g %8zu", vs.distance, vs.outside);
+    std::printf(" %12.2f %12.2f %8.2f", exact_mrays, embree_mrays, exact_mrays / embree_mrays);
     if (opt.naive)
-        std::printf(" %12.2f %12.2f", rays / median(t.per_ray) / 1e6, rays / median(t.naive) / 1e6);
-    std::printf(" %10.4f %10.4f %10.3f %10.5f\n", agree.p50, agree.p99, agree.max,
-                agree.frac_gt_0_5);
+        std::printf(" %12.2f %12.2f %12.2f", rays / median(t.per_ray) / 1e6,
+                    rays / median(t.walk) / 1e6, rays / median(t.naive) / 1e6);
+    std::printf(" %10.4f %10.4f %10.3f %10.5f %5.2f %5.2f\n", agree.p50, agree.p99, agree.max,
+                agree.frac_gt_0_5, spread(t.exact), spread(t.embree));
     std::fflush(stdout);
     nlohmann::json row = {{"size", size},
-                          {"theta_deg", theta},
+                          {"camera", opt.camera},
+                          {"theta_deg", vs.theta},
                           {"phi_deg", opt.phi},
                           {"rays", n},
                           {"exact_mrays_per_s", exact_mrays},
@@ -104,15 +141,24 @@ nlohmann::json report_view(const BenchOptions& opt, int size, double theta, cons
                           {"ratio_exact_over_embree", exact_mrays / embree_mrays},
                           {"exact_seconds", t.exact},
                           {"embree_seconds", t.embree},
+                          {"exact_spread", spread(t.exact)},
+                          {"embree_spread", spread(t.embree)},
                           {"exact_build_ms", exact_build * 1e3},
                           {"embree_build_ms", embree_build * 1e3},
                           {"agree_p50_texel", agree.p50},
                           {"agree_p99_texel", agree.p99},
                           {"agree_max_texel", agree.max},
                           {"agree_frac_gt_0_5", agree.frac_gt_0_5}};
+    if (persp) {  // the rays of outside pixels are traced (the look-at ray) but not compared
+        row["distance"] = vs.distance;
+        row["fov_deg"] = opt.fov;
+        row["samples_outside"] = vs.outside;
+    }
     if (opt.naive) {  // measured only with --naive (otherwise left out, never NaN)
         row["per_ray_mipmap_mrays_per_s"] = rays / median(t.per_ray) / 1e6;
+        row["trace_ray_mrays_per_s"] = rays / median(t.walk) / 1e6;
         row["naive_mrays_per_s"] = rays / median(t.naive) / 1e6;
+        row["trace_ray_seconds"] = t.walk;
         row["per_ray_mipmap_seconds"] = t.per_ray;
         row["naive_seconds"] = t.naive;
     }
@@ -122,13 +168,17 @@ nlohmann::json report_view(const BenchOptions& opt, int size, double theta, cons
 const char* const kBenchTitle =
     "ground truth throughput: exact (trace_grid: the view's parallel rays in bands over "
     "max-mipmap bounds) vs Embree rtcIntersect16, both on the same sample grid";
+const char* const kPerspectiveBenchTitle =
+    "ground truth throughput: exact (trace_ray: per-ray max-mipmap walk, trace_naive's hits "
+    "bit for bit) vs Embree rtcIntersect16, both on the same perspective rays";
 
 // Whether `path` (a regular file) is a JSON document pxh bench wrote.
 bool is_pxh_bench_file(const std::string& path) {
     try {
         std::ifstream f(path, std::ios::binary);
         const auto doc = nlohmann::json::parse(f);
-        return doc.is_object() && doc.contains("benchmark") && doc["benchmark"] == kBenchTitle &&
+        return doc.is_object() && doc.contains("benchmark") &&
+               (doc["benchmark"] == kBenchTitle || doc["benchmark"] == kPerspectiveBenchTitle) &&
                doc.contains("pxh_version") && doc.contains("results");
     } catch (const std::exception&) {
         return false;
@@ -160,7 +210,9 @@ void write_bench_file(const std::string& out, const std::string& text, bool repl
 // The JSON document: provenance, the settings and every view's entry.
 void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t rays) {
     nlohmann::json doc = provenance(opt.threads);
-    doc["benchmark"] = kBenchTitle;
+    doc["benchmark"] = opt.camera == "perspective" ? kPerspectiveBenchTitle : kBenchTitle;
+    doc["camera"] = opt.camera;
+    if (opt.camera == "perspective") doc["fov_deg"] = opt.fov;
     doc["field"] = opt.field;
     doc["scale"] = opt.scale;
     doc["bias"] = opt.bias;
@@ -173,8 +225,9 @@ void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t 
     std::error_code ec;
     write_bench_file(out, doc.dump(2) + "\n", std::filesystem::exists(out, ec));
     std::cout << "ratio = exact / Embree throughput (median of " << opt.repeats << " repeats, "
-              << opt.threads << " threads, " << rays << " rays); agreement in texels -> " << out
-              << std::endl;
+              << opt.threads << " threads, " << rays << " rays); agreement in texels"
+              << (opt.camera == "perspective" ? " over inside pixels" : "")
+              << "; spread = (max - min) / median of the repeats' times -> " << out << std::endl;
     std::fflush(stdout);
     if (!std::cout || std::ferror(stdout))
         throw std::runtime_error(
@@ -222,13 +275,25 @@ int run_bench(const BenchOptions& options) {
     for (double theta : opt.thetas)
         if (const std::string why = ray_travel_problem(opt.scale, theta); !why.empty())
             throw InputError("--theta", why);
+    const bool persp = opt.camera == "perspective";
+    if (persp)  // eyes below the slab top, before any work
+        for (double theta : opt.thetas)
+            for (double d : opt.distances) {
+                const PerspectiveParams p = perspective_params(opt, theta, d);
+                if (const std::string why = perspective_problem(p); !why.empty())
+                    throw InputError("--camera perspective", why);
+                check_eye_above_slab(p, opt.scale, opt.bias, "--distance");
+            }
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
-    const auto P = sample_grid(opt.samples);
+    const size_t rays = size_t(opt.samples) * size_t(opt.samples);
     nlohmann::json results = nlohmann::json::array();
     // Only the columns measured: the per-ray tracers' throughput with --naive alone.
-    std::printf("%-6s %-6s %12s %12s %8s", "size", "theta", "exact Mr/s", "embree Mr/s", "ratio");
-    if (opt.naive) std::printf(" %12s %12s", "per-ray Mr/s", "naive Mr/s");
-    std::printf(" %10s %10s %10s %10s\n", "agree p50", "agree p99", "agree max", "frac>0.5");
+    std::printf("%-6s %-6s", "size", "theta");
+    if (persp) std::printf(" %-6s %8s", "D", "outside");
+    std::printf(" %12s %12s %8s", "exact Mr/s", "embree Mr/s", "ratio");
+    if (opt.naive) std::printf(" %12s %12s %12s", "per-ray Mr/s", "ray Mr/s", "naive Mr/s");
+    std::printf(" %10s %10s %10s %10s %5s %5s\n", "agree p50", "agree p99", "agree max", "frac>0.5",
+                "sprdX", "sprdE");
     for (int size : opt.sizes) {
         const HeightField hf = generate_heightfield(
             *gen, size, size, resolve_params(gen->params, {}, "bench", gen->name));
@@ -239,12 +304,26 @@ int run_bench(const BenchOptions& options) {
         const double embree_build =
             seconds([&] { embree = std::make_unique<EmbreeTracer>(hf, opt.scale, opt.bias); });
         for (double theta : opt.thetas) {
-            const OrthographicCamera camera(theta, opt.phi, opt.samples);
-            const ViewTimings t = time_view(*exact, *embree, P, camera, opt);
-            results.push_back(report_view(opt, size, theta, t, exact_build, embree_build));
+            if (!persp) {
+                const View view = OrthographicCamera(theta, opt.phi, opt.samples).view();
+                const ViewTimings t = time_view(*exact, *embree, view, opt);
+                results.push_back(report_view(opt, size, {theta}, t, exact_build, embree_build));
+                continue;
+            }
+            for (double d : opt.distances) {
+                const PerspectiveCamera camera(perspective_params(opt, theta, d));
+                const View view = camera.view();
+                if (const std::string why = view_travel_problem(opt.scale, view); !why.empty())
+                    throw InputError("--theta", why);
+                const std::vector<uint8_t> inside = camera.inside();
+                const ViewTimings t = time_view(*exact, *embree, view, opt);
+                results.push_back(report_view(opt, size,
+                                              {theta, d, &inside, camera.outside_count()}, t,
+                                              exact_build, embree_build));
+            }
         }
     }
-    write_bench(opt, results, P.size());
+    write_bench(opt, results, rays);
     return 0;
 }
 

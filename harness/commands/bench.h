@@ -15,7 +15,12 @@ struct BenchOptions {
     int repeats = 5;
     int threads = 2;
     bool naive = false;  // also time the per-ray tracers: max-mipmap walk and per-cell DDA
-    std::string out;     // JSON file (default: results/runs/bench-DATE.json)
+    // "orthographic" (the sample grid: the exact tracer's band path) or "perspective" (a
+    // PerspectiveCamera per theta and distance: the exact tracer's per-ray path, trace_ray).
+    std::string camera = "orthographic";
+    std::vector<double> distances{1.5, 4, 16};  // perspective: eye distances in tiles
+    double fov = 45;                            // perspective: full field of view, degrees
+    std::string out;                            // JSON file (default: results/runs/bench-DATE.json)
     bool force = false;  // replace `out` when it is an earlier pxh bench file (only then)
 };
 

@@ -24,14 +24,25 @@ Command add_bench_command(CLI::App& app) {
     bench->add_option("--threads", bo->threads, "threads (default 2)")->check(CLI::Range(1, 1024));
     bench->add_flag(
         "--naive", bo->naive,
-        "also time the per-ray tracers (max-mipmap walk, per-cell DDA) on the same rays");
+        "also time the per-ray tracers (trace: the tile-local max-mipmap walk; trace_ray: the "
+        "fast path, bit for bit trace_naive; trace_naive: the per-cell DDA) on the same rays");
+    bench->add_option("--camera", bo->camera, "orthographic (default) or perspective")
+        ->check(CLI::IsMember({"orthographic", "perspective"}));
+    auto* distance = bench->add_option("--distance", bo->distances,
+                                       "perspective: eye distances in tiles (default 1.5 4 16)");
+    distance->check(CLI::PositiveNumber);
+    auto* fov = bench->add_option("--fov", bo->fov, "perspective: field of view, deg (default 45)");
+    fov->check(CLI::Range(0.001, 179.999));
     auto* out = bench->add_option("--out", bo->out,
                                   "JSON output, a new file (default results/runs/bench-DATE.json)");
     bench->add_flag("--force", bo->force,
                     "replace --out when it is an earlier pxh bench file (never anything else)");
-    return {bench, [bo, out] {
+    return {bench, [bo, out, distance, fov] {
                 if (out->count() && bo->out.empty())
                     throw InputError("--out", "is empty: name the JSON file");
+                if (bo->camera != "perspective" && (distance->count() || fov->count()))
+                    throw InputError(distance->count() ? "--distance" : "--fov",
+                                     "applies to --camera perspective only");
                 return run_bench(*bo);
             }};
 }

@@ -86,6 +86,10 @@ inline ExactTracer::Ray ExactTracer::make_ray(Vec2d P, Vec3d V) const {
     // Within the travel limit every grid coordinate below (start, exits, the slab bottom) is a
     // few times W x kMaxRayTravelTiles at most: all conversions to integers are in range.
     throw_if_problem(ray_travel_problem(s_, V));
+    return make_ray_unchecked(P, V);
+}
+
+inline ExactTracer::Ray ExactTracer::make_ray_unchecked(Vec2d P, Vec3d V) const {
     Ray r;
     r.zt = z_top();
     r.vx = V.x;

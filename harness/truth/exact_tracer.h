@@ -4,6 +4,7 @@
 //   exact_tracer.cpp  the maximum mipmap (construction) and the Tracer interface
 //   cell_solver.h     the ray and the closed-form ray / bilinear-patch cell solver
 //   ray_walk.cpp      one ray at a time: trace_naive (DDA) and trace (over the mipmap)
+//   ray_walk_exact.cpp  one ray at a time, fast and bit for bit trace_naive: trace_ray
 //   band_tracer.cpp   every ray of an orthographic grid view at once: trace_grid
 //   true_shadow.cpp   the true hard shadow query: occluded
 #pragma once
@@ -25,8 +26,9 @@ class ExactTracer final : public Tracer {
     ExactTracer(const HeightField& hf, double scale, double bias);
 
     // The Tracer interface ("exact"): an orthographic view on the sample grid takes
-    // trace_grid; any other view is traced ray by ray with trace_naive, which trace_grid
-    // equals bit for bit, so a view's hits do not depend on the path that traced them.
+    // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray. Both
+    // equal trace_naive bit for bit, so a view's hits do not depend on the path that traced
+    // them.
     std::string name() const override { return "exact"; }
     void trace(const View& view, Hits& out) const override;
     bool has_shadow_query() const override { return true; }
@@ -39,6 +41,16 @@ class ExactTracer final : public Tracer {
     TruthHit trace(Vec2d P, Vec3d V) const;
     // The reference: a per-cell 2D DDA testing every cell the ray crosses.
     TruthHit trace_naive(Vec2d P, Vec3d V) const;
+    // The per-ray fast path: trace_naive's hits bit for bit (uv and z; `cells` counts the
+    // cells solved, a subset of trace_naive's), over the maximum mipmap. Where trace steps between
+    // blocks in tile-local coordinates (hence its 1e-9 texel), this walk keeps trace_naive's DDA
+    // cell exactly, found from the same line-crossing times, skips a block only when the ray leaves
+    // it above the block's maximum (so every skipped cell is one trace_naive's solver rejects by
+    // the same test) and solves the others with trace_naive's exit times.
+    // Rays of a short horizontal travel (kDdaTravelCells, ray_walk_exact.cpp) take the DDA
+    // itself, faster there; trace_walk is the walk for every ray (tested bit for bit too).
+    TruthHit trace_ray(Vec2d P, Vec3d V) const;
+    TruthHit trace_walk(Vec2d P, Vec3d V) const;
     // Every ray of one view at once: the rays through the N x N sample grid (sample_grid(n),
     // out[j * n + i]), all parallel to V. Rays are grouped in narrow lateral bands; each band
     // keeps, per run of grid columns along the view direction, an exact upper bound (from the
@@ -60,8 +72,12 @@ class ExactTracer final : public Tracer {
   private:
     struct Ray;
     Ray make_ray(Vec2d P, Vec3d V) const;
-    Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
-    friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
+    Ray make_ray_unchecked(Vec2d P, Vec3d V) const;        // for directions checked already
+    TruthHit walk(const Ray& r, double dda_travel) const;  // DDA below dda_travel cells
+    TruthHit trace_ray_unchecked(Vec2d P, Vec3d V) const;  // a direction checked already
+    TruthHit dda(const Ray& r) const;                      // trace_naive's DDA
+    Ray make_ray(Vec2d P, const Ray& like) const;          // same direction as `like`, new start
+    friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     // The same, given the cell's index wrapped into the tile (wi, wj).

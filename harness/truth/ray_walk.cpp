@@ -8,8 +8,9 @@
 
 namespace pxh {
 
-TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const {
-    const Ray r = make_ray(P, V);
+TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const { return dda(make_ray(P, V)); }
+
+TruthHit ExactTracer::dda(const Ray& r) const {
     int64_t ci = int64_t(std::floor(r.X0)), cj = int64_t(std::floor(r.Y0));
     for (int cells = 1;; ++cells) {
         const double ex = r.exit_x(ci, ci + 1), ey = r.exit_y(cj, cj + 1);

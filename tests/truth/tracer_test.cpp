@@ -46,6 +46,7 @@ TEST(Tracer, ExactGridAndPerRayPathsAgreeBitForBit) {
     for (const Case& c : cases) {
         const HeightField hf = test::random_field(c.w, c.h, uint32_t(c.w * 17 + c.h));
         const auto exact = make_tracer("exact", hf, c.s, c.b);
+        const ExactTracer reference(hf, c.s, c.b);
         for (double theta : {0.0, 30.0, 70.0, 85.0, 89.5})
             for (double phi : {0.0, 45.0, 163.0, 270.0}) {
                 const View grid = OrthographicCamera(theta, phi, c.n).view();
@@ -60,18 +61,19 @@ TEST(Tracer, ExactGridAndPerRayPathsAgreeBitForBit) {
                 for (size_t k = 0; k < grid.size(); ++k) {
                     differ += a.uv[k].x != b.uv[k].x || a.uv[k].y != b.uv[k].y || a.z[k] != b.z[k];
                     grid_cells += a.cells[k];
-                    naive_cells += b.cells[k];
+                    naive_cells += reference.trace_naive(each.P[k], each.V[k]).cells;
                     ++rays;
                 }
             }
     }
     EXPECT_EQ(differ, 0) << "of " << rays << " rays";
-    // Two different paths: the band tracer skips the cells its bounds rule out.
+    // The band tracer skips the cells its bounds rule out (so does the per-ray path,
+    // tests/ray_walk_test.cpp): a different path from the per-cell DDA.
     EXPECT_LT(grid_cells, naive_cells / 2);
 }
 
 // Parallel rays off the grid (and a grid view whose rays are not parallel) take the per-ray
-// path; still trace_naive's hits.
+// path (trace_ray); still trace_naive's hits, solving a subset of its cells.
 TEST(Tracer, ExactPerRayPathIsTraceNaive) {
     const HeightField hf = test::random_field(48, 40, 5);
     const ExactTracer exact(hf, 0.2, 0.5);
@@ -86,7 +88,7 @@ TEST(Tracer, ExactPerRayPathIsTraceNaive) {
         ASSERT_EQ(h.uv[k].x, t.uv.x);
         ASSERT_EQ(h.uv[k].y, t.uv.y);
         ASSERT_EQ(h.z[k], t.z);
-        ASSERT_EQ(h.cells[k], t.cells);
+        ASSERT_LE(h.cells[k], t.cells);
     }
 }
 

@@ -15,6 +15,7 @@
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/metrics.h"
+#include "harness/scene/perspective_camera.h"
 #include "harness/truth/embree_truth.h"
 #include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
@@ -363,6 +364,39 @@ TEST_F(TruthLimitsCli, BenchWithOneSampleAndOnlyMeasuredColumns) {
     doc = nlohmann::json::parse(slurp(json));
     EXPECT_GT(doc["results"][0]["naive_mrays_per_s"].get<double>(), 0);
     EXPECT_GT(doc["results"][0]["per_ray_mipmap_mrays_per_s"].get<double>(), 0);
+}
+
+// The perspective mode: both tracers on the camera's rays, one row per theta and distance, the
+// outside pixels counted as the camera's geometry says; its keys only with that camera.
+TEST_F(TruthLimitsCli, BenchPerspectiveRowsPerThetaAndDistance) {
+    const std::string json = (dir / "p.json").string();
+    test::CliResult r =
+        pxh("bench --camera perspective --distance 1.5 4 --fov 45 --samples 16 --sizes 32 "
+            "--repeats 1 --theta 60 85 --naive --threads 1 --out " +
+            json);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+    const auto doc = nlohmann::json::parse(slurp(json));
+    EXPECT_EQ(doc["camera"], "perspective");
+    ASSERT_EQ(doc["results"].size(), 4u);
+    for (const auto& row : doc["results"]) {
+        PerspectiveParams p;
+        p.theta_deg = row["theta_deg"].get<double>();
+        p.phi_deg = row["phi_deg"].get<double>();
+        p.distance = row["distance"].get<double>();
+        p.fov_deg = 45;
+        p.samples = 16;
+        EXPECT_EQ(row["samples_outside"].get<size_t>(), PerspectiveCamera(p).outside_count());
+        EXPECT_GT(row["ratio_exact_over_embree"].get<double>(), 0);
+        EXPECT_GT(row["trace_ray_mrays_per_s"].get<double>(), 0);
+        EXPECT_LT(row["agree_p50_texel"].get<double>(), 0.05);  // triangles vs bilinear, 32^2
+    }
+    EXPECT_GT(doc["results"][2]["samples_outside"].get<size_t>(), 0u);  // 85 deg: the sky
+    r = pxh("bench --distance 4 --samples 4 --sizes 16 --repeats 1 --out " +
+            (dir / "q.json").string());
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("--distance"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "q.json"));
 }
 
 // Beyond the limit: exit 2, one line naming the experiment file and the height field's line,
