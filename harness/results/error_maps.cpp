@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "harness/core/params.h"
+#include "harness/core/sha256.h"
 #include "harness/results/image_file.h"
 
 namespace pxh {
@@ -103,14 +104,23 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
 ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     const std::string& fmt = r.text("texture_format");
     const std::string what = r.text("backend") + "-" + (fmt.empty() ? r.text("precision") : fmt);
+    const std::string& params = r.text("params");
+    // The setting's parameters, so two settings of one method are told apart by name: the
+    // values of "layers=32;layers_min=off" as "layers-32_layers_min-off"; past kParamsInName
+    // characters cut and ended by 8 hex digits of the parameters' sha256 (the index keeps the
+    // name unique in any case).
+    constexpr size_t kParamsInName = 64;
+    std::string ps;
+    for (char ch : params) ps += ch == '=' ? '-' : ch == ';' ? '_' : ch;
+    if (ps.size() > kParamsInName)
+        ps = ps.substr(0, kParamsInName - 9) + "~" + sha256_hex(params).substr(0, 8);
     char stem[512];
-    std::snprintf(stem, sizeof stem, "%05zu_%s_%s_t%g_p%g_%s", index, r.text("method").c_str(),
-                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"),
-                  what.c_str());
+    std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g_%s", index, r.text("method").c_str(),
+                  ps.empty() ? "" : "_", ps.c_str(), r.text("heightfield").c_str(),
+                  r.num("theta_deg"), r.num("phi_deg"), what.c_str());
     ErrorMapName n{stem, ""};
     for (char& ch : n.stem)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
-    const std::string& params = r.text("params");
     n.title = r.text("method") + (params.empty() ? "" : " " + params) + " | " +
               r.text("heightfield") + " | theta " + format_number(r.num("theta_deg")) + " phi " +
               format_number(r.num("phi_deg")) + " | " + r.text("backend");

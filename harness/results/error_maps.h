@@ -26,8 +26,9 @@ ErrorMapBox error_map_box(int n);
 std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
                             const std::string& stem, const std::string& title);
 
-// A row's error map: its file stem ("00012_pom_fbm_t60_p0_cpu-float", safe characters only;
-// `index` is the row's index in results.csv) and the title drawn on it.
+// A row's error map: its file stem ("00012_pom_layers-32_fbm_t60_p0_cpu-float": index, method,
+// its parameters (long ones cut and ended by a hash), field, view, backend variant; safe
+// characters only; `index` is the row's index in results.csv) and the title drawn on it.
 struct ErrorMapName {
     std::string stem, title;
 };

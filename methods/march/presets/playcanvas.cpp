@@ -1,6 +1,7 @@
 // PlayCanvas StandardMaterial parallax as a preset of the parametric marcher
 // (methods/march/preset.h). PlayCanvas has no occlusion mode: there is no playcanvas_occlusion.
-// Literal transcription and the comparison: tests/engines/literal_js.h, tests/methods/engines_js_test.cpp.
+// Literal transcription and the comparison: tests/engines/literal_js.h,
+// tests/methods/engines_js_test.cpp.
 #include "methods/march/preset.h"
 
 namespace pxh {
