@@ -28,7 +28,8 @@ ResultRow map_row(const std::string& method, const std::string& params) {
 TEST(ErrorMapName, CarriesTheSettingsParameters) {
     EXPECT_EQ(error_map_name(map_row("pom", "layers=32;layers_min=off"), 12).stem,
               "00012_pom_layers-32_layers_min-off_fbm_t60_p0_cpu-float");
-    EXPECT_EQ(error_map_name(map_row("parallax", ""), 3).stem, "00003_parallax_fbm_t60_p0_cpu-float");
+    EXPECT_EQ(error_map_name(map_row("parallax", ""), 3).stem,
+              "00003_parallax_fbm_t60_p0_cpu-float");
     // Two settings of one method at one view: different names even without the index.
     const auto a = error_map_name(map_row("pom", "layers=8"), 0).stem;
     const auto b = error_map_name(map_row("pom", "layers=64"), 0).stem;
@@ -37,7 +38,8 @@ TEST(ErrorMapName, CarriesTheSettingsParameters) {
 
 TEST(ErrorMapName, LongParametersCutAndEndedByTheirHash) {
     std::string params;
-    for (int i = 0; i < 20; ++i) params += (i ? ";" : "") + std::string("knob") + std::to_string(i) + "=1.5";
+    for (int i = 0; i < 20; ++i)
+        params += (i ? ";" : "") + std::string("knob") + std::to_string(i) + "=1.5";
     const std::string stem = error_map_name(map_row("march", params), 7).stem;
     // 64 characters of parameters at most: 55 of them, '~' (made safe as '_') and 8 hex digits.
     const std::string hash = sha256_hex(params).substr(0, 8);
@@ -49,8 +51,7 @@ TEST(ErrorMapName, LongParametersCutAndEndedByTheirHash) {
 }
 
 TEST(ErrorMapName, OnlySafeCharacters) {
-    const std::string stem =
-        error_map_name(map_row("my shader/../x", "a=\"q\";b=off"), 1).stem;
+    const std::string stem = error_map_name(map_row("my shader/../x", "a=\"q\";b=off"), 1).stem;
     for (char ch : stem)
         EXPECT_TRUE(std::isalnum((unsigned char)ch) || ch == '_' || ch == '-' || ch == '.') << stem;
     EXPECT_EQ(stem.find('/'), std::string::npos);
