@@ -15,13 +15,7 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 PerspectiveParams params(double theta, double phi, double distance, double fov, int n) {
-    PerspectiveParams p;
-    p.theta_deg = theta;
-    p.phi_deg = phi;
-    p.distance = distance;
-    p.fov_deg = fov;
-    p.samples = n;
-    return p;
+    return {theta, phi, distance, fov, n};
 }
 
 double len2(Vec2d v) { return std::sqrt(v.x * v.x + v.y * v.y); }

@@ -17,13 +17,7 @@ namespace pxh {
 namespace {
 
 PerspectiveParams params(double theta, double phi, double distance, double fov, int n) {
-    PerspectiveParams p;
-    p.theta_deg = theta;
-    p.phi_deg = phi;
-    p.distance = distance;
-    p.fov_deg = fov;
-    p.samples = n;
-    return p;
+    return {theta, phi, distance, fov, n};
 }
 
 double texels(Vec2d a, Vec2d b, int w, int h) {

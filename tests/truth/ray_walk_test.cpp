@@ -46,13 +46,7 @@ void compare_ray(const ExactTracer& t, Vec2d P, Vec3d V, Tally& tally) {
 }
 
 PerspectiveParams params(double theta, double phi, double distance, double fov, int n) {
-    PerspectiveParams p;
-    p.theta_deg = theta;
-    p.phi_deg = phi;
-    p.distance = distance;
-    p.fov_deg = fov;
-    p.samples = n;
-    return p;
+    return {theta, phi, distance, fov, n};
 }
 
 // Every pixel of perspective views through the walk, the DDA and the Tracer interface.
