@@ -62,6 +62,7 @@ class In {
     explicit In(const std::string& s) : p_(s.data()), end_(s.data() + s.size()) {}
     void raw(void* d, size_t n) {
         if (size_t(end_ - p_) < n) throw std::runtime_error("GL process: a truncated message");
+        if (n == 0) return;  // an empty vector's data() may be null: memcpy must not see it
         std::memcpy(d, p_, n);
         p_ += n;
     }
