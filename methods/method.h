@@ -37,6 +37,7 @@
 #include "harness/core/vec.h"
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
+#include "harness/scene/texture_levels.h"
 #include "methods/resource.h"
 
 namespace pxh {
@@ -59,10 +60,13 @@ using GlUniforms = std::vector<GlUniform>;
 const char* glsl_type_name(GlslType t);  // "float", "int", "bool"
 
 // What a method's C++ twin reads: the height field and the method's built resources (nullptr
-// or empty for a method without resources).
+// or empty for a method without resources); with `levels`, every height fetch of sample i is
+// at level of detail lambda[i] (the `level` mode; lambda indexed like the batch's P).
 struct MethodInputs {
     const HeightField* hf = nullptr;
     const MethodResources* resources = nullptr;
+    const TextureLevels* levels = nullptr;
+    const double* lambda = nullptr;
 };
 
 // Runs the method on n points. V: nullptr (every sample looks along sc.V, a parallel view) or
@@ -118,6 +122,14 @@ struct MethodInfo {
     }
 };
 
+// Sample i's height sampler: level 0, or the levels at its lambda.
+template <typename T>
+HeightSampler<T> height_sampler(const MethodInputs& in, const Scene<T>& sc, size_t i) {
+    if (in.levels && in.lambda)
+        return HeightSampler<T>(*in.hf, sc.scale, sc.bias, in.levels, T(in.lambda[i]));
+    return HeightSampler<T>(*in.hf, sc.scale, sc.bias);
+}
+
 template <class M, typename T>
 void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodInputs& in,
                       const Vec2<T>* P, const Vec3<T>* V, size_t n, Vec2<T>* uv, int* fetches,
@@ -135,7 +147,7 @@ void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodI
             throw std::logic_error("method resources missing: " + M::describe().name);
         const size_t stride = 1 + rs.tex.size();
         for (size_t i = 0; i < n; ++i) {
-            HeightSampler<T> sampler(*in.hf, sc.scale, sc.bias);
+            HeightSampler<T> sampler = height_sampler(in, sc, i);
             if (V) sc.V = V[i];
             for (auto& t : rs.tex) t.fetches = 0;
             uv[i] = M::template eval<T>(cfg, sc, sampler, rs, P[i]);
@@ -148,7 +160,7 @@ void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodI
         }
     } else {
         for (size_t i = 0; i < n; ++i) {
-            HeightSampler<T> sampler(*in.hf, sc.scale, sc.bias);
+            HeightSampler<T> sampler = height_sampler(in, sc, i);
             if (V) sc.V = V[i];
             uv[i] = M::template eval<T>(cfg, sc, sampler, P[i]);
             fetches[i] = sampler.fetches;
@@ -185,6 +197,18 @@ bool register_method(MethodInfo info);
 const std::vector<MethodInfo>& all_methods();
 const MethodInfo* find_method(const std::string& name);
 
+// Where a method setting's height fetches sample the texture levels (docs/conventions.md
+// section 10; the [[methods]] key `lod`): base (level 0, the default), level (every fetch of a
+// sample at its pixel's lambda, both twins), and on the GLSL backend only grad (textureGrad
+// with the pixel's footprint) and implicit (texture() with the hardware's derivatives).
+enum class LodMode { base, level, grad, implicit };
+const char* lod_name(LodMode mode);
+std::vector<std::string> lod_names();  // base, level, grad, implicit
+// Whether only the GLSL backend can sample this way (grad, implicit).
+inline bool lod_glsl_only(LodMode mode) {
+    return mode == LodMode::grad || mode == LodMode::implicit;
+}
+
 // One method setting of an experiment: the method and its resolved parameters.
 struct MethodSpec {
     const MethodInfo* method = nullptr;
@@ -196,6 +220,7 @@ struct MethodSpec {
     // rows are compared with (the agreement columns); nullptr: none.
     const MethodInfo* reference = nullptr;
     ParamValues reference_params{};
+    LodMode lod = LodMode::base;  // the entry's `lod`
     bool runs_on(const std::string& field) const {
         if (heightfields.empty()) return true;
         for (const auto& f : heightfields)

@@ -104,6 +104,22 @@ bool register_method(MethodInfo info) {
 
 const std::vector<MethodInfo>& all_methods() { return registry(); }
 
+const char* lod_name(LodMode mode) {
+    switch (mode) {
+        case LodMode::base:
+            return "base";
+        case LodMode::level:
+            return "level";
+        case LodMode::grad:
+            return "grad";
+        case LodMode::implicit:
+            return "implicit";
+    }
+    return "base";
+}
+
+std::vector<std::string> lod_names() { return {"base", "level", "grad", "implicit"}; }
+
 const MethodInfo* find_method(const std::string& name) {
     for (const auto& m : registry())
         if (m.name == name) return &m;

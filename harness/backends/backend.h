@@ -13,6 +13,7 @@
 
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
+#include "harness/scene/texture_levels.h"
 #include "harness/scene/view.h"
 #include "methods/method.h"
 
@@ -78,6 +79,12 @@ struct ViewInput {
     // The method's precomputed textures for this field at (s, b) (methods/resource.h), built
     // once and shared by every backend; nullptr for a method without resources.
     const MethodResources* resources = nullptr;
+    // The field's texture levels (harness/scene/texture_levels.h), built once per field when a
+    // setting samples them; nullptr otherwise. A setting whose lod is not base reads them.
+    const TextureLevels* levels = nullptr;
+    // Each sample's lambda (footprint_lod of its footprint at the field's size), in sample
+    // order; what lod = level samples at and what a shader's pxh_lod() returns.
+    const std::vector<double>* lambda = nullptr;
 };
 
 class Backend {
@@ -88,9 +95,10 @@ class Backend {
     virtual std::vector<Variant> variants() const = 0;
     // Throws std::exception (the row fails with its message) when the method cannot run.
     virtual MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) = 0;
-    // Whether it runs this method at all (the CPU backend: only methods with a C++ twin; a
-    // plug-in shader has none). A method it does not run has no rows on it.
-    virtual bool runs(const MethodInfo&) const { return true; }
+    // Whether it runs this method setting at all (the CPU backend: only methods with a C++
+    // twin, a plug-in shader has none; and not the GLSL-only level modes grad, implicit). A
+    // setting it does not run has no rows on it.
+    virtual bool runs(const MethodSpec&) const { return true; }
     // The results' shader column for this method ("" where there is no shader).
     virtual std::string shader_of(const MethodInfo&) const { return ""; }
     // Facts for run.json (e.g. gl_renderer, gl_version); empty by default.

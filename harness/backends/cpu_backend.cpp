@@ -16,8 +16,15 @@ namespace {
 template <typename T>
 MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
                            const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
-                           const MethodResources* resources, const std::vector<Vec3d>* V) {
-    const MethodInputs in{&hf, resources};
+                           const MethodResources* resources, const std::vector<Vec3d>* V,
+                           const TextureLevels* levels, const std::vector<double>* lambda) {
+    const MethodInputs in{&hf, resources, levels, lambda ? lambda->data() : nullptr};
+    // A sub-batch's inputs: lambda from its first sample on.
+    const auto at = [&in](size_t first) {
+        MethodInputs sub = in;
+        if (sub.lambda) sub.lambda += first;
+        return sub;
+    };
     const Scene<T> sc = scene_cast<T>(scene);
     const size_t n = P.size();
     std::vector<Vec2<T>> pts(n), uv(n);
@@ -28,7 +35,7 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     MethodOutput out;
     out.fetches.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
-        fn(params, sc, in, pts.data() + r.begin(), D ? D + r.begin() : nullptr, r.size(),
+        fn(params, sc, at(r.begin()), pts.data() + r.begin(), D ? D + r.begin() : nullptr, r.size(),
            uv.data() + r.begin(), out.fetches.data() + r.begin(), nullptr);
     });
     out.uv.resize(n);
@@ -75,14 +82,19 @@ void add_shadows_typed(MethodOutput& out, const LightSpec& light, const Scene<do
 
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
-                     const MethodResources* resources, const std::vector<Vec3d>* V) {
+                     const MethodResources* resources, const std::vector<Vec3d>* V,
+                     const TextureLevels* levels, const std::vector<double>* lambda) {
     if (V && V->size() != P.size())
         throw std::logic_error("run_cpu: " + std::to_string(V->size()) + " directions for " +
                                std::to_string(P.size()) + " samples");
+    if (levels && (!lambda || lambda->size() != P.size()))
+        throw std::logic_error("run_cpu: texture levels without one lambda per sample");
+    if (!levels) lambda = nullptr;
     if (precision == "double")
         return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats,
-                                     resources, V);
-    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources, V);
+                                     resources, V, levels, lambda);
+    return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources, V,
+                                levels, lambda);
 }
 
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
@@ -112,9 +124,13 @@ std::vector<Variant> CpuBackend::variants() const { return cpu_variants(settings
 
 MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
     const View& rays = view.rays;
+    const bool levels = m.lod == LodMode::level;
+    if (levels && (!view.levels || !view.lambda))
+        throw std::logic_error("lod = level without the view's texture levels");
     MethodOutput out = run_cpu(m, v.precision, view.scene, view.hf, rays.P,
                                view.timed ? settings_.timing_repeats : 0, view.resources,
-                               rays.parallel ? nullptr : &rays.V);
+                               rays.parallel ? nullptr : &rays.V, levels ? view.levels : nullptr,
+                               levels ? view.lambda : nullptr);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
     return out;
 }

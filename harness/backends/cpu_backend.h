@@ -7,11 +7,13 @@ namespace pxh {
 // Runs the method on every sample in the given precision ("float"/"double"), in parallel
 // (outputs do not depend on threads), then times `repeats` single-thread passes after one
 // warm-up pass; ns_per_sample is their median. V: nullptr (every sample looks along scene.V)
-// or one direction per sample.
+// or one direction per sample. With `levels` and `lambda` (one per sample), every height
+// fetch of sample k is at lambda[k] on those levels (lod = level).
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
                      const MethodResources* resources = nullptr,
-                     const std::vector<Vec3d>* V = nullptr);
+                     const std::vector<Vec3d>* V = nullptr, const TextureLevels* levels = nullptr,
+                     const std::vector<double>* lambda = nullptr);
 
 // The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
@@ -22,7 +24,10 @@ class CpuBackend : public Backend {
     explicit CpuBackend(BackendSettings settings) : settings_(std::move(settings)) {}
     std::string name() const override { return "cpu"; }
     std::vector<Variant> variants() const override;
-    bool runs(const MethodInfo& m) const override { return m.run_float && m.run_double; }
+    // Methods with a C++ twin, in the level modes both twins share (base, level).
+    bool runs(const MethodSpec& m) const override {
+        return m.method->run_float && m.method->run_double && !lod_glsl_only(m.lod);
+    }
     MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
 
   private:

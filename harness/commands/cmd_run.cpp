@@ -225,9 +225,10 @@ struct Slice {
     ShardSpec shard;
     std::vector<WorkUnit> units;  // all of the run's
     std::vector<size_t> mine;     // indices into units
-    std::vector<int> unit_of;     // per (field, phi, theta) view: its unit, -1 another slice's
-    size_t view_index(const Experiment& ex, size_t f, size_t p, size_t t) const {
-        return (f * ex.phi_deg.size() + p) * ex.theta_deg.size() + t;
+    std::vector<int> unit_of;     // per (field, phi, camera, theta) view: its unit, -1 another's
+    size_t view_index(const Experiment& ex, size_t f, size_t p, size_t c, size_t t) const {
+        return ((f * ex.phi_deg.size() + p) * ex.camera_settings.size() + c) * ex.theta_deg.size() +
+               t;
     }
 };
 
@@ -236,10 +237,13 @@ Slice make_slice(const Experiment& ex, const RunArgs& a) {
     s.shard = parse_shard(a.shard);
     s.units = work_units(ex, a.backends);
     s.mine = shard_units(s.units, s.shard);
-    s.unit_of.assign(ex.heightfields.size() * ex.phi_deg.size() * ex.theta_deg.size(), -1);
+    s.unit_of.assign(ex.heightfields.size() * ex.phi_deg.size() * ex.camera_settings.size() *
+                         ex.theta_deg.size(),
+                     -1);
     for (size_t u : s.mine)
         for (size_t t = s.units[u].theta_begin; t < s.units[u].theta_end; ++t)
-            s.unit_of[s.view_index(ex, s.units[u].field, s.units[u].phi, t)] = int(u);
+            s.unit_of[s.view_index(ex, s.units[u].field, s.units[u].phi, s.units[u].camera, t)] =
+                int(u);
     return s;
 }
 
@@ -250,7 +254,7 @@ nlohmann::json shard_record(const Experiment& ex, const RunArgs& a, const Slice&
     nlohmann::json units = nlohmann::json::array();
     std::map<size_t, size_t> rows;  // unit -> rows
     for (const auto& v : info.views)
-        rows[size_t(s.unit_of[s.view_index(ex, v.field, v.phi, v.theta)])] += v.rows;
+        rows[size_t(s.unit_of[s.view_index(ex, v.field, v.phi, v.camera, v.theta)])] += v.rows;
     double cost = 0, total = 0;
     for (const auto& u : s.units) total += u.cost;
     for (size_t i : s.mine) {
@@ -263,6 +267,7 @@ nlohmann::json shard_record(const Experiment& ex, const RunArgs& a, const Slice&
                          {"scale", h.scale},
                          {"bias", h.bias},
                          {"phi_deg", ex.phi_deg[u.phi]},
+                         {"camera", ex.camera_settings[u.camera].label()},
                          {"theta_deg", thetas},
                          {"rows", rows[i]},
                          {"cost", u.cost}});
@@ -372,8 +377,8 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     opt.shader_dir = a.shader_dir;
     opt.gl = a.gl;
     if (slice)
-        opt.include = [&](size_t f, size_t p, size_t t) {
-            return slice->unit_of[slice->view_index(ex, f, p, t)] >= 0;
+        opt.include = [&](size_t f, size_t p, size_t c, size_t t) {
+            return slice->unit_of[slice->view_index(ex, f, p, c, t)] >= 0;
         };
     opt.gl_time_limit_s = a.gl_time_limit;
     opt.warning = [](const std::string& line) {

@@ -36,21 +36,30 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
         size_t methods = 0;
         for (const auto& m : ex.methods) methods += m.runs_on(h.name);
         rows_per_view = std::max(rows_per_view, methods * per_method);
-        est.rows += ex.theta_deg.size() * ex.phi_deg.size() * methods * per_method;
+        est.rows += ex.theta_deg.size() * ex.phi_deg.size() * ex.camera_settings.size() * methods *
+                    per_method;
     }
 
+    const bool levels = std::any_of(ex.methods.begin(), ex.methods.end(),
+                                    [](const MethodSpec& m) { return m.lod != LodMode::base; });
     size_t field = 0;  // the largest field's own bytes, its truths' and Embree's
     std::set<std::string> seen;
     for (const auto& spec : ex.heightfields) {
         if (!seen.insert(spec.identity).second) continue;  // scale/bias sweeps: same size
         const FieldSize sz = field_size(spec);
         const size_t texels = sz.width * sz.height;
-        field = std::max(field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel));
+        // + the texture levels (4/3 of a float per texel) when a setting samples them
+        field = std::max(
+            field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel + (levels ? 6 : 0)));
     }
     const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
     const size_t views_alive = ex.sweep_dt_deg > 0 ? 3 : 2;
-    const size_t view = n2 * (kViewBytesPerSample + rows_per_view * 16 * views_alive +
-                              3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
+    // A camera whose rays are not parallel: per sample V (24), J (32), inside (1); every
+    // view: lambda (8).
+    const size_t camera_bytes = (ex.camera == "orthographic" ? 0 : 24 + 32 + 1) + 8;
+    const size_t view =
+        n2 * (kViewBytesPerSample + camera_bytes + rows_per_view * 16 * views_alive +
+              3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
     const size_t results = est.rows * kBytesPerRow;
     est.peak_bytes = kBaseBytes + field + view + results;
     est.detail = "process " + format_bytes(kBaseBytes) +

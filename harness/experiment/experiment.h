@@ -56,6 +56,10 @@ struct Experiment {
     std::vector<double> theta_deg, phi_deg{0.0};
     std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)
     ParamDict camera_params;              // [views], where the camera reads its own keys
+    // The camera's settings from its own keys (one per value of a swept key: the perspective
+    // camera's distance x fov_deg; the orthographic camera: one, empty). The run sweeps them
+    // between phi_deg and theta_deg: field, phi, setting, theta.
+    std::vector<CameraSetting> camera_settings{CameraSetting{}};
     std::optional<LightSpec> light;
     std::optional<RenderSpec> render;           // [render]: pictures of these views
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded

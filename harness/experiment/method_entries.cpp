@@ -151,6 +151,38 @@ void read_reference(const ParamDict& t, const std::string& where, MethodSpec& pr
     proto.reference_params = resolve_method_params(*proto.reference, given, where);
 }
 
+// `lod`: the level modes (a value or a list, swept; default base). A method that reads
+// precomputed maps keeps their own level semantics and takes base only; grad and implicit
+// run on the GLSL backend only, so they need it among the experiment's backends.
+std::vector<LodMode> read_lods(const ParamDict& t, const MethodInfo& m, const Experiment& ex) {
+    if (!t.has("lod")) return {LodMode::base};
+    const std::string where = t.where("lod");
+    std::vector<LodMode> out;
+    for (const std::string& name : t.strings("lod", {})) {
+        std::optional<LodMode> mode;
+        for (LodMode l : {LodMode::base, LodMode::level, LodMode::grad, LodMode::implicit})
+            if (name == lod_name(l)) mode = l;
+        if (!mode)
+            throw InputError(where,
+                             "unknown lod '" + name + "' (known: " + join_names(lod_names()) + ")");
+        if (*mode != LodMode::base && !m.resources.empty())
+            throw InputError(where, "method '" + m.name +
+                                        "' reads precomputed maps that keep their own levels "
+                                        "(docs/conventions.md section 10): its lod is 'base' only");
+        if (lod_glsl_only(*mode) &&
+            std::find(ex.backends.begin(), ex.backends.end(), "glsl") == ex.backends.end())
+            throw InputError(where, "lod '" + name +
+                                        "' samples through the GPU's own level selection and "
+                                        "runs on the glsl backend only; the experiment's "
+                                        "backends are " +
+                                        join_names(ex.backends));
+        if (std::find(out.begin(), out.end(), *mode) != out.end())
+            throw InputError(where, "lod '" + name + "' is given twice");
+        out.push_back(*mode);
+    }
+    return out;
+}
+
 }  // namespace
 
 void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
@@ -194,6 +226,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
         if (spec) sweeps.emplace_back(key, param_values(pt, key, *spec, "method '" + name + "'"));
     }
     MethodSpec proto{m, {}, fields};
+    const std::vector<LodMode> lods = read_lods(t, *m, ex);
     if (plugin) {
         read_reference(t, where, proto);
         t.report_unused([](const std::string& key, const std::string& known) {
@@ -217,39 +250,48 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     rows.times(fields_run, "heightfield(s)");
     rows.times(ex.theta_deg.size(), "theta");
     rows.times(ex.phi_deg.size(), "phi");
-    rows.times(variants_per_setting(ex, state.limits, !m->plugin_shader.empty()),
-               "backend variant(s)");
+    rows.times(ex.camera_settings.size(), "camera setting(s)");
+    size_t variants = 0;  // per parameter setting, over its lod modes (grad, implicit: GLSL)
+    for (LodMode lod : lods)
+        variants +=
+            variants_per_setting(ex, state.limits, !m->plugin_shader.empty() || lod_glsl_only(lod));
+    rows.times(variants, lods.size() > 1 ? "lod mode x backend variant(s)" : "backend variant(s)");
     check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
     // A setting given twice (a repeated value, or two entries) is measured once: its rows
     // would repeat, and pxh compare refuses repeated rows.
     size_t repeats = 0;
     std::string first_repeat;
-    for (const auto& given : expand(sweeps)) {
-        MethodSpec ms = proto;
-        ms.params = resolve_method_params(*m, given, where);
-        std::string key = m->name + "\x1f" + ms.params.canonical();
-        if (ms.reference)
-            key += "\x1f" + ms.reference->name + "\x1f" + ms.reference_params.canonical();
-        const auto [it, fresh] =
-            state.settings.emplace(key, std::make_pair(ex.methods.size(), where));
-        if (fresh) {
-            ex.methods.push_back(std::move(ms));
-            continue;
+    for (const auto& given : expand(sweeps))
+        for (LodMode lod : lods) {
+            MethodSpec ms = proto;
+            ms.params = resolve_method_params(*m, given, where);
+            ms.lod = lod;
+            std::string key = m->name + "\x1f" + ms.params.canonical() + "\x1f" + lod_name(lod);
+            if (ms.reference)
+                key += "\x1f" + ms.reference->name + "\x1f" + ms.reference_params.canonical();
+            const auto [it, fresh] =
+                state.settings.emplace(key, std::make_pair(ex.methods.size(), where));
+            if (fresh) {
+                ex.methods.push_back(std::move(ms));
+                continue;
+            }
+            // Measured on the union of both entries' fields (empty: every field); a repeat when
+            // they share one (the same setting on other fields is no repeat).
+            MethodSpec& kept = ex.methods[it->second.first];
+            bool shared = kept.heightfields.empty() || ms.heightfields.empty();
+            for (const auto& f : ms.heightfields) shared = shared || kept.runs_on(f);
+            if (!kept.heightfields.empty()) {
+                if (ms.heightfields.empty()) kept.heightfields.clear();
+                else
+                    for (const auto& f : ms.heightfields)
+                        if (!kept.runs_on(f)) kept.heightfields.push_back(f);
+            }
+            if (shared && repeats++ == 0)
+                first_repeat =
+                    "[" + ms.params.canonical() +
+                    (lods.size() > 1 ? std::string(", lod ") + lod_name(lod) : std::string()) +
+                    "], as at " + it->second.second;
         }
-        // Measured on the union of both entries' fields (empty: every field); a repeat when
-        // they share one (the same setting on other fields is no repeat).
-        MethodSpec& kept = ex.methods[it->second.first];
-        bool shared = kept.heightfields.empty() || ms.heightfields.empty();
-        for (const auto& f : ms.heightfields) shared = shared || kept.runs_on(f);
-        if (!kept.heightfields.empty()) {
-            if (ms.heightfields.empty()) kept.heightfields.clear();
-            else
-                for (const auto& f : ms.heightfields)
-                    if (!kept.runs_on(f)) kept.heightfields.push_back(f);
-        }
-        if (shared && repeats++ == 0)
-            first_repeat = "[" + ms.params.canonical() + "], as at " + it->second.second;
-    }
     if (repeats)
         warn(ex, where + ": " + std::to_string(repeats) + " setting(s) of method '" + name +
                      "' repeat one given before (first: " + first_repeat +

@@ -14,6 +14,7 @@
 #include "harness/core/registry.h"
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
+#include "harness/scene/perspective_camera.h"
 #include "harness/scene/view.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
@@ -186,8 +187,7 @@ void parse_views(const ParamDict& vt, Experiment& ex) {
                          "unknown camera '" + ex.camera + "' (known: " + join_names(known) + ")");
     ex.camera_params = vt;
     const size_t before = vt.asked().size();
-    Camera::create(ex.camera, vt, {ex.theta_deg.front(), ex.phi_deg.front(), ex.samples},
-                   vt.where());
+    ex.camera_settings = Camera::settings(ex.camera, vt, vt.where());
     const auto asked = vt.asked();
     const std::vector<std::string> own(asked.begin() + long(before), asked.end());
     vt.report_unused([&](const std::string& key, const std::string& all) {
@@ -266,7 +266,35 @@ void check_ray_travel(const Experiment& ex) {
                 check(t + ex.sweep_dt_deg, "sweep companion view: ");
         }
         if (ex.light) check(ex.light->theta_deg, "light: ");
+        // A perspective view's inside pixels look up to 89 degrees from the normal.
+        if (ex.camera == "perspective") check(89.0, "perspective camera's most grazing pixel: ");
     }
+}
+
+// A perspective eye must lie above every slab it looks at (D cos theta > s (1 - b)), the
+// companion views' too: an InputError at [views] distance naming the field otherwise.
+void check_eye_positions(const Experiment& ex) {
+    if (ex.camera != "perspective") return;
+    const std::string where = ex.camera_params.where("distance");
+    for (const HeightfieldSpec& h : ex.heightfields)
+        for (const CameraSetting& c : ex.camera_settings)
+            for (double t : ex.theta_deg) {
+                std::vector<double> thetas{t};
+                if (ex.sweep_dt_deg > 0)
+                    thetas.push_back(t + ex.sweep_dt_deg < 90 ? t + ex.sweep_dt_deg
+                                                              : t - ex.sweep_dt_deg);
+                for (double th : thetas) {
+                    PerspectiveParams p;
+                    p.theta_deg = th;
+                    p.distance = c.get("distance");
+                    p.fov_deg = c.get("fov_deg");
+                    p.samples = ex.samples;
+                    if (const std::string why = eye_slab_problem(p, h.scale, h.bias); !why.empty())
+                        throw InputError(where, "heightfield '" + h.name +
+                                                    "' (s = " + format_number(h.scale) +
+                                                    ", b = " + format_number(h.bias) + "): " + why);
+                }
+            }
 }
 
 }  // namespace
@@ -305,6 +333,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     for (const auto& e : methods) parse_method(e, ex, state);
     if (render) parse_render(*render, ex);
     check_ray_travel(ex);
+    check_eye_positions(ex);
     return ex;
 }
 

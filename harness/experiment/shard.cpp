@@ -76,38 +76,42 @@ std::vector<WorkUnit> work_units(const Experiment& ex,
         const HeightfieldSpec& h = ex.heightfields[f];
         const FieldSize size = field_size(h);
         const double setup = double(size.width) * double(size.height) * kSetupPerTexel;
-        for (size_t p = 0; p < ex.phi_deg.size(); ++p) {
-            const double phi = ex.phi_deg[p];
-            WorkUnit u{f, p, 0, 0, setup};
-            for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
-                const double theta = ex.theta_deg[t];
-                u.cost += samples * view_cost(ex, h, size, theta, phi, backends, settings, true);
-                if (per_view) {
-                    const double other = theta + ex.sweep_dt_deg < 90 ? theta + ex.sweep_dt_deg
-                                                                      : theta - ex.sweep_dt_deg;
+        for (size_t p = 0; p < ex.phi_deg.size(); ++p)
+            for (size_t c = 0; c < ex.camera_settings.size(); ++c) {
+                const double phi = ex.phi_deg[p];
+                WorkUnit u{f, p, 0, 0, setup, c};
+                for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
+                    const double theta = ex.theta_deg[t];
                     u.cost +=
-                        samples * view_cost(ex, h, size, other, phi, backends, settings, false);
-                    u.theta_begin = t;
-                    u.theta_end = t + 1;
+                        samples * view_cost(ex, h, size, theta, phi, backends, settings, true);
+                    if (per_view) {
+                        const double other = theta + ex.sweep_dt_deg < 90 ? theta + ex.sweep_dt_deg
+                                                                          : theta - ex.sweep_dt_deg;
+                        u.cost +=
+                            samples * view_cost(ex, h, size, other, phi, backends, settings, false);
+                        u.theta_begin = t;
+                        u.theta_end = t + 1;
+                        units.push_back(u);
+                        u.cost = setup;
+                    }
+                }
+                if (!per_view) {
+                    u.theta_end = ex.theta_deg.size();
                     units.push_back(u);
-                    u.cost = setup;
                 }
             }
-            if (!per_view) {
-                u.theta_end = ex.theta_deg.size();
-                units.push_back(u);
-            }
-        }
     }
     return units;
 }
 
 std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardSpec& shard) {
     if (shard.count > units.size())
-        throw InputError("--shard", shard.text() + ": the run has " + std::to_string(units.size()) +
-                                        " units of work (theta sweeps of a field at an azimuth; "
-                                        "views with sweep_dt_deg), so at most " +
-                                        std::to_string(units.size()) + " slices");
+        throw InputError(
+            "--shard",
+            shard.text() + ": the run has " + std::to_string(units.size()) +
+                " units of work (theta sweeps of a field at an azimuth and camera setting; "
+                "views with sweep_dt_deg), so at most " +
+                std::to_string(units.size()) + " slices");
     std::vector<size_t> order(units.size());
     std::iota(order.begin(), order.end(), size_t(0));
     std::stable_sort(order.begin(), order.end(),

@@ -1,7 +1,8 @@
 // Sharded runs (pxh run --shard I/N, pxh merge): the run's work cut into units, each unit's
 // estimated cost, and a deterministic partition of the units into N slices balanced by cost.
 //
-// A unit is a whole theta sweep of one height-field entry (field, s, b) at one azimuth: every
+// A unit is a whole theta sweep of one height-field entry (field, s, b) at one azimuth and
+// camera setting (a perspective camera's distance, fov_deg): every
 // view of it, so that each (field, s, b, view) is traced in exactly one slice, the sliding and
 // shimmering pairs of consecutive views stay in one slice, and so do the [render] pictures of
 // the sweep. With sweep_dt_deg > 0 each view pairs with its own companion view, so a unit is one
@@ -25,10 +26,12 @@ struct ShardSpec {
 ShardSpec parse_shard(const std::string& text);
 
 // One unit of work: views theta_deg[theta_begin, theta_end) of heightfields[field] at
-// phi_deg[phi], in the run's order (units are numbered in the order the runner meets them).
+// phi_deg[phi] and camera_settings[camera], in the run's order (units are numbered in the
+// order the runner meets them).
 struct WorkUnit {
     size_t field = 0, phi = 0, theta_begin = 0, theta_end = 0;
     double cost = 0;  // the estimate below, in sample-steps
+    size_t camera = 0;
 };
 
 // The run's units in run order, with their cost (estimated before any work, like

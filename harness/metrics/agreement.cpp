@@ -10,12 +10,14 @@ namespace pxh {
 
 OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
                       const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b, int width,
-                      int height) {
+                      int height, const std::vector<uint8_t>* inside) {
     OutputDiff r;
     const size_t n = std::min(uv_a.size(), uv_b.size());
     std::vector<double> d;
     d.reserve(n);
+    const bool masked = inside && inside->size() == n;
     for (size_t k = 0; k < n; ++k) {
+        if (masked && !(*inside)[k]) continue;
         const Vec2d e = texel_error(uv_a[k], uv_b[k], width, height);
         d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
         r.decision_mismatch += fetches_a[k] != fetches_b[k];
@@ -27,13 +29,14 @@ OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fe
     return r;
 }
 
-OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height) {
-    return compare_uv(a.uv, a.fetches, b.uv, b.fetches, width, height);
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height,
+                           const std::vector<uint8_t>* inside) {
+    return compare_uv(a.uv, a.fetches, b.uv, b.fetches, width, height, inside);
 }
 
 void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
-                   int width, int height) {
-    add_backend_agreement(compare_outputs(glsl, cpu_float, width, height), row);
+                   int width, int height, const std::vector<uint8_t>* inside) {
+    add_backend_agreement(compare_outputs(glsl, cpu_float, width, height, inside), row);
 }
 
 void add_backend_agreement(const OutputDiff& d, ResultRow& row) {

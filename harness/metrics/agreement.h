@@ -15,22 +15,25 @@
 namespace pxh {
 
 // max and p99.9 |uv_a - uv_b| in texels (a non-finite difference counts as infinite), and the
-// number of samples whose fetch count (the layer/step decision) differs.
+// number of samples whose fetch count (the layer/step decision) differs. `inside` (when
+// given and not empty): only the samples it marks 1 are compared (a view's outside pixels are
+// left out, as from every statistic).
 struct OutputDiff {
     double max = NAN, p999 = NAN;
     long long decision_mismatch = 0;
 };
 OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
                       const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b, int width,
-                      int height);
+                      int height, const std::vector<uint8_t>* inside = nullptr);
 
-OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height);
+OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int width, int height,
+                           const std::vector<uint8_t>* inside = nullptr);
 
 // cpu_diff_max, cpu_diff_p999, decision_mismatch from (GLSL, CPU float).
 void add_backend_agreement(const OutputDiff& glsl_vs_cpu_float, ResultRow& row);
 // The same from the two outputs (GLSL vs CPU float on the same samples).
 void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
-                   int width, int height);
+                   int width, int height, const std::vector<uint8_t>* inside = nullptr);
 // double_diff_max, double_diff_p999 from (CPU float, CPU double).
 void add_precision_agreement(const OutputDiff& float_vs_double, ResultRow& row);
 

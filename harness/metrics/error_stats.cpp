@@ -1,23 +1,34 @@
-// err_*, frac_*, nonfinite (docs/conventions.md sections 5.1-5.2) and excluded.
+// err_*, frac_*, nonfinite (docs/conventions.md sections 5.1-5.2), excluded, samples_outside
+// and the pixel error err_px_* (section 10: |J^-1 e_uv| with the sample's footprint J).
 #include <cmath>
 
 #include "harness/metrics/metric.h"
 #include "harness/metrics/metrics.h"
+#include "harness/scene/perspective_camera.h"
 
 namespace pxh {
 
 void add_error_stats(const MetricInput& in, ResultRow& row) {
-    std::vector<double> mag;
+    std::vector<double> mag, px;
     const std::vector<Vec2d>& uv = in.out.uv;
     mag.reserve(uv.size());
-    long long excluded = 0;
+    const bool footprints = in.view && !in.view->J.empty();
+    if (footprints) px.reserve(uv.size());
+    long long excluded = 0, outside = 0;
     for (size_t k = 0; k < uv.size(); ++k) {
+        if (!in.inside(k)) {
+            ++outside;
+            continue;
+        }
         if (in.exclude && (*in.exclude)[k]) {
             ++excluded;
             continue;
         }
         const Vec2d e = texel_error(uv[k], in.gt.uv[k], in.width, in.height);
         mag.push_back(std::hypot(e.x, e.y));
+        if (footprints)  // the uv error (texels / size), through the pixel's footprint
+            px.push_back(pixel_error(in.view->footprint(k),
+                                     {e.x / double(in.width), e.y / double(in.height)}));
     }
     const ErrorStats st = error_stats(mag);
     row.set("err_mean", st.mean);
@@ -31,6 +42,14 @@ void add_error_stats(const MetricInput& in, ResultRow& row) {
     row.set("nonfinite", double(st.nonfinite));
     row.set("samples_discarded", double(in.out.samples_discarded));
     row.set("excluded", double(excluded));
+    row.set("samples_outside", double(outside));
+    if (footprints) {  // NaN (a non-finite output) is counted in nonfinite above
+        const ErrorStats p = error_stats(px);
+        row.set("err_px_mean", p.mean);
+        row.set("err_px_p50", p.p50);
+        row.set("err_px_p95", p.p95);
+        row.set("err_px_max", p.max);
+    }
 }
 
 }  // namespace pxh

@@ -1,5 +1,6 @@
 // fetches_mean, fetches_max: filtered lookups (height map or a precomputed map) per sample
-// (fetches_bound, the method's declared bound, is a key the run sets on every row).
+// over the view's inside samples (fetches_bound, the method's declared bound, is a key the
+// run sets on every row).
 #include <algorithm>
 #include <cmath>
 
@@ -8,10 +9,13 @@
 namespace pxh {
 
 void add_fetches(const MetricInput& in, ResultRow& row) {
-    const size_t n = in.out.uv.size();
+    size_t n = 0;  // inside samples
     double sum = 0;
     int most = 0;
-    for (int f : in.out.fetches) {
+    for (size_t k = 0; k < in.out.fetches.size(); ++k) {
+        if (!in.inside(k)) continue;
+        const int f = in.out.fetches[k];
+        ++n;
         sum += f;
         most = std::max(most, f);
     }

@@ -2,7 +2,8 @@
 //
 // Per-output metrics see one backend's output on the view's samples beside the truth
 // (MetricInput) and run, in registry order, on every row that did not fail:
-//   error_stats.cpp (err_*, frac_*, nonfinite, excluded), fetches.cpp (fetches_mean/max),
+//   error_stats.cpp (err_*, frac_*, nonfinite, excluded, samples_outside, err_px_*),
+//   fetches.cpp (fetches_mean/max),
 //   timing.cpp (ns_per_sample*, ms_per_frame*), shadows.cpp (shadow_err, shadow_soft_mae).
 // Metrics across outputs or views take what they compare: agreement.h (two outputs),
 // sweep.h (two views), reference.h (the view's references).
@@ -30,6 +31,11 @@ struct MetricInput {
     const GroundTruth& gt;      // the reference's hit per sample (and true shadow state, if lit)
     int width = 0, height = 0;  // texels (errors are in texels)
     const std::vector<uint8_t>* exclude = nullptr;  // samples left out of the error statistics
+    // The view's rays (footprints for the pixel error, the inside mask: outside samples are
+    // left out of every statistic and counted in samples_outside); nullptr: every sample
+    // inside, no footprints (no pixel error).
+    const View* view = nullptr;
+    bool inside(size_t k) const { return !view || view->is_inside(k); }
 };
 
 using MetricFn = std::function<void(const MetricInput&, ResultRow&)>;

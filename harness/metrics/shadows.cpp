@@ -10,14 +10,16 @@ void add_shadow_errors(const MetricInput& in, ResultRow& row) {
     const MethodOutput& o = in.out;
     const size_t n = o.uv.size();
     if (in.gt.lit.empty() || o.shadow_hard.size() != n || n == 0) return;
-    double wrong = 0, mae = 0;
+    double wrong = 0, mae = 0, inside = 0;
     for (size_t k = 0; k < n; ++k) {
+        if (!in.inside(k)) continue;
+        ++inside;
         const double truth = in.gt.lit[k] ? 1.0 : 0.0;
         wrong += (o.shadow_hard[k] != truth);
         mae += std::abs(double(o.shadow_soft[k]) - truth);
     }
-    row.set("shadow_err", wrong / double(n));
-    row.set("shadow_soft_mae", mae / double(n));
+    row.set("shadow_err", inside ? wrong / inside : NAN);
+    row.set("shadow_soft_mae", inside ? mae / inside : NAN);
 }
 
 }  // namespace pxh

@@ -16,6 +16,8 @@
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
 #include "harness/metrics/sweep.h"
+#include "harness/scene/perspective_camera.h"
+#include "harness/scene/texture_levels.h"
 
 namespace pxh {
 namespace {
@@ -29,9 +31,9 @@ std::string fmt_angle(double a) {
 }  // namespace
 
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
-                const std::vector<uint8_t>* exclude) {
+                const std::vector<uint8_t>* exclude, const View* view) {
     ResultRow row;
-    apply_output_metrics({out, gt, width, height, exclude}, row);
+    apply_output_metrics({out, gt, width, height, exclude, view}, row);
     row.set_text("shader", out.shader);
     row.set_text("shader_sha256", out.shader_sha256);
     return row;
@@ -54,9 +56,10 @@ struct FieldContext {
     CpuBackend& reference;  // the CPU float run other backends are compared with
     const HeightField& hf;
     const HeightfieldSpec& spec;
-    const Tracer& exact;       // the reference: heights, true shadows, cost (gt_cells_mean)
-    const Tracer& other;       // the second reference, compared with it (gt_agree_*)
-    ResourceCache& resources;  // the methods' precomputed textures for this field
+    const Tracer& exact;          // the reference: heights, true shadows, cost (gt_cells_mean)
+    const Tracer& other;          // the second reference, compared with it (gt_agree_*)
+    ResourceCache& resources;     // the methods' precomputed textures for this field
+    const TextureLevels* levels;  // the field's texture levels when a setting samples them
 };
 
 // The references of one field (and s, b), built once and shared by its views.
@@ -128,6 +131,7 @@ HoleMask hole_mask(const HeightField& hf, const GroundTruth& gt) {
 struct ViewJob {
     const FieldContext& c;
     double theta, phi;
+    size_t camera;  // index into the experiment's camera settings
     bool timed;
     const View& view;  // the samples' rays, from the experiment's camera
     Scene<double> scene;
@@ -135,16 +139,22 @@ struct ViewJob {
     HoleMask holes;
     const std::vector<uint8_t>* exclude = nullptr;  // samples left out of the errors
     ViewRows out;
+    std::vector<double> lambda;  // each sample's level of detail (its footprint's)
+    double lod_mean = NAN;       // mean max(lambda, 0) over the inside samples
 
     ViewInput input() const {
-        return {scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
+        ViewInput in{scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
+        in.levels = c.levels;
+        in.lambda = &lambda;
+        return in;
     }
 
-    // Per-sample error vectors; excluded samples are NaN (left out of the sweep metrics too).
+    // Per-sample error vectors; excluded and outside samples are NaN (left out of the sweep
+    // metrics too).
     std::vector<Vec2d> errors_of(const MethodOutput& o) const {
         std::vector<Vec2d> e(o.uv.size());
         for (size_t k = 0; k < e.size(); ++k)
-            e[k] = exclude && (*exclude)[k]
+            e[k] = (exclude && (*exclude)[k]) || !view.is_inside(k)
                        ? Vec2d{NAN, NAN}
                        : texel_error(o.uv[k], truth.gt.uv[k], c.hf.width, c.hf.height);
         return e;
@@ -177,6 +187,10 @@ struct ViewJob {
         row.set("bias", c.spec.bias);
         row.set("theta_deg", theta);
         row.set("phi_deg", phi);
+        row.set_text("camera", c.ex.camera);
+        for (const auto& [key, value] : c.ex.camera_settings[camera].values) row.set(key, value);
+        row.set_text("lod", lod_name(m.lod));
+        row.set("lod_mean", lod_mean);
         row.set("samples", c.ex.samples);
         row.set("width", c.hf.width);
         row.set("height", c.hf.height);
@@ -204,7 +218,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
     std::optional<size_t> float_row;
     for (const auto& backend : job.c.backends) {
         const bool is_cpu = backend->name() == "cpu";
-        if (!backend->runs(*m.method)) continue;
+        if (!backend->runs(m)) continue;
         for (const Variant& v : backend->variants()) {
             try {
                 // Built on first use, then shared by every view and backend (a failed build
@@ -215,7 +229,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
-                ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude);
+                ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view);
                 // Every sample non-finite (a parameter combination that gives no answer at
                 // this view, e.g. a layer count of 0, or a shader that discards every sample):
                 // a failure, never a row of NaN "ok".
@@ -254,14 +268,19 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                     }
                     continue;
                 }
-                // The CPU float twin (a plug-in's: its `reference`, if it names one).
-                const MethodSpec twin =
-                    m.reference ? MethodSpec{m.reference, m.reference_params} : m;
-                if (!cpu_float && twin.method->run_float)
-                    cpu_float = job.c.reference.run(
-                        twin, {in.scene, in.hf, in.rays, nullptr, false, vin.resources},
-                        {"float", ""});
-                if (cpu_float) add_agreement(row, o, *cpu_float, hf.width, hf.height);
+                // The CPU float twin (a plug-in's: its `reference`, if it names one), in the
+                // same level mode; grad and implicit are compared with the level twin.
+                MethodSpec twin = m.reference ? MethodSpec{m.reference, m.reference_params} : m;
+                twin.lod = m.lod == LodMode::base ? LodMode::base : LodMode::level;
+                if (!cpu_float && twin.method->run_float) {
+                    ViewInput tin{in.scene, in.hf, in.rays, nullptr, false, vin.resources};
+                    tin.levels = in.levels;
+                    tin.lambda = in.lambda;
+                    cpu_float = job.c.reference.run(twin, tin, {"float", ""});
+                }
+                if (cpu_float)
+                    add_agreement(row, o, *cpu_float, hf.width, hf.height,
+                                  job.view.inside.empty() ? nullptr : &job.view.inside);
                 job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
             } catch (const std::exception& e) {
                 ResultRow row = failed_row(e);
@@ -270,24 +289,39 @@ void run_method(ViewJob& job, const MethodSpec& m) {
             }
         }
         if (is_cpu && float_row && cpu_double) {  // what float precision itself costs
-            add_precision_agreement(compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height),
-                                    job.out.rows[*float_row]);
+            add_precision_agreement(
+                compare_outputs(*cpu_float, *cpu_double, hf.width, hf.height,
+                                job.view.inside.empty() ? nullptr : &job.view.inside),
+                job.out.rows[*float_row]);
         }
     }
 }
 
 // timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
 // no timed GLSL frames, no agreement statistics.
-ViewRows evaluate_view(const FieldContext& c, double theta, double phi, bool timed) {
-    const View view = Camera::create(c.ex.camera, c.ex.camera_params, {theta, phi, c.ex.samples},
-                                     c.ex.camera_params.where())
-                          ->view();
+ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t camera, bool timed) {
+    const View view =
+        Camera::create(c.ex.camera, c.ex.camera_settings[camera], {theta, phi, c.ex.samples})
+            ->view();
     if (const std::string why = view_problem(view); !why.empty())
         throw std::logic_error("camera '" + c.ex.camera + "': " + why);
     // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
     const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
                               c.hf.height};
-    ViewJob job{c, theta, phi, timed, view, scene, truth_stage(c, view, timed), {}, nullptr, {}};
+    ViewJob job{c,  theta,   phi, camera, timed, view, scene, truth_stage(c, view, timed),
+                {}, nullptr, {},  {},     NAN};
+    // Each sample's lambda from its footprint (section 10), and their mean over the inside.
+    job.lambda.resize(view.size());
+    double lod_sum = 0;
+    size_t inside = 0;
+    for (size_t k = 0; k < view.size(); ++k) {
+        job.lambda[k] =
+            view.J.empty() ? 0.0 : footprint_lod(view.footprint(k), c.hf.width, c.hf.height);
+        if (!view.is_inside(k)) continue;
+        ++inside;
+        lod_sum += std::max(job.lambda[k], 0.0);
+    }
+    job.lod_mean = inside ? lod_sum / double(inside) : NAN;
     job.holes = hole_mask(c.hf, job.truth.gt);
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
     for (const auto& m : c.ex.methods)
@@ -324,7 +358,7 @@ bool same_field(const HeightfieldSpec& a, const HeightfieldSpec& b) {
 // Where one sweep is in the run: its indices, which of its views run, and the index its
 // first row has in the whole (unsharded) run.
 struct SweepPlace {
-    size_t field, phi;
+    size_t field, phi, camera;
     std::vector<bool> runs;  // per theta
     size_t first_row, rows_per_view;
 };
@@ -342,17 +376,18 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
         ++step;
         if (opt.progress) {
             std::ostringstream os;
+            const std::string cam = ex.camera_settings[at.camera].label();
             os << "[" << step << "/" << steps << "] " << ctx.spec.name << " s=" << ctx.spec.scale
                << " b=" << ctx.spec.bias << " theta=" << fmt_angle(theta)
-               << " phi=" << fmt_angle(phi);
+               << " phi=" << fmt_angle(phi) << (cam.empty() ? "" : " " + cam);
             opt.progress(os.str());
         }
-        ViewRows view = evaluate_view(ctx, theta, phi, true);
+        ViewRows view = evaluate_view(ctx, theta, phi, at.camera, true);
         if (ex.sweep_dt_deg > 0) {
             // A companion view dt away (below when theta + dt would reach 90).
             const bool up = theta + ex.sweep_dt_deg < 90;
             const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
-            const ViewRows comp = evaluate_view(ctx, other, phi, false);
+            const ViewRows comp = evaluate_view(ctx, other, phi, at.camera, false);
             for (size_t i = 0; i < view.rows.size(); ++i)
                 add_sweep(up ? view.errors[i] : comp.errors[i],
                           up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg, view.rows[i]);
@@ -371,7 +406,7 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
             throw std::logic_error("row index " + std::to_string(first) + " of a view is not " +
                                    std::to_string(rows.size()));
         if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, first);
-        if (info) info->views.push_back({at.field, at.phi, t, view.rows.size()});
+        if (info) info->views.push_back({at.field, at.phi, at.camera, t, view.rows.size()});
         prev_index.clear();
         for (auto& r : view.rows) {
             prev_index.push_back(rows.size());
@@ -388,6 +423,7 @@ std::vector<SweepPlace> plan_sweeps(const Experiment& ex, const RunOptions& opt,
                                     const std::vector<std::unique_ptr<Backend>>& backends,
                                     size_t& steps) {
     const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
+    const size_t nc = ex.camera_settings.size();
     std::vector<SweepPlace> places;
     size_t first_row = 0;
     for (size_t h = 0; h < ex.heightfields.size(); ++h) {
@@ -395,22 +431,23 @@ std::vector<SweepPlace> plan_sweeps(const Experiment& ex, const RunOptions& opt,
         for (const auto& m : ex.methods)
             if (m.runs_on(ex.heightfields[h].name))
                 for (const auto& b : backends)
-                    if (b->runs(*m.method)) per_view += b->variants().size();
-        for (size_t p = 0; p < np; ++p) {
-            SweepPlace at{h, p, std::vector<bool>(nt, true), first_row, per_view};
-            size_t n = 0;
-            for (size_t t = 0; t < nt; ++t) {
-                if (opt.include) at.runs[t] = opt.include(h, p, t);
-                n += at.runs[t];
+                    if (b->runs(m)) per_view += b->variants().size();
+        for (size_t p = 0; p < np; ++p)
+            for (size_t c = 0; c < nc; ++c) {
+                SweepPlace at{h, p, c, std::vector<bool>(nt, true), first_row, per_view};
+                size_t n = 0;
+                for (size_t t = 0; t < nt; ++t) {
+                    if (opt.include) at.runs[t] = opt.include(h, p, c, t);
+                    n += at.runs[t];
+                }
+                if (n != 0 && n != nt && ex.sweep_dt_deg <= 0)
+                    throw std::logic_error(
+                        "a slice must take a theta sweep whole (its consecutive "
+                        "views pair up)");
+                steps += n;
+                first_row += nt * per_view;
+                places.push_back(std::move(at));
             }
-            if (n != 0 && n != nt && ex.sweep_dt_deg <= 0)
-                throw std::logic_error(
-                    "a slice must take a theta sweep whole (its consecutive "
-                    "views pair up)");
-            steps += n;
-            first_row += nt * per_view;
-            places.push_back(std::move(at));
-        }
     }
     return places;
 }
@@ -494,6 +531,7 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     // reuse it.
     check_field_files(ex);
     const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
+    const size_t per_field = np * ex.camera_settings.size();  // sweeps per field
     size_t steps = 0;
     const std::vector<SweepPlace> places = plan_sweeps(ex, opt, backends, steps);
     std::vector<ResultRow> rows;
@@ -501,27 +539,35 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     std::optional<HeightField> field;
     const HeightfieldSpec* built = nullptr;  // the entry `field` was built for
     std::optional<ResourceCache> resources;  // one per field, dropped with it
+    std::optional<TextureLevels> levels;     // ... when a setting samples the levels
+    const bool any_levels = std::any_of(ex.methods.begin(), ex.methods.end(),
+                                        [](const MethodSpec& m) { return m.lod != LodMode::base; });
     for (size_t h = 0; h < ex.heightfields.size(); ++h) {
         const HeightfieldSpec& spec = ex.heightfields[h];
         bool any = false;
-        for (size_t p = 0; p < np; ++p)
-            for (size_t t = 0; t < nt; ++t) any = any || places[h * np + p].runs[t];
+        for (size_t p = 0; p < per_field; ++p)
+            for (size_t t = 0; t < nt; ++t) any = any || places[h * per_field + p].runs[t];
         if (!any) continue;  // another slice's field
         if (!field || !same_field(spec, *built)) {
             if (info && resources) info->resource_builds += resources->builds();
             resources.reset();
+            levels.reset();
             field.reset();  // free the previous one first
             field = make_heightfield(spec);
             built = &spec;
             resources.emplace(*field);
+            if (any_levels) levels = build_texture_levels(*field);
         }
         // Both references built once per field (and s, b), shared by all its views.
         const References refs = make_references(*field, spec);
-        const FieldContext ctx{ex,   backends,    reference,   *field,
-                               spec, *refs.exact, *refs.other, *resources};
-        for (size_t p = 0; p < np; ++p)
-            if (std::count(places[h * np + p].runs.begin(), places[h * np + p].runs.end(), true))
-                run_sweep(ctx, places[h * np + p], opt, step, steps, rows, info);
+        const FieldContext ctx{ex,          backends,   reference,
+                               *field,      spec,       *refs.exact,
+                               *refs.other, *resources, levels ? &*levels : nullptr};
+        for (size_t p = 0; p < per_field; ++p) {
+            const SweepPlace& at = places[h * per_field + p];
+            if (std::count(at.runs.begin(), at.runs.end(), true))
+                run_sweep(ctx, at, opt, step, steps, rows, info);
+        }
     }
     if (info && resources) info->resource_builds += resources->builds();
     if (info)

@@ -17,8 +17,10 @@ namespace pxh {
 // Scores one method output against the truth: every per-output metric
 // (harness/metrics/metric.h) and its shader column; samples flagged in `exclude` (when given)
 // are left out of the error statistics and counted in `excluded`.
+// `view` (when given): its outside samples are left out and counted, its footprints give the
+// pixel error.
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
-                const std::vector<uint8_t>* exclude = nullptr);
+                const std::vector<uint8_t>* exclude = nullptr, const View* view = nullptr);
 
 struct RunOptions {
     std::vector<std::string> backends;  // overrides the experiment's list when non-empty
@@ -38,10 +40,10 @@ struct RunOptions {
         on_view;
     std::function<void(const std::string&)> progress;  // one status line per step
     // A slice of the run (pxh run --shard): only the views (heightfields[field], phi_deg[phi],
-    // theta_deg[theta]) it accepts are run; a field none of whose views runs is not built.
-    // Without sweep_dt_deg a theta sweep must be accepted whole or not at all (its consecutive
-    // views pair up). Empty: every view.
-    std::function<bool(size_t field, size_t phi, size_t theta)> include;
+    // camera_settings[camera], theta_deg[theta]) it accepts are run; a field none of whose
+    // views runs is not built. Without sweep_dt_deg a theta sweep must be accepted whole or not
+    // at all (its consecutive views pair up). Empty: every view.
+    std::function<bool(size_t field, size_t phi, size_t camera, size_t theta)> include;
 };
 
 struct RunInfo {
@@ -53,7 +55,7 @@ struct RunInfo {
     int resource_builds = 0;  // method resources built (once per field, and s, b if they use them)
     // Every view run, in run order: its indices (as RunOptions::include takes them) and rows.
     struct ViewDone {
-        size_t field, phi, theta, rows;
+        size_t field, phi, camera, theta, rows;
     };
     std::vector<ViewDone> views;
 };

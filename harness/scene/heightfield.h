@@ -79,15 +79,25 @@ inline T bilinear_texels(const float* texels, int W, int H, Vec2<T> uv) {
     return a + (b - a) * fy;
 }
 
+struct TextureLevels;  // harness/scene/texture_levels.h
+template <typename T>
+T level_fetch(const TextureLevels& tl, Vec2<T> uv, T lambda);
+
 // Bilinear height in precision T with a fetch counter (one fetch = one filtered lookup, as a
-// shader's texture() call). The scene's s and b turn height into surface z = s (h - b).
+// shader's texture() call). The scene's s and b turn height into surface z = s (h - b). Given
+// texture levels, every height is GL's trilinear fetch at the sample's lambda instead
+// (level_fetch, harness/scene/texture_levels.h: the `level` mode of docs/conventions.md
+// section 10); a TU that passes levels includes texture_levels.h.
 template <typename T>
 class HeightSampler {
   public:
     HeightSampler(const HeightField& hf, T scale, T bias) : hf_(&hf), s_(scale), b_(bias) {}
+    HeightSampler(const HeightField& hf, T scale, T bias, const TextureLevels* levels, T lambda)
+        : hf_(&hf), s_(scale), b_(bias), levels_(levels), lambda_(lambda) {}
 
     T height(Vec2<T> uv) {
         ++fetches;
+        if (levels_) return level_fetch(*levels_, uv, lambda_);
         return bilinear_texels(hf_->texels.data(), hf_->width, hf_->height, uv);
     }
     // Surface z = s (h - b) at uv.
@@ -101,6 +111,8 @@ class HeightSampler {
   private:
     const HeightField* hf_;
     T s_, b_;
+    const TextureLevels* levels_ = nullptr;
+    T lambda_ = 0;
 };
 
 }  // namespace pxh

@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "harness/core/error.h"
+#include "harness/core/param_dict.h"
 
 namespace pxh {
 
@@ -51,8 +53,6 @@ void check_eye_above_slab(const PerspectiveParams& p, double scale, double bias,
     const std::string problem = eye_slab_problem(p, scale, bias);
     if (!problem.empty()) throw InputError(where, problem);
 }
-
-Footprint orthographic_footprint(int n) { return {{1.0 / n, 0.0}, {0.0, 1.0 / n}}; }
 
 double footprint_scale(const Footprint& J, int width, int height) {
     const double W = width, H = height;
@@ -127,14 +127,20 @@ View PerspectiveCamera::view() const {
     View v;
     v.P.resize(size_t(n) * n);
     v.V.resize(size_t(n) * n);
+    v.J.resize(size_t(n) * n);
+    v.inside.resize(size_t(n) * n);
     v.parallel = false;
     v.grid = 0;
+    // The look-at pixel's footprint (the image centre), what an outside sample carries.
+    const Footprint centre = footprint(0.5 * (n - 1), 0.5 * (n - 1));
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             const PerspectivePixel px = pixel(i, j);
             const size_t k = size_t(j) * n + i;
             v.P[k] = px.inside ? px.P : Vec2d{0.5, 0.5};
             v.V[k] = px.inside ? px.V : V0_;
+            v.J[k] = px.inside ? footprint(i, j) : centre;
+            v.inside[k] = px.inside ? 1 : 0;
         }
     return v;
 }
@@ -159,6 +165,40 @@ std::vector<Footprint> PerspectiveCamera::footprints() const {
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) J[size_t(j) * n + i] = footprint(i, j);
     return J;
+}
+
+std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
+                                                     const std::string& loc) {
+    if (!params.has("distance"))
+        throw InputError(loc,
+                         "camera 'perspective' needs distance (the eye's distance from the "
+                         "look-at point, in tiles: a value, a list or { from, to, step })");
+    const std::vector<double> distances = params.angles("distance", {});
+    for (double d : distances)
+        if (!(d > 0 && std::isfinite(d)))
+            throw InputError(params.where("distance"),
+                             "distance = " + number(d) + " is not a positive number of tiles");
+    const std::vector<double> fovs = params.numbers("fov_deg", {45.0});
+    for (double f : fovs)
+        if (!(f > 0 && f < 180))
+            throw InputError(params.where("fov_deg"),
+                             "fov_deg = " + number(f) +
+                                 " is impossible: the full field of view lies in (0, 180)");
+    std::vector<CameraSetting> out;
+    for (double d : distances)
+        for (double f : fovs) out.push_back({{{"distance", d}, {"fov_deg", f}}});
+    return out;
+}
+
+std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
+                                                const CameraSpec& spec) {
+    PerspectiveParams p;
+    p.theta_deg = spec.theta_deg;
+    p.phi_deg = spec.phi_deg;
+    p.samples = spec.samples;
+    p.distance = setting.get("distance");
+    p.fov_deg = setting.get("fov_deg");
+    return std::make_unique<PerspectiveCamera>(p);
 }
 
 }  // namespace pxh

@@ -4,8 +4,8 @@
 // pixel's ray meets the polygon z = 0, its view vector V, whether it is outside (V.z <= cos 89
 // degrees), and the footprint J = [dP/di, dP/dj] in closed form; rho and lambda from J.
 //
-// Not registered in camera_registry() yet: the keys (distance, fov_deg) and the runner's use of
-// the inside mask are wired with the experiment's parameter reading.
+// Registered as camera "perspective": [views] distance (tiles; a value, a list or a range
+// { from, to, step }, swept) and fov_deg (degrees, default 45; a value or a list).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -38,14 +38,6 @@ std::string eye_slab_problem(const PerspectiveParams& p, double scale, double bi
 void check_eye_above_slab(const PerspectiveParams& p, double scale, double bias,
                           const std::string& where);
 
-// The uv change per pixel step: dP/di (one column to the right), dP/dj (one row up).
-struct Footprint {
-    Vec2d dPdi, dPdj;
-};
-
-// The N x N orthographic grid of section 3: dP/di = (1/N, 0), dP/dj = (0, 1/N).
-Footprint orthographic_footprint(int n);
-
 // rho = max(|(W dPdi.x, H dPdi.y)|, |(W dPdj.x, H dPdj.y)|): level-0 texels per pixel.
 double footprint_scale(const Footprint& J, int width, int height);
 // lambda = log2(rho): the isotropic level of detail of GL's scale-factor formula.
@@ -72,9 +64,10 @@ class PerspectiveCamera final : public Camera {
     explicit PerspectiveCamera(const PerspectiveParams& p);
     std::string name() const override { return "perspective"; }
 
-    // Every pixel's ray, sample index j N + i (row j = 0 at the bottom, as gl_FragCoord). An
-    // outside sample carries the look-at ray (P = C, V = V0) so that every stage can process it;
-    // its results must be left out by the mask (inside()).
+    // Every pixel's ray, sample index j N + i (row j = 0 at the bottom, as gl_FragCoord), its
+    // footprint and the inside mask. An outside sample carries the look-at ray (P = C, V = V0)
+    // and the look-at pixel's footprint so that every stage can process it; its results must
+    // be left out by the mask (View::inside).
     View view() const override;
     std::vector<uint8_t> inside() const;  // 1 per inside sample, in sample order
     size_t outside_count() const;
@@ -97,5 +90,12 @@ class PerspectiveCamera final : public Camera {
     Vec3d V0_, E_, f_, r_, w_;
     double a_;
 };
+
+// The registry's entry points: the settings its keys give (the product of distance x fov_deg,
+// distance outer), and the camera at one of them.
+std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
+                                                     const std::string& loc);
+std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
+                                                const CameraSpec& spec);
 
 }  // namespace pxh

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "harness/core/error.h"
 #include "harness/core/param_dict.h"
 #include "harness/core/registry.h"
+#include "harness/scene/perspective_camera.h"
 
 namespace pxh {
 
@@ -21,13 +23,34 @@ Vec3d view_vector(double theta_deg, double phi_deg) {
     return {std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)};
 }
 
+Footprint orthographic_footprint(int n) { return {{1.0 / n, 0.0}, {0.0, 1.0 / n}}; }
+
 View orthographic_view(Vec3d V, int n) {
     View v;
     if (n > 0) v.P = sample_grid(n);
     v.V = {V};
     v.parallel = true;
     v.grid = std::max(n, 0);
+    if (n > 0) v.J = {orthographic_footprint(n)};
     return v;
+}
+
+size_t View::outside_count() const {
+    size_t c = 0;
+    for (uint8_t in : inside) c += in ? 0 : 1;
+    return c;
+}
+
+double CameraSetting::get(const std::string& key) const {
+    for (const auto& [k, v] : values)
+        if (k == key) return v;
+    return NAN;
+}
+
+std::string CameraSetting::label() const {
+    std::ostringstream os;
+    for (const auto& [k, v] : values) os << (os.tellp() > 0 ? " " : "") << k << "=" << v;
+    return os.str();
 }
 
 std::string view_problem(const View& view) {
@@ -40,6 +63,12 @@ std::string view_problem(const View& view) {
         return "a view marked as a " + std::to_string(view.grid) + " x " +
                std::to_string(view.grid) + " sample grid has " + std::to_string(view.P.size()) +
                " samples";
+    if (!(view.J.empty() || view.J.size() == 1 || view.J.size() == view.P.size()))
+        return "a view of " + std::to_string(view.P.size()) + " samples has " +
+               std::to_string(view.J.size()) + " footprints (expected one, or one per sample)";
+    if (!(view.inside.empty() || view.inside.size() == view.P.size()))
+        return "a view of " + std::to_string(view.P.size()) + " samples has an inside mask of " +
+               std::to_string(view.inside.size());
     return "";
 }
 
@@ -48,9 +77,12 @@ OrthographicCamera::OrthographicCamera(double theta_deg, double phi_deg, int n)
 
 namespace {
 
-// Reads no keys of its own.
-std::unique_ptr<Camera> make_orthographic_camera(const ParamDict&, const CameraSpec& s,
-                                                 const std::string&) {
+// Reads no keys of its own: one setting, with no values.
+std::vector<CameraSetting> read_orthographic_settings(const ParamDict&, const std::string&) {
+    return {CameraSetting{}};
+}
+
+std::unique_ptr<Camera> make_orthographic_camera(const CameraSetting&, const CameraSpec& s) {
     return std::make_unique<OrthographicCamera>(s.theta_deg, s.phi_deg, s.samples);
 }
 
@@ -58,20 +90,26 @@ std::unique_ptr<Camera> make_orthographic_camera(const ParamDict&, const CameraS
 
 const std::vector<CameraEntry>& camera_registry() {
     static const std::vector<CameraEntry> entries = {
-        {"orthographic", &make_orthographic_camera},
+        {"orthographic", &read_orthographic_settings, &make_orthographic_camera},
+        {"perspective", &read_perspective_settings, &make_perspective_camera},
     };
     return entries;
 }
 
 std::vector<std::string> camera_names() { return entry_names(camera_registry()); }
 
-std::unique_ptr<Camera> Camera::create(const std::string& name, const ParamDict& params,
-                                       const CameraSpec& spec, const std::string& loc) {
-    return find_entry(camera_registry(), name, "camera", loc).make(params, spec, loc);
+std::vector<CameraSetting> Camera::settings(const std::string& name, const ParamDict& params,
+                                            const std::string& loc) {
+    return find_entry(camera_registry(), name, "camera", loc).read(params, loc);
+}
+
+std::unique_ptr<Camera> Camera::create(const std::string& name, const CameraSetting& setting,
+                                       const CameraSpec& spec) {
+    return find_entry(camera_registry(), name, "camera", "camera").make(setting, spec);
 }
 
 std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec) {
-    return Camera::create(name, ParamDict(), spec, "camera");
+    return Camera::create(name, Camera::settings(name, ParamDict(), "camera").front(), spec);
 }
 
 }  // namespace pxh

@@ -2,12 +2,13 @@
 // the reference plane z = 0 at texture coordinate P_k (in tiles) and points toward the eye
 // along V_k (unit, V_k.z > 0; docs/conventions.md sections 2, 3).
 //
-// Adding a camera: one file harness/scene/NAME_camera.cpp defining a Camera subclass and a
-// factory that reads the camera's own keys of [views] through the ParamDict it is given
-// (typed getters with defaults, errors at the key's FILE:LINE), plus one line in
-// camera_registry() (harness/scene/view.cpp). A key of [views] that neither the view sweep
-// nor the camera reads is an error at its FILE:LINE.
+// Adding a camera: one file harness/scene/NAME_camera.cpp defining a Camera subclass, a reader
+// of the camera's own keys of [views] (through the ParamDict it is given: typed getters with
+// defaults, errors at the key's FILE:LINE) that returns its settings, and a factory, plus one
+// line in camera_registry() (harness/scene/view.cpp). A key of [views] that neither the view
+// sweep nor the camera reads is an error at its FILE:LINE.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,24 +25,43 @@ std::vector<Vec2d> sample_grid(int n);
 // Unit vector toward the eye for polar angle theta and azimuth phi (degrees).
 Vec3d view_vector(double theta_deg, double phi_deg);
 
+// A pixel's footprint: the uv change per pixel step, dP/di (one column to the right) and dP/dj
+// (one row up) (docs/conventions.md section 10).
+struct Footprint {
+    Vec2d dPdi, dPdj;
+};
+
 // The rays of one view, plus what the tracers' fast paths may assume about them.
 struct View {
     std::vector<Vec2d> P;   // per sample
     std::vector<Vec3d> V;   // per sample, or exactly one when `parallel`
     bool parallel = false;  // every ray has direction V[0] (an orthographic camera)
     int grid = 0;           // > 0: P is sample_grid(grid), N x N row-major
+    // The pixels' footprints: one per sample, or exactly one shared by every sample.
+    std::vector<Footprint> J;
+    // 1 for a sample inside the view, 0 for one outside (section 10: its ray is at or beyond
+    // the horizon; it carries a ray every stage can process, and its results are left out of
+    // every statistic and counted); empty: every sample is inside.
+    std::vector<uint8_t> inside;
 
     size_t size() const { return P.size(); }
     Vec3d dir(size_t k) const { return V[parallel ? 0 : k]; }
+    const Footprint& footprint(size_t k) const { return J[J.size() == 1 ? 0 : k]; }
+    bool is_inside(size_t k) const { return inside.empty() || inside[k] != 0; }
+    size_t outside_count() const;
     // Parallel rays through the N x N sample grid: the exact tracer's band fast path.
     bool orthographic_grid() const { return parallel && grid > 0; }
 };
 
-// Every sample's ray parallel to V through sample_grid(n).
+// The N x N orthographic grid of section 3: dP/di = (1/N, 0), dP/dj = (0, 1/N).
+Footprint orthographic_footprint(int n);
+
+// Every sample's ray parallel to V through sample_grid(n), one footprint for all.
 View orthographic_view(Vec3d V, int n);
 
 // "" for a well-formed view, else a one-line reason: V's size does not match P (one entry
-// when parallel, one per sample otherwise), or `grid` does not match P's size.
+// when parallel, one per sample otherwise), `grid` does not match P's size, J is neither one
+// nor one per sample, or `inside` is neither empty nor one per sample.
 std::string view_problem(const View& view);
 
 // What a camera is made from besides its own keys: the view's angles (the view sweep's
@@ -51,17 +71,30 @@ struct CameraSpec {
     int samples = 0;
 };
 
+// One setting of a camera's own keys: the value of each of its keys for one view, in the
+// camera's order (the perspective camera: distance, fov_deg; the orthographic camera: none).
+// Each is also the row column of that name. A camera's keys may be lists (or ranges): its
+// settings are then their product, and the run sweeps them like the views' angles.
+struct CameraSetting {
+    std::vector<std::pair<std::string, double>> values;
+    double get(const std::string& key) const;  // NaN when the camera has no such key
+    std::string label() const;                 // "distance=1.5 fov_deg=45"; "" for none
+};
+
 class Camera {
   public:
     virtual ~Camera() = default;
     virtual std::string name() const = 0;
     virtual View view() const = 0;
-    // Camera NAME for one view, reading its own keys from `params` ([views]; the orthographic
-    // camera reads none); `loc` (FILE:LINE of [views]) names the view in its errors. Cheap:
-    // the parser makes one to read the keys (view() makes the rays), the runner one per view. An
-    // unknown NAME is InputError(loc, "unknown camera 'x' (known: orthographic)").
-    static std::unique_ptr<Camera> create(const std::string& name, const ParamDict& params,
-                                          const CameraSpec& spec, const std::string& loc);
+    // The settings camera NAME reads from its own keys in `params` ([views]; the orthographic
+    // camera reads none and has one empty setting), in sweep order; `loc` (FILE:LINE of
+    // [views]) names the view in its errors. An unknown NAME is
+    // InputError(loc, "unknown camera 'x' (known: orthographic, perspective)").
+    static std::vector<CameraSetting> settings(const std::string& name, const ParamDict& params,
+                                               const std::string& loc);
+    // Camera NAME for one view at one of its settings. Cheap: the runner makes one per view.
+    static std::unique_ptr<Camera> create(const std::string& name, const CameraSetting& setting,
+                                          const CameraSpec& spec);
 };
 
 // One direction view_vector(theta, phi) for every ray, through the N x N sample grid.
@@ -80,12 +113,12 @@ class OrthographicCamera final : public Camera {
 // The registry (camera_registry() in harness/scene/view.cpp): one line per camera.
 struct CameraEntry {
     const char* name;
-    std::unique_ptr<Camera> (*make)(const ParamDict& params, const CameraSpec& spec,
-                                    const std::string& loc);
+    std::vector<CameraSetting> (*read)(const ParamDict& params, const std::string& loc);
+    std::unique_ptr<Camera> (*make)(const CameraSetting& setting, const CameraSpec& spec);
 };
 const std::vector<CameraEntry>& camera_registry();
 std::vector<std::string> camera_names();  // in registry order
-// Camera::create with no keys of its own (every key at its default), loc "camera".
+// Camera NAME with no keys of its own (every key at its default; its first setting).
 std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec);
 
 }  // namespace pxh

@@ -133,7 +133,7 @@ TEST(PerSampleView, ExperimentCameraKey) {
         FAIL() << "no error";
     } catch (const InputError& e) {
         EXPECT_EQ(std::string(e.what()),
-                  "e.toml:3: unknown camera 'pinhole' (known: orthographic)");
+                  "e.toml:3: unknown camera 'pinhole' (known: orthographic, perspective)");
     }
 }
 

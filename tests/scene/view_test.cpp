@@ -60,7 +60,7 @@ TEST(View, EmptyGridIsAnEmptyView) {
 
 TEST(View, CameraRegistryByName) {
     const std::vector<std::string> names = camera_names();
-    ASSERT_EQ(names, std::vector<std::string>{"orthographic"});
+    ASSERT_EQ(names, (std::vector<std::string>{"orthographic", "perspective"}));
     CameraSpec spec;
     spec.theta_deg = 45;
     spec.phi_deg = 30;
@@ -73,10 +73,19 @@ TEST(View, CameraRegistryByName) {
     EXPECT_EQ(a.V[0].x, b.V[0].x);
     EXPECT_EQ(a.P[24].y, b.P[24].y);
     try {
-        (void)make_camera("perspective", spec);
+        (void)make_camera("fisheye", spec);
         ADD_FAILURE() << "an unknown camera was made";
     } catch (const InputError& e) {
-        EXPECT_STREQ(e.what(), "camera: unknown camera 'perspective' (known: orthographic)");
+        EXPECT_STREQ(e.what(),
+                     "camera: unknown camera 'fisheye' (known: orthographic, perspective)");
+    }
+    try {  // the perspective camera's distance has no default
+        (void)make_camera("perspective", spec);
+        ADD_FAILURE() << "a perspective camera was made without a distance";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("camera 'perspective' needs distance"),
+                  std::string::npos)
+            << e.what();
     }
 }
 
