@@ -60,8 +60,9 @@ using GlUniforms = std::vector<GlUniform>;
 const char* glsl_type_name(GlslType t);  // "float", "int", "bool"
 
 // What a method's C++ twin reads: the height field and the method's built resources (nullptr
-// or empty for a method without resources); with `levels`, every height fetch of sample i is
-// at level of detail lambda[i] (the `level` mode; lambda indexed like the batch's P).
+// or empty for a method without resources); lambda[i]: sample i's level of detail (indexed
+// like the batch's P; nullptr: 0), and with `levels` every height fetch of sample i is at that
+// level of detail (the `level` mode).
 struct MethodInputs {
     const HeightField* hf = nullptr;
     const MethodResources* resources = nullptr;
@@ -125,8 +126,7 @@ struct MethodInfo {
 // Sample i's height sampler: level 0, or the levels at its lambda.
 template <typename T>
 HeightSampler<T> height_sampler(const MethodInputs& in, const Scene<T>& sc, size_t i) {
-    if (in.levels && in.lambda)
-        return HeightSampler<T>(*in.hf, sc.scale, sc.bias, in.levels, T(in.lambda[i]));
+    if (in.lambda) return HeightSampler<T>(*in.hf, sc.scale, sc.bias, in.levels, T(in.lambda[i]));
     return HeightSampler<T>(*in.hf, sc.scale, sc.bias);
 }
 

@@ -87,9 +87,11 @@ MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Sc
     if (V && V->size() != P.size())
         throw std::logic_error("run_cpu: " + std::to_string(V->size()) + " directions for " +
                                std::to_string(P.size()) + " samples");
-    if (levels && (!lambda || lambda->size() != P.size()))
-        throw std::logic_error("run_cpu: texture levels without one lambda per sample");
-    if (!levels) lambda = nullptr;
+    if (levels && !lambda)
+        throw std::logic_error("run_cpu: texture levels without the samples' lambda");
+    if (lambda && lambda->size() != P.size())
+        throw std::logic_error("run_cpu: " + std::to_string(lambda->size()) + " lambdas for " +
+                               std::to_string(P.size()) + " samples");
     if (precision == "double")
         return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats,
                                      resources, V, levels, lambda);
@@ -127,10 +129,10 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
     const bool levels = m.lod == LodMode::level;
     if (levels && (!view.levels || !view.lambda))
         throw std::logic_error("lod = level without the view's texture levels");
-    MethodOutput out = run_cpu(m, v.precision, view.scene, view.hf, rays.P,
-                               view.timed ? settings_.timing_repeats : 0, view.resources,
-                               rays.parallel ? nullptr : &rays.V, levels ? view.levels : nullptr,
-                               levels ? view.lambda : nullptr);
+    MethodOutput out =
+        run_cpu(m, v.precision, view.scene, view.hf, rays.P,
+                view.timed ? settings_.timing_repeats : 0, view.resources,
+                rays.parallel ? nullptr : &rays.V, levels ? view.levels : nullptr, view.lambda);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
     return out;
 }

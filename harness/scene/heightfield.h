@@ -84,10 +84,11 @@ template <typename T>
 T level_fetch(const TextureLevels& tl, Vec2<T> uv, T lambda);
 
 // Bilinear height in precision T with a fetch counter (one fetch = one filtered lookup, as a
-// shader's texture() call). The scene's s and b turn height into surface z = s (h - b). Given
-// texture levels, every height is GL's trilinear fetch at the sample's lambda instead
-// (level_fetch, harness/scene/texture_levels.h: the `level` mode of docs/conventions.md
-// section 10); a TU that passes levels includes texture_levels.h.
+// shader's texture() call). The scene's s and b turn height into surface z = s (h - b). It
+// knows the sample's level of detail lambda (lod(): what a shader's pxh_lod() returns; 0 when
+// the view gave none), and given texture levels, every height is GL's trilinear fetch at that
+// lambda instead (level_fetch, harness/scene/texture_levels.h: the `level` mode of
+// docs/conventions.md section 10); a TU that passes levels includes texture_levels.h.
 template <typename T>
 class HeightSampler {
   public:
@@ -104,6 +105,7 @@ class HeightSampler {
     T z(Vec2<T> uv) { return s_ * (height(uv) - b_); }
     T scale() const { return s_; }
     T bias() const { return b_; }
+    T lod() const { return lambda_; }
     const HeightField& field() const { return *hf_; }
 
     int fetches = 0;
