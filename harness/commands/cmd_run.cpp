@@ -122,6 +122,10 @@ std::string truth_picture_name(const ResultRow& r) {
     std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
                   r.num("theta_deg"), r.num("phi_deg"));
     std::string s = name;
+    if (!std::isnan(r.num("distance"))) {  // a perspective camera's settings
+        std::snprintf(name, sizeof name, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
+        s += name;
+    }
     for (char& ch : s)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
     return s + ".png";
@@ -131,13 +135,15 @@ std::string truth_picture_name(const ResultRow& r) {
 // img_ssim); for the montage views and the strip's setting, the pictures under DIR/pictures.
 void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<ResultRow>& rows,
                  const std::vector<std::vector<Vec2d>>& errors, const std::vector<Vec2d>& truth,
-                 size_t first) {
+                 const std::vector<uint8_t>& inside, size_t first) {
     const RenderSpec& r = *ex.render;
     if (rows.empty() || !r.covers(rows[0].text("heightfield"), rows[0].num("phi_deg"))) return;
     const double theta = rows[0].num("theta_deg");
     const bool montage = std::count(r.theta_deg.begin(), r.theta_deg.end(), theta) > 0;
     const int n = ex.samples;
-    const std::vector<float> truth_pic = picture(truth, n);
+    // A camera's image as the viewer sees it (outside pixels grey); the grid in texture space.
+    const bool as_seen = ex.camera != "orthographic";
+    const std::vector<float> truth_pic = picture(truth, n, inside);
     const std::vector<double> truth_luma = luma(truth_pic);
     const fs::path dir = tmp_dir / "pictures";
     std::string truth_file;  // written once, when the first row of the view needs it
@@ -145,7 +151,8 @@ void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<Resu
         if (errors[i].empty()) continue;  // a failed row: no picture, no numbers
         ResultRow& row = rows[i];
         const auto pic = picture(
-            uv_from_errors(truth, errors[i], int(row.num("width")), int(row.num("height"))), n);
+            uv_from_errors(truth, errors[i], int(row.num("width")), int(row.num("height"))), n,
+            inside);
         row.set("img_psnr_db", psnr_db(pic, truth_pic));
         row.set("img_ssim", ssim(luma(pic), truth_luma, n, n));
         const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
@@ -154,11 +161,12 @@ void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<Resu
         make_own_folder(dir);
         if (truth_file.empty()) {
             truth_file = truth_picture_name(row);
-            write_picture(truth_pic, n, (dir / truth_file).string());
+            write_picture(truth_pic, n, (dir / truth_file).string(), as_seen);
         }
         const std::string stem = error_map_name(row, first + i).stem;
-        write_picture(pic, n, (dir / (stem + ".png")).string());
-        write_picture(difference(pic, truth_pic), n, (dir / (stem + "_diff.png")).string());
+        write_picture(pic, n, (dir / (stem + ".png")).string(), as_seen);
+        write_picture(difference(pic, truth_pic), n, (dir / (stem + "_diff.png")).string(),
+                      as_seen);
         row.set_text("picture", "pictures/" + stem + ".png");
         row.set_text("picture_diff", "pictures/" + stem + "_diff.png");
         row.set_text("picture_truth", "pictures/" + truth_file);
@@ -387,9 +395,10 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     if (ex.maps || ex.render)
         opt.on_view = [&](std::vector<ResultRow>& rows,
                           const std::vector<std::vector<Vec2d>>& errors,
-                          const std::vector<Vec2d>& truth, size_t first) {
+                          const std::vector<Vec2d>& truth, const std::vector<uint8_t>& inside,
+                          size_t first) {
             if (ex.maps) write_view_maps(ex, tmp_dir, rows, errors, first);
-            if (ex.render) render_view(ex, tmp_dir, rows, errors, truth, first);
+            if (ex.render) render_view(ex, tmp_dir, rows, errors, truth, inside, first);
         };
     if (!a.quiet)
         opt.progress = [tty](const std::string& line) {

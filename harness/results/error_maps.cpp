@@ -114,16 +114,28 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     for (char ch : params) ps += ch == '=' ? '-' : ch == ';' ? '_' : ch;
     if (ps.size() > kParamsInName)
         ps = ps.substr(0, kParamsInName - 9) + "~" + sha256_hex(params).substr(0, 8);
+    // A camera's settings and a level mode other than base, when the row has them.
+    std::string view;
+    char part[128];
+    if (!std::isnan(r.num("distance"))) {
+        std::snprintf(part, sizeof part, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
+        view += part;
+    }
+    const std::string& lod = r.text("lod");
+    if (!lod.empty() && lod != "base") view += "_" + lod;
     char stem[512];
-    std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g_%s", index, r.text("method").c_str(),
-                  ps.empty() ? "" : "_", ps.c_str(), r.text("heightfield").c_str(),
-                  r.num("theta_deg"), r.num("phi_deg"), what.c_str());
+    std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g%s_%s", index,
+                  r.text("method").c_str(), ps.empty() ? "" : "_", ps.c_str(),
+                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"),
+                  view.c_str(), what.c_str());
     ErrorMapName n{stem, ""};
     for (char& ch : n.stem)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
     n.title = r.text("method") + (params.empty() ? "" : " " + params) + " | " +
               r.text("heightfield") + " | theta " + format_number(r.num("theta_deg")) + " phi " +
-              format_number(r.num("phi_deg")) + " | " + r.text("backend");
+              format_number(r.num("phi_deg")) +
+              (std::isnan(r.num("distance")) ? "" : " D " + format_number(r.num("distance"))) +
+              (lod.empty() || lod == "base" ? "" : " | lod " + lod) + " | " + r.text("backend");
     return n;
 }
 

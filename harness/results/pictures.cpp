@@ -58,9 +58,16 @@ void albedo(Vec2d uv, float rgb[3]) {
     for (int k = 0; k < 3; ++k) rgb[k] = paint >= 0 ? paint : c[k];
 }
 
-std::vector<float> picture(const std::vector<Vec2d>& uv, int n) {
+std::vector<float> picture(const std::vector<Vec2d>& uv, int n,
+                           const std::vector<uint8_t>& inside) {
     std::vector<float> out(size_t(n) * size_t(n) * 3);
-    for (size_t k = 0; k < uv.size() && k < size_t(n) * size_t(n); ++k) albedo(uv[k], &out[3 * k]);
+    for (size_t k = 0; k < uv.size() && k < size_t(n) * size_t(n); ++k) {
+        if (k < inside.size() && !inside[k]) {
+            out[3 * k] = out[3 * k + 1] = out[3 * k + 2] = 0.5f;
+            continue;
+        }
+        albedo(uv[k], &out[3 * k]);
+    }
     return out;
 }
 
@@ -78,14 +85,14 @@ std::vector<float> difference(const std::vector<float>& a, const std::vector<flo
     return d;
 }
 
-void write_picture(const std::vector<float>& rgb, int n, const std::string& path) {
+void write_picture(const std::vector<float>& rgb, int n, const std::string& path, bool as_seen) {
     OIIO::ImageBuf img(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::UINT8));
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
             float px[3];
             for (int c = 0; c < 3; ++c)
                 px[c] = std::clamp(rgb[(size_t(j) * n + size_t(i)) * 3 + size_t(c)], 0.0f, 1.0f);
-            img.setpixel(i, j, px);
+            img.setpixel(i, as_seen ? n - 1 - j : j, px);
         }
     write_new_image(img, path);
 }

@@ -3,6 +3,7 @@
 // OpenImageIO). The run writes them for the experiment's [render] views (harness/commands/
 // cmd_run.cpp), and pxh report assembles them into montages and strips.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,9 +17,11 @@ namespace pxh {
 // [0, 1]. Non-finite uv gives magenta (1, 0, 1).
 void albedo(Vec2d uv, float rgb[3]);
 
-// The n x n picture seen through per-sample uv (sample j * n + i is pixel (i, j), row j of the
-// file, as for error maps): 3 floats a pixel.
-std::vector<float> picture(const std::vector<Vec2d>& uv, int n);
+// The n x n picture seen through per-sample uv (sample j * n + i is pixel (i, j)): 3 floats a
+// pixel. `inside` (empty: every sample): a sample it marks 0 is outside the view and neutral
+// grey (0.5, 0.5, 0.5) in every picture, the truth's too.
+std::vector<float> picture(const std::vector<Vec2d>& uv, int n,
+                           const std::vector<uint8_t>& inside = {});
 
 // A method's uv from the truth's and the per-sample texel error (e = uv_method - uv_true,
 // wrapped into a tile, in texels of a width x height field): the albedo repeats every tile, so
@@ -31,7 +34,10 @@ std::vector<Vec2d> uv_from_errors(const std::vector<Vec2d>& truth_uv,
 std::vector<float> difference(const std::vector<float>& a, const std::vector<float>& b);
 
 // Writes an n x n RGB picture as an 8-bit PNG (values clamped to [0, 1], rounded), a new
-// file (harness/results/image_file.h: never through a link, never over a file).
-void write_picture(const std::vector<float>& rgb, int n, const std::string& path);
+// file (harness/results/image_file.h: never through a link, never over a file). Pixel row j is
+// file row j (texture space, as error maps: v grows downwards), or with `as_seen` file row
+// n - 1 - j (a camera's image as the viewer sees it: gl_FragCoord's row 0 at the bottom).
+void write_picture(const std::vector<float>& rgb, int n, const std::string& path,
+                   bool as_seen = false);
 
 }  // namespace pxh

@@ -47,6 +47,7 @@ struct ViewRows {
     std::vector<ResultRow> rows;
     std::vector<std::vector<Vec2d>> errors;
     std::vector<Vec2d> truth_uv;  // the view's true hits (per sample, unwrapped)
+    std::vector<uint8_t> inside;  // the view's inside mask (View::inside)
 };
 
 // One field (with its s, b) and what every view of it shares.
@@ -327,6 +328,7 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     for (const auto& m : c.ex.methods)
         if (m.runs_on(c.spec.name)) run_method(job, m);
     job.out.truth_uv = std::move(job.truth.gt.uv);
+    job.out.inside = view.inside;
     return std::move(job.out);
 }
 
@@ -405,7 +407,7 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
         if (!opt.include && first != rows.size())
             throw std::logic_error("row index " + std::to_string(first) + " of a view is not " +
                                    std::to_string(rows.size()));
-        if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, first);
+        if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, view.inside, first);
         if (info) info->views.push_back({at.field, at.phi, at.camera, t, view.rows.size()});
         prev_index.clear();
         for (auto& r : view.rows) {

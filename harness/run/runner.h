@@ -32,11 +32,12 @@ struct RunOptions {
     // software renderer.
     std::function<void(const std::string&)> warning;
     // Called once per view with its rows (before they join the run), their per-sample error
-    // vectors and the truth's uv (per sample, unwrapped); first_index is the index the view's
-    // first row has in the whole run's results.csv (a slice's maps and pictures are named as
-    // the unsharded run names them).
+    // vectors, the truth's uv (per sample, unwrapped) and the view's inside mask (empty: every
+    // sample inside; View::inside); first_index is the index the view's first row has in the
+    // whole run's results.csv (a slice's maps and pictures are named as the unsharded run
+    // names them).
     std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
-                       const std::vector<Vec2d>&, size_t)>
+                       const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>
         on_view;
     std::function<void(const std::string&)> progress;  // one status line per step
     // A slice of the run (pxh run --shard): only the views (heightfields[field], phi_deg[phi],

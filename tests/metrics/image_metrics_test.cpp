@@ -10,6 +10,10 @@
 
 #include "harness/results/pictures.h"
 
+#include <OpenImageIO/imagebuf.h>
+
+#include <filesystem>
+
 namespace {
 
 std::vector<double> random_image(int w, int h, uint32_t seed) {
@@ -142,3 +146,35 @@ TEST(Pictures, AlbedoTilesAndUvFromErrors) {
 }
 
 }  // namespace
+
+// A camera's picture: outside pixels neutral grey whatever their uv; written as the viewer sees
+// it, pixel row 0 (the bottom, as gl_FragCoord) is the file's last row.
+TEST(Pictures, OutsideIsGreyAndCameraPicturesAreUpright) {
+    const int n = 4;
+    std::vector<pxh::Vec2d> uv(n * n);
+    for (int k = 0; k < n * n; ++k) uv[k] = {(k % n + 0.5) / n, (k / n + 0.5) / n};
+    std::vector<uint8_t> inside(n * n, 1);
+    inside[13] = 0;
+    const auto masked = pxh::picture(uv, n, inside), plain = pxh::picture(uv, n);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(masked[3 * 13 + c], 0.5f);
+    for (int k = 0; k < n * n; ++k) {
+        if (k == 13) continue;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(masked[3 * k + c], plain[3 * k + c]) << k;
+    }
+    std::vector<float> rgb(n * n * 3, 0.0f);
+    for (int c = 0; c < 3; ++c) rgb[c] = 1.0f;  // pixel (0, 0) white, the rest black
+    const std::string dir = ::testing::TempDir() + "/pxh_pictures_upright";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    pxh::write_picture(rgb, n, dir + "/seen.png", true);
+    pxh::write_picture(rgb, n, dir + "/texture.png", false);
+    for (const auto& [file, row] : {std::pair{"seen.png", n - 1}, std::pair{"texture.png", 0}}) {
+        OIIO::ImageBuf img(dir + "/" + file);
+        float px[3];
+        img.getpixel(0, row, px);
+        EXPECT_EQ(px[0], 1.0f) << file;
+        img.getpixel(0, n - 1 - row, px);
+        EXPECT_EQ(px[0], 0.0f) << file;
+    }
+    std::filesystem::remove_all(dir);
+}
