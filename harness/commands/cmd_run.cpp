@@ -150,9 +150,9 @@ void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<Resu
     for (size_t i = 0; i < rows.size(); ++i) {
         if (errors[i].empty()) continue;  // a failed row: no picture, no numbers
         ResultRow& row = rows[i];
-        const auto pic = picture(
-            uv_from_errors(truth, errors[i], int(row.num("width")), int(row.num("height"))), n,
-            inside);
+        const auto pic =
+            picture(uv_from_errors(truth, errors[i], int(row.num("width")), int(row.num("height"))),
+                    n, inside);
         row.set("img_psnr_db", psnr_db(pic, truth_pic));
         row.set("img_ssim", ssim(luma(pic), truth_luma, n, n));
         const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
@@ -393,13 +393,12 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
         std::cerr << "pxh: warning: " << one_line(line) << "\n";
     };
     if (ex.maps || ex.render)
-        opt.on_view = [&](std::vector<ResultRow>& rows,
-                          const std::vector<std::vector<Vec2d>>& errors,
-                          const std::vector<Vec2d>& truth, const std::vector<uint8_t>& inside,
-                          size_t first) {
-            if (ex.maps) write_view_maps(ex, tmp_dir, rows, errors, first);
-            if (ex.render) render_view(ex, tmp_dir, rows, errors, truth, inside, first);
-        };
+        opt.on_view =
+            [&](std::vector<ResultRow>& rows, const std::vector<std::vector<Vec2d>>& errors,
+                const std::vector<Vec2d>& truth, const std::vector<uint8_t>& inside, size_t first) {
+                if (ex.maps) write_view_maps(ex, tmp_dir, rows, errors, first);
+                if (ex.render) render_view(ex, tmp_dir, rows, errors, truth, inside, first);
+            };
     if (!a.quiet)
         opt.progress = [tty](const std::string& line) {
             if (tty) std::cerr << "\r\033[K" << line << std::flush;

@@ -22,14 +22,16 @@ namespace {
 
 // The key columns a limit may select rows by: text ones compared as text (params whatever the
 // spaces around its separators), numeric ones as numbers. Any of them may be a list ("any of").
-const std::vector<std::string> kTextFilters = {
-    "method", "params", "heightfield", "backend", "precision", "texture_format", "ground_truth"};
-const std::vector<std::string> kNumberFilters = {"scale", "bias", "phi_deg", "samples"};
+const std::vector<std::string> kTextFilters = {"method",       "params",    "heightfield",
+                                               "backend",      "precision", "texture_format",
+                                               "ground_truth", "camera",    "lod"};
+const std::vector<std::string> kNumberFilters = {"scale",   "bias",     "phi_deg",
+                                                 "samples", "distance", "fov_deg"};
 // What identifies a row's baseline for `ratio_to`: the same field, view and backend (and
 // variant and reference) as the row, another method.
 const std::vector<std::string> kSameAsBaseline = {
-    "heightfield", "scale",   "bias",      "theta_deg",      "phi_deg",
-    "samples",     "backend", "precision", "texture_format", "ground_truth"};
+    "heightfield", "scale",          "bias",         "theta_deg", "phi_deg",  "samples", "backend",
+    "precision",   "texture_format", "ground_truth", "camera",    "distance", "fov_deg"};
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();

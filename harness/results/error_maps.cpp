@@ -126,8 +126,8 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     char stem[512];
     std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g%s_%s", index,
                   r.text("method").c_str(), ps.empty() ? "" : "_", ps.c_str(),
-                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"),
-                  view.c_str(), what.c_str());
+                  r.text("heightfield").c_str(), r.num("theta_deg"), r.num("phi_deg"), view.c_str(),
+                  what.c_str());
     ErrorMapName n{stem, ""};
     for (char& ch : n.stem)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';

@@ -90,7 +90,9 @@ ResultsFile read_results(const std::string& path) {
 
 std::string setting_of(const ResultRow& r) {
     const std::string& params = r.text("params");
-    return r.text("method") + (params.empty() ? "" : " " + params);
+    const std::string& lod = r.text("lod");
+    return r.text("method") + (params.empty() ? "" : " " + params) +
+           (lod.empty() || lod == "base" ? "" : " lod=" + lod);
 }
 
 std::string group_of(const ResultRow& r) {

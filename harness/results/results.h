@@ -39,7 +39,8 @@ ResultRow parse_result_row(const std::vector<const ColumnSpec*>& specs,
                            const std::vector<std::string>& fields, const std::string& where);
 
 // How rows are named in tables and messages:
-std::string setting_of(const ResultRow& r);  // method and parameters: "pom layers=8"
+std::string setting_of(const ResultRow& r);  // method, parameters and a lod other than base:
+                                             // "pom layers=8", "pom layers=8 lod=level"
 std::string group_of(const ResultRow& r);    // backend/precision or format: "glsl/r32f"
 std::string series_of(const ResultRow& r);   // "pom layers=8 [glsl/r32f]"
 std::string field_of(const ResultRow& r);    // "fbm s=0.05 b=1"

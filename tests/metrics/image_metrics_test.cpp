@@ -3,16 +3,14 @@
 // the albedo of the pictures (harness/results/pictures.h) against its definition.
 #include "harness/metrics/image_metrics.h"
 
+#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 #include "harness/results/pictures.h"
-
-#include <OpenImageIO/imagebuf.h>
-
-#include <filesystem>
 
 namespace {
 

@@ -504,7 +504,8 @@ TEST_F(ReportFolder, CheckFilterErrorsNameTheKeyLine) {
         {"phi = 0",
          "limits.toml:4: unknown key 'phi' in [[limit]] (keys: column, min, max, "
          "theta_min, theta_max, note, ratio_to, method, params, heightfield, backend, "
-         "precision, texture_format, ground_truth, scale, bias, phi_deg, samples)"},
+         "precision, texture_format, ground_truth, camera, lod, scale, bias, phi_deg, samples, "
+         "distance, fov_deg)"},
     };
     for (const auto& c : cases) {
         const std::string e = input_error([&] {

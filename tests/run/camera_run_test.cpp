@@ -73,8 +73,8 @@ TEST(CameraRun, PerspectiveKeysAreTheCamerasOwn) {
     EXPECT_EQ(parse_error(experiment("theta_deg = [60]\ncamera = \"perspective\"", m)),
               "e.toml:4: camera 'perspective' needs distance (the eye's distance from the "
               "look-at point, in tiles: a value, a list or { from, to, step })");
-    EXPECT_EQ(parse_error(experiment(
-                  "theta_deg = [60]\ncamera = \"perspective\"\ndistance = [2, -1]", m)),
+    EXPECT_EQ(parse_error(
+                  experiment("theta_deg = [60]\ncamera = \"perspective\"\ndistance = [2, -1]", m)),
               "e.toml:7: distance = -1 is not a positive number of tiles");
     EXPECT_EQ(parse_error(experiment(
                   "theta_deg = [60]\ncamera = \"perspective\"\ndistance = 2\nfov_deg = 180", m)),
@@ -199,8 +199,9 @@ TEST(CameraRun, AFarEyeLooksAlongOneDirection) {
     // D -> infinity with the image kept one tile wide: every pixel's V tends to the look-at
     // direction, so a method fed each pixel's own V tends to the same method fed V0 at every
     // sample (what the orthographic camera does), with the gap shrinking like 1 / D.
-    const HeightField hf = generate_heightfield(
-        *find_generator("fbm"), 64, 64, resolve_params(find_generator("fbm")->params, {}, "t", "t"));
+    const HeightField hf =
+        generate_heightfield(*find_generator("fbm"), 64, 64,
+                             resolve_params(find_generator("fbm")->params, {}, "t", "t"));
     const MethodInfo& info = test::method("pom");
     const MethodSpec pom{&info, test::params_for(info, {{"layers", ParamValue(16.0)}})};
     double prev = INFINITY;
@@ -212,8 +213,8 @@ TEST(CameraRun, AFarEyeLooksAlongOneDirection) {
         const MethodOutput along = run_cpu(pom, "double", sc, hf, v.P, 0, nullptr, nullptr);
         double gap = 0;
         for (size_t k = 0; k < v.size(); ++k)
-            gap = std::max(gap, std::hypot(own.uv[k].x - along.uv[k].x,
-                                           own.uv[k].y - along.uv[k].y) * 64);
+            gap = std::max(
+                gap, std::hypot(own.uv[k].x - along.uv[k].x, own.uv[k].y - along.uv[k].y) * 64);
         EXPECT_LT(gap, prev / 5) << "D " << D;  // at least 5x smaller per decade
         prev = gap;
     }
