@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstring>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -26,11 +27,20 @@ namespace fs = std::filesystem;
 namespace {
 
 // The keys of a series, as CSV fields: method, params, backend, precision, texture_format.
+// A level mode other than base is part of the setting: the plotter sees it as one more
+// parameter (params "layers=32;lod=level"), so it names the series in legends.
+std::string params_field(const ResultRow& r) {
+    const std::string& lod = r.text("lod");
+    const std::string& p = r.text("params");
+    if (lod.empty() || lod == "base") return p;
+    return p + (p.empty() ? "" : ";") + "lod=" + lod;
+}
+
 const char* const kKeyHeader = "method,params,backend,precision,texture_format";
 std::string key_fields(const ResultRow& r) {
-    std::string out;
-    for (const char* k : {"method", "params", "backend", "precision", "texture_format"})
-        out += (out.empty() ? "" : ",") + csv_quote(r.text(k));
+    std::string out = csv_quote(r.text("method")) + "," + csv_quote(params_field(r));
+    for (const char* k : {"backend", "precision", "texture_format"})
+        out += "," + csv_quote(r.text(k));
     return out;
 }
 
@@ -96,6 +106,47 @@ void vs_theta(const ReportData& d) {
         o << "," << csv_quote(pl) << "\n";
     }
     d.write("data/vs_theta.csv", o.str());
+}
+
+// data/vs_distance.csv, when some row has a camera distance and the run has more than one:
+// texel and pixel error against the eye's distance per field, view angle and series (means
+// over phi and fov_deg).
+void vs_distance(const ReportData& d) {
+    std::set<double> distances;
+    for (size_t i : d.ok)
+        if (std::isfinite(d.row(i).num("distance"))) distances.insert(d.row(i).num("distance"));
+    if (distances.size() < 2) return;
+    using Key = std::tuple<std::string, double, std::string, double>;
+    std::map<Key, std::array<Mean, 5>> acc;
+    std::map<Key, size_t> first;
+    std::vector<Key> order;
+    for (size_t i : d.ok) {
+        const ResultRow& r = d.row(i);
+        if (!std::isfinite(r.num("distance"))) continue;
+        const Key key{field_of(r), r.num("theta_deg"), series_of(r), r.num("distance")};
+        if (!acc.count(key)) {
+            order.push_back(key);
+            first[key] = i;
+        }
+        auto& a = acc[key];
+        a[0].add(r.num("err_mean"));
+        a[1].add(r.num("err_p95"));
+        a[2].add(r.num("err_px_mean"));
+        a[3].add(r.num("err_px_p95"));
+        a[4].add(r.num("lod_mean"));
+    }
+    std::ostringstream o;
+    o << "heightfield,theta_deg,series," << kKeyHeader
+      << ",distance,err_mean,err_p95,err_px_mean,err_px_p95,lod_mean\n";
+    for (const auto& k : order) {
+        const auto& a = acc[k];
+        o << csv_quote(std::get<0>(k)) << "," << csv_num(std::get<1>(k)) << ","
+          << csv_quote(std::get<2>(k)) << "," << key_fields(d.row(first[k])) << ","
+          << csv_num(std::get<3>(k));
+        for (const Mean& m : a) o << "," << csv_num(m.get());
+        o << "\n";
+    }
+    d.write("data/vs_distance.csv", o.str());
 }
 
 // data/maps.csv: the error maps, every field x azimuth x series x θ (a montage per field and
@@ -183,7 +234,8 @@ void cost_vs_error(const ReportData& d) {
           << csv_num(s.all.err_p95.get());
         for (double c : cost[i]) o << "," << csv_num(c);
         for (const char* f : flag[i]) o << "," << f;
-        for (const char* k : {"params", "backend", "precision", "texture_format"})
+        o << "," << csv_quote(params_field(r));
+        for (const char* k : {"backend", "precision", "texture_format"})
             o << "," << csv_quote(r.text(k));
         o << "\n";
     }
@@ -306,6 +358,7 @@ void write_plot_data(const ReportData& d) {
     pictures(d);
     images_table(d);
     vs_theta(d);
+    vs_distance(d);
     cost_vs_error(d);
     cost_vs_error_bands(d);
     maps(d);

@@ -511,6 +511,79 @@ def sweep_vs_theta(F, st, rows):
     F.save(fig, "sweep_vs_theta", panels, series, legend, note=note)
 
 
+def distance_axis(ax, distances, show_labels):
+    """A log axis over the swept eye distances (tiles), ticked at the distances themselves."""
+    lo, hi = min(distances), max(distances)
+    ax.set_xscale("log")
+    ax.set_xlim(lo / 1.25, hi * 1.25)
+    ticks = sorted(set(distances))
+    while len(ticks) > 6:
+        ticks = ticks[::2]
+    ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    if not show_labels:
+        ax.tick_params(labelbottom=False)
+
+
+def vs_distance(F, st, rows):
+    """Texel error (top rows) and pixel error (bottom rows) against the eye's distance, a
+    column per view angle, a pair of panel rows per field; means and p95 as in vs_theta."""
+    if not rows:
+        return
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    thetas = sorted({num(r["theta_deg"]) for r in rows if num(r["theta_deg"]) is not None})
+    distances = sorted({num(r["distance"]) for r in rows if num(r["distance"]) is not None})
+    if not thetas or len(distances) < 2:
+        return
+    titles, common = field_titles(fields)
+    nc = len(thetas)
+    nr = 2 * len(fields)
+    pw = F.width / nc
+    ph = pw * 0.72
+    fig, grid = plt.subplots(nr, nc, figsize=(F.width, ph * nr + 0.35), squeeze=False,
+                             constrained_layout=True)
+    folded_all, series, panels = {}, 0, 0
+    quantities = (("err_mean", "err_p95", "texel error", 0.01),
+                  ("err_px_mean", "err_px_p95", "pixel error", 0.01))
+    for f, field in enumerate(fields):
+        for q, (mean, p95, label, lin) in enumerate(quantities):
+            for c, theta in enumerate(thetas):
+                ax = grid[2 * f + q][c]
+                per = {}
+                for r in rows:
+                    if r["heightfield"] != field or num(r["theta_deg"]) != theta:
+                        continue
+                    x = num(r["distance"])
+                    vals = (num(r[mean]), num(r[p95]))
+                    if x is None or all(v is None for v in vals):
+                        continue
+                    per.setdefault(setting(r), {}).setdefault(group(r), {})[x] = vals
+                folded, n = draw_curves(ax, st, per, True)
+                folded_all.update(folded)
+                series += n
+                panels += 1
+                top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin)
+                error_axis(ax, lin, top, ph)
+                last = 2 * f + q == nr - 1
+                distance_axis(ax, distances, last)
+                head = f"θ = {theta:g}°" + ("" if len(fields) == 1 else f", {titles[field]}")
+                ax.set_title(fit(head, 0.8 * pw, 8, 2))
+                if c == 0:
+                    ax.set_ylabel(label)
+                if last:
+                    ax.set_xlabel("eye distance (tiles)")
+    handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
+    handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="mean"),
+                mlines.Line2D([], [], color="0.3", lw=0.7, marker="o", mfc="white",
+                              label="p95")]
+    field_note = f"field: {fields[0]}" if len(fields) == 1 else common
+    note = join_notes("top: texel error; bottom: pixel error |J⁻¹e| (means over φ and fov)",
+                      field_note, fold_note(folded_all))
+    legend = F.legend(fig, handles, note)
+    F.save(fig, "error_vs_distance", panels, series, legend, note=note)
+
+
 COSTS = {"fetches_mean": ("pareto_fetches", "fetches / sample", "fetches: height and map lookups"),
          "ns_per_sample": ("pareto_ns", "CPU ns / sample", None),
          "ms_per_frame": ("pareto_ms", "GLSL ms / frame", None)}
@@ -999,6 +1072,9 @@ def main():
     st = Styles([setting(r) for r in cost + vt + bands], width)
     vs_theta(F, st, vt)
     sweep_vs_theta(F, st, vt)
+    vd_path = os.path.join(data, "vs_distance.csv")
+    if os.path.exists(vd_path):
+        vs_distance(F, st, read(vd_path))
     cost_figure(F, st, bands, "cost_vs_error", ["fetches_mean"])
     cost_figure(F, st, bands, "time_vs_error", ["ns_per_sample", "ms_per_frame"])
     maps = os.path.join(data, "maps.csv")
