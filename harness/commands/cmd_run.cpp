@@ -28,12 +28,10 @@
 #include "harness/experiment/experiment.h"
 #include "harness/experiment/shard.h"
 #include "harness/gl/context.h"
-#include "harness/metrics/image_metrics.h"
-#include "harness/results/error_maps.h"
-#include "harness/results/pictures.h"
 #include "harness/results/provenance.h"
 #include "harness/results/run_folder.h"
 #include "harness/run/runner.h"
+#include "harness/run/view_writers.h"
 
 namespace fs = std::filesystem;
 
@@ -102,78 +100,6 @@ nlohmann::json input_records(const Experiment& ex) {
             inputs.push_back(
                 {{"heightfield", h.name}, {"path", h.source_path}, {"sha256", h.source_sha256}});
     return inputs;
-}
-
-// --maps: one error map per row (EXR + PNG) under DIR/maps, named in the row's map column.
-void write_view_maps(const Experiment& ex, const fs::path& tmp_dir, std::vector<ResultRow>& rows,
-                     const std::vector<std::vector<Vec2d>>& errors, size_t first) {
-    for (size_t i = 0; i < rows.size(); ++i) {
-        if (errors[i].empty()) continue;
-        const ErrorMapName name = error_map_name(rows[i], first + i);
-        rows[i].set_text(
-            "map", "maps/" + write_error_map(errors[i], ex.samples, (tmp_dir / "maps").string(),
-                                             name.stem, name.title));
-    }
-}
-
-// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI.png", safe characters only.
-std::string truth_picture_name(const ResultRow& r) {
-    char name[512];
-    std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
-                  r.num("theta_deg"), r.num("phi_deg"));
-    std::string s = name;
-    if (!std::isnan(r.num("distance"))) {  // a perspective camera's settings
-        std::snprintf(name, sizeof name, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
-        s += name;
-    }
-    for (char& ch : s)
-        if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
-    return s + ".png";
-}
-
-// [render]: for every row of a render view, its picture against the truth's (img_psnr_db,
-// img_ssim); for the montage views and the strip's setting, the pictures under DIR/pictures.
-void render_view(const Experiment& ex, const fs::path& tmp_dir, std::vector<ResultRow>& rows,
-                 const std::vector<std::vector<Vec2d>>& errors, const std::vector<Vec2d>& truth,
-                 const std::vector<uint8_t>& inside, size_t first) {
-    const RenderSpec& r = *ex.render;
-    if (rows.empty() || !r.covers(rows[0].text("heightfield"), rows[0].num("phi_deg"))) return;
-    const double theta = rows[0].num("theta_deg");
-    const bool montage = std::count(r.theta_deg.begin(), r.theta_deg.end(), theta) > 0;
-    const int n = ex.samples;
-    // A camera's image as the viewer sees it (outside pixels grey); the grid in texture space.
-    const bool as_seen = ex.camera != "orthographic";
-    const std::vector<float> truth_pic = picture(truth, n, inside);
-    const std::vector<double> truth_luma = luma(truth_pic);
-    const fs::path dir = tmp_dir / "pictures";
-    std::string truth_file;  // written once, when the first row of the view needs it
-    for (size_t i = 0; i < rows.size(); ++i) {
-        if (errors[i].empty()) continue;  // a failed row: no picture, no numbers
-        ResultRow& row = rows[i];
-        const auto pic =
-            picture(uv_from_errors(truth, errors[i], int(row.num("width")), int(row.num("height"))),
-                    n, inside);
-        row.set("img_psnr_db", psnr_db(pic, truth_pic));
-        row.set("img_ssim", ssim(luma(pic), truth_luma, n, n));
-        const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
-                           row.text("params") == r.strip_params;
-        if (!montage && !strip) continue;
-        make_own_folder(dir);
-        if (truth_file.empty()) {
-            truth_file = truth_picture_name(row);
-            write_picture(truth_pic, n, (dir / truth_file).string(), as_seen);
-        }
-        const std::string stem = error_map_name(row, first + i).stem;
-        write_picture(pic, n, (dir / (stem + ".png")).string(), as_seen);
-        write_picture(difference(pic, truth_pic), n, (dir / (stem + "_diff.png")).string(),
-                      as_seen);
-        row.set_text("picture", "pictures/" + stem + ".png");
-        row.set_text("picture_diff", "pictures/" + stem + "_diff.png");
-        row.set_text("picture_truth", "pictures/" + truth_file);
-        row.set_text("picture_use", montage && strip ? "montage strip"
-                                    : montage        ? "montage"
-                                                     : "strip");
-    }
 }
 
 nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo& info,
@@ -392,12 +318,14 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
     opt.warning = [](const std::string& line) {
         std::cerr << "pxh: warning: " << one_line(line) << "\n";
     };
-    if (ex.maps || ex.render)
+    // The results writers (error maps, pictures) the experiment wants, per view.
+    const std::vector<const ViewWriter*> writers = wanted_view_writers(ex);
+    if (!writers.empty())
         opt.on_view =
             [&](std::vector<ResultRow>& rows, const std::vector<std::vector<Vec2d>>& errors,
                 const std::vector<Vec2d>& truth, const std::vector<uint8_t>& inside, size_t first) {
-                if (ex.maps) write_view_maps(ex, tmp_dir, rows, errors, first);
-                if (ex.render) render_view(ex, tmp_dir, rows, errors, truth, inside, first);
+                ViewOutput view{rows, errors, truth, inside, first};
+                for (const ViewWriter* w : writers) w->write({ex, tmp_dir}, view);
             };
     if (!a.quiet)
         opt.progress = [tty](const std::string& line) {

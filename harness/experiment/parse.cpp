@@ -14,7 +14,6 @@
 #include "harness/core/registry.h"
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
-#include "harness/scene/perspective_camera.h"
 #include "harness/scene/view.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
@@ -266,16 +265,21 @@ void check_ray_travel(const Experiment& ex) {
                 check(t + ex.sweep_dt_deg, "sweep companion view: ");
         }
         if (ex.light) check(ex.light->theta_deg, "light: ");
-        // A perspective view's inside pixels look up to 89 degrees from the normal.
-        if (ex.camera == "perspective") check(89.0, "perspective camera's most grazing pixel: ");
+        // A camera whose rays are not parallel: its inside pixels look up to 89 degrees.
+        if (!camera_entry(ex.camera, "camera").parallel)
+            check(89.0, "camera '" + ex.camera + "': its most grazing inside pixel: ");
     }
 }
 
-// A perspective eye must lie above every slab it looks at (D cos theta > s (1 - b)), the
-// companion views' too: an InputError at [views] distance naming the field otherwise.
-void check_eye_positions(const Experiment& ex) {
-    if (ex.camera != "perspective") return;
-    const std::string where = ex.camera_params.where("distance");
+// Every view of the camera (its settings x theta, the companion views' too) must see every
+// slab it looks at (the perspective camera: its eye above it): an InputError at the camera's
+// first key of [views] (or [views]) naming the field otherwise.
+void check_camera_scenes(const Experiment& ex) {
+    const CameraEntry& cam = camera_entry(ex.camera, "camera");
+    if (!cam.scene_problem) return;
+    const auto keys = ex.camera_settings.front().values;
+    const std::string where =
+        keys.empty() ? ex.camera_params.where() : ex.camera_params.where(keys.front().first);
     for (const HeightfieldSpec& h : ex.heightfields)
         for (const CameraSetting& c : ex.camera_settings)
             for (double t : ex.theta_deg) {
@@ -283,17 +287,13 @@ void check_eye_positions(const Experiment& ex) {
                 if (ex.sweep_dt_deg > 0)
                     thetas.push_back(t + ex.sweep_dt_deg < 90 ? t + ex.sweep_dt_deg
                                                               : t - ex.sweep_dt_deg);
-                for (double th : thetas) {
-                    PerspectiveParams p;
-                    p.theta_deg = th;
-                    p.distance = c.get("distance");
-                    p.fov_deg = c.get("fov_deg");
-                    p.samples = ex.samples;
-                    if (const std::string why = eye_slab_problem(p, h.scale, h.bias); !why.empty())
+                for (double th : thetas)
+                    if (const std::string why =
+                            cam.scene_problem(c, {th, 0, ex.samples}, h.scale, h.bias);
+                        !why.empty())
                         throw InputError(where, "heightfield '" + h.name +
                                                     "' (s = " + format_number(h.scale) +
                                                     ", b = " + format_number(h.bias) + "): " + why);
-                }
             }
 }
 
@@ -333,7 +333,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     for (const auto& e : methods) parse_method(e, ex, state);
     if (render) parse_render(*render, ex);
     check_ray_travel(ex);
-    check_eye_positions(ex);
+    check_camera_scenes(ex);
     return ex;
 }
 

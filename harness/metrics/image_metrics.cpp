@@ -85,4 +85,24 @@ double ssim(const std::vector<double>& x, const std::vector<double>& y, int w, i
     return sum / double(mx.size());
 }
 
+void add_psnr(const ImageMetricInput& in, ResultRow& row) {
+    row.set("img_psnr_db", psnr_db(in.picture, in.truth));
+}
+
+void add_ssim(const ImageMetricInput& in, ResultRow& row) {
+    row.set("img_ssim", ssim(luma(in.picture), luma(in.truth), in.n, in.n));
+}
+
+const std::vector<ImageMetric>& image_metrics() {
+    static const std::vector<ImageMetric> metrics = {
+        {"psnr", &add_psnr},
+        {"ssim", &add_ssim},
+    };
+    return metrics;
+}
+
+void apply_image_metrics(const ImageMetricInput& in, ResultRow& row) {
+    for (const ImageMetric& m : image_metrics()) m.add(in, row);
+}
+
 }  // namespace pxh

@@ -1,8 +1,15 @@
 // Image-space comparison of a method's picture with the truth's picture (harness/results/
 // pictures.h), so that pxh's numbers can be set beside the image-based comparisons of the
 // literature. Images are linear RGB floats in [0, 1], row-major, 3 per pixel.
+//
+// Registered like the per-output metrics (metric.h): image_metrics() lists them, and the
+// pictures writer (harness/run/view_writers.cpp) applies each to every row of a [render] view.
+// A new one: a function `void add_NAME(const ImageMetricInput&, ResultRow&)`, its columns in
+// columns.cpp, one line in image_metrics() (image_metrics.cpp).
 #pragma once
 #include <vector>
+
+#include "harness/metrics/row.h"
 
 namespace pxh {
 
@@ -23,5 +30,20 @@ std::vector<double> luma(const std::vector<float>& rgb);
 // scales images above 256 px down first; pxh's pictures are compared at full size). NaN when
 // w or h is below 11 or the sizes do not match.
 double ssim(const std::vector<double>& x, const std::vector<double>& y, int w, int h);
+
+// A row's picture of its view beside the truth's (n x n, linear RGB floats).
+struct ImageMetricInput {
+    const std::vector<float>& picture;
+    const std::vector<float>& truth;
+    int n = 0;
+};
+struct ImageMetric {
+    const char* name;
+    void (*add)(const ImageMetricInput&, ResultRow&);
+};
+void add_psnr(const ImageMetricInput& in, ResultRow& row);  // img_psnr_db
+void add_ssim(const ImageMetricInput& in, ResultRow& row);  // img_ssim (on luma)
+const std::vector<ImageMetric>& image_metrics();            // psnr, ssim
+void apply_image_metrics(const ImageMetricInput& in, ResultRow& row);
 
 }  // namespace pxh

@@ -201,4 +201,15 @@ std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
     return std::make_unique<PerspectiveCamera>(p);
 }
 
+std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,
+                                      double scale, double bias) {
+    PerspectiveParams p;
+    p.theta_deg = spec.theta_deg;
+    p.phi_deg = spec.phi_deg;
+    p.samples = spec.samples;
+    p.distance = setting.get("distance");
+    p.fov_deg = setting.get("fov_deg");
+    return eye_slab_problem(p, scale, bias);
+}
+
 }  // namespace pxh

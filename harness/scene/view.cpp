@@ -90,13 +90,18 @@ std::unique_ptr<Camera> make_orthographic_camera(const CameraSetting&, const Cam
 
 const std::vector<CameraEntry>& camera_registry() {
     static const std::vector<CameraEntry> entries = {
-        {"orthographic", &read_orthographic_settings, &make_orthographic_camera},
-        {"perspective", &read_perspective_settings, &make_perspective_camera},
+        {"orthographic", &read_orthographic_settings, &make_orthographic_camera, nullptr, true},
+        {"perspective", &read_perspective_settings, &make_perspective_camera,
+         &perspective_scene_problem, false},
     };
     return entries;
 }
 
 std::vector<std::string> camera_names() { return entry_names(camera_registry()); }
+
+const CameraEntry& camera_entry(const std::string& name, const std::string& loc) {
+    return find_entry(camera_registry(), name, "camera", loc);
+}
 
 std::vector<CameraSetting> Camera::settings(const std::string& name, const ParamDict& params,
                                             const std::string& loc) {

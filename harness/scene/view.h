@@ -115,7 +115,15 @@ struct CameraEntry {
     const char* name;
     std::vector<CameraSetting> (*read)(const ParamDict& params, const std::string& loc);
     std::unique_ptr<Camera> (*make)(const CameraSetting& setting, const CameraSpec& spec);
+    // "" when the camera at this setting and view can look at a surface of scale s and bias b,
+    // else why not (the perspective camera: its eye must lie above the slab); nullptr: always.
+    std::string (*scene_problem)(const CameraSetting& setting, const CameraSpec& spec, double scale,
+                                 double bias) = nullptr;
+    // Whether its rays are parallel (the orthographic camera): otherwise a view's pixels look up
+    // to 89 degrees from the normal whatever theta, and the truth's travel limit is checked there.
+    bool parallel = false;
 };
+const CameraEntry& camera_entry(const std::string& name, const std::string& loc);
 const std::vector<CameraEntry>& camera_registry();
 std::vector<std::string> camera_names();  // in registry order
 // Camera NAME with no keys of its own (every key at its default; its first setting).

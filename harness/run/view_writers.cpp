@@ -1,0 +1,108 @@
+#include "harness/run/view_writers.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+
+#include "harness/core/safe_files.h"
+#include "harness/metrics/image_metrics.h"
+#include "harness/results/error_maps.h"
+#include "harness/results/pictures.h"
+
+namespace pxh {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// --maps (maps = true): one error map per row (EXR + PNG) under DIR/maps, named in the row's
+// map column.
+bool maps_wanted(const Experiment& ex) { return ex.maps; }
+
+void write_maps(const ViewWriteContext& c, ViewOutput& v) {
+    for (size_t i = 0; i < v.rows.size(); ++i) {
+        if (v.errors[i].empty()) continue;
+        const ErrorMapName name = error_map_name(v.rows[i], v.first + i);
+        v.rows[i].set_text("map", "maps/" + write_error_map(v.errors[i], c.ex.samples,
+                                                            (c.dir / "maps").string(), name.stem,
+                                                            name.title));
+    }
+}
+
+// [render]: for every row of a render view, its picture against the truth's (the image
+// metrics); for the montage views and the strip's setting, the pictures under DIR/pictures.
+bool pictures_wanted(const Experiment& ex) { return ex.render.has_value(); }
+
+void write_pictures(const ViewWriteContext& c, ViewOutput& v) {
+    const RenderSpec& r = *c.ex.render;
+    std::vector<ResultRow>& rows = v.rows;
+    if (rows.empty() || !r.covers(rows[0].text("heightfield"), rows[0].num("phi_deg"))) return;
+    const double theta = rows[0].num("theta_deg");
+    const bool montage = std::count(r.theta_deg.begin(), r.theta_deg.end(), theta) > 0;
+    const int n = c.ex.samples;
+    // A camera's image as the viewer sees it (outside pixels grey); the grid in texture space.
+    const bool as_seen = c.ex.camera != "orthographic";
+    const std::vector<float> truth_pic = picture(v.truth, n, v.inside);
+    const fs::path dir = c.dir / "pictures";
+    std::string truth_file;  // written once, when the first row of the view needs it
+    for (size_t i = 0; i < rows.size(); ++i) {
+        if (v.errors[i].empty()) continue;  // a failed row: no picture, no numbers
+        ResultRow& row = rows[i];
+        const auto pic = picture(
+            uv_from_errors(v.truth, v.errors[i], int(row.num("width")), int(row.num("height"))),
+            n, v.inside);
+        apply_image_metrics({pic, truth_pic, n}, row);
+        const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
+                           row.text("params") == r.strip_params;
+        if (!montage && !strip) continue;
+        make_own_folder(dir);
+        if (truth_file.empty()) {
+            truth_file = truth_picture_name(row);
+            write_picture(truth_pic, n, (dir / truth_file).string(), as_seen);
+        }
+        const std::string stem = error_map_name(row, v.first + i).stem;
+        write_picture(pic, n, (dir / (stem + ".png")).string(), as_seen);
+        write_picture(difference(pic, truth_pic), n, (dir / (stem + "_diff.png")).string(),
+                      as_seen);
+        row.set_text("picture", "pictures/" + stem + ".png");
+        row.set_text("picture_diff", "pictures/" + stem + "_diff.png");
+        row.set_text("picture_truth", "pictures/" + truth_file);
+        row.set_text("picture_use", montage && strip ? "montage strip"
+                                    : montage        ? "montage"
+                                                     : "strip");
+    }
+}
+
+}  // namespace
+
+std::string truth_picture_name(const ResultRow& r) {
+    char name[512];
+    std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
+                  r.num("theta_deg"), r.num("phi_deg"));
+    std::string s = name;
+    if (!std::isnan(r.num("distance"))) {  // a perspective camera's settings
+        std::snprintf(name, sizeof name, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
+        s += name;
+    }
+    for (char& ch : s)
+        if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
+    return s + ".png";
+}
+
+const std::vector<ViewWriter>& view_writers() {
+    static const std::vector<ViewWriter> writers = {
+        {"maps", &maps_wanted, &write_maps},
+        {"pictures", &pictures_wanted, &write_pictures},
+    };
+    return writers;
+}
+
+std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex) {
+    std::vector<const ViewWriter*> out;
+    for (const ViewWriter& w : view_writers())
+        if (w.wanted(ex)) out.push_back(&w);
+    return out;
+}
+
+}  // namespace pxh

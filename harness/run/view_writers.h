@@ -1,0 +1,51 @@
+// Results writers: what a run writes per view besides results.csv, each setting the columns of
+// the rows it wrote for (error maps: map; pictures: picture*, and the image metrics img_*). The
+// runner hands every view to them (RunOptions::on_view) before its rows join the run.
+//
+// Adding a writer: one function `void NAME(const ViewWriteContext&, ViewOutput&)` (a file of its
+// own when it is large), its columns in harness/metrics/columns.cpp, and one line in
+// view_writers() (view_writers.cpp).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "harness/core/vec.h"
+#include "harness/experiment/experiment.h"
+#include "harness/metrics/row.h"
+
+namespace pxh {
+
+// What a writer writes into: the run's partial folder (its files move with the folder when the
+// run commits).
+struct ViewWriteContext {
+    const Experiment& ex;
+    std::filesystem::path dir;
+};
+
+// One view's rows and what they were scored on (RunOptions::on_view's arguments).
+struct ViewOutput {
+    std::vector<ResultRow>& rows;
+    const std::vector<std::vector<Vec2d>>& errors;  // per row (empty: a failed row)
+    const std::vector<Vec2d>& truth;                 // the truth's uv per sample (unwrapped)
+    const std::vector<uint8_t>& inside;              // the view's inside mask (empty: all)
+    size_t first;                                    // the view's first row in results.csv
+};
+
+struct ViewWriter {
+    const char* name;
+    bool (*wanted)(const Experiment&);  // whether the run writes it at all
+    void (*write)(const ViewWriteContext&, ViewOutput&);
+};
+
+// The registry, in the order they run: maps (--maps / maps = true), pictures ([render]).
+const std::vector<ViewWriter>& view_writers();
+
+// The writers the experiment wants (empty: the run needs no per-view callback).
+std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex);
+
+// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI[_dD_fF].png", safe characters.
+std::string truth_picture_name(const ResultRow& r);
+
+}  // namespace pxh
