@@ -76,6 +76,7 @@ class ExactTracer final : public Tracer {
     TruthHit walk(const Ray& r, double dda_travel) const;  // DDA below dda_travel cells
     TruthHit trace_ray_unchecked(Vec2d P, Vec3d V) const;  // a direction checked already
     TruthHit dda(const Ray& r) const;                      // trace_naive's DDA
+    TruthHit local_dda(const Ray& r) const;  // the same, tile-local indices kept as it moves
     Ray make_ray(Vec2d P, const Ray& like) const;          // same direction as `like`, new start
     friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.

@@ -14,6 +14,9 @@
 
 #include "harness/truth/cell_solver.h"
 
+
+
+
 namespace pxh {
 
 namespace {
@@ -55,11 +58,44 @@ TruthHit ExactTracer::trace_ray_unchecked(Vec2d P, Vec3d V) const {
 
 TruthHit ExactTracer::trace_walk(Vec2d P, Vec3d V) const { return walk(make_ray(P, V), -1); }
 
+TruthHit ExactTracer::local_dda(const Ray& r) const {
+    // trace_naive's DDA (dda, ray_walk.cpp) step for step: the same cells, the same exit times
+    // ((double(k) - X0) / dX with k the cell's far line, here kept as a double that counts
+    // lines exactly) and the same solver; the cell's index in the tile is kept as the ray moves
+    // (no division per cell for rays that start tiles away).
+    const int W = hf_.width, H = hf_.height;
+    const double inf = std::numeric_limits<double>::infinity();
+    int64_t ci = int64_t(std::floor(r.X0)), cj = int64_t(std::floor(r.Y0));
+    int li = int(wrap_index(ci, W)), lj = int(wrap_index(cj, H));
+    const bool mx = r.dX != 0, my = r.dY != 0;
+    double kx = double(r.sx > 0 ? ci + 1 : ci), ky = double(r.sy > 0 ? cj + 1 : cj);
+    const double stx = r.sx, sty = r.sy;
+    for (int cells = 1;; ++cells) {
+        const double ex = mx ? (kx - r.X0) * r.inv_dX : inf;
+        const double ey = my ? (ky - r.Y0) * r.inv_dY : inf;
+        const double tau_out = std::min({ex, ey, r.tau_max});
+        const double t = solve_cell(r, ci, cj, li, lj, tau_out);
+        if (t >= 0) return hit_at(r, t, cells);
+        if (tau_out >= r.tau_max) return hit_at(r, r.tau_max, cells);
+        // The DDA's step (x on a tie), without a branch: which axis steps is unpredictable.
+        const bool step_x = ex <= ey;
+        const int dx = step_x ? r.sx : 0, dy = step_x ? 0 : r.sy;
+        ci += dx;
+        cj += dy;
+        kx += step_x ? stx : 0.0;
+        ky += step_x ? 0.0 : sty;
+        li += dx;
+        lj += dy;
+        li = li == W ? 0 : li < 0 ? W - 1 : li;
+        lj = lj == H ? 0 : lj < 0 ? H - 1 : lj;
+    }
+}
+
 TruthHit ExactTracer::walk(const Ray& r, double dda_travel) const {
     // A short ray crosses few cells: the DDA itself is faster than the walk's block tests
     // (measured with pxh bench --naive: the DDA ahead at 44 cells of travel, behind at 178).
     const double travel = r.tau_max * std::max(std::abs(r.dX), std::abs(r.dY));
-    if (travel <= dda_travel) return dda(r);
+    if (travel <= dda_travel) return local_dda(r);
     const int W = hf_.width, H = hf_.height;
     const int top = int(level_max_.size()) - 1;
     const double inf = std::numeric_limits<double>::infinity();
@@ -129,7 +165,7 @@ TruthHit ExactTracer::walk(const Ray& r, double dda_travel) const {
                         cj = ncj;
                     }
                 }
-                --level;
+                level = level > 2 ? level - 2 : level - 1;
                 continue;
             }
             if (tau_out >= r.tau_max) return hit_at(r, r.tau_max, cells);
