@@ -76,7 +76,11 @@ class ExactTracer final : public Tracer {
     TruthHit walk(const Ray& r, double dda_travel) const;  // DDA below dda_travel cells
     TruthHit trace_ray_unchecked(Vec2d P, Vec3d V) const;  // a direction checked already
     TruthHit dda(const Ray& r) const;                      // trace_naive's DDA
-    TruthHit local_dda(const Ray& r) const;  // the same, tile-local indices kept as it moves
+    // trace_ray's walk as a state machine (ray_walk_exact.cpp): walk_step advances one step
+    // and returns true with the hit when the ray is done.
+    struct WalkState;
+    void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
+    bool walk_step(WalkState& w, TruthHit& out) const;
     Ray make_ray(Vec2d P, const Ray& like) const;          // same direction as `like`, new start
     friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
@@ -102,6 +106,7 @@ class ExactTracer final : public Tracer {
     std::vector<float> column_pairs_;
     static constexpr size_t kBandLevels = 4;
     std::vector<int> level_w_, level_h_;
+    std::vector<const float*> level_ptr_;  // level_max_[l].data()
 };
 
 }  // namespace pxh
