@@ -81,8 +81,8 @@ class ExactTracer final : public Tracer {
     struct WalkState;
     void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
     bool walk_step(WalkState& w, TruthHit& out) const;
-    Ray make_ray(Vec2d P, const Ray& like) const;          // same direction as `like`, new start
-    friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
+    Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
+    friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     // The same, given the cell's index wrapped into the tile (wi, wj).

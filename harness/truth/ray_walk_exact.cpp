@@ -143,8 +143,8 @@ void ExactTracer::walk_start(WalkState& w, const Ray& r, double dda_travel) cons
         const double ey = ay.moves ? ay.at_line(r.sy > 0 ? gy1 : gy0) : inf;
         const double tau_out = std::min({ex, ey, r.tau_max});
         const double z_block =
-            s_ * (double(level_ptr_[level][size_t(bj) * size_t(level_w_[level]) + size_t(bi)]) -
-                  b_);
+            s_ *
+            (double(level_ptr_[level][size_t(bj) * size_t(level_w_[level]) + size_t(bi)]) - b_);
         if (r.zt - tau_out * r.vz <= z_block) {
             // The surface may reach the ray in this block. Cells the ray leaves while still
             // above the block's maximum cannot hold the hit: move to the DDA's cell at the
@@ -152,15 +152,13 @@ void ExactTracer::walk_start(WalkState& w, const Ray& r, double dda_travel) cons
             // ray), then look closer.
             const double t = std::min((r.zt - z_block) * w.inv_vz, tau_out);
             const int64_t nci =
-                ax.moves ? ax.last_entered(ci, int64_t(std::floor(r.X0 + t * r.dX)), t, false)
-                         : ci;
+                ax.moves ? ax.last_entered(ci, int64_t(std::floor(r.X0 + t * r.dX)), t, false) : ci;
             const int64_t ncj =
-                ay.moves ? ay.last_entered(cj, int64_t(std::floor(r.Y0 + t * r.dY)), t, false)
-                         : cj;
+                ay.moves ? ay.last_entered(cj, int64_t(std::floor(r.Y0 + t * r.dY)), t, false) : cj;
             if (nci != ci || ncj != cj) {
                 // The last event before t: every skipped cell was left no later.
-                const double t_last = std::max(nci != ci ? ax.entry(nci) : -inf,
-                                               ncj != cj ? ay.entry(ncj) : -inf);
+                const double t_last =
+                    std::max(nci != ci ? ax.entry(nci) : -inf, ncj != cj ? ay.entry(ncj) : -inf);
                 if (r.zt - t_last * r.vz > z_block) {
                     li += int(nci - ci);
                     lj += int(ncj - cj);
@@ -184,8 +182,7 @@ void ExactTracer::walk_start(WalkState& w, const Ray& r, double dda_travel) cons
             ci = nci;
         } else {
             const int64_t ncj = r.sy > 0 ? gy1 : gy0 - 1;
-            if (ax.moves)
-                ci = ax.last_entered(ci, int64_t(std::floor(r.X0 + ey * r.dX)), ey, true);
+            if (ax.moves) ci = ax.last_entered(ci, int64_t(std::floor(r.X0 + ey * r.dX)), ey, true);
             cj = ncj;
         }
     }

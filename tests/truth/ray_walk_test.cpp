@@ -224,11 +224,21 @@ TEST(RayWalk, RunsOfEqualRaysAndRaysOneBitApartHitWhatTheDdaHits) {
             view.V.push_back(V);
         }
         switch (int(unit(rng) * 5)) {  // the next ray: one bit away
-            case 0: P.x = std::nextafter(P.x, inf); break;
-            case 1: P.y = std::nextafter(P.y, -inf); break;
-            case 2: V.x = std::nextafter(V.x, inf); break;
-            case 3: V.y = std::nextafter(V.y, -inf); break;
-            default: V.z = std::nextafter(V.z, inf); break;
+            case 0:
+                P.x = std::nextafter(P.x, inf);
+                break;
+            case 1:
+                P.y = std::nextafter(P.y, -inf);
+                break;
+            case 2:
+                V.x = std::nextafter(V.x, inf);
+                break;
+            case 3:
+                V.y = std::nextafter(V.y, -inf);
+                break;
+            default:
+                V.z = std::nextafter(V.z, inf);
+                break;
         }
         view.P.push_back(P);
         view.V.push_back(V);
