@@ -81,6 +81,7 @@ class ExactTracer final : public Tracer {
     struct WalkState;
     void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
     bool walk_step(WalkState& w, TruthHit& out) const;
+    void prefetch_cell(int li, int lj) const;      // requests tile-local cell (li, lj)'s texels
     Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
     friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.

@@ -17,7 +17,8 @@
 // perspective view's outside pixels all carry the look-at ray) is traced once. Tried and
 // dropped: walking several rays at a time, one step of each in turn (twice as slow: the
 // branch predictor loses each ray's pattern), tracing the image in 8 x 8 pixel tiles (no
-// measurable change), descending without moving to the crossing (slower).
+// measurable change), descending without moving to the crossing (slower). Kept: requesting a
+// cell's texels (and the next block's maximum) a step or two before they are read.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -105,6 +106,10 @@ void ExactTracer::walk_start(WalkState& w, const Ray& r, double dda_travel) cons
     w.level = w.dda ? 0 : std::clamp(floor_log2(std::max(travel, 1.0)) - 1, 0, top);
 }
 
+inline void ExactTracer::prefetch_cell(int li, int lj) const {
+    __builtin_prefetch(column_pairs_.data() + 2 * (size_t(lj) * size_t(hf_.width) + size_t(li)));
+}
+
 [[gnu::always_inline]] inline bool ExactTracer::walk_step(WalkState& w, TruthHit& out) const {
     const Ray& r = w.r;
     const Axis &ax = w.ax, &ay = w.ay;
@@ -168,6 +173,11 @@ void ExactTracer::walk_start(WalkState& w, const Ray& r, double dda_travel) cons
             }
             // Two levels down at a time above level 2 (measured: fewer tests than one).
             level = level > 2 ? level - 2 : level - 1;
+            // The cell's texels and the next block's maximum, read a step or two later
+            // (measured: 5-10% faster).
+            prefetch_cell(li, lj);
+            __builtin_prefetch(level_ptr_[level] + size_t(lj >> level) * size_t(level_w_[level]) +
+                               size_t(li >> level));
             return false;
         }
         if (tau_out >= r.tau_max) {
@@ -204,6 +214,8 @@ void ExactTracer::walk_start(WalkState& w, const Ray& r, double dda_travel) cons
     if (new_tile) level = std::min(level + 1, top);
     else if (const unsigned diff = unsigned(oli ^ li) | unsigned(olj ^ lj); diff)
         level = std::max(level, std::min({31 - __builtin_clz(diff), level + 1, top}));
+    // Near the surface, the cell's texels are read a step or two later: request them now.
+    if (level <= 2) prefetch_cell(li, lj);
     return false;
 }
 
