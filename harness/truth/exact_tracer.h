@@ -24,6 +24,9 @@ class ExactTracer final : public Tracer {
     // taking a direction throws std::invalid_argument (ray_travel_problem's reason) for a
     // direction beyond the travel limit or not above the surface, before any work.
     ExactTracer(const HeightField& hf, double scale, double bias);
+    // Not copied: the walk keeps pointers into the tracer's own levels (level_ptr_).
+    ExactTracer(const ExactTracer&) = delete;
+    ExactTracer& operator=(const ExactTracer&) = delete;
 
     // The Tracer interface ("exact"): an orthographic view on the sample grid takes
     // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray. Both
