@@ -73,21 +73,13 @@ void ExactTracer::build_levels() {
     }
     for (size_t l = 0; l < std::min<size_t>(kBandLevels, level_max_.size()); ++l)
         level_max_t_.push_back(transposed(level_max_[l], level_w_[l], level_h_[l]));
+    for (const auto& level : level_max_) level_ptr_.push_back(level.data());
 }
 
 void ExactTracer::trace(const View& view, Hits& out) const {
     throw_if_problem(view_travel_problem(s_, view));  // every ray, before any work
     if (view.orthographic_grid()) trace_grid(view.grid, view.V[0], out);
     else trace_rays(view, out);
-}
-
-void ExactTracer::trace_rays(const View& view, Hits& out) const {
-    // Every direction was checked against the travel limit above (trace).
-    out.resize_all(view.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, view.size(), 256), [&](const auto& rg) {
-        for (size_t k = rg.begin(); k < rg.end(); ++k)
-            out.set(k, trace_ray_unchecked(view.P[k], view.dir(k)));
-    });
 }
 
 std::unique_ptr<Tracer> make_exact_tracer(const HeightField& hf, double scale, double bias) {

@@ -24,6 +24,9 @@ class ExactTracer final : public Tracer {
     // taking a direction throws std::invalid_argument (ray_travel_problem's reason) for a
     // direction beyond the travel limit or not above the surface, before any work.
     ExactTracer(const HeightField& hf, double scale, double bias);
+    // Not copied: the walk keeps pointers into the tracer's own levels (level_ptr_).
+    ExactTracer(const ExactTracer&) = delete;
+    ExactTracer& operator=(const ExactTracer&) = delete;
 
     // The Tracer interface ("exact"): an orthographic view on the sample grid takes
     // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray. Both
@@ -76,8 +79,14 @@ class ExactTracer final : public Tracer {
     TruthHit walk(const Ray& r, double dda_travel) const;  // DDA below dda_travel cells
     TruthHit trace_ray_unchecked(Vec2d P, Vec3d V) const;  // a direction checked already
     TruthHit dda(const Ray& r) const;                      // trace_naive's DDA
-    Ray make_ray(Vec2d P, const Ray& like) const;          // same direction as `like`, new start
-    friend class ViewTracer;  // trace_grid's machinery (band_tracer.cpp)
+    // trace_ray's walk as a state machine (ray_walk_exact.cpp): walk_step advances one step
+    // and returns true with the hit when the ray is done.
+    struct WalkState;
+    void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
+    bool walk_step(WalkState& w, TruthHit& out) const;
+    void prefetch_cell(int li, int lj) const;      // requests tile-local cell (li, lj)'s texels
+    Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
+    friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
     // Solves cell (ci, cj) on [tau_in, tau_out]; returns the hit parameter or -1.
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, double tau_out) const;
     // The same, given the cell's index wrapped into the tile (wi, wj).
@@ -101,6 +110,7 @@ class ExactTracer final : public Tracer {
     std::vector<float> column_pairs_;
     static constexpr size_t kBandLevels = 4;
     std::vector<int> level_w_, level_h_;
+    std::vector<const float*> level_ptr_;  // level_max_[l].data()
 };
 
 }  // namespace pxh

@@ -4,10 +4,13 @@
 // vertical directions, flat and spiky fields, odd sizes) every hit equals the per-cell DDA's
 // (trace_naive) bit for bit, uv and z; the view's outside pixels too (they carry the look-at
 // ray). The walk solves a subset of the DDA's cells (on smooth fields far fewer): a
-// different path, the same answers.
+// different path, the same answers. Views larger than one of the tracer's work chunks are
+// traced through the interface too (its runs of identical rays are traced once: every pixel
+// still equals its own DDA hit, and rays one bit apart are traced each on its own).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "harness/scene/perspective_camera.h"
@@ -140,6 +143,107 @@ TEST(RayWalk, RaysThatStressTheDdaHitWhatItHits) {
             }
         EXPECT_EQ(tally.differ, 0) << c.what << ": of " << tally.rays << " rays";
     }
+}
+
+// Every sample of `view` through the Tracer interface equals trace_naive of its own ray, bit
+// for bit (uv, z); returns how many differ.
+size_t interface_differences(const ExactTracer& t, const View& view) {
+    Hits through;
+    t.trace(view, through);
+    EXPECT_EQ(through.uv.size(), view.size());
+    size_t differ = 0;
+    for (size_t k = 0; k < view.size(); ++k) {
+        const TruthHit ref = t.trace_naive(view.P[k], view.dir(k));
+        const bool same =
+            through.uv[k].x == ref.uv.x && through.uv[k].y == ref.uv.y && through.z[k] == ref.z;
+        if (!same && differ < 5)
+            ADD_FAILURE() << "sample " << k << ": (" << through.uv[k].x << ", " << through.uv[k].y
+                          << ", " << through.z[k] << ") vs the DDA's (" << ref.uv.x << ", "
+                          << ref.uv.y << ", " << ref.z << ")";
+        differ += !same;
+    }
+    return differ;
+}
+
+TEST(RayWalk, LargePerspectiveViewsThroughTheInterfaceHitWhatTheDdaHits) {
+    // 96 x 96 pixels: several of the tracer's work chunks; at 85 and 89 degrees the top rows are
+    // outside (each the look-at ray, a run that spans chunks), at 30 none are.
+    struct Case {
+        const char* what;
+        HeightField hf;
+    };
+    const Case cases[] = {{"fbm 128", generated("fbm", 128)},
+                          {"luxembourg (measured)", load_scan("luxembourg", "test")},
+                          {"random 50 x 70", test::random_field(50, 70, 3)}};
+    for (const Case& c : cases) {
+        const ExactTracer t(c.hf, 0.05, 1.0);
+        for (double theta : {30.0, 85.0, 89.0})
+            for (double distance : {1.5, 16.0})
+                for (double fov : {30.0, 60.0}) {
+                    const PerspectiveParams p = params(theta, 20, distance, fov, 96);
+                    const PerspectiveCamera cam(p);
+                    const View view = cam.view();
+                    EXPECT_EQ(interface_differences(t, view), 0u)
+                        << c.what << ", theta " << theta << ", D " << distance << ", fov " << fov;
+                    if (theta >= 85) {
+                        // Outside pixels: the look-at ray's own hit, every one of them.
+                        ASSERT_GT(cam.outside_count(), 96u) << c.what;
+                        const std::vector<uint8_t> inside = cam.inside();
+                        Hits through;
+                        t.trace(view, through);
+                        const TruthHit look = t.trace_naive({0.5, 0.5}, view_vector(theta, 20));
+                        size_t outside_same = 0;
+                        for (size_t k = 0; k < view.size(); ++k)
+                            if (!inside[k])
+                                outside_same += through.uv[k].x == look.uv.x &&
+                                                through.uv[k].y == look.uv.y &&
+                                                through.z[k] == look.z;
+                        EXPECT_EQ(outside_same, cam.outside_count()) << c.what;
+                    }
+                }
+    }
+}
+
+TEST(RayWalk, RunsOfEqualRaysAndRaysOneBitApartHitWhatTheDdaHits) {
+    // A view of random rays in runs of equal rays (lengths 1 to 40, across the tracer's work
+    // chunks), each run's neighbour one bit away in one of P.x, P.y, V.x, V.y, V.z: a tracer that
+    // reused a hit for a ray that only looks alike would differ from the DDA.
+    const HeightField hf = test::random_field(64, 48, 21);
+    const ExactTracer t(hf, 0.1, 0.6);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    View view;
+    const double inf = std::numeric_limits<double>::infinity();
+    while (view.size() < 5000) {
+        const double theta = 5 + 80 * unit(rng), phi = 360 * unit(rng);
+        Vec2d P{unit(rng) * 4 - 2, unit(rng) * 4 - 2};
+        Vec3d V = view_vector(theta, phi);
+        const int run = 1 + int(unit(rng) * 40);
+        for (int r = 0; r < run; ++r) {
+            view.P.push_back(P);
+            view.V.push_back(V);
+        }
+        switch (int(unit(rng) * 5)) {  // the next ray: one bit away
+            case 0:
+                P.x = std::nextafter(P.x, inf);
+                break;
+            case 1:
+                P.y = std::nextafter(P.y, -inf);
+                break;
+            case 2:
+                V.x = std::nextafter(V.x, inf);
+                break;
+            case 3:
+                V.y = std::nextafter(V.y, -inf);
+                break;
+            default:
+                V.z = std::nextafter(V.z, inf);
+                break;
+        }
+        view.P.push_back(P);
+        view.V.push_back(V);
+    }
+    EXPECT_EQ(interface_differences(t, view), 0u);
 }
 
 }  // namespace
