@@ -2,6 +2,7 @@
 """An independent check of pxh's perspective and level rows, from the contract alone.
 
     independent_check.py field OUT.png [--width W] [--height H] [--seed S]
+    independent_check.py selftest
     independent_check.py check RUN_DIR [--root DIR] [--tolerance 0.02]
                                        [--require-backend cpu] [--quiet]
 
@@ -12,7 +13,8 @@ sinusoids of whole periods per tile plus random periodic bumps, normalised to [0
 `check` reads a pxh results folder (results.csv, and run.json, whose `inputs` name the height
 files and their sha256) and recomputes, for every ok row of the methods parallax, steep and pom with lod
 `base` or `level` (parameters from the row's `params`), the columns err_mean, err_p50,
-fetches_mean, err_px_mean and samples_outside. It uses nothing of pxh but the numbers it
+fetches_mean, err_px_mean and samples_outside, and lod_mean (the mean of max(lambda, 0) over
+the inside pixels, whatever the row's lod: it pins the footprint and lambda on their own). It uses nothing of pxh but the numbers it
 wrote: the field is decoded from the PNG here, and the camera, the footprint, the texture
 levels, the trilinear fetch, the exact ground truth, the methods and the statistics are written
 from docs/conventions.md (sections 1-7 of the shared contract) in numpy.
@@ -25,14 +27,23 @@ moves one sample by one layer; at 4096 samples that is 0.025% of a mean per flip
 
 Pass rule per cell: |pxh - check| <= max(tolerance * |check|, floor), tolerance 2% (relative
 difference printed as |pxh - check| / |check|), floor 1e-4 texel (err_mean, err_p50), 1e-4
-pixel (err_px_mean), 0 for fetches_mean and samples_outside (exact counts; the 2% still
-applies). The floor is about ten times the float resolution of a uv in texels at the field sizes
+pixel (err_px_mean), 1e-6 level (lod_mean, double on both sides), 0 for fetches_mean and
+samples_outside (exact counts; the 2% still applies). The floor is about ten times the float resolution of a uv in texels at the field sizes
 the check is meant for (<= 256 texels a side), so it only matters for rows whose error is itself
 float noise (e.g. s -> 0).
 
+Rows of other methods or lods are ignored; a row that is not ok is listed as not checked, and
+fails the check when its backend is named by --require-backend (so the CPU rows can be required
+while a backend that cannot draw the view yet only reports its failed rows).
+
+`selftest` checks the check's own pieces: the PNG reader on every filter type, the levels
+(constant fields, power-of-two boxes, weights summing to 1, the 5 -> 2 weights), the trilinear
+fetch, the orthographic lambda, the footprint against differences, the outside pixels against
+the rays' angles, the exact hits against a fine march, and the methods' closed-form limits.
+
 Exit 0 when every compared cell passes and at least one row was compared (and, with
---require-backend, at least one row of each named backend); 1 when a cell fails; 2 on bad input
-(one line naming the file and the problem)."""
+--require-backend, every row of each named backend is ok and at least one was compared); 1 when
+a cell fails; 2 on bad input (one line naming the file and the problem)."""
 import argparse
 import csv
 import hashlib
@@ -47,9 +58,9 @@ import numpy as np
 
 METHODS = ("parallax", "steep", "pom")
 LODS = ("base", "level")
-COLUMNS = ("err_mean", "err_p50", "fetches_mean", "err_px_mean", "samples_outside")
+COLUMNS = ("err_mean", "err_p50", "fetches_mean", "err_px_mean", "samples_outside", "lod_mean")
 FLOORS = {"err_mean": 1e-4, "err_p50": 1e-4, "err_px_mean": 1e-4, "fetches_mean": 0.0,
-          "samples_outside": 0.0}
+          "samples_outside": 0.0, "lod_mean": 1e-6}
 COS_89 = math.cos(math.radians(89.0))
 
 
@@ -609,6 +620,7 @@ def check(args):
                                  lam if row["lod"] == "level" else None, where)
         mine = statistics(uv, truth, dpdi, dpdj, fetches, wid, hgt)
         mine["samples_outside"] = float((~inside).sum())
+        mine["lod_mean"] = float(np.maximum(lam, 0.0).mean())
         backends.add(row["backend"])
         label = (f"{row['method']} {row['params']} lod={row['lod']} {row['backend']} "
                  f"t={row['theta_deg']} D={row.get('distance', '')}")
@@ -661,6 +673,160 @@ def check(args):
     return 0 if not failures else 1
 
 
+def png_write_filtered(path, values, depth):
+    """A greyscale PNG whose rows cycle through the filter types 0-4 (the reader's test)."""
+    h, w = values.shape
+    bpp = depth // 8
+    rows = [values[j].astype(">u2" if depth == 16 else "u1").tobytes() for j in range(h)]
+    raw = bytearray()
+    prev = bytes(w * bpp)
+    for j, row in enumerate(rows):
+        ftype = j % 5
+        out = bytearray(len(row))
+        for k in range(len(row)):
+            left = row[k - bpp] if k >= bpp else 0
+            up = prev[k]
+            ul = prev[k - bpp] if k >= bpp else 0
+            pred = [0, left, up, (left + up) >> 1, 0][ftype]
+            if ftype == 4:
+                p = left + up - ul
+                pa, pb, pc = abs(p - left), abs(p - up), abs(p - ul)
+                pred = left if pa <= pb and pa <= pc else (up if pb <= pc else ul)
+            out[k] = (row[k] - pred) & 255
+        raw += bytes([ftype]) + out
+        prev = row
+
+    def chunk(kind, data):
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" +
+                chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, depth, 0, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(bytes(raw))) + chunk(b"IEND", b""))
+
+
+def selftest(args):
+    """The check's own pieces against closed forms and brute force."""
+    import tempfile
+    rng = np.random.default_rng(5)
+    results = []
+
+    def expect(name, ok, detail):
+        results.append(ok)
+        print(f"{'ok  ' if ok else 'FAIL'} {name}: {detail}")
+
+    with tempfile.TemporaryDirectory() as tmp:
+        for depth in (8, 16):
+            vals = rng.integers(0, 2 ** depth, (11, 7))
+            path = os.path.join(tmp, f"f{depth}.png")
+            png_write_filtered(path, vals, depth)
+            back = png_read_gray(path)
+            err = np.abs(back * (2 ** depth - 1) - vals).max()
+            expect(f"PNG {depth}-bit, filters 0-4", err < 1e-9, f"max error {err:.3g}")
+        f16 = make_field(30, 20, 1)
+        path = os.path.join(tmp, "field.png")
+        png_write_gray16(path, f16)
+        err = np.abs(png_read_gray(path) * 65535 - f16).max()
+        expect("the field's PNG round trip", err < 1e-9, f"max error {err:.3g}")
+    lv = build_levels(np.full((70, 90), 0.3))
+    err = max(np.abs(x - 0.3).max() for x in lv)
+    expect("a constant field on every level", err < 1e-12, f"{len(lv)} levels, max error {err:.3g}")
+    p2 = rng.random((32, 64))
+    lv = build_levels(p2)
+    err = max(np.abs(lv[k] - p2.reshape(32 >> k, 1 << k, 64 >> k, 1 << k).mean((1, 3))).max()
+              for k in range(1, 6))
+    expect("power-of-two levels = 2^L x 2^L boxes", err < 1e-12, f"max error {err:.3g}")
+    sums = max(np.abs(axis_weights(n, max(1, n >> k)).sum(1) - 1).max()
+               for n in range(1, 71) for k in range(1, 8))
+    expect("area weights of sizes 1-70 sum to 1", sums < 1e-12, f"max error {sums:.3g}")
+    w52 = axis_weights(5, 2)
+    expect("5 -> 2 weights", np.allclose(w52, [[0.4, 0.4, 0.2, 0, 0], [0, 0, 0.2, 0.4, 0.4]]),
+           str(w52.round(3).tolist()))
+    field = rng.random((14, 18))
+    lv = build_levels(field)
+    u, v = rng.random(500) * 3 - 1, rng.random(500) * 3 - 1
+    e0 = np.abs(fetch(lv, u, v, np.full(500, -0.7)) - bilinear(field, u, v)).max()
+    e2 = np.abs(fetch(lv, u, v, np.full(500, 2.0)) - bilinear(lv[2], u, v)).max()
+    blend = (1 - 0.3) * bilinear(lv[1], u, v) + 0.3 * bilinear(lv[2], u, v)
+    e13 = np.abs(fetch(lv, u, v, np.full(500, 1.3)) - blend).max()
+    eq = np.abs(fetch(lv, u, v, np.full(500, 9.0)) - lv[-1][0, 0]).max()
+    expect("trilinear fetch: lambda <= 0, integer, between, past q",
+           max(e0, e2, e13, eq) < 1e-12, f"{e0:.2g} {e2:.2g} {e13:.2g} {eq:.2g}")
+    dpdi = np.tile([1 / 64, 0.0], (3, 1))
+    dpdj = np.tile([0.0, 1 / 64], (3, 1))
+    lam = lambdas(dpdi, dpdj, 256, 128)
+    expect("orthographic lambda = log2(max(W, H) / N)", np.allclose(lam, 2.0), str(lam[0]))
+    for theta, phi, dist in ((30, 20, 1.5), (80, 200, 4.0)):
+        _, _, inside, cdi, cdj, _ = perspective(theta, phi, dist, 45, 32)
+        fdi, fdj = footprint_by_differences(theta, phi, dist, 45, 32)
+        rel = max(np.abs(fdi[inside] - cdi[inside]).max() / np.abs(cdi[inside]).max(),
+                  np.abs(fdj[inside] - cdj[inside]).max() / np.abs(cdj[inside]).max())
+        expect(f"footprint closed form = differences (theta {theta})", rel < 1e-5,
+               f"relative {rel:.2g}, {int((~inside).sum())} outside")
+    # outside pixels from geometry: row j's rays leave the eye at atan(a y_j) above the optical
+    # axis (toward the horizon), so V.z = cos(theta + atan(a y)) shrunk by the column's tilt
+    theta, fov, n = 80.0, 45.0, 32
+    _, vv, inside, _, _, _ = perspective(theta, 0.0, 2.0, fov, n)
+    a = math.tan(math.radians(fov) / 2)
+    predicted = np.zeros(n * n, bool)
+    for j in range(n):
+        ay = a * (2 * (j + 0.5) / n - 1)
+        for i in range(n):
+            ax = a * (2 * (i + 0.5) / n - 1)
+            vz = math.cos(math.radians(theta) + math.atan(ay)) / math.sqrt(1 + ax * ax / (1 + ay * ay))
+            predicted[j * n + i] = vz <= COS_89
+    top = predicted.reshape(n, n).any(1)
+    expect("outside pixels from the rays' angles (the top rows)",
+           np.array_equal(predicted, ~inside) and top[-1] and not top[0],
+           f"{int(predicted.sum())} predicted, {int((~inside).sum())} outside")
+    # the exact hits against a fine march
+    field = make_field(40, 30, 9).astype(float) / 65535
+    s, b = 0.05, 0.75
+    for theta in (30.0, 75.0, 88.0):
+        m = 400
+        pts = rng.random((m, 2))
+        ph = np.radians(rng.uniform(0, 360, m))
+        t = math.radians(theta)
+        vv = np.stack([math.sin(t) * np.cos(ph), math.sin(t) * np.sin(ph), np.full(m, math.cos(t))], 1)
+        uv = exact_hits(field, s, b, pts, vv)
+        z_top = s * (1 - b)
+        start = pts + vv[:, :2] * (z_top / vv[:, 2:3])
+        tau_exact = np.einsum("ij,ij->i", start - uv, vv[:, :2]) / np.einsum("ij,ij->i", vv[:, :2], vv[:, :2])
+        q = start - tau_exact[:, None] * vv[:, :2]
+        g_at = z_top - tau_exact * vv[:, 2] - s * (bilinear(field, q[:, 0], q[:, 1]) - b)
+        steps = 4000
+        tau_march = np.full(m, np.nan)
+        for k in range(steps + 1):
+            tau = k / steps * s / vv[:, 2]
+            qq = start - tau[:, None] * vv[:, :2]
+            g = z_top - tau * vv[:, 2] - s * (bilinear(field, qq[:, 0], qq[:, 1]) - b)
+            tau_march = np.where(np.isnan(tau_march) & (g <= 0), tau, tau_march)
+        step = s / vv[:, 2] / steps
+        later = (tau_exact > tau_march + 1e-12).sum()  # the exact root never after the march's
+        near = (np.abs(tau_exact - tau_march) <= step * 1.0001).mean()
+        expect(f"exact hits vs a fine march (theta {theta})",
+               later == 0 and np.abs(g_at).max() < 1e-12 and near > 0.99,
+               f"|g| at the hit <= {np.abs(g_at).max():.2g}, {near:.1%} within one march step, "
+               f"{later} after it")
+    # methods: a flat field makes parallax and pom exact; s -> 0 returns P
+    flat = np.full((16, 16), 0.4)
+    lv = build_levels(flat)
+    pts, vv, inside, _, _, _ = perspective(60, 30, 2.0, 45, 16)
+    pts, vv = pts[inside], vv[inside]
+    truth = exact_hits(flat, 0.05, 1.0, pts, vv)
+    for name in ("parallax", "pom"):
+        uv, _ = run_method(name, {"layers": "32"}, lv, 0.05, 1.0, pts, vv, None, "selftest")
+        err = np.abs(wrap(uv - truth)).max() * 16
+        expect(f"{name} exact on a flat field", err < 1e-9, f"max error {err:.2g} texel")
+    for name in METHODS:
+        uv, _ = run_method(name, {"layers": "16"}, lv, 1e-9, 0.5, pts, vv, None, "selftest")
+        err = np.abs(uv - pts).max()
+        expect(f"{name} returns P as s -> 0", err < 1e-8, f"max offset {err:.2g}")
+    print("PASS" if all(results) else f"FAIL: {results.count(False)} check(s)")
+    return 0 if all(results) else 1
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="command", required=True)
@@ -669,6 +835,7 @@ def main():
     fp.add_argument("--width", type=int, default=90)
     fp.add_argument("--height", type=int, default=70)
     fp.add_argument("--seed", type=int, default=20261202)
+    sub.add_parser("selftest", help="the check's own pieces against closed forms and a march")
     cp = sub.add_parser("check", help="recompute a run's rows and compare")
     cp.add_argument("run_dir")
     cp.add_argument("--root", default=".", help="the folder pxh ran in: run.json's input "
@@ -684,6 +851,8 @@ def main():
             print(f"{args.out}: {back.shape[1]} x {back.shape[0]}, heights "
                   f"{back.min():.4f} .. {back.max():.4f}")
             return 0
+        if args.command == "selftest":
+            return selftest(args)
         return check(args)
     except BadInput as e:
         print(f"independent_check: error: {e}", file=sys.stderr)
