@@ -11,13 +11,14 @@ sinusoids of whole periods per tile plus random periodic bumps, normalised to [0
 16-bit greyscale PNG, written by this file's own PNG encoder.
 
 `check` reads a pxh results folder (results.csv, and run.json, whose `inputs` name the height
-files and their sha256) and recomputes, for every ok row of the methods parallax, steep and pom with lod
-`base` or `level` (parameters from the row's `params`), the columns err_mean, err_p50,
+files and their sha256) and recomputes, for every ok row of the methods parallax, steep and pom
+with lod `base` or `level` (parameters from the row's `params`), the columns err_mean, err_p50,
 fetches_mean, err_px_mean and samples_outside, and lod_mean (the mean of max(lambda, 0) over
-the inside pixels, whatever the row's lod: it pins the footprint and lambda on their own). It uses nothing of pxh but the numbers it
-wrote: the field is decoded from the PNG here, and the camera, the footprint, the texture
-levels, the trilinear fetch, the exact ground truth, the methods and the statistics are written
-from docs/conventions.md (sections 1-7 of the shared contract) in numpy.
+the inside pixels, whatever the row's lod: it pins the footprint and lambda on their own). It
+uses nothing of pxh but the numbers it wrote: the field is decoded from the PNG here, and the
+camera, the footprint, the texture levels, the trilinear fetch, the exact ground truth, the
+methods and the statistics are written from the contract (../shared/spec/conventions.md,
+sections 1-7; docs/conventions.md restates it) in numpy.
 
 Precision: everything runs in float64. pxh's rows are float (CPU float twin, GLSL); the float
 rounding of a uv near 1 is about 6e-8 tile, 1e-5 texel at these sizes, far below 2% of any
@@ -28,9 +29,10 @@ moves one sample by one layer; at 4096 samples that is 0.025% of a mean per flip
 Pass rule per cell: |pxh - check| <= max(tolerance * |check|, floor), tolerance 2% (relative
 difference printed as |pxh - check| / |check|), floor 1e-4 texel (err_mean, err_p50), 1e-4
 pixel (err_px_mean), 1e-6 level (lod_mean, double on both sides), 0 for fetches_mean and
-samples_outside (exact counts; the 2% still applies). The floor is about ten times the float resolution of a uv in texels at the field sizes
-the check is meant for (<= 256 texels a side), so it only matters for rows whose error is itself
-float noise (e.g. s -> 0).
+samples_outside (exact counts; the 2% still applies). The floor is about ten times the float
+resolution of a uv in texels at the field sizes the check is meant for (<= 256 texels a side),
+so it only matters for rows whose error is itself float noise (pom at level 0 and a gentle
+angle: 1e-5 texel; s -> 0).
 
 Rows of other methods or lods are ignored; a row that is not ok is listed as not checked, and
 fails the check when its backend is named by --require-backend (so the CPU rows can be required
@@ -774,7 +776,8 @@ def selftest(args):
         ay = a * (2 * (j + 0.5) / n - 1)
         for i in range(n):
             ax = a * (2 * (i + 0.5) / n - 1)
-            vz = math.cos(math.radians(theta) + math.atan(ay)) / math.sqrt(1 + ax * ax / (1 + ay * ay))
+            tilt = math.sqrt(1 + ax * ax / (1 + ay * ay))
+            vz = math.cos(math.radians(theta) + math.atan(ay)) / tilt
             predicted[j * n + i] = vz <= COS_89
     top = predicted.reshape(n, n).any(1)
     expect("outside pixels from the rays' angles (the top rows)",
@@ -788,11 +791,13 @@ def selftest(args):
         pts = rng.random((m, 2))
         ph = np.radians(rng.uniform(0, 360, m))
         t = math.radians(theta)
-        vv = np.stack([math.sin(t) * np.cos(ph), math.sin(t) * np.sin(ph), np.full(m, math.cos(t))], 1)
+        vv = np.stack([math.sin(t) * np.cos(ph), math.sin(t) * np.sin(ph),
+                       np.full(m, math.cos(t))], 1)
         uv = exact_hits(field, s, b, pts, vv)
         z_top = s * (1 - b)
         start = pts + vv[:, :2] * (z_top / vv[:, 2:3])
-        tau_exact = np.einsum("ij,ij->i", start - uv, vv[:, :2]) / np.einsum("ij,ij->i", vv[:, :2], vv[:, :2])
+        vxy = vv[:, :2]
+        tau_exact = np.einsum("ij,ij->i", start - uv, vxy) / np.einsum("ij,ij->i", vxy, vxy)
         q = start - tau_exact[:, None] * vv[:, :2]
         g_at = z_top - tau_exact * vv[:, 2] - s * (bilinear(field, q[:, 0], q[:, 1]) - b)
         steps = 4000

@@ -4,8 +4,8 @@
 # (parallax, steep, pom; lod base and level; distance 1.5 and 4; theta 30, 60, 80; CPU and
 # GLSL), then the check, which must pass within 2% on every compared cell (after the check's
 # own pieces pass its selftest: closed forms, brute force). Then the check must
-# fail on a doctored copy of the results: five cells moved by 2.5% (one per compared column)
-# must be the five failures, and a sixth moved by 1.5% must pass.
+# fail on a doctored copy of the results: six cells moved by 2.5% (one per compared column)
+# must be the six failures, and a seventh moved by 1.5% must pass.
 #   tests/truth/independent_check_test.sh PXH_BINARY WORK_DIR
 # Run from the source root (ctest does: the independent_check test). GLSL rows are compared
 # whenever they ran (status ok); while the GLSL backend cannot draw a perspective view its rows
@@ -28,7 +28,8 @@ rc=0
   >"$work/run.log" 2>&1 || rc=$?
 # exit 1 is a run with failed rows (the GLSL rows where the backend cannot draw the view); the
 # check names them and requires every CPU row
-[ "$rc" -le 1 ] && [ -f "$work/run/results.csv" ] || fail "pxh run exited $rc: $(tail -3 "$work/run.log")"
+[ "$rc" -le 1 ] && [ -f "$work/run/results.csv" ] ||
+  fail "pxh run exited $rc: $(tail -3 "$work/run.log")"
 
 "$py" scripts/independent_check.py check "$work/run" --require-backend cpu >"$work/check.log" 2>&1
 rc=$?
@@ -36,8 +37,10 @@ cat "$work/check.log"
 [ "$rc" -eq 0 ] || fail "the check exited $rc on pxh's own rows"
 
 # The check must be able to fail: a doctored copy.
-mkdir -p "$work/doctored" && cp "$work/run/run.json" "$work/doctored/" || fail "cannot copy the run"
-"$py" - "$work/run/results.csv" "$work/doctored/results.csv" <<'EOF' || fail "cannot doctor the results"
+mkdir -p "$work/doctored" && cp "$work/run/run.json" "$work/doctored/" ||
+  fail "cannot copy the run"
+doctor() { "$py" - "$work/run/results.csv" "$work/doctored/results.csv"; }
+doctor <<'EOF' || fail "cannot doctor the results"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1], newline="")))
 edits = [  # (method, params prefix, lod, theta, distance, column, factor)
@@ -46,6 +49,7 @@ edits = [  # (method, params prefix, lod, theta, distance, column, factor)
     ("pom", "layers=32", "level", "80", "1.5", "fetches_mean", 1.025),
     ("pom", "layers=adaptive", "level", "30", "4", "err_px_mean", 1.025),
     ("parallax", "", "level", "80", "4", "samples_outside", 1.025),
+    ("steep", "layers=16", "base", "30", "1.5", "lod_mean", 1.025),
     ("steep", "layers=16", "base", "60", "1.5", "err_mean", 1.015),  # within 2%: must pass
 ]
 for method, params, lod, theta, dist, col, factor in edits:
@@ -63,10 +67,11 @@ EOF
 rc=0
 "$py" scripts/independent_check.py check "$work/doctored" --require-backend cpu --quiet \
   >"$work/doctored.log" 2>&1 || rc=$?
-[ "$rc" -eq 1 ] || fail "the check exited $rc on the doctored results, expected 1: $(tail -3 "$work/doctored.log")"
-grep -q "FAIL: 5 cell(s) off by more than 2%" "$work/doctored.log" ||
-  fail "the doctored results: not the five doctored cells: $(grep FAIL "$work/doctored.log")"
-for col in err_mean err_p50 fetches_mean err_px_mean samples_outside; do
+[ "$rc" -eq 1 ] ||
+  fail "the check exited $rc on the doctored results, expected 1: $(tail -3 "$work/doctored.log")"
+grep -q "FAIL: 6 cell(s) off by more than 2%" "$work/doctored.log" ||
+  fail "the doctored results: not the six doctored cells: $(grep FAIL "$work/doctored.log")"
+for col in err_mean err_p50 fetches_mean err_px_mean samples_outside lod_mean; do
   grep -q "^FAIL .*: $col pxh" "$work/doctored.log" || fail "the doctored $col was not caught"
 done
-echo "independent_check_test: pxh's rows pass; the doctored copy fails on exactly its five 2.5% cells"
+echo "independent_check_test: pxh's rows pass; a doctored copy fails on exactly its six 2.5% cells"
