@@ -661,6 +661,8 @@ def check(args):
           "above the floor): " + ", ".join(f"{c} {worst[c]:.3g}" for c in COLUMNS))
     print("max relative difference per column over every row (value at that cell): " +
           ", ".join(f"{c} {worst_all[c][0]:.3g} ({worst_all[c][1]:.3g})" for c in COLUMNS))
+    for msg in failures:
+        print("FAIL " + msg)
     missing = [bk for bk in args.require_backend if bk not in backends]
     if not compared:
         print("FAIL: no row of parallax/steep/pom with lod base or level was compared")
@@ -668,8 +670,6 @@ def check(args):
     if missing:
         print(f"FAIL: no compared row of backend(s) {', '.join(missing)}")
         return 1
-    for msg in failures:
-        print("FAIL " + msg)
     print("PASS" if not failures else f"FAIL: {len(failures)} cell(s) off by more than "
           f"{args.tolerance * 100:g}%")
     return 0 if not failures else 1
