@@ -59,14 +59,15 @@ struct TestView {
 TestView perspective(const HeightField& hf, double s, double b, Cam c, int n, double phi = 25) {
     PerspectiveParams p{c.theta, phi, c.distance, c.fov, n};
     check_eye_above_slab(p, s, b, "test");
-    TestView v{PerspectiveCamera(p).view(), {}, {s, b, view_vector(c.theta, phi), hf.width,
-                                                 hf.height}};
+    TestView v{
+        PerspectiveCamera(p).view(), {}, {s, b, view_vector(c.theta, phi), hf.width, hf.height}};
     v.lambda = sample_lods(v.rays.J, hf.width, hf.height);
     return v;
 }
 
 TestView orthographic(const HeightField& hf, double s, double b, double theta, int n) {
-    TestView v{orthographic_view(view_vector(theta, 25), n), {},
+    TestView v{orthographic_view(view_vector(theta, 25), n),
+               {},
                {s, b, view_vector(theta, 25), hf.width, hf.height}};
     v.lambda.assign(v.rays.size(), footprint_lod(v.rays.J[0], hf.width, hf.height));
     return v;
@@ -119,8 +120,8 @@ TEST_P(GlslPerspective, BaseAgreesWithTheCpuFloatTwin) {
                 const MethodOutput c = cpu.run(spec, in, {"float", ""});
                 const Far f = compare(g, c, v.rays, hf);
                 EXPECT_LE(f.far, f.inside / 1000)
-                    << m.name << " theta=" << theta << " D=" << D << " fov=" << fov
-                    << ": worst " << f.worst << " texel";
+                    << m.name << " theta=" << theta << " D=" << D << " fov=" << fov << ": worst "
+                    << f.worst << " texel";
                 EXPECT_GT(f.inside, 0u);
                 EXPECT_LE(g.samples_discarded + v.rays.outside_count(), v.rays.size());
                 if (v.rays.outside_count() > 0) {
@@ -260,8 +261,8 @@ TEST(GlslLodModes, GradAndImplicitEqualBaseOnAConstantField) {
     CpuBackend cpu(BackendSettings{});
     for (const std::string& name : level_methods()) {
         const MethodInfo& m = *find_method(name);
-        for (const TestView& v : {perspective(flat, s, b, {70, 1.5, 60}, 24),
-                                  orthographic(flat, s, b, 60, 16)}) {
+        for (const TestView& v :
+             {perspective(flat, s, b, {70, 1.5, 60}, 24), orthographic(flat, s, b, 60, 16)}) {
             ViewInput in{v.scene, flat, v.rays, nullptr, false, nullptr};
             in.levels = &flat_levels;
             in.lambda = &v.lambda;
@@ -303,7 +304,8 @@ TEST(GlslLodModes, PluginPxhLodIsTheSamplesLambda) {
     d.method.name = "test_lod_probe";
     d.method.shader_file = "tests/lod_probe.frag.glsl";
     d.method.has_builtin_text = true;
-    d.method.builtin_text = "vec2 pxh_method(vec2 P) { return P + vec2(pxh_lod(), 0.0) / 1024.0; }\n";
+    d.method.builtin_text =
+        "vec2 pxh_method(vec2 P) { return P + vec2(pxh_lod(), 0.0) / 1024.0; }\n";
     const HeightField hf = generated("fbm", 64, 32);
     const TextureLevels levels = build_texture_levels(hf);
     const TestView v = perspective(hf, 0.05, 1.0, {65, 2.5, 50}, 24, 40);
@@ -393,6 +395,48 @@ lod = ["base", "level"]
     EXPECT_EQ(rows_by["glsl/implicit"], 4);
     EXPECT_EQ(outside.size(), 4u);
     EXPECT_NE(outside["80/1.5"], "0") << "the 80 degree view reaches past the horizon";
+}
+
+// A plug-in calling pxh_lod() passes the check before the run and runs in every lod mode; it
+// fetches nothing, so its rows are the same in every mode (what it returns is the lambda: the
+// probe of PluginPxhLodIsTheSamplesLambda, in process).
+TEST_F(GlslLodCli, PluginCallingPxhLodRunsInEveryMode) {
+    write("probe.frag.glsl",
+          "vec2 pxh_method(vec2 P) { return P + vec2(pxh_lod(), 0.0) / 1024.0; }\n");
+    write("p.toml", R"(name = "probe"
+samples = 24
+backends = ["glsl"]
+timing_repeats = 0
+[views]
+camera = "perspective"
+theta_deg = [60]
+distance = [2]
+[[heightfields]]
+generator = "fbm"
+size = 64
+scale = 0.05
+bias = 1.0
+[[methods]]
+name = "probe"
+shader = "probe.frag.glsl"
+max_fetches = 1
+lod = ["base", "level", "grad", "implicit"]
+[[methods]]
+name = "none"
+)");
+    const test::CliResult r =
+        pxh("run " + (dir / "p.toml").string() + " --quiet --out " + (dir / "r").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const CsvTable t = read_csv((dir / "r" / "results.csv").string());
+    ASSERT_EQ(t.rows.size(), 5u);
+    ASSERT_EQ(t.get(4, "method"), "none");  // returns P: the probe with pxh_lod() = 0
+    for (size_t i = 0; i < 4; ++i) {
+        EXPECT_EQ(t.get(i, "status"), "ok") << t.get(i, "lod") << " " << t.get(i, "error");
+        EXPECT_EQ(t.get(i, "samples_discarded"), "0") << t.get(i, "lod");
+        EXPECT_EQ(t.get(i, "err_mean"), t.get(0, "err_mean")) << t.get(i, "lod");
+        EXPECT_GT(std::abs(t.number(i, "err_mean") - t.number(4, "err_mean")), 1e-3)
+            << "the probe returned P: pxh_lod() = 0?";
+    }
 }
 
 }  // namespace
