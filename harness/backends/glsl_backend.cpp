@@ -252,8 +252,9 @@ std::string glsl_shader_description(const GlslMethod& m, const std::string& shad
 
 const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m, ProgramKind kind) {
     // common.glsl's PXH_* defines, in a preamble before its first line (the line numbers stay
-    // the files'): none for the N x N grid at level 0, whose program is exactly what it was
-    // before there were any (the shader_sha256 column is the method's own file's, unchanged).
+    // the files'): none for the N x N grid at level 0, whose program after preprocessing is,
+    // token for token, the one before these modes existed (the same numbers; the shader_sha256
+    // column is the method's own file's, unchanged).
     std::string defines;
     if (kind.point_map) defines += "#define PXH_POINT_MAP\n";
     if (kind.lod == LodMode::level) defines += "#define PXH_LOD_LEVEL\n";
