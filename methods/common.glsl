@@ -17,13 +17,45 @@ uniform int u_light_on;
 uniform vec3 u_light;        // L, toward the light
 uniform float u_shadow_layers_min;
 uniform float u_shadow_layers_max;
+// What a program has beyond the orthographic grid at level 0: the harness defines these in a
+// generated preamble only when the row needs them (none of them: the grid program as always).
+//   PXH_POINT_MAP     each sample's P and inside flag per pixel (a perspective view)
+//   PXH_LOD_MAP       each sample's lambda per pixel (lod = level, or a shader calling pxh_lod)
+//   PXH_LOD_LEVEL     every height fetch at the sample's lambda (textureLod)
+//   PXH_LOD_GRAD      every height fetch with the sample's footprint (textureGrad)
+//   PXH_LOD_IMPLICIT  every height fetch with the hardware's derivatives (texture)
+#if defined(PXH_POINT_MAP)
+uniform sampler2D u_point_map;  // P (xy), inside (z: 1 inside, 0 outside); texel (i, j): j N + i
+#endif
+#if defined(PXH_LOD_MAP)
+uniform sampler2D u_lod_map;  // lambda (r32f), texel (i, j) is sample j N + i
+#endif
+#if defined(PXH_LOD_GRAD)
+uniform sampler2D u_grad_map;  // the footprint: dP/di (xy), dP/dj (zw), texel (i, j): j N + i
+#endif
 
 int pxh_fetches = 0;
 vec3 pxh_V;  // this sample's V (unit, toward the eye): what a method reads; set by main()
+#if defined(PXH_LOD_MAP)
+float pxh_lambda;  // this sample's lambda; set by main()
+// The sample's level of detail: log2 of its footprint's texels per pixel (may be negative).
+float pxh_lod() { return pxh_lambda; }
+#endif
+#if defined(PXH_LOD_GRAD)
+vec4 pxh_footprint;  // this sample's dP/di (xy), dP/dj (zw); set by main()
+#endif
 
 float pxh_height(vec2 uv) {
     pxh_fetches += 1;
+#if defined(PXH_LOD_LEVEL)
+    return textureLod(u_height, uv, pxh_lambda).r;
+#elif defined(PXH_LOD_GRAD)
+    return textureGrad(u_height, uv, pxh_footprint.xy, pxh_footprint.zw).r;
+#elif defined(PXH_LOD_IMPLICIT)
+    return texture(u_height, uv).r;
+#else
     return textureLod(u_height, uv, 0.0).r;
+#endif
 }
 float pxh_z(vec2 uv) { return u_scale * (pxh_height(uv) - u_bias); }
 // A method resource (methods/resource.h: `uniform sampler2D r_NAME;` in the method's file),
@@ -110,8 +142,20 @@ vec2 pxh_shadow(vec2 uv) {
 vec2 pxh_method(vec2 P);  // the method's file defines it
 
 void main() {
+#if defined(PXH_POINT_MAP)
+    vec4 point = texelFetch(u_point_map, ivec2(gl_FragCoord.xy), 0);
+    if (point.z == 0.0) discard;  // outside the view: masked (counted as outside, not discarded)
+    vec2 P = point.xy;
+#else
     vec2 P = gl_FragCoord.xy / u_samples;
+#endif
     pxh_V = u_view_per_sample ? texelFetch(u_view_map, ivec2(gl_FragCoord.xy), 0).xyz : u_view;
+#if defined(PXH_LOD_MAP)
+    pxh_lambda = texelFetch(u_lod_map, ivec2(gl_FragCoord.xy), 0).r;
+#endif
+#if defined(PXH_LOD_GRAD)
+    pxh_footprint = texelFetch(u_grad_map, ivec2(gl_FragCoord.xy), 0);
+#endif
     vec2 uv = pxh_method(P);
     float fetches = float(pxh_fetches);
     vec2 shadow = u_light_on != 0 ? pxh_shadow(uv) : vec2(1.0);

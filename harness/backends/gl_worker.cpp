@@ -108,6 +108,7 @@ class In {
 };
 
 static_assert(std::is_trivially_copyable_v<Vec2d> && std::is_trivially_copyable_v<Vec3d>);
+static_assert(std::is_trivially_copyable_v<Footprint>);
 
 template <class A>
 void visit(A& a, Vec3d& v) {
@@ -132,6 +133,10 @@ void visit(A& a, ResourceSpec& r) {  // what the GL side uses of it
 template <class A>
 void visit(A& a, ResourceLevel& l) {
     a(l.width), a(l.height), a(l.texels);
+}
+template <class A>
+void visit(A& a, HeightField& f) {  // what the GL side uses of it
+    a(f.width), a(f.height), a(f.texels);
 }
 template <class A>
 void visit(A& a, GlslMethod& m) {
@@ -161,6 +166,11 @@ struct DrawData {
     LightSpec light;
     MethodResources res;
     std::vector<Vec3d> V;
+    std::vector<Vec2d> P;
+    std::vector<uint8_t> inside;
+    TextureLevels levels;
+    std::vector<double> lambda;
+    std::vector<Footprint> J;
 };
 
 enum : uint8_t { kDraw = 1, kCheck = 2 };
@@ -179,6 +189,17 @@ void write_draw(Out& o, const GlslDraw& d) {
     }
     o(bool(d.V));
     if (d.V) o(*d.V);
+    o(bool(d.P));
+    if (d.P) o(*d.P);
+    o(bool(d.inside));
+    if (d.inside) o(*d.inside);
+    o(d.lod);
+    o(bool(d.levels));
+    if (d.levels) o(d.levels->levels);
+    o(bool(d.lambda));
+    if (d.lambda) o(*d.lambda);
+    o(bool(d.J));
+    if (d.J) o(*d.J);
 }
 
 void read_draw(In& in, DrawData& x) {
@@ -209,6 +230,32 @@ void read_draw(In& in, DrawData& x) {
     if (has) {
         in(x.V);
         d.V = &x.V;
+    }
+    in(has);
+    if (has) {
+        in(x.P);
+        d.P = &x.P;
+    }
+    in(has);
+    if (has) {
+        in(x.inside);
+        d.inside = &x.inside;
+    }
+    in(d.lod);
+    in(has);
+    if (has) {
+        in(x.levels.levels);
+        d.levels = &x.levels;
+    }
+    in(has);
+    if (has) {
+        in(x.lambda);
+        d.lambda = &x.lambda;
+    }
+    in(has);
+    if (has) {
+        in(x.J);
+        d.J = &x.J;
     }
 }
 

@@ -17,6 +17,7 @@
 #include "harness/core/param_dict.h"
 #include "harness/core/sha256.h"
 #include "harness/gl/context.h"
+#include "harness/scene/perspective_camera.h"
 #include "harness/truth/ground_truth.h"
 
 namespace pxh {
@@ -190,6 +191,8 @@ GlslBackend::~GlslBackend() {
     glDeleteTextures(2, color_);
     glDeleteTextures(1, &texture_);
     if (view_map_) glDeleteTextures(1, &view_map_);
+    for (unsigned t : {point_map_, lod_map_, grad_map_})
+        if (t) glDeleteTextures(1, &t);
     glDeleteFramebuffers(1, &fbo_);
     glDeleteVertexArrays(1, &vao_);
 }
@@ -247,10 +250,24 @@ std::string glsl_shader_description(const GlslMethod& m, const std::string& shad
     }
 }
 
-const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
-    auto it = programs_.find(m.name);
-    if (it != programs_.end()) return it->second;
+const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m, ProgramKind kind) {
+    // common.glsl's PXH_* defines, in a preamble before its first line (the line numbers stay
+    // the files'): none for the N x N grid at level 0, whose program after preprocessing is,
+    // token for token, the one before these modes existed (the same numbers; the shader_sha256
+    // column is the method's own file's, unchanged).
+    std::string defines;
+    if (kind.point_map) defines += "#define PXH_POINT_MAP\n";
+    if (kind.lod == LodMode::level) defines += "#define PXH_LOD_LEVEL\n";
+    if (kind.lod == LodMode::grad) defines += "#define PXH_LOD_GRAD\n";
+    if (kind.lod == LodMode::implicit) defines += "#define PXH_LOD_IMPLICIT\n";
+    const std::string base_key = m.name + "\n" + defines;
+    if (auto it = programs_.find(base_key); it != programs_.end()) return it->second;
     const MethodSources ms = method_sources(m, opt_.shader_dir);
+    // Each sample's lambda: what lod = level fetches at, and what pxh_lod() returns to a
+    // method whose file calls it (in any mode).
+    const bool lod_map =
+        kind.lod == LodMode::level || ms.body.text.find("pxh_lod") != std::string::npos;
+    if (lod_map) defines += "#define PXH_LOD_MAP\n";
     const ShaderSource &common = ms.common, &body = ms.body;
     const std::string &common_name = ms.common_name, &body_name = ms.body_name;
     // Every source compiled is recorded with its sha256 (run.json), builtin or read from a file.
@@ -258,8 +275,8 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
     compiled_sources_[body_name] = sha256_hex(body.text);
     // The method's lines are numbered from kBodyLine + 1: Mesa reports some errors with source
     // string 0 instead of #line's, so the line itself tells the files apart.
-    const std::string src = "#version 450 core\n#line 1 1\n" + common.text + "\n#line " +
-                            std::to_string(kBodyLine + 1) + " 2\n" + body.text;
+    const std::string src = "#version 450 core\n" + defines + "#line 1 1\n" + common.text +
+                            "\n#line " + std::to_string(kBodyLine + 1) + " 2\n" + body.text;
     // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
     const std::string what =
         "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
@@ -288,8 +305,9 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
         glDeleteProgram(prog);
         throw GlslProgramError(what + ": program link failed: " + joined(lines), lines);
     }
-    Program& p = programs_[m.name];
+    Program& p = programs_[base_key];
     p.id = prog;
+    p.lod_map = lod_map;
     p.shader = ms.description();
     p.sha256 = sha256_hex(body.text);
     p.what = what;
@@ -297,31 +315,75 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m) {
     return p;
 }
 
-void GlslBackend::upload(const HeightField& hf, const std::string& format) {
-    // Uploaded on every call: a cache keyed on the data pointer can see a freed field's
-    // address reused by the next one, and an upload costs little next to rendering.
-    glBindTexture(GL_TEXTURE_2D, texture_);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+namespace {
+
+// One level of the height texture in the row's format (r8, r16: each texel rounded to the
+// nearest step, the quantisation every level gets).
+void upload_level(int level, const HeightField& hf, const std::string& format) {
     // Rows go up unchanged: row j = 0 of the field is texture row 0 (v near 0).
     if (format == "r32f") {
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, hf.width, hf.height, 0, GL_RED, GL_FLOAT,
+        glTexImage2D(GL_TEXTURE_2D, level, GL_R32F, hf.width, hf.height, 0, GL_RED, GL_FLOAT,
                      hf.texels.data());
     } else if (format == "r16") {
         std::vector<uint16_t> q(hf.texels.size());
         for (size_t i = 0; i < q.size(); ++i) q[i] = uint16_t(std::lround(hf.texels[i] * 65535.0));
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_R16, hf.width, hf.height, 0, GL_RED, GL_UNSIGNED_SHORT,
-                     q.data());
+        glTexImage2D(GL_TEXTURE_2D, level, GL_R16, hf.width, hf.height, 0, GL_RED,
+                     GL_UNSIGNED_SHORT, q.data());
     } else if (format == "r8") {
         std::vector<uint8_t> q(hf.texels.size());
         for (size_t i = 0; i < q.size(); ++i) q[i] = uint8_t(std::lround(hf.texels[i] * 255.0));
-        glTexImage2D(GL_TEXTURE_2D, 0, GL_R8, hf.width, hf.height, 0, GL_RED, GL_UNSIGNED_BYTE,
+        glTexImage2D(GL_TEXTURE_2D, level, GL_R8, hf.width, hf.height, 0, GL_RED, GL_UNSIGNED_BYTE,
                      q.data());
     } else {
         throw std::runtime_error("unknown texture format '" + format + "'");
     }
     if (glGetError() != GL_NO_ERROR)
         throw std::runtime_error("cannot upload a " + std::to_string(hf.width) + " x " +
-                                 std::to_string(hf.height) + " " + format + " texture");
+                                 std::to_string(hf.height) + " " + format + " texture" +
+                                 (level > 0 ? " level " + std::to_string(level) : ""));
+}
+
+}  // namespace
+
+void GlslBackend::upload(const HeightField& hf, const std::string& format,
+                         const TextureLevels* levels) {
+    // Uploaded on every call: a cache keyed on the data pointer can see a freed field's
+    // address reused by the next one, and an upload costs little next to rendering.
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    if (!levels) {  // level 0 alone, bilinear (lod = base)
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+        upload_level(0, hf, format);
+        return;
+    }
+    // pxh's own levels as the texture's mip chain (never glGenerateMipmap: both twins sample
+    // the same levels), GL's LINEAR_MIPMAP_LINEAR between them.
+    if (levels->levels.empty() || levels->levels[0].width != hf.width ||
+        levels->levels[0].height != hf.height)
+        throw std::logic_error("glsl: texture levels of another field");
+    for (int L = 0; L <= levels->last(); ++L) upload_level(L, levels->levels[size_t(L)], format);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels->last());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+}
+
+std::vector<float> GlslBackend::height_texture_level(int level, int& width, int& height) {
+    use_gl_context(*ctx_);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glGetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_WIDTH, &width);
+    glGetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_HEIGHT, &height);
+    std::vector<float> texels(size_t(std::max(width, 0)) * size_t(std::max(height, 0)));
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    if (!texels.empty()) glGetTexImage(GL_TEXTURE_2D, level, GL_RED, GL_FLOAT, texels.data());
+    return texels;
+}
+
+int GlslBackend::height_texture_max_level() {
+    use_gl_context(*ctx_);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    GLint q = 0;
+    glGetTexParameteriv(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, &q);
+    return q;
 }
 
 void GlslBackend::ensure_framebuffer(int n) {
@@ -372,6 +434,82 @@ void GlslBackend::upload_view_map(const std::vector<Vec3d>& V, int samples) {
                                  std::to_string(samples) + " directions");
 }
 
+namespace {
+
+// An N x N RGBA32F (channels 4) or R32F (channels 1) texture read with texelFetch at the
+// fragment's pixel (texel (i, j) is sample j N + i), left bound to texture unit `unit`.
+void upload_sample_map(unsigned& tex, int unit, int n, int channels,
+                       const std::vector<float>& texels, const char* what) {
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
+    if (!tex) {
+        glGenTextures(1, &tex);
+        glBindTexture(GL_TEXTURE_2D, tex);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+    }
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexImage2D(GL_TEXTURE_2D, 0, channels == 4 ? GL_RGBA32F : GL_R32F, n, n, 0,
+                 channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, texels.data());
+    if (glGetError() != GL_NO_ERROR)
+        throw std::runtime_error("cannot upload the view's " + std::to_string(n) + " x " +
+                                 std::to_string(n) + " " + what);
+}
+
+// Texture units: 0 the heights, 1 the view map, 2 - 4 the per-sample maps, then resources.
+constexpr int kPointUnit = 2, kLodUnit = 3, kGradUnit = 4, kFirstResourceUnit = 5;
+
+}  // namespace
+
+// The per-sample maps the program reads (PXH_POINT_MAP, PXH_LOD_MAP, PXH_LOD_GRAD), bound to
+// their units.
+void GlslBackend::upload_sample_maps(const GlslDraw& d, const Program& program) {
+    const int n = d.samples;
+    const size_t count = size_t(n) * size_t(n);
+    if (d.P) {
+        if (d.P->size() != count || (d.inside && !d.inside->empty() && d.inside->size() != count))
+            throw std::logic_error("glsl: the view's points do not match its " + std::to_string(n) +
+                                   " x " + std::to_string(n) + " pixels");
+        std::vector<float> t(count * 4);
+        for (size_t k = 0; k < count; ++k) {
+            t[4 * k] = float((*d.P)[k].x);
+            t[4 * k + 1] = float((*d.P)[k].y);
+            t[4 * k + 2] = !d.inside || d.inside->empty() || (*d.inside)[k] ? 1.0f : 0.0f;
+        }
+        upload_sample_map(point_map_, kPointUnit, n, 4, t, "sample points");
+    }
+    // The footprints as given, or the grid's (one shared by every sample).
+    const std::vector<Footprint> grid_J = {orthographic_footprint(n)};
+    const std::vector<Footprint>& J = d.J && !d.J->empty() ? *d.J : grid_J;
+    if (J.size() != 1 && J.size() != count)
+        throw std::logic_error("glsl: " + std::to_string(J.size()) + " footprints for " +
+                               std::to_string(count) + " samples");
+    auto footprint = [&](size_t k) -> const Footprint& { return J[J.size() == 1 ? 0 : k]; };
+    if (program.lod_map) {
+        if (d.lambda && d.lambda->size() != count)
+            throw std::logic_error("glsl: " + std::to_string(d.lambda->size()) + " lambdas for " +
+                                   std::to_string(count) + " samples");
+        std::vector<float> t(count);
+        for (size_t k = 0; k < count; ++k)
+            t[k] = float(d.lambda ? (*d.lambda)[k]
+                                  : footprint_lod(footprint(k), d.hf->width, d.hf->height));
+        upload_sample_map(lod_map_, kLodUnit, n, 1, t, "levels of detail");
+    }
+    if (d.lod == LodMode::grad) {
+        std::vector<float> t(count * 4);
+        for (size_t k = 0; k < count; ++k) {
+            const Footprint& f = footprint(k);
+            t[4 * k] = float(f.dPdi.x);
+            t[4 * k + 1] = float(f.dPdi.y);
+            t[4 * k + 2] = float(f.dPdj.x);
+            t[4 * k + 3] = float(f.dPdj.y);
+        }
+        upload_sample_map(grad_map_, kGradUnit, n, 4, t, "footprints");
+    }
+    glActiveTexture(GL_TEXTURE0);
+}
+
 // The harness's uniforms (common.glsl's u_*), then the method's, checked against the linked
 // program's active ones (a misspelt or unused uniform is an error, not a value GL drops).
 void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
@@ -384,6 +522,9 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     glUniform3f(loc("u_view"), sc.V.x, sc.V.y, sc.V.z);
     glUniform1i(loc("u_view_per_sample"), f.V ? 1 : 0);
     glUniform1i(loc("u_view_map"), 1);
+    glUniform1i(loc("u_point_map"), kPointUnit);
+    glUniform1i(loc("u_lod_map"), kLodUnit);
+    glUniform1i(loc("u_grad_map"), kGradUnit);
     glUniform2i(loc("u_size"), f.hf->width, f.hf->height);
     glUniform1f(loc("u_samples"), float(f.samples));
     glUniform1i(loc("u_light_on"), f.light ? 1 : 0);
@@ -405,7 +546,7 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
 std::vector<std::string> GlslBackend::check(const GlslMethod& m, const GlUniforms& uniforms) {
     use_gl_context(*ctx_);
     try {
-        const Program& program = program_for(m);
+        const Program& program = program_for(m, ProgramKind());
         std::vector<DeclaredUniform> declared;
         for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
         for (const ResourceSpec& r : m.resources) declared.push_back({r.name, "sampler2D"});
@@ -470,7 +611,8 @@ void GlslBackend::draw_frames(int frames, MethodOutput& out) {
 }
 
 // The two render targets back into uv, fetches and (with a light) the shadow factors.
-void GlslBackend::read_back(int samples, bool light, MethodOutput& out) {
+void GlslBackend::read_back(int samples, bool light, const std::vector<uint8_t>* inside,
+                            MethodOutput& out) {
     const size_t n = size_t(samples) * samples;
     std::vector<float> px(n * 4), sh(n * 4);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -484,7 +626,8 @@ void GlslBackend::read_back(int samples, bool light, MethodOutput& out) {
         if (px[4 * k + 3] != 1.0f) {  // discarded or unwritten: no uv (counted, never scored)
             out.uv[k] = {NAN, NAN};
             out.fetches[k] = 0;
-            ++out.samples_discarded;
+            // An outside sample is masked by main() (counted as outside by the metrics).
+            if (!inside || inside->empty() || (*inside)[k]) ++out.samples_discarded;
             continue;
         }
         out.uv[k] = {px[4 * k], px[4 * k + 1]};
@@ -525,9 +668,13 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
     const MethodResources* resources = d.resources;
     const std::vector<Vec3d>* V = d.V;
     use_gl_context(*ctx_);
-    const Program& program = program_for(d.method);
-    upload(hf, d.texture_format);
+    const Program& program = program_for(d.method, {d.P != nullptr, d.lod});
+    if (d.lod != LodMode::base && !d.levels)
+        throw std::logic_error("method '" + d.method.name + "': lod = " + lod_name(d.lod) +
+                               " without the field's texture levels");
+    upload(hf, d.texture_format, d.lod == LodMode::base ? nullptr : d.levels);
     if (V) upload_view_map(*V, samples);
+    upload_sample_maps(d, program);
     ensure_framebuffer(samples);
     glUseProgram(program.id);
     glActiveTexture(GL_TEXTURE0);
@@ -538,7 +685,7 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
     if (!d.method.resources.empty()) {
         if (!resources || resources->items.size() != d.method.resources.size())
             throw std::logic_error("method '" + d.method.name + "': resources not built");
-        resource_textures_.bind(program.id, *resources, 2);  // 0: heights, 1: the view map
+        resource_textures_.bind(program.id, *resources, kFirstResourceUnit);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glViewport(0, 0, samples, samples);
@@ -548,7 +695,7 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
     if (const GLenum err = glGetError(); err != GL_NO_ERROR)
         throw std::runtime_error("method '" + d.method.name + "': GL error " + std::to_string(err) +
                                  " while rendering");
-    read_back(samples, light != nullptr, out);
+    read_back(samples, light != nullptr, d.inside, out);
     out.shader = program.shader;
     out.shader_sha256 = program.sha256;
     return out;
@@ -587,22 +734,35 @@ std::vector<Variant> GlslBackend::variants() const {
 
 GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v) {
     const View& rays = view.rays;
-    // The shader derives P_k from its fragment: only the N x N sample grid can be drawn.
-    if (rays.grid <= 0)
-        throw std::runtime_error(
-            "the glsl backend draws the N x N sample grid; this view's "
-            "samples lie elsewhere");
+    // Sample j N + i is drawn at pixel (i, j): the grid's P from the fragment, any other
+    // view's from a per-sample map; either way N x N samples.
+    int n = rays.grid;
+    if (n <= 0) {
+        n = int(std::lround(std::sqrt(double(rays.size()))));
+        if (n <= 0 || size_t(n) * size_t(n) != rays.size())
+            throw std::runtime_error("the glsl backend draws N x N pixels; this view has " +
+                                     std::to_string(rays.size()) + " samples, not a square number");
+    }
+    if (m.lod != LodMode::base && !view.levels)
+        throw std::logic_error("lod = " + std::string(lod_name(m.lod)) +
+                               " without the view's texture levels");
     GlslDraw d;
     d.method = GlslMethod::of(*m.method);
     d.uniforms = method_uniforms(*m.method, m.params);
     d.scene = view.scene;
     d.hf = &view.hf;
-    d.samples = rays.grid;
+    d.samples = n;
     d.texture_format = v.texture_format;
     d.light = view.light;
     d.frames = view.timed ? -1 : 0;
     d.resources = view.resources;
     d.V = rays.parallel ? nullptr : &rays.V;
+    d.P = rays.grid > 0 && rays.inside.empty() ? nullptr : &rays.P;
+    d.inside = rays.inside.empty() ? nullptr : &rays.inside;
+    d.lod = m.lod;
+    d.levels = m.lod == LodMode::base ? nullptr : view.levels;
+    d.lambda = view.lambda;
+    d.J = rays.J.empty() ? nullptr : &rays.J;
     return d;
 }
 

@@ -11,6 +11,8 @@
 #include "harness/backends/backend.h"
 #include "harness/backends/resource_textures.h"
 #include "harness/backends/shader_interface.h"
+#include "harness/scene/texture_levels.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 
@@ -42,6 +44,19 @@ struct GlslDraw {
     int frames = -1;  // < 0: the configured number of timed frames; 0: once, untimed
     const MethodResources* resources = nullptr;
     const std::vector<Vec3d>* V = nullptr;  // nullptr: every sample looks along scene.V
+    // nullptr: the N x N sample grid (P from the fragment); else N x N points, sample j N + i
+    // drawn at pixel (i, j), j = 0 the bottom row (a perspective view).
+    const std::vector<Vec2d>* P = nullptr;
+    // nullptr or empty: every sample inside; else 1 per inside sample (outside ones masked).
+    const std::vector<uint8_t>* inside = nullptr;
+    LodMode lod = LodMode::base;
+    // The field's levels (levels[0] = *hf), uploaded as the height texture's mip chain; needed
+    // when lod is not base, ignored when it is.
+    const TextureLevels* levels = nullptr;
+    // Each sample's lambda (pxh_lod(), and where lod = level fetches); nullptr: computed from J.
+    const std::vector<double>* lambda = nullptr;
+    // The footprints: one shared or one per sample; nullptr or empty: the N x N grid's.
+    const std::vector<Footprint>* J = nullptr;
 };
 // The draw of one method setting on one view (the Backend interface's arguments).
 GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v);
@@ -103,6 +118,10 @@ class GlslBackend : public Backend {
     // (and its resources' samplers): one line per problem ("FILE:LINE:COL: ..." for the
     // driver's messages), empty when it is ready to draw.
     std::vector<std::string> check(const GlslMethod& m, const GlUniforms& uniforms);
+    // The height texture's level L as the last draw uploaded it (glGetTexImage, as float), and
+    // its GL_TEXTURE_MAX_LEVEL: what a test checks the upload against.
+    std::vector<float> height_texture_level(int level, int& width, int& height);
+    int height_texture_max_level();
 
   private:
     struct Program {
@@ -111,8 +130,14 @@ class GlslBackend : public Backend {
         std::string sha256;  // of the method's own source (not common.glsl)
         std::string what;    // "method 'NAME' (its shader files)", for messages
         std::map<std::string, ActiveUniform> active;  // the linked program's uniforms
+        bool lod_map = false;                         // reads each sample's lambda (PXH_LOD_MAP)
     };
-    const Program& program_for(const GlslMethod& m);
+    // What a program is compiled for besides the method: common.glsl's PXH_* defines.
+    struct ProgramKind {
+        bool point_map = false;  // P and the inside flag per sample (not the grid)
+        LodMode lod = LodMode::base;
+    };
+    const Program& program_for(const GlslMethod& m, ProgramKind kind);
 
   public:
     // "builtin", or the shader file(s) the method's program is (or would be) compiled from.
@@ -121,18 +146,20 @@ class GlslBackend : public Backend {
     }
 
   private:
-    void upload(const HeightField& hf, const std::string& format);
+    void upload(const HeightField& hf, const std::string& format, const TextureLevels* levels);
+    void upload_sample_maps(const GlslDraw& d, const Program& program);
     void upload_view_map(const std::vector<Vec3d>& V, int samples);
     void ensure_framebuffer(int n);
     void set_uniforms(const Program& program, const GlslDraw& d);
     void draw_frames(int frames, MethodOutput& out);
-    void read_back(int samples, bool light, MethodOutput& out);
+    void read_back(int samples, bool light, const std::vector<uint8_t>* inside, MethodOutput& out);
 
     GlslOptions opt_;
     std::unique_ptr<GlContext> ctx_;
     std::string renderer_, version_, vendor_;
     int timer_bits_ = 0;
     unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0, view_map_ = 0;
+    unsigned point_map_ = 0, lod_map_ = 0, grad_map_ = 0;
     int fb_size_ = 0;
     std::map<std::string, Program> programs_;
     std::map<std::string, std::string> compiled_sources_;
