@@ -38,19 +38,16 @@ MethodOutput run_at(const std::string& name, const GivenParams& given, const Sce
 }
 
 // The presets' searches as `march` settings without the level-of-detail rule.
-const GivenParams kHdrpSearch = {{"count", "angle_scaled"}, {"layers_min", 5},
-                                 {"layers_max", 15},        {"compare", "lt"},
-                                 {"extra_layers", 1},       {"on_miss", "refine"},
-                                 {"refine", "secant"},      {"iterations", 3},
-                                 {"tolerance", 0.01}};
-const GivenParams kDxsdkSearch = {{"count", "mix_trunc"}, {"layers_min", 8},
-                                  {"layers_max", 50},     {"first", "top"},
-                                  {"compare", "lt"},      {"on_miss", "last"},
-                                  {"refine", "lerp"},     {"clamp_weight", false}};
-const GivenParams kBabylonSearch = {{"count", "mix_negated"}, {"layers_min", 4},
-                                    {"layers_max", 15},       {"compare", "lt"},
-                                    {"max_steps", 14},        {"on_miss", "next"},
-                                    {"refine", "lerp"},       {"clamp_weight", false}};
+const GivenParams kHdrpSearch = {
+    {"count", "angle_scaled"}, {"layers_min", 5},   {"layers_max", 15},
+    {"compare", "lt"},         {"extra_layers", 1}, {"on_miss", "refine"},
+    {"refine", "secant"},      {"iterations", 3},   {"tolerance", 0.01}};
+const GivenParams kDxsdkSearch = {
+    {"count", "mix_trunc"}, {"layers_min", 8},   {"layers_max", 50}, {"first", "top"},
+    {"compare", "lt"},      {"on_miss", "last"}, {"refine", "lerp"}, {"clamp_weight", false}};
+const GivenParams kBabylonSearch = {
+    {"count", "mix_negated"}, {"layers_min", 4},   {"layers_max", 15}, {"compare", "lt"},
+    {"max_steps", 14},        {"on_miss", "next"}, {"refine", "lerp"}, {"clamp_weight", false}};
 
 struct Case {
     HeightField hf;
@@ -100,8 +97,8 @@ TEST(EngineLod, HdrpFadesTheOffsetOverTheLevelPastItsThreshold) {
             for (double threshold : {5.0, 2.0})
                 for (double lambda : {threshold + 0.25, threshold + 0.5, threshold + 0.875,
                                       threshold + 1.0, threshold + 3.0}) {
-                    const MethodOutput got = run_at(
-                        "hdrp_pom", {{"_PPDLodThreshold", threshold}}, sc, c.hf, P, lambda);
+                    const MethodOutput got =
+                        run_at("hdrp_pom", {{"_PPDLodThreshold", threshold}}, sc, c.hf, P, lambda);
                     const float lod = float(lambda), lodThreshold = float(threshold);
                     const float fade = 1.0f - std::clamp(lod - lodThreshold, 0.0f, 1.0f);
                     for (size_t i = 0; i < P.size(); ++i) {
@@ -204,15 +201,15 @@ TEST(EngineLod, PlayCanvasOcclusionIsItsLiteralLoopAtEveryLevel) {
                             const float lod = float(std::max(lambda, 0.0));
                             // marchTexels, in double: inside (1, 3) the fade is partial
                             const double tanv = std::hypot(sc.V.x, sc.V.y) / sc.V.z;
-                            const double texels = s * std::min(tanv, 5.0) * c.hf.width /
-                                                  std::exp2(double(lod));
+                            const double texels =
+                                s * std::min(tanv, 5.0) * c.hf.width / std::exp2(double(lod));
                             const bool partial = texels > 1.05 && texels < 2.95;
                             for (size_t i = 0; i < P.size(); ++i) {
                                 const auto e = literal::playcanvas_occlusion(
                                     c.hf, float(s), float(b), V, Vec2<float>(P[i]), lod);
-                                const double d = std::hypot(got.uv[i].x - e.uv.x,
-                                                            got.uv[i].y - e.uv.y) *
-                                                 c.hf.width;
+                                const double d =
+                                    std::hypot(got.uv[i].x - e.uv.x, got.uv[i].y - e.uv.y) *
+                                    c.hf.width;
                                 worst = std::max(worst, d);
                                 off += !(d <= 1e-3);
                                 fetch_off += got.fetches[i] != e.fetches;
@@ -307,8 +304,8 @@ Regimes glsl_vs_cpu_perspective(const std::string& name, const GivenParams& give
                 r.worst = std::max(r.worst, d);
                 r.fetch_off += g.fetches[k] != c.fetches[k];
                 const Vec2d P = rays.P[k];
-                const bool at_p = c.uv[k].x == double(float(P.x)) &&
-                                  c.uv[k].y == double(float(P.y));
+                const bool at_p =
+                    c.uv[k].x == double(float(P.x)) && c.uv[k].y == double(float(P.y));
                 r.at_p += at_p;
                 r.moved += !at_p;
             }
