@@ -71,8 +71,8 @@ struct ViewInput {
     const Scene<double>& scene;  // s, b, field size; V: the view's direction (parallel rays)
     const HeightField& hf;
     // The samples' rays (harness/scene/view.h): P_k, and V_k when not parallel (then a
-    // method sees sample k's V_k as its scene's V). The GLSL backend draws the N x N grid
-    // (rays.grid > 0) and refuses other sample sets.
+    // method sees sample k's V_k as its scene's V). The GLSL backend draws N x N pixel views
+    // (sample j N + i at pixel (i, j)) and refuses other sample counts.
     const View& rays;
     const LightSpec* light;  // when given: hard and soft light factors at the output uv
     bool timed;              // false: no timing passes (a sweep's companion view)

@@ -274,8 +274,8 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m, Progra
     compiled_sources_[body_name] = sha256_hex(body.text);
     // The method's lines are numbered from kBodyLine + 1: Mesa reports some errors with source
     // string 0 instead of #line's, so the line itself tells the files apart.
-    const std::string src = "#version 450 core\n" + defines + "#line 1 1\n" + common.text + "\n#line " +
-                            std::to_string(kBodyLine + 1) + " 2\n" + body.text;
+    const std::string src = "#version 450 core\n" + defines + "#line 1 1\n" + common.text +
+                            "\n#line " + std::to_string(kBodyLine + 1) + " 2\n" + body.text;
     // Errors name the files actually compiled (source string 1 = common.glsl, 2 = the method).
     const std::string what =
         "method '" + m.name + "' (" + body_name + ", with " + common_name + ")";
@@ -436,9 +436,10 @@ void GlslBackend::upload_view_map(const std::vector<Vec3d>& V, int samples) {
 namespace {
 
 // An N x N RGBA32F (channels 4) or R32F (channels 1) texture read with texelFetch at the
-// fragment's pixel: texel (i, j) is sample j N + i.
-void upload_sample_map(unsigned& tex, int n, int channels, const std::vector<float>& texels,
-                       const char* what) {
+// fragment's pixel (texel (i, j) is sample j N + i), left bound to texture unit `unit`.
+void upload_sample_map(unsigned& tex, int unit, int n, int channels,
+                       const std::vector<float>& texels, const char* what) {
+    glActiveTexture(GLenum(GL_TEXTURE0 + unit));
     if (!tex) {
         glGenTextures(1, &tex);
         glBindTexture(GL_TEXTURE_2D, tex);
@@ -465,22 +466,17 @@ constexpr int kPointUnit = 2, kLodUnit = 3, kGradUnit = 4, kFirstResourceUnit = 
 void GlslBackend::upload_sample_maps(const GlslDraw& d, const Program& program) {
     const int n = d.samples;
     const size_t count = size_t(n) * size_t(n);
-    auto bind = [](int unit, unsigned tex) {
-        glActiveTexture(GLenum(GL_TEXTURE0 + unit));
-        glBindTexture(GL_TEXTURE_2D, tex);
-    };
     if (d.P) {
         if (d.P->size() != count || (d.inside && !d.inside->empty() && d.inside->size() != count))
-            throw std::logic_error("glsl: the view's points do not match its " +
-                                   std::to_string(n) + " x " + std::to_string(n) + " pixels");
+            throw std::logic_error("glsl: the view's points do not match its " + std::to_string(n) +
+                                   " x " + std::to_string(n) + " pixels");
         std::vector<float> t(count * 4);
         for (size_t k = 0; k < count; ++k) {
             t[4 * k] = float((*d.P)[k].x);
             t[4 * k + 1] = float((*d.P)[k].y);
             t[4 * k + 2] = !d.inside || d.inside->empty() || (*d.inside)[k] ? 1.0f : 0.0f;
         }
-        upload_sample_map(point_map_, n, 4, t, "sample points");
-        bind(kPointUnit, point_map_);
+        upload_sample_map(point_map_, kPointUnit, n, 4, t, "sample points");
     }
     // The footprints as given, or the grid's (one shared by every sample).
     const std::vector<Footprint> grid_J = {orthographic_footprint(n)};
@@ -491,14 +487,13 @@ void GlslBackend::upload_sample_maps(const GlslDraw& d, const Program& program) 
     auto footprint = [&](size_t k) -> const Footprint& { return J[J.size() == 1 ? 0 : k]; };
     if (program.lod_map) {
         if (d.lambda && d.lambda->size() != count)
-            throw std::logic_error("glsl: " + std::to_string(d.lambda->size()) +
-                                   " lambdas for " + std::to_string(count) + " samples");
+            throw std::logic_error("glsl: " + std::to_string(d.lambda->size()) + " lambdas for " +
+                                   std::to_string(count) + " samples");
         std::vector<float> t(count);
         for (size_t k = 0; k < count; ++k)
             t[k] = float(d.lambda ? (*d.lambda)[k]
                                   : footprint_lod(footprint(k), d.hf->width, d.hf->height));
-        upload_sample_map(lod_map_, n, 1, t, "levels of detail");
-        bind(kLodUnit, lod_map_);
+        upload_sample_map(lod_map_, kLodUnit, n, 1, t, "levels of detail");
     }
     if (d.lod == LodMode::grad) {
         std::vector<float> t(count * 4);
@@ -509,8 +504,7 @@ void GlslBackend::upload_sample_maps(const GlslDraw& d, const Program& program) 
             t[4 * k + 2] = float(f.dPdj.x);
             t[4 * k + 3] = float(f.dPdj.y);
         }
-        upload_sample_map(grad_map_, n, 4, t, "footprints");
-        bind(kGradUnit, grad_map_);
+        upload_sample_map(grad_map_, kGradUnit, n, 4, t, "footprints");
     }
     glActiveTexture(GL_TEXTURE0);
 }
@@ -746,8 +740,7 @@ GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant&
         n = int(std::lround(std::sqrt(double(rays.size()))));
         if (n <= 0 || size_t(n) * size_t(n) != rays.size())
             throw std::runtime_error("the glsl backend draws N x N pixels; this view has " +
-                                     std::to_string(rays.size()) +
-                                     " samples, not a square number");
+                                     std::to_string(rays.size()) + " samples, not a square number");
     }
     if (m.lod != LodMode::base && !view.levels)
         throw std::logic_error("lod = " + std::string(lod_name(m.lod)) +

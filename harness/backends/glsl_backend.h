@@ -130,7 +130,7 @@ class GlslBackend : public Backend {
         std::string sha256;  // of the method's own source (not common.glsl)
         std::string what;    // "method 'NAME' (its shader files)", for messages
         std::map<std::string, ActiveUniform> active;  // the linked program's uniforms
-        bool lod_map = false;  // reads each sample's lambda (PXH_LOD_MAP)
+        bool lod_map = false;                         // reads each sample's lambda (PXH_LOD_MAP)
     };
     // What a program is compiled for besides the method: common.glsl's PXH_* defines.
     struct ProgramKind {
@@ -152,8 +152,7 @@ class GlslBackend : public Backend {
     void ensure_framebuffer(int n);
     void set_uniforms(const Program& program, const GlslDraw& d);
     void draw_frames(int frames, MethodOutput& out);
-    void read_back(int samples, bool light, const std::vector<uint8_t>* inside,
-                   MethodOutput& out);
+    void read_back(int samples, bool light, const std::vector<uint8_t>* inside, MethodOutput& out);
 
     GlslOptions opt_;
     std::unique_ptr<GlContext> ctx_;

@@ -101,8 +101,8 @@ TEST_P(PerSampleView, EachSampleSeesItsOwnDirectionOnBothBackends) {
 INSTANTIATE_TEST_SUITE_P(Registry, PerSampleView, ::testing::ValuesIn(test::method_names()),
                          test::MethodName());
 
-// A sample set off the grid cannot be drawn by the fragment shader: a clear error, no numbers.
-TEST(PerSampleView, GlslRefusesSamplesOffTheGrid) {
+// A sample set that is not N x N pixels cannot be drawn: a clear error, no numbers.
+TEST(PerSampleView, GlslRefusesAViewThatIsNotSquare) {
     const MethodInfo& m = *find_method("parallax");
     const HeightField hf = field(16);
     View v;
@@ -115,7 +115,7 @@ TEST(PerSampleView, GlslRefusesSamplesOffTheGrid) {
                  {"float", "r32f"});
         FAIL() << "no error";
     } catch (const std::runtime_error& e) {
-        EXPECT_NE(std::string(e.what()).find("sample grid"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("N x N pixels"), std::string::npos) << e.what();
     }
 }
 
