@@ -29,10 +29,11 @@
            "offset search: f = 1/V.z (tan), 1 (sin), 1/(V.z + offset_soften) (soft), V.z "         \
            "(sincos)")                                                                             \
     REAL(offset_soften, 0.42, 0, 10, "soft offset: added to V.z")                                  \
-    CHOICE(count, Count, (Fixed, Mix, MixTrunc, MixNegated, AngleScaled, MixScaled),               \
-           ("fixed", "mix", "mix_trunc", "mix_negated", "angle_scaled", "mix_scaled"), Mix,        \
+    CHOICE(count, Count, (Fixed, Mix, MixTrunc, MixNegated, AngleScaled, MixScaled, Texels),       \
+           ("fixed", "mix", "mix_trunc", "mix_negated", "angle_scaled", "mix_scaled", "texels"),   \
+           Mix,                                                                                    \
            "layer count rule (methods/march/march.h): fixed, mix, mix_trunc, mix_negated, "        \
-           "angle_scaled, mix_scaled")                                                             \
+           "angle_scaled, mix_scaled, texels")                                                     \
     REAL(layers, 32, 1, 4096, "count = fixed: n")                                                  \
     REAL(layers_min, 8, 0, 4096, "the count rules' lower (head-on) value")                         \
     REAL(layers_max, 32, 0, 4096, "the count rules' upper (grazing) value (mix_scaled: times s)")  \
@@ -63,7 +64,27 @@
     BOOLEAN(probe_last, false, "bisect: one more (unused) probe at the end")                       \
     CHOICE(tie, Tie, (TieBack, TieStay), ("back", "stay"), TieBack,                                \
            "bisect at g = 0: step back, or stay")                                                  \
-    REAL(tolerance, 0.01, 0, 1, "secant: stop when |delta| <= tolerance")
+    REAL(tolerance, 0.01, 0, 1, "secant: stop when |delta| <= tolerance")                     \
+    BOOLEAN(pad_fetches, false,                                                                    \
+            "after the answer, fetch at its uv until the search made kmax + 1 fetches (first = "  \
+            "sample; kmax otherwise): a loop that samples on every iteration, also after the "    \
+            "hit (Babylon.js)")                                                                    \
+    CHOICE(lod_fade, LodFade, (FadeNone, FadeHdrp, FadeDxsdk, FadeTexels),                         \
+           ("none", "hdrp", "dxsdk", "texels"), FadeNone,                                          \
+           "what the sample's level of detail L = max(lambda, 0) does (methods/march/march.h): "  \
+           "none; hdrp: offset times 1 - saturate(L - lod_threshold); dxsdk: L > lod_threshold: " \
+           "P, nothing fetched; L in (lod_threshold - 1, lod_threshold]: uv + (P - uv) frac(L); " \
+           "texels: offset times saturate((t - fade_texels_min) / (fade_texels_max - "            \
+           "fade_texels_min)), t the march's texels at L, P unfetched at 0")                      \
+    REAL(lod_threshold, 0, 0, 16, "lod_fade hdrp / dxsdk: the level where the fade starts / ends") \
+    REAL(texels_per_step, 2, 0.001, 1000, "count = texels: n = t / texels_per_step in [1, "        \
+         "layers_max], t = |s d (W, H)| / 2^L the march's span in texels of level L")             \
+    REAL(max_slope, 0, 0, 1000000,                                                                 \
+         "layers: the march direction d (uv per unit of depth) capped at this length (0: none)")  \
+    BOOLEAN(clamp_depth, false,                                                                    \
+            "layers: the answer's layer clamped to [0, n] (not lerp's, which blends two layers)")  \
+    REAL(fade_texels_min, 1, 0, 1000, "lod_fade = texels: t where the offset is gone")             \
+    REAL(fade_texels_max, 3, 0, 1000, "lod_fade = texels: t where the offset is whole")
 
 #define PXH_KNOB_UNPAREN(...) __VA_ARGS__
 #define PXH_KNOB_NONE(...)

@@ -6,9 +6,10 @@ float pm_fast_acos_pos(float x) {
     return p * sqrt(1.0 - x);
 }
 
-float pm_layer_count() {
+float pm_layer_count(float texels) {
     float vz = pxh_V.z, lo = pm_layers_min, hi = pm_layers_max;
     if (pm_count == 0) return pm_layers;
+    if (pm_count == 6) return clamp(texels / pm_texels_per_step, 1.0, hi);
     if (pm_count == 2) return trunc(hi + (lo - hi) * vz);
     if (pm_count == 3) return hi + (-vz) * (lo - hi);
     if (pm_count == 4) {
@@ -25,6 +26,22 @@ float pm_layer_count() {
     return hi * (1.0 - a) + lo * a;
 }
 
+vec2 pm_direction() {
+    vec2 d = pxh_V.xy;
+    if (pm_mirror_v) d.y = -d.y;
+    if (pm_step == 0) d = d * (1.0 / pxh_V.z);
+    if (pm_max_slope > 0.0) {
+        float len = sqrt(d.x * d.x + d.y * d.y), cap = pm_max_slope;
+        if (len > cap) d = d * (cap / len);
+    }
+    return d;
+}
+
+float pm_texels(vec2 d, float L) {
+    float x = u_scale * d.x * float(u_size.x), y = u_scale * d.y * float(u_size.y);
+    return sqrt(x * x + y * y) / exp2(L);
+}
+
 int pm_kmax(float n, int extra, int max_steps, int first) {
     float kmax = ceil(n) + float(extra);
     if (!(kmax < 1e6)) kmax = 1e6;
@@ -35,8 +52,9 @@ int pm_kmax(float n, int extra, int max_steps, int first) {
 
 // The march's state, shared by the search and its refinements.
 vec2 pm_uv0, pm_duv;
-float pm_z0, pm_dz, pm_lag_k;
+float pm_z0, pm_dz, pm_lag_k, pm_n;
 vec2 pm_uv_at(float x) { return pm_uv0 + pm_duv * x; }
+vec2 pm_answer(float x) { return pm_uv_at(pm_clamp_depth ? clamp(x, 0.0, pm_n) : x); }
 float pm_ray_z(float x) { return pm_z0 - pm_dz * x; }
 float pm_g(float x, float zs) { return pm_ray_z(x - pm_lag_k) - zs; }
 bool pm_hit(float g) { return pm_compare == 1 ? g < 0.0 : g <= 0.0; }
@@ -58,7 +76,7 @@ vec2 pm_bisect(int k, float gk) {
         if (i < pm_iterations) g = pm_g(x, pxh_z(pm_uv_at(x)));
     }
     if (pm_probe_last) pxh_z(pm_uv_at(x));
-    return pm_uv_at(x);
+    return pm_answer(x);
 }
 
 vec2 pm_secant(int k, float gk, float zs_prev, bool has_prev) {
@@ -81,7 +99,7 @@ vec2 pm_secant(int k, float gk, float zs_prev, bool has_prev) {
             d0 = delta;
         }
     }
-    return pm_uv_at(x);
+    return pm_answer(x);
 }
 
 vec2 pm_contact(int k, float n, float zs_prev, bool has_prev) {
@@ -93,16 +111,19 @@ vec2 pm_contact(int k, float n, float zs_prev, bool has_prev) {
         x = base + sub * float(j);
         g = pm_g(x, pxh_z(pm_uv_at(x)));
     }
-    return pm_uv_at(x);
+    return pm_answer(x);
 }
 
-vec2 pxh_method(vec2 P) {
+// march_search (methods/march/march.h)
+vec2 pm_march_search(vec2 P) {
     vec2 d = pxh_V.xy;
     if (pm_mirror_v) d.y = -d.y;
     if (pm_search == 0) return pm_offset(P, d);
     float s = u_scale, b = u_bias;
-    float n = pm_layer_count();
-    if (pm_step == 0) d = d * (1.0 / pxh_V.z);
+    d = pm_direction();
+    float texels = pm_count == 6 ? pm_texels(d, max(pxh_lod(), 0.0)) : 0.0;
+    float n = pm_layer_count(texels);
+    pm_n = n;
     pm_dz = s / n;
     pm_duv = d * (-pm_dz);
     pm_z0 = pxh_z_top();
@@ -128,12 +149,12 @@ vec2 pxh_method(vec2 P) {
         zs = pxh_z(pm_uv_at(float(k)));
     }
     if (!pm_hit(pm_g(float(k), zs))) {
-        if (pm_on_miss == 0) return pm_uv_at(float(k));
-        if (pm_on_miss == 1) return pm_uv_at(float(k + 1));
+        if (pm_on_miss == 0) return pm_answer(float(k));
+        if (pm_on_miss == 1) return pm_answer(float(k + 1));
         pm_lag_k = 0.0;
     }
-    if (pm_refine == 0) return pm_uv_at(float(k));
-    if (k == 0 && !pm_refine_at_k0) return pm_uv_at(0.0);
+    if (pm_refine == 0) return pm_answer(float(k));
+    if (k == 0 && !pm_refine_at_k0) return pm_answer(0.0);
     float gk = pm_g(float(k), zs);
     if (pm_refine == 1) {
         if (!has_prev || pm_refetch) zs_prev = pxh_z(pm_uv_at(float(k - 1)));
@@ -149,5 +170,41 @@ vec2 pxh_method(vec2 P) {
     if (pm_refine == 2) return pm_bisect(k, gk);
     if (pm_refine == 3) return pm_secant(k, gk, zs_prev, has_prev);
     if (pm_refine == 4) return pm_contact(k, n, zs_prev, has_prev);
-    return pm_uv_at(float(k));
+    return pm_answer(float(k));
+}
+
+int pm_full_fetches(float L) {
+    if (pm_search == 0) return 1;
+    float texels = pm_count == 6 ? pm_texels(pm_direction(), L) : 0.0;
+    int kmax = pm_kmax(pm_layer_count(texels), pm_extra_layers, pm_max_steps, pm_first);
+    return (pm_first == 0 ? 1 : 0) + kmax;
+}
+
+// march (methods/march/march.h): the search, pad_fetches and the level-of-detail rule on
+// L = max(lambda, 0).
+vec2 pxh_method(vec2 P) {
+    float L = max(pxh_lod(), 0.0);
+    float t = pm_lod_threshold;
+    if (pm_lod_fade == 2 && L > t) return P;
+    float f = 1.0;
+    if (pm_lod_fade == 3) {
+        float m = pm_texels(pm_direction(), L);
+        float lo = pm_fade_texels_min, hi = pm_fade_texels_max;
+        f = clamp((m - lo) / (hi - lo), 0.0, 1.0);
+        if (!(f > 0.0)) return P;
+    }
+    int fetched_before = pxh_fetches;
+    vec2 uv = pm_march_search(P);
+    if (pm_pad_fetches) {
+        int full = pm_full_fetches(L);
+        while (pxh_fetches - fetched_before < full) pxh_height(uv);
+    }
+    if (pm_lod_fade == 1) f = 1.0 - clamp(L - t, 0.0, 1.0);
+    if (pm_lod_fade == 1 || pm_lod_fade == 3) {
+        if (f < 1.0) uv = P + (uv - P) * f;
+    } else if (pm_lod_fade == 2 && L > t - 1.0) {
+        float frac = L - floor(L);
+        uv = uv + (P - uv) * frac;
+    }
+    return uv;
 }

@@ -4,7 +4,8 @@
 // methods/march/knobs.h (MarchConfig, the parameters, the uniforms and their GLSL declarations).
 // Engine presets (methods/march/presets/ENGINE.cpp, methods/march/preset.h) are named settings
 // of it; the `march` method exposes every knob. Its GLSL twin is methods/march/march.frag.glsl
-// (same operations in the same order; pm_* uniforms).
+// (same operations in the same order; pm_* uniforms). What engines do around the search with
+// the sample's level of detail (lod_fade) and pad_fetches: march(), below.
 //
 // search = offset (one fetch): uv = P + z(P) * d * f, d = V.xy (v mirrored with mirror_v),
 //   f = 1 / V.z (tan), 1 (sin), 1 / (V.z + offset_soften) (soft), V.z (sincos).
@@ -28,11 +29,16 @@
 //   delta = ih - h, stop when |delta| <= tolerance, else replace the end of the bracket with
 //   delta's sign; uv of the last probe.  contact: from layer k - 1, sub-layers of 1 / n until a
 //   hit (at most ceil(n) + 1), uv of that sub-layer.
-// The count rules: fixed: n = layers.  mix: n = layers_max (1 - |V.z|) + layers_min |V.z|.
-//   mix_trunc: n = trunc(layers_max + (layers_min - layers_max) V.z).  mix_negated:
-//   n = layers_max + (-V.z) (layers_min - layers_max).  angle_scaled: a = fastacos(z of
-//   normalize(s V.xy, V.z)) 2 / pi clamped to [0, 1], n = trunc(layers_min + (layers_max -
-//   layers_min) a).  mix_scaled: n = layers_min (1 - a) + (layers_max s) a, a = 1 - V.z.
+// max_slope > 0: the direction d (after the step rule) is capped at that length, the start uv0
+//   too (PlayCanvas' parallaxMaxSlope). clamp_depth: an answer that is a layer x (not lerp's)
+//   is taken at clamp(x, 0, n).
+// The count rules: texels: n = clamp(t / texels_per_step, 1, layers_max), t = march_texels (the
+//   march's span s |d| in texels of the sample's level L = max(lambda, 0)).  fixed: n = layers.
+//   mix: n = layers_max (1 - |V.z|) + layers_min |V.z|. mix_trunc: n = trunc(layers_max +
+//   (layers_min - layers_max) V.z).  mix_negated: n = layers_max + (-V.z) (layers_min -
+//   layers_max).  angle_scaled: a = fastacos(z of normalize(s V.xy, V.z)) 2 / pi clamped to [0, 1],
+//   n = trunc(layers_min + (layers_max - layers_min) a).  mix_scaled: n = layers_min (1 - a) +
+//   (layers_max s) a, a = 1 - V.z.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -51,12 +57,15 @@ T fast_acos_pos(T x) {
     return p * std::sqrt(T(1) - x);
 }
 
+// `texels`: the march's span in texels of the sample's level (march_texels; count = texels).
 template <typename T>
-T march_layer_count(const MarchConfig& c, const Scene<T>& sc) {
+T march_layer_count(const MarchConfig& c, const Scene<T>& sc, T texels = T(0)) {
     const T vz = sc.V.z, lo = T(c.layers_min), hi = T(c.layers_max);
     switch (c.count) {
         case MarchConfig::Fixed:
             return T(c.layers);
+        case MarchConfig::Texels:
+            return std::clamp(texels / T(c.texels_per_step), T(1), hi);
         case MarchConfig::MixTrunc:
             return std::trunc(hi + (lo - hi) * vz);
         case MarchConfig::MixNegated:
@@ -78,6 +87,28 @@ T march_layer_count(const MarchConfig& c, const Scene<T>& sc) {
     }
 }
 
+// The layered search's direction, uv per unit of surface depth: V.xy (v mirrored with
+// mirror_v), divided by V.z with step = tan, its length capped at max_slope when that is > 0.
+template <typename T>
+Vec2<T> march_direction(const MarchConfig& c, const Scene<T>& sc) {
+    Vec2<T> d = sc.V.xy();
+    if (c.mirror_v) d.y = -d.y;
+    if (c.step == MarchConfig::StepTan) d = d * (T(1) / sc.V.z);
+    if (c.max_slope > 0) {
+        const T len = std::sqrt(d.x * d.x + d.y * d.y), cap = T(c.max_slope);
+        if (len > cap) d = d * (cap / len);
+    }
+    return d;
+}
+
+// The march's span over the whole depth s, in texels of level L of a W x H field:
+// |(s d.x W, s d.y H)| / 2^L (PlayCanvas' marchTexels).
+template <typename T>
+T march_texels(const Scene<T>& sc, Vec2<T> d, int W, int H, T L) {
+    const T x = sc.scale * d.x * T(W), y = sc.scale * d.y * T(H);
+    return std::sqrt(x * x + y * y) / std::exp2(L);
+}
+
 // The last layer index the search may reach for this view (kmax).
 template <typename T>
 int march_kmax(const MarchConfig& c, T n) {
@@ -88,8 +119,10 @@ int march_kmax(const MarchConfig& c, T n) {
     return c.first == MarchConfig::FirstSample ? k : std::max(k, 1);
 }
 
+// The search and its refinement (the knobs up to tolerance); march() below adds what the
+// engines do around it.
 template <typename T>
-Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+Vec2<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
     Vec2<T> d = sc.V.xy();
     if (c.mirror_v) d.y = -d.y;
     if (c.search == MarchConfig::Offset) {
@@ -106,13 +139,19 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
         }
     }
     const T s = sc.scale, b = sc.bias;
-    const T n = march_layer_count(c, sc);
-    if (c.step == MarchConfig::StepTan) d = d * (T(1) / sc.V.z);
+    d = march_direction(c, sc);
+    const T texels =
+        c.count == MarchConfig::Texels
+            ? march_texels(sc, d, hs.field().width, hs.field().height, std::max(hs.lod(), T(0)))
+            : T(0);
+    const T n = march_layer_count(c, sc, texels);
     const T dz = s / n;
     const Vec2<T> duv = d * (-dz);
     const T z0 = sc.z_top();
     const Vec2<T> uv0 = P + d * z0;
     auto uv_at = [&](T x) { return uv0 + duv * x; };
+    // The uv of an answer that is a layer (clamp_depth: inside the slab).
+    auto answer = [&](T x) { return uv_at(c.clamp_depth ? std::clamp(x, T(0), n) : x); };
     auto ray_z = [&](T x) { return z0 - dz * x; };
     T lag = c.lag ? T(1) : T(0);
     auto g_of = [&](T x, T zs) { return ray_z(x - lag) - zs; };
@@ -137,12 +176,12 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
         zs = hs.z(uv_at(T(k)));
     }
     if (!hit(g_of(T(k), zs))) {
-        if (c.on_miss == MarchConfig::MissLast) return uv_at(T(k));
-        if (c.on_miss == MarchConfig::MissNext) return uv_at(T(k + 1));
+        if (c.on_miss == MarchConfig::MissLast) return answer(T(k));
+        if (c.on_miss == MarchConfig::MissNext) return answer(T(k + 1));
         lag = T(0);
     }
-    if (c.refine == MarchConfig::RefineNone) return uv_at(T(k));
-    if (k == 0 && !c.refine_at_k0) return uv_at(T(0));
+    if (c.refine == MarchConfig::RefineNone) return answer(T(k));
+    if (k == 0 && !c.refine_at_k0) return answer(T(0));
     const T gk = g_of(T(k), zs);
     switch (c.refine) {
         case MarchConfig::Lerp: {
@@ -165,7 +204,7 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
                 if (i < c.iterations) g = g_of(x, hs.z(uv_at(x)));
             }
             if (c.probe_last) (void)hs.z(uv_at(x));
-            return uv_at(x);
+            return answer(x);
         }
         case MarchConfig::Secant: {
             if (!has_prev) zs_prev = hs.z(uv_at(T(k - 1)));
@@ -186,7 +225,7 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
                     d0 = delta;
                 }
             }
-            return uv_at(x);
+            return answer(x);
         }
         case MarchConfig::Contact: {
             const T base = T(k - 1), sub = T(1) / n;
@@ -197,18 +236,73 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
                 x = base + sub * T(j);
                 g = g_of(x, hs.z(uv_at(x)));
             }
-            return uv_at(x);
+            return answer(x);
         }
         default:
-            return uv_at(T(k));
+            return answer(T(k));
     }
+}
+
+// The fetches a search that runs to kmax makes: what pad_fetches fills up to.
+template <typename T>
+int march_full_fetches(const MarchConfig& c, const Scene<T>& sc, T texels) {
+    if (c.search == MarchConfig::Offset) return 1;
+    const int kmax = march_kmax(c, march_layer_count(c, sc, texels));
+    return (c.first == MarchConfig::FirstSample ? 1 : 0) + kmax;
+}
+
+// The marcher: the search (march_search), then pad_fetches and the level-of-detail rule
+// (lod_fade) on the sample's level of detail L = max(lambda, 0) (HeightSampler::lod(); the
+// engines clamp their level at 0 before using it), with t = lod_threshold:
+//   hdrp (HDRP's ParallaxOcclusionMapping: offset *= 1 - saturate(lod - lodThreshold)):
+//     f = 1 - clamp(L - t, 0, 1); uv = P + (uv - P) f, applied only when f < 1, so that below
+//     the threshold the uv is the search's own, bit for bit. The search runs at every L.
+//   dxsdk (the DirectX SDK sample's RenderScenePS): L > t: P (bump mapping: the search is not
+//     run, nothing is fetched); t - 1 < L <= t: uv = uv + (P - uv) frac(L) (HLSL's
+//     lerp(texSampleBase, texCoord, frac)); L <= t - 1: the search's uv.
+//   texels (PlayCanvas' occlusion mode): f = clamp((m - fade_texels_min) / (fade_texels_max -
+//     fade_texels_min), 0, 1), m = march_texels at L; f = 0: P, the search not run; else
+//     uv = P + (uv - P) f, applied only when f < 1.
+template <typename T>
+Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    const T L = std::max(hs.lod(), T(0));
+    const T t = T(c.lod_threshold);
+    if (c.lod_fade == MarchConfig::FadeDxsdk && L > t) return P;
+    T f = T(1);
+    if (c.lod_fade == MarchConfig::FadeTexels) {
+        const T m =
+            march_texels(sc, march_direction(c, sc), hs.field().width, hs.field().height, L);
+        const T lo = T(c.fade_texels_min), hi = T(c.fade_texels_max);
+        f = std::clamp((m - lo) / (hi - lo), T(0), T(1));
+        if (!(f > T(0))) return P;
+    }
+    const int fetched_before = hs.fetches;
+    Vec2<T> uv = march_search(c, sc, hs, P);
+    if (c.pad_fetches) {
+        const T texels =
+            c.count == MarchConfig::Texels
+                ? march_texels(sc, march_direction(c, sc), hs.field().width, hs.field().height, L)
+                : T(0);
+        const int full = march_full_fetches(c, sc, texels);
+        while (hs.fetches - fetched_before < full) (void)hs.height(uv);
+    }
+    if (c.lod_fade == MarchConfig::FadeHdrp) f = T(1) - std::clamp(L - t, T(0), T(1));
+    if (c.lod_fade == MarchConfig::FadeHdrp || c.lod_fade == MarchConfig::FadeTexels) {
+        if (f < T(1)) uv = P + (uv - P) * f;
+    } else if (c.lod_fade == MarchConfig::FadeDxsdk && L > t - T(1)) {
+        const T frac = L - std::floor(L);
+        uv = uv + (P - uv) * frac;
+    }
+    return uv;
 }
 
 // Declared bound on fetches per sample for this view, in float and double alike.
 inline int march_max_fetches(const MarchConfig& c, const Scene<double>& sc) {
     if (c.search == MarchConfig::Offset) return 1;
-    const double nd = march_layer_count(c, sc);
-    const float nf = march_layer_count(c, scene_cast<float>(sc));
+    // count = texels: its largest count, layers_max
+    const double nd = march_layer_count(c, sc, std::numeric_limits<double>::infinity());
+    const float nf =
+        march_layer_count(c, scene_cast<float>(sc), std::numeric_limits<float>::infinity());
     const int kmax = std::max(march_kmax(c, nd), march_kmax(c, nf));
     const int n_ceil = int(std::min(std::max(std::ceil(nd), double(std::ceil(nf))), 1e6));
     int f = (c.first == MarchConfig::FirstSample ? 1 : 0) + kmax;

@@ -8,6 +8,7 @@
 // HeightSampler<float>(hf, 1, 0).height(uv) (bilinear, wrapping, LOD 0; the engines use implicit
 // or biased LOD, which pxh ignores). Research notes: /work/research/js_engines.md.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "harness/core/vec.h"
@@ -228,8 +229,8 @@ inline EngineResult babylon_pom(const HeightField& hf, float s, Vec3<float> V, V
 // (default 'g'), white = high. dUvOffset is added to the uv of the other maps
 // (src/scene/shader-lib/programs/standard.js). dViewDirW = normalize(camera - pos) = pxh V;
 // dTBN from vertex tangents with B along +v (engine-generated tangents), so viewDirT = pxh V.
-// (The derivative frame used without tangents has y = -v; not transcribed.) PlayCanvas has no
-// occlusion/POM mode: there is no playcanvas_occlusion.
+// (The derivative frame used without tangents has y = -v; not transcribed.) v2.21.4 has no
+// occlusion mode; the later one is playcanvas_occlusion below.
 inline EngineResult playcanvas_basic(const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
     using namespace js_glsl;
     HeightSampler<float> hs(hf, 1.0f, 0.0f);
@@ -245,6 +246,72 @@ inline EngineResult playcanvas_basic(const HeightField& hf, float s, Vec3<float>
         dUvOffset = div(viewDirT.xy(), viewDirT.z) * height;
     }
     return {uv0 + dUvOffset, hs.fetches};
+}
+
+// ---- PlayCanvas StandardMaterial, parallaxMode PARALLAX_OCCLUSION ---------------------------
+// playcanvas/engine src/scene/shader-lib/glsl/chunks/standard/frag/parallax.js @
+// 1c1a0230c3974c084281cd33c15bf2f25165f186 (getParallax, STD_PARALLAX == OCCLUSION; PRs 9213,
+// 9219, 9245). material_heightMapFactor = s; material_heightMapBase = base (pxh's b);
+// material_parallaxSamples = samples (default 16). viewDirUv = (viewDirT.x, -viewDirT.y) of a
+// frame whose y runs along -v: pxh's V.xy. `lod` is the level the shader derives before the loop,
+// max(0, 0.5 log2(max(|dFdx|^2, |dFdy|^2))) of the texel coordinates: pxh's max(lambda, 0); the
+// taps are texture2DLod at it, here level 0 (what the rule does with the level is what this
+// transcribes, not the filtering).
+inline EngineResult playcanvas_occlusion(const HeightField& hf, float s, float base, Vec3<float> V,
+                                         Vec2<float> P, float lod, float samples = 16.0f) {
+    using namespace js_glsl;
+    HeightSampler<float> hs(hf, 1.0f, 0.0f);
+    auto tap = [&](Vec2<float> uv) { return 1.0f - hs.height(uv); };  // 1 - texture2DLod(..)
+    const float material_heightMapFactor = s, material_heightMapBase = base;
+    const float material_parallaxSamples = samples;
+    const float parallaxMaxSlope = 5.0f, parallaxTexelsPerStep = 2.0f;
+    const float parallaxFadeMin = 1.0f, parallaxFadeMax = 3.0f;
+    const int parallaxRefineSteps = 5;
+
+    const float parallaxScale = material_heightMapFactor;
+    const Vec3<float> viewDirT = V;
+    const Vec2<float> viewDirUv = viewDirT.xy();
+    const Vec2<float> march = div(viewDirUv * -parallaxScale, std::max(viewDirT.z, 0.0001f));
+    const float marchLength = length(march);
+    const float maxMarchLength = parallaxScale * parallaxMaxSlope;
+    const Vec2<float> uvSpan =
+        marchLength > maxMarchLength ? march * (maxMarchLength / marchLength) : march;
+    const float geomDepth = 1.0f - material_heightMapBase;
+    const Vec2<float> entryUv = P - uvSpan * geomDepth;
+    const Vec2<float> heightMapSize(float(hf.width), float(hf.height));
+    const float marchTexels =
+        length(Vec2<float>(uvSpan.x * heightMapSize.x, uvSpan.y * heightMapSize.y)) /
+        std::exp2(lod);
+    const float fade = std::clamp(
+        (marchTexels - parallaxFadeMin) / (parallaxFadeMax - parallaxFadeMin), 0.0f, 1.0f);
+    Vec2<float> dUvOffset(0.0f, 0.0f);
+    if (fade > 0.0f) {
+        const float steps =
+            std::clamp(marchTexels / parallaxTexelsPerStep, 1.0f, material_parallaxSamples);
+        const float stepSize = 1.0f / steps;
+        float rayDepth = 0.0f;
+        float surfaceDepth = tap(entryUv);
+        float prevRayDepth = rayDepth;
+        for (float i = 0.0f; i < steps; i += 1.0f) {
+            if (rayDepth >= surfaceDepth) break;
+            prevRayDepth = rayDepth;
+            rayDepth += stepSize;
+            surfaceDepth = tap(entryUv + uvSpan * rayDepth);
+        }
+        float hitDepth = rayDepth;
+        if (rayDepth >= surfaceDepth) {
+            float interval = (rayDepth - prevRayDepth) * 0.5f;
+            hitDepth = rayDepth - interval;
+            for (int i = 0; i < parallaxRefineSteps; i++) {
+                interval *= 0.5f;
+                const float refineDepth = tap(entryUv + uvSpan * hitDepth);
+                hitDepth += hitDepth >= refineDepth ? -interval : interval;
+            }
+        }
+        const float hitBelowTop = std::clamp(hitDepth, 0.0f, 1.0f);
+        dUvOffset = uvSpan * ((hitBelowTop - geomDepth) * fade);
+    }
+    return {P + dUvOffset, hs.fetches};
 }
 
 }  // namespace pxh::literal

@@ -67,7 +67,7 @@ TEST(MarchKnobs, DeclarationsParametersAndUniformsNameTheSameKnobs) {
     // What the backend sets for the `march` method at its defaults, and for the default config.
     const GlUniforms set = method_uniforms(march, test::params_for(march));
     const GlUniforms of_defaults = march_uniforms(MarchConfig{});
-    ASSERT_EQ(glsl.size(), 23u);
+    ASSERT_EQ(glsl.size(), 31u);
     ASSERT_EQ(params.size(), glsl.size());
     ASSERT_EQ(set.size(), glsl.size());
     ASSERT_EQ(of_defaults.size(), glsl.size());
@@ -93,7 +93,7 @@ TEST(MarchKnobs, DeclarationsParametersAndUniformsNameTheSameKnobs) {
     EXPECT_EQ(glsl[3].name, "pm_count");
     EXPECT_EQ(glsl[3].comment,
               "0 fixed, 1 mix, 2 mix_trunc, 3 mix_negated, 4 angle_scaled, "
-              "5 mix_scaled");
+              "5 mix_scaled, 6 texels");
     EXPECT_EQ(set[3].value, 1.0);  // mix
     EXPECT_EQ(set[5].name, "pm_layers_min");
     EXPECT_EQ(set[5].value, 8.0);
@@ -101,6 +101,16 @@ TEST(MarchKnobs, DeclarationsParametersAndUniformsNameTheSameKnobs) {
     EXPECT_EQ(set[15].value, 1.0);  // lerp
     EXPECT_EQ(set[16].name, "pm_clamp_weight");
     EXPECT_EQ(set[16].value, 1.0);
+    // The rows after the search: what engines do around it, all off by default.
+    EXPECT_EQ(set[23].name, "pm_pad_fetches");
+    EXPECT_EQ(set[23].value, 0.0);
+    EXPECT_EQ(set[24].name, "pm_lod_fade");
+    EXPECT_EQ(glsl[24].comment, "0 none, 1 hdrp, 2 dxsdk, 3 texels");
+    EXPECT_EQ(set[24].value, 0.0);  // none
+    EXPECT_EQ(set[27].name, "pm_max_slope");
+    EXPECT_EQ(set[27].value, 0.0);  // no cap
+    EXPECT_EQ(set[28].name, "pm_clamp_depth");
+    EXPECT_EQ(set[28].value, 0.0);
 }
 
 // Every preset is the marcher: the same shader, the same generated declarations, every knob's
@@ -117,7 +127,7 @@ TEST(MarchKnobs, EveryPresetSetsEveryKnobUniform) {
         for (const GlUniform& u : method_uniforms(m, test::params_for(m))) names.push_back(u.name);
         EXPECT_EQ(names, knob_uniforms) << m.name;
     }
-    EXPECT_EQ(presets, 25);  // march, the 23 engine presets and the test's
+    EXPECT_EQ(presets, 26);  // march, the 24 engine presets and the test's
 }
 
 TEST(MarchKnobs, ShaderGetsTheDeclarationsInPlaceOfItsMarkerLine) {

@@ -1,6 +1,12 @@
 // Babylon.js StandardMaterial/PBRMaterial parallax and parallax occlusion as presets of the
 // parametric marcher (methods/march/preset.h); parallaxScaleBias = s. Literal transcription and
 // the comparison: tests/engines/literal_js.h, tests/methods/engines_js_test.cpp.
+//
+// Texture levels: both read the height with texture2D(bumpSampler, ...), the hardware's own
+// derivatives (`lod = "implicit"` reproduces it on the GLSL backend; `base` is level 0, pxh's
+// default). parallaxOcclusion's loop has no break: it samples on every one of its iMaxSamples =
+// 15 iterations, also after the hit (at the interpolated offset, the value unused), so every
+// sample costs 15 fetches (pad_fetches); the uv is the search's.
 #include "methods/march/preset.h"
 
 namespace pxh {
@@ -35,7 +41,7 @@ const MarchPresetRow kBabylonPom{
     .summary =
         "Babylon.js POM: n = 15 + 11 V.z layers (the count from dot(N, -V), inverted), only "
         "layers 0..14 tested (iMaxSamples 15), hit h > ray, interpolated; no hit: uv of "
-        "layer 15, untested",
+        "layer 15, untested; 15 fetches on every sample (the loop samples on, after the hit)",
     .knobs = {.count = M::MixNegated,
               .layers_min = 4,   // minSamples
               .layers_max = 15,  // maxSamples
@@ -45,7 +51,8 @@ const MarchPresetRow kBabylonPom{
               .max_steps = 14,  // iMaxSamples = 15 samples: layers 0..14
               .on_miss = M::MissNext,
               .refine = M::Lerp,
-              .clamp_weight = false},
+              .clamp_weight = false,
+              .pad_fetches = true},  // the loop fetches on all 15 iterations, also after the hit
     .order = 345,
     .required_bias = 1.0,
     .bias_reason = "Babylon.js' parallaxOcclusion starts the ray at height 1 at the polygon",

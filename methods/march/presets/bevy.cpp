@@ -2,6 +2,9 @@
 // with Bevy's parameter names and defaults. s = parallax_depth_scale; Bevy marches from the
 // polygon down through the depth map D = 1 - h, so b = 1. Literal transcription and the
 // comparison: tests/engines/literal_godot_bevy_o3de.h, tests/engines_godot_bevy_o3de_test.cpp.
+//
+// Texture levels: sample_depth_map reads textureSampleLevel(.., 0.0), level 0 on purpose (`lod =
+// "base"`, pxh's default, is Bevy's sampling). No fade.
 #include "methods/march/preset.h"
 
 namespace pxh {

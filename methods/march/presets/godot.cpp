@@ -2,6 +2,10 @@
 // (methods/march/preset.h), with Godot's parameter names and defaults. s = 0.01 heightmap_scale;
 // Godot marches from the polygon down through a depth 1 - h, so b = 1. Literal transcription and
 // the comparison: tests/engines/literal_godot_bevy_o3de.h, tests/engines_godot_bevy_o3de_test.cpp.
+//
+// Texture levels: the generated shader reads texture(texture_heightmap, ...) in the loop, the
+// hardware's derivatives of the offset uv (`lod = "implicit"` on the GLSL backend); the stray
+// pixels of godotengine/godot PR 101551 come from there. No fade.
 #include "methods/march/preset.h"
 
 namespace pxh {

@@ -3,6 +3,9 @@
 // in README); each fixes the reference plane, so each requires its bias. Literal transcriptions
 // and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
 // tests/methods/engines_unity_jme_ogre_dx_test.cpp.
+//
+// Texture levels: both read texture2D(parallaxMap, ...), in steep's loop too (`lod =
+// "implicit"` on the GLSL backend). No fade.
 #include "methods/march/preset.h"
 
 namespace pxh {

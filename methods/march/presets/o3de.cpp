@@ -2,6 +2,10 @@
 // with O3DE's parameter names and defaults. s = factor; offset 0: O3DE marches from the polygon
 // down through a depth 1 - h, so b = 1. Literal transcription and the comparison:
 // tests/engines/literal_godot_bevy_o3de.h, tests/engines_godot_bevy_o3de_test.cpp.
+//
+// Texture levels: SampleDepthFromHeightmap reads map.SampleGrad(.., uv_ddx, uv_ddy) with
+// ddx_fine / ddy_fine of the unoffset uv taken before the loop (`lod = "grad"` on the GLSL
+// backend is O3DE's sampling; `level` is its isotropic equivalent on both twins). No fade.
 #include "methods/march/preset.h"
 
 namespace pxh {

@@ -2,6 +2,9 @@
 // (methods/march/preset.h). s = height_scale; OGRE reads depth = 1 - alpha below the polygon,
 // so b = 1. Literal transcriptions and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
 // tests/methods/engines_unity_jme_ogre_dx_test.cpp.
+//
+// Texture levels: SGX_Generate_Parallax_Texcoord reads texture2D(normalHeightMap, ...), in the
+// loop too (`lod = "implicit"` on the GLSL backend). No fade.
 #include "methods/march/preset.h"
 
 namespace pxh {

@@ -1,7 +1,17 @@
-// PlayCanvas StandardMaterial parallax as a preset of the parametric marcher
-// (methods/march/preset.h). PlayCanvas has no occlusion mode: there is no playcanvas_occlusion.
-// Literal transcription and the comparison: tests/engines/literal_js.h,
+// PlayCanvas StandardMaterial parallax as presets of the parametric marcher
+// (methods/march/preset.h): the single-tap offset of v2.21.4 (playcanvas_basic) and the occlusion
+// mode that followed it (playcanvas_occlusion: playcanvas/engine PRs 9213, 9219, 9245). Literal
+// transcriptions and the comparison: tests/engines/literal_js.h,
 // tests/methods/engines_js_test.cpp.
+//
+// Texture levels. playcanvas_basic reads texture2DBias(.., textureBias), the hardware's level
+// plus the material's bias (`lod = "implicit"` on the GLSL backend at bias 0). The occlusion mode
+// computes one level before the loop, lod = max(0, 0.5 log2(max(|dFdx|^2, |dFdy|^2))) of the
+// height map's texel coordinates (pxh's max(lambda, 0)), reads every tap with texture2DLod at it
+// (`lod = "level"` reproduces the sampling on both twins), and lets it drive the step count
+// (count = texels: marchTexels / parallaxTexelsPerStep, capped by parallaxSamples) and a fade
+// (lod_fade = texels: the offset scaled by saturate((marchTexels - 1) / (3 - 1)), the march
+// skipped at 0). The level is the sample's own lambda in every lod mode.
 #include "methods/march/preset.h"
 
 namespace pxh {
@@ -27,6 +37,48 @@ const MarchPresetRow kPlayCanvasBasic{
         "PlayCanvas offsets by height * s - s * 0.5: the map's mid-grey stays at the polygon",
 };
 PXH_REGISTER_PRESET(kPlayCanvasBasic);
+
+// getParallax, STD_PARALLAX == OCCLUSION: march = -s V.xy / V.z limited to length
+// parallaxMaxSlope s (5 s); the volume entered at depth 0, extrapolated back from the geometry
+// plane at depth 1 - heightMapBase (= b); steps = clamp(marchTexels / 2, 1, parallaxSamples),
+// not rounded; the entry tap, then taps at depth i / steps while the ray is above the field (at
+// most ceil(steps)); crossed: from the middle of the last step, five halvings each with a tap
+// (below the field: back); not crossed: the last step; the depth clamped to [0, 1]; the offset
+// from the geometry plane times the fade.
+const MarchPresetRow kPlayCanvasOcclusion{
+    .name = "playcanvas_occlusion",
+    .citation =
+        "PlayCanvas StandardMaterial parallax occlusion (parallaxMode PARALLAX_OCCLUSION): "
+        "playcanvas/engine src/scene/shader-lib/glsl/chunks/standard/frag/parallax.js @ "
+        "1c1a0230c3974c084281cd33c15bf2f25165f186 (getParallax); defaults from PRs 9213 "
+        "(parallaxSamples 16), 9245 (heightMapBase 0.5 = b) and standard-material.js @ "
+        "0aaef5e432c4797ed23c1f966e2cc43232ec0613 (material_heightMapFactor = 0.1 "
+        "heightMapFactor = s)",
+    .summary =
+        "PlayCanvas POM: slope limited to 5, steps from the march's span in texels of the "
+        "pixel's level (2 texels a step, at most parallaxSamples), five bisection taps from "
+        "the middle of the last step, the offset faded out below 3 texels",
+    .knobs = {.count = M::Texels,
+              .layers_max = 16,  // parallaxSamples
+              .step = M::StepTan,
+              .first = M::FirstSample,
+              .compare = M::Le,  // rayDepth >= surfaceDepth
+              .on_miss = M::MissLast,
+              .refine = M::Bisect,
+              .iterations = 5,  // parallaxRefineSteps
+              .tie = M::TieBack,
+              .lod_fade = M::FadeTexels,
+              .texels_per_step = 2,   // parallaxTexelsPerStep
+              .max_slope = 5,         // parallaxMaxSlope
+              .clamp_depth = true,    // hitBelowTop = clamp(hitDepth, 0, 1)
+              .fade_texels_min = 1,   // parallaxFadeMin
+              .fade_texels_max = 3},  // parallaxFadeMax
+    .params = {{ParamSpec::real("parallaxSamples", 16, 1, 4096,
+                                "StandardMaterial#parallaxSamples: the cap on the march's steps"),
+                MarchKnob::layers_max}},
+    .order = 347,
+};
+PXH_REGISTER_PRESET(kPlayCanvasOcclusion);
 
 }  // namespace
 }  // namespace pxh

@@ -3,6 +3,9 @@
 // b = 1. The example's negative scale on a height map (a bottom-up march from the slab floor) is
 // not reproduced. Literal transcription and the comparison: tests/engines/literal_js.h,
 // tests/methods/engines_js_test.cpp.
+//
+// Texture levels: every mode reads texture2D(bumpMap, ...), in the loop too: the hardware's
+// derivatives of the offset uv (`lod = "implicit"` on the GLSL backend). No fade.
 #include "methods/march/preset.h"
 
 namespace pxh {
