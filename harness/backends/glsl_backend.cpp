@@ -490,10 +490,10 @@ void GlslBackend::upload_sample_maps(const GlslDraw& d, const Program& program) 
         if (d.lambda && d.lambda->size() != count)
             throw std::logic_error("glsl: " + std::to_string(d.lambda->size()) + " lambdas for " +
                                    std::to_string(count) + " samples");
-        std::vector<float> t(count);
-        for (size_t k = 0; k < count; ++k)
-            t[k] = float(d.lambda ? (*d.lambda)[k]
-                                  : footprint_lod(footprint(k), d.hf->width, d.hf->height));
+        // None given: 0 for every sample, as the CPU twin takes it (run_cpu, HeightSampler).
+        std::vector<float> t(count, 0.0f);
+        if (d.lambda)
+            for (size_t k = 0; k < count; ++k) t[k] = float((*d.lambda)[k]);
         upload_sample_map(lod_map_, kLodUnit, n, 1, t, "levels of detail");
     }
     if (d.lod == LodMode::grad) {

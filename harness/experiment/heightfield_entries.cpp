@@ -179,7 +179,7 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
     rows.times(biases.size(), "bias");
     rows.times(ex.theta_deg.size(), "theta");
     rows.times(ex.phi_deg.size(), "phi");
-    rows.times(ex.camera_settings.size(), "camera setting(s)");
+    if (ex.camera_settings.size() > 1) rows.times(ex.camera_settings.size(), "camera settings");
     rows.times(variants_per_setting(ex, state.limits, false), "backend variant(s)");
     rows.times(1, "method setting (at least)");
     check_entry_rows(state.field_rows, rows, where, "[[heightfields]]", state.limits);

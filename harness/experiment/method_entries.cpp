@@ -250,7 +250,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     rows.times(fields_run, "heightfield(s)");
     rows.times(ex.theta_deg.size(), "theta");
     rows.times(ex.phi_deg.size(), "phi");
-    rows.times(ex.camera_settings.size(), "camera setting(s)");
+    if (ex.camera_settings.size() > 1) rows.times(ex.camera_settings.size(), "camera settings");
     size_t variants = 0;  // per parameter setting, over its lod modes (grad, implicit: GLSL)
     for (LodMode lod : lods)
         variants +=

@@ -24,9 +24,9 @@ void write_maps(const ViewWriteContext& c, ViewOutput& v) {
     for (size_t i = 0; i < v.rows.size(); ++i) {
         if (v.errors[i].empty()) continue;
         const ErrorMapName name = error_map_name(v.rows[i], v.first + i);
-        v.rows[i].set_text("map", "maps/" + write_error_map(v.errors[i], c.ex.samples,
-                                                            (c.dir / "maps").string(), name.stem,
-                                                            name.title));
+        v.rows[i].set_text(
+            "map", "maps/" + write_error_map(v.errors[i], c.ex.samples, (c.dir / "maps").string(),
+                                             name.stem, name.title));
     }
 }
 
@@ -50,8 +50,8 @@ void write_pictures(const ViewWriteContext& c, ViewOutput& v) {
         if (v.errors[i].empty()) continue;  // a failed row: no picture, no numbers
         ResultRow& row = rows[i];
         const auto pic = picture(
-            uv_from_errors(v.truth, v.errors[i], int(row.num("width")), int(row.num("height"))),
-            n, v.inside);
+            uv_from_errors(v.truth, v.errors[i], int(row.num("width")), int(row.num("height"))), n,
+            v.inside);
         apply_image_metrics({pic, truth_pic, n}, row);
         const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
                            row.text("params") == r.strip_params;

@@ -28,9 +28,9 @@ struct ViewWriteContext {
 struct ViewOutput {
     std::vector<ResultRow>& rows;
     const std::vector<std::vector<Vec2d>>& errors;  // per row (empty: a failed row)
-    const std::vector<Vec2d>& truth;                 // the truth's uv per sample (unwrapped)
-    const std::vector<uint8_t>& inside;              // the view's inside mask (empty: all)
-    size_t first;                                    // the view's first row in results.csv
+    const std::vector<Vec2d>& truth;                // the truth's uv per sample (unwrapped)
+    const std::vector<uint8_t>& inside;             // the view's inside mask (empty: all)
+    size_t first;                                   // the view's first row in results.csv
 };
 
 struct ViewWriter {
