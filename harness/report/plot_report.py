@@ -527,10 +527,18 @@ def distance_axis(ax, distances, show_labels):
 
 
 def vs_distance(F, st, rows):
-    """Texel error (top rows) and pixel error (bottom rows) against the eye's distance, a
-    column per view angle, a pair of panel rows per field; means and p95 as in vs_theta."""
+    """error_vs_distance: texel error (top row) and pixel error (bottom row) against the eye's
+    distance, a column per view angle; one figure per field (error_vs_distance_1, _2, ... in
+    the run's field order when there are several), means and p95 as in vs_theta."""
     if not rows:
         return
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    for k, field in enumerate(fields):
+        name = "error_vs_distance" if len(fields) == 1 else f"error_vs_distance_{k + 1}"
+        vs_distance_field(F, st, [r for r in rows if r["heightfield"] == field], name)
+
+
+def vs_distance_field(F, st, rows, name):
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
     thetas = sorted({num(r["theta_deg"]) for r in rows if num(r["theta_deg"]) is not None})
     distances = sorted({num(r["distance"]) for r in rows if num(r["distance"]) is not None})
@@ -581,7 +589,7 @@ def vs_distance(F, st, rows):
     note = join_notes("top: texel error; bottom: pixel error |J⁻¹e| (means over φ and fov)",
                       field_note, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, "error_vs_distance", panels, series, legend, note=note)
+    F.save(fig, name, panels, series, legend, note=note)
 
 
 COSTS = {"fetches_mean": ("pareto_fetches", "fetches / sample", "fetches: height and map lookups"),
