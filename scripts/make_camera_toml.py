@@ -35,17 +35,17 @@ fov_deg = 45
 ''']
 methods = []
 LOD = 'lod = ["base", "level", "grad", "implicit"]'
-# The seed methods on a field entry of their own (the same scan, s and b as the 0.05/1 engines),
-# so that pxh report draws them in a figure of their own.
-entries = [(0.05, 1.0, [m for m in SEEDS if m in have], "the seed methods", "jacksboro-seeds")]
-entries += [(s, b, [p for p in presets if p in have], why, f"jacksboro-s{s:g}-b{b:g}")
-            for s, b, presets, why in groups]
-for s, b, names, why, name in entries:
-    if not names:
+seeded = False
+for s, b, presets, why in groups:
+    presets = [p for p in presets if p in have]
+    seeds = [m for m in SEEDS if m in have] if (s, b) == (0.05, 1.0) and not seeded else []
+    if not presets and not seeds:
         continue
+    seeded = seeded or bool(seeds)
+    name = f"jacksboro-s{s:g}-b{b:g}"
     out.append(f'# {why}\n[[heightfields]]\nname = "{name}"\nscan = "jacksboro"\nscale = {s:g}\n'
                f'bias = {b:.1f}\n')
-    for m in names:
+    for m in seeds + presets:
         params = 'layers = 32\n' if m in ("steep", "pom", "relief") else ""
         methods.append(f'[[methods]]\nname = "{m}"\n{params}{LOD}\nheightfields = ["{name}"]\n')
 print("\n".join(out + methods), end="")

@@ -511,13 +511,15 @@ def sweep_vs_theta(F, st, rows):
     F.save(fig, "sweep_vs_theta", panels, series, legend, note=note)
 
 
-def distance_axis(ax, distances, show_labels):
-    """A log axis over the swept eye distances (tiles), ticked at the distances themselves."""
+def distance_axis(ax, distances, show_labels, width_in):
+    """A log axis over the swept eye distances (tiles), ticked at the distances themselves, as
+    many as fit the panel's width (a label about 0.3 in)."""
     lo, hi = min(distances), max(distances)
     ax.set_xscale("log")
     ax.set_xlim(lo / 1.25, hi * 1.25)
     ticks = sorted(set(distances))
-    while len(ticks) > 6:
+    max_n = max(2, min(6, int(width_in / 0.3)))
+    while len(ticks) > max_n:
         ticks = ticks[::2]
     ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
     ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
@@ -574,12 +576,12 @@ def vs_distance_field(F, st, rows, name):
                 top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin)
                 error_axis(ax, lin, top, ph)
                 last = 2 * f + q == nr - 1
-                distance_axis(ax, distances, last)
+                distance_axis(ax, distances, last, pw)
                 head = f"θ = {theta:g}°" + ("" if len(fields) == 1 else f", {titles[field]}")
                 ax.set_title(fit(head, 0.8 * pw, 8, 2))
                 if c == 0:
                     ax.set_ylabel(label)
-                if last:
+                if last and c == nc // 2:  # one label under the middle column
                     ax.set_xlabel("eye distance (tiles)")
     handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
     handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="mean"),
