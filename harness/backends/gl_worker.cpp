@@ -1,5 +1,6 @@
 #include "harness/backends/gl_worker.h"
 
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
@@ -11,6 +12,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -18,7 +21,6 @@
 #include <type_traits>
 
 #include "harness/core/error.h"
-#include "harness/gl/context.h"
 
 namespace pxh {
 namespace {
@@ -311,12 +313,23 @@ Got recv_frame(int fd, std::string& out, std::chrono::steady_clock::time_point d
     return read_n(out.data(), out.size());
 }
 
+// What the GL process needs of the settings: its first message.
+template <class A>
+void visit(A& a, BackendSettings& s) {
+    a(s.shader_dir), a(s.gl_frames), a(s.texture_formats), a(s.gl);
+}
+
 // The child: a GlslBackend answering requests until pxh closes the socket.
-[[noreturn]] void serve(int fd, const BackendSettings& s) {
+[[noreturn]] void serve(int fd) {
     std::unique_ptr<GlslBackend> gl;
     {
         Out hello;
         try {
+            std::string first;
+            if (recv_frame(fd, first, {}, false) != Got::frame) _exit(0);
+            BackendSettings s;
+            In in(first);
+            in(s);
             gl = std::make_unique<GlslBackend>(
                 GlslOptions{s.shader_dir, s.gl_frames, s.texture_formats, s.gl});
             hello(uint8_t(1));
@@ -385,7 +398,28 @@ std::string seconds(double s) {
     return os.str();
 }
 
+std::string& worker_program() {
+    static std::string path;
+    return path;
+}
+
 }  // namespace
+
+void set_gl_worker_program(const std::string& path) { worker_program() = path; }
+const std::string& gl_worker_program() { return worker_program(); }
+
+void gl_worker_main(const char* fd_arg) {
+    char* end = nullptr;
+    const long fd = std::strtol(fd_arg, &end, 10);
+    if (end == fd_arg || *end || fd < 0 || fd > 1 << 20 || ::fcntl(int(fd), F_GETFD) < 0) {
+        std::fputs(
+            "pxh: error: the GL process's socket is not open (pxh starts this mode "
+            "itself)\n",
+            stderr);
+        _exit(2);
+    }
+    serve(int(fd));
+}
 
 GlslChildBackend::GlslChildBackend(const BackendSettings& settings) : settings_(settings) {
     if (!settings_.shader_dir.empty()) {
@@ -394,7 +428,7 @@ GlslChildBackend::GlslChildBackend(const BackendSettings& settings) : settings_(
         if (!std::filesystem::is_directory(settings_.shader_dir, ec))
             throw InputError("--shader-dir " + settings_.shader_dir, "no such folder");
     }
-    if (gl_context_made_in_process()) {  // a fork could deadlock in Mesa: draw here
+    if (gl_worker_program().empty()) {  // no pxh binary to start: draw here
         local_ = std::make_unique<GlslBackend>(GlslOptions{
             settings_.shader_dir, settings_.gl_frames, settings_.texture_formats, settings_.gl});
         facts_ = local_->facts();
@@ -418,6 +452,24 @@ void GlslChildBackend::stop() {
 }
 
 void GlslChildBackend::start() {
+    // Everything the child needs between fork and exec is made here: after the fork it makes
+    // only async-signal-safe calls (another thread's lock held at the fork is never released).
+    const std::string& program = gl_worker_program();
+    constexpr int kChildFd = 3;
+    const std::string fd_arg = std::to_string(kChildFd);
+    std::vector<char*> argv{const_cast<char*>(program.c_str()), const_cast<char*>(kGlWorkerArg),
+                            const_cast<char*>(fd_arg.c_str()), nullptr};
+    Out failed;  // the hello of a child whose exec failed
+    failed(uint8_t(0));
+    failed(std::string("glsl: cannot start the GL process: cannot run ") + program);
+    std::string failed_frame;
+    {
+        const uint64_t n = failed.buf.size();
+        failed_frame.assign(reinterpret_cast<const char*>(&n), sizeof n);
+        failed_frame += failed.buf;
+    }
+    Out first;  // the settings, the child's first message
+    first(settings_);
     int sv[2];
     if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
         throw std::runtime_error(std::string("glsl: cannot create the GL process's socket: ") +
@@ -433,15 +485,24 @@ void GlslChildBackend::start() {
     if (pid == 0) {
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);  // it dies with pxh
         if (::getppid() != parent) _exit(0);
-        const int fd = sv[1];
-        // Nothing of pxh's but stdio and the socket (a results folder's lock stays pxh's).
-        if (fd > 3) ::close_range(3, unsigned(fd) - 1, 0);
-        ::close_range(unsigned(fd) + 1, ~0U, 0);
-        serve(fd, settings_);
+        // The socket as fd 3, open across the exec; nothing else of pxh's but stdio (a results
+        // folder's lock stays pxh's).
+        if (sv[1] == kChildFd ? ::fcntl(kChildFd, F_SETFD, 0) != 0
+                              : ::dup2(sv[1], kChildFd) != kChildFd)
+            _exit(127);
+        ::close_range(kChildFd + 1, ~0U, 0);
+        ::execv(program.c_str(), argv.data());
+        const ssize_t w = ::write(kChildFd, failed_frame.data(), failed_frame.size());
+        (void)w;
+        _exit(127);
     }
     ::close(sv[1]);
     fd_ = sv[0];
     pid_ = pid;
+    if (!send_frame(fd_, first.buf)) {
+        stop();
+        throw std::runtime_error("glsl: the GL process ended before it made a context");
+    }
     // The hello: the context's facts, or why it could not be made.
     std::string hello;
     const auto deadline = std::chrono::steady_clock::now() +

@@ -4,17 +4,21 @@
 // is killed, that row fails with the reason, and the next row starts a fresh child with a fresh
 // GL context. A child that dies (a driver crash) fails its row the same way.
 //
-// The child is a fork of pxh, made when the backend is created and again after a kill; it holds
-// a GlslBackend (the in-process backend, harness/backends/glsl_backend.h) and answers one
-// request at a time over a socket pair: a draw (GlslDraw, as plain data: the program's
+// The child is pxh itself started afresh (fork, then exec of pxh's binary in its hidden worker
+// mode, gl_worker_main), made when the backend is created and again after a kill: a fork alone
+// would carry into the child every lock another thread of pxh held at that moment (TBB's and
+// Embree's workers, the allocator's, Mesa's) with no thread to release it, and the child could
+// block forever on its first malloc. Between the fork and the exec the child makes only
+// async-signal-safe calls. It gets its settings as the first message, holds a GlslBackend (the
+// in-process backend, harness/backends/glsl_backend.h) and answers one request at a time over a
+// socket pair: a draw (GlslDraw, as plain data: the program's
 // sources and uniforms, the height field's texels, the view, the light, the method's built
 // textures) answered with the MethodOutput, or a check of a program (compile, link, interface)
 // answered with its problems. It dies with pxh (PR_SET_PDEATHSIG).
 //
-// A process that has made a GL context itself (a test's in-process GlslBackend) cannot fork a
-// GL child safely: the child would inherit Mesa's state without its threads and can deadlock.
-// There (harness/gl/context.h: gl_context_made_in_process) the backend draws in-process, without
-// the time limit (in_process() says so); pxh itself never makes a context outside the child.
+// The program started is pxh's binary: pxh's main() names itself (set_gl_worker_program), a
+// program linking the library that is not pxh (pxh_tests) names pxh's binary. A program that
+// names none draws in-process, without the time limit (in_process() says so).
 //
 // Adding a field to MethodOutput (or to GlslDraw): one line in its visit() in gl_worker.cpp,
 // which both writes and reads it; a static_assert on sizeof(MethodOutput) there stops a build
@@ -31,6 +35,17 @@
 #include "harness/backends/glsl_backend.h"
 
 namespace pxh {
+
+// The program the GL process runs (pxh's binary, started as `PROGRAM kGlWorkerArg FD`); empty:
+// none (the backend draws in-process). Set once, before any backend is made.
+void set_gl_worker_program(const std::string& path);
+const std::string& gl_worker_program();
+// pxh's hidden worker mode: argv[1] of a GL process. pxh's main() hands such a call to
+// gl_worker_main before anything else.
+inline constexpr const char* kGlWorkerArg = "--gl-worker-process";
+// The GL process: serves requests on the socket `fd` (argv[2]) until pxh closes it; never
+// returns (exit status 0 when pxh closed the socket, 2 for a bad fd argument).
+[[noreturn]] void gl_worker_main(const char* fd);
 
 class GlslChildBackend : public Backend {
   public:

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/backends/gl_worker.h"
 #include "harness/commands/commands.h"
 #include "harness/core/error.h"
 #include "harness/core/safe_files.h"
@@ -11,6 +12,10 @@
 using namespace pxh;
 
 int main(int argc, char** argv) {
+    // A GL process that pxh started (harness/backends/gl_worker.h): nothing else of main's.
+    if (argc == 3 && std::string(argv[1]) == kGlWorkerArg) gl_worker_main(argv[2]);
+    // pxh's GL work runs in a fresh pxh of its own.
+    set_gl_worker_program("/proc/self/exe");
     // A closed pipe or a file-size limit fails the write (reported), never ends pxh silently.
     ignore_write_signals();
     CLI::App app{

@@ -41,9 +41,9 @@ std::string gl_context_names();  // "egl, osmesa": for messages
 // Creates the named context, current on the calling thread. Throws InputError("--gl", ...) for
 // an unknown name, std::runtime_error (one line: what failed) when no context can be made.
 std::unique_ptr<GlContext> make_gl_context(const std::string& name);
-// Whether this process has made a GL context (make_gl_context was called). A process that has
-// cannot fork a GL child safely (the child inherits Mesa's state without its threads and can
-// deadlock): the glsl backend then draws in-process (harness/backends/gl_worker.h).
+// Whether this process has made a GL context (make_gl_context was called). (The glsl backend's
+// GL process is pxh exec'd afresh, harness/backends/gl_worker.h, so it inherits none of this
+// process's GL or lock state whether or not a context was made here.)
 bool gl_context_made_in_process();
 
 // ---- Loading GL (harness/gl/context.cpp) ----

@@ -415,10 +415,9 @@ TEST(GlWorker, ChildAnswersAsTheInProcessBackend) {
     d.frames = 1;
     pxh::BackendSettings s;
     pxh::GlslChildBackend child(s);
-    // A child process unless this test process made a GL context before (then in-process).
-    if (!child.in_process()) {
-        EXPECT_GT(child.child_pid(), 0);
-    }
+    // A child process, even though this test process may have made a GL context before.
+    ASSERT_FALSE(child.in_process());
+    EXPECT_GT(child.child_pid(), 0);
     const pxh::MethodOutput a = child.draw(d);
     pxh::GlslBackend in_process(pxh::GlslOptions{"", 1});
     const pxh::MethodOutput b = in_process.draw(d);
