@@ -15,6 +15,13 @@ groups = [  # (s, b, presets, how s follows from the engine's default)
  (0.015, 1.0, ["jme_steep"], "jMonkeyEngine steep: 0.3 x ParallaxHeight 0.05"),
  (0.04, 1.0, ["ogre_parallax","ogre_pom"], "OGRE RTSS height_scale 0.04"),
 ]
+# Presets whose entry sets a knob away from its default, with why (a comment above the entry).
+EXTRA = {
+ "dxsdk_pom": ("# As shipped the sample never sets g_vTextureDims, so its mip level is always 0 and its LOD\n"
+               "# blend never runs: g_nLODThreshold 16 keeps the preset there (at jacksboro's level 2.65 under\n"
+               "# this grid the default 3 would blend towards P; docs/engines.md, \"Texture levels\").\n",
+               "g_nLODThreshold = 16\n"),
+}
 import sys
 have = set(sys.argv[1:])  # presets that exist
 out = ['''# What engines ship: every engine preset at its engine's defaults (methods/march/presets/*.cpp;
@@ -42,5 +49,6 @@ for s, b, presets, why in groups:
         names.append(name)
         out.append(f'# {why}\n[[heightfields]]\nname = "{name}"\n{spec}\nscale = {s:g}\nbias = {b:.1f}\n')
     for p in presets:
-        methods.append(f'[[methods]]\nname = "{p}"\nheightfields = [{", ".join(chr(34)+n+chr(34) for n in names)}]\n')
+        why_extra, extra = EXTRA.get(p, ("", ""))
+        methods.append(f'{why_extra}[[methods]]\nname = "{p}"\nheightfields = [{", ".join(chr(34)+n+chr(34) for n in names)}]\n{extra}')
 print("\n".join(out + methods), end="")
