@@ -101,6 +101,13 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
     return stem + ".png";
 }
 
+std::string camera_name_part(const ResultRow& r) {
+    if (std::isnan(r.num("distance"))) return "";
+    char part[128];
+    std::snprintf(part, sizeof part, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
+    return part;
+}
+
 ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     const std::string& fmt = r.text("texture_format");
     const std::string what = r.text("backend") + "-" + (fmt.empty() ? r.text("precision") : fmt);
@@ -115,12 +122,7 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     if (ps.size() > kParamsInName)
         ps = ps.substr(0, kParamsInName - 9) + "~" + sha256_hex(params).substr(0, 8);
     // A camera's settings and a level mode other than base, when the row has them.
-    std::string view;
-    char part[128];
-    if (!std::isnan(r.num("distance"))) {
-        std::snprintf(part, sizeof part, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
-        view += part;
-    }
+    std::string view = camera_name_part(r);
     const std::string& lod = r.text("lod");
     if (!lod.empty() && lod != "base") view += "_" + lod;
     char stem[512];

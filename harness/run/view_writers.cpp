@@ -80,11 +80,7 @@ std::string truth_picture_name(const ResultRow& r) {
     char name[512];
     std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
                   r.num("theta_deg"), r.num("phi_deg"));
-    std::string s = name;
-    if (!std::isnan(r.num("distance"))) {  // a perspective camera's settings
-        std::snprintf(name, sizeof name, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
-        s += name;
-    }
+    std::string s = name + camera_name_part(r);
     for (char& ch : s)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
     return s + ".png";

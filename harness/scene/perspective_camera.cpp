@@ -190,26 +190,29 @@ std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
     return out;
 }
 
-std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
-                                                const CameraSpec& spec) {
+namespace {
+
+// The camera's parameters at one of its settings and one view.
+PerspectiveParams params_of(const CameraSetting& setting, const CameraSpec& spec) {
     PerspectiveParams p;
     p.theta_deg = spec.theta_deg;
     p.phi_deg = spec.phi_deg;
     p.samples = spec.samples;
     p.distance = setting.get("distance");
     p.fov_deg = setting.get("fov_deg");
-    return std::make_unique<PerspectiveCamera>(p);
+    return p;
+}
+
+}  // namespace
+
+std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
+                                                const CameraSpec& spec) {
+    return std::make_unique<PerspectiveCamera>(params_of(setting, spec));
 }
 
 std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,
                                       double scale, double bias) {
-    PerspectiveParams p;
-    p.theta_deg = spec.theta_deg;
-    p.phi_deg = spec.phi_deg;
-    p.samples = spec.samples;
-    p.distance = setting.get("distance");
-    p.fov_deg = setting.get("fov_deg");
-    return eye_slab_problem(p, scale, bias);
+    return eye_slab_problem(params_of(setting, spec), scale, bias);
 }
 
 }  // namespace pxh
