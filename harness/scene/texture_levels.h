@@ -61,28 +61,4 @@ T level_fetch(const TextureLevels& tl, Vec2<T> uv, T lambda) {
     return b1 + (b2 - b1) * tau;
 }
 
-// A HeightSampler that reads every height at one level of detail: the CPU `level` mode's
-// sampler (one fetch per call, as HeightSampler; surface z = s (h - b)).
-template <typename T>
-class LevelHeightSampler {
-  public:
-    LevelHeightSampler(const TextureLevels& tl, T scale, T bias, T lambda)
-        : tl_(&tl), s_(scale), b_(bias), lambda_(lambda) {}
-
-    T height(Vec2<T> uv) {
-        ++fetches;
-        return level_fetch(*tl_, uv, lambda_);
-    }
-    T z(Vec2<T> uv) { return s_ * (height(uv) - b_); }
-    T scale() const { return s_; }
-    T bias() const { return b_; }
-    T lambda() const { return lambda_; }
-
-    int fetches = 0;
-
-  private:
-    const TextureLevels* tl_;
-    T s_, b_, lambda_;
-};
-
 }  // namespace pxh

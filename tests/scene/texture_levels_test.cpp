@@ -253,12 +253,18 @@ TEST(TextureLevels, BetweenLevelsIsTheLinearBlend) {
 TEST(TextureLevels, LevelSamplerCountsFetchesAndGivesTheSurface) {
     const HeightField f = random_field(16, 16, 21);
     const TextureLevels tl = build_texture_levels(f);
-    LevelHeightSampler<double> ls(tl, 0.05, 0.5, 1.25);
+    // The `level` mode's sampler: HeightSampler given the levels and the sample's lambda.
+    HeightSampler<double> ls(f, 0.05, 0.5, &tl, 1.25);
     const Vec2d uv{0.3, 0.7};
     EXPECT_EQ(ls.z(uv), 0.05 * (level_fetch(tl, uv, 1.25) - 0.5));
     EXPECT_EQ(ls.height(uv), level_fetch(tl, uv, 1.25));
-    EXPECT_EQ(ls.fetches, 2);
-    EXPECT_EQ(ls.lambda(), 1.25);
+    EXPECT_NE(ls.height(uv), HeightSampler<double>(f, 0.05, 0.5).height(uv));  // not level 0
+    EXPECT_EQ(ls.fetches, 3);
+    EXPECT_EQ(ls.lod(), 1.25);
+    // Without levels it reads level 0 and still knows lambda (what pxh_lod() returns).
+    HeightSampler<double> base(f, 0.05, 0.5, nullptr, 1.25);
+    EXPECT_EQ(base.height(uv), HeightSampler<double>(f, 0.05, 0.5).height(uv));
+    EXPECT_EQ(base.lod(), 1.25);
 }
 
 }  // namespace
