@@ -268,11 +268,13 @@ struct Regimes {
     double worst = 0;
 };
 
-// The preset's GLSL render against its CPU float twin under perspective cameras' rays: each
-// pixel's V and lambda are the camera's (a 256^2 field seen with 32^2 pixels: lambda from about 3
-// to past 8), drawn at the N x N grid's points (the GLSL backend's per-sample view map and lambda
-// map, without its point map), both twins fed the same per-sample lambda.
-Regimes glsl_vs_cpu_perspective(const std::string& name, const GivenParams& given, double b) {
+// The preset's GLSL render against its CPU float twin on perspective views (a 256^2 field seen
+// with 32^2 pixels: lambda from about 3 to past 8), both twins fed the view's per-sample lambda;
+// outside pixels left out. `on_grid`: the camera's V and lambda per pixel, drawn at the N x N
+// grid's points instead of the camera's (the per-sample view and lambda maps without the point
+// map).
+Regimes glsl_vs_cpu_perspective(const std::string& name, const GivenParams& given, double b,
+                                bool on_grid) {
     static GlslBackend gl(GlslOptions{"", 0});
     CpuBackend cpu(BackendSettings{});
     const MethodInfo& m = method(name);
@@ -287,9 +289,11 @@ Regimes glsl_vs_cpu_perspective(const std::string& name, const GivenParams& give
             const View camera = PerspectiveCamera(pp).view();
             const std::vector<double> lambda = sample_lods(camera.J, hf.width, hf.height);
             View rays = camera;
-            rays.P = sample_grid(32);
-            rays.grid = 32;
-            rays.inside.clear();  // outside pixels carry the look-at ray: a valid V
+            if (on_grid) {
+                rays.P = sample_grid(32);
+                rays.grid = 32;
+                rays.inside.clear();  // outside pixels carry the look-at ray: a valid V
+            }
             const Scene<double> sc{s, b, view_vector(theta, 35), hf.width, hf.height};
             ViewInput in{sc, hf, rays, nullptr, false, nullptr};
             in.lambda = &lambda;
@@ -313,7 +317,7 @@ Regimes glsl_vs_cpu_perspective(const std::string& name, const GivenParams& give
     return r;
 }
 
-TEST(EngineLodGlsl, PresetsWithLevelRulesAgreeWithTheirCpuTwinUnderPerspectiveRays) {
+TEST(EngineLodGlsl, PresetsWithLevelRulesAgreeWithTheirCpuTwinOnPerspectiveViews) {
     struct Row {
         const char* name;
         GivenParams given;
@@ -328,19 +332,29 @@ TEST(EngineLodGlsl, PresetsWithLevelRulesAgreeWithTheirCpuTwinUnderPerspectiveRa
         {"playcanvas_occlusion", {{"parallaxSamples", 8}}, 1.0},
         {"babylon_pom", {}, 1.0},
     };
-    for (const Row& row : rows) {
-        const Regimes r = glsl_vs_cpu_perspective(row.name, row.given, row.b);
-        const std::string what = std::string(row.name) + " " + std::to_string(row.given.size());
-        EXPECT_LE(r.far, r.inside / 1000) << what << ": " << r.far << " of " << r.inside
-                                          << " beyond 1e-3 texel, worst " << r.worst;
-        EXPECT_LE(r.fetch_off, r.inside / 1000) << what << ": fetch counts differ";
-        // The views reach both sides of each rule: samples displaced, and (but for Babylon,
-        // which has no level rule) samples returned at P past the threshold.
-        EXPECT_GT(r.moved, r.inside / 50) << what;
-        if (std::string(row.name) != "babylon_pom") {
-            EXPECT_GT(r.at_p, r.inside / 20) << what;
+    for (const Row& row : rows)
+        for (bool on_grid : {false, true}) {
+            const Regimes r = glsl_vs_cpu_perspective(row.name, row.given, row.b, on_grid);
+            const std::string what = std::string(row.name) + " " +
+                                     std::to_string(row.given.size()) +
+                                     (on_grid ? " on the grid" : " perspective");
+            const bool babylon = std::string(row.name) == "babylon_pom";
+            // Babylon's interpolation weight is unclamped (docs/engines.md): float rounding of
+            // near-degenerate brackets is amplified, so its bound is on the worst sample.
+            if (babylon) {
+                EXPECT_LT(r.worst, 0.01) << what << ": worst " << r.worst << " texel";
+            } else {
+                EXPECT_LE(r.far, r.inside / 1000) << what << ": " << r.far << " of " << r.inside
+                                                  << " beyond 1e-3 texel, worst " << r.worst;
+            }
+            EXPECT_LE(r.fetch_off, r.inside / 1000) << what << ": fetch counts differ";
+            // The views reach both sides of each rule: samples displaced, and (but for Babylon,
+            // which has no level rule) samples returned at P past the threshold.
+            EXPECT_GT(r.moved, r.inside / 50) << what;
+            if (!babylon) {
+                EXPECT_GT(r.at_p, r.inside / 20) << what;
+            }
         }
-    }
 }
 
 }  // namespace
