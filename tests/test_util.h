@@ -10,11 +10,23 @@
 #include <string>
 #include <vector>
 
+#include "harness/core/error.h"
 #include "harness/scene/heightfield.h"
 #include "harness/truth/ground_truth.h"
 #include "methods/method.h"
 
 namespace pxh::test {
+
+// The message of the InputError `f()` throws, or "" when it throws none.
+template <class F>
+std::string input_error(F f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
 
 inline HeightField random_field(int w, int h, uint32_t seed, float lo = 0.0f, float hi = 1.0f) {
     HeightField hf(w, h, "random");

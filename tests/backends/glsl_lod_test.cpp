@@ -185,20 +185,34 @@ TEST_P(GlslLevelMode, CpuFloatTwinEqualsTheGlslTwin) {
 INSTANTIATE_TEST_SUITE_P(Registry, GlslLevelMode, ::testing::ValuesIn(level_methods()),
                          test::MethodName());
 
+// parallax at lod = level on an orthographic view of `hf` (theta 40, 8 x 8 samples), with the
+// field's levels and the view's lambda: what the upload tests draw.
+struct ParallaxAtLevel {
+    explicit ParallaxAtLevel(const HeightField& hf)
+        : levels(build_texture_levels(hf)),
+          v(orthographic(hf, 0.05, 1.0, 40, 8)),
+          spec{find_method("parallax"), test::params_for(*find_method("parallax"))},
+          in{v.scene, hf, v.rays, nullptr, false, nullptr} {
+        spec.lod = LodMode::level;
+        in.levels = &levels;
+        in.lambda = &v.lambda;
+    }
+    TextureLevels levels;
+    TestView v;
+    MethodSpec spec;
+    ViewInput in;
+};
+
 // The levels as uploaded (glGetTexImage): the CPU's levels, each in the row's format (r32f as
 // built, r16 and r8 rounded to the nearest 1/65535, 1/255), the mip chain q levels long; a base
 // draw afterwards goes back to level 0 alone.
 TEST(GlslLevels, UploadedLevelsAreTheCpuLevelsInTheRowsFormat) {
     const HeightField hf = test::random_field(48, 40, 7);
-    const TextureLevels levels = build_texture_levels(hf);
+    const ParallaxAtLevel run(hf);
+    const TextureLevels& levels = run.levels;
     ASSERT_EQ(levels.last(), 5);
-    const TestView v = orthographic(hf, 0.05, 1.0, 40, 8);
-    const MethodInfo& m = *find_method("parallax");
-    MethodSpec spec{&m, test::params_for(m)};
-    spec.lod = LodMode::level;
-    ViewInput in{v.scene, hf, v.rays, nullptr, false, nullptr};
-    in.levels = &levels;
-    in.lambda = &v.lambda;
+    const MethodSpec& spec = run.spec;
+    const ViewInput& in = run.in;
     for (const auto& [format, steps] :
          std::vector<std::pair<std::string, double>>{{"r32f", 0}, {"r16", 65535}, {"r8", 255}}) {
         gl().run(spec, in, {"float", format});
@@ -229,14 +243,10 @@ TEST(GlslLevels, UploadedLevelsAreTheCpuLevelsInTheRowsFormat) {
 // the level-0 texel's value as stored).
 TEST(GlslLevels, ConstantFieldIsConstantOnEveryLevelInEveryFormat) {
     const HeightField hf = test::flat_field(36, 20, 0.3721f);
-    const TextureLevels levels = build_texture_levels(hf);
-    const TestView v = orthographic(hf, 0.05, 1.0, 40, 8);
-    const MethodInfo& m = *find_method("parallax");
-    MethodSpec spec{&m, test::params_for(m)};
-    spec.lod = LodMode::level;
-    ViewInput in{v.scene, hf, v.rays, nullptr, false, nullptr};
-    in.levels = &levels;
-    in.lambda = &v.lambda;
+    const ParallaxAtLevel run(hf);
+    const TextureLevels& levels = run.levels;
+    const MethodSpec& spec = run.spec;
+    const ViewInput& in = run.in;
     for (const char* format : {"r32f", "r16", "r8"}) {
         gl().run(spec, in, {"float", format});
         int w = 0, h = 0;

@@ -366,15 +366,8 @@ std::string list(int from, int to, double scale = 1) {
     return s + "]";
 }
 
-const std::string kHead = R"(
-name = "big"
-samples = 8
-[views]
-theta_deg = [30, 60]
-[[heightfields]]
-generator = "fbm"
-size = 16
-)";
+// Lines 1-8: name, samples, timing_repeats, [views], theta_deg, one fbm field.
+const std::string kHead = pxh::test::ExperimentToml("big").theta("[30, 60]").field("fbm", 16);
 
 // The message of parsing `text` (at `path`), or "" when it parses.
 std::string parse_error(const std::string& text, const std::string& path = "/x/big.toml",
