@@ -160,10 +160,7 @@ struct Setting {
 // surface). Without the refinement the same rays are up to a cell off.
 TEST(ConeRefine, LinearRefinementIsExactOnAPlane) {
     PlaneCone pc(3);
-    const HeightField& hf = pc.hf;
-    const double s = pc.s, b = pc.b;
-    TextureSampler<double>& map = pc.map;
-    const std::vector<Vec2d>& P = pc.P;
+    auto& [hf, s, b, res, map, P] = pc;
     const Setting settings[] = {{"dummer", 1, "texel", 0, 32},  {"dummer_min", 2, "cell", 1, 32},
                                 {"bilinear", 3, "none", 2, 32}, {"dummer_min", 2, "cell", 1, 1},
                                 {"bilinear", 3, "none", 2, 2},  {"dummer", 1, "texel", 0, 3}};
@@ -278,10 +275,7 @@ TEST(ConeRefine, RefinementIsTheSourcesOnTheLoopsBracket) {
 // to within a factor 2 on some ray.
 TEST(ConeRefine, BinaryRefinementHalvesTheErrorPerStepOnAPlane) {
     PlaneCone pc(5);
-    const HeightField& hf = pc.hf;
-    const double s = pc.s, b = pc.b;
-    TextureSampler<double>& map = pc.map;
-    const std::vector<Vec2d>& P = pc.P;
+    auto& [hf, s, b, res, map, P] = pc;
     for (int k : {0, 1, 2, 3, 5, 8, 12}) {
         double worst_ratio = 0;
         int over = 0;

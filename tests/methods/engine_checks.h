@@ -141,6 +141,7 @@ inline void expect_preset_matches(const char* preset, const Literal& lit, const 
         "%s %s: %d samples, %d beyond the tolerance (worst %.3g texel), %d fetch counts differ, "
         "%d one apart at a tie\n",
         preset, p.canonical().c_str(), total, off_uv, worst, off_fetches, ties);
+    EXPECT_GT(total, 0) << preset << ": the sweep has no samples";
     EXPECT_LE(off_uv, total / 1000) << preset << ": " << off_uv << " of " << total
                                     << " samples beyond 1e-3 texel (worst " << worst << ")";
     if (sw.fetches) {
