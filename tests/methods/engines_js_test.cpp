@@ -146,34 +146,34 @@ TEST(ThreeJs, ThirtyIterationCapStopsTheSearchAtDepth30OverN) {
 
 // ---- Babylon.js -----------------------------------------------------------------------------
 
-TEST(Babylon, ParallaxOffsetIsOffsetLimitingAboveThePolygon) {
-    const float s = 0.05f, h = 0.7f;
+// Babylon's `lit` on a flat field h at every view, in both handedness modes (PARALLAX_RHS
+// false and true): uv = P + k(V) V.xy, `fetches` fetches.
+template <class Lit, class K>
+void expect_babylon_flat(const Lit& lit, float s, float h, const K& k, double tol, int fetches) {
     const HeightField hf = test::flat_field(16, 16, h);
     for (const auto& a : kAngles) {
         const Vec3<float> V = view(a[0], a[1]);
         for (bool rhs : {false, true}) {
-            const EngineResult r = literal::babylon_parallax(hf, s, V, kP, rhs);
-            // b = 0: P + s h V.xy, the same in both handedness modes.
-            expect_offset(r, kP, s * h * V.x, s * h * V.y, 1e-7, rhs ? "RHS" : "LHS");
-            EXPECT_EQ(r.fetches, 1);
+            const EngineResult r = lit(hf, s, V, kP, rhs);
+            expect_offset(r, kP, k(V) * V.x, k(V) * V.y, tol, rhs ? "RHS" : "LHS");
+            EXPECT_EQ(r.fetches, fetches);
         }
     }
+}
+
+TEST(Babylon, ParallaxOffsetIsOffsetLimitingAboveThePolygon) {
+    // b = 0: P + s h V.xy, the same in both handedness modes.
+    const float s = 0.05f, h = 0.7f;
+    expect_babylon_flat([](const auto&... a) { return literal::babylon_parallax(a...); }, s, h,
+                        [&](Vec3<float>) { return s * h; }, 1e-7, 1);
 }
 
 double babylon_n(Vec3<float> V) { return 15.0 + 11.0 * V.z; }
 
 TEST(Babylon, PomOnAFlatFieldWithinReachIsExactAndFetches15) {
     const float s = 0.05f, h = 0.8f;  // depth 0.2 < 14 / n at every angle
-    const HeightField hf = test::flat_field(16, 16, h);
-    for (const auto& a : kAngles) {
-        const Vec3<float> V = view(a[0], a[1]);
-        for (bool rhs : {false, true}) {
-            const EngineResult r = literal::babylon_pom(hf, s, V, kP, rhs);
-            expect_offset(r, kP, s * (h - 1) * V.x / V.z, s * (h - 1) * V.y / V.z, 2e-6,
-                          rhs ? "RHS" : "LHS");
-            EXPECT_EQ(r.fetches, 15);
-        }
-    }
+    expect_babylon_flat([](const auto&... a) { return literal::babylon_pom(a...); }, s, h,
+                        [&](Vec3<float> V) { return s * (h - 1) / V.z; }, 2e-6, 15);
 }
 
 TEST(Babylon, PomStepCountFromNDotMinusVWithCap15TestsOnlyDepth14OverN) {
