@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "harness/scene/view.h"
+
 namespace pxh {
 namespace {
 
@@ -35,8 +37,7 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"width", kInt, kKey, "height field width (texels)"},
         {"height", kInt, kKey, "height field height (texels)"},
         {"camera", kText, kKey, "orthographic | perspective ([views] camera)"},
-        {"distance", kNum, kKey, "perspective: eye distance from the look-at point (tiles)"},
-        {"fov_deg", kNum, kKey, "perspective: full field of view of the square image (degrees)"},
+        // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit"},
         // Error statistics (harness/metrics/error_stats.cpp).
         {"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"},
@@ -135,8 +136,18 @@ struct Registry {
     std::unordered_map<std::string, size_t, Hash, std::equal_to<>> ids;
 
     Registry() {
-        for (const auto& c : builtin_columns()) add(c, order.size());
+        for (const auto& c : builtin_columns()) {
+            add(c, order.size());
+            if (c.name == "camera")
+                for (const CameraEntry& cam : camera_registry())
+                    for (const CameraKey& k : cam.keys) {
+                        if (ids.count(k.name)) continue;  // two cameras may share a key
+                        add({k.name, kNum, kKey, k.meaning}, order.size());
+                        camera_keys.push_back(k);
+                    }
+        }
     }
+    std::vector<CameraKey> camera_keys;  // every camera's keys, in column order
     void add(const ColumnSpec& c, size_t pos) {
         if (c.name.empty() || ids.count(c.name))
             throw std::logic_error("column '" + c.name + "' registered twice (or unnamed)");
@@ -176,6 +187,8 @@ size_t column_id(std::string_view name) {
 }
 
 const ColumnSpec& column_spec(size_t id) { return registry().specs.at(id); }
+
+const std::vector<CameraKey>& camera_key_columns() { return registry().camera_keys; }
 
 ColumnRegistration::ColumnRegistration(ColumnSpec spec) : name_(spec.name) {
     Registry& r = registry();
