@@ -50,8 +50,8 @@ TEST_F(DistanceSweepCli, LastDistanceIsEmptyAndReportAndCheckTakeTheColumns) {
     // it fails; over every row it fails on the last distance's empty cells, as any column's
     // limit does.
     const auto limit = [&](const std::string& name, const std::string& select, double max) {
-        return write(name, "[[limit]]\n" + select + "column = \"shimmering_dist\"\nmax = " +
-                               std::to_string(max) + "\n");
+        return write(name, "[[limit]]\n" + select +
+                               "column = \"shimmering_dist\"\nmax = " + std::to_string(max) + "\n");
     };
     const std::string paired = "distance = [1, 2]\n";
     auto r2 = pxh("check " + res + " --thresholds " + limit("a.toml", paired, worst * 1.01 + 1e-6));
