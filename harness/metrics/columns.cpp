@@ -90,6 +90,12 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"},
         {"shimmering", kNum, kMeasured, "mean |change of e - mean change| / dt (texels/degree)"},
         {"sweep_dt_deg", kNum, kMeasured, "the dt the two above were measured over (degrees)"},
+        {"sliding_dist", kNum, kMeasured,
+         "perspective: |mean change of e| / dd to the next distance (texels per tile)"},
+        {"shimmering_dist", kNum, kMeasured,
+         "perspective: mean |change of e - mean change| / dd (texels per tile)"},
+        {"sweep_dd", kNum, kMeasured,
+         "the distance step dd the two above were measured over (tiles)"},
         // Error map (harness/results/error_maps.cpp).
         {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
         // Pictures of the [render] views (harness/results/pictures.cpp, metrics/image_metrics).
