@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "harness/core/error.h"
+#include "harness/metrics/columns.h"
 #include "harness/scene/heightfield.h"
 #include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
@@ -35,6 +36,13 @@ inline HeightField random_field(int w, int h, uint32_t seed, float lo = 0.0f, fl
     std::uniform_real_distribution<float> d(lo, hi);
     for (auto& t : hf.texels) t = d(rng);
     return hf;
+}
+
+// The names of results.csv's columns, in file order.
+inline std::vector<std::string> result_column_names() {
+    std::vector<std::string> out;
+    for (const ColumnSpec* c : result_column_specs()) out.push_back(c->name);
+    return out;
 }
 
 // A procedural field at its generator's default parameters, W x H (H = W when not given).

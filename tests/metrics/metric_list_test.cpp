@@ -9,15 +9,10 @@
 
 #include "harness/metrics/columns.h"
 #include "harness/metrics/metric.h"
+#include "tests/test_util.h"
 
 namespace pxh {
 namespace {
-
-std::vector<std::string> column_names() {
-    std::vector<std::string> out;
-    for (const ColumnSpec* c : result_column_specs()) out.push_back(c->name);
-    return out;
-}
 
 TEST(MetricList, TheMetricsRunInTheListsOrder) {
     std::vector<std::string> names;
@@ -31,7 +26,7 @@ TEST(MetricList, DeclaredColumnsStandBeforeTheResourceColumnsInMetricOrder) {
         for (const ColumnSpec& c : m->columns) declared.push_back(c.name);
     ASSERT_EQ(declared, (std::vector<std::string>{"shadow_err", "shadow_soft_mae"}));
     EXPECT_EQ(output_metric_columns().size(), declared.size());
-    const std::vector<std::string> cols = column_names();
+    const std::vector<std::string> cols = test::result_column_names();
     const auto at = std::find(cols.begin(), cols.end(), "precompute_ms");
     ASSERT_NE(at, cols.end());
     ASSERT_GE(size_t(at - cols.begin()), declared.size());

@@ -63,17 +63,19 @@ TEST(Sweep, OffsetGrowingWithThetaSlidesAtItsDerivative) {
     }
 }
 
+// Offsets uniform in [-1, 1]^2 texels, independent per sample and per `seed` (one seed a view).
+auto random_offsets(uint32_t seed) {
+    return [seed](size_t k, double) {
+        std::mt19937 rng(seed * 1000003u + uint32_t(k));
+        std::uniform_real_distribution<double> u(-1, 1);
+        return Vec2d{u(rng), u(rng)};
+    };
+}
+
 // Independent random offsets per sample and view, uniform in [-1, 1]^2 texels: the change d
 // is the difference of two such vectors (E|d| ~ 1.04 texel), with a mean near 0.
 TEST(Sweep, RandomPerSampleOffsetsShimmerWithoutSliding) {
     const HeightField hf = generated("fbm", 64);
-    auto random_offsets = [](uint32_t seed) {
-        return [seed](size_t k, double) {
-            std::mt19937 rng(seed * 1000003u + uint32_t(k));
-            std::uniform_real_distribution<double> u(-1, 1);
-            return Vec2d{u(rng), u(rng)};
-        };
-    };
     const double dt = 0.5;
     const auto m = sweep_metrics(synthetic_errors(hf, 40, 96, random_offsets(1)),
                                  synthetic_errors(hf, 40 + dt, 96, random_offsets(2)), dt, 64, 64);
@@ -236,13 +238,6 @@ TEST(DistanceSweep, OffsetGrowingWithDistanceSlidesAtItsDerivative) {
 // the difference of two such vectors (E|d| ~ 1.04 texel), its mean near 0.
 TEST(DistanceSweep, RandomPerPixelOffsetsShimmerWithoutSliding) {
     const HeightField hf = generated("fbm", 64);
-    auto random_offsets = [](uint32_t seed) {
-        return [seed](size_t k, double) {
-            std::mt19937 rng(seed * 1000003u + uint32_t(k));
-            std::uniform_real_distribution<double> u(-1, 1);
-            return Vec2d{u(rng), u(rng)};
-        };
-    };
     const double dd = 4;
     ResultRow row = sized_row(hf);
     add_distance_sweep(perspective_errors(hf, 45, 4, 96, random_offsets(1)),

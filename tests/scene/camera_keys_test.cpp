@@ -13,15 +13,10 @@
 #include "harness/metrics/row.h"
 #include "harness/results/error_maps.h"
 #include "harness/scene/view.h"
+#include "tests/test_util.h"
 
 namespace pxh {
 namespace {
-
-std::vector<std::string> column_names() {
-    std::vector<std::string> out;
-    for (const ColumnSpec* c : result_column_specs()) out.push_back(c->name);
-    return out;
-}
 
 TEST(CameraKeys, EveryCamerasKeysAreNumericKeyColumnsRightAfterCamera) {
     std::vector<std::string> declared;
@@ -33,7 +28,7 @@ TEST(CameraKeys, EveryCamerasKeysAreNumericKeyColumnsRightAfterCamera) {
     std::vector<std::string> keys;
     for (const CameraKey& k : camera_key_columns()) keys.push_back(k.name);
     EXPECT_EQ(keys, declared);
-    const std::vector<std::string> cols = column_names();
+    const std::vector<std::string> cols = test::result_column_names();
     const auto at = std::find(cols.begin(), cols.end(), "camera");
     ASSERT_NE(at, cols.end());
     for (size_t i = 0; i < declared.size(); ++i) {
