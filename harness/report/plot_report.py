@@ -753,6 +753,7 @@ def cost_figure(F, st, rows, name, costs):
     legend = F.legend(fig, handles, note)
     F.save(fig, name, sum(1 for _ in fronts), len(drawn), legend,
            rows=[" = ".join(gs) for _, gs, _ in lines], bands=[label[b] for b in bands],
+           x_labels=[cost_info(c)[1] for c, _, _ in lines],
            front_points=fronts, spreads=spreads)
 
 

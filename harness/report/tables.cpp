@@ -1,6 +1,7 @@
 // The report's tables: summary, failed rows, sweeps, precision, budgets.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <set>
@@ -97,15 +98,22 @@ std::string tex_name(const ReportData& d, const Line& l, bool with_groups = true
     return label + " [" + g + "]";
 }
 
+// A time to three significant digits in fixed notation, whatever its unit: "10.0", "0.500",
+// "0.0271", "1234".
+std::string time_text(double v) {
+    const int magnitude = v > 0 ? int(std::floor(std::log10(v))) : 0;
+    return fmt(v, std::clamp(2 - magnitude, 0, 6));
+}
+
 // A time cell of a line: the value of each member that has one (a series has a time in its
 // backend's unit only), distinct values joined.
 template <class Get>
-std::string time_cell(const Line& l, int prec, const Get& get) {
+std::string time_cell(const Line& l, const Get& get) {
     std::vector<std::string> vals;
     for (const Series* s : l.members) {
         const double v = get(*s);
         if (!std::isfinite(v)) continue;
-        const std::string t = fmt(v, prec);
+        const std::string t = time_text(v);
         if (std::find(vals.begin(), vals.end(), t) == vals.end()) vals.push_back(t);
     }
     if (vals.empty()) return "-";
@@ -160,7 +168,7 @@ std::pair<TextTable, TextTable> series_tables(const ReportData& d,
     for (const Line& l : lines) {
         std::vector<std::string> row = shown(*l.members.front());
         for (const std::string& u : d.time_units)
-            row.push_back(time_cell(l, 2, [&u](const Series& s) { return s.all.time_in(u); }));
+            row.push_back(time_cell(l, [&u](const Series& s) { return s.all.time_in(u); }));
         row.insert(row.begin(), md_name(l));
         md.rows.push_back(row);
         row.front() = tex_name(d, l, !all_merged);
