@@ -202,8 +202,11 @@ TEST_F(ReportTables, OldTimingColumnsReportLikeNewOnes) {
     const fs::path now = report(results(rows, kColumns, "now"));
     const fs::path before = report(results(old, old_columns, "before"));
     for (const char* f : {"summary.csv", "summary.md", "summary.tex", "budget.md",
-                          "data/cost_vs_error.csv", "data/cost_vs_error_bands.csv"})
-        EXPECT_EQ(slurp(before / f), slurp(now / f)) << f;
+                          "data/cost_vs_error.csv", "data/cost_vs_error_bands.csv"}) {
+        std::string b = slurp(before / f);  // a .tex names its results.csv
+        for (size_t at; (at = b.find("/before/")) != std::string::npos;) b.replace(at, 8, "/now/");
+        EXPECT_EQ(b, slurp(now / f)) << f;
+    }
     const pxh::CsvTable bands = pxh::read_csv((now / "data/cost_vs_error_bands.csv").string());
     for (const char* c : {"time[ns/sample]", "time[ms/frame]", "pareto_time[ns/sample]",
                           "pareto_time[ms/frame]", "time_min[ns/sample]", "time_max[ms/frame]"})
