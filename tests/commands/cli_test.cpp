@@ -294,7 +294,7 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
                 EXPECT_NE(t.get(i, c), "") << c;
             }
     }
-    EXPECT_EQ(checked, 24 * 10);
+    EXPECT_EQ(checked, 24 * 11);
     // run.json: the sha256 of every shader source compiled (the override and the built-ins).
     const auto run = nlohmann::json::parse(slurp(dir / "res" / "run.json"));
     const std::string pom_file = (dir / "shaders" / "pom.frag.glsl").string();
