@@ -62,10 +62,11 @@ struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
-    Timing timing;                  // empty when not timed
-    std::vector<Counter> counters;  // the backend's declared counters it measured this row
-    std::string shader;             // GLSL: "builtin" or the shader file(s) compiled
-    std::string shader_sha256;      // GLSL: sha256 of the method's shader source
+    // Its timing and its declared counters (empty when not timed).
+    Timing timing;
+    std::vector<Counter> counters;
+    std::string shader;         // GLSL: "builtin" or the shader file(s) compiled
+    std::string shader_sha256;  // GLSL: sha256 of the method's shader source
     // GLSL: samples the shader discarded or left unwritten (their uv is NaN, fetches 0); 0 on
     // the CPU.
     long long samples_discarded = 0;

@@ -285,9 +285,9 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
                              const std::string& command_line, double merge_seconds) {
     nlohmann::json run = provenance(int(tbb::info::default_concurrency()));
     run["command_line"] = command_line;
-    for (const char* k : {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
-                          "plugin_shaders", "backends", "gl_renderer", "gl_version", "shader_dir",
-                          "gl"})
+    for (const char* k :
+         {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
+          "plugin_shaders", "backends", "gl_renderer", "gl_version", "shader_dir", "gl"})
         if (first.run.contains(k)) run[k] = first.run[k];
     nlohmann::json shaders = nlohmann::json::object();
     double seconds = 0;

@@ -1,11 +1,11 @@
 #include "harness/metrics/columns.h"
 
-#include "harness/backends/backend.h"
-
 #include <algorithm>
 #include <deque>
 #include <stdexcept>
 #include <unordered_map>
+
+#include "harness/backends/backend.h"
 
 namespace pxh {
 namespace {

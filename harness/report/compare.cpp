@@ -409,7 +409,8 @@ TextTable band_table(const Tally& tally, const Bands& bands) {
     }
     t.notes.push_back(
         "d: mean over the band's rows of NEW - BASE (texels; fetches per sample); time ratio: "
-        "geometric mean of NEW / BASE medians of time (each row in its backend's time_unit); a row is "
+        "geometric mean of NEW / BASE medians of time (each row in its backend's time_unit); a row "
+        "is "
         "slower or faster when a two-sided Mann-Whitney U test over its timed repeats gives "
         "p < 0.05, noise otherwise.");
     return t;

@@ -125,7 +125,8 @@ void ReportData::collect() {
         if (std::find(group_order.begin(), group_order.end(), group_of(rr)) == group_order.end())
             group_order.push_back(group_of(rr));
         const std::string& unit = rr.text("time_unit");
-        if (!unit.empty() && std::find(time_units.begin(), time_units.end(), unit) == time_units.end())
+        if (!unit.empty() &&
+            std::find(time_units.begin(), time_units.end(), unit) == time_units.end())
             time_units.push_back(unit);
         Series& ser = series[s];
         Series& fser = per_field[s];

@@ -40,7 +40,6 @@ std::string results_csv(const std::vector<ResultRow>& rows) {
     return out;
 }
 
-
 std::string ResultsFile::where(size_t row) const {
     return path + ":" + std::to_string(row < lines.size() ? lines[row] : row + 2);
 }
@@ -58,8 +57,8 @@ struct LegacyTiming {
 const std::vector<LegacyTiming>& legacy_timing() {
     static const std::vector<LegacyTiming> cols = [] {
         std::vector<LegacyTiming> v;
-        for (const auto& [prefix, unit] : {std::pair{"ns_per_sample", "ns/sample"},
-                                           std::pair{"ms_per_frame", "ms/frame"}}) {
+        for (const auto& [prefix, unit] :
+             {std::pair{"ns_per_sample", "ns/sample"}, std::pair{"ms_per_frame", "ms/frame"}}) {
             const std::string p = prefix;
             const auto old = [](std::string name, ColumnType type) {
                 return ColumnSpec{std::move(name), type, ColumnRole::measured, "before time*"};

@@ -27,9 +27,9 @@ struct ResultsFile {
     std::string path;
     std::vector<std::string> header;  // as in the file
     std::vector<ResultRow> rows;
-    std::vector<size_t> lines;  // the file line each row starts on (header: line 1)
+    std::vector<size_t> lines;                  // the file line each row starts on (header: line 1)
     bool has(const std::string& column) const;  // in the header (time*: or its old name)
-    std::string where(size_t row) const;  // "PATH:LINE"
+    std::string where(size_t row) const;        // "PATH:LINE"
 };
 ResultsFile read_results(const std::string& path);
 

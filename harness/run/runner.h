@@ -1,8 +1,8 @@
 // The pipeline: HeightField -> views -> GroundTruth (once per view) -> MethodOutput -> ResultRow.
 #pragma once
-#include <nlohmann/json.hpp>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

@@ -40,9 +40,9 @@ TEST_F(Cli, RunWritesResultsAndProvenance) {
     std::string header;
     std::getline(lines, header);
     for (const char* col :
-         {"method",    "params",    "heightfield",  "backend",     "scale",        "bias",
-          "theta_deg", "phi_deg",   "samples",      "width",       "height",       "err_mean",
-          "err_rms",   "err_p50",   "err_p95",      "err_p99",     "err_max",      "frac_gt_0_5",
+         {"method",    "params",    "heightfield",  "backend",     "scale",   "bias",
+          "theta_deg", "phi_deg",   "samples",      "width",       "height",  "err_mean",
+          "err_rms",   "err_p50",   "err_p95",      "err_p99",     "err_max", "frac_gt_0_5",
           "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max", "time"})
         EXPECT_NE(header.find(col), std::string::npos) << col;
     int rows = 0;
@@ -67,8 +67,8 @@ TEST_F(Cli, RunWritesResultsAndProvenance) {
 
 // Each backend's timing in its own unit: a CPU row's time is the median of its time_repeats
 // (four, so the median is the mean of the middle two), min and max their extremes; a GLSL
-// row's unit is ms/frame with its five frames as repeats and its timer-query counter beside; run.json
-// has each backend's block (unit, what a repeat measures, repeats, counters).
+// row's unit is ms/frame with its five frames as repeats and its timer-query counter beside;
+// run.json has each backend's block (unit, what a repeat measures, repeats, counters).
 TEST_F(Cli, EachBackendTimesInItsOwnUnit) {
     const auto exp = write("t.toml", pxh::test::ExperimentToml("t")
                                          .samples(16)
@@ -285,8 +285,8 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
         EXPECT_EQ(t.get(i, "shader"),
                   failed ? (dir / "shaders" / "pom.frag.glsl").string() : "builtin");
         for (const char* c :
-             {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean",
-              "time", "time_unit", "cpu_diff_max", "excluded", "gt_agree_p50"})
+             {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean", "time",
+              "time_unit", "cpu_diff_max", "excluded", "gt_agree_p50"})
             if (failed) {
                 EXPECT_EQ(t.get(i, c), "") << c;
                 ++checked;

@@ -86,8 +86,8 @@ class CompareGate : public pxh::test::CliTest {
         std::string out;
         std::vector<std::string> header;
         for (const auto& c : t.columns)
-            if (c != "time_unit" && std::find(std::begin(kTime), std::end(kTime), c) ==
-                                        std::end(kTime))
+            if (c != "time_unit" &&
+                std::find(std::begin(kTime), std::end(kTime), c) == std::end(kTime))
                 header.push_back(c);
         for (const char* prefix : {"ns_per_sample", "ms_per_frame"})
             for (const char* suffix : kSuffix) header.push_back(std::string(prefix) + suffix);
@@ -131,8 +131,7 @@ class CompareGate : public pxh::test::CliTest {
 
 TEST_F(CompareGate, RunAgainstItselfReportsNoChange) {
     run_into("a", experiment("\"cpu\", \"glsl\"", 5));
-    const auto r =
-        pxh("compare " + d("a") + " " + d("a") + " --fail-on err_p95=+0,time=+0");
+    const auto r = pxh("compare " + d("a") + " " + d("a") + " --fail-on err_p95=+0,time=+0");
     EXPECT_EQ(r.status, 0) << r.out << r.err;
     // The verdict is the first line; every row's timing: no significant change.
     EXPECT_EQ(r.out.rfind("pxh compare: PASS: 0 regression(s) beyond --fail-on err_p95=+0,"
@@ -204,8 +203,8 @@ TEST_F(CompareGate, BusierShaderIsASignificantSlowdown) {
         "uniforms = { p_k = 1.0 }\n";
     run_into("fast/exp", exp);
     run_into("busy/exp", exp);
-    const auto r = pxh("compare " + d("fast/exp") + " " + d("busy/exp") +
-                       " --fail-on err_p95=+0,time=+10%");
+    const auto r =
+        pxh("compare " + d("fast/exp") + " " + d("busy/exp") + " --fail-on err_p95=+0,time=+10%");
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     // 5 frames each, every busy frame slower than every fast one: the exact p = 2 / 252.
     EXPECT_NE(r.out.find("1 slower, 0 faster, 0 no significant change"), std::string::npos)
@@ -238,8 +237,8 @@ TEST_F(CompareGate, TooFewRepeatsIsSaidNotGuessed) {
     // A time allowed no growth at all, on a slower copy: no verdict is a failed gate, saying why.
     edited_copy("two", "two_slower", "time", "1e9");
     fs::copy_file(dir / "two" / "run.json", dir / "two_slower" / "run.json");
-    const auto g = pxh("compare " + d("two") + " " + d("two_slower") +
-                       " --accept-edited --fail-on time=+0");
+    const auto g =
+        pxh("compare " + d("two") + " " + d("two_slower") + " --accept-edited --fail-on time=+0");
     EXPECT_EQ(g.status, 1) << g.out << g.err;
     EXPECT_NE(g.out.find("no verdict: too few repeats, 2 and 2)"), std::string::npos) << g.out;
 }

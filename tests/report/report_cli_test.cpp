@@ -27,20 +27,20 @@ using Cells = std::map<std::string, std::string>;
 
 // The results.csv columns the report and check read.
 const std::vector<std::string> kColumns = {
-    "method",       "params",          "heightfield", "scale",      "bias",         "backend",
-    "precision",    "texture_format",  "theta_deg",   "phi_deg",    "err_mean",     "err_p50",
-    "err_p95",      "err_p99",         "frac_gt_1",   "nonfinite",  "fetches_mean", "time",
-    "time_unit",    "double_diff_max", "sliding",     "shimmering", "map",          "status",
+    "method",    "params",          "heightfield", "scale",      "bias",         "backend",
+    "precision", "texture_format",  "theta_deg",   "phi_deg",    "err_mean",     "err_p50",
+    "err_p95",   "err_p99",         "frac_gt_1",   "nonfinite",  "fetches_mean", "time",
+    "time_unit", "double_diff_max", "sliding",     "shimmering", "map",          "status",
     "error"};
 
 // One row: an ok CPU float row of pom layers=8 at theta 0, overridden by `cells`.
 Cells row(const Cells& cells) {
-    Cells r = {{"method", "pom"},      {"params", "layers=8"},  {"heightfield", "bricks"},
-               {"scale", "0.05"},      {"bias", "1"},           {"backend", "cpu"},
-               {"precision", "float"}, {"theta_deg", "0"},      {"phi_deg", "0"},
-               {"err_mean", "0.1"},    {"err_p50", "0.1"},      {"err_p95", "0.2"},
-               {"err_p99", "0.3"},     {"frac_gt_1", "0"},      {"nonfinite", "0"},
-               {"fetches_mean", "8"},  {"time", "10"},          {"time_unit", "ns/sample"},
+    Cells r = {{"method", "pom"},      {"params", "layers=8"}, {"heightfield", "bricks"},
+               {"scale", "0.05"},      {"bias", "1"},          {"backend", "cpu"},
+               {"precision", "float"}, {"theta_deg", "0"},     {"phi_deg", "0"},
+               {"err_mean", "0.1"},    {"err_p50", "0.1"},     {"err_p95", "0.2"},
+               {"err_p99", "0.3"},     {"frac_gt_1", "0"},     {"nonfinite", "0"},
+               {"fetches_mean", "8"},  {"time", "10"},         {"time_unit", "ns/sample"},
                {"status", "ok"}};
     for (const auto& [k, v] : cells) r[k] = v;
     return r;
@@ -359,10 +359,7 @@ TEST_F(ReportFolder, BudgetPerSettingConservativeWithSelectableMetric) {
 // the CPU point of pom layers=16 and push it off the CPU front.
 TEST_F(ReportFolder, ParetoFrontPerGroup) {
     const std::string res = results({
-        row({{"params", "layers=8"},
-             {"fetches_mean", "8"},
-             {"err_mean", "0.30"},
-             {"time", "10"}}),
+        row({{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.30"}, {"time", "10"}}),
         row({{"params", "layers=16"},
              {"fetches_mean", "16"},
              {"err_mean", "0.25"},

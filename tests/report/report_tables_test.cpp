@@ -28,10 +28,9 @@ namespace fs = std::filesystem;
 using Cells = std::map<std::string, std::string>;
 
 const std::vector<std::string> kColumns = {
-    "method",    "params",       "heightfield",    "scale",        "bias",
-    "backend",   "precision",    "texture_format", "theta_deg",    "phi_deg",
-    "err_mean",  "err_p50",      "err_p95",        "err_p99",      "frac_gt_1",
-    "nonfinite", "fetches_mean", "time",           "time_unit",    "status"};
+    "method",         "params",    "heightfield",  "scale",    "bias",      "backend", "precision",
+    "texture_format", "theta_deg", "phi_deg",      "err_mean", "err_p50",   "err_p95", "err_p99",
+    "frac_gt_1",      "nonfinite", "fetches_mean", "time",     "time_unit", "status"};
 
 // An ok row of `method params` on `field` (s = 0.05, b = 1) at θ, CPU float or GLSL r32f.
 Cells row(const std::string& method, const std::string& params, const std::string& field, bool glsl,
@@ -164,8 +163,8 @@ TEST_F(ReportTables, IdenticalBackendsMergedDifferentOnesApart) {
     for (size_t r = 0; r < csv.rows.size(); ++r) series.insert(csv.get(r, "series"));
     EXPECT_EQ(series.size(), 4u);
     // A cost column per time unit of the rows, named by it, in order of appearance
-    const auto header = md.substr(md.find("| method"), md.find('\n', md.find("| method")) -
-                                                          md.find("| method"));
+    const auto header =
+        md.substr(md.find("| method"), md.find('\n', md.find("| method")) - md.find("| method"));
     EXPECT_NE(header.find("| fetches | time (ns/sample) | time (ms/frame) |"), std::string::npos)
         << header;
     EXPECT_GE(csv.index("time[ns/sample]"), 0);
