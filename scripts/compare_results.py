@@ -4,8 +4,8 @@
     compare_results.py BEFORE.csv AFTER.csv
 
 Rows are compared in order; every column present in both files is compared as text, except the
-timing columns (time*, gpu_ms*, precompute_ms, and the columns time* replaced: ns_per_sample*,
-ms_per_frame*), which are measured anew on every run. When BEFORE has the old timing columns and
+timing columns (time* but time_unit, gpu_ms*, precompute_ms, and the columns time* replaced:
+ns_per_sample*, ms_per_frame*), which are measured anew on every run. When BEFORE has the old timing columns and
 AFTER time and time_unit, they are listed as renamed, and each row's unit is checked instead of
 its value: a row with a time in ns_per_sample before has time_unit ns/sample after, one in
 ms_per_frame ms/frame, an untimed one none. Columns only in AFTER are listed as added; any other
@@ -41,7 +41,7 @@ def main():
         renamed = []
     added = [c for c in ha if c not in hb]
     missing = [c for c in hb if c not in ha and c not in renamed]
-    timing = [c for c in hb if c.startswith(TIMING_PREFIXES)]
+    timing = [c for c in hb if c.startswith(TIMING_PREFIXES) and c != "time_unit"]
     compared = [c for c in hb if c in ha and c not in timing]
     diffs = []
     if len(rb) != len(ra):

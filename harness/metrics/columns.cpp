@@ -119,11 +119,15 @@ const std::vector<ColumnSpec>& builtin_columns() {
     return cols;
 }
 
-// Each backend's counters (its registry entry's TimingSpec): NAME (median), NAME_min, NAME_max.
+// Each backend's counters (its registry entry's TimingSpec): NAME (median), NAME_min, NAME_max;
+// a name two backends declare is one set of columns (the first one's meaning).
 std::vector<ColumnSpec> counter_columns() {
     std::vector<ColumnSpec> out;
     for (const BackendEntry& e : backend_registry())
         for (const CounterSpec& c : e.timing().counters) {
+            if (std::any_of(out.begin(), out.end(),
+                            [&](const ColumnSpec& s) { return s.name == c.name; }))
+                continue;
             const std::string about = std::string(e.name) + ": " + c.meaning + " (" + c.unit + ")";
             out.push_back({c.name, kNum, kMeasured, "median " + about});
             out.push_back({c.name + "_min", kNum, kMeasured, "fastest repeat, " + about});
