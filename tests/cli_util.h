@@ -136,8 +136,9 @@ class SuiteCliTest : public ::testing::Test {
 // An inline experiment, section by section, for the small runs many suites make:
 //   ExperimentToml("tiny").theta("[0, 45, 80]").field("fbm", 16).method("pom", "layers = 8")
 // writes name, samples (8 unless set), timing_repeats (0 unless set), the other top-level keys
-// in the order set, [views] (theta_deg, then phi_deg if set), one [[heightfields]] per field()
-// or scan() and one [[methods]] per method(), in the order called, then tail() as it is.
+// in the order set, [views] (theta_deg, then phi_deg if set, then view() keys), one
+// [[heightfields]] per field() or scan() and one [[methods]] per method(), in the order called,
+// then tail() as it is.
 class ExperimentToml {
   public:
     explicit ExperimentToml(const std::string& name = "") {
@@ -169,6 +170,12 @@ class ExperimentToml {
         phi_ = value;
         return *this;
     }
+    // Another [views] key, VALUE as TOML text, after theta_deg and phi_deg in the order set:
+    // view("camera", "\"perspective\"").view("distance", "[1.5, 4]").
+    ExperimentToml& view(const std::string& key, const std::string& value) {
+        views_ += key + " = " + value + "\n";
+        return *this;
+    }
     // A generated field; EXTRA: more lines of its section ("scale = 0.06\nbias = 1.0").
     ExperimentToml& field(const std::string& generator, int size, const std::string& extra = "") {
         fields_ += "[[heightfields]]\ngenerator = \"" + generator +
@@ -195,7 +202,7 @@ class ExperimentToml {
         for (const auto& kv : top_) s += kv.first + " = " + kv.second + "\n";
         s += "[views]\ntheta_deg = " + theta_ + "\n";
         if (!phi_.empty()) s += "phi_deg = " + phi_ + "\n";
-        return s + fields_ + methods_ + tail_;
+        return s + views_ + fields_ + methods_ + tail_;
     }
     operator std::string() const { return str(); }
 
@@ -204,7 +211,7 @@ class ExperimentToml {
         return text.empty() || text.back() == '\n' ? text : text + "\n";
     }
     std::vector<std::pair<std::string, std::string>> top_;
-    std::string theta_ = "[0, 45, 80]", phi_, fields_, methods_, tail_;
+    std::string theta_ = "[0, 45, 80]", phi_, views_, fields_, methods_, tail_;
 };
 
 // Long enough to be interrupted: many views of a large field (signal and lock tests).

@@ -10,11 +10,24 @@
 #include <string>
 #include <vector>
 
+#include "harness/core/error.h"
 #include "harness/scene/heightfield.h"
 #include "harness/truth/ground_truth.h"
+#include "heightfields/heightfields.h"
 #include "methods/method.h"
 
 namespace pxh::test {
+
+// The message of the InputError `f()` throws, or "" when it throws none.
+template <class F>
+std::string input_error(F f) {
+    try {
+        f();
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
 
 inline HeightField random_field(int w, int h, uint32_t seed, float lo = 0.0f, float hi = 1.0f) {
     HeightField hf(w, h, "random");
@@ -22,6 +35,14 @@ inline HeightField random_field(int w, int h, uint32_t seed, float lo = 0.0f, fl
     std::uniform_real_distribution<float> d(lo, hi);
     for (auto& t : hf.texels) t = d(rng);
     return hf;
+}
+
+// A procedural field at its generator's default parameters, W x H (H = W when not given).
+inline HeightField generated_field(const std::string& generator, int w, int h = 0) {
+    const GeneratorInfo* g = find_generator(generator);
+    if (!g) throw std::logic_error("no generator " + generator);
+    return generate_heightfield(*g, w, h > 0 ? h : w,
+                                resolve_params(g->params, {}, "test", generator));
 }
 
 inline HeightField flat_field(int w, int h, float level) {

@@ -466,7 +466,11 @@ void GlslChildBackend::start() {
     const std::string& program = gl_worker_program();
     constexpr int kChildFd = 3;
     const std::string fd_arg = std::to_string(kChildFd);
-    std::vector<char*> argv{const_cast<char*>(program.c_str()), const_cast<char*>(kGlWorkerArg),
+    // What ps shows as its argv[0]: the binary's own path, not the /proc/self/exe it is run by.
+    std::error_code no_link;
+    const std::filesystem::path target = std::filesystem::read_symlink(program, no_link);
+    const std::string shown = no_link ? program : target.string();
+    std::vector<char*> argv{const_cast<char*>(shown.c_str()), const_cast<char*>(kGlWorkerArg),
                             const_cast<char*>(fd_arg.c_str()), nullptr};
     Out failed;  // the hello of a child whose exec failed
     failed(uint8_t(0));

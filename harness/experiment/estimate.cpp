@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "harness/experiment/experiment.h"
+#include "harness/metrics/sweep.h"
 
 namespace pxh {
 
@@ -53,7 +54,16 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
             field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel + (levels ? 6 : 0)));
     }
     const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
-    const size_t views_alive = ex.sweep_dt_deg > 0 ? 3 : 2;
+    // + a distance sweep's views waiting for the next distance (at most one per theta and
+    // setting between a setting and its successor) and a slice's companion at the next distance
+    const std::vector<DistanceStep> dist = distance_steps(ex.camera_settings);
+    size_t waiting = 0;
+    for (size_t c = 0; c < dist.size(); ++c) {
+        size_t open = 0;
+        for (size_t b = 0; b <= c; ++b) open += dist[b].pairs() && dist[b].next > c;
+        waiting = std::max(waiting, open * ex.theta_deg.size());
+    }
+    const size_t views_alive = (ex.sweep_dt_deg > 0 ? 3 : 2) + (waiting ? waiting + 1 : 0);
     // A camera whose rays are not parallel: per sample V (24), J (32), inside (1); every
     // view: lambda (8).
     const size_t camera_bytes = (ex.camera == "orthographic" ? 0 : 24 + 32 + 1) + 8;

@@ -129,7 +129,9 @@ BackendSettings backend_settings(const Experiment& ex);
 //       + kEmbreeBytesPerTexel (Embree's GRID vertices and BVH, measured)
 //     + per sample of a view (samples^2): kViewBytesPerSample (sample points, both truths'
 //       hits, their gap) + 16 bytes per row of the view (error vectors) x 2, or 3 with
-//       sweep_dt_deg (the previous and the companion view) + kOutputBytesPerSample per
+//       sweep_dt_deg (the previous and the companion view), + the views of a distance
+//       sweep waiting for the next distance (theta count x settings between a setting and its
+//       successor) and one companion there + kOutputBytesPerSample per
 //       method output alive at once (CPU float, CPU double and the current one: 3)
 //       + with maps, one error image being written (16 bytes per sample)
 //     + kBytesPerRow per result row (the rows are kept until results.csv is written).

@@ -6,7 +6,9 @@
 // view of it, so that each (field, s, b, view) is traced in exactly one slice, the sliding and
 // shimmering pairs of consecutive views stay in one slice, and so do the [render] pictures of
 // the sweep. With sweep_dt_deg > 0 each view pairs with its own companion view, so a unit is one
-// view (the companion is traced with it, as in the unsharded run).
+// view (the companion is traced with it, as in the unsharded run). A distance sweep's pairs
+// span units (one per camera setting): a slice traces a successor distance it does not run as a
+// companion view (harness/run/runner.cpp), so its numbers are the unsharded run's.
 #pragma once
 #include <cstddef>
 #include <nlohmann/json.hpp>

@@ -6,6 +6,8 @@
 #include <unordered_map>
 
 #include "harness/backends/backend.h"
+#include "harness/metrics/metric.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 namespace {
@@ -37,8 +39,7 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"width", kInt, kKey, "height field width (texels)"},
         {"height", kInt, kKey, "height field height (texels)"},
         {"camera", kText, kKey, "orthographic | perspective ([views] camera)"},
-        {"distance", kNum, kKey, "perspective: eye distance from the look-at point (tiles)"},
-        {"fov_deg", kNum, kKey, "perspective: full field of view of the square image (degrees)"},
+        // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit"},
         // Error statistics (harness/metrics/error_stats.cpp).
         {"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"},
@@ -83,6 +84,12 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"},
         {"shimmering", kNum, kMeasured, "mean |change of e - mean change| / dt (texels/degree)"},
         {"sweep_dt_deg", kNum, kMeasured, "the dt the two above were measured over (degrees)"},
+        {"sliding_dist", kNum, kMeasured,
+         "perspective: |mean change of e| / dd to the next distance (texels per tile)"},
+        {"shimmering_dist", kNum, kMeasured,
+         "perspective: mean |change of e - mean change| / dd (texels per tile)"},
+        {"sweep_dd", kNum, kMeasured,
+         "the distance step dd the two above were measured over (tiles)"},
         // Error map (harness/results/error_maps.cpp).
         {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
         // Pictures of the [render] views (harness/results/pictures.cpp, metrics/image_metrics).
@@ -104,9 +111,8 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"},
         {"gt_agree_frac_gt_0_5", kNum, kMeasured,
          "fraction of samples where they differ > 0.5 texel"},
-        // Self-shadowing (harness/metrics/shadows.cpp).
-        {"shadow_err", kNum, kMeasured, "fraction of samples whose hard shadow state is wrong"},
-        {"shadow_soft_mae", kNum, kMeasured, "mean |soft factor - true hard factor|"},
+        // Here: the columns the per-output metrics declare (Metric::columns, in metric order:
+        // shadows.cpp's shadow_err, shadow_soft_mae).
         // Method resources (harness/run/runner.cpp; methods/resource.h).
         {"precompute_ms", kNum, kMeasured,
          "ms to build the method's resources (this field; 0: none)"},
@@ -148,11 +154,21 @@ struct Registry {
 
     Registry() {
         for (const auto& c : builtin_columns()) {
+            if (c.name == "precompute_ms")
+                for (const ColumnSpec& m : output_metric_columns()) add(m, order.size());
             add(c, order.size());
             if (c.name == "time_repeats")
                 for (const auto& col : counter_columns()) add(col, order.size());
+            if (c.name == "camera")
+                for (const CameraEntry& cam : camera_registry())
+                    for (const CameraKey& k : cam.keys) {
+                        if (ids.count(k.name)) continue;  // two cameras may share a key
+                        add({k.name, kNum, kKey, k.meaning}, order.size());
+                        camera_keys.push_back(k);
+                    }
         }
     }
+    std::vector<CameraKey> camera_keys;  // every camera's keys, in column order
     void add(const ColumnSpec& c, size_t pos) {
         if (c.name.empty() || ids.count(c.name))
             throw std::logic_error("column '" + c.name + "' registered twice (or unnamed)");
@@ -192,6 +208,8 @@ size_t column_id(std::string_view name) {
 }
 
 const ColumnSpec& column_spec(size_t id) { return registry().specs.at(id); }
+
+const std::vector<CameraKey>& camera_key_columns() { return registry().camera_keys; }
 
 ColumnRegistration::ColumnRegistration(ColumnSpec spec) : name_(spec.name) {
     Registry& r = registry();

@@ -15,6 +15,8 @@
 
 namespace pxh {
 
+struct CameraKey;  // harness/scene/view.h
+
 enum class ColumnType { text, integer, number };  // numbers are doubles; NaN is an empty cell
 enum class ColumnRole { key, measured };
 
@@ -35,6 +37,10 @@ const ColumnSpec* find_column(std::string_view name);
 // registered is a programming error (std::logic_error naming it).
 size_t column_id(std::string_view name);
 const ColumnSpec& column_spec(size_t id);
+
+// Every camera's own keys (CameraEntry::keys), each a numeric key column, in column order:
+// what pxh check filters by, pxh compare keys rows by and the view's file names carry.
+const std::vector<CameraKey>& camera_key_columns();
 
 // Registers one more column for as long as it lives, placed after every built-in measured
 // column and before status and error (tests; a metric linked into another binary).

@@ -8,6 +8,8 @@
 
 namespace pxh {
 
+namespace {
+
 void add_error_stats(const MetricInput& in, ResultRow& row) {
     std::vector<double> mag, px;
     const std::vector<Vec2d>& uv = in.out.uv;
@@ -50,6 +52,14 @@ void add_error_stats(const MetricInput& in, ResultRow& row) {
         row.set("err_px_p95", p.p95);
         row.set("err_px_max", p.max);
     }
+}
+
+}  // namespace
+
+// Its columns are in the table of harness/metrics/columns.cpp.
+const Metric& error_stats_metric() {
+    static const Metric m{"error_stats", add_error_stats};
+    return m;
 }
 
 }  // namespace pxh

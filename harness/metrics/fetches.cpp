@@ -8,6 +8,8 @@
 
 namespace pxh {
 
+namespace {
+
 void add_fetches(const MetricInput& in, ResultRow& row) {
     size_t n = 0;  // inside samples
     double sum = 0;
@@ -21,6 +23,14 @@ void add_fetches(const MetricInput& in, ResultRow& row) {
     }
     row.set("fetches_mean", n ? sum / double(n) : NAN);
     row.set("fetches_max", n ? double(most) : NAN);
+}
+
+}  // namespace
+
+// Its columns are in the table of harness/metrics/columns.cpp.
+const Metric& fetches_metric() {
+    static const Metric m{"fetches", add_fetches};
+    return m;
 }
 
 }  // namespace pxh

@@ -4,16 +4,25 @@
 #include <list>
 
 namespace pxh {
+
+// THE list of per-output metrics, in the order they run: one line X(NAME) each, for the file
+// harness/metrics/NAME.cpp defining `const Metric& NAME_metric()`.
+#define PXH_OUTPUT_METRICS(X) \
+    X(error_stats)            \
+    X(fetches)                \
+    X(timing)                 \
+    X(shadows)
+
+#define PXH_DECLARE_METRIC(NAME) const Metric& NAME##_metric();
+PXH_OUTPUT_METRICS(PXH_DECLARE_METRIC)
+#undef PXH_DECLARE_METRIC
+
 namespace {
 
-// THE list of per-output metrics: one line each.
-const std::vector<Metric>& builtin_metrics() {
-    static const std::vector<Metric> m = {
-        {"error_stats", add_error_stats},
-        {"fetches", add_fetches},
-        {"timing", add_timing},
-        {"shadows", add_shadow_errors},
-    };
+const std::vector<const Metric*>& builtin_metrics() {
+#define PXH_LIST_METRIC(NAME) &NAME##_metric(),
+    static const std::vector<const Metric*> m = {PXH_OUTPUT_METRICS(PXH_LIST_METRIC)};
+#undef PXH_LIST_METRIC
     return m;
 }
 
@@ -26,8 +35,15 @@ std::list<Metric>& registered() {
 
 std::vector<const Metric*> output_metrics() {
     std::vector<const Metric*> out;
-    for (const auto& m : builtin_metrics()) out.push_back(&m);
+    for (const Metric* m : builtin_metrics()) out.push_back(m);
     for (const auto& m : registered()) out.push_back(&m);
+    return out;
+}
+
+std::vector<ColumnSpec> output_metric_columns() {
+    std::vector<ColumnSpec> out;
+    for (const Metric* m : builtin_metrics())
+        out.insert(out.end(), m->columns.begin(), m->columns.end());
     return out;
 }
 

@@ -8,9 +8,9 @@
 // Metrics across outputs or views take what they compare: agreement.h (two outputs),
 // sweep.h (two views), reference.h (the view's references).
 //
-// A new per-output metric: one file defining `void add_NAME(const MetricInput&, ResultRow&)`,
-// its columns in columns.cpp, and one line in output_metrics() (metric.cpp) - or, outside
-// the harness (a test), a MetricRegistration.
+// A new per-output metric: one file harness/metrics/NAME.cpp defining
+// `const Metric& NAME_metric()` (its add function and the columns it fills), and one line X(NAME)
+// in PXH_OUTPUT_METRICS (metric.cpp) - or, outside the harness (a test), a MetricRegistration.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -42,13 +42,15 @@ using MetricFn = std::function<void(const MetricInput&, ResultRow&)>;
 struct Metric {
     std::string name;
     MetricFn add;
+    // The columns it fills, registered with it: they stand in results.csv after the metric
+    // columns of the table (harness/metrics/columns.cpp), before the method resources'
+    // precompute_ms, in metric order. Empty for the metrics whose columns the table lists
+    // (error_stats, fetches, timing: results.csv's order from before metrics declared theirs).
+    std::vector<ColumnSpec> columns = {};
 };
 
-// The built-in per-output metrics.
-void add_error_stats(const MetricInput& in, ResultRow& row);
-void add_fetches(const MetricInput& in, ResultRow& row);
-void add_timing(const MetricInput& in, ResultRow& row);
-void add_shadow_errors(const MetricInput& in, ResultRow& row);
+// The built-in per-output metrics' columns, in metric order (what columns.cpp places).
+std::vector<ColumnSpec> output_metric_columns();
 
 // Every per-output metric, in order: the built-in ones, then the registered ones.
 std::vector<const Metric*> output_metrics();

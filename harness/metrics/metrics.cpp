@@ -21,8 +21,8 @@ double percentile_sorted(const std::vector<double>& s, double q) {
     return s[i] + (s[i + 1] - s[i]) * f;
 }
 
-SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1,
-                           double dt_deg, int width, int height) {
+SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1, double step,
+                           int width, int height) {
     SweepMetrics m;
     const size_t n = std::min(e0.size(), e1.size());
     std::vector<Vec2d> d;
@@ -34,7 +34,7 @@ SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d
         dy -= height * std::floor(dy / height + 0.5);
         d.push_back({dx, dy});
     }
-    if (d.empty() || !(dt_deg > 0)) return m;
+    if (d.empty() || !(step > 0)) return m;
     double mx = 0, my = 0;
     for (const Vec2d& v : d) {
         mx += v.x;
@@ -44,8 +44,8 @@ SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d
     my /= double(d.size());
     double spread = 0;
     for (const Vec2d& v : d) spread += std::hypot(v.x - mx, v.y - my);
-    m.sliding = std::hypot(mx, my) / dt_deg;
-    m.shimmering = spread / double(d.size()) / dt_deg;
+    m.sliding = std::hypot(mx, my) / step;
+    m.shimmering = spread / double(d.size()) / step;
     return m;
 }
 

@@ -22,16 +22,16 @@ struct ErrorStats {
 // position q (N - 1) in the sorted values. `sorted` must be ascending and non-empty.
 double percentile_sorted(const std::vector<double>& sorted, double q);
 
-// Sliding and shimmering (docs/conventions.md section 5.3) from the error vectors of two views dt
-// degrees apart: d(P) = e1(P) - e0(P) (wrapped to the half-open tile range, in texels); sliding =
-// |mean_P d| / dt (coherent drift, texels per degree); shimmering = mean_P |d - mean_P d| / dt
-// (incoherent per-sample change, texels per degree). Samples non-finite in either view are left out
-// of both.
+// Sliding and shimmering (docs/conventions.md section 5.3) from the error vectors of two views a
+// sweep step apart (dt degrees of theta, or dd tiles of eye distance): d(P) = e1(P) - e0(P)
+// (wrapped to the half-open tile range, in texels); sliding = |mean_P d| / step (coherent drift,
+// texels per unit of the step); shimmering = mean_P |d - mean_P d| / step (incoherent per-sample
+// change, same unit). Samples non-finite in either view are left out of both.
 struct SweepMetrics {
     double sliding = NAN, shimmering = NAN;
 };
-SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1,
-                           double dt_deg, int width, int height);
+SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1, double step,
+                           int width, int height);
 
 // Statistics of the magnitudes |e|; NaN/Inf magnitudes are counted in `nonfinite`, never used.
 ErrorStats error_stats(const std::vector<double>& magnitudes);

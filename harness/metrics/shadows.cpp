@@ -6,6 +6,8 @@
 
 namespace pxh {
 
+namespace {
+
 void add_shadow_errors(const MetricInput& in, ResultRow& row) {
     const MethodOutput& o = in.out;
     const size_t n = o.uv.size();
@@ -20,6 +22,18 @@ void add_shadow_errors(const MetricInput& in, ResultRow& row) {
     }
     row.set("shadow_err", inside ? wrong / inside : NAN);
     row.set("shadow_soft_mae", inside ? mae / inside : NAN);
+}
+
+}  // namespace
+
+const Metric& shadows_metric() {
+    static const Metric m{"shadows",
+                          add_shadow_errors,
+                          {{"shadow_err", ColumnType::number, ColumnRole::measured,
+                            "fraction of samples whose hard shadow state is wrong"},
+                           {"shadow_soft_mae", ColumnType::number, ColumnRole::measured,
+                            "mean |soft factor - true hard factor|"}}};
+    return m;
 }
 
 }  // namespace pxh

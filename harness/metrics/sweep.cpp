@@ -1,5 +1,7 @@
 #include "harness/metrics/sweep.h"
 
+#include <cmath>
+
 #include "harness/metrics/metrics.h"
 
 namespace pxh {
@@ -12,6 +14,39 @@ void add_sweep(const std::vector<Vec2d>& lo, const std::vector<Vec2d>& hi, doubl
     row.set("sliding", sm.sliding);
     row.set("shimmering", sm.shimmering);
     row.set("sweep_dt_deg", dt_deg);
+}
+
+void add_distance_sweep(const std::vector<Vec2d>& near, const std::vector<Vec2d>& far, double dd,
+                        ResultRow& row) {
+    if (near.empty() || far.empty()) return;
+    const SweepMetrics sm =
+        sweep_metrics(near, far, dd, int(row.num("width")), int(row.num("height")));
+    row.set("sliding_dist", sm.sliding);
+    row.set("shimmering_dist", sm.shimmering);
+    row.set("sweep_dd", dd);
+}
+
+std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& settings) {
+    std::vector<DistanceStep> steps(settings.size());
+    const auto others_equal = [](const CameraSetting& a, const CameraSetting& b) {
+        if (a.values.size() != b.values.size()) return false;
+        for (size_t k = 0; k < a.values.size(); ++k)
+            if (a.values[k].first != b.values[k].first ||
+                (a.values[k].first != "distance" && !(a.values[k].second == b.values[k].second)))
+                return false;
+        return true;
+    };
+    for (size_t c = 0; c < settings.size(); ++c) {
+        const double d = settings[c].get("distance");
+        if (!std::isfinite(d)) continue;  // a camera without a distance (orthographic)
+        for (size_t n = c + 1; n < settings.size(); ++n)
+            if (others_equal(settings[c], settings[n])) {
+                const double dd = settings[n].get("distance") - d;
+                if (dd > 0) steps[c] = {n, dd};
+                break;
+            }
+    }
+    return steps;
 }
 
 }  // namespace pxh

@@ -6,6 +6,8 @@
 
 namespace pxh {
 
+namespace {
+
 void add_timing(const MetricInput& in, ResultRow& row) {
     const Timing& t = in.out.timing;
     row.set("time", t.stats.median);
@@ -18,6 +20,14 @@ void add_timing(const MetricInput& in, ResultRow& row) {
         row.set(c.name + "_min", c.value.min);
         row.set(c.name + "_max", c.value.max);
     }
+}
+
+}  // namespace
+
+// Its columns are in the table of harness/metrics/columns.cpp.
+const Metric& timing_metric() {
+    static const Metric m{"timing", add_timing};
+    return m;
 }
 
 }  // namespace pxh

@@ -12,26 +12,33 @@
 #include "harness/core/error.h"
 #include "harness/core/param_dict.h"
 #include "harness/core/params.h"
+#include "harness/metrics/columns.h"
 #include "harness/report/report.h"
 #include "harness/results/csv_table.h"
 #include "harness/results/results.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 
 namespace {
 
 // The key columns a limit may select rows by: text ones compared as text (params whatever the
-// spaces around its separators), numeric ones as numbers. Any of them may be a list ("any of").
+// spaces around its separators), numeric ones as numbers (the cameras' own keys among them:
+// camera_key_columns()). Any of them may be a list ("any of").
 const std::vector<std::string> kTextFilters = {"method",       "params",    "heightfield",
                                                "backend",      "precision", "texture_format",
                                                "ground_truth", "camera",    "lod"};
-const std::vector<std::string> kNumberFilters = {"scale",   "bias",     "phi_deg",
-                                                 "samples", "distance", "fov_deg"};
+std::vector<std::string> with_camera_keys(std::vector<std::string> v) {
+    for (const CameraKey& c : camera_key_columns()) v.push_back(c.name);
+    return v;
+}
+const std::vector<std::string> kNumberFilters =
+    with_camera_keys({"scale", "bias", "phi_deg", "samples"});
 // What identifies a row's baseline for `ratio_to`: the same field, view and backend (and
 // variant and reference) as the row, another method.
-const std::vector<std::string> kSameAsBaseline = {
-    "heightfield", "scale",          "bias",         "theta_deg", "phi_deg",  "samples", "backend",
-    "precision",   "texture_format", "ground_truth", "camera",    "distance", "fov_deg"};
+const std::vector<std::string> kSameAsBaseline =
+    with_camera_keys({"heightfield", "scale", "bias", "theta_deg", "phi_deg", "samples", "backend",
+                      "precision", "texture_format", "ground_truth", "camera"});
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();

@@ -21,42 +21,60 @@
 #include "harness/report/text_table.h"
 #include "harness/results/csv_table.h"
 #include "harness/results/results.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 namespace {
 
-// What identifies a row across runs: what ran, on what, from where, where.
-const char* const kKeys[] = {"method",         "params",  "heightfield", "scale",   "bias",
-                             "theta_deg",      "phi_deg", "samples",     "backend", "precision",
-                             "texture_format", "camera",  "distance",    "fov_deg", "lod"};
+// What identifies a row across runs: what ran, on what, from where, where; then the cameras'
+// own keys (camera_key_columns(): the perspective camera's distance, fov_deg).
+const char* const kFixedKeys[] = {
+    "method",  "params",  "heightfield", "scale",          "bias",   "theta_deg", "phi_deg",
+    "samples", "backend", "precision",   "texture_format", "camera", "lod"};
+const std::vector<std::string>& keys() {
+    static const std::vector<std::string> k = [] {
+        std::vector<std::string> all(std::begin(kFixedKeys), std::end(kFixedKeys));
+        for (const CameraKey& c : camera_key_columns()) all.push_back(c.name);
+        return all;
+    }();
+    return k;
+}
 // The changes reported (differences; timings as ratios).
 const char* const kErrors[] = {"err_mean", "err_p95", "err_max", "fetches_mean"};
 constexpr size_t kShown = 50;  // rows listed per list; the rest counted
 
 // A key's cell; results written before cameras and level modes had columns are the
 // orthographic camera's rows at lod base.
-std::string key_cell(const ResultRow& r, const char* c) {
+std::string key_cell(const ResultRow& r, const std::string& c) {
     std::string v = r.cell(c);
-    if (v.empty() && std::string_view(c) == "camera") return "orthographic";
-    if (v.empty() && std::string_view(c) == "lod") return "base";
+    if (v.empty() && c == "camera") return "orthographic";
+    if (v.empty() && c == "lod") return "base";
     return v;
 }
 
 std::string key_of(const ResultRow& r) {
     std::string k;
-    for (const char* c : kKeys) k += key_cell(r, c) + '\x1f';
+    for (const std::string& c : keys()) k += key_cell(r, c) + '\x1f';
     return k;
 }
 
-// " D=4 fov=45" for a perspective row, "" otherwise.
-std::string camera_name(const std::string& distance, const std::string& fov) {
-    return distance.empty() ? "" : " D=" + distance + " fov=" + fov;
+// " distance=4 fov_deg=45" for a perspective row (its camera's keys that have a value), ""
+// otherwise. `cell` gives a key's cell.
+template <class Cell>
+std::string camera_name(const Cell& cell) {
+    std::string s;
+    for (const CameraKey& c : camera_key_columns()) {
+        const std::string v = cell(c.name);
+        if (!v.empty()) s += " " + c.name + "=" + v;
+    }
+    return s;
 }
 
 // "pom layers=32 [cpu/float] on bricks s=0.05 b=1 theta=30 phi=0" (+ " D=4 fov=45")
 std::string row_name(const ResultRow& r) {
     return series_of(r) + " on " + field_of(r) + " theta=" + r.cell("theta_deg") +
-           " phi=" + r.cell("phi_deg") + camera_name(r.cell("distance"), r.cell("fov_deg"));
+           " phi=" + r.cell("phi_deg") +
+           camera_name([&](const std::string& c) { return r.cell(c); });
 }
 
 // Four significant digits, "-" when missing.
@@ -78,12 +96,15 @@ std::string name_of_key(const std::string& key) {
     size_t at = 0;
     for (size_t end; (end = key.find('\x1f', at)) != std::string::npos; at = end + 1)
         f.push_back(key.substr(at, end - at));
-    if (f.size() != std::size(kKeys)) return key;
+    if (f.size() != keys().size()) return key;
     // method, params, heightfield, scale, bias, theta, phi, samples, backend, precision, format,
-    // camera, distance, fov_deg, lod
-    return f[0] + (f[1].empty() ? "" : " " + f[1]) + (f[14] == "base" ? "" : " lod=" + f[14]) +
+    // camera, lod, then the cameras' keys
+    const auto cell = [&](const std::string& c) {
+        return f[size_t(std::find(keys().begin(), keys().end(), c) - keys().begin())];
+    };
+    return f[0] + (f[1].empty() ? "" : " " + f[1]) + (f[12] == "base" ? "" : " lod=" + f[12]) +
            " [" + f[8] + "/" + (f[10].empty() ? f[9] : f[10]) + "] on " + f[2] + " s=" + f[3] +
-           " b=" + f[4] + " theta=" + f[5] + " phi=" + f[6] + camera_name(f[12], f[13]);
+           " b=" + f[4] + " theta=" + f[5] + " phi=" + f[6] + camera_name(cell);
 }
 
 // Texts shared by many rows (shader files, hashes, ground truths), kept once.

@@ -12,7 +12,9 @@
 
 #include "harness/core/params.h"
 #include "harness/core/sha256.h"
+#include "harness/metrics/columns.h"
 #include "harness/results/image_file.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 namespace {
@@ -102,10 +104,15 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
 }
 
 std::string camera_name_part(const ResultRow& r) {
-    if (std::isnan(r.num("distance"))) return "";
-    char part[128];
-    std::snprintf(part, sizeof part, "_d%g_f%g", r.num("distance"), r.num("fov_deg"));
-    return part;
+    std::string s;
+    for (const CameraKey& k : camera_key_columns()) {
+        const double v = r.num(k.name);
+        if (std::isnan(v)) continue;
+        char part[64];
+        std::snprintf(part, sizeof part, "_%s%g", k.tag.c_str(), v);
+        s += part;
+    }
+    return s;
 }
 
 ErrorMapName error_map_name(const ResultRow& r, size_t index) {

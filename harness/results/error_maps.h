@@ -33,8 +33,9 @@ struct ErrorMapName {
     std::string stem, title;
 };
 ErrorMapName error_map_name(const ResultRow& row, size_t index);
-// "_dD_fF" for a row of a perspective camera (its distance and fov_deg), "" otherwise: the part
-// of every map, picture and truth picture name that tells camera settings apart.
+// "_TAG VALUE" for each of its camera's keys (the perspective camera: "_dD_fF"), "" for a camera
+// without keys: the part of every map, picture and truth picture name that tells camera
+// settings apart.
 std::string camera_name_part(const ResultRow& row);
 
 }  // namespace pxh

@@ -1,9 +1,11 @@
 #include "harness/run/runner.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -365,9 +367,31 @@ struct SweepPlace {
     size_t first_row, rows_per_view;
 };
 
+// The distance sweep of a perspective run (docs/conventions.md section 5.3): each view of a
+// camera setting with a successor (the next distance, the other keys equal) pairs pixel by pixel
+// with the view at the same field, phi and theta there, and the nearer view's rows carry the
+// pair. Settings run in order (distance outer), so a view waits, with its error vectors and
+// where its rows are, until its successor's view runs; a slice without that view traces it as a
+// companion instead (timed = false), so a sharded run gives the unsharded numbers.
+struct DistancePairs {
+    std::vector<DistanceStep> steps;  // per camera setting (distance_steps)
+    std::vector<size_t> before;       // per camera setting: the one whose successor it is, or npos
+    struct Waiting {
+        std::vector<std::vector<Vec2d>> errors;
+        std::vector<size_t> index;  // the rows' indices in the run
+    };
+    std::map<std::array<size_t, 3>, Waiting> waiting;  // (phi, camera, theta) of the nearer view
+
+    explicit DistancePairs(const std::vector<CameraSetting>& settings)
+        : steps(distance_steps(settings)), before(settings.size(), size_t(-1)) {
+        for (size_t c = 0; c < steps.size(); ++c)
+            if (steps[c].pairs()) before[steps[c].next] = c;
+    }
+};
+
 // Runs the theta sweep of one field and azimuth; rows join `rows` view by view.
 void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& opt, size_t& step,
-               size_t steps, std::vector<ResultRow>& rows, RunInfo* info) {
+               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, DistancePairs& dist) {
     const Experiment& ex = ctx.ex;
     const double phi = ex.phi_deg[at.phi];
     ViewRows prev;  // the previous view of this sweep (same field and phi)
@@ -399,6 +423,26 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
             for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
                 if (dt > 0) add_sweep(prev.errors[i], view.errors[i], dt, rows[prev_index[i]]);
         }
+        // The distance sweep: this view is the farther one of a pair waiting for it, and the
+        // nearer one of its own pair (now, with a companion view, or when its successor runs).
+        if (const size_t near = dist.before[at.camera]; near != size_t(-1)) {
+            const auto it = dist.waiting.find({at.phi, near, t});
+            if (it != dist.waiting.end()) {
+                const double dd = dist.steps[near].dd;
+                for (size_t i = 0; i < view.rows.size() && i < it->second.index.size(); ++i)
+                    add_distance_sweep(it->second.errors[i], view.errors[i], dd,
+                                       rows[it->second.index[i]]);
+                dist.waiting.erase(it);
+            }
+        }
+        const DistanceStep& next = dist.steps[at.camera];
+        const bool wait =
+            next.pairs() && (!opt.include || opt.include(at.field, at.phi, next.next, t));
+        if (next.pairs() && !wait) {
+            const ViewRows far = evaluate_view(ctx, theta, phi, next.next, false);
+            for (size_t i = 0; i < view.rows.size(); ++i)
+                add_distance_sweep(view.errors[i], far.errors[i], next.dd, view.rows[i]);
+        }
         if (view.rows.size() != at.rows_per_view)
             throw std::logic_error("a view made " + std::to_string(view.rows.size()) +
                                    " rows, not the " + std::to_string(at.rows_per_view) +
@@ -413,6 +457,11 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
         for (auto& r : view.rows) {
             prev_index.push_back(rows.size());
             rows.push_back(std::move(r));
+        }
+        if (wait) {  // the theta pairing keeps this view's errors only while it needs them
+            const bool theta_next = ex.sweep_dt_deg <= 0 && t + 1 < ex.theta_deg.size();
+            dist.waiting[{at.phi, at.camera, t}] = {
+                theta_next ? view.errors : std::move(view.errors), prev_index};
         }
         prev = std::move(view);
     }
@@ -565,10 +614,11 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         const FieldContext ctx{ex,          backends,   reference,
                                *field,      spec,       *refs.exact,
                                *refs.other, *resources, levels ? &*levels : nullptr};
+        DistancePairs dist(ex.camera_settings);  // the field's views waiting for the next distance
         for (size_t p = 0; p < per_field; ++p) {
             const SweepPlace& at = places[h * per_field + p];
             if (std::count(at.runs.begin(), at.runs.end(), true))
-                run_sweep(ctx, at, opt, step, steps, rows, info);
+                run_sweep(ctx, at, opt, step, steps, rows, info, dist);
         }
     }
     if (info && resources) info->resource_builds += resources->builds();

@@ -190,6 +190,11 @@ std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
     return out;
 }
 
+std::vector<CameraKey> perspective_keys() {
+    return {{"distance", "perspective: eye distance from the look-at point (tiles)", "d"},
+            {"fov_deg", "perspective: full field of view of the square image (degrees)", "f"}};
+}
+
 namespace {
 
 // The camera's parameters at one of its settings and one view.

@@ -97,6 +97,8 @@ std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
                                                      const std::string& loc);
 std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
                                                 const CameraSpec& spec);
+// Its keys as the results show them: distance ("_d"), fov_deg ("_f").
+std::vector<CameraKey> perspective_keys();
 // eye_slab_problem at this setting and view.
 std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,
                                       double scale, double bias);

@@ -92,7 +92,7 @@ const std::vector<CameraEntry>& camera_registry() {
     static const std::vector<CameraEntry> entries = {
         {"orthographic", &read_orthographic_settings, &make_orthographic_camera, nullptr, true},
         {"perspective", &read_perspective_settings, &make_perspective_camera,
-         &perspective_scene_problem, false},
+         &perspective_scene_problem, false, perspective_keys()},
     };
     return entries;
 }

@@ -110,6 +110,14 @@ class OrthographicCamera final : public Camera {
     int n_;
 };
 
+// One of a camera's own keys as the results show it: a key column of that name (a number per
+// row; empty on other cameras' rows), what it means, and the tag that marks its value in the
+// names of the view's files ("d": "_d1.5"). results.csv, pxh check's filters, pxh compare's row
+// keys and the file names take a camera's keys from here (harness/metrics/columns.cpp).
+struct CameraKey {
+    std::string name, meaning, tag;
+};
+
 // The registry (camera_registry() in harness/scene/view.cpp): one line per camera.
 struct CameraEntry {
     const char* name;
@@ -122,6 +130,9 @@ struct CameraEntry {
     // Whether its rays are parallel (the orthographic camera): otherwise a view's pixels look up
     // to 89 degrees from the normal whatever theta, and the truth's travel limit is checked there.
     bool parallel = false;
+    // Its own keys, in the order of its settings' values (the perspective camera: distance,
+    // fov_deg); none for the orthographic camera.
+    std::vector<CameraKey> keys = {};
 };
 const CameraEntry& camera_entry(const std::string& name, const std::string& loc);
 const std::vector<CameraEntry>& camera_registry();

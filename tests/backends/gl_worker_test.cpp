@@ -50,6 +50,25 @@ TEST(GlWorker, TheGlProcessIsAFreshPxhNotAFork) {
     EXPECT_FALSE(child.facts().at("gl_renderer").empty());
 }
 
+// pxh runs its GL process through /proc/self/exe, a link: ps shows the binary it points to as
+// the process's argv[0], not the link. Here a link of our own to pxh stands in for it.
+TEST(GlWorker, TheGlProcessIsNamedByTheBinaryNotTheLink) {
+    const fs::path dir = pxh::test::fresh_dir("gl_worker_link");
+    const fs::path link = dir / "exe";
+    fs::create_symlink(fs::canonical(PXH_BINARY), link);
+    pxh::set_gl_worker_program(link.string());
+    {
+        pxh::BackendSettings s;
+        pxh::GlslChildBackend child(s);
+        ASSERT_GT(child.child_pid(), 0);
+        const std::string cmdline =
+            read_all("/proc/" + std::to_string(child.child_pid()) + "/cmdline");
+        EXPECT_EQ(cmdline.substr(0, cmdline.find('\0')), fs::canonical(PXH_BINARY).string());
+    }
+    pxh::set_gl_worker_program(PXH_BINARY);
+    fs::remove_all(dir);
+}
+
 TEST(GlWorker, WorkerModeWithoutItsSocketIsOneLineExit2) {
     const fs::path dir = pxh::test::fresh_dir("gl_worker_mode");
     for (const char* fd : {"99", "x", "-1", ""}) {

@@ -185,20 +185,32 @@ TEST_P(GlslLevelMode, CpuFloatTwinEqualsTheGlslTwin) {
 INSTANTIATE_TEST_SUITE_P(Registry, GlslLevelMode, ::testing::ValuesIn(level_methods()),
                          test::MethodName());
 
+// parallax at lod = level on an orthographic view of `hf` (theta 40, 8 x 8 samples), with the
+// field's levels and the view's lambda: what the upload tests draw.
+struct ParallaxAtLevel {
+    explicit ParallaxAtLevel(const HeightField& hf)
+        : levels(build_texture_levels(hf)),
+          v(orthographic(hf, 0.05, 1.0, 40, 8)),
+          spec{find_method("parallax"), test::params_for(*find_method("parallax"))},
+          in{v.scene, hf, v.rays, nullptr, false, nullptr} {
+        spec.lod = LodMode::level;
+        in.levels = &levels;
+        in.lambda = &v.lambda;
+    }
+    TextureLevels levels;
+    TestView v;
+    MethodSpec spec;
+    ViewInput in;
+};
+
 // The levels as uploaded (glGetTexImage): the CPU's levels, each in the row's format (r32f as
 // built, r16 and r8 rounded to the nearest 1/65535, 1/255), the mip chain q levels long; a base
 // draw afterwards goes back to level 0 alone.
 TEST(GlslLevels, UploadedLevelsAreTheCpuLevelsInTheRowsFormat) {
     const HeightField hf = test::random_field(48, 40, 7);
-    const TextureLevels levels = build_texture_levels(hf);
+    const ParallaxAtLevel run(hf);
+    const auto& [levels, v, spec, in] = run;
     ASSERT_EQ(levels.last(), 5);
-    const TestView v = orthographic(hf, 0.05, 1.0, 40, 8);
-    const MethodInfo& m = *find_method("parallax");
-    MethodSpec spec{&m, test::params_for(m)};
-    spec.lod = LodMode::level;
-    ViewInput in{v.scene, hf, v.rays, nullptr, false, nullptr};
-    in.levels = &levels;
-    in.lambda = &v.lambda;
     for (const auto& [format, steps] :
          std::vector<std::pair<std::string, double>>{{"r32f", 0}, {"r16", 65535}, {"r8", 255}}) {
         gl().run(spec, in, {"float", format});
@@ -229,14 +241,8 @@ TEST(GlslLevels, UploadedLevelsAreTheCpuLevelsInTheRowsFormat) {
 // the level-0 texel's value as stored).
 TEST(GlslLevels, ConstantFieldIsConstantOnEveryLevelInEveryFormat) {
     const HeightField hf = test::flat_field(36, 20, 0.3721f);
-    const TextureLevels levels = build_texture_levels(hf);
-    const TestView v = orthographic(hf, 0.05, 1.0, 40, 8);
-    const MethodInfo& m = *find_method("parallax");
-    MethodSpec spec{&m, test::params_for(m)};
-    spec.lod = LodMode::level;
-    ViewInput in{v.scene, hf, v.rays, nullptr, false, nullptr};
-    in.levels = &levels;
-    in.lambda = &v.lambda;
+    const ParallaxAtLevel run(hf);
+    const auto& [levels, v, spec, in] = run;
     for (const char* format : {"r32f", "r16", "r8"}) {
         gl().run(spec, in, {"float", format});
         int w = 0, h = 0;
@@ -345,28 +351,18 @@ TEST(GlslLodModes, PluginPxhLodIsTheSamplesLambda) {
 class GlslLodCli : public test::CliTest {};
 
 TEST_F(GlslLodCli, PerspectiveExperimentWithEveryLevelMode) {
-    write("e.toml", R"(name = "lod"
-samples = 24
-backends = ["cpu", "glsl"]
-timing_repeats = 0
-[views]
-camera = "perspective"
-theta_deg = [45, 80]
-phi_deg = [20]
-distance = [1.5, 4]
-fov_deg = 60
-[[heightfields]]
-generator = "fbm"
-size = 64
-scale = 0.05
-bias = 1.0
-[[methods]]
-name = "pom"
-lod = ["base", "level", "grad", "implicit"]
-[[methods]]
-name = "parallax"
-lod = ["base", "level"]
-)");
+    write("e.toml", test::ExperimentToml("lod")
+                        .samples(24)
+                        .backends("\"cpu\", \"glsl\"")
+                        .theta("[45, 80]")
+                        .phi("[20]")
+                        .view("camera", "\"perspective\"")
+                        .view("distance", "[1.5, 4]")
+                        .view("fov_deg", "60")
+                        .field("fbm", 64, "scale = 0.05\nbias = 1.0")
+                        .method("pom", "lod = [\"base\", \"level\", \"grad\", \"implicit\"]")
+                        .method("parallax", "lod = [\"base\", \"level\"]"));
+
     const test::CliResult r =
         pxh("run " + (dir / "e.toml").string() + " --quiet --out " + (dir / "r").string());
     ASSERT_EQ(r.status, 0) << r.err;
@@ -404,27 +400,18 @@ lod = ["base", "level"]
 TEST_F(GlslLodCli, PluginCallingPxhLodRunsInEveryMode) {
     write("probe.frag.glsl",
           "vec2 pxh_method(vec2 P) { return P + vec2(pxh_lod(), 0.0) / 1024.0; }\n");
-    write("p.toml", R"(name = "probe"
-samples = 24
-backends = ["glsl"]
-timing_repeats = 0
-[views]
-camera = "perspective"
-theta_deg = [60]
-distance = [2]
-[[heightfields]]
-generator = "fbm"
-size = 64
-scale = 0.05
-bias = 1.0
-[[methods]]
-name = "probe"
-shader = "probe.frag.glsl"
-max_fetches = 1
-lod = ["base", "level", "grad", "implicit"]
-[[methods]]
-name = "none"
-)");
+    write("p.toml", test::ExperimentToml("probe")
+                        .samples(24)
+                        .backends("\"glsl\"")
+                        .theta("[60]")
+                        .view("camera", "\"perspective\"")
+                        .view("distance", "[2]")
+                        .field("fbm", 64, "scale = 0.05\nbias = 1.0")
+                        .method("probe",
+                                "shader = \"probe.frag.glsl\"\nmax_fetches = 1\n"
+                                "lod = [\"base\", \"level\", \"grad\", \"implicit\"]")
+                        .method("none"));
+
     const test::CliResult r =
         pxh("run " + (dir / "p.toml").string() + " --quiet --out " + (dir / "r").string());
     ASSERT_EQ(r.status, 0) << r.err;

@@ -128,13 +128,9 @@ TEST(PerSampleView, ExperimentCameraKey) {
     EXPECT_EQ(parse_experiment(base + rest, "e.toml").camera, "orthographic");
     EXPECT_EQ(parse_experiment(base + "camera = \"orthographic\"\n" + rest, "e.toml").camera,
               "orthographic");
-    try {
-        parse_experiment(base + "camera = \"pinhole\"\n" + rest, "e.toml");
-        FAIL() << "no error";
-    } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()),
-                  "e.toml:3: unknown camera 'pinhole' (known: orthographic, perspective)");
-    }
+    EXPECT_EQ(test::input_error(
+                  [&] { parse_experiment(base + "camera = \"pinhole\"\n" + rest, "e.toml"); }),
+              "e.toml:3: unknown camera 'pinhole' (known: orthographic, perspective)");
 }
 
 }  // namespace

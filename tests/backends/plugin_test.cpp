@@ -28,29 +28,18 @@ class Plugin : public pxh::test::CliTest {
     static std::string source(const std::string& rel) { return pxh::test::source_file(rel); }
 };
 
-const char* kHead = R"(samples = 48
-backends = ["cpu", "glsl"]
-timing_repeats = 0
-[views]
-theta_deg = [0, 35, 70, 85]
-[[heightfields]]
-generator = "bricks"
-size = 64
-scale = 0.06
-bias = 1.0
-[[heightfields]]
-generator = "fbm"
-size = 64
-scale = 0.06
-bias = 1.0
-[[methods]]
-name = "pom"
-layers = 24
-)";
+// Two 64^2 fields at s = 0.06, b = 1, four views, pom on both backends; the tests add methods.
+const std::string kHead = pxh::test::ExperimentToml()
+                              .samples(48)
+                              .backends("\"cpu\", \"glsl\"")
+                              .theta("[0, 35, 70, 85]")
+                              .field("bricks", 64, "scale = 0.06\nbias = 1.0")
+                              .field("fbm", 64, "scale = 0.06\nbias = 1.0")
+                              .method("pom", "layers = 24");
 
 TEST_F(Plugin, CopyOfBuiltinPomGivesItsRows) {
     write("copy.frag.glsl", source("methods/pom/pom.frag.glsl"));
-    write("exp.toml", std::string(kHead) + R"([[methods]]
+    write("exp.toml", kHead + R"([[methods]]
 name = "pom_copy"
 shader = "copy.frag.glsl"
 max_fetches = 26
@@ -101,7 +90,7 @@ uniforms = { p_layers_adaptive = false, p_layers = 24.0, p_layers_min = 8.0, p_l
 // folder of failed rows, exit 1).
 TEST_F(Plugin, BrokenShaderIsExit2BeforeAnyRow) {
     write("broken.frag.glsl", "vec2 pxh_method(vec2 P) {\n  return P + oops;\n}\n");
-    write("exp.toml", std::string(kHead) + R"([[methods]]
+    write("exp.toml", kHead + R"([[methods]]
 name = "broken"
 shader = "broken.frag.glsl"
 max_fetches = 1
@@ -134,7 +123,7 @@ TEST_F(Plugin, BadEntriesAreOneLineExit2) {
          "reference 'nope' is not a built-in method"},
     };
     for (const auto& [entry, message] : cases) {
-        write("exp.toml", std::string(kHead) + "[[methods]]\n" + entry);
+        write("exp.toml", kHead + "[[methods]]\n" + entry);
         EXPECT_EQ(
             pxh("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "r").string()), 2)
             << entry;

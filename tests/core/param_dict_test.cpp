@@ -13,19 +13,12 @@
 #include "harness/experiment/experiment.h"
 #include "harness/report/report.h"
 #include "tests/cli_util.h"
+#include "tests/test_util.h"
 
 namespace pxh {
 namespace {
 
-template <class F>
-std::string input_error(F f) {
-    try {
-        f();
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "";
-}
+using test::input_error;
 
 TEST(ParamsReader, TypedGettersKeepDefaultsAndLines) {
     const ParamDict d = ParamDict::parse(
@@ -92,17 +85,10 @@ TEST(ParamsReader, IntegersBeyond2To53ReadAsTheNearestDouble) {
               "b.toml:1: 'big' = 9007199254740993 is outside [0, 2147483647]");
 }
 
-const char* kExperiment = R"(name = "t"
-samples = 8
-[views]
-theta_deg = [0, 30]
-[[heightfields]]
-generator = "bricks"
-size = 16
-[[methods]]
-name = "pom"
-layers = 8
-)";
+// Lines: 1 name, 2 samples, 3 timing_repeats, 4 [views], 5 theta_deg, 6-8 the field, 9-11 the
+// method.
+const std::string kExperiment =
+    test::ExperimentToml("t").theta("[0, 30]").field("bricks", 16).method("pom", "layers = 8");
 
 std::string experiment_error(const std::string& text) {
     return input_error([&] { parse_experiment(text, "e.toml"); });
@@ -124,20 +110,20 @@ TEST(ParamsUnread, ExperimentTopLevelKeyAtItsLine) {
 
 TEST(ParamsUnread, MethodEntryKeyAtItsLine) {
     EXPECT_EQ(experiment_error(with_line(kExperiment, "layers = 8\n", "layerz = 4")),
-              "e.toml:11: unknown parameter 'layerz' for method 'pom' (known: layers, "
+              "e.toml:12: unknown parameter 'layerz' for method 'pom' (known: layers, "
               "layers_min, layers_max)");
 }
 
 TEST(ParamsUnread, ViewsKeyTheOrthographicCameraDoesNotRead) {
     EXPECT_EQ(experiment_error(with_line(kExperiment, "theta_deg = [0, 30]\n", "fov_deg = 60")),
-              "e.toml:5: unknown key 'fov_deg' in [views] (known: theta_deg, phi_deg, camera; "
+              "e.toml:6: unknown key 'fov_deg' in [views] (known: theta_deg, phi_deg, camera; "
               "camera 'orthographic' reads no keys of its own)");
     // Its own keys go through the same reader: the camera is made from [views].
     const Experiment ex = parse_experiment(with_line(kExperiment, "theta_deg = [0, 30]\n",
                                                      "camera = "
                                                      "\"orthographic\""),
                                            "e.toml");
-    EXPECT_EQ(ex.camera_params.where("camera"), "e.toml:5");
+    EXPECT_EQ(ex.camera_params.where("camera"), "e.toml:6");
 }
 
 TEST(ParamsUnread, MisspeltBackendKeyAtItsLine) {

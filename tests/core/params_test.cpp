@@ -6,6 +6,7 @@
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
 #include "methods/method.h"
+#include "tests/test_util.h"
 
 namespace pxh {
 namespace {
@@ -100,14 +101,11 @@ TEST(TypedParams, ModeNamesReadBackMeanTheSameSetting) {
         resolve_method_params(*find_method("pom"), {{"layers", 8}, {"layers_min", 4}}, "x"),
         InputError);
     // A name that is not the parameter's: refused, naming what is accepted.
-    try {
-        resolve_method_params(*find_method("pom"), {{"layers", "off"}}, "f.toml:3");
-        FAIL();
-    } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()),
-                  "f.toml:3: method 'pom' parameter 'layers' = \"off\" must be a number in [1, "
-                  "4096] or \"adaptive\" (got a string)");
-    }
+    EXPECT_EQ(test::input_error([&] {
+                  resolve_method_params(*find_method("pom"), {{"layers", "off"}}, "f.toml:3");
+              }),
+              "f.toml:3: method 'pom' parameter 'layers' = \"off\" must be a number in [1, "
+              "4096] or \"adaptive\" (got a string)");
 }
 
 // The experiment file: a value of the wrong type is refused at its own line.
@@ -139,18 +137,16 @@ TEST(TypedParams, ExperimentFileNamesTheLineTheKeyAndTheAcceptedValues) {
     EXPECT_EQ(ex.methods[1].params.canonical(),
               "layers=adaptive;layers_min=8;layers_max=32;binary_steps=5");
     // Generators' parameters are typed the same way.
-    try {
-        parse_experiment(
-            "name = \"t\"\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = \"flat\"\nlevel "
-            "= \"high\"\n"
-            "[[methods]]\nname = \"none\"\n",
-            "g.toml");
-        FAIL();
-    } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()),
-                  "g.toml:6: generator 'flat' parameter 'level' = \"high\" "
-                  "must be a number in [0, 1] (got a string)");
-    }
+    EXPECT_EQ(test::input_error([&] {
+                  parse_experiment(
+                      "name = \"t\"\n[views]\ntheta_deg = [0]\n[[heightfields]]\ngenerator = "
+                      "\"flat\"\nlevel "
+                      "= \"high\"\n"
+                      "[[methods]]\nname = \"none\"\n",
+                      "g.toml");
+              }),
+              "g.toml:6: generator 'flat' parameter 'level' = \"high\" "
+              "must be a number in [0, 1] (got a string)");
 }
 
 // ---- uniforms: declared on the parameter or computed by the method, typed ----

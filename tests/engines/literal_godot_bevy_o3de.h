@@ -14,34 +14,12 @@
 
 #include "harness/core/vec.h"
 #include "harness/scene/heightfield.h"
+#include "tests/engines/literal_common.h"
 
 namespace pxh::literal {
 
-#ifndef PXH_LITERAL_ENGINE_RESULT
-#define PXH_LITERAL_ENGINE_RESULT
-struct EngineResult {
-    Vec2<float> uv;
-    int fetches;
-};
-#endif
-
 namespace gbo_shader {
-// The few GLSL / WGSL / HLSL operations the shaders use, on pxh's vector types.
-inline float mix(float x, float y, float a) { return x * (1.0f - a) + y * a; }
-inline Vec2<float> mix(Vec2<float> x, Vec2<float> y, float a) { return x * (1.0f - a) + y * a; }
-// float3 arithmetic (pxh's Vec3 has none).
-inline Vec3<float> add(Vec3<float> a, Vec3<float> b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-inline Vec3<float> sub(Vec3<float> a, Vec3<float> b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-inline Vec3<float> scale(Vec3<float> a, float k) { return {a.x * k, a.y * k, a.z * k}; }
-// HLSL lerp(x, y, a) = x + a (y - x).
-inline Vec3<float> lerp(Vec3<float> x, Vec3<float> y, float a) {
-    return add(x, scale(sub(y, x), a));
-}
-inline float dot(Vec3<float> a, Vec3<float> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline Vec3<float> normalize(Vec3<float> a) { return scale(a, 1.0f / std::sqrt(dot(a, a))); }
-inline Vec2<float> div(Vec2<float> a, float k) { return {a.x / k, a.y / k}; }
-inline Vec2<float> mul(Vec2<float> a, Vec2<float> b) { return {a.x * b.x, a.y * b.y}; }
-inline float sign(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : 0.0f); }
+using namespace gpu;
 }  // namespace gbo_shader
 
 // ---- Godot 4 BaseMaterial3D height mapping --------------------------------------------------

@@ -13,27 +13,12 @@
 
 #include "harness/core/vec.h"
 #include "harness/scene/heightfield.h"
+#include "tests/engines/literal_common.h"
 
 namespace pxh::literal {
 
-#ifndef PXH_LITERAL_ENGINE_RESULT
-#define PXH_LITERAL_ENGINE_RESULT
-struct EngineResult {
-    Vec2<float> uv;
-    int fetches;
-};
-#endif
-
 namespace js_glsl {
-// The few GLSL operations the shaders use, on pxh's vector types.
-inline Vec2<float> div(Vec2<float> a, float k) { return {a.x / k, a.y / k}; }
-inline float mix(float x, float y, float a) { return x * (1.0f - a) + y * a; }
-inline float dot(Vec3<float> a, Vec3<float> b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-inline float length(Vec2<float> a) { return std::sqrt(a.x * a.x + a.y * a.y); }
-// GLSL normalize: x * inversesqrt(dot(x, x)); the zero vector gives 0 * inf = NaN, as on GPUs.
-inline Vec2<float> normalize(Vec2<float> a) {
-    return a * (1.0f / std::sqrt(a.x * a.x + a.y * a.y));
-}
+using namespace gpu;
 }  // namespace js_glsl
 
 // ---- three.js ParallaxShader ---------------------------------------------------------------

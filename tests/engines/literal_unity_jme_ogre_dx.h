@@ -15,13 +15,9 @@
 
 #include "harness/core/vec.h"
 #include "harness/scene/heightfield.h"
+#include "tests/engines/literal_common.h"
 
 namespace pxh::literal {
-
-struct EngineResult {
-    Vec2<float> uv;
-    int fetches;
-};
 
 namespace detail {
 // GLSL/HLSL helpers, as the shading languages define them.

@@ -16,6 +16,7 @@
 #include "harness/core/error.h"
 #include "harness/core/sha256.h"
 #include "heightfields/heightfields.h"
+#include "tests/cli_util.h"
 
 namespace pxh {
 namespace {
@@ -130,17 +131,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // A scratch folder per test holding an experiment file and its images.
-class ExperimentFiles : public ::testing::Test {
+class ExperimentFiles : public test::CliTest {
   protected:
-    fs::path dir = fs::temp_directory_path() /
-                   ("pxh_experiment_test_" + std::to_string(::getpid()) + "_" +
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    void SetUp() override {
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
-
     // A W x H image whose texels depend on `seed` (different seeds: different bytes).
     std::string image(const std::string& rel, int seed, int w = 16, int h = 16) {
         HeightField hf(w, h);

@@ -15,20 +15,16 @@ namespace {
 namespace fs = std::filesystem;
 
 // 12 x 100 x 10 fbm parameter values: 12,000 fields from a 9-line file.
-const char* kHugeSweep = R"(
-samples = 64
-[views]
-theta_deg = [0, 45]
-[[heightfields]]
-generator = "fbm"
-size = 64
-base_freq = 1
-octaves = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]
-seed = { from = 1, to = 100, step = 1 }
-gain = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95]
-[[methods]]
-name = "parallax"
-)";
+const std::string kHugeSweep =
+    pxh::test::ExperimentToml()
+        .samples(64)
+        .theta("[0, 45]")
+        .field("fbm", 64,
+               "base_freq = 1\n"
+               "octaves = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]\n"
+               "seed = { from = 1, to = 100, step = 1 }\n"
+               "gain = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 0.95]")
+        .method("parallax");
 
 class RunLimits : public pxh::test::CliTest {};
 

@@ -261,6 +261,22 @@ TEST_F(ShardMerge, EnginesExperimentOver1And3And7Shards) {
                       "--samples 8 --only 'theta_deg=0|45|85'");
 }
 
+// A perspective distance sweep: its pairs span units (one per distance), so a slice traces the
+// next distance of its own units as a companion view; the merged run is the whole one.
+TEST_F(ShardMerge, DistanceSweepPairsAcrossSlicesReproduceTheRun) {
+    const std::string exp =
+        write("dist.toml",
+              "name = \"dist\"\nsamples = 8\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\n"
+              "theta_deg = [45, 70]\nphi_deg = [0, 30]\ncamera = \"perspective\"\n"
+              "distance = [1, 2, 3, 4]\n[[heightfields]]\nname = \"f\"\ngenerator = \"fbm\"\n"
+              "width = 16\nheight = 16\n[[methods]]\nname = \"pom\"\nlayers = 8\n");
+    expect_reproduces(exp, "");
+    const CsvTable t = read_csv((dir / "full" / "results.csv").string());
+    size_t paired = 0;
+    for (size_t r = 0; r < t.rows.size(); ++r) paired += std::isfinite(t.number(r, "sliding_dist"));
+    EXPECT_EQ(paired, t.rows.size() * 3 / 4);  // every distance but the last
+}
+
 const std::string kTiny = test::ExperimentToml("tiny")
                               .set("sweep_dt_deg", "0.5")
                               .theta("[0, 40, 80]")

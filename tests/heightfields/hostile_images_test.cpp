@@ -87,16 +87,9 @@ ChildLoad load_in_child(const std::string& path, int channel = 0, unsigned timeo
     return r;
 }
 
-class HostileImages : public ::testing::Test {
+class HostileImages : public test::CliTest {
   public:  // the per-format writers below take the fixture as a parameter
-    fs::path dir = fs::temp_directory_path() /
-                   ("pxh_hostile_" + std::to_string(::getpid()) + "_" +
-                    ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    void SetUp() override {
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
+    using test::CliTest::dir;
 
     std::string bytes(const std::string& name, const std::string& b) {
         std::ofstream(dir / name, std::ios::binary) << b;

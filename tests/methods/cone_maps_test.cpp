@@ -265,9 +265,7 @@ TEST(ConeMaps, RelaxedMapsRefuseFieldsOverTheirSizeLimitInOneLine) {
 // within 1e-3 texel of the CPU float twin, and the same fetch counts, on 99.9% of samples.
 TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
     static GlslBackend gl(GlslOptions{"", 0});
-    const GeneratorInfo* g = find_generator("fbm");
-    const HeightField hf =
-        generate_heightfield(*g, 64, 64, resolve_params(g->params, {}, "t", "fbm"));
+    const HeightField hf = test::generated_field("fbm", 64);
     const int N = 64;
     struct Setting {
         const MethodInfo* m;

@@ -130,6 +130,22 @@ double texel_dist(Vec2d a, Vec2d b, const HeightField& hf) {
     return std::hypot((a.x - b.x) * hf.width, (a.y - b.y) * hf.height);
 }
 
+// The plane field's cone map at s = 0.05, b = 1, and 64 random points in its middle
+// (0.3..0.7 in u and v; `seed` picks them).
+struct PlaneCone {
+    explicit PlaneCone(uint32_t seed)
+        : res(build_resource(cone().resources[0], hf, s, b)),
+          map(*res.spec, *res.image),
+          P(test::random_points(64, seed)) {
+        for (Vec2d& p : P) p = {0.3 + 0.4 * p.x, 0.3 + 0.4 * p.y};
+    }
+    HeightField hf = plane_field(64);
+    double s = 0.05, b = 1;
+    BuiltResource res;
+    TextureSampler<double> map;
+    std::vector<Vec2d> P;
+};
+
 struct Setting {
     const char* map;
     int channel;
@@ -143,12 +159,8 @@ struct Setting {
 // whatever the map, minimum step and step count (steps = 1 or 2: brackets that end above the
 // surface). Without the refinement the same rays are up to a cell off.
 TEST(ConeRefine, LinearRefinementIsExactOnAPlane) {
-    const HeightField hf = plane_field(64);
-    const double s = 0.05, b = 1;
-    const BuiltResource res = build_resource(cone().resources[0], hf, s, b);
-    TextureSampler<double> map(*res.spec, *res.image);
-    std::vector<Vec2d> P = test::random_points(64, 3);
-    for (Vec2d& p : P) p = {0.3 + 0.4 * p.x, 0.3 + 0.4 * p.y};
+    PlaneCone pc(3);
+    auto& [hf, s, b, res, map, P] = pc;
     const Setting settings[] = {{"dummer", 1, "texel", 0, 32},  {"dummer_min", 2, "cell", 1, 32},
                                 {"bilinear", 3, "none", 2, 32}, {"dummer_min", 2, "cell", 1, 1},
                                 {"bilinear", 3, "none", 2, 2},  {"dummer", 1, "texel", 0, 3}};
@@ -262,12 +274,8 @@ TEST(ConeRefine, RefinementIsTheSourcesOnTheLoopsBracket) {
 // |t - t*| <= (t1 - t0) / 2^(k+1), t* the exact hit clamped to [t0, t1]; the bound is reached
 // to within a factor 2 on some ray.
 TEST(ConeRefine, BinaryRefinementHalvesTheErrorPerStepOnAPlane) {
-    const HeightField hf = plane_field(64);
-    const double s = 0.05, b = 1;
-    const BuiltResource res = build_resource(cone().resources[0], hf, s, b);
-    TextureSampler<double> map(*res.spec, *res.image);
-    std::vector<Vec2d> P = test::random_points(64, 5);
-    for (Vec2d& p : P) p = {0.3 + 0.4 * p.x, 0.3 + 0.4 * p.y};
+    PlaneCone pc(5);
+    auto& [hf, s, b, res, map, P] = pc;
     for (int k : {0, 1, 2, 3, 5, 8, 12}) {
         double worst_ratio = 0;
         int over = 0;

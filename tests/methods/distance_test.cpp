@@ -180,9 +180,7 @@ TEST(Distance, ResourceWithAnIntegerParameterIsCheckedAtRegistration) {
 
 TEST(Distance, GlslAgreesWithCpuFloatAtNonDefaultSettings) {
     static GlslBackend gl(GlslOptions{"", 0});
-    const GeneratorInfo* g = find_generator("fbm");
-    const HeightField hf =
-        generate_heightfield(*g, 96, 64, resolve_params(g->params, {}, "t", "fbm"));
+    const HeightField hf = test::generated_field("fbm", 96, 64);
     const int N = 64;
     for (const GivenParams& given :
          {GivenParams{{"slices", 5}, {"iterations", 40}}, GivenParams{{"slices", 32}}}) {

@@ -19,6 +19,7 @@
 #include "methods/method.h"
 #include "tests/engines/literal_godot_bevy_o3de.h"
 #include "tests/glsl_agreement.h"
+#include "tests/methods/engine_checks.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -27,22 +28,12 @@ namespace {
 using literal::EngineResult;
 using literal::O3deQuality;
 
-Vec3<float> view(double theta, double phi) { return Vec3<float>(view_vector(theta, phi)); }
+using test::expect_offset;
+using test::layer_index;
+const auto view = &test::engine_view;
 
-// Expect uv == P + d (uv units) to within tol.
-void expect_offset(const EngineResult& r, Vec2<float> P, double dx, double dy, double tol,
-                   const char* what) {
-    EXPECT_NEAR(r.uv.x, P.x + dx, tol) << what;
-    EXPECT_NEAR(r.uv.y, P.y + dy, tol) << what;
-}
-
-// Layer index x of uv along the per-layer step duv (uv = P + duv x).
-double layer_index(const EngineResult& r, Vec2<float> P, double dux, double duy) {
-    return ((r.uv.x - P.x) * dux + (r.uv.y - P.y) * duy) / (dux * dux + duy * duy);
-}
-
-const Vec2<float> kP{0.37f, 0.61f};
-const double kAngles[][2] = {{10, 0}, {33, 130}, {60, 250}, {80, 315}};
+const Vec2<float>& kP = test::kEngineP;
+const auto& kAngles = test::kEngineAngles;
 
 // ---- Godot 4 (heightmap_scale 5 -> s = 0.05; depth = 1 - h; b = 1) ---------------------------
 
@@ -163,17 +154,12 @@ TEST(Bevy, ReliefOnAFlatFieldEndsWithinTwoToTheMinusSixLayer) {
     const HeightField hf = test::flat_field(16, 16, h);
     for (const auto& a : kAngles) {
         const Vec3<float> V = view(a[0], a[1]);
-        const double n = bevy_n(V), x = 0.7 * n;
-        const int k = int(std::ceil(x));
+        const double n = bevy_n(V);
         const EngineResult r = literal::bevy_relief(hf, s, V, kP);
-        const double du = -s / n * V.x / V.z, dv = -s / n * V.y / V.z;
-        const double xi = layer_index(r, kP, du, dv);
         // Midpoint start, then 5 probes: the result is a bracket centre at 1/64 spacing, within
         // 1/64 layer of the hit.
-        EXPECT_LE(std::abs(xi - x), 1.0 / 64 + 1e-4) << "theta " << a[0];
-        EXPECT_GT(xi, k - 1.0);
-        EXPECT_LT(xi, double(k));
-        EXPECT_EQ(r.fetches, k + 1 + 5);
+        test::expect_flat_relief(r, kP, -s / n * V.x / V.z, -s / n * V.y / V.z, 0.7 * n, 5, 1e-4,
+                                 "bevy relief");
     }
 }
 
@@ -280,112 +266,77 @@ TEST(O3de, PositiveOffsetClipsTheReliefAtThePolygon) {
 
 // ---- The presets (named settings of the marcher) against the literal transcriptions ----------
 
-using Literal = std::function<EngineResult(const HeightField&, float, Vec3<float>, Vec2<float>)>;
-
+// Each preset (CPU float, the registered method) against its literal on two random fields,
+// random points and views (theta 0..85, five phi each) at one scale, with the preset's
+// parameters `given`. Where the engine resolves steps below float noise (O3DE contact at Ultra:
+// sub-steps of 1/128^2 of the slab), `substep` and `fetch_fraction` widen what agrees.
+test::LiteralSweep gbo_sweep(float s, const GivenParams& given = {}, double substep = 0,
+                             double fetch_fraction = 0.001) {
+    test::LiteralSweep sw;
+    sw.fields = {test::random_field(64, 64, 1), test::random_field(64, 64, 2)};
+    sw.scales = {s};
+    sw.thetas = {0, 10, 30, 50, 70, 85};
+    sw.phis = {0, 75, 160, 250, 320};
+    sw.points = 100;
+    sw.point_seed = 11;
+    sw.given = given;
+    sw.substep = substep;
+    sw.fetch_fraction = fetch_fraction;
+    return sw;
+}
+using test::expect_preset_matches;
 using test::method;
 
-// Runs the preset (CPU float, the registered method) and the literal on random fields, points
-// and views (theta 0..85, five phi each); at most 0.1% of samples may differ by more than 1e-3
-// texel in uv, or in their fetch count (float accumulation order differs: a layer decision may
-// flip at a near-tie).
-// Where the engine resolves steps below float noise (O3DE contact at Ultra: sub-steps of
-// 1/128^2 of the slab), a sample also counts as agreeing when it is within one such step
-// (`substep`, in slab fractions) and fetch counts may differ on `fetch_fraction` of samples.
-struct Slack {
-    double substep = 0;
-    double fetch_fraction = 0.001;
-};
-
-void compare_with_literal(const char* preset, const GivenParams& given, double s,
-                          const Literal& lit, Slack slack = {}) {
-    const MethodInfo& m = method(preset);
-    const ParamValues p = test::params_for(m, given);
-    int samples = 0, off_uv = 0, off_fetches = 0;
-    double worst = 0;
-    for (uint32_t seed : {1u, 2u}) {
-        const HeightField hf = test::random_field(64, 64, seed);
-        const auto P = test::random_points(100, seed + 10);
-        for (double theta : {0.0, 10.0, 30.0, 50.0, 70.0, 85.0})
-            for (double phi : {0.0, 75.0, 160.0, 250.0, 320.0}) {
-                const Scene<double> sc = test::make_scene(hf, s, 1.0, theta, phi);
-                std::vector<int> fetches;
-                const auto uv = test::run_method<float>(m, p, sc, hf, P, &fetches);
-                const Vec3<float> V(sc.V);
-                for (size_t i = 0; i < P.size(); ++i) {
-                    const EngineResult r = lit(hf, float(s), V, Vec2<float>(P[i]));
-                    const double e = std::hypot(uv[i].x - r.uv.x, uv[i].y - r.uv.y) * 64;
-                    ASSERT_TRUE(std::isfinite(r.uv.x) && std::isfinite(r.uv.y))
-                        << preset << " literal NaN at theta " << theta;
-                    worst = std::max(worst, e);
-                    const double step_texels =
-                        slack.substep * s * std::hypot(V.x, V.y) / V.z * 64 * 1.01;
-                    off_uv += !(e <= std::max(1e-3, step_texels));
-                    off_fetches += fetches[i] != r.fetches;
-                    ++samples;
-                }
-            }
-    }
-    std::printf(
-        "%s %s: %d samples, %d beyond the tolerance (worst %.3g texel), %d fetch counts "
-        "differ\n",
-        preset, p.canonical().c_str(), samples, off_uv, worst, off_fetches);
-    EXPECT_LE(off_uv, samples / 1000) << preset << ": " << off_uv << " of " << samples
-                                      << " samples beyond 1e-3 texel (worst " << worst << ")";
-    EXPECT_LE(off_fetches, int(samples * slack.fetch_fraction))
-        << preset << ": fetch counts differ on " << off_fetches << " of " << samples << " samples";
-}
-
 TEST(GodotPreset, ParallaxMatchesTheLiteral) {
-    compare_with_literal("godot_parallax", {}, 0.05, [](auto& hf, float s, auto V, auto P) {
-        return literal::godot_parallax(hf, s, V, P);
-    });
-    compare_with_literal("godot_parallax", {{"heightmap_flip_binormal", true}}, 0.05,
-                         [](auto& hf, float s, auto V, auto P) {
-                             return literal::godot_parallax(hf, s, V, P, false, true);
-                         });
+    expect_preset_matches("godot_parallax", PXH_LITERAL(literal::godot_parallax), gbo_sweep(0.05f));
+    expect_preset_matches(
+        "godot_parallax",
+        [](auto& hf, float s, auto V, auto P) {
+            return literal::godot_parallax(hf, s, V, P, false, true);
+        },
+        gbo_sweep(0.05f, {{"heightmap_flip_binormal", true}}));
 }
 
 TEST(GodotPreset, DeepMatchesTheLiteral) {
-    compare_with_literal("godot_deep", {}, 0.05, [](auto& hf, float s, auto V, auto P) {
-        return literal::godot_deep(hf, s, V, P);
-    });
-    compare_with_literal("godot_deep",
-                         {{"heightmap_min_layers", 3.0},
-                          {"heightmap_max_layers", 50.0},
-                          {"heightmap_flip_binormal", true}},
-                         0.1, [](auto& hf, float s, auto V, auto P) {
-                             return literal::godot_deep(hf, s, V, P, 3, 50, false, true);
-                         });
+    expect_preset_matches("godot_deep", PXH_LITERAL(literal::godot_deep), gbo_sweep(0.05f));
+    expect_preset_matches(
+        "godot_deep",
+        [](auto& hf, float s, auto V, auto P) {
+            return literal::godot_deep(hf, s, V, P, 3, 50, false, true);
+        },
+        gbo_sweep(0.1f, {{"heightmap_min_layers", 3.0},
+                         {"heightmap_max_layers", 50.0},
+                         {"heightmap_flip_binormal", true}}));
 }
 
 TEST(BevyPreset, OcclusionMatchesTheLiteral) {
-    compare_with_literal("bevy_occlusion", {}, 0.1, [](auto& hf, float s, auto V, auto P) {
-        return literal::bevy_occlusion(hf, s, V, P);
-    });
-    compare_with_literal("bevy_occlusion", {{"mirror_v", true}, {"max_parallax_layer_count", 40.5}},
-                         0.05, [](auto& hf, float s, auto V, auto P) {
-                             return literal::bevy_occlusion(hf, s, V, P, 40.5f, true);
-                         });
+    expect_preset_matches("bevy_occlusion", PXH_LITERAL(literal::bevy_occlusion), gbo_sweep(0.1f));
+    expect_preset_matches(
+        "bevy_occlusion",
+        [](auto& hf, float s, auto V, auto P) {
+            return literal::bevy_occlusion(hf, s, V, P, 40.5f, true);
+        },
+        gbo_sweep(0.05f, {{"mirror_v", true}, {"max_parallax_layer_count", 40.5}}));
 }
 
 TEST(BevyPreset, ReliefMatchesTheLiteral) {
-    compare_with_literal("bevy_relief", {}, 0.1, [](auto& hf, float s, auto V, auto P) {
-        return literal::bevy_relief(hf, s, V, P);
-    });
-    compare_with_literal("bevy_relief", {{"mirror_v", true}, {"max_steps", 9.0}}, 0.1,
-                         [](auto& hf, float s, auto V, auto P) {
-                             return literal::bevy_relief(hf, s, V, P, 16.0f, 9, true);
-                         });
-    compare_with_literal("bevy_relief", {{"max_steps", 0.0}}, 0.1,
-                         [](auto& hf, float s, auto V, auto P) {
-                             return literal::bevy_relief(hf, s, V, P, 16.0f, 0);
-                         });
+    expect_preset_matches("bevy_relief", PXH_LITERAL(literal::bevy_relief), gbo_sweep(0.1f));
+    expect_preset_matches(
+        "bevy_relief",
+        [](auto& hf, float s, auto V, auto P) {
+            return literal::bevy_relief(hf, s, V, P, 16.0f, 9, true);
+        },
+        gbo_sweep(0.1f, {{"mirror_v", true}, {"max_steps", 9.0}}));
+    expect_preset_matches(
+        "bevy_relief",
+        [](auto& hf, float s, auto V, auto P) {
+            return literal::bevy_relief(hf, s, V, P, 16.0f, 0);
+        },
+        gbo_sweep(0.1f, {{"max_steps", 0.0}}));
 }
 
 TEST(O3dePreset, BasicMatchesTheLiteral) {
-    compare_with_literal("o3de_basic", {}, 0.05, [](auto& hf, float s, auto V, auto P) {
-        return literal::o3de_basic(hf, s, V, P);
-    });
+    expect_preset_matches("o3de_basic", PXH_LITERAL(literal::o3de_basic), gbo_sweep(0.05f));
 }
 
 struct O3deQualityCase {
@@ -397,14 +348,20 @@ const O3deQualityCase kQualities[] = {{"Low", O3deQuality::Low},
                                       {"High", O3deQuality::High},
                                       {"Ultra", O3deQuality::Ultra}};
 
+struct Slack {
+    double substep = 0, fetch_fraction = 0.001;
+};
+
 void compare_o3de(const char* preset, literal::O3deAlgorithm alg, Slack ultra = {}) {
-    for (const auto& q : kQualities)
-        compare_with_literal(
-            preset, {{"quality", std::string(q.name)}}, 0.05,
+    for (const auto& q : kQualities) {
+        const Slack sl = q.q == O3deQuality::Ultra ? ultra : Slack{};
+        expect_preset_matches(
+            preset,
             [&](auto& hf, float s, auto V, auto P) {
                 return literal::o3de_advanced(hf, s, V, P, alg, q.q);
             },
-            q.q == O3deQuality::Ultra ? ultra : Slack{});
+            gbo_sweep(0.05f, {{"quality", std::string(q.name)}}, sl.substep, sl.fetch_fraction));
+    }
 }
 
 TEST(O3dePreset, SteepMatchesTheLiteral) {

@@ -13,6 +13,7 @@
 #include "harness/core/error.h"
 #include "methods/method.h"
 #include "tests/engines/literal_js.h"
+#include "tests/methods/engine_checks.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -25,17 +26,12 @@ using test::run_method;
 
 using test::method;
 
-Vec3<float> view(double theta, double phi) { return Vec3<float>(view_vector(theta, phi)); }
+using test::expect_offset;
+using test::layer_index;
+const auto view = &test::engine_view;
 
-// Expect uv == P + d (uv units) to within tol.
-void expect_offset(const EngineResult& r, Vec2<float> P, double dx, double dy, double tol,
-                   const char* what) {
-    EXPECT_NEAR(r.uv.x, P.x + dx, tol) << what;
-    EXPECT_NEAR(r.uv.y, P.y + dy, tol) << what;
-}
-
-const Vec2<float> kP{0.37f, 0.61f};
-const double kAngles[][2] = {{10, 0}, {33, 130}, {60, 250}, {80, 315}};
+const Vec2<float>& kP = test::kEngineP;
+const auto& kAngles = test::kEngineAngles;
 
 // ---- three.js (positive parallaxScale on the depth map t = 1 - h; pxh b = 1) ----------------
 
@@ -90,15 +86,10 @@ TEST(ThreeJs, ReliefOnAFlatFieldEndsWithin1Over64LayerAfterFiveFetches) {
     for (const auto& a : kAngles) {
         const Vec3<float> V = view(a[0], a[1]);
         const double n = three_n(V);
-        const int k = int(std::ceil(0.7 * n));
         const EngineResult r = literal::threejs_relief(hf, s, V, kP);
-        // Layer index reached: x = |uv - P| / |dtex|; the hit is at 0.7 n.
-        const double dtex = s * std::hypot(V.x, V.y) / (V.z * n);
-        const double x = std::hypot(r.uv.x - kP.x, r.uv.y - kP.y) / dtex;
-        EXPECT_LE(std::abs(x - 0.7 * n), 1.0 / 64 + 1e-3) << "theta " << a[0];
-        EXPECT_GT(x, k - 1.0);
-        EXPECT_LT(x, double(k));
-        EXPECT_EQ(r.fetches, k + 1 + 5);
+        // The hit is at layer 0.7 n, the per-layer step -(s / n) V.xy / V.z.
+        test::expect_flat_relief(r, kP, -s / n * V.x / V.z, -s / n * V.y / V.z, 0.7 * n, 5, 1e-3,
+                                 "three.js relief");
     }
 }
 
@@ -155,34 +146,34 @@ TEST(ThreeJs, ThirtyIterationCapStopsTheSearchAtDepth30OverN) {
 
 // ---- Babylon.js -----------------------------------------------------------------------------
 
-TEST(Babylon, ParallaxOffsetIsOffsetLimitingAboveThePolygon) {
-    const float s = 0.05f, h = 0.7f;
+// Babylon's `lit` on a flat field h at every view, in both handedness modes (PARALLAX_RHS
+// false and true): uv = P + k(V) V.xy, `fetches` fetches.
+template <class Lit, class K>
+void expect_babylon_flat(const Lit& lit, float s, float h, const K& k, double tol, int fetches) {
     const HeightField hf = test::flat_field(16, 16, h);
     for (const auto& a : kAngles) {
         const Vec3<float> V = view(a[0], a[1]);
         for (bool rhs : {false, true}) {
-            const EngineResult r = literal::babylon_parallax(hf, s, V, kP, rhs);
-            // b = 0: P + s h V.xy, the same in both handedness modes.
-            expect_offset(r, kP, s * h * V.x, s * h * V.y, 1e-7, rhs ? "RHS" : "LHS");
-            EXPECT_EQ(r.fetches, 1);
+            const EngineResult r = lit(hf, s, V, kP, rhs);
+            expect_offset(r, kP, k(V) * V.x, k(V) * V.y, tol, rhs ? "RHS" : "LHS");
+            EXPECT_EQ(r.fetches, fetches);
         }
     }
+}
+
+TEST(Babylon, ParallaxOffsetIsOffsetLimitingAboveThePolygon) {
+    // b = 0: P + s h V.xy, the same in both handedness modes.
+    const float s = 0.05f, h = 0.7f;
+    expect_babylon_flat([](const auto&... a) { return literal::babylon_parallax(a...); }, s, h,
+                        [&](Vec3<float>) { return s * h; }, 1e-7, 1);
 }
 
 double babylon_n(Vec3<float> V) { return 15.0 + 11.0 * V.z; }
 
 TEST(Babylon, PomOnAFlatFieldWithinReachIsExactAndFetches15) {
     const float s = 0.05f, h = 0.8f;  // depth 0.2 < 14 / n at every angle
-    const HeightField hf = test::flat_field(16, 16, h);
-    for (const auto& a : kAngles) {
-        const Vec3<float> V = view(a[0], a[1]);
-        for (bool rhs : {false, true}) {
-            const EngineResult r = literal::babylon_pom(hf, s, V, kP, rhs);
-            expect_offset(r, kP, s * (h - 1) * V.x / V.z, s * (h - 1) * V.y / V.z, 2e-6,
-                          rhs ? "RHS" : "LHS");
-            EXPECT_EQ(r.fetches, 15);
-        }
-    }
+    expect_babylon_flat([](const auto&... a) { return literal::babylon_pom(a...); }, s, h,
+                        [&](Vec3<float> V) { return s * (h - 1) / V.z; }, 2e-6, 15);
 }
 
 TEST(Babylon, PomStepCountFromNDotMinusVWithCap15TestsOnlyDepth14OverN) {
@@ -310,119 +301,51 @@ TEST(EnginesJs, BabylonParallaxIsTheSeedOffsetLimitingWithBiasZero) {
 
 // ---- The presets (named settings of the parametric marcher) against the literal loops ------
 
-using LiteralFn = EngineResult (*)(const HeightField&, float, Vec3<float>, Vec2<float>);
-
-struct PresetCompare {
-    int total = 0, off = 0, fetch_off = 0;
-    double worst = 0, worst_layers = 0;
-};
-
-// The preset (CPU, float) against its literal transcription on random fields, random points, at
-// the engine's default scale and a larger one, and several polar and azimuth angles.
-PresetCompare compare_preset(const char* name, LiteralFn lit, bool with_theta0,
-                             const GivenParams& given = {}, double layers = 0) {
-    const MethodInfo& m = method(name);
-    const HeightField fields[] = {test::random_field(128, 128, 71),
-                                  test::random_field(64, 64, 72, 0.2f, 0.9f)};
-    std::vector<double> thetas = {10, 30, 50, 70, 85};
-    if (with_theta0) thetas.insert(thetas.begin(), 0.0);
-    PresetCompare c;
-    for (const HeightField& hf : fields)
-        for (float s : {0.005f, 0.025f, 0.05f})
-            for (double theta : thetas)
-                for (double phi : {0.0, 75.0, 160.0, 290.0}) {
-                    const auto sc = make_scene(hf, s, m.required_bias, theta, phi);
-                    const Vec3<float> V(sc.V);
-                    const auto P = test::random_points(300, uint32_t(theta * 13 + phi + s * 1e4));
-                    std::vector<int> fetches;
-                    const auto ours =
-                        run_method<float>(m, params_for(m, given), sc, hf, P, &fetches);
-                    // One layer of the default search, in texels (for the layered presets).
-                    const double n =
-                        layers > 0 ? layers : (name[0] == 'b' ? babylon_n(V) : three_n(V));
-                    const double layer = s * std::hypot(V.x, V.y) / (V.z * n) * hf.width;
-                    for (size_t i = 0; i < P.size(); ++i) {
-                        const EngineResult e = lit(hf, s, V, Vec2<float>(P[i]));
-                        const double d =
-                            std::hypot(ours[i].x - e.uv.x, ours[i].y - e.uv.y) * hf.width;
-                        c.worst = std::max(c.worst, d);
-                        if (layer > 0) c.worst_layers = std::max(c.worst_layers, d / layer);
-                        c.off += !(d <= 1e-3);
-                        c.fetch_off += fetches[i] != e.fetches;
-                        ++c.total;
-                    }
-                }
-    return c;
+// The preset (CPU, float) against its literal transcription on two random fields, random points,
+// at the engine's default scale and larger ones, and several polar and azimuth angles.
+test::LiteralSweep js_sweep(bool with_theta0 = true, const GivenParams& given = {}) {
+    test::LiteralSweep sw;
+    sw.fields = {test::random_field(128, 128, 71), test::random_field(64, 64, 72, 0.2f, 0.9f)};
+    sw.scales = {0.005f, 0.025f, 0.05f};
+    sw.thetas = {10, 30, 50, 70, 85};
+    if (with_theta0) sw.thetas.insert(sw.thetas.begin(), 0.0);
+    sw.phis = {0, 75, 160, 290};
+    sw.given = given;
+    return sw;
 }
 
-void expect_matches(const char* name, LiteralFn lit, bool with_theta0 = true,
-                    bool same_fetches = true, const GivenParams& given = {}, double layers = 0) {
-    const PresetCompare c = compare_preset(name, lit, with_theta0, given, layers);
-    EXPECT_LE(c.off, c.total / 1000) << name << ": " << c.off << " of " << c.total
-                                     << " beyond 1e-3 texel, worst " << c.worst << " texel";
-    if (same_fetches) {
-        EXPECT_LE(c.fetch_off, c.total / 1000)
-            << name << ": " << c.fetch_off << " of " << c.total << " fetch counts differ";
-    }
-    if (getenv("PXH_ENGINE_STATS"))
-        printf("%s: %d of %d beyond 1e-3 texel (worst %.3g texel, %.3g layer), fetches differ %d\n",
-               name, c.off, c.total, c.worst, c.worst_layers, c.fetch_off);
+TEST(EnginePresetsJs, ThreeJs) {
+    test::expect_preset_matches("threejs_basic", literal::threejs_basic, js_sweep());
+    test::expect_preset_matches("threejs_steep", PXH_LITERAL(literal::threejs_steep), js_sweep());
+    test::expect_preset_matches("threejs_occlusion", PXH_LITERAL(literal::threejs_occlusion),
+                                js_sweep());
+    test::expect_preset_matches("threejs_relief", PXH_LITERAL(literal::threejs_relief), js_sweep());
 }
-
-TEST(EnginePresetsJs, ThreeJsBasic) { expect_matches("threejs_basic", literal::threejs_basic); }
-TEST(EnginePresetsJs, ThreeJsSteep) {
-    expect_matches("threejs_steep",
-                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-                       return literal::threejs_steep(hf, s, V, P);
-                   });
-}
-TEST(EnginePresetsJs, ThreeJsOcclusion) {
-    expect_matches("threejs_occlusion",
-                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-                       return literal::threejs_occlusion(hf, s, V, P);
-                   });
-}
-TEST(EnginePresetsJs, ThreeJsRelief) {
-    expect_matches("threejs_relief",
-                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-                       return literal::threejs_relief(hf, s, V, P);
-                   });
-}
-TEST(EnginePresetsJs, BabylonParallax) {
-    expect_matches("babylon_parallax",
-                   [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-                       return literal::babylon_parallax(hf, s, V, P);
-                   });
-}
-TEST(EnginePresetsJs, BabylonPom) {
+TEST(EnginePresetsJs, Babylon) {
+    test::expect_preset_matches("babylon_parallax", PXH_LITERAL(literal::babylon_parallax),
+                                js_sweep());
     // theta = 0 left out: the engine returns NaN there (pinned in
     // Babylon.PomIsNaNAtNormalIncidence; the marcher's V.xy is 0 and it returns P). Fetches: the
     // engine's loop fetches on all 15 iterations, also after the hit, and so does the preset
     // (pad_fetches).
-    expect_matches(
-        "babylon_pom",
-        [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-            return literal::babylon_pom(hf, s, V, P);
-        },
-        false, true);
+    test::expect_preset_matches("babylon_pom", PXH_LITERAL(literal::babylon_pom), js_sweep(false));
 }
 TEST(EnginePresetsJs, ThreeJsSteepAndOcclusionWithTheThirtyStepCapBinding) {
     // 40 layers (above the example's GUI range): the search stops at layer 30; occlusion
     // interpolates (extrapolates) from layers 29 and 30 all the same.
-    const std::map<std::string, double> forty = {{"parallaxMinLayers", 40},
-                                                 {"parallaxMaxLayers", 40}};
-    expect_matches(
+    const GivenParams forty = {{"parallaxMinLayers", 40.0}, {"parallaxMaxLayers", 40.0}};
+    test::expect_preset_matches(
         "threejs_steep",
         [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
             return literal::threejs_steep(hf, s, V, P, 40, 40);
         },
-        true, true, forty, 40);
-    expect_matches(
+        js_sweep(true, forty));
+    test::expect_preset_matches(
         "threejs_occlusion",
         [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
             return literal::threejs_occlusion(hf, s, V, P, 40, 40);
         },
-        true, true, forty, 40);
+        js_sweep(true, forty));
     // Relief with the cap binding is not a marcher setting (the shader steps half a layer back
     // from an uncrossed layer 30, the marcher forward): the preset refuses more than 30 layers.
     EXPECT_THROW(params_for(method("threejs_relief"), {{"parallaxMaxLayers", 40}}), InputError);
@@ -439,7 +362,7 @@ TEST(EnginePresetsJs, ReferencePlanes) {
 }
 
 TEST(EnginePresetsJs, PlayCanvasBasic) {
-    expect_matches("playcanvas_basic", literal::playcanvas_basic);
+    test::expect_preset_matches("playcanvas_basic", literal::playcanvas_basic, js_sweep());
 }
 
 }  // namespace

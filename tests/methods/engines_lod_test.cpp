@@ -60,6 +60,18 @@ std::vector<Case> cases() {
 const double kThetas[] = {10, 35, 60, 80};
 const double kPhis[] = {20, 140, 250};
 
+// `check(c, scene, ref)` on every case at every view of kThetas x kPhis, `ref` the plain search
+// `search` (the march with those knobs at lambda 0) on P.
+template <class Check>
+void each_view(const GivenParams& search, const std::vector<Vec2d>& P, const Check& check) {
+    for (const Case& c : cases())
+        for (double theta : kThetas)
+            for (double phi : kPhis) {
+                const auto sc = make_scene(c.hf, c.s, c.b, theta, phi);
+                check(c, sc, run_at("march", search, sc, c.hf, P, 0.0));
+            }
+}
+
 // Every sample of `got` equals `ref` bit for bit, uv and fetches.
 void expect_identical(const MethodOutput& got, const MethodOutput& ref, const std::string& what) {
     ASSERT_EQ(got.uv.size(), ref.uv.size());
@@ -72,18 +84,14 @@ void expect_identical(const MethodOutput& got, const MethodOutput& ref, const st
 
 TEST(EngineLod, HdrpBelowItsThresholdIsTheSearchBitForBit) {
     const auto P = test::random_points(500, 3);
-    for (const Case& c : cases())
-        for (double theta : kThetas)
-            for (double phi : kPhis) {
-                const auto sc = make_scene(c.hf, c.s, c.b, theta, phi);
-                const MethodOutput ref = run_at("march", kHdrpSearch, sc, c.hf, P, 0.0);
-                for (double lambda : {-3.0, 0.0, 1.0, 4.5, 5.0})
-                    expect_identical(run_at("hdrp_pom", {}, sc, c.hf, P, lambda), ref,
-                                     "lambda " + std::to_string(lambda));
-                // A lower threshold moves the band: at 2 the offset is untouched at lambda 2.
-                expect_identical(run_at("hdrp_pom", {{"_PPDLodThreshold", 2}}, sc, c.hf, P, 2.0),
-                                 ref, "threshold 2");
-            }
+    each_view(kHdrpSearch, P, [&](const Case& c, const Scene<double>& sc, const MethodOutput& ref) {
+        for (double lambda : {-3.0, 0.0, 1.0, 4.5, 5.0})
+            expect_identical(run_at("hdrp_pom", {}, sc, c.hf, P, lambda), ref,
+                             "lambda " + std::to_string(lambda));
+        // A lower threshold moves the band: at 2 the offset is untouched at lambda 2.
+        expect_identical(run_at("hdrp_pom", {{"_PPDLodThreshold", 2}}, sc, c.hf, P, 2.0), ref,
+                         "threshold 2");
+    });
 }
 
 TEST(EngineLod, HdrpFadesTheOffsetOverTheLevelPastItsThreshold) {
@@ -121,39 +129,36 @@ TEST(EngineLod, DxsdkBlendsToBumpMappingAndStopsPastItsThreshold) {
     // texSample = lerp(texSampleBase, texCoord, frac(fMipLevel)); above: bump mapping (texCoord,
     // no march). fMipLevel = max(level, 0).
     const auto P = test::random_points(500, 5);
-    for (const Case& c : cases())
-        for (double theta : kThetas)
-            for (double phi : kPhis) {
-                const auto sc = make_scene(c.hf, c.s, c.b, theta, phi);
-                const MethodOutput ref = run_at("march", kDxsdkSearch, sc, c.hf, P, 0.0);
-                for (double lambda : {-2.0, 0.0, 1.5, 2.0, 3.0})  // 3: frac 0, the POM uv
-                    expect_identical(run_at("dxsdk_pom", {}, sc, c.hf, P, lambda), ref,
-                                     "lambda " + std::to_string(lambda));
-                expect_identical(run_at("dxsdk_pom", {{"g_nLODThreshold", 16}}, sc, c.hf, P, 10),
-                                 ref, "threshold 16 at lambda 10");
-                for (double lambda : {2.25, 2.5, 2.875}) {
-                    const MethodOutput got = run_at("dxsdk_pom", {}, sc, c.hf, P, lambda);
-                    const float fMipLevel = float(lambda);
-                    const float fMipLevelFrac = fMipLevel - std::floor(fMipLevel);  // modf
-                    for (size_t i = 0; i < P.size(); ++i) {
-                        const Vec2<float> texCoord(P[i]), texSampleBase(ref.uv[i]);
-                        // HLSL lerp(x, y, s) = x + s (y - x)
-                        const Vec2<float> want =
-                            texSampleBase + (texCoord - texSampleBase) * fMipLevelFrac;
-                        EXPECT_NEAR(got.uv[i].x, want.x, 1e-7) << lambda << " i=" << i;
-                        EXPECT_NEAR(got.uv[i].y, want.y, 1e-7) << lambda << " i=" << i;
-                        EXPECT_EQ(got.fetches[i], ref.fetches[i]);
-                    }
-                }
-                for (double lambda : {3.001, 4.0, 9.0}) {
-                    const MethodOutput got = run_at("dxsdk_pom", {}, sc, c.hf, P, lambda);
-                    for (size_t i = 0; i < P.size(); ++i) {
-                        EXPECT_EQ(got.uv[i].x, double(float(P[i].x))) << lambda;
-                        EXPECT_EQ(got.uv[i].y, double(float(P[i].y))) << lambda;
-                        EXPECT_EQ(got.fetches[i], 0) << "bump mapping: no march";
-                    }
-                }
-            }
+    each_view(kDxsdkSearch, P,
+              [&](const Case& c, const Scene<double>& sc, const MethodOutput& ref) {
+                  for (double lambda : {-2.0, 0.0, 1.5, 2.0, 3.0})  // 3: frac 0, the POM uv
+                      expect_identical(run_at("dxsdk_pom", {}, sc, c.hf, P, lambda), ref,
+                                       "lambda " + std::to_string(lambda));
+                  expect_identical(run_at("dxsdk_pom", {{"g_nLODThreshold", 16}}, sc, c.hf, P, 10),
+                                   ref, "threshold 16 at lambda 10");
+                  for (double lambda : {2.25, 2.5, 2.875}) {
+                      const MethodOutput got = run_at("dxsdk_pom", {}, sc, c.hf, P, lambda);
+                      const float fMipLevel = float(lambda);
+                      const float fMipLevelFrac = fMipLevel - std::floor(fMipLevel);  // modf
+                      for (size_t i = 0; i < P.size(); ++i) {
+                          const Vec2<float> texCoord(P[i]), texSampleBase(ref.uv[i]);
+                          // HLSL lerp(x, y, s) = x + s (y - x)
+                          const Vec2<float> want =
+                              texSampleBase + (texCoord - texSampleBase) * fMipLevelFrac;
+                          EXPECT_NEAR(got.uv[i].x, want.x, 1e-7) << lambda << " i=" << i;
+                          EXPECT_NEAR(got.uv[i].y, want.y, 1e-7) << lambda << " i=" << i;
+                          EXPECT_EQ(got.fetches[i], ref.fetches[i]);
+                      }
+                  }
+                  for (double lambda : {3.001, 4.0, 9.0}) {
+                      const MethodOutput got = run_at("dxsdk_pom", {}, sc, c.hf, P, lambda);
+                      for (size_t i = 0; i < P.size(); ++i) {
+                          EXPECT_EQ(got.uv[i].x, double(float(P[i].x))) << lambda;
+                          EXPECT_EQ(got.uv[i].y, double(float(P[i].y))) << lambda;
+                          EXPECT_EQ(got.fetches[i], 0) << "bump mapping: no march";
+                      }
+                  }
+              });
 }
 
 TEST(EngineLod, BabylonFetchesFifteenTimesOnEverySample) {

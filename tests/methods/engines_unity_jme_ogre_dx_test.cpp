@@ -12,6 +12,7 @@
 
 #include "harness/scene/view.h"
 #include "tests/engines/literal_unity_jme_ogre_dx.h"
+#include "tests/methods/engine_checks.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -19,7 +20,7 @@ namespace {
 
 using literal::EngineResult;
 
-Vec3<float> Vf(double theta, double phi) { return Vec3<float>(view_vector(theta, phi)); }
+const auto Vf = &test::engine_view;
 
 // The exact answer on a flat field h = c, any b: the ray meets z = s (c - b) at
 // P + s (c - b) V.xy / V.z (docs/conventions.md section 4).
@@ -33,8 +34,8 @@ void expect_uv(const EngineResult& r, Vec2d want, double tol, const char* what) 
     EXPECT_NEAR(r.uv.y, want.y, tol) << what;
 }
 
-const double kThetas[] = {10, 30, 45, 60, 75, 85};
-const double kPhis[] = {0, 37, 140, 250};
+const std::vector<double> kThetas = {10, 30, 45, 60, 75, 85};
+const std::vector<double> kPhis = {0, 37, 140, 250};
 
 // ---- unity_parallax_offset ----
 
@@ -43,18 +44,10 @@ TEST(EngineUnity, ParallaxOffsetClosedFormOnRandomField) {
     const HeightField hf = test::random_field(64, 64, 101);
     const auto pts = test::random_points(100, 102);
     for (const float s : {0.02f, 0.005f, 0.08f})
-        for (const double theta : kThetas)
-            for (const double phi : kPhis) {
-                const Vec3<float> V = Vf(theta, phi);
-                for (const Vec2d& Pd : pts) {
-                    const Vec2<float> P(Pd);
-                    const EngineResult r = literal::unity_parallax_offset(hf, s, V, P);
-                    HeightSampler<double> hs(hf, 1, 0);
-                    const double k = s * (hs.height(Vec2d(P)) - 0.5) / (double(V.z) + 0.42);
-                    expect_uv(r, {P.x + k * V.x, P.y + k * V.y}, 5e-7, "unity");
-                    EXPECT_EQ(r.fetches, 1);
-                }
-            }
+        test::expect_one_fetch_offset(
+            literal::unity_parallax_offset, hf, s, pts, kThetas, kPhis,
+            [&](double h, Vec3<float> V) { return s * (h - 0.5) / (double(V.z) + 0.42); }, 5e-7,
+            "unity");
 }
 
 // The +0.42 limits the offset: never beyond (s/2)/0.42 however grazing, 0 straight down.
@@ -178,20 +171,10 @@ TEST(EngineHdrp, RegulaFalsiBracketToleranceAndLastOffset) {
 // divides; the offset is largest at 45 degrees and vanishes at grazing angles.
 TEST(EngineJme, ClassicClosedFormMultipliesByVz) {
     const HeightField hf = test::random_field(64, 64, 105);
-    const auto pts = test::random_points(100, 106);
     const float s = 0.05f;
-    for (const double theta : kThetas)
-        for (const double phi : kPhis) {
-            const Vec3<float> V = Vf(theta, phi);
-            for (const Vec2d& Pd : pts) {
-                const Vec2<float> P(Pd);
-                const EngineResult r = literal::jme_parallax(hf, s, V, P);
-                HeightSampler<double> hs(hf, 1, 0);
-                const double k = s * (hs.height(Vec2d(P)) - 0.6) * V.z;
-                expect_uv(r, {P.x + k * V.x, P.y + k * V.y}, 5e-7, "jme classic");
-                EXPECT_EQ(r.fetches, 1);
-            }
-        }
+    test::expect_one_fetch_offset(
+        literal::jme_parallax, hf, s, test::random_points(100, 106), kThetas, kPhis,
+        [&](double h, Vec3<float> V) { return s * (h - 0.6) * V.z; }, 5e-7, "jme classic");
     const HeightField one = test::flat_field(8, 8, 1.0f);
     auto off = [&](double theta) {
         return literal::jme_parallax(one, s, Vf(theta, 0), {0.5f, 0.5f}).uv.x - 0.5;
@@ -288,20 +271,10 @@ TEST(EngineJme, SteepIsNaNStraightDown) {
 // OGRE's binormal toward -v).
 TEST(EngineOgre, ParallaxClosedForm) {
     const HeightField hf = test::random_field(64, 64, 110);
-    const auto pts = test::random_points(100, 111);
     const float s = 0.04f;
-    for (const double theta : kThetas)
-        for (const double phi : kPhis) {
-            const Vec3<float> V = Vf(theta, phi);
-            for (const Vec2d& Pd : pts) {
-                const Vec2<float> P(Pd);
-                const EngineResult r = literal::ogre_parallax(hf, s, V, P);
-                HeightSampler<double> hs(hf, 1, 0);
-                const double k = s * (hs.height(Vec2d(P)) - 1.0) / V.z;
-                expect_uv(r, {P.x + k * V.x, P.y + k * V.y}, 1e-6, "ogre parallax");
-                EXPECT_EQ(r.fetches, 1);
-            }
-        }
+    test::expect_one_fetch_offset(
+        literal::ogre_parallax, hf, s, test::random_points(100, 111), kThetas, kPhis,
+        [&](double h, Vec3<float> V) { return s * (h - 1.0) / V.z; }, 1e-6, "ogre parallax");
 }
 
 // ---- ogre_pom ----
@@ -427,7 +400,7 @@ TEST(EngineDxsdk, NaNStraightDown) {
 
 using test::method;
 
-using LiteralFn = EngineResult (*)(const HeightField&, float, Vec3<float>, Vec2<float>);
+using test::method;
 
 // White noise, and the same noise with its lower half set to 0 (black regions: about 1/16 of
 // the bilinear field is exactly 0, where the searches find no crossing and the engines' miss
@@ -439,8 +412,6 @@ HeightField black_field() {
     hf.name = "half black";
     return hf;
 }
-void compare_with_literal(const char* name, LiteralFn lit, double b, std::vector<float> scales,
-                          bool one_past_tie = false);
 
 // The height where the ray leaves the slab (b = 1): P - s V.xy / V.z.
 double bottom_height(const HeightField& hf, const Scene<double>& sc, Vec2d P) {
@@ -448,48 +419,21 @@ double bottom_height(const HeightField& hf, const Scene<double>& sc, Vec2d P) {
     return hs.height({P.x - sc.scale * sc.V.x / sc.V.z, P.y - sc.scale * sc.V.y / sc.V.z});
 }
 
-// Random fields, random points, theta 10..85 and several phi, at the engine's default scale and
-// a larger one: uv within 1e-3 texel, and the same fetch count, on all but 0.1% of the samples
-// (float accumulation order differs, so a near-tie can flip a layer decision).
-void compare_with_literal(const char* name, LiteralFn lit, double b, std::vector<float> scales,
-                          const HeightField& hf, bool one_past_tie) {
-    const MethodInfo& m = method(name);
-    ASSERT_EQ(m.required_bias, b) << name;
-    const int W = hf.width;
-    const auto P = test::random_points(1500, 202);
-    int total = 0, off_uv = 0, off_fetch = 0, one_past = 0;
-    double worst = 0;
-    for (const float s : scales)
-        for (const double theta : {10.0, 30.0, 50.0, 70.0, 85.0})
-            for (const double phi : {0.0, 65.0, 200.0, 310.0}) {
-                const auto sc = test::make_scene(hf, s, b, theta, phi);
-                std::vector<int> fetches;
-                const auto uv =
-                    test::run_method<float>(m, test::params_for(m), sc, hf, P, &fetches);
-                for (size_t i = 0; i < P.size(); ++i) {
-                    const EngineResult e = lit(hf, s, Vec3<float>(sc.V), Vec2<float>(P[i]));
-                    const double d = std::hypot(uv[i].x - e.uv.x, uv[i].y - e.uv.y) * W;
-                    if (!(d <= 1e-3)) ++off_uv;  // NaN counts as off
-                    if (std::isfinite(d)) worst = std::max(worst, d);
-                    if (one_past_tie && std::abs(fetches[i] - e.fetches) == 1 &&
-                        bottom_height(hf, sc, P[i]) == 0)
-                        ++one_past;
-                    else off_fetch += fetches[i] != e.fetches;
-                    ++total;
-                }
-            }
-    std::printf(
-        "%s on %s: %d samples, %d beyond 1e-3 texel (worst %.3g texel), %d fetch counts differ, "
-        "%d one apart at a bottom tie\n",
-        name, hf.name.c_str(), total, off_uv, worst, off_fetch, one_past);
-    EXPECT_LE(off_uv, total / 1000) << name;
-    EXPECT_LE(off_fetch, total / 1000) << name;
-}
-
-void compare_with_literal(const char* name, LiteralFn lit, double b, std::vector<float> scales,
-                          bool one_past_tie) {
-    compare_with_literal(name, lit, b, scales, noise_field(), one_past_tie);
-    compare_with_literal(name, lit, b, scales, black_field(), one_past_tie);
+// Both fields, 1500 random points, theta 10..85 and several phi, at the engine's default scale
+// and larger ones. `bottom_ties`: a fetch count one apart where the height at the slab bottom is
+// 0 is a tie (see HdrpPomMatchesLiteral).
+void compare_with_literal(const char* name, const test::Literal& lit, double b,
+                          std::vector<float> scales, bool bottom_ties = false) {
+    ASSERT_EQ(method(name).required_bias, b) << name;
+    test::LiteralSweep sw;
+    sw.fields = {noise_field(), black_field()};
+    sw.scales = std::move(scales);
+    sw.points = 1500;
+    if (bottom_ties)
+        sw.fetch_tie = [](const HeightField& hf, const Scene<double>& sc, Vec2d P) {
+            return bottom_height(hf, sc, P) == 0;
+        };
+    test::expect_preset_matches(name, lit, sw);
 }
 
 TEST(EnginePresets, UnityParallaxOffsetMatchesLiteral) {
@@ -506,31 +450,18 @@ TEST(EnginePresets, UnityParallaxOffsetMatchesLiteral) {
 // it reads layer numSteps + 1 as well (one fetch more, the same uv), or the other way round: where
 // the height at the slab bottom is 0, a fetch count one apart is counted apart (and printed).
 TEST(EnginePresets, HdrpPomMatchesLiteral) {
-    compare_with_literal(
-        "hdrp_pom",
-        [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-            return literal::hdrp_pom(hf, s, V, P);
-        },
-        1.0, {0.02f, 0.03f}, true);
+    compare_with_literal("hdrp_pom", PXH_LITERAL(literal::hdrp_pom), 1.0, {0.02f, 0.03f}, true);
 }
-TEST(EnginePresets, JmeParallaxMatchesLiteral) {
+TEST(EnginePresets, JmeMatchesLiteral) {
     compare_with_literal("jme_parallax", literal::jme_parallax, 0.6, {0.05f, 0.1f});
-}
-TEST(EnginePresets, JmeSteepMatchesLiteral) {
     compare_with_literal("jme_steep", literal::jme_steep, 1.0, {0.015f, 0.005f, 0.03f});
 }
-TEST(EnginePresets, OgreParallaxMatchesLiteral) {
+TEST(EnginePresets, OgreMatchesLiteral) {
     compare_with_literal("ogre_parallax", literal::ogre_parallax, 1.0, {0.04f, 0.1f});
-}
-TEST(EnginePresets, OgrePomMatchesLiteral) {
     compare_with_literal("ogre_pom", literal::ogre_pom, 1.0, {0.04f, 0.1f});
 }
 TEST(EnginePresets, DxsdkPomMatchesLiteral) {
-    compare_with_literal("dxsdk_pom",
-                         [](const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
-                             return literal::dxsdk_pom(hf, s, V, P);
-                         },
-                         1.0, {0.02f, 0.1f});
+    compare_with_literal("dxsdk_pom", PXH_LITERAL(literal::dxsdk_pom), 1.0, {0.02f, 0.1f});
 }
 
 // Straight down the two engines that normalise V.xy give NaN (pinned above); their presets

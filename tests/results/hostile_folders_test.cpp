@@ -70,6 +70,20 @@ class HostileFolders : public pxh::test::CliTest {
         if (wait_for_it) waitpid(pid, &status, 0);
         return status;
     }
+    // `pxh ARGS` under a file-size limit of BYTES, SIGXFSZ at its default (which ends a process
+    // silently): pxh ignores the signal, so the write fails and is named (exit 1). Its stderr.
+    std::string under_file_size_limit(const std::vector<std::string>& args, rlim_t bytes) {
+        const int status = spawn(args, [bytes] {
+            signal(SIGXFSZ, SIG_DFL);
+            const rlimit lim{bytes, bytes};
+            setrlimit(RLIMIT_FSIZE, &lim);
+        });
+        const std::string err = slurp(dir / "err.txt");
+        EXPECT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+        EXPECT_EQ(WEXITSTATUS(status), 1) << err;
+        EXPECT_NE(err.find("write failed: File too large"), std::string::npos) << err;
+        return err;
+    }
 };
 
 // A leftover DIR.partial-PID of the very pid the run gets (made by the child itself before it
@@ -217,15 +231,8 @@ TEST_F(HostileFolders, EverySignalCleansUp) {
 TEST_F(HostileFolders, FileSizeLimitFailsTheWriteCleanly) {
     const auto exp = write("tiny.toml", kTiny);
     const fs::path out = dir / "res";
-    const int status = spawn({"run", exp, "--quiet", "--out", out.string()}, [] {
-        signal(SIGXFSZ, SIG_DFL);
-        const rlimit lim{1024, 1024};
-        setrlimit(RLIMIT_FSIZE, &lim);
-    });
-    const std::string err = slurp(dir / "err.txt");
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    EXPECT_EQ(WEXITSTATUS(status), 1) << err;
-    EXPECT_NE(err.find("write failed: File too large"), std::string::npos) << err;
+    const std::string err =
+        under_file_size_limit({"run", exp, "--quiet", "--out", out.string()}, 1024);
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     EXPECT_FALSE(fs::exists(out));
     EXPECT_TRUE(leftovers().empty());
@@ -291,18 +298,9 @@ TEST_F(HostileFolders, BenchOutIsANewFileOfItsOwn) {
     EXPECT_NE(r.err.find("pass --force"), std::string::npos) << r.err;
     EXPECT_EQ(pxh(bench + " --out " + out + " --force").status, 0);
     // A file-size limit: the write fails, is named, and no file is left.
-    const int status =
-        spawn({"bench", "--sizes", "16", "--theta", "30", "--samples", "8", "--repeats", "1",
-               "--threads", "1", "--out", (dir / "big.json").string()},
-              [] {
-                  signal(SIGXFSZ, SIG_DFL);
-                  const rlimit lim{512, 512};
-                  setrlimit(RLIMIT_FSIZE, &lim);
-              });
-    const std::string err = slurp(dir / "err.txt");
-    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-    EXPECT_EQ(WEXITSTATUS(status), 1) << err;
-    EXPECT_NE(err.find("write failed: File too large"), std::string::npos) << err;
+    under_file_size_limit({"bench", "--sizes", "16", "--theta", "30", "--samples", "8", "--repeats",
+                           "1", "--threads", "1", "--out", (dir / "big.json").string()},
+                          512);
     for (const auto& n : names()) EXPECT_EQ(n.find("big.json"), std::string::npos) << n;
 }
 
@@ -366,15 +364,8 @@ std::string list(int from, int to, double scale = 1) {
     return s + "]";
 }
 
-const std::string kHead = R"(
-name = "big"
-samples = 8
-[views]
-theta_deg = [30, 60]
-[[heightfields]]
-generator = "fbm"
-size = 16
-)";
+// Lines 1-8: name, samples, timing_repeats, [views], theta_deg, one fbm field.
+const std::string kHead = pxh::test::ExperimentToml("big").theta("[30, 60]").field("fbm", 16);
 
 // The message of parsing `text` (at `path`), or "" when it parses.
 std::string parse_error(const std::string& text, const std::string& path = "/x/big.toml",

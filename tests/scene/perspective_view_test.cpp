@@ -58,9 +58,7 @@ TEST(PerspectiveView, ExactHitsAreTheBruteForceMarch) {
 // triangles per cell are the exact surface: on the perspective rays too the references agree to
 // Embree's float precision (as tests/truth/embree_test.cpp on the grid).
 TEST(PerspectiveView, EmbreeMatchesExactOnPlanarPatches) {
-    const GeneratorInfo* g = find_generator("sine");
-    const HeightField hf =
-        generate_heightfield(*g, 64, 64, resolve_params(g->params, {}, "test", "sine"));
+    const HeightField hf = test::generated_field("sine", 64);
     for (const double theta : {40.0, 80.0}) {
         const PerspectiveCamera cam(params(theta, 123, 1.2, 75, 40));
         check_eye_above_slab(cam.params(), 0.05, 0.5, "test");

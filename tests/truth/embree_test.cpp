@@ -12,10 +12,7 @@
 namespace pxh {
 namespace {
 
-HeightField generated(const char* name, int size) {
-    const GeneratorInfo* g = find_generator(name);
-    return generate_heightfield(*g, size, size, resolve_params(g->params, {}, "test", name));
-}
+HeightField generated(const char* name, int size) { return test::generated_field(name, size); }
 
 ErrorStats agreement(const HeightField& hf, double s, double b, double theta, double phi, int n) {
     const ExactTracer exact(hf, s, b);

@@ -18,10 +18,7 @@
 namespace pxh {
 namespace {
 
-HeightField generated(const char* name, int size) {
-    const GeneratorInfo* g = find_generator(name);
-    return generate_heightfield(*g, size, size, resolve_params(g->params, {}, "test", name));
-}
+HeightField generated(const char* name, int size) { return test::generated_field(name, size); }
 
 // The same rays as an explicit per-sample view: one direction per ray, not marked parallel,
 // not marked as the sample grid.

@@ -25,10 +25,7 @@
 namespace pxh {
 namespace {
 
-HeightField generated(const char* name, int size) {
-    const GeneratorInfo* g = find_generator(name);
-    return generate_heightfield(*g, size, size, resolve_params(g->params, {}, "test", name));
-}
+HeightField generated(const char* name, int size) { return test::generated_field(name, size); }
 
 // The polar angle whose rays travel `tiles` sideways at scale s.
 double theta_for_travel(double s, double tiles) { return std::atan(tiles / s) * 180 / M_PI; }

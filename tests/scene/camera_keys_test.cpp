@@ -1,0 +1,84 @@
+// A camera's own keys are declared once, in its registry entry (CameraEntry::keys), and every
+// consumer takes them from there: results.csv's columns, the settings the camera reads, pxh
+// check's filters, pxh compare's row keys and the views' file names.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "harness/core/param_dict.h"
+#include "harness/metrics/columns.h"
+#include "harness/metrics/row.h"
+#include "harness/results/error_maps.h"
+#include "harness/scene/view.h"
+
+namespace pxh {
+namespace {
+
+std::vector<std::string> column_names() {
+    std::vector<std::string> out;
+    for (const ColumnSpec* c : result_column_specs()) out.push_back(c->name);
+    return out;
+}
+
+TEST(CameraKeys, EveryCamerasKeysAreNumericKeyColumnsRightAfterCamera) {
+    std::vector<std::string> declared;
+    for (const CameraEntry& e : camera_registry())
+        for (const CameraKey& k : e.keys)
+            if (std::find(declared.begin(), declared.end(), k.name) == declared.end())
+                declared.push_back(k.name);
+    ASSERT_EQ(declared, (std::vector<std::string>{"distance", "fov_deg"}));
+    std::vector<std::string> keys;
+    for (const CameraKey& k : camera_key_columns()) keys.push_back(k.name);
+    EXPECT_EQ(keys, declared);
+    const std::vector<std::string> cols = column_names();
+    const auto at = std::find(cols.begin(), cols.end(), "camera");
+    ASSERT_NE(at, cols.end());
+    for (size_t i = 0; i < declared.size(); ++i) {
+        ASSERT_LT(size_t(at - cols.begin()) + 1 + i, cols.size());
+        EXPECT_EQ(at[std::ptrdiff_t(1 + i)], declared[i]);
+        const ColumnSpec* c = find_column(declared[i]);
+        ASSERT_NE(c, nullptr);
+        EXPECT_EQ(c->role, ColumnRole::key) << c->name;
+        EXPECT_EQ(c->type, ColumnType::number) << c->name;
+        EXPECT_FALSE(c->meaning.empty()) << c->name;
+    }
+    // Tags tell the settings apart in file names: one per key, none shared.
+    std::set<std::string> tags;
+    for (const CameraKey& k : camera_key_columns()) EXPECT_TRUE(tags.insert(k.tag).second) << k.tag;
+}
+
+TEST(CameraKeys, EachSettingsValuesAreItsCamerasKeysInOrder) {
+    for (const CameraEntry& e : camera_registry()) {
+        const ParamDict p =
+            ParamDict::parse("distance = [1.5, 3]\nfov_deg = 60\n", "v.toml", "[views]");
+        const std::vector<CameraSetting> settings =
+            e.name == std::string("perspective") ? e.read(p, "v.toml:1") : e.read({}, "v.toml:1");
+        ASSERT_FALSE(settings.empty()) << e.name;
+        for (const CameraSetting& s : settings) {
+            ASSERT_EQ(s.values.size(), e.keys.size()) << e.name;
+            for (size_t i = 0; i < e.keys.size(); ++i) EXPECT_EQ(s.values[i].first, e.keys[i].name);
+        }
+    }
+}
+
+TEST(CameraKeys, FileNamesCarryEachKeyByItsTag) {
+    ResultRow r;
+    r.set_text("method", "pom");
+    r.set_text("heightfield", "f");
+    r.set_text("backend", "cpu");
+    r.set_text("precision", "float");
+    r.set("theta_deg", 70);
+    r.set("phi_deg", 0);
+    EXPECT_EQ(camera_name_part(r), "");  // the orthographic camera has no keys
+    r.set("distance", 1.5);
+    r.set("fov_deg", 60);
+    EXPECT_EQ(camera_name_part(r), "_d1.5_f60");
+    EXPECT_NE(error_map_name(r, 3).stem.find("_t70_p0_d1.5_f60_cpu-float"), std::string::npos)
+        << error_map_name(r, 3).stem;
+}
+
+}  // namespace
+}  // namespace pxh
