@@ -33,8 +33,8 @@ PXH_FUZZ_TARGET(compare) {
             if (pass == 0) {
                 opt.markdown = true;
                 opt.fail_on = pxh::parse_fail_on(
-                    "err_p95=+5%,err_mean=+0,ns_per_sample=+0%,"
-                    "ms_per_frame=+10%,nonfinite=+0");
+                    "err_p95=+5%,err_mean=+0,time=+10%,"
+                    "gpu_ms_per_frame=+10%,nonfinite=+0");
             } else {
                 opt.common = true;
                 opt.band_edges = {0, 45, 90};

@@ -7,7 +7,7 @@ and one of results/experiments/precompute.toml.
 Table 1, per method setting (method and its parameters as results.csv's `params` writes them):
 the mean and p95 texel error averaged over the views of each theta band (CPU float rows, the
 fields every setting ran on pooled), the mean fetches per sample, ns/sample (CPU float: the
-median over the setting's rows of each row's median), ms/frame (GLSL: the median over its rows),
+median over the setting's rows of each row's time), ms/frame (GLSL: the median over its rows),
 and, from the precompute runs, the median precompute_ms and the aux_bytes of its maps at 256^2
 and 1024^2 (fbm).
 
@@ -28,6 +28,14 @@ from collections import defaultdict
 from engines_table import BANDS, fmt, mean, num  # the same bands and cell rules as the engines table
 
 PRE_SIZES = (256, 1024)  # the field sizes (precompute runs) whose map cost table 1 shows
+
+
+def time_in(r, unit):
+    """A row's time if it is in `unit` (results.csv's time and time_unit; a file written before
+    them has ns_per_sample on CPU rows and ms_per_frame on GLSL rows), else None."""
+    if "time" in r:
+        return num(r["time"]) if r.get("time_unit") == unit else None
+    return num(r.get({"ns/sample": "ns_per_sample", "ms/frame": "ms_per_frame"}[unit], ""))
 
 
 def median(xs):
@@ -135,8 +143,8 @@ def table_methods(rows, pre):
             cells.append(fmt(mean(num(r["err_mean"]) for r in band)) + " / " +
                          fmt(mean(num(r["err_p95"]) for r in band)))
         cells.append(fmt(mean(num(r["fetches_mean"]) for r in rs), 1))
-        cells.append(fmt(median(num(r["ns_per_sample"]) for r in rs), 0))
-        cells.append(fmt(median(num(r["ms_per_frame"]) for r in gl[k]), 2))
+        cells.append(fmt(median(time_in(r, "ns/sample") for r in rs), 0))
+        cells.append(fmt(median(time_in(r, "ms/frame") for r in gl[k]), 2))
         by = pre.get(resource_key(rs[0]), {}) if rs else {}
         t = [by.get(n, (None, None))[:2] for n in PRE_SIZES]
         if not any(b for _, b in t):

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -24,29 +25,52 @@ class ParamDict;
 constexpr double kDefaultGlTimeLimitS = 120;  // gl_time_limit_s, pxh run --gl-time-limit
 constexpr double kMaxGlTimeLimitS = 86400;    // the largest accepted (one day)
 
+// Median, minimum and maximum of repeated timings (NaN when there are none).
+struct Spread {
+    double median = NAN, min = NAN, max = NAN;
+};
+Spread spread(std::vector<double> times);
+
+// How long a method took, as its backend measures it (Google Benchmark's Run: one time, its
+// unit, its repeats): results.csv's time, time_unit, time_min, time_max, time_repeats.
+struct Timing {
+    std::string unit;             // as the backend names it: "ns/sample", "ms/frame"; "": untimed
+    std::vector<double> repeats;  // every timed repeat, in the order measured
+    Spread stats;                 // median, min, max of repeats
+};
+// Sets unit and repeats and computes their spread (no repeats: untimed, unit left empty).
+Timing timing_of(std::string unit, std::vector<double> repeats);
+
+// A counter a backend declares: results.csv's NAME (median), NAME_min, NAME_max.
+struct CounterSpec {
+    std::string name, unit, meaning;  // meaning: one line (columns, run.json, docs)
+};
+// What a backend's timing is: the unit of its time, what one repeat measures, its counters.
+struct TimingSpec {
+    std::string unit, measures;
+    std::vector<CounterSpec> counters;
+};
+
+// Anything else a backend measures per row (Google Benchmark's UserCounters), declared in its
+// registry entry (CounterSpec): results.csv's columns NAME, NAME_min, NAME_max.
+struct Counter {
+    std::string name;
+    Spread value;  // median, min, max over the repeats it was measured in
+};
+
 struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
-    double ms_per_frame = NAN, ms_per_frame_min = NAN, ms_per_frame_max = NAN;  // GLSL only
-    double gpu_ms_per_frame = NAN, gpu_ms_per_frame_min = NAN,
-           gpu_ms_per_frame_max = NAN;            // GLSL: timer queries
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
-    double ns_per_sample = NAN, ns_per_sample_min = NAN, ns_per_sample_max = NAN;  // CPU only
-    // Every timed repeat in the order measured (CPU: ns per sample; GLSL: wall ms per frame):
-    // what `pxh compare`'s significance test needs (empty when not timed).
-    std::vector<double> ns_per_sample_repeats, ms_per_frame_repeats;
+    // Its timing and its declared counters (empty when not timed).
+    Timing timing;
+    std::vector<Counter> counters;
     std::string shader;         // GLSL: "builtin" or the shader file(s) compiled
     std::string shader_sha256;  // GLSL: sha256 of the method's shader source
     // GLSL: samples the shader discarded or left unwritten (their uv is NaN, fetches 0); 0 on
     // the CPU.
     long long samples_discarded = 0;
 };
-
-// Median, minimum and maximum of repeated timings (NaN when there are none).
-struct Spread {
-    double median = NAN, min = NAN, max = NAN;
-};
-Spread spread(std::vector<double> times);
 
 // What a run asks of its backends (the experiment's keys and the command line's overrides).
 struct BackendSettings {
@@ -105,6 +129,9 @@ class Backend {
     virtual std::map<std::string, std::string> facts() const { return {}; }
     // Every source compiled so far -> sha256 (run.json); empty by default.
     virtual std::map<std::string, std::string> sources() const { return {}; }
+    // Its block of run.json's "backends": facts, sources, its timing (unit, what a repeat
+    // measures, repeats per row, counters); a backend adds what else it knows.
+    virtual nlohmann::json record(const BackendSettings& settings) const;
 };
 
 // The registry (harness/backends/registry.cpp): one line per backend.
@@ -117,6 +144,11 @@ struct BackendEntry {
     std::unique_ptr<Backend> (*make)(const BackendSettings&);
     // Its variants under these settings, without creating it (a run's row estimate).
     std::vector<Variant> (*variants)(const BackendSettings&);
+    // Its timing's unit and meaning and the counters it measures (results.csv's columns of
+    // each counter come from here: harness/metrics/columns.cpp).
+    const TimingSpec& (*timing)();
+    // Timed repeats per row under these settings (run.json).
+    int (*repeats)(const BackendSettings&);
 };
 const std::vector<BackendEntry>& backend_registry();
 std::vector<std::string> backend_names();  // in registry order
@@ -129,5 +161,8 @@ void read_backend_settings(const ParamDict& experiment, BackendSettings& setting
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings);
 // The variants a backend would run under these settings (its rows per method setting).
 std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings);
+// Its timing (unit, meaning, counters); every registered backend's counters, in registry order.
+const TimingSpec& backend_timing(const std::string& name);
+std::vector<CounterSpec> backend_counters();
 
 }  // namespace pxh

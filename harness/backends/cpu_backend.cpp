@@ -50,11 +50,8 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
             const auto t1 = std::chrono::steady_clock::now();
             if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
         }
-        const Spread t = spread(times);
-        out.ns_per_sample = t.median / double(n);
-        out.ns_per_sample_min = t.min / double(n);
-        out.ns_per_sample_max = t.max / double(n);
-        for (double ns : times) out.ns_per_sample_repeats.push_back(ns / double(n));
+        for (double& t : times) t /= double(n);
+        out.timing = timing_of(cpu_timing().unit, std::move(times));
     }
     return out;
 }
@@ -115,6 +112,17 @@ void read_cpu_settings(const ParamDict& ex, BackendSettings& s) {
             throw InputError(ex.where("precision"),
                              "unknown precision '" + p + "' (known: float, double)");
 }
+
+const TimingSpec& cpu_timing() {
+    static const TimingSpec t{
+        "ns/sample",
+        "single-thread wall time (steady_clock) of one pass over every sample, divided by the "
+        "samples, after one untimed warm-up pass",
+        {}};
+    return t;
+}
+
+int cpu_repeats(const BackendSettings& s) { return s.timing_repeats; }
 
 std::vector<Variant> cpu_variants(const BackendSettings& settings) {
     std::vector<Variant> out;

@@ -6,15 +6,18 @@ namespace pxh {
 
 // Runs the method on every sample in the given precision ("float"/"double"), in parallel
 // (outputs do not depend on threads), then times `repeats` single-thread passes after one
-// warm-up pass; ns_per_sample is their median. V: nullptr (every sample looks along scene.V)
-// or one direction per sample. lambda (one per sample): each sample's level of detail (what
-// a method reads as HeightSampler::lod()), and with `levels` every height fetch of sample k
+// warm-up pass: its timing, in ns per sample (cpu_timing). V: nullptr (every sample looks along
+// scene.V) or one direction per sample. lambda (one per sample): each sample's level of detail
+// (what a method reads as HeightSampler::lod()), and with `levels` every height fetch of sample k
 // is at lambda[k] on those levels (lod = level).
 MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Scene<double>& scene,
                      const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
                      const MethodResources* resources = nullptr,
                      const std::vector<Vec3d>* V = nullptr, const TextureLevels* levels = nullptr,
                      const std::vector<double>* lambda = nullptr);
+
+// The CPU backend's timing: ns/sample, no counters.
+const TimingSpec& cpu_timing();
 
 // The tutorial's hard and soft self-shadowing at each output uv, in the given precision.
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,

@@ -146,20 +146,29 @@ void visit(A& a, GlslMethod& m) {
     a(m.plugin_shader), a(m.plugin_source), a(m.plugin_display), a(m.resources);
 }
 
+template <class A>
+void visit(A& a, Spread& s) {
+    a(s.median), a(s.min), a(s.max);
+}
+template <class A>
+void visit(A& a, Timing& t) {
+    a(t.unit), a(t.repeats), a(t.stats);
+}
+template <class A>
+void visit(A& a, Counter& c) {  // a counter travels whole: a new one needs no line here
+    a(c.name), a(c.value);
+}
 // Every field of MethodOutput, in one place: adding a field to it is one line here.
 template <class A>
 void visit(A& a, MethodOutput& o) {
     a(o.uv), a(o.fetches);
-    a(o.ms_per_frame), a(o.ms_per_frame_min), a(o.ms_per_frame_max);
-    a(o.gpu_ms_per_frame), a(o.gpu_ms_per_frame_min), a(o.gpu_ms_per_frame_max);
     a(o.shadow_hard), a(o.shadow_soft);
-    a(o.ns_per_sample), a(o.ns_per_sample_min), a(o.ns_per_sample_max);
-    a(o.ns_per_sample_repeats), a(o.ms_per_frame_repeats);
+    a(o.timing), a(o.counters);
     a(o.shader), a(o.shader_sha256), a(o.samples_discarded);
 }
 // A MethodOutput that grew without a line above would come back from the child without the
 // new field: update visit(MethodOutput) and then this size.
-static_assert(sizeof(MethodOutput) == 288, "MethodOutput changed: update visit(MethodOutput)");
+static_assert(sizeof(MethodOutput) == 272, "MethodOutput changed: update visit(MethodOutput)");
 
 // A draw as it travels: the request owns what GlslDraw points to.
 struct DrawData {

@@ -599,15 +599,8 @@ void GlslBackend::draw_frames(int frames, MethodOutput& out) {
         }
     }
     if (query) glDeleteQueries(1, &query);
-    const Spread t = spread(ms);
-    out.ms_per_frame = t.median;
-    out.ms_per_frame_min = t.min;
-    out.ms_per_frame_max = t.max;
-    out.ms_per_frame_repeats = ms;
-    const Spread g = spread(gpu_ms);
-    out.gpu_ms_per_frame = g.median;
-    out.gpu_ms_per_frame_min = g.min;
-    out.gpu_ms_per_frame_max = g.max;
+    out.timing = timing_of(glsl_timing().unit, std::move(ms));
+    if (!gpu_ms.empty()) out.counters.push_back({kGpuTimeCounter, spread(std::move(gpu_ms))});
 }
 
 // The two render targets back into uv, fetches and (with a light) the shadow factors.
@@ -719,6 +712,19 @@ void read_glsl_settings(const ParamDict& ex, BackendSettings& s) {
             throw InputError(ex.where("texture_format"),
                              "unknown texture_format '" + f + "' (known: r32f, r16, r8)");
 }
+
+const TimingSpec& glsl_timing() {
+    static const TimingSpec t{
+        "ms/frame",
+        "wall time (steady_clock) of one frame: clear, draw, glFinish; after one untimed frame "
+        "(the shader JIT)",
+        {{kGpuTimeCounter, "ms/frame",
+          "frame time by GL_TIME_ELAPSED timer query (the GPU's own clock; empty without timer "
+          "queries)"}}};
+    return t;
+}
+
+int glsl_repeats(const BackendSettings& s) { return s.gl_frames; }
 
 std::vector<Variant> glsl_variants(const BackendSettings& settings) {
     std::vector<Variant> out;

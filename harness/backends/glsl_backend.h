@@ -18,6 +18,11 @@ namespace pxh {
 
 class GlContext;
 
+// The GLSL backend's timing: wall ms/frame, and the timer queries' frame time as the counter
+// gpu_ms_per_frame (results.csv's gpu_ms_per_frame, _min, _max).
+inline constexpr const char* kGpuTimeCounter = "gpu_ms_per_frame";
+const TimingSpec& glsl_timing();
+
 // What a GLSL program is compiled from, as plain data (it crosses to the GL child process,
 // harness/backends/gl_worker.h): the method's name (the program cache's key), its shader.
 struct GlslMethod {

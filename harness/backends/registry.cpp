@@ -1,6 +1,7 @@
 #include "harness/core/registry.h"
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 
 #include "harness/backends/backend.h"
 
@@ -9,14 +10,19 @@ namespace pxh {
 void read_cpu_settings(const ParamDict&, BackendSettings&);
 std::unique_ptr<Backend> make_cpu_backend(const BackendSettings&);
 std::vector<Variant> cpu_variants(const BackendSettings&);
+const TimingSpec& cpu_timing();
+int cpu_repeats(const BackendSettings&);
 void read_glsl_settings(const ParamDict&, BackendSettings&);
 std::unique_ptr<Backend> make_glsl_backend(const BackendSettings&);
 std::vector<Variant> glsl_variants(const BackendSettings&);
+const TimingSpec& glsl_timing();
+int glsl_repeats(const BackendSettings&);
 
 const std::vector<BackendEntry>& backend_registry() {
     static const std::vector<BackendEntry> entries = {
-        {"cpu", &read_cpu_settings, &make_cpu_backend, &cpu_variants},
-        {"glsl", &read_glsl_settings, &make_glsl_backend, &glsl_variants},
+        {"cpu", &read_cpu_settings, &make_cpu_backend, &cpu_variants, &cpu_timing, &cpu_repeats},
+        {"glsl", &read_glsl_settings, &make_glsl_backend, &glsl_variants, &glsl_timing,
+         &glsl_repeats},
     };
     return entries;
 }
@@ -37,6 +43,41 @@ std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSett
 
 std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings) {
     return find_entry(backend_registry(), name, "backend", "backend").variants(settings);
+}
+
+const TimingSpec& backend_timing(const std::string& name) {
+    return find_entry(backend_registry(), name, "backend", "backend").timing();
+}
+
+std::vector<CounterSpec> backend_counters() {
+    std::vector<CounterSpec> out;
+    for (const auto& e : backend_registry())
+        for (const CounterSpec& c : e.timing().counters) out.push_back(c);
+    return out;
+}
+
+nlohmann::json Backend::record(const BackendSettings& settings) const {
+    const BackendEntry& e = find_entry(backend_registry(), name(), "backend", "backend");
+    const TimingSpec& t = e.timing();
+    nlohmann::json counters = nlohmann::json::array();
+    for (const CounterSpec& c : t.counters)
+        counters.push_back({{"name", c.name}, {"unit", c.unit}, {"meaning", c.meaning}});
+    return {{"timing",
+             {{"unit", t.unit},
+              {"measures", t.measures},
+              {"repeats", e.repeats(settings)},
+              {"counters", counters}}},
+            {"facts", facts()},
+            {"sources", sources()}};
+}
+
+Timing timing_of(std::string unit, std::vector<double> repeats) {
+    Timing t;
+    if (repeats.empty()) return t;
+    t.unit = std::move(unit);
+    t.stats = spread(repeats);
+    t.repeats = std::move(repeats);
+    return t;
 }
 
 Spread spread(std::vector<double> times) {

@@ -25,8 +25,8 @@ Command add_compare_command(CLI::App& app) {
         "--fail-on", a->fail_on,
         "tolerances, e.g. err_p95=+5%,err_mean=+0.01,fetches_mean=+0: exit 1 when a "
         "matched row grows beyond one (relative with %, else absolute), a row that "
-        "was ok failed, or a BASE row is missing from NEW; a time (ns_per_sample, "
-        "ms_per_frame) only when its repeats show it slower (Mann-Whitney U)");
+        "was ok failed, or a BASE row is missing from NEW; time (in the row's "
+        "time_unit) only when its repeats show it slower (Mann-Whitney U)");
     cmp->add_flag("--markdown", a->markdown,
                   "Markdown output for a pull-request comment (the verdict first, the tables in a "
                   "collapsible <details> block)");

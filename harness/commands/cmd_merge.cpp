@@ -285,8 +285,9 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
                              const std::string& command_line, double merge_seconds) {
     nlohmann::json run = provenance(int(tbb::info::default_concurrency()));
     run["command_line"] = command_line;
-    for (const char* k : {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
-                          "plugin_shaders", "gl_renderer", "gl_version", "shader_dir", "gl"})
+    for (const char* k :
+         {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
+          "plugin_shaders", "backends", "gl_renderer", "gl_version", "shader_dir", "gl"})
         if (first.run.contains(k)) run[k] = first.run[k];
     nlohmann::json shaders = nlohmann::json::object();
     double seconds = 0;
@@ -294,6 +295,14 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
     for (const auto& [index, s] : by_index) {
         if (s->run.contains("shaders") && s->run["shaders"].is_object())
             for (const auto& [k, v] : s->run["shaders"].items()) shaders[k] = v;
+        // Each backend's sources: every slice's (a slice compiles only what its rows ran).
+        if (run.contains("backends") && run["backends"].is_object() &&
+            s->run.contains("backends") && s->run["backends"].is_object())
+            for (const auto& [name, b] : s->run["backends"].items())
+                if (run["backends"].contains(name) && b.is_object() && b.contains("sources") &&
+                    b["sources"].is_object())
+                    for (const auto& [k, v] : b["sources"].items())
+                        run["backends"][name]["sources"][k] = v;
         seconds += s->run.value("seconds", 0.0);
         from.push_back(slice_provenance(*s));
     }

@@ -120,6 +120,7 @@ nlohmann::json run_record(const Experiment& ex, const RunArgs& a, const RunInfo&
                            {"sha256", sha256_hex(p->plugin_source)},
                            {"source", p->plugin_source}});
     if (!plugins.empty()) run["plugin_shaders"] = plugins;
+    run["backends"] = info.backends;
     if (!info.gl_renderer.empty()) {
         run["gl_renderer"] = info.gl_renderer;
         run["gl_version"] = info.gl_version;

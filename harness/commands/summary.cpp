@@ -9,11 +9,22 @@
 #include <string>
 
 namespace pxh {
+namespace {
+
+// Four significant digits ("12.35", "0.8125", "1234").
+std::string time_cell(double v) {
+    std::ostringstream os;
+    os << std::setprecision(4) << v;
+    return os.str();
+}
+
+}  // namespace
 
 void print_summary(const std::vector<ResultRow>& rows) {
     struct Acc {
-        double sum_mean = 0, worst_p95 = 0, fetches = 0, ns = 0, ms = 0, shadow = 0;
-        int n = 0, n_ns = 0, n_ms = 0, n_shadow = 0, failed = 0;
+        double sum_mean = 0, worst_p95 = 0, fetches = 0, time = 0, shadow = 0;
+        int n = 0, n_time = 0, n_shadow = 0, failed = 0;
+        std::string unit;  // the series' time_unit (one backend: one unit)
     };
     std::vector<std::string> order;
     std::map<std::string, Acc> acc;
@@ -29,13 +40,10 @@ void print_summary(const std::vector<ResultRow>& rows) {
         a.worst_p95 = std::max(a.worst_p95, r.num("err_p95"));
         a.fetches += r.num("fetches_mean");
         ++a.n;
-        if (!std::isnan(r.num("ns_per_sample"))) {
-            a.ns += r.num("ns_per_sample");
-            ++a.n_ns;
-        }
-        if (!std::isnan(r.num("ms_per_frame"))) {
-            a.ms += r.num("ms_per_frame");
-            ++a.n_ms;
+        if (!std::isnan(r.num("time")) && (a.unit.empty() || a.unit == r.text("time_unit"))) {
+            a.time += r.num("time");
+            a.unit = r.text("time_unit");
+            ++a.n_time;
         }
         if (!std::isnan(r.num("shadow_err"))) {
             a.shadow += r.num("shadow_err");
@@ -50,21 +58,22 @@ void print_summary(const std::vector<ResultRow>& rows) {
     };
     std::cout << std::left << std::setw(46) << "method [backend/precision or texture]" << std::right
               << std::setw(10) << "mean err" << std::setw(11) << "worst p95" << std::setw(9)
-              << "fetches" << std::setw(9) << "ns/smp" << std::setw(10) << "ms/frame"
-              << std::setw(8) << "shadow" << std::setw(8) << "failed"
+              << "fetches" << std::setw(20) << "time" << std::setw(8) << "shadow" << std::setw(8)
+              << "failed"
               << "\n";
     for (const auto& k : order) {
         const Acc& a = acc[k];
         std::cout << std::left << std::setw(46) << k << std::right << std::setw(10)
                   << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95, a.n ? 1 : 0, 3)
-                  << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(9)
-                  << cell(a.ns, a.n_ns, 1) << std::setw(10) << cell(a.ms, a.n_ms, 2) << std::setw(8)
+                  << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(20)
+                  << (a.n_time ? time_cell(a.time / a.n_time) + " " + a.unit : "-") << std::setw(8)
                   << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed << "\n";
     }
     std::cout << "mean err: texel distance between the sampled and the truly visible point, "
                  "averaged over rows; worst p95: largest per-row 95th percentile;\n"
-                 "ns/smp: single-thread CPU time per sample; ms/frame: GLSL frame time "
-                 "(llvmpipe); shadow: fraction of samples with a wrong hard shadow\n";
+                 "time: mean over rows of the median timed repeat, in the backend's unit (cpu: "
+                 "single-thread ns/sample; glsl: ms/frame); shadow: fraction of samples with a "
+                 "wrong hard shadow\n";
 }
 
 }  // namespace pxh

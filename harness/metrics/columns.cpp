@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "harness/backends/backend.h"
 #include "harness/metrics/metric.h"
 #include "harness/scene/view.h"
 
@@ -65,21 +66,14 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"fetches_max", kNum, kMeasured,
          "filtered lookups (height map or precomputed map) per sample, max"},
         {"fetches_bound", kInt, kKey, "the method's declared fetch bound for this view"},
-        // Timing (harness/metrics/timing.cpp).
-        {"ns_per_sample", kNum, kMeasured, "CPU: median single-thread time per sample (ns)"},
-        {"ns_per_sample_min", kNum, kMeasured, "CPU: fastest repeat (ns per sample)"},
-        {"ns_per_sample_max", kNum, kMeasured, "CPU: slowest repeat (ns per sample)"},
-        {"ns_per_sample_repeats", kText, kMeasured,
-         "CPU: every timed repeat in order (ns per sample), ';'-separated"},
-        {"ms_per_frame", kNum, kMeasured, "GLSL: median wall time of one frame (ms, glFinish)"},
-        {"ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame (ms)"},
-        {"ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame (ms)"},
-        {"ms_per_frame_repeats", kText, kMeasured,
-         "GLSL: every timed frame in order (ms), ';'-separated"},
-        {"gpu_ms_per_frame", kNum, kMeasured,
-         "GLSL: median GL_TIME_ELAPSED of a frame's draw (ms)"},
-        {"gpu_ms_per_frame_min", kNum, kMeasured, "GLSL: fastest frame by timer query (ms)"},
-        {"gpu_ms_per_frame_max", kNum, kMeasured, "GLSL: slowest frame by timer query (ms)"},
+        // Timing (harness/metrics/timing.cpp), in the unit the row's backend names; each
+        // backend's counters follow time_repeats (from the backends' registry entries).
+        {"time", kNum, kMeasured, "median time of the timed repeats, in time_unit"},
+        {"time_unit", kText, kMeasured, "the backend's unit: ns/sample (cpu), ms/frame (glsl)"},
+        {"time_min", kNum, kMeasured, "fastest repeat (time_unit)"},
+        {"time_max", kNum, kMeasured, "slowest repeat (time_unit)"},
+        {"time_repeats", kText, kMeasured,
+         "every timed repeat (time_unit), ';'-separated, in the order measured"},
         // Agreement between backends and precisions (harness/metrics/agreement.cpp).
         {"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"},
         {"cpu_diff_p999", kNum, kMeasured, "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"},
@@ -131,6 +125,23 @@ const std::vector<ColumnSpec>& builtin_columns() {
     return cols;
 }
 
+// Each backend's counters (its registry entry's TimingSpec): NAME (median), NAME_min, NAME_max;
+// a name two backends declare is one set of columns (the first one's meaning).
+std::vector<ColumnSpec> counter_columns() {
+    std::vector<ColumnSpec> out;
+    for (const BackendEntry& e : backend_registry())
+        for (const CounterSpec& c : e.timing().counters) {
+            if (std::any_of(out.begin(), out.end(),
+                            [&](const ColumnSpec& s) { return s.name == c.name; }))
+                continue;
+            const std::string about = std::string(e.name) + ": " + c.meaning + " (" + c.unit + ")";
+            out.push_back({c.name, kNum, kMeasured, "median " + about});
+            out.push_back({c.name + "_min", kNum, kMeasured, "fastest repeat, " + about});
+            out.push_back({c.name + "_max", kNum, kMeasured, "slowest repeat, " + about});
+        }
+    return out;
+}
+
 struct Hash {
     using is_transparent = void;
     size_t operator()(std::string_view s) const { return std::hash<std::string_view>{}(s); }
@@ -146,6 +157,8 @@ struct Registry {
             if (c.name == "precompute_ms")
                 for (const ColumnSpec& m : output_metric_columns()) add(m, order.size());
             add(c, order.size());
+            if (c.name == "time_repeats")
+                for (const auto& col : counter_columns()) add(col, order.size());
             if (c.name == "camera")
                 for (const CameraEntry& cam : camera_registry())
                     for (const CameraKey& k : cam.keys) {

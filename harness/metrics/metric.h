@@ -4,7 +4,7 @@
 // (MetricInput) and run, in registry order, on every row that did not fail:
 //   error_stats.cpp (err_*, frac_*, nonfinite, excluded, samples_outside, err_px_*),
 //   fetches.cpp (fetches_mean/max),
-//   timing.cpp (ns_per_sample*, ms_per_frame*), shadows.cpp (shadow_err, shadow_soft_mae).
+//   timing.cpp (time*, the backends' counters), shadows.cpp (shadow_err, shadow_soft_mae).
 // Metrics across outputs or views take what they compare: agreement.h (two outputs),
 // sweep.h (two views), reference.h (the view's references).
 //

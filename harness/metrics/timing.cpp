@@ -1,6 +1,6 @@
-// ns_per_sample{,_min,_max,_repeats} (CPU), ms_per_frame{,_min,_max,_repeats} and
-// gpu_ms_per_frame{,_min,_max} (GLSL; the latter from timer queries, empty without them): empty
-// when not timed. The _repeats columns hold every timed repeat, ';'-separated, in order.
+// The uniform timing columns (time, time_unit, time_min, time_max, time_repeats: the backend's
+// own unit, every repeat ';'-separated in order) and each counter's NAME, NAME_min, NAME_max
+// (the counters a backend declares in its registry entry): empty when not timed.
 #include "harness/metrics/metric.h"
 #include "harness/metrics/timing_stats.h"
 
@@ -9,17 +9,17 @@ namespace pxh {
 namespace {
 
 void add_timing(const MetricInput& in, ResultRow& row) {
-    row.set("ns_per_sample", in.out.ns_per_sample);
-    row.set("ns_per_sample_min", in.out.ns_per_sample_min);
-    row.set("ns_per_sample_max", in.out.ns_per_sample_max);
-    row.set_text("ns_per_sample_repeats", format_repeats(in.out.ns_per_sample_repeats));
-    row.set("ms_per_frame", in.out.ms_per_frame);
-    row.set("ms_per_frame_min", in.out.ms_per_frame_min);
-    row.set("ms_per_frame_max", in.out.ms_per_frame_max);
-    row.set_text("ms_per_frame_repeats", format_repeats(in.out.ms_per_frame_repeats));
-    row.set("gpu_ms_per_frame", in.out.gpu_ms_per_frame);
-    row.set("gpu_ms_per_frame_min", in.out.gpu_ms_per_frame_min);
-    row.set("gpu_ms_per_frame_max", in.out.gpu_ms_per_frame_max);
+    const Timing& t = in.out.timing;
+    row.set("time", t.stats.median);
+    row.set_text("time_unit", t.unit);
+    row.set("time_min", t.stats.min);
+    row.set("time_max", t.stats.max);
+    row.set_text("time_repeats", format_repeats(t.repeats));
+    for (const Counter& c : in.out.counters) {
+        row.set(c.name, c.value.median);
+        row.set(c.name + "_min", c.value.min);
+        row.set(c.name + "_max", c.value.max);
+    }
 }
 
 }  // namespace

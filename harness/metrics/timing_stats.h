@@ -1,4 +1,4 @@
-// The timed repeats of a row (results.csv's ns_per_sample_repeats / ms_per_frame_repeats: every
+// The timed repeats of a row (results.csv's time_repeats, in the row's time_unit: every
 // repeat, ';'-separated, in the order measured) and the significance test `pxh compare` decides
 // timing noise with: the two-sided Mann-Whitney U test (as Google Benchmark's tools/compare.py,
 // which calls scipy.stats.mannwhitneyu): exact when there are no ties and the samples are small,

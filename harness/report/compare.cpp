@@ -90,11 +90,6 @@ std::string signed_sig(double v) {
     return (v > 0 ? "+" : "") + sig(v);
 }
 
-// The timing column of a row's backend (CPU: ns per sample, GLSL: ms per frame).
-std::string timing_column(const ResultRow& r) {
-    return r.text("backend") == "cpu" ? "ns_per_sample" : "ms_per_frame";
-}
-
 // The row's name from its key (row_name of the row the key was made of).
 std::string name_of_key(const std::string& key) {
     std::vector<std::string> f;
@@ -128,11 +123,12 @@ struct Rec {
     size_t line = 0;  // in its results.csv
     std::string error;
     const std::string *shader = nullptr, *shader_sha256 = nullptr, *ground_truth = nullptr;
+    const std::string* time_unit = nullptr;  // "" when untimed
     double width = NAN, height = NAN, theta = NAN;
-    bool ok = false, matched = false, cpu = false;
+    bool ok = false, matched = false;
     double err[4] = {NAN, NAN, NAN, NAN};
     std::vector<double> tol;  // the --fail-on columns' values
-    double t_median = NAN;    // the backend's timing column
+    double t_median = NAN;    // time, in time_unit
     std::vector<double> repeats;
 };
 
@@ -150,12 +146,11 @@ Rec rec_of(const ResultRow& r, size_t line, const std::string& where, const Comp
     x.theta = r.num("theta_deg");
     for (int i = 0; i < 4; ++i) x.err[i] = r.num(kErrors[i]);
     for (const CompareTolerance& t : opt.fail_on) x.tol.push_back(r.num(t.column));
-    const std::string col = timing_column(r);
-    x.cpu = col == "ns_per_sample";
-    x.t_median = r.num(col);
-    const auto reps = parse_repeats(r.text(col + "_repeats"));
+    x.time_unit = pool.of(r.text("time_unit"));
+    x.t_median = r.num("time");
+    const auto reps = parse_repeats(r.text("time_repeats"));
     if (!reps)
-        throw InputError(where, "column '" + col + "_repeats': '" + r.text(col + "_repeats") +
+        throw InputError(where, "column 'time_repeats': '" + r.text("time_repeats") +
                                     "' is not a ';'-separated list of times");
     x.repeats = *reps;
     return x;
@@ -366,7 +361,7 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::strin
                 const CompareTolerance& t = opt.fail_on[k];
                 if (!regresses(t, b.tol[k], n.tol[k])) continue;
                 std::string why;
-                if (t.column == (b.cpu ? "ns_per_sample" : "ms_per_frame")) {
+                if (t.column == "time") {
                     // A time regresses only when its repeats show it is slower, not noise.
                     if (timing.kind == Timing::noise || timing.kind == Timing::faster) continue;
                     if (timing.kind == Timing::slower) why = "; slower, p=" + sig(timing.p);
@@ -435,7 +430,8 @@ TextTable band_table(const Tally& tally, const Bands& bands) {
     }
     t.notes.push_back(
         "d: mean over the band's rows of NEW - BASE (texels; fetches per sample); time ratio: "
-        "geometric mean of NEW / BASE medians (CPU ns_per_sample, GLSL ms_per_frame); a row is "
+        "geometric mean of NEW / BASE medians of time (each row in its backend's time_unit); a row "
+        "is "
         "slower or faster when a two-sided Mann-Whitney U test over its timed repeats gives "
         "p < 0.05, noise otherwise.");
     return t;
@@ -576,6 +572,12 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
                                                  *b->ground_truth + "' in BASE (" + there +
                                                  "): compare refuses to match rows across "
                                                  "different ground truths");
+            if (!b->time_unit->empty() && !n.time_unit->empty() && *b->time_unit != *n.time_unit)
+                throw InputError(in.where(), name + " is timed in " + *n.time_unit +
+                                                 " here but in " + *b->time_unit + " in BASE (" +
+                                                 there +
+                                                 "): compare refuses to compare times in "
+                                                 "different units");
             add_pair(*b, n, row, name, opt, bands, tally);
         }
     }

@@ -2,8 +2,8 @@
 // error metrics, fetches and timings per row and per method setting and theta band, rows found
 // in one run only, and an optional gate (--fail-on) for CI. The verdict comes first; timings
 // change only when a two-sided Mann-Whitney U test over the rows' timed repeats says so
-// (harness/metrics/timing_stats.h). BASE is kept as compact records by key and NEW streamed
-// past it: memory grows with BASE's keys, not with what the rows hold.
+// (harness/metrics/timing_stats.h) over time_repeats. BASE is kept as compact records by key and
+// NEW streamed past it: memory grows with BASE's keys, not with what the rows hold.
 #pragma once
 #include <ostream>
 #include <string>
@@ -32,11 +32,11 @@ struct CompareOptions {
 };
 
 // Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and
-// a matched row regresses beyond it (a timing column: only when its repeats show it slower, or
+// a matched row regresses beyond it (time: only when its repeats show it slower, or
 // when there are too few repeats to say), a row that was ok failed, or (without `common`) a base
-// row is missing from NEW. Bad input (no results.csv, a malformed one, two rows with the same
-// keys, a matched row on another field size or ground truth) is an InputError naming the file
-// and line.
+// row is missing from NEW. Times are compared between rows of the same time_unit only. Bad
+// input (no results.csv, a malformed one, two rows with the same keys, a matched row on another
+// field size, ground truth or time_unit) is an InputError naming the file and line.
 int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
                 std::ostream& out);
 

@@ -187,17 +187,35 @@ void maps(const ReportData& d) {
     d.write("data/error_scale.csv", scale.str());
 }
 
+// The costs a figure draws error against: fetches, then the time in each time_unit of the
+// rows (columns time[UNIT], time_min[UNIT], time_max[UNIT], pareto_time[UNIT]).
+std::vector<std::string> cost_names(const ReportData& d) {
+    std::vector<std::string> c{"fetches_mean"};
+    for (const std::string& u : d.time_units) c.push_back("time[" + u + "]");
+    return c;
+}
+std::vector<double> costs_of(const ReportData& d, const Acc& a) {
+    std::vector<double> c{a.fetches.get()};
+    for (const std::string& u : d.time_units) c.push_back(a.time_in(u));
+    return c;
+}
+std::string pareto_name(const std::string& cost) {
+    return cost == "fetches_mean" ? "pareto_fetches" : "pareto_" + cost;
+}
+
 // Pareto flags per series and cost: "1" on its group's front, "0" off it, "" when the point
 // has no such cost; over exactly the points the plot draws in that panel.
-std::vector<std::array<const char*, 3>> pareto_flags(const ReportData& d,
-                                                     const std::vector<std::array<double, 3>>& cost,
-                                                     const std::vector<double>& err) {
+std::vector<std::vector<const char*>> pareto_flags(const ReportData& d,
+                                                   const std::vector<std::vector<double>>& cost,
+                                                   const std::vector<double>& err) {
     std::map<std::string, std::vector<size_t>> by_group;  // group -> series indices
     for (size_t i = 0; i < d.series_order.size(); ++i)
         by_group[d.series.at(d.series_order[i]).group].push_back(i);
-    std::vector<std::array<const char*, 3>> flag(d.series_order.size());
+    const size_t costs = cost_names(d).size();
+    std::vector<std::vector<const char*>> flag(d.series_order.size(),
+                                               std::vector<const char*>(costs, ""));
     for (const auto& [group, members] : by_group)
-        for (size_t c = 0; c < 3; ++c) {
+        for (size_t c = 0; c < costs; ++c) {
             std::vector<double> gc, ge;
             for (size_t i : members) {
                 gc.push_back(cost[i][c]);
@@ -214,17 +232,18 @@ std::vector<std::array<const char*, 3>> pareto_flags(const ReportData& d,
 // data/cost_vs_error.csv: per series, error against each cost, with the Pareto fronts.
 void cost_vs_error(const ReportData& d) {
     const size_t n = d.series_order.size();
-    std::vector<std::array<double, 3>> cost(n);
+    std::vector<std::vector<double>> cost(n);
     std::vector<double> err(n);
     for (size_t i = 0; i < n; ++i) {
         const Series& s = d.series.at(d.series_order[i]);
-        cost[i] = {s.all.fetches.get(), s.all.ns.get(), s.all.ms.get()};
+        cost[i] = costs_of(d, s.all);
         err[i] = s.all.err_mean.get();
     }
     const auto flag = pareto_flags(d, cost, err);
     std::ostringstream o;
-    o << "series,setting,method,group,err_mean,err_p95,fetches_mean,ns_per_sample,ms_per_frame";
-    for (const char* c : {"fetches", "ns", "ms"}) o << ",pareto_" << c;
+    o << "series,setting,method,group,err_mean,err_p95";
+    for (const std::string& c : cost_names(d)) o << "," << csv_quote(c);
+    for (const std::string& c : cost_names(d)) o << "," << csv_quote(pareto_name(c));
     o << ",params,backend,precision,texture_format\n";
     for (size_t i = 0; i < n; ++i) {
         const Series& s = d.series.at(d.series_order[i]);
@@ -247,18 +266,23 @@ void cost_vs_error(const ReportData& d) {
 // panel per band draws one group's points of that band and its front.
 void cost_vs_error_bands(const ReportData& d) {
     const size_t n = d.series_order.size();
+    const std::vector<std::string> names = cost_names(d);
     std::ostringstream o;
-    o << "band,band_lo,band_hi,band_label,series,setting,group,err_mean,err_p95,fetches_mean,"
-         "ns_per_sample,ms_per_frame,pareto_fetches,pareto_ns,pareto_ms,"
-      << kKeyHeader << ",ns_per_sample_min,ns_per_sample_max,ms_per_frame_min,ms_per_frame_max\n";
+    o << "band,band_lo,band_hi,band_label,series,setting,group,err_mean,err_p95";
+    for (const std::string& c : names) o << "," << csv_quote(c);
+    for (const std::string& c : names) o << "," << csv_quote(pareto_name(c));
+    o << "," << kKeyHeader;
+    for (const std::string& u : d.time_units)
+        o << "," << csv_quote("time_min[" + u + "]") << "," << csv_quote("time_max[" + u + "]");
+    o << "\n";
     for (size_t b : d.present_bands()) {
-        std::vector<std::array<double, 3>> cost(n, {NAN, NAN, NAN});
+        std::vector<std::vector<double>> cost(n, std::vector<double>(names.size(), NAN));
         std::vector<double> err(n, NAN);
         for (size_t i = 0; i < n; ++i) {
             const auto& band = d.series.at(d.series_order[i]).band;
             if (!band.count(b)) continue;
             const Acc& a = band.at(b);
-            cost[i] = {a.fetches.get(), a.ns.get(), a.ms.get()};
+            cost[i] = costs_of(d, a);
             err[i] = a.err_mean.get();
         }
         const auto flag = pareto_flags(d, cost, err);
@@ -273,8 +297,11 @@ void cost_vs_error_bands(const ReportData& d) {
             for (const char* f : flag[i]) o << "," << f;
             const Acc& a = s.band.at(b);
             o << "," << key_fields(d.row(s.first_row));
-            for (const Mean* m : {&a.ns_min, &a.ns_max, &a.ms_min, &a.ms_max})
-                o << "," << csv_num(m->get());
+            for (const std::string& u : d.time_units) {
+                const TimeMeans* t = a.times_in(u);
+                o << "," << csv_num(t ? t->min.get() : NAN) << ","
+                  << csv_num(t ? t->max.get() : NAN);
+            }
             o << "\n";
         }
     }

@@ -594,11 +594,21 @@ def vs_distance_field(F, st, rows, name):
     F.save(fig, name, panels, series, legend, note=note)
 
 
-COSTS = {"fetches_mean": ("pareto_fetches", "fetches / sample", "fetches: height and map lookups"),
-         "ns_per_sample": ("pareto_ns", "CPU ns / sample", None),
-         "ms_per_frame": ("pareto_ms", "GLSL ms / frame", None)}
-SPREAD = {"ns_per_sample": ("ns_per_sample_min", "ns_per_sample_max"),
-          "ms_per_frame": ("ms_per_frame_min", "ms_per_frame_max")}
+def unit_of(cost):
+    """The unit of a time cost column, time[UNIT] (one per time_unit of the rows), or None."""
+    return cost[5:-1] if cost.startswith("time[") and cost.endswith("]") else None
+
+
+def cost_info(cost):
+    """(Pareto column, axis label, note) of a cost column: fetches_mean or time[UNIT]."""
+    if cost == "fetches_mean":
+        return ("pareto_fetches", "fetches / sample", "fetches: height and map lookups")
+    return (f"pareto_{cost}", f"time ({unit_of(cost)})", None)
+
+
+def time_costs(rows):
+    """The time[UNIT] columns of cost_vs_error_bands.csv, in the harness's order."""
+    return [c for c in (rows[0].keys() if rows else []) if unit_of(c)]
 
 
 def band_rows(rows, cost):
@@ -614,7 +624,7 @@ def fold_groups(per_group, cost):
     """Groups whose points (setting -> cost, error) agree within REL_TOL in every band are
     drawn once: [(groups, {band: rows})]."""
     def points(bands):
-        return {(b, setting(r)): (num(r[cost]), num(r["err_mean"]), r[COSTS[cost][0]])
+        return {(b, setting(r)): (num(r[cost]), num(r["err_mean"]), r[cost_info(cost)[0]])
                 for b, rs in bands.items() for r in rs}
     out = []
     for g, bands in per_group.items():
@@ -632,9 +642,10 @@ def fold_groups(per_group, cost):
 
 def spread_of(r, cost):
     """The timing repeats' range of a point (mean of the rows' min and max), or None."""
-    if cost not in SPREAD:
+    unit = unit_of(cost)
+    if unit is None:
         return None
-    lo, hi = (num(r.get(c, "")) for c in SPREAD[cost])
+    lo, hi = (num(r.get(f"time_{c}[{unit}]", "")) for c in ("min", "max"))
     return (lo, hi) if lo is not None and hi is not None and hi >= lo else None
 
 
@@ -714,7 +725,7 @@ def cost_figure(F, st, rows, name, costs):
                 b = bands[bi]
                 pts = per_band.get(b, [])
                 drawn.update(setting(r) for r in pts)
-                f, n = draw_front(ax, st, pts, COSTS[cost][0], cost)
+                f, n = draw_front(ax, st, pts, cost_info(cost)[0], cost)
                 fronts.append(f)
                 spreads += n
                 last = row == per - 1 or bi + nc >= len(bands)
@@ -722,7 +733,7 @@ def cost_figure(F, st, rows, name, costs):
                 error_axis(ax, 0.001, top, ph)
                 ax.set_title(label[b], fontsize=7)
                 if last:
-                    ax.set_xlabel(COSTS[cost][1], fontsize=7)
+                    ax.set_xlabel(cost_info(cost)[1], fontsize=7)
                 if col == 0:
                     ax.set_ylabel(fit("mean texel error" + (f"\n{' = '.join(gs)}"), ph, 7, 2),
                                   fontsize=7)
@@ -734,7 +745,7 @@ def cost_figure(F, st, rows, name, costs):
     if spreads:
         handles.append(mlines.Line2D([], [], color="0.3", lw=0.9,
                                      label="timing repeats' range (min to max)"))
-    notes = [COSTS[c][2] for c in costs if COSTS[c][2]]
+    notes = [cost_info(c)[2] for c in costs if cost_info(c)[2]]
     if any("†" in label[b] for b in bands):
         notes.append("† the band holds a single view (one θ)")
     notes.append("means over the fields, azimuths and θ of each band")
@@ -742,6 +753,7 @@ def cost_figure(F, st, rows, name, costs):
     legend = F.legend(fig, handles, note)
     F.save(fig, name, sum(1 for _ in fronts), len(drawn), legend,
            rows=[" = ".join(gs) for _, gs, _ in lines], bands=[label[b] for b in bands],
+           x_labels=[cost_info(c)[1] for c, _, _ in lines],
            front_points=fronts, spreads=spreads)
 
 
@@ -1086,7 +1098,7 @@ def main():
     if os.path.exists(vd_path):
         vs_distance(F, st, read(vd_path))
     cost_figure(F, st, bands, "cost_vs_error", ["fetches_mean"])
-    cost_figure(F, st, bands, "time_vs_error", ["ns_per_sample", "ms_per_frame"])
+    cost_figure(F, st, bands, "time_vs_error", time_costs(bands))
     maps = os.path.join(data, "maps.csv")
     if os.path.exists(maps):
         montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))

@@ -53,16 +53,27 @@ void Acc::add(const ResultRow& r, const char* budget_column) {
     err_p95.add(p95);
     if (std::isfinite(p95)) worst_p95 = std::isfinite(worst_p95) ? std::max(worst_p95, p95) : p95;
     fetches.add(r.num("fetches_mean"));
-    ns.add(r.num("ns_per_sample"));
-    ms.add(r.num("ms_per_frame"));
-    ns_min.add(r.num("ns_per_sample_min"));
-    ns_max.add(r.num("ns_per_sample_max"));
-    ms_min.add(r.num("ms_per_frame_min"));
-    ms_max.add(r.num("ms_per_frame_max"));
+    const std::string& unit = r.text("time_unit");
+    if (!unit.empty()) {
+        TimeMeans& t = time[unit];
+        t.time.add(r.num("time"));
+        t.min.add(r.num("time_min"));
+        t.max.add(r.num("time_max"));
+    }
     sliding.add(r.num("sliding"));
     shimmering.add(r.num("shimmering"));
     budget.add(r.num(budget_column));
     nonfinite = nonfinite || r.num("nonfinite") > 0;
+}
+
+const TimeMeans* Acc::times_in(const std::string& unit) const {
+    auto it = time.find(unit);
+    return it == time.end() ? nullptr : &it->second;
+}
+
+double Acc::time_in(const std::string& unit) const {
+    const TimeMeans* t = times_in(unit);
+    return t ? t->time.get() : NAN;
 }
 
 ReportData::ReportData(const std::string& d, const ReportOptions& o)
@@ -113,6 +124,10 @@ void ReportData::collect() {
         if (!per_field.count(s)) per_field[s] = {set, rr.text("method"), group_of(rr), r, {}, {}};
         if (std::find(group_order.begin(), group_order.end(), group_of(rr)) == group_order.end())
             group_order.push_back(group_of(rr));
+        const std::string& unit = rr.text("time_unit");
+        if (!unit.empty() &&
+            std::find(time_units.begin(), time_units.end(), unit) == time_units.end())
+            time_units.push_back(unit);
         Series& ser = series[s];
         Series& fser = per_field[s];
         ser.all.add(rr, metric.column);

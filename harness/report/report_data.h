@@ -24,13 +24,21 @@ struct BudgetMetric {
 };
 const BudgetMetric& budget_metric(const std::string& name);  // InputError when unknown
 
+// A time's means over rows of one time_unit: the median, and the repeats' range.
+struct TimeMeans {
+    Mean time, min, max;
+};
+
 // Means over the ok rows of a series (or setting), overall or in one band.
 struct Acc {
-    Mean err_mean, err_p50, err_p95, fetches, ns, ms, sliding, shimmering, budget;
-    Mean ns_min, ns_max, ms_min, ms_max;  // the timing repeats' range, mean over rows
+    Mean err_mean, err_p50, err_p95, fetches, sliding, shimmering, budget;
+    std::map<std::string, TimeMeans> time;  // by time_unit (a series has one: its backend's)
     double worst_p95 = NAN;
     bool nonfinite = false;  // some row had samples with NaN/Inf output
     void add(const ResultRow& r, const char* budget_column);
+    // The mean time in this unit (NaN when no row of it was timed in it); and its range.
+    double time_in(const std::string& unit) const;
+    const TimeMeans* times_in(const std::string& unit) const;
 };
 
 struct Series {
@@ -62,6 +70,8 @@ struct ReportData {
     std::map<std::string, std::map<std::string, Series>> field_series;
     // Every backend/precision or format of the report, in order of appearance.
     std::vector<std::string> group_order;
+    // Every time_unit of the ok rows, in order of appearance: a cost column or panel each.
+    std::vector<std::string> time_units;
     // The compact LaTeX name of each setting of setting_order (one-to-one): the method, and
     // in parentheses the values of the fewest parameters that tell its settings apart
     // ("pom (32)", "pom (adaptive)"; letters "(a)", "(b)" when those values are long); the

@@ -1,6 +1,7 @@
 // The report's tables: summary, failed rows, sweeps, precision, budgets.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <set>
@@ -16,21 +17,27 @@ namespace {
 
 // One line of summary.csv / fields.csv: a series over a band (or "all"); `lead` holds the
 // fields before it (fields.csv: the height field).
-void summary_csv_line(std::ostream& csv, const std::string& lead, const std::string& s,
-                      const Series& ser, const std::string& band, double lo, double hi,
-                      size_t views, const Acc& a) {
+void summary_csv_line(std::ostream& csv, const ReportData& d, const std::string& lead,
+                      const std::string& s, const Series& ser, const std::string& band, double lo,
+                      double hi, size_t views, const Acc& a) {
     csv << lead << csv_quote(s) << "," << csv_quote(ser.setting) << "," << csv_quote(ser.method)
         << "," << csv_quote(ser.group) << "," << csv_quote(band) << "," << csv_num(lo) << ","
         << csv_num(hi) << "," << (views ? std::to_string(views) : "") << ","
         << csv_num(a.err_mean.get()) << "," << csv_num(a.err_p50.get()) << ","
         << csv_num(a.err_p95.get()) << "," << csv_num(a.worst_p95) << ","
-        << csv_num(a.fetches.get()) << "," << csv_num(a.ns.get()) << "," << csv_num(a.ms.get())
-        << "," << csv_num(a.sliding.get()) << "," << csv_num(a.shimmering.get()) << "\n";
+        << csv_num(a.fetches.get());
+    for (const std::string& u : d.time_units) csv << "," << csv_num(a.time_in(u));
+    csv << "," << csv_num(a.sliding.get()) << "," << csv_num(a.shimmering.get()) << "\n";
 }
 
-const char* const kSummaryColumns =
-    "series,setting,method,group,band,theta_lo,theta_hi,band_views,err_mean,err_p50,err_p95,"
-    "err_p95_worst,fetches_mean,ns_per_sample,ms_per_frame,sliding,shimmering\n";
+// The header of summary.csv / fields.csv: a time[UNIT] column per time_unit of the rows.
+std::string summary_columns(const ReportData& d) {
+    std::string h =
+        "series,setting,method,group,band,theta_lo,theta_hi,band_views,err_mean,err_p50,err_p95,"
+        "err_p95_worst,fetches_mean";
+    for (const std::string& u : d.time_units) h += "," + csv_quote("time[" + u + "]");
+    return h + ",sliding,shimmering\n";
+}
 
 // Every band row and the "all" row of a series.
 void summary_csv(std::ostream& csv, const ReportData& d, const std::string& lead,
@@ -38,10 +45,10 @@ void summary_csv(std::ostream& csv, const ReportData& d, const std::string& lead
     for (size_t b : d.present_bands()) {
         auto it = ser.band.find(b);
         if (it == ser.band.end()) continue;
-        summary_csv_line(csv, lead, s, ser, d.bands.label(b), d.bands.lo(b), d.bands.hi(b),
+        summary_csv_line(csv, d, lead, s, ser, d.bands.label(b), d.bands.lo(b), d.bands.hi(b),
                          d.bands.views(b), it->second);
     }
-    summary_csv_line(csv, lead, s, ser, "all", NAN, NAN, 0, ser.all);
+    summary_csv_line(csv, d, lead, s, ser, "all", NAN, NAN, 0, ser.all);
 }
 
 // A line of a table: the series of one setting whose shown numbers agree, written once.
@@ -91,15 +98,22 @@ std::string tex_name(const ReportData& d, const Line& l, bool with_groups = true
     return label + " [" + g + "]";
 }
 
-// A time cell of a line: the value of each member that has one (CPU time on CPU series, frame
-// time on GLSL series), distinct values joined.
+// A time to three significant digits in fixed notation, whatever its unit: "10.0", "0.500",
+// "0.0271", "1234".
+std::string time_text(double v) {
+    const int magnitude = v > 0 ? int(std::floor(std::log10(v))) : 0;
+    return fmt(v, std::clamp(2 - magnitude, 0, 6));
+}
+
+// A time cell of a line: the value of each member that has one (a series has a time in its
+// backend's unit only), distinct values joined.
 template <class Get>
-std::string time_cell(const Line& l, int prec, const Get& get) {
+std::string time_cell(const Line& l, const Get& get) {
     std::vector<std::string> vals;
     for (const Series* s : l.members) {
         const double v = get(*s);
         if (!std::isfinite(v)) continue;
-        const std::string t = fmt(v, prec);
+        const std::string t = time_text(v);
         if (std::find(vals.begin(), vals.end(), t) == vals.end()) vals.push_back(t);
     }
     if (vals.empty()) return "-";
@@ -125,11 +139,13 @@ std::pair<TextTable, TextTable> series_tables(const ReportData& d,
         md.header.push_back(d.bands.label(b) + " mean / p95");
         tex.header.push_back(d.bands.label(b));
     }
-    for (const char* h : {"fetches", "CPU ns/sample", "GLSL ms/frame"}) {
+    std::vector<std::string> costs{"fetches"};
+    for (const std::string& u : d.time_units) costs.push_back("time (" + u + ")");
+    for (const std::string& h : costs) {
         md.header.push_back(h);
         tex.header.push_back(h);
     }
-    md.align = tex.align = "l" + std::string(bands.size() + 3, 'r');
+    md.align = tex.align = "l" + std::string(bands.size() + costs.size(), 'r');
     const auto shown = [&](const Series& ser) {
         std::vector<std::string> c;
         for (size_t b : bands) {
@@ -151,8 +167,8 @@ std::pair<TextTable, TextTable> series_tables(const ReportData& d,
     });
     for (const Line& l : lines) {
         std::vector<std::string> row = shown(*l.members.front());
-        row.push_back(time_cell(l, 1, [](const Series& s) { return s.all.ns.get(); }));
-        row.push_back(time_cell(l, 2, [](const Series& s) { return s.all.ms.get(); }));
+        for (const std::string& u : d.time_units)
+            row.push_back(time_cell(l, [&u](const Series& s) { return s.all.time_in(u); }));
         row.insert(row.begin(), md_name(l));
         md.rows.push_back(row);
         row.front() = tex_name(d, l, !all_merged);
@@ -195,7 +211,7 @@ std::string file_name_of(const std::string& field) {
 // summary.csv / .md / .tex: per series (merged in .md / .tex), mean / p95 per band, cost.
 void write_summary(const ReportData& d) {
     std::ostringstream csv;
-    csv << kSummaryColumns;
+    csv << summary_columns(d);
     for (const auto& s : d.series_order) summary_csv(csv, d, "", s, d.series.at(s));
     auto [md, tex] = series_tables(d, d.series);
     md.notes = summary_notes(d, false);
@@ -210,7 +226,7 @@ void write_summary(const ReportData& d) {
 // fields.csv / fields.md / fields/FIELD.tex: the summary of each height field on its own.
 void write_fields(const ReportData& d) {
     std::ostringstream csv, md;
-    csv << "heightfield," << kSummaryColumns;
+    csv << "heightfield," << summary_columns(d);
     md << "# Per height field\n\nThe summary table (summary.md) of each height field on its own "
           "rows.\n";
     report_folder(d.out, "fields");
@@ -377,21 +393,24 @@ bool meets(const ReportData& d, const Setting& set, size_t band, double budget) 
     return any;
 }
 
-// The cheapest setting meeting a budget in a band (fewest fetches, then CPU time), as a cell
-// (the setting's LaTeX label with `tex`).
+// The cheapest setting meeting a budget in a band (fewest fetches, then the time in each
+// time_unit of the report, in order), as a cell (the setting's LaTeX label with `tex`).
 std::string cheapest(const ReportData& d, size_t b, double budget, bool tex) {
     const std::string* best = nullptr;
-    double best_f = INFINITY, best_ns = INFINITY;  // missing counts as the dearest
+    double best_f = INFINITY;  // missing counts as the dearest
+    std::vector<double> best_t;
     for (const auto& name : d.setting_order) {
         const Setting& set = d.settings.at(name);
         if (!meets(d, set, b, budget)) continue;
         const Acc& a = set.band.at(b);
         const double f = std::isfinite(a.fetches.get()) ? a.fetches.get() : INFINITY;
-        const double ns = std::isfinite(a.ns.get()) ? a.ns.get() : INFINITY;
-        if (!best || f < best_f || (f == best_f && ns < best_ns)) {
+        std::vector<double> t;
+        for (const std::string& u : d.time_units)
+            t.push_back(std::isfinite(a.time_in(u)) ? a.time_in(u) : INFINITY);
+        if (!best || f < best_f || (f == best_f && t < best_t)) {
             best = &name;
             best_f = f;
-            best_ns = ns;
+            best_t = t;
         }
     }
     if (tex) return best ? d.tex_label.at(*best) + ", " + fmt(best_f, 1) : "--";
@@ -420,7 +439,7 @@ void write_budget(const ReportData& d) {
     tt.notes = d.notes();
     tt.notes.push_back(
         std::string("Cheapest method setting (fewest fetches, height and map lookups, per "
-                    "sample, then CPU time, over its rows in the band) whose "
+                    "sample, then time, unit by unit, over its rows in the band) whose "
                     "mean ") +
         d.metric.meaning + " (`" + d.metric.column +
         "`) in the band is within the budget on every backend, precision and "

@@ -40,17 +40,65 @@ std::string results_csv(const std::vector<ResultRow>& rows) {
     return out;
 }
 
-bool ResultsFile::has(const std::string& column) const {
-    return std::find(header.begin(), header.end(), column) != header.end();
-}
-
 std::string ResultsFile::where(size_t row) const {
     return path + ":" + std::to_string(row < lines.size() ? lines[row] : row + 2);
 }
 
+namespace {
+
+// results.csv written before the backends named their own timing: CPU rows had ns_per_sample*,
+// GLSL rows ms_per_frame*. Read as the columns they became, with the unit they were in (the
+// one place that knows the old names; compare and report then see time and time_unit).
+struct LegacyTiming {
+    ColumnSpec old;    // the old column (its type as it was)
+    const char* now;   // the column it is read as
+    const char* unit;  // time_unit of a row with a value in it
+};
+const std::vector<LegacyTiming>& legacy_timing() {
+    static const std::vector<LegacyTiming> cols = [] {
+        std::vector<LegacyTiming> v;
+        for (const auto& [prefix, unit] :
+             {std::pair{"ns_per_sample", "ns/sample"}, std::pair{"ms_per_frame", "ms/frame"}}) {
+            const std::string p = prefix;
+            const auto old = [](std::string name, ColumnType type) {
+                return ColumnSpec{std::move(name), type, ColumnRole::measured, "before time*"};
+            };
+            v.push_back({old(p, ColumnType::number), "time", unit});
+            v.push_back({old(p + "_min", ColumnType::number), "time_min", unit});
+            v.push_back({old(p + "_max", ColumnType::number), "time_max", unit});
+            v.push_back({old(p + "_repeats", ColumnType::text), "time_repeats", unit});
+        }
+        return v;
+    }();
+    return cols;
+}
+const LegacyTiming* legacy_of(const ColumnSpec* spec) {
+    for (const LegacyTiming& l : legacy_timing())
+        if (spec == &l.old) return &l;
+    return nullptr;
+}
+
+}  // namespace
+
+bool ResultsFile::has(const std::string& column) const {
+    const auto in_header = [&](const std::string& c) {
+        return std::find(header.begin(), header.end(), c) != header.end();
+    };
+    if (in_header(column)) return true;
+    for (const LegacyTiming& l : legacy_timing())
+        if (column == l.now && in_header(l.old.name)) return true;
+    return false;
+}
+
 std::vector<const ColumnSpec*> column_specs_of(const std::vector<std::string>& header) {
     std::vector<const ColumnSpec*> specs;
-    for (const auto& name : header) specs.push_back(find_column(name));
+    for (const auto& name : header) {
+        const ColumnSpec* spec = find_column(name);
+        if (!spec)
+            for (const LegacyTiming& l : legacy_timing())
+                if (name == l.old.name) spec = &l.old;
+        specs.push_back(spec);
+    }
     return specs;
 }
 
@@ -61,8 +109,11 @@ ResultRow parse_result_row(const std::vector<const ColumnSpec*>& specs,
     for (size_t c = 0; c < specs.size() && c < fields.size(); ++c) {
         if (!specs[c]) continue;
         const std::string& cell = fields[c];
+        const LegacyTiming* legacy = legacy_of(specs[c]);
+        const std::string& name = legacy ? legacy->now : specs[c]->name;
+        if (legacy && !cell.empty()) row.set_text("time_unit", legacy->unit);
         if (specs[c]->type == ColumnType::text) {
-            row.set_text(specs[c]->name, cell);
+            if (!legacy || !cell.empty()) row.set_text(name, cell);
             continue;
         }
         if (cell.empty()) continue;
@@ -70,7 +121,7 @@ ResultRow parse_result_row(const std::vector<const ColumnSpec*>& specs,
         if (!v)
             throw InputError(where,
                              "column '" + specs[c]->name + "': '" + cell + "' is not a number");
-        row.set(specs[c]->name, *v);
+        row.set(name, *v);
     }
     return row;
 }

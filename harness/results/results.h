@@ -18,16 +18,18 @@ std::string results_csv(const std::vector<ResultRow>& rows);
 
 // results.csv read back: every registered column of the header parsed by its declared type
 // (numbers as double, an empty cell NaN); columns of the registry absent from the file are
-// empty, columns the registry does not know are kept only in `header`. A cell of a numeric
+// empty, columns the registry does not know are kept only in `header`. A file written before
+// the backends named their own timing (ns_per_sample*, ms_per_frame*) is read as time*, with
+// time_unit ns/sample or ms/frame on the rows that have a value there. A cell of a numeric
 // column that is not wholly a number is an InputError "PATH:LINE: column 'NAME': 'TEXT' is
 // not a number"; a malformed CSV one naming PATH(:LINE).
 struct ResultsFile {
     std::string path;
     std::vector<std::string> header;  // as in the file
     std::vector<ResultRow> rows;
-    std::vector<size_t> lines;  // the file line each row starts on (header: line 1)
-    bool has(const std::string& column) const;
-    std::string where(size_t row) const;  // "PATH:LINE"
+    std::vector<size_t> lines;                  // the file line each row starts on (header: line 1)
+    bool has(const std::string& column) const;  // in the header (time*: or its old name)
+    std::string where(size_t row) const;        // "PATH:LINE"
 };
 ResultsFile read_results(const std::string& path);
 

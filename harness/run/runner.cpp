@@ -623,8 +623,10 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     }
     if (info && resources) info->resource_builds += resources->builds();
     if (info)
-        for (const auto& b : backends)
+        for (const auto& b : backends) {
             for (const auto& [k, v] : b->sources()) info->shaders[k] = v;
+            info->backends[b->name()] = b->record(settings);
+        }
     return rows;
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ struct RunInfo {
     std::map<std::string, std::string> gl_driver;  // ... the driver behind it (GlContext::driver)
     int gl_timer_bits = 0;                         // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
     std::map<std::string, std::string> shaders;    // every GLSL source compiled -> sha256
+    // run.json's "backends": each backend's own block (Backend::record: its facts, sources,
+    // timing unit, what a repeat measures, repeats per row, counters), by name.
+    std::map<std::string, nlohmann::json> backends;
     int resource_builds = 0;  // method resources built (once per field, and s, b if they use them)
     // Every view run, in run order: its indices (as RunOptions::include takes them) and rows.
     struct ViewDone {

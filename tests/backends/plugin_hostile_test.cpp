@@ -412,7 +412,7 @@ TEST(GlWorker, ChildAnswersAsTheInProcessBackend) {
     std::vector<pxh::Vec3d> V;
     for (int k = 0; k < 16 * 16; ++k) V.push_back(pxh::view_vector(20 + k % 50, k % 360));
     d.V = &V;
-    d.frames = 1;
+    d.frames = 3;
     pxh::BackendSettings s;
     pxh::GlslChildBackend child(s);
     // A child process, even though this test process may have made a GL context before.
@@ -434,7 +434,19 @@ TEST(GlWorker, ChildAnswersAsTheInProcessBackend) {
     EXPECT_EQ(a.shader, b.shader);
     EXPECT_EQ(a.shader_sha256, b.shader_sha256);
     EXPECT_EQ(a.samples_discarded, 0);
-    EXPECT_TRUE(a.ms_per_frame > 0) << "timings come back";
+    // The timing and the counters come back whole: unit, every repeat, the spread.
+    EXPECT_EQ(a.timing.unit, "ms/frame");
+    EXPECT_EQ(a.timing.repeats.size(), 3u);
+    EXPECT_EQ(b.timing.repeats.size(), 3u);
+    EXPECT_TRUE(a.timing.stats.median > 0) << "timings come back";
+    EXPECT_EQ(a.timing.stats.median, pxh::spread(a.timing.repeats).median);
+    EXPECT_EQ(a.timing.stats.max, pxh::spread(a.timing.repeats).max);
+    ASSERT_EQ(a.counters.size(), b.counters.size());
+    for (size_t i = 0; i < a.counters.size(); ++i) {
+        EXPECT_EQ(a.counters[i].name, b.counters[i].name);
+        EXPECT_LE(a.counters[i].value.min, a.counters[i].value.median);
+        EXPECT_LE(a.counters[i].value.median, a.counters[i].value.max);
+    }
     EXPECT_EQ(child.sources(), in_process.compiled_sources());
     EXPECT_EQ(child.facts().at("gl_renderer"), in_process.renderer());
     EXPECT_EQ(child.restarts(), 0);

@@ -40,10 +40,10 @@ TEST_F(Cli, RunWritesResultsAndProvenance) {
     std::string header;
     std::getline(lines, header);
     for (const char* col :
-         {"method",    "params",    "heightfield",  "backend",     "scale",        "bias",
-          "theta_deg", "phi_deg",   "samples",      "width",       "height",       "err_mean",
-          "err_rms",   "err_p50",   "err_p95",      "err_p99",     "err_max",      "frac_gt_0_5",
-          "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max", "ns_per_sample"})
+         {"method",    "params",    "heightfield",  "backend",     "scale",   "bias",
+          "theta_deg", "phi_deg",   "samples",      "width",       "height",  "err_mean",
+          "err_rms",   "err_p50",   "err_p95",      "err_p99",     "err_max", "frac_gt_0_5",
+          "frac_gt_1", "nonfinite", "fetches_mean", "fetches_max", "time"})
         EXPECT_NE(header.find(col), std::string::npos) << col;
     int rows = 0;
     for (std::string line; std::getline(lines, line);) ++rows;
@@ -56,12 +56,70 @@ TEST_F(Cli, RunWritesResultsAndProvenance) {
     // Every timing comes with the spread of its repeats: min <= median <= max.
     const pxh::CsvTable t = pxh::read_csv((dir / "res" / "results.csv").string());
     for (size_t i = 0; i < t.rows.size(); ++i) {
-        const double lo = t.number(i, "ns_per_sample_min"), mid = t.number(i, "ns_per_sample"),
-                     hi = t.number(i, "ns_per_sample_max");
+        EXPECT_EQ(t.get(i, "time_unit"), "ns/sample") << i;
+        const double lo = t.number(i, "time_min"), mid = t.number(i, "time"),
+                     hi = t.number(i, "time_max");
         ASSERT_TRUE(std::isfinite(lo) && std::isfinite(hi)) << i;
         EXPECT_LE(lo, mid);
         EXPECT_LE(mid, hi);
     }
+}
+
+// Each backend's timing in its own unit: a CPU row's time is the median of its time_repeats
+// (four, so the median is the mean of the middle two), min and max their extremes; a GLSL
+// row's unit is ms/frame with its five frames as repeats and its timer-query counter beside;
+// run.json has each backend's block (unit, what a repeat measures, repeats, counters).
+TEST_F(Cli, EachBackendTimesInItsOwnUnit) {
+    const auto exp = write("t.toml", pxh::test::ExperimentToml("t")
+                                         .samples(16)
+                                         .timing_repeats(4)
+                                         .backends("\"cpu\", \"glsl\"")
+                                         .theta("[0, 60]")
+                                         .field("fbm", 32)
+                                         .method("pom", "layers = 8")
+                                         .str());
+    const Result r = pxh("run " + exp + " --quiet --out " + (dir / "o").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const pxh::CsvTable t = pxh::read_csv((dir / "o" / "results.csv").string());
+    size_t cpu = 0, glsl = 0;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        ASSERT_EQ(t.get(i, "status"), "ok") << t.where(i);
+        std::vector<double> reps;
+        std::stringstream ss(t.get(i, "time_repeats"));
+        for (std::string v; std::getline(ss, v, ';');) reps.push_back(std::stod(v));
+        std::sort(reps.begin(), reps.end());
+        const bool is_cpu = t.get(i, "backend") == "cpu";
+        (is_cpu ? cpu : glsl)++;
+        EXPECT_EQ(t.get(i, "time_unit"), is_cpu ? "ns/sample" : "ms/frame");
+        ASSERT_EQ(reps.size(), is_cpu ? 4u : 5u) << t.get(i, "time_repeats");
+        const double median = is_cpu ? 0.5 * (reps[1] + reps[2]) : reps[2];
+        EXPECT_NEAR(t.number(i, "time"), median, 1e-9 * median) << t.where(i);
+        EXPECT_EQ(t.number(i, "time_min"), reps.front());
+        EXPECT_EQ(t.number(i, "time_max"), reps.back());
+        if (is_cpu) {
+            EXPECT_EQ(t.get(i, "gpu_ms_per_frame"), "");
+        } else {  // llvmpipe has 64-bit timer queries
+            const double lo = t.number(i, "gpu_ms_per_frame_min"),
+                         mid = t.number(i, "gpu_ms_per_frame"),
+                         hi = t.number(i, "gpu_ms_per_frame_max");
+            EXPECT_GT(lo, 0.0);
+            EXPECT_LE(lo, mid);
+            EXPECT_LE(mid, hi);
+        }
+    }
+    EXPECT_EQ(cpu, 2u);
+    EXPECT_EQ(glsl, 2u);
+    const auto run = nlohmann::json::parse(slurp(dir / "o" / "run.json"));
+    const auto& b = run.at("backends");
+    EXPECT_EQ(b.at("cpu").at("timing").at("unit"), "ns/sample");
+    EXPECT_EQ(b.at("cpu").at("timing").at("repeats"), 4);
+    EXPECT_TRUE(b.at("cpu").at("timing").at("counters").empty());
+    EXPECT_EQ(b.at("glsl").at("timing").at("unit"), "ms/frame");
+    EXPECT_EQ(b.at("glsl").at("timing").at("repeats"), 5);  // RunOptions::gl_frames
+    EXPECT_EQ(b.at("glsl").at("timing").at("counters").at(0).at("name"), "gpu_ms_per_frame");
+    EXPECT_EQ(b.at("glsl").at("facts").at("gl_renderer"), run.at("gl_renderer"));
+    EXPECT_EQ(b.at("glsl").at("sources"), run.at("shaders"));
+    EXPECT_FALSE(b.at("glsl").at("timing").at("measures").get<std::string>().empty());
 }
 
 // Same experiment, same numbers, whatever the thread count (timing columns aside).
@@ -73,14 +131,13 @@ TEST_F(Cli, ThreadCountDoesNotChangeNumbers) {
     const auto exp = write("small.toml", text);
     ASSERT_EQ(pxh("run " + exp + " --quiet --threads 1 --out " + (dir / "t1").string()).status, 0);
     ASSERT_EQ(pxh("run " + exp + " --quiet --threads 2 --out " + (dir / "t2").string()).status, 0);
-    // Every column except the timings (ns_per_sample*, ms_per_frame*, gpu_ms_per_frame*).
+    // Every column except the timings (time* but its unit, gpu_ms_per_frame*).
     auto strip_timing = [](const fs::path& csv) {
         const pxh::CsvTable t = pxh::read_csv(csv.string());
         std::string out;
         for (size_t r = 0; r < t.rows.size(); ++r) {
             for (size_t c = 0; c < t.columns.size(); ++c)
-                if (t.columns[c].rfind("ns_per_sample", 0) != 0 &&
-                    t.columns[c].rfind("ms_per_frame", 0) != 0 &&
+                if ((t.columns[c].rfind("time", 0) != 0 || t.columns[c] == "time_unit") &&
                     t.columns[c].rfind("gpu_ms", 0) != 0)
                     out += t.rows[r][c] + ",";
             out += "\n";
@@ -229,8 +286,8 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
         EXPECT_EQ(t.get(i, "shader"),
                   failed ? (dir / "shaders" / "pom.frag.glsl").string() : "builtin");
         for (const char* c :
-             {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean",
-              "ms_per_frame", "cpu_diff_max", "excluded", "gt_agree_p50"})
+             {"err_mean", "err_p95", "err_max", "frac_gt_1", "nonfinite", "fetches_mean", "time",
+              "time_unit", "cpu_diff_max", "excluded", "gt_agree_p50"})
             if (failed) {
                 EXPECT_EQ(t.get(i, c), "") << c;
                 ++checked;
@@ -238,7 +295,7 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
                 EXPECT_NE(t.get(i, c), "") << c;
             }
     }
-    EXPECT_EQ(checked, 24 * 10);
+    EXPECT_EQ(checked, 24 * 11);
     // run.json: the sha256 of every shader source compiled (the override and the built-ins).
     const auto run = nlohmann::json::parse(slurp(dir / "res" / "run.json"));
     const std::string pom_file = (dir / "shaders" / "pom.frag.glsl").string();

@@ -70,17 +70,24 @@ TEST_P(EveryGlContext, TimerQueriesGiveGpuTimes) {
     const Scene<double> sc{0.05, 1.0, view_vector(60, 20), hf.width, hf.height};
     const MethodOutput timed = gl.run(spec, sc, hf, 64, "r32f", nullptr);
     const MethodOutput untimed = gl.run(spec, sc, hf, 64, "r32f", nullptr, 0);
-    EXPECT_TRUE(std::isnan(untimed.gpu_ms_per_frame));
-    EXPECT_TRUE(std::isnan(untimed.ms_per_frame));
+    EXPECT_TRUE(untimed.counters.empty());
+    EXPECT_TRUE(untimed.timing.repeats.empty());
+    EXPECT_EQ(untimed.timing.unit, "");
+    EXPECT_TRUE(std::isnan(untimed.timing.stats.median));
+    EXPECT_EQ(timed.timing.unit, "ms/frame");
+    EXPECT_EQ(timed.timing.repeats.size(), 3u);
     if (gl.timer_bits() == 0) {
-        EXPECT_TRUE(std::isnan(timed.gpu_ms_per_frame));
+        EXPECT_TRUE(timed.counters.empty());
         GTEST_SKIP() << GetParam() << " has no timer queries (GL_QUERY_COUNTER_BITS = 0)";
     }
     EXPECT_GE(gl.timer_bits(), 30);
-    EXPECT_GT(timed.gpu_ms_per_frame_min, 0.0);
-    EXPECT_LE(timed.gpu_ms_per_frame_min, timed.gpu_ms_per_frame);
-    EXPECT_LE(timed.gpu_ms_per_frame, timed.gpu_ms_per_frame_max);
-    EXPECT_TRUE(std::isfinite(timed.gpu_ms_per_frame_max));
+    ASSERT_EQ(timed.counters.size(), 1u);
+    const Counter& gpu = timed.counters[0];
+    EXPECT_EQ(gpu.name, "gpu_ms_per_frame");
+    EXPECT_GT(gpu.value.min, 0.0);
+    EXPECT_LE(gpu.value.min, gpu.value.median);
+    EXPECT_LE(gpu.value.median, gpu.value.max);
+    EXPECT_TRUE(std::isfinite(gpu.value.max));
 }
 
 INSTANTIATE_TEST_SUITE_P(GlContext, EveryGlContext, ::testing::Values("osmesa", "egl"),
@@ -118,7 +125,8 @@ class GlCli : public test::CliTest {};
 // (b) pxh run --gl egl equals --gl osmesa on every GLSL row of the
 // default experiment (results/experiments/default.toml itself, with --backend glsl: the
 // GLSL rows only, the CPU float twin their agreement columns need is still run), cell by
-// cell, every column but the timings (ms_per_frame*, gpu_ms*).
+// cell, every column but the timings (time, time_min, time_max, time_repeats, gpu_ms*: the
+// unit is compared).
 TEST_F(GlCli, EglEqualsOsmesaOnEveryGlslRowOfTheDefaultExperiment) {
     const std::string exp = std::string(PXH_SOURCE_DIR) + "/results/experiments/default.toml";
     for (const char* gl : {"osmesa", "egl"}) {
@@ -137,14 +145,17 @@ TEST_F(GlCli, EglEqualsOsmesaOnEveryGlslRowOfTheDefaultExperiment) {
         EXPECT_EQ(a.get(r, "status"), "ok") << a.where(r);
         for (size_t c = 0; c < a.columns.size(); ++c) {
             const std::string& col = a.columns[c];
-            if (col.rfind("ms_per_frame", 0) == 0 || col.rfind("gpu_ms", 0) == 0) continue;
+            const bool timing =
+                (col.rfind("time", 0) == 0 && col != "time_unit") || col.rfind("gpu_ms", 0) == 0;
+            if (timing) continue;
             ++compared;
             if (a.rows[r][c] != b.rows[r][c] && ++differ <= 10)
                 ADD_FAILURE() << "row " << r + 2 << " column " << col << ": osmesa " << a.rows[r][c]
                               << ", egl " << b.rows[r][c];
         }
         // Both measured their frames (the timings are not compared, but must be there).
-        EXPECT_GT(b.number(r, "ms_per_frame"), 0.0);
+        EXPECT_GT(b.number(r, "time"), 0.0);
+        EXPECT_EQ(b.get(r, "time_unit"), "ms/frame");
         EXPECT_GT(b.number(r, "gpu_ms_per_frame"), 0.0);  // llvmpipe: 64-bit timer queries
     }
     EXPECT_EQ(differ, 0u);

@@ -11,6 +11,7 @@
 
 #include "harness/core/error.h"
 #include "harness/metrics/metric.h"
+#include "harness/metrics/timing_stats.h"
 #include "harness/report/report.h"
 #include "harness/results/csv_table.h"
 #include "harness/results/results.h"
@@ -53,12 +54,14 @@ TEST(ResultRows, HeaderKeepsItsOrder) {
                                                "fetches_mean",
                                                "fetches_max",
                                                "fetches_bound",
-                                               "ns_per_sample",
-                                               "ns_per_sample_min",
-                                               "ns_per_sample_max",
-                                               "ms_per_frame",
-                                               "ms_per_frame_min",
-                                               "ms_per_frame_max",
+                                               "time",
+                                               "time_unit",
+                                               "time_min",
+                                               "time_max",
+                                               "time_repeats",
+                                               "gpu_ms_per_frame",
+                                               "gpu_ms_per_frame_min",
+                                               "gpu_ms_per_frame_max",
                                                "cpu_diff_max",
                                                "cpu_diff_p999",
                                                "decision_mismatch",
@@ -91,6 +94,105 @@ TEST(ResultRows, HeaderKeepsItsOrder) {
     EXPECT_EQ(have, expected);
     EXPECT_EQ(result_columns().back(), "error");
     for (const ColumnSpec* c : result_column_specs()) EXPECT_FALSE(c->meaning.empty()) << c->name;
+}
+
+// The counter columns come from the backends' registry entries: each declared counter's NAME,
+// NAME_min, NAME_max right after time_repeats, in registry order, their meaning naming the
+// backend and the unit; the old per-backend timing columns are gone.
+TEST(ResultRows, CounterColumnsAreTheBackendsDeclarations) {
+    const std::vector<std::string> cols = result_columns();
+    auto at = std::find(cols.begin(), cols.end(), "time_repeats");
+    ASSERT_NE(at, cols.end());
+    const std::vector<CounterSpec> counters = backend_counters();
+    ASSERT_FALSE(counters.empty());  // glsl's timer-query time
+    for (const CounterSpec& c : counters)
+        for (const std::string& name : {c.name, c.name + "_min", c.name + "_max"}) {
+            ASSERT_NE(++at, cols.end());
+            EXPECT_EQ(*at, name);
+            const ColumnSpec* spec = find_column(name);
+            ASSERT_NE(spec, nullptr) << name;
+            EXPECT_EQ(spec->type, ColumnType::number);
+            EXPECT_EQ(spec->role, ColumnRole::measured);
+            EXPECT_NE(spec->meaning.find("(" + c.unit + ")"), std::string::npos) << spec->meaning;
+        }
+    EXPECT_EQ(counters.front().name, "gpu_ms_per_frame");
+    EXPECT_EQ(counters.front().unit, "ms/frame");
+    EXPECT_EQ(backend_timing("cpu").unit, "ns/sample");
+    EXPECT_EQ(backend_timing("glsl").unit, "ms/frame");
+    for (const char* old : {"ns_per_sample", "ms_per_frame", "ns_per_sample_repeats"})
+        EXPECT_EQ(find_column(old), nullptr) << old;
+}
+
+// A results.csv written before the backends named their own timing is read as the columns
+// they became: a CPU row's ns_per_sample* as time* in ns/sample, a GLSL row's ms_per_frame* in
+// ms/frame, an untimed row with no unit; has() answers for the new names.
+TEST(ResultRows, OldTimingColumnsReadAsTime) {
+    const fs::path p =
+        fs::temp_directory_path() / ("pxh_old_timing_" + std::to_string(::getpid()) + ".csv");
+    std::ofstream(p) << "method,backend,ns_per_sample,ns_per_sample_min,ns_per_sample_max,"
+                        "ns_per_sample_repeats,ms_per_frame,ms_per_frame_min,ms_per_frame_max,"
+                        "ms_per_frame_repeats,gpu_ms_per_frame,status\n"
+                        "pom,cpu,12.5,12,14,12;12.5;14,,,,,,ok\n"
+                        "pom,glsl,,,,,0.75,0.5,1.25,0.5;0.75;1.25,0.25,ok\n"
+                        "pom,cpu,,,,,,,,,,ok\n";
+    const ResultsFile f = read_results(p.string());
+    fs::remove(p);
+    ASSERT_EQ(f.rows.size(), 3u);
+    EXPECT_TRUE(f.has("time"));
+    EXPECT_TRUE(f.has("time_repeats"));
+    EXPECT_FALSE(f.has("time_unit"));  // not in that file: each row's unit is implied
+    const ResultRow& cpu = f.rows[0];
+    EXPECT_EQ(cpu.num("time"), 12.5);
+    EXPECT_EQ(cpu.num("time_min"), 12);
+    EXPECT_EQ(cpu.num("time_max"), 14);
+    EXPECT_EQ(cpu.text("time_repeats"), "12;12.5;14");
+    EXPECT_EQ(cpu.text("time_unit"), "ns/sample");
+    const ResultRow& gl = f.rows[1];
+    EXPECT_EQ(gl.num("time"), 0.75);
+    EXPECT_EQ(gl.num("time_min"), 0.5);
+    EXPECT_EQ(gl.num("time_max"), 1.25);
+    EXPECT_EQ(gl.text("time_repeats"), "0.5;0.75;1.25");
+    EXPECT_EQ(gl.text("time_unit"), "ms/frame");
+    EXPECT_EQ(gl.num("gpu_ms_per_frame"), 0.25);
+    EXPECT_TRUE(std::isnan(f.rows[2].num("time")));
+    EXPECT_EQ(f.rows[2].text("time_unit"), "");
+    EXPECT_EQ(f.rows[2].text("time_repeats"), "");
+}
+
+// A row's timing columns are what its backend measured: time is the median of time_repeats
+// (as written and read back), min and max their extremes, the unit the backend's; a counter
+// sets its three columns.
+TEST(ResultRows, TimingColumnsFromTheOutput) {
+    MethodOutput out;
+    out.timing = timing_of("ns/sample", {3.5, 1.25, 2.75, 9.0});
+    out.counters.push_back({"gpu_ms_per_frame", spread({0.5, 0.25, 2})});
+    const GroundTruth gt{};
+    const Metric* timing = nullptr;
+    for (const Metric* m : output_metrics())
+        if (m->name == "timing") timing = m;
+    ASSERT_NE(timing, nullptr);
+    ResultRow row;
+    timing->add(MetricInput{out, gt}, row);
+    EXPECT_EQ(row.text("time_unit"), "ns/sample");
+    EXPECT_EQ(row.cell("time_repeats"), "3.5;1.25;2.75;9");
+    const auto reps = parse_repeats(row.text("time_repeats"));
+    ASSERT_TRUE(reps);
+    std::vector<double> sorted = *reps;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(row.num("time"), 0.5 * (sorted[1] + sorted[2]));  // 3.125
+    EXPECT_EQ(row.num("time"), 3.125);
+    EXPECT_EQ(row.num("time_min"), 1.25);
+    EXPECT_EQ(row.num("time_max"), 9.0);
+    EXPECT_EQ(row.num("gpu_ms_per_frame"), 0.5);
+    EXPECT_EQ(row.num("gpu_ms_per_frame_min"), 0.25);
+    EXPECT_EQ(row.num("gpu_ms_per_frame_max"), 2.0);
+    ResultRow untimed;
+    const MethodOutput none;
+    timing->add(MetricInput{none, gt}, untimed);
+    EXPECT_EQ(untimed.cell("time"), "");
+    EXPECT_EQ(untimed.cell("time_unit"), "");
+    EXPECT_EQ(untimed.cell("time_repeats"), "");
+    EXPECT_EQ(untimed.cell("gpu_ms_per_frame"), "");
 }
 
 // A failed row keeps its keys and has every measured cell empty; numbers and integers are

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "harness/results/csv_table.h"
+#include "harness/results/results.h"
 #include "tests/cli_util.h"
 
 namespace fs = std::filesystem;
@@ -74,16 +75,67 @@ class CompareGate : public pxh::test::CliTest {
         }
         write(to + "/results.csv", out);
     }
+    // A copy of a results folder as pxh wrote it before the backends named their own timing:
+    // time* as ns_per_sample* on CPU rows and ms_per_frame* on GLSL rows, no time_unit.
+    void old_format_copy(const std::string& from, const std::string& to) {
+        fs::create_directories(dir / to);
+        fs::copy_file(dir / from / "run.json", dir / to / "run.json");
+        const pxh::CsvTable t = pxh::read_csv(d(from) + "/results.csv");
+        const char* const kTime[] = {"time", "time_min", "time_max", "time_repeats"};
+        const char* const kSuffix[] = {"", "_min", "_max", "_repeats"};
+        std::string out;
+        std::vector<std::string> header;
+        for (const auto& c : t.columns)
+            if (c != "time_unit" &&
+                std::find(std::begin(kTime), std::end(kTime), c) == std::end(kTime))
+                header.push_back(c);
+        for (const char* prefix : {"ns_per_sample", "ms_per_frame"})
+            for (const char* suffix : kSuffix) header.push_back(std::string(prefix) + suffix);
+        for (size_t i = 0; i < header.size(); ++i) out += (i ? "," : "") + header[i];
+        out += "\n";
+        for (size_t r = 0; r < t.rows.size(); ++r) {
+            const std::string unit = t.get(r, "time_unit");
+            ASSERT_TRUE(unit == "ns/sample" || unit == "ms/frame") << unit;
+            for (size_t i = 0; i < header.size(); ++i) {
+                std::string cell;
+                const std::string& h = header[i];
+                const bool ns = h.rfind("ns_per_sample", 0) == 0,
+                           ms = h.rfind("ms_per_frame", 0) == 0;
+                if (!ns && !ms) cell = t.get(r, h);
+                else if (ns == (unit == "ns/sample"))
+                    cell = t.get(r, "time" + h.substr(ns ? 13 : 12));
+                out += (i ? "," : "") + pxh::csv_quote(cell);
+            }
+            out += "\n";
+        }
+        write(to + "/results.csv", out);
+    }
+    // compare's report from its "rows matched" line on, without the folders' own lines.
+    std::string compared(const std::string& base, const std::string& now,
+                         const std::string& extra = "") {
+        const auto r = pxh("compare " + d(base) + " " + d(now) + " --accept-edited " + extra);
+        EXPECT_NE(r.status, 2) << r.err;
+        std::stringstream in(r.out);
+        std::string out, line;
+        bool on = false;
+        for (int n = 0; std::getline(in, line); ++n) {
+            if (n == 0) out += line + "\n";  // the verdict
+            on = on || line.find(" rows matched (") != std::string::npos;
+            if (on && line.find(d(base)) == std::string::npos &&
+                line.find(d(now)) == std::string::npos)
+                out += line + "\n";
+        }
+        return out + "exit " + std::to_string(r.status);
+    }
 };
 
 TEST_F(CompareGate, RunAgainstItselfReportsNoChange) {
     run_into("a", experiment("\"cpu\", \"glsl\"", 5));
-    const auto r = pxh("compare " + d("a") + " " + d("a") +
-                       " --fail-on err_p95=+0,ns_per_sample=+0,ms_per_frame=+0");
+    const auto r = pxh("compare " + d("a") + " " + d("a") + " --fail-on err_p95=+0,time=+0");
     EXPECT_EQ(r.status, 0) << r.out << r.err;
     // The verdict is the first line; every row's timing: no significant change.
     EXPECT_EQ(r.out.rfind("pxh compare: PASS: 0 regression(s) beyond --fail-on err_p95=+0,"
-                          "ns_per_sample=+0,ms_per_frame=+0\n",
+                          "time=+0\n",
                           0),
               0u)
         << r.out;
@@ -95,14 +147,47 @@ TEST_F(CompareGate, RunAgainstItselfReportsNoChange) {
     EXPECT_NE(r.out.find("shader changes: none"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("pxh version: "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find(" (both)"), std::string::npos) << r.out;
-    // Every timed row stored its repeats: 5 CPU passes, 5 GLSL frames.
+    // Every timed row stored its repeats in its backend's unit: 5 CPU passes, 5 GLSL frames.
     const pxh::CsvTable t = pxh::read_csv(d("a") + "/results.csv");
     for (size_t i = 0; i < t.rows.size(); ++i) {
         const bool cpu = t.get(i, "backend") == "cpu";
-        const std::string reps = t.get(i, cpu ? "ns_per_sample_repeats" : "ms_per_frame_repeats");
+        const std::string reps = t.get(i, "time_repeats");
         EXPECT_EQ(std::count(reps.begin(), reps.end(), ';'), 4) << reps;
-        EXPECT_EQ(t.get(i, cpu ? "ms_per_frame_repeats" : "ns_per_sample_repeats"), "");
+        EXPECT_EQ(t.get(i, "time_unit"), cpu ? "ns/sample" : "ms/frame");
     }
+}
+
+// A results.csv written before the backends named their own timing compares against a new
+// one as the new one does against itself: the same verdict, tallies and tables either way,
+// with and without a gate on time; a copy with one time scaled shows the same change
+// whichever format its base is in.
+TEST_F(CompareGate, OldFormatBaselineComparesLikeANewOne) {
+    run_into("a", experiment("\"cpu\", \"glsl\"", 5));
+    old_format_copy("a", "old");
+    EXPECT_EQ(pxh::read_csv(d("old") + "/results.csv").index("time"), -1);
+    EXPECT_GE(pxh::read_csv(d("old") + "/results.csv").index("ns_per_sample_repeats"), 0);
+    for (const std::string gate : {"", "--fail-on err_p95=+0,time=+0"}) {
+        const std::string same = compared("a", "a", gate);
+        EXPECT_NE(same.find("8 no significant change"), std::string::npos) << same;
+        EXPECT_EQ(compared("old", "a", gate), same);
+        EXPECT_EQ(compared("a", "old", gate), same);
+    }
+    // Every repeat of the first row (CPU) a thousand times slower: a significant slowdown,
+    // seen alike from the old and the new baseline.
+    const pxh::CsvTable t = pxh::read_csv(d("a") + "/results.csv");
+    ASSERT_EQ(t.get(0, "backend"), "cpu");
+    std::string slow;
+    std::stringstream reps(t.get(0, "time_repeats"));
+    for (std::string v; std::getline(reps, v, ';');)
+        slow += (slow.empty() ? "" : ";") + std::to_string(std::stod(v) * 1000);
+    edited_copy("a", "slow0", "time_repeats", slow);
+    edited_copy("slow0", "slow", "time", std::to_string(t.number(0, "time") * 1000));
+    fs::copy_file(dir / "a" / "run.json", dir / "slow" / "run.json");
+    const std::string from_new = compared("a", "slow", "--fail-on time=+10%");
+    EXPECT_NE(from_new.find("FAIL: 1 regression(s)"), std::string::npos) << from_new;
+    EXPECT_NE(from_new.find("1 slower, 0 faster, 7 no significant change"), std::string::npos)
+        << from_new;
+    EXPECT_EQ(compared("old", "slow", "--fail-on time=+10%"), from_new);
 }
 
 TEST_F(CompareGate, BusierShaderIsASignificantSlowdown) {
@@ -118,14 +203,14 @@ TEST_F(CompareGate, BusierShaderIsASignificantSlowdown) {
         "uniforms = { p_k = 1.0 }\n";
     run_into("fast/exp", exp);
     run_into("busy/exp", exp);
-    const auto r = pxh("compare " + d("fast/exp") + " " + d("busy/exp") +
-                       " --fail-on err_p95=+0,ms_per_frame=+10%");
+    const auto r =
+        pxh("compare " + d("fast/exp") + " " + d("busy/exp") + " --fail-on err_p95=+0,time=+10%");
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     // 5 frames each, every busy frame slower than every fast one: the exact p = 2 / 252.
     EXPECT_NE(r.out.find("1 slower, 0 faster, 0 no significant change"), std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find("x slower (p=0.007937)"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("my p_k=1 [glsl/r32f] on fbm s=0.05 b=1 theta=60 phi=0: ms_per_frame "),
+    EXPECT_NE(r.out.find("my p_k=1 [glsl/r32f] on fbm s=0.05 b=1 theta=60 phi=0: time "),
               std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find("(allowed +10%; slower, p=0.007937)"), std::string::npos) << r.out;
@@ -135,7 +220,7 @@ TEST_F(CompareGate, BusierShaderIsASignificantSlowdown) {
     EXPECT_NE(r.out.find("shader changes: 1\n  my p_k=1: "), std::string::npos) << r.out;
     // The other way round: significantly faster, no regression.
     const auto back =
-        pxh("compare " + d("busy/exp") + " " + d("fast/exp") + " --fail-on ms_per_frame=+10%");
+        pxh("compare " + d("busy/exp") + " " + d("fast/exp") + " --fail-on time=+10%");
     EXPECT_EQ(back.status, 0) << back.out;
     EXPECT_NE(back.out.find("x faster (p=0.007937)"), std::string::npos) << back.out;
 }
@@ -150,10 +235,10 @@ TEST_F(CompareGate, TooFewRepeatsIsSaidNotGuessed) {
         << r.out;
     EXPECT_NE(r.out.find("1x (no verdict: too few repeats)"), std::string::npos) << r.out;
     // A time allowed no growth at all, on a slower copy: no verdict is a failed gate, saying why.
-    edited_copy("two", "two_slower", "ns_per_sample", "1e9");
+    edited_copy("two", "two_slower", "time", "1e9");
     fs::copy_file(dir / "two" / "run.json", dir / "two_slower" / "run.json");
-    const auto g = pxh("compare " + d("two") + " " + d("two_slower") +
-                       " --accept-edited --fail-on ns_per_sample=+0");
+    const auto g =
+        pxh("compare " + d("two") + " " + d("two_slower") + " --accept-edited --fail-on time=+0");
     EXPECT_EQ(g.status, 1) << g.out << g.err;
     EXPECT_NE(g.out.find("no verdict: too few repeats, 2 and 2)"), std::string::npos) << g.out;
 }
@@ -230,6 +315,19 @@ TEST_F(CompareGate, RefusesWhatCannotBeCompared) {
     EXPECT_NE(r.err.find("is measured against ground truth 'embree' here but 'exact' in BASE"),
               std::string::npos)
         << r.err;
+    // Times in another unit: refused, not a ratio of numbers that do not compare.
+    run_into("timed", experiment("\"cpu\"", 3));
+    edited_copy("timed", "us", "time_unit", "us/sample");
+    r = pxh("compare " + d("timed") + " " + d("us") + " --accept-edited");
+    EXPECT_EQ(r.status, 2) << r.out;
+    EXPECT_NE(r.err.find("us/results.csv:2: parallax [cpu/float] on fbm s=0.05 b=1 theta=0 "
+                         "phi=0 is timed in us/sample here but in ns/sample in BASE (" +
+                         d("timed") +
+                         "/results.csv:2): compare refuses to compare times in different "
+                         "units\n"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.out, "") << "nothing compared";
 }
 
 }  // namespace

@@ -44,19 +44,21 @@ const char* kVsTheta =
     "rock,s,parallax,,glsl,float,r32f,60,6.6,9,,\n";
 
 const char* kCost =
-    "series,setting,method,group,err_mean,err_p95,fetches_mean,ns_per_sample,ms_per_frame,"
-    "pareto_fetches,pareto_ns,pareto_ms,params,backend,precision,texture_format\n"
+    "series,setting,method,group,err_mean,err_p95,fetches_mean,time[ns/sample],time[ms/frame],"
+    "pareto_fetches,pareto_time[ns/sample],pareto_time[ms/frame],params,backend,precision,"
+    "texture_format\n"
     "a,pom layers=8,pom,cpu/float,0.3,1,17,50,,1,1,,layers=8,cpu,float,\n"
     "b,parallax,parallax,cpu/float,3,9,1,5,,1,1,,,cpu,float,\n"
     "c,pom layers=8,pom,glsl/r32f,0.3,1,17,,2,1,,1,layers=8,glsl,float,r32f\n"
     "d,parallax,parallax,glsl/r32f,3,9,1,,3,1,,0,,glsl,float,r32f\n";
 
-// Two bands; fetches and errors equal on both backends (one row of panels for fetches), CPU ns
-// and GLSL ms (two rows for time). In band 1 a third setting, dominated, is off the fronts.
+// Two bands; fetches and errors equal on both backends (one row of panels for fetches), CPU
+// ns/sample and GLSL ms/frame (two rows for time, one per unit). In band 1 a third setting,
+// dominated, is off the fronts.
 const char* kBands =
     "band,band_lo,band_hi,band_label,series,setting,group,err_mean,err_p95,fetches_mean,"
-    "ns_per_sample,ms_per_frame,pareto_fetches,pareto_ns,pareto_ms,method,params,backend,"
-    "precision,texture_format\n"
+    "time[ns/sample],time[ms/frame],pareto_fetches,pareto_time[ns/sample],"
+    "pareto_time[ms/frame],method,params,backend,precision,texture_format\n"
     "0,0,30,0 <= θ < 30 †,a,x,cpu/float,0.1,1,17,50,,1,1,,pom,layers=8,cpu,float,\n"
     "0,0,30,0 <= θ < 30 †,b,x,cpu/float,1,9,1,5,,1,1,,parallax,,cpu,float,\n"
     "0,0,30,0 <= θ < 30 †,c,x,glsl/r32f,0.1,1,17,,2,1,,1,pom,layers=8,glsl,float,r32f\n"
@@ -128,8 +130,11 @@ TEST_F(PlotScript, EveryFigureWithItsPanelsAndSeries) {
     EXPECT_EQ(figs["cost_vs_error"]["rows"].dump(), "[\"cpu/float = glsl/r32f\"]");
     EXPECT_EQ(figs["cost_vs_error"]["front_points"].dump(), "[2,2]");
     EXPECT_EQ(figs["cost_vs_error"]["series"], 3);
-    // error vs time: CPU ns and GLSL ms are two rows of two bands.
+    // error vs time: a row of two bands per time unit, labelled with it.
     EXPECT_EQ(figs["time_vs_error"]["panels"], 4);
+    EXPECT_EQ(figs["time_vs_error"]["x_labels"].dump(),
+              "[\"time (ns/sample)\",\"time (ms/frame)\"]");
+    EXPECT_EQ(figs["cost_vs_error"]["x_labels"].dump(), "[\"fetches / sample\"]");
     EXPECT_EQ(figs["time_vs_error"]["front_points"].dump(), "[2,2,1,1]");
     // Width: 7 in at 300 dpi (the tight box trims the margins only).
     const int w = png_width("error_vs_theta.png");

@@ -27,30 +27,31 @@ using Cells = std::map<std::string, std::string>;
 
 // The results.csv columns the report and check read.
 const std::vector<std::string> kColumns = {
-    "method",       "params",          "heightfield", "scale",      "bias",         "backend",
-    "precision",    "texture_format",  "theta_deg",   "phi_deg",    "err_mean",     "err_p50",
-    "err_p95",      "err_p99",         "frac_gt_1",   "nonfinite",  "fetches_mean", "ns_per_sample",
-    "ms_per_frame", "double_diff_max", "sliding",     "shimmering", "map",          "status",
+    "method",    "params",          "heightfield", "scale",      "bias",         "backend",
+    "precision", "texture_format",  "theta_deg",   "phi_deg",    "err_mean",     "err_p50",
+    "err_p95",   "err_p99",         "frac_gt_1",   "nonfinite",  "fetches_mean", "time",
+    "time_unit", "double_diff_max", "sliding",     "shimmering", "map",          "status",
     "error"};
 
 // One row: an ok CPU float row of pom layers=8 at theta 0, overridden by `cells`.
 Cells row(const Cells& cells) {
-    Cells r = {{"method", "pom"},      {"params", "layers=8"},  {"heightfield", "bricks"},
-               {"scale", "0.05"},      {"bias", "1"},           {"backend", "cpu"},
-               {"precision", "float"}, {"theta_deg", "0"},      {"phi_deg", "0"},
-               {"err_mean", "0.1"},    {"err_p50", "0.1"},      {"err_p95", "0.2"},
-               {"err_p99", "0.3"},     {"frac_gt_1", "0"},      {"nonfinite", "0"},
-               {"fetches_mean", "8"},  {"ns_per_sample", "10"}, {"status", "ok"}};
+    Cells r = {{"method", "pom"},      {"params", "layers=8"}, {"heightfield", "bricks"},
+               {"scale", "0.05"},      {"bias", "1"},          {"backend", "cpu"},
+               {"precision", "float"}, {"theta_deg", "0"},     {"phi_deg", "0"},
+               {"err_mean", "0.1"},    {"err_p50", "0.1"},     {"err_p95", "0.2"},
+               {"err_p99", "0.3"},     {"frac_gt_1", "0"},     {"nonfinite", "0"},
+               {"fetches_mean", "8"},  {"time", "10"},         {"time_unit", "ns/sample"},
+               {"status", "ok"}};
     for (const auto& [k, v] : cells) r[k] = v;
     return r;
 }
 
-// A GLSL row in texture format `fmt` (no CPU time, a frame time instead).
+// A GLSL row in texture format `fmt` (a frame time, in ms/frame).
 Cells glsl(const std::string& fmt, Cells cells) {
     cells.emplace("backend", "glsl");
     cells.emplace("texture_format", fmt);
-    cells.emplace("ns_per_sample", "");
-    cells.emplace("ms_per_frame", "0.5");
+    cells.emplace("time", "0.5");
+    cells.emplace("time_unit", "ms/frame");
     return row(cells);
 }
 
@@ -146,7 +147,7 @@ class ReportFolder : public pxh::test::CliTest {
 TEST_F(ReportFolder, FailedRowsListedAndLeftOutOfEveryFigure) {
     const Cells poison = {
         {"err_mean", "1000"},        {"err_p50", "1000"},      {"err_p95", "1000"},
-        {"err_p99", "1000"},         {"fetches_mean", "1000"}, {"ns_per_sample", "1000"},
+        {"err_p99", "1000"},         {"fetches_mean", "1000"}, {"time", "1000"},
         {"double_diff_max", "1000"}, {"sliding", "1000"},      {"shimmering", "1000"},
         {"map", "maps/failed.png"},  {"status", "failed"}};
     Cells failed_pom = poison, failed_relief = poison;
@@ -358,14 +359,11 @@ TEST_F(ReportFolder, BudgetPerSettingConservativeWithSelectableMetric) {
 // the CPU point of pom layers=16 and push it off the CPU front.
 TEST_F(ReportFolder, ParetoFrontPerGroup) {
     const std::string res = results({
-        row({{"params", "layers=8"},
-             {"fetches_mean", "8"},
-             {"err_mean", "0.30"},
-             {"ns_per_sample", "10"}}),
+        row({{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.30"}, {"time", "10"}}),
         row({{"params", "layers=16"},
              {"fetches_mean", "16"},
              {"err_mean", "0.25"},
-             {"ns_per_sample", "20"}}),
+             {"time", "20"}}),
         glsl("r32f", {{"params", "layers=8"}, {"fetches_mean", "8"}, {"err_mean", "0.20"}}),
         glsl("r32f", {{"params", "layers=16"}, {"fetches_mean", "16"}, {"err_mean", "0.40"}}),
     });
@@ -375,7 +373,8 @@ TEST_F(ReportFolder, ParetoFrontPerGroup) {
     std::map<std::string, std::string> flags;
     for (size_t r = 0; r < t.rows.size(); ++r)
         flags[t.get(r, "series")] = t.get(r, "group") + " " + t.get(r, "pareto_fetches") +
-                                    t.get(r, "pareto_ns") + t.get(r, "pareto_ms");
+                                    t.get(r, "pareto_time[ns/sample]") +
+                                    t.get(r, "pareto_time[ms/frame]");
     EXPECT_EQ(flags["pom layers=8 [cpu/float]"], "cpu/float 11");
     EXPECT_EQ(flags["pom layers=16 [cpu/float]"], "cpu/float 11");
     EXPECT_EQ(flags["pom layers=8 [glsl/r32f]"], "glsl/r32f 11");
@@ -623,7 +622,7 @@ TEST_F(ReportFolder, CheckColumnErrorsListNumericColumns) {
     const std::string res = results({row({})});
     const std::string numeric =
         "(the measured numeric columns of results.csv: err_mean, err_p50, err_p95, err_p99, "
-        "frac_gt_1, nonfinite, fetches_mean, ns_per_sample, ms_per_frame, double_diff_max, "
+        "frac_gt_1, nonfinite, fetches_mean, time, double_diff_max, "
         "sliding, shimmering)\n";
     struct Case {
         std::string column, expect;
@@ -688,7 +687,8 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
     // summary x3, fields x3 (one field), legend x2, failed, sweep, precision, budget x2,
     // data x5 (maps: with the colour scale), manifest
     EXPECT_EQ(files, 19u);
-    EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "ns_per_sample")));
+    EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "time[ns/sample]")));
+    EXPECT_EQ(summary(rep, "pom layers=8 [glsl/r8]", "all", "time[ms/frame]"), 0.5);
     const pxh::CsvTable maps = pxh::read_csv((rep / "data" / "maps.csv").string());
     ASSERT_EQ(maps.rows.size(), 2u);
     EXPECT_EQ(maps.get(0, "map"), "maps/a.png");
@@ -729,9 +729,9 @@ TEST_F(ReportFolder, MalformedNumberNamesLineAndColumn) {
 // the tables or not) stops `pxh report` and `pxh check` with one line naming file:line and
 // column, exit 2.
 TEST_F(ReportFolder, MalformedNumberIsOneLineExit2) {
-    const std::string res = results({row({}), row({{"ms_per_frame", "1.5.2"}})});
+    const std::string res = results({row({}), row({{"time", "1.5.2"}})});
     const std::string expect =
-        "pxh: error: " + res + "/results.csv:3: column 'ms_per_frame': '1.5.2' is not a number\n";
+        "pxh: error: " + res + "/results.csv:3: column 'time': '1.5.2' is not a number\n";
     // (--accept-edited on a hand-made folder also warns that run.json is missing.)
     auto one_error_line = [&](const std::string& err) {
         return err.size() >= expect.size() &&

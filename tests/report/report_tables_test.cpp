@@ -28,10 +28,9 @@ namespace fs = std::filesystem;
 using Cells = std::map<std::string, std::string>;
 
 const std::vector<std::string> kColumns = {
-    "method",    "params",       "heightfield",    "scale",        "bias",
-    "backend",   "precision",    "texture_format", "theta_deg",    "phi_deg",
-    "err_mean",  "err_p50",      "err_p95",        "err_p99",      "frac_gt_1",
-    "nonfinite", "fetches_mean", "ns_per_sample",  "ms_per_frame", "status"};
+    "method",         "params",    "heightfield",  "scale",    "bias",      "backend", "precision",
+    "texture_format", "theta_deg", "phi_deg",      "err_mean", "err_p50",   "err_p95", "err_p99",
+    "frac_gt_1",      "nonfinite", "fetches_mean", "time",     "time_unit", "status"};
 
 // An ok row of `method params` on `field` (s = 0.05, b = 1) at θ, CPU float or GLSL r32f.
 Cells row(const std::string& method, const std::string& params, const std::string& field, bool glsl,
@@ -58,8 +57,8 @@ Cells row(const std::string& method, const std::string& params, const std::strin
             {"frac_gt_1", "0"},
             {"nonfinite", "0"},
             {"fetches_mean", fe},
-            {"ns_per_sample", glsl ? "" : "10"},
-            {"ms_per_frame", glsl ? "0.5" : ""},
+            {"time", glsl ? "0.5" : "10"},
+            {"time_unit", glsl ? "ms/frame" : "ns/sample"},
             {"status", "ok"}};
 }
 
@@ -71,15 +70,17 @@ std::string f3(double v) {
 
 class ReportTables : public pxh::test::CliTest {
   protected:
-    fs::path results(const std::vector<Cells>& rows) {
-        const fs::path res = dir / "res";
+    fs::path results(const std::vector<Cells>& rows,
+                     const std::vector<std::string>& columns = kColumns,
+                     const std::string& name = "res") {
+        const fs::path res = dir / name;
         fs::create_directories(res);
         std::string text;
-        for (size_t c = 0; c < kColumns.size(); ++c) text += (c ? "," : "") + kColumns[c];
+        for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
         text += "\n";
         for (const auto& r : rows) {
-            for (size_t c = 0; c < kColumns.size(); ++c) {
-                auto it = r.find(kColumns[c]);
+            for (size_t c = 0; c < columns.size(); ++c) {
+                auto it = r.find(columns[c]);
                 text += (c ? "," : "") + pxh::csv_quote(it == r.end() ? "" : it->second);
             }
             text += "\n";
@@ -136,8 +137,8 @@ TEST_F(ReportTables, IdenticalBackendsMergedDifferentOnesApart) {
     ASSERT_EQ(pom.size(), 4u) << md;
     EXPECT_EQ(pom[0], f3((0.1234 + 0.3) / 2) + " / " + f3(0.6)) << md;
     EXPECT_EQ(pom[1], "8.0");
-    EXPECT_EQ(pom[2], "10.0");  // CPU ns/sample, from the CPU series
-    EXPECT_EQ(pom[3], "0.50");  // GLSL ms/frame, from the GLSL series
+    EXPECT_EQ(pom[2], "10.0");   // time (ns/sample), from the CPU series
+    EXPECT_EQ(pom[3], "0.500");  // time (ms/frame), from the GLSL series
     EXPECT_EQ(count(md, "| pom layers=8 ["), 1) << md;
     // parallax: two rows, each its own band mean
     const auto cpu = md_row(md, "parallax [cpu/float]");
@@ -149,7 +150,7 @@ TEST_F(ReportTables, IdenticalBackendsMergedDifferentOnesApart) {
     EXPECT_EQ(cpu[2], "10.0");
     EXPECT_EQ(cpu[3], "-");  // the CPU series has no frame time
     EXPECT_EQ(gl[2], "-");
-    EXPECT_EQ(gl[3], "0.50");
+    EXPECT_EQ(gl[3], "0.500");
     EXPECT_EQ(count(md, "| parallax ["), 2) << md;
     // LaTeX: the same rows under the compact labels, groups shortened
     const std::string tex = slurp(rep / "summary.tex");
@@ -161,6 +162,67 @@ TEST_F(ReportTables, IdenticalBackendsMergedDifferentOnesApart) {
     std::set<std::string> series;
     for (size_t r = 0; r < csv.rows.size(); ++r) series.insert(csv.get(r, "series"));
     EXPECT_EQ(series.size(), 4u);
+    // A cost column per time unit of the rows, named by it, in order of appearance
+    const auto header =
+        md.substr(md.find("| method"), md.find('\n', md.find("| method")) - md.find("| method"));
+    EXPECT_NE(header.find("| fetches | time (ns/sample) | time (ms/frame) |"), std::string::npos)
+        << header;
+    EXPECT_GE(csv.index("time[ns/sample]"), 0);
+    EXPECT_GE(csv.index("time[ms/frame]"), 0);
+    for (size_t r = 0; r < csv.rows.size(); ++r) {
+        const bool is_gl = csv.get(r, "group") == "glsl/r32f";
+        EXPECT_EQ(csv.get(r, "time[ns/sample]"), is_gl ? "" : "10") << r;
+        EXPECT_EQ(csv.get(r, "time[ms/frame]"), is_gl ? "0.5" : "") << r;
+    }
+}
+
+// A results.csv written before the backends named their own timing (ns_per_sample on CPU
+// rows, ms_per_frame on GLSL rows) reports exactly as the same rows with time and time_unit:
+// the same tables, the same figure data, a cost per unit.
+TEST_F(ReportTables, OldTimingColumnsReportLikeNewOnes) {
+    std::vector<Cells> rows;
+    for (bool glsl : {false, true})
+        for (double theta : {10, 40, 70}) {
+            rows.push_back(row("pom", "layers=8", "bricks", glsl, theta, 0.1 + theta / 1000, 0.5));
+            rows.push_back(row("parallax", "", "bricks", glsl, theta, 0.3, 0.9, 1));
+            rows.back()["time"] = glsl ? "0.125" : "2.5";
+        }
+    std::vector<Cells> old = rows;
+    for (Cells& c : old) {
+        c[c["time_unit"] == "ns/sample" ? "ns_per_sample" : "ms_per_frame"] = c["time"];
+        c.erase("time");
+        c.erase("time_unit");
+    }
+    std::vector<std::string> old_columns;
+    for (const auto& c : kColumns)
+        if (c == "time") old_columns.push_back("ns_per_sample");
+        else if (c == "time_unit") old_columns.push_back("ms_per_frame");
+        else old_columns.push_back(c);
+    const fs::path now = report(results(rows, kColumns, "now"));
+    const fs::path before = report(results(old, old_columns, "before"));
+    for (const char* f : {"summary.csv", "summary.md", "summary.tex", "budget.md",
+                          "data/cost_vs_error.csv", "data/cost_vs_error_bands.csv"}) {
+        std::string b = slurp(before / f);  // a .tex names its results.csv
+        for (size_t at; (at = b.find("/before/")) != std::string::npos;) b.replace(at, 8, "/now/");
+        EXPECT_EQ(b, slurp(now / f)) << f;
+    }
+    const pxh::CsvTable bands = pxh::read_csv((now / "data/cost_vs_error_bands.csv").string());
+    for (const char* c : {"time[ns/sample]", "time[ms/frame]", "pareto_time[ns/sample]",
+                          "pareto_time[ms/frame]", "time_min[ns/sample]", "time_max[ms/frame]"})
+        EXPECT_GE(bands.index(c), 0) << c;
+    size_t checked = 0;
+    for (size_t r = 0; r < bands.rows.size(); ++r) {
+        const bool gl = bands.get(r, "group") == "glsl/r32f";
+        const bool pom = bands.get(r, "setting") == "pom layers=8";
+        EXPECT_EQ(bands.get(r, gl ? "time[ns/sample]" : "time[ms/frame]"), "");
+        EXPECT_EQ(bands.number(r, gl ? "time[ms/frame]" : "time[ns/sample]"),
+                  gl ? (pom ? 0.5 : 0.125) : (pom ? 10 : 2.5));
+        // parallax: cheaper in both costs but worse; each on its group's front of its unit
+        EXPECT_EQ(bands.get(r, gl ? "pareto_time[ms/frame]" : "pareto_time[ns/sample]"), "1");
+        EXPECT_EQ(bands.get(r, gl ? "pareto_time[ns/sample]" : "pareto_time[ms/frame]"), "");
+        ++checked;
+    }
+    EXPECT_EQ(checked, 2u * 2u * 3u);  // settings x groups x bands
 }
 
 // One table per height field, holding that field's numbers only: the band means computed
