@@ -83,7 +83,19 @@ class ExactTracer final : public Tracer {
     // and returns true with the hit when the ray is done.
     struct WalkState;
     void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
+    // The same start, moved down to the DDA's cell where the ray comes down to z_floor, a
+    // height above which the ray provably meets no cell (packet_floor); where rounding could
+    // put a skipped cell below z_floor, the ray starts at its first cell.
+    void walk_start_below(WalkState& w, const Ray& r, double z_floor) const;
+    // A height z_floor such that every cell any of the m rays crosses while at or above
+    // z_floor lies below the ray there (ray_walk_exact.cpp).
+    double packet_floor(const Ray* rays, int m) const;
+    // An upper bound (from the maximum mipmap) of the corner maxima of the global cells
+    // [gx0, gx1] x [gy0, gy1], both ends included, tiles wrapped.
+    float cells_max(int64_t gx0, int64_t gx1, int64_t gy0, int64_t gy1) const;
     bool walk_step(WalkState& w, TruthHit& out) const;
+    TruthHit walk_dda(const WalkState& w) const;   // walk_step at level 0 throughout, faster
+    TruthHit finish(WalkState& w) const;           // the rest of the walk: its hit
     void prefetch_cell(int li, int lj) const;      // requests tile-local cell (li, lj)'s texels
     Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
     friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
