@@ -29,9 +29,10 @@ class ExactTracer final : public Tracer {
     ExactTracer& operator=(const ExactTracer&) = delete;
 
     // The Tracer interface ("exact"): an orthographic view on the sample grid takes
-    // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray. Both
-    // equal trace_naive bit for bit, so a view's hits do not depend on the path that traced
-    // them.
+    // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray's
+    // walk, in packets of neighbouring pixels that first descend through the slab together
+    // (trace_rays, ray_walk_exact.cpp). Both equal trace_naive bit for bit, so a view's hits
+    // do not depend on the path that traced them.
     std::string name() const override { return "exact"; }
     void trace(const View& view, Hits& out) const override;
     bool has_shadow_query() const override { return true; }
@@ -105,7 +106,7 @@ class ExactTracer final : public Tracer {
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
                       double tau_out) const;
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
-    // The per-ray path of the Tracer interface.
+    // The per-ray path of the Tracer interface: packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
     // The maximum mipmap's levels (construction).
     void build_levels();

@@ -19,6 +19,22 @@
 // branch predictor loses each ray's pattern), tracing the image in 8 x 8 pixel tiles (no
 // measurable change), descending without moving to the crossing (slower). Kept: requesting a
 // cell's texels (and the next block's maximum) a step or two before they are read.
+//
+// Packets (trace_rays): 4 x 4 neighbouring pixels of a view descend through the slab together
+// (packet_floor): over a depth range [zt - u_lo, zt - u_hi] every ray of the packet lies in
+// one box (from the rays' extreme starts and slopes, widened by eps in depth and a cell each
+// side); when the maximum mipmap's bound over that box lies strictly below zt - u_lo, every
+// cell any of them leaves within that range lies below it there, and the range is passed
+// (the next one twice as deep, else half as deep, down to a cell of travel). Each ray then
+// starts at the DDA's cell where it comes down to the packet's floor (walk_start_below):
+// every cell skipped is left at a height at or above the floor (checked per ray in the DDA's
+// arithmetic; where it fails the ray starts at its first cell), so inside some passed range,
+// inside its box, below the ray: one solve_cell rejects by its own test. After the descent a
+// ray near its hit (128 cells of travel left at most) takes the DDA (walk_dda: cheaper per
+// cell than the walk's block steps). Measured and dropped: 2 x 2 and 8 x 8 packets, a second
+// descent per 2 x 2 quarter of the packet, a descent per ray after the packet's, a DDA limit
+// in cells done (8 to 64) rather than cells left, and boxes bounded by blocks as wide as the
+// box (twice as coarse) or a quarter as wide (more loads for no gain).
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -55,25 +71,27 @@ struct Axis {
 };
 
 // Rays shorter than this (horizontal travel through the slab, in cells) are walked at level 0
-// (the DDA): their few cells cost no more than the block tests (measured with pxh bench
-// --camera perspective: 0 to 24 alike, 48 and 96 slower).
-constexpr double kDdaTravelCells = 16;
+// (the DDA, walk_dda): their cells cost no more than the block tests (measured with pxh bench
+// --camera perspective: 64 faster than 16 and 32 at 512 x 512 and D = 4 or 16, 128 slower at
+// 2048 x 2048).
+constexpr double kDdaTravelCells = 64;
 
 // Packets (trace_rays): kPacketSide x kPacketSide neighbouring pixels share one descent
 // through the slab (packet_floor) before each ray goes on alone from where the packet
 // stopped. A packet whose rays start more than kPacketMaxSpread cells apart (a far eye: its
-// box would be too wide to rule anything out) skips it. The descent's first depth range
-// spans kPacketStartCells cells of travel of its fastest ray; it tests at most kPacketTests
-// ranges, none shorter than kPacketStopCells cells. After it a ray with at most
+// box would be too wide to rule anything out; 16 and 32 measured alike) skips it. The descent's
+// first depth range spans kPacketStartCells cells of travel of its fastest ray; it tests at most
+// kPacketTests ranges, none shorter than kPacketStopCells cells. After it a ray with at most
 // kPacketDdaCells cells of travel left takes the DDA (cheaper per cell than the walk's
-// block steps), a longer one the walk from level kPacketResumeLevel at most. Measured with
-// pxh bench --camera perspective (single thread; 2 x 2, 4 x 4 and 8 x 8 packets, a second
-// descent per 2 x 2 quarter, a descent per ray, DDA limits 8 to 512 cells).
+// block steps), a longer one the walk from level kPacketResumeLevel at most (1 to 4 measured
+// alike). Measured with pxh bench --camera perspective (single thread; 2 x 2, 4 x 4 and 8 x 8
+// packets, a second descent per 2 x 2 quarter, a descent per ray, DDA limits 8 to 512 cells:
+// 64 to 256 alike at 512 x 512, 512 slower).
 constexpr int kPacketSide = 4;
-constexpr double kPacketMaxSpread = 16;
+constexpr double kPacketMaxSpread = 32;
 constexpr double kPacketStartCells = 8, kPacketStopCells = 1;
 constexpr int kPacketTests = 16;
-constexpr double kPacketDdaCells = 64;
+constexpr double kPacketDdaCells = 128;
 constexpr int kPacketResumeLevel = 2;
 
 // floor(log2(x)) for a finite x >= 1, from the exponent bits (no library call).
