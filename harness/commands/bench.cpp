@@ -25,6 +25,7 @@
 #include "harness/truth/ground_truth.h"
 #include "harness/truth/travel_limit.h"
 #include "heightfields/heightfields.h"
+#include "heightfields/scanned.h"
 
 namespace pxh {
 namespace {
@@ -269,8 +270,15 @@ int run_bench(const BenchOptions& options) {
     BenchOptions opt = options;
     if (opt.out.empty()) opt.out = "results/runs/bench-" + utc_timestamp("%Y%m%d-%H%M%S") + ".json";
     check_bench_out(opt.out, opt.force);  // before any measurement
-    const GeneratorInfo* gen = find_generator(opt.field);
-    if (!gen) throw InputError("--field", "unknown generator '" + opt.field + "'");
+    // A generator at each of --sizes, or a measured field (scan:NAME, as `pxh list
+    // heightfields` names it) at its own size (loaded before any measurement).
+    const bool scan = opt.field.rfind("scan:", 0) == 0;
+    const GeneratorInfo* gen = scan ? nullptr : find_generator(opt.field);
+    if (!scan && !gen)
+        throw InputError(
+            "--field", "unknown generator '" + opt.field + "' (or scan:NAME for a measured field)");
+    const HeightField scanned = scan ? load_scan(opt.field.substr(5), "--field") : HeightField{};
+    const std::vector<int> sizes = scan ? std::vector<int>{scanned.width} : opt.sizes;
     // Views the ground truths would refuse (the travel limit), before any work.
     for (double theta : opt.thetas)
         if (const std::string why = ray_travel_problem(opt.scale, theta); !why.empty())
@@ -294,9 +302,11 @@ int run_bench(const BenchOptions& options) {
     if (opt.naive) std::printf(" %12s %12s %12s", "per-ray Mr/s", "ray Mr/s", "naive Mr/s");
     std::printf(" %10s %10s %10s %10s %5s %5s\n", "agree p50", "agree p99", "agree max", "frac>0.5",
                 "sprdX", "sprdE");
-    for (int size : opt.sizes) {
-        const HeightField hf = generate_heightfield(
-            *gen, size, size, resolve_params(gen->params, {}, "bench", gen->name));
+    for (int size : sizes) {
+        const HeightField hf =
+            scan ? scanned
+                 : generate_heightfield(*gen, size, size,
+                                        resolve_params(gen->params, {}, "bench", gen->name));
         std::unique_ptr<ExactTracer> exact;
         const double exact_build =
             seconds([&] { exact = std::make_unique<ExactTracer>(hf, opt.scale, opt.bias); });

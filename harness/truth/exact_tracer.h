@@ -29,9 +29,10 @@ class ExactTracer final : public Tracer {
     ExactTracer& operator=(const ExactTracer&) = delete;
 
     // The Tracer interface ("exact"): an orthographic view on the sample grid takes
-    // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray. Both
-    // equal trace_naive bit for bit, so a view's hits do not depend on the path that traced
-    // them.
+    // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray's
+    // walk, in packets of neighbouring pixels that first descend through the slab together
+    // (trace_rays, ray_walk_exact.cpp). Both equal trace_naive bit for bit, so a view's hits
+    // do not depend on the path that traced them.
     std::string name() const override { return "exact"; }
     void trace(const View& view, Hits& out) const override;
     bool has_shadow_query() const override { return true; }
@@ -83,7 +84,19 @@ class ExactTracer final : public Tracer {
     // and returns true with the hit when the ray is done.
     struct WalkState;
     void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
+    // The same start, moved down to the DDA's cell where the ray comes down to z_floor, a
+    // height above which the ray provably meets no cell (packet_floor); where rounding could
+    // put a skipped cell below z_floor, the ray starts at its first cell.
+    void walk_start_below(WalkState& w, const Ray& r, double z_floor) const;
+    // A height z_floor such that every cell any of the m rays crosses while at or above
+    // z_floor lies below the ray there (ray_walk_exact.cpp).
+    double packet_floor(const Ray* rays, int m) const;
+    // An upper bound (from the maximum mipmap) of the corner maxima of the global cells
+    // [gx0, gx1] x [gy0, gy1], both ends included, tiles wrapped.
+    float cells_max(int64_t gx0, int64_t gx1, int64_t gy0, int64_t gy1) const;
     bool walk_step(WalkState& w, TruthHit& out) const;
+    TruthHit walk_dda(const WalkState& w) const;   // walk_step at level 0 throughout, faster
+    TruthHit finish(WalkState& w) const;           // the rest of the walk: its hit
     void prefetch_cell(int li, int lj) const;      // requests tile-local cell (li, lj)'s texels
     Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
     friend class ViewTracer;                       // trace_grid's machinery (band_tracer.cpp)
@@ -93,7 +106,7 @@ class ExactTracer final : public Tracer {
     double solve_cell(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
                       double tau_out) const;
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
-    // The per-ray path of the Tracer interface.
+    // The per-ray path of the Tracer interface: packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
     // The maximum mipmap's levels (construction).
     void build_levels();

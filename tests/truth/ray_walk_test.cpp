@@ -6,7 +6,10 @@
 // ray). The walk solves a subset of the DDA's cells (on smooth fields far fewer): a
 // different path, the same answers. Views larger than one of the tracer's work chunks are
 // traced through the interface too (its runs of identical rays are traced once: every pixel
-// still equals its own DDA hit, and rays one bit apart are traced each on its own).
+// still equals its own DDA hit, and rays one bit apart are traced each on its own). Views
+// are traced in packets of neighbouring pixels that descend through the slab together:
+// near eyes on spikes, thin walls, smooth and measured fields, partial packets, views that
+// are not square images.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -201,6 +204,72 @@ TEST(RayWalk, LargePerspectiveViewsThroughTheInterfaceHitWhatTheDdaHits) {
                         EXPECT_EQ(outside_same, cam.outside_count()) << c.what;
                     }
                 }
+    }
+}
+
+// A square view of n x n pixels through the eye at `distance` tiles (the Tracer interface
+// traces it in packets of neighbouring pixels, each ray going on alone from the packet's
+// floor): every sample bit for bit its own DDA hit. Returns the number of rays compared.
+size_t packet_view_differences(const ExactTracer& t, double theta, double distance, double fov,
+                               int n, size_t& differ) {
+    const PerspectiveCamera cam(params(theta, 20 + 37 * theta, distance, fov, n));
+    differ += interface_differences(t, cam.view());
+    return size_t(n) * size_t(n);
+}
+
+TEST(RayWalk, PacketsOfNeighbouringPixelsHitWhatTheDdaHits) {
+    // Near eyes and many pixels per cell make packets whose rays lie close together (their
+    // descent skips most of the slab), on fields where skipping one cell too many changes a
+    // hit: single-texel spikes and thin walls beside flat ground (a ray that clips a spike's
+    // corner hits it; its packet's box must hold that corner), smooth and measured fields.
+    // Image sides that are not multiples of the packet's (partial packets at the right and
+    // top edges), grazing views whose top rows are outside (the look-at ray, kept out of
+    // the packets) and far eyes (packets too spread out to descend) are in the mix.
+    HeightField walls = test::random_field(48, 40, 2);
+    for (int j = 0; j < walls.height; ++j)
+        for (int i = 0; i < walls.width; ++i)
+            walls.texels[size_t(j) * walls.width + i] = (i % 11 == 3 || j % 13 == 5) ? 0.9f : 0.1f;
+    HeightField spikes = test::random_field(40, 40, 3);
+    for (float& v : spikes.texels) v = 0.0f;
+    std::mt19937 rng(17);
+    for (int k = 0; k < 30; ++k) spikes.texels[rng() % spikes.texels.size()] = 1.0f;
+    struct Case {
+        const char* what;
+        HeightField hf;
+        double s, b;
+    };
+    const Case cases[] = {{"spikes 40", spikes, 0.1, 1.0},
+                          {"walls 48 x 40", walls, 0.05, 0.8},
+                          {"fbm 128", generated("fbm", 128), 0.05, 1.0},
+                          {"luxembourg (measured)", load_scan("luxembourg", "test"), 0.05, 1.0}};
+    for (const Case& c : cases) {
+        const ExactTracer t(c.hf, c.s, c.b);
+        size_t rays = 0, differ = 0;
+        for (double theta : {20.0, 60.0, 80.0, 88.0})
+            for (double distance : {1.2, 3.0, 20.0})
+                for (const auto& [fov, n] : {std::pair{45.0, 61}, std::pair{20.0, 64}}) {
+                    const PerspectiveParams p = params(theta, 20 + 37 * theta, distance, fov, n);
+                    if (!eye_slab_problem(p, c.s, c.b).empty()) continue;
+                    rays += packet_view_differences(t, theta, distance, fov, n, differ);
+                }
+        EXPECT_EQ(differ, 0u) << c.what << ": of " << rays << " rays";
+        EXPECT_GT(rays, 40000u) << c.what;
+    }
+}
+
+TEST(RayWalk, ViewsThatAreNotSquareImagesHitWhatTheDdaHits) {
+    // A view whose size is not a square is traced in runs of consecutive samples: the rows
+    // of a 70 x 33 perspective image, one ray, two equal rays, and a view cut short.
+    const HeightField hf = generated("fbm", 96);
+    const ExactTracer t(hf, 0.05, 1.0);
+    const PerspectiveCamera cam(params(70, 30, 1.5, 50, 70));
+    const View full = cam.view();
+    for (size_t count : {size_t(70 * 33), size_t(1), size_t(2), size_t(4899)}) {
+        View view;
+        view.P.assign(full.P.begin(), full.P.begin() + long(count));
+        view.V.assign(full.V.begin(), full.V.begin() + long(count));
+        if (count == 2) view.P[1] = view.P[0], view.V[1] = view.V[0];
+        EXPECT_EQ(interface_differences(t, view), 0u) << count << " samples";
     }
 }
 
