@@ -16,7 +16,8 @@ Command add_bench_command(CLI::App& app) {
     bench->add_option("--theta", bo->thetas, "view angles in degrees (default 60 85)")
         ->check(CLI::Range(0.0, 89.999));
     bench->add_option("--phi", bo->phi, "azimuth in degrees (default 20)");
-    bench->add_option("--field", bo->field, "generator (default fbm)");
+    bench->add_option("--field", bo->field,
+                      "generator, or scan:NAME for a measured field at its own size (default fbm)");
     bench->add_option("--samples", bo->samples, "N: N x N rays (default 512)")
         ->check(CLI::Range(1, 8192));
     bench->add_option("--repeats", bo->repeats, "timed repeats (default 5)")
