@@ -2,9 +2,11 @@
 // per-sample output (uv, fetches, shadow factors, timing). Scoring is the metrics' job.
 //
 // Adding a backend: one file harness/backends/NAME_backend.cpp defining a Backend subclass, a
-// factory and the reader of its own experiment keys, plus one line in
-// harness/backends/registry.cpp.
+// factory, the reader of its own experiment keys (into BackendSettings::own), its variants and
+// timing, gathered in `const BackendEntry& NAME_backend_entry()`, plus one line X(NAME) in
+// PXH_BACKENDS (harness/backends/registry.cpp).
 #pragma once
+#include <any>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -83,6 +85,10 @@ struct BackendSettings {
     // GLSL: a row's GL work (compile, upload, frames, read-back) runs in a child process that
     // is killed after this many seconds (the row fails; the next row gets a fresh context).
     double gl_time_limit_s = kDefaultGlTimeLimitS;
+    // Another backend's own settings, by its name: what its `read` parsed from its keys, in a
+    // type of its own (its factory takes them back with std::any_cast), so a new backend's keys
+    // need no field above.
+    std::map<std::string, std::any> own;
 };
 
 // The variant a row of a backend runs in: its precision and (GLSL) height texture format.
@@ -163,6 +169,8 @@ std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSett
 std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings);
 // Its timing (unit, meaning, counters); every registered backend's counters, in registry order.
 const TimingSpec& backend_timing(const std::string& name);
+// How many timed repeats a row of backend NAME makes under these settings (its entry's repeats).
+int backend_repeats(const std::string& name, const BackendSettings& settings);
 std::vector<CounterSpec> backend_counters();
 
 }  // namespace pxh

@@ -145,6 +145,15 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
     return out;
 }
 
+std::unique_ptr<Backend> make_cpu_backend(const BackendSettings& settings);
+
+// Its registry entry (harness/backends/registry.cpp's PXH_BACKENDS).
+const BackendEntry& cpu_backend_entry() {
+    static const BackendEntry e{"cpu",         &read_cpu_settings, &make_cpu_backend,
+                                &cpu_variants, &cpu_timing,        &cpu_repeats};
+    return e;
+}
+
 std::unique_ptr<Backend> make_cpu_backend(const BackendSettings& settings) {
     return std::make_unique<CpuBackend>(settings);
 }

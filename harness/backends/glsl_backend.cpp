@@ -732,6 +732,15 @@ std::vector<Variant> glsl_variants(const BackendSettings& settings) {
     return out;
 }
 
+// Its registry entry (harness/backends/registry.cpp's PXH_BACKENDS). The backend itself runs in
+// a GL process of its own (make_glsl_backend, harness/backends/gl_worker.cpp).
+std::unique_ptr<Backend> make_glsl_backend(const BackendSettings& settings);
+const BackendEntry& glsl_backend_entry() {
+    static const BackendEntry e{"glsl",         &read_glsl_settings, &make_glsl_backend,
+                                &glsl_variants, &glsl_timing,        &glsl_repeats};
+    return e;
+}
+
 std::vector<Variant> GlslBackend::variants() const {
     BackendSettings s;
     s.texture_formats = opt_.texture_formats;

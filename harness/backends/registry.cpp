@@ -7,23 +7,21 @@
 
 namespace pxh {
 
-void read_cpu_settings(const ParamDict&, BackendSettings&);
-std::unique_ptr<Backend> make_cpu_backend(const BackendSettings&);
-std::vector<Variant> cpu_variants(const BackendSettings&);
-const TimingSpec& cpu_timing();
-int cpu_repeats(const BackendSettings&);
-void read_glsl_settings(const ParamDict&, BackendSettings&);
-std::unique_ptr<Backend> make_glsl_backend(const BackendSettings&);
-std::vector<Variant> glsl_variants(const BackendSettings&);
-const TimingSpec& glsl_timing();
-int glsl_repeats(const BackendSettings&);
+// THE list of backends, in registry order: one line X(NAME) each, for the file
+// harness/backends/NAME_backend.cpp defining `const BackendEntry& NAME_backend_entry()` (its
+// name, the reader of its keys, its factory, variants, timing and repeats).
+#define PXH_BACKENDS(X) \
+    X(cpu)              \
+    X(glsl)
+
+#define PXH_DECLARE_BACKEND(NAME) const BackendEntry& NAME##_backend_entry();
+PXH_BACKENDS(PXH_DECLARE_BACKEND)
+#undef PXH_DECLARE_BACKEND
 
 const std::vector<BackendEntry>& backend_registry() {
-    static const std::vector<BackendEntry> entries = {
-        {"cpu", &read_cpu_settings, &make_cpu_backend, &cpu_variants, &cpu_timing, &cpu_repeats},
-        {"glsl", &read_glsl_settings, &make_glsl_backend, &glsl_variants, &glsl_timing,
-         &glsl_repeats},
-    };
+#define PXH_LIST_BACKEND(NAME) NAME##_backend_entry(),
+    static const std::vector<BackendEntry> entries = {PXH_BACKENDS(PXH_LIST_BACKEND)};
+#undef PXH_LIST_BACKEND
     return entries;
 }
 
@@ -43,6 +41,10 @@ std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSett
 
 std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings) {
     return find_entry(backend_registry(), name, "backend", "backend").variants(settings);
+}
+
+int backend_repeats(const std::string& name, const BackendSettings& settings) {
+    return find_entry(backend_registry(), name, "backend", "backend").repeats(settings);
 }
 
 const TimingSpec& backend_timing(const std::string& name) {

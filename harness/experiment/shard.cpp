@@ -36,7 +36,6 @@ ShardSpec parse_shard(const std::string& text) {
 namespace {
 
 constexpr double kSetupPerTexel = 64;  // Embree's BVH and the mipmap, in sample-steps per texel
-constexpr double kGlFrames = 5;        // timed GLSL frames per row (RunOptions::gl_frames)
 
 // One view's cost per sample: both references and every row's method evaluations.
 double view_cost(const Experiment& ex, const HeightfieldSpec& h, const FieldSize& size,
@@ -54,9 +53,8 @@ double view_cost(const Experiment& ex, const HeightfieldSpec& h, const FieldSize
                                    : double(std::max(1, m.method->declared_max_fetches));
         for (const auto& b : backends) {
             if (b == "cpu" && !m.method->run_float) continue;  // no C++ twin, no CPU row
-            const double passes = !timed       ? 1
-                                  : b == "cpu" ? 1.0 + ex.backend.timing_repeats
-                                               : 1 + kGlFrames;
+            // One untimed pass (the results), then the backend's own timed repeats.
+            const double passes = timed ? 1.0 + backend_repeats(b, settings) : 1.0;
             cost += double(backend_variants(b, settings).size()) * std::max(1.0, fetches) * passes;
         }
     }
