@@ -6,24 +6,29 @@
 
 namespace pxh {
 
+namespace {
+
+// The pair's sliding and shimmering over `step` into the row's columns of these names.
+void add_pair(const std::vector<Vec2d>& a, const std::vector<Vec2d>& b, double step, ResultRow& row,
+              const char* sliding, const char* shimmering, const char* step_col) {
+    if (a.empty() || b.empty()) return;
+    const SweepMetrics sm =
+        sweep_metrics(a, b, step, int(row.num("width")), int(row.num("height")));
+    row.set(sliding, sm.sliding);
+    row.set(shimmering, sm.shimmering);
+    row.set(step_col, step);
+}
+
+}  // namespace
+
 void add_sweep(const std::vector<Vec2d>& lo, const std::vector<Vec2d>& hi, double dt_deg,
                ResultRow& row) {
-    if (lo.empty() || hi.empty()) return;
-    const SweepMetrics sm =
-        sweep_metrics(lo, hi, dt_deg, int(row.num("width")), int(row.num("height")));
-    row.set("sliding", sm.sliding);
-    row.set("shimmering", sm.shimmering);
-    row.set("sweep_dt_deg", dt_deg);
+    add_pair(lo, hi, dt_deg, row, "sliding", "shimmering", "sweep_dt_deg");
 }
 
 void add_distance_sweep(const std::vector<Vec2d>& near, const std::vector<Vec2d>& far, double dd,
                         ResultRow& row) {
-    if (near.empty() || far.empty()) return;
-    const SweepMetrics sm =
-        sweep_metrics(near, far, dd, int(row.num("width")), int(row.num("height")));
-    row.set("sliding_dist", sm.sliding);
-    row.set("shimmering_dist", sm.shimmering);
-    row.set("sweep_dd", dd);
+    add_pair(near, far, dd, row, "sliding_dist", "shimmering_dist", "sweep_dd");
 }
 
 std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& settings) {
