@@ -8,6 +8,7 @@
 
 #include "harness/backends/backend.h"
 #include "harness/core/error.h"
+#include "harness/core/param_dict.h"
 
 namespace pxh {
 namespace {
@@ -28,18 +29,37 @@ TEST(BackendRegistry, TheListsBackendsInOrderEachWithItsTiming) {
     EXPECT_THROW(backend_repeats("gpu", s), InputError);
 }
 
-// A backend's own settings travel in BackendSettings::own, in a type of its own, through the
-// copies the run makes of the settings.
-TEST(BackendRegistry, OwnSettingsKeepTheirTypeThroughCopies) {
+// Every registered backend reads its keys of the experiment into the settings (whichever
+// backends the run uses): each sets what its keys say, and none touches what another owns
+// (its fields, or another backend's entry in BackendSettings::own, copied with the settings).
+TEST(BackendRegistry, EachBackendReadsItsOwnKeysAndLeavesTheRest) {
     struct Mine {
         int queue_depth;
     };
     BackendSettings s;
     s.own["mine"] = Mine{12};
+    s.gl_frames = 9;
+    const ParamDict e = ParamDict::parse(
+        "timing_repeats = 4\nprecision = \"double\"\ntexture_format = [\"r8\", \"r16\"]\n",
+        "e.toml", "experiment");
+    read_backend_settings(e, s);
+    EXPECT_EQ(s.timing_repeats, 4);
+    EXPECT_EQ(s.precisions, (std::vector<std::string>{"double"}));
+    EXPECT_EQ(s.texture_formats, (std::vector<std::string>{"r8", "r16"}));
+    EXPECT_EQ(s.gl_frames, 9);  // no key: left as it was
+    EXPECT_EQ(backend_variants("cpu", s).size(), 1u);
+    EXPECT_EQ(backend_variants("glsl", s).size(), 2u);
     const BackendSettings copy = s;
     ASSERT_EQ(copy.own.count("mine"), 1u);
     EXPECT_EQ(std::any_cast<Mine>(copy.own.at("mine")).queue_depth, 12);
-    EXPECT_THROW(std::any_cast<int>(copy.own.at("mine")), std::bad_any_cast);
+    // A key a backend reads, refused there with its file and line.
+    const ParamDict bad = ParamDict::parse("\ntiming_repeats = -1\n", "bad.toml", "experiment");
+    try {
+        read_backend_settings(bad, s);
+        ADD_FAILURE() << "timing_repeats = -1 accepted";
+    } catch (const InputError& err) {
+        EXPECT_NE(std::string(err.what()).find("bad.toml:2"), std::string::npos) << err.what();
+    }
 }
 
 }  // namespace
