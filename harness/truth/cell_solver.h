@@ -51,15 +51,9 @@ inline double first_root(double c0, double c1, double c2, double len) {
     return best;
 }
 
-// floor(a / n) for n > 0 and |a| < 2^52 (every grid index within the travel limit), without
-// the integer division (tens of cycles, paid per ray by the walk's start): a shift for a power
-// of two, else the double quotient, corrected by one where it rounded across an integer.
 inline int64_t floor_div(int64_t a, int64_t n) {
-    if ((n & (n - 1)) == 0) return a >> __builtin_ctzll(uint64_t(n));
-    int64_t q = int64_t(std::floor(double(a) / double(n)));
-    if (a - q * n < 0) --q;
-    else if (a - q * n >= n) ++q;
-    return q;
+    int64_t q = a / n;
+    return (a % n != 0 && ((a < 0) != (n < 0))) ? q - 1 : q;
 }
 
 }  // namespace cell_solver

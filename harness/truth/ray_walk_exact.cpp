@@ -20,7 +20,8 @@
 // measurable change), descending without moving to the crossing (slower). Kept: requesting a
 // cell's texels (and the next block's maximum) a step or two before they are read, and on a
 // descent the blocks of every level below at the crossing at once (the descent's next tests
-// read them: 5-10% faster on a view traced again and again, caches warm; within the spread in
+// read them: 5-10% faster in most settings on a view traced again and again, caches warm
+// (noisy); within the spread in
 // pxh bench, whose Embree runs between the exact tracer's evict the field: three runs of each
 // alternated, exact / Embree 1.17-2.37 against 1.09-2.09 before, setting by setting alike).
 // Where the time goes (the 12 settings, caches warm): every ray walked twice in a row costs a
@@ -28,7 +29,7 @@
 // walks 4-25%: the walk waits on memory (level blocks, cell maxima, texels) more than it
 // computes.
 // Tried again and dropped: one step of each of a packet's rays in turn, each step requesting
-// what its ray reads next (1.3 to 1.7 times slower), and tracing the rays of packets too wide
+// what its ray reads next (1.05 to 1.7 times slower), and tracing the rays of packets too wide
 // for a shared descent in the order of their start cells in the tile (Morton order; rays of
 // any tile starting at nearby cells walk nearby cells of the periodic field): gains at far
 // eyes on 2048 x 2048 within the machine's run-to-run spread, losses on near ones; the
@@ -224,9 +225,9 @@ inline void ExactTracer::prefetch_cell(int li, int lj) const {
             }
             // Two levels down at a time above level 2 (measured: fewer tests than one).
             level = level > 2 ? level - 2 : level - 1;
-            // The cell's texels and the next block's maximum, read a step or two later
-            // (measured: 5-10% faster).
-            // The blocks below at the same place too: the descent's next tests read them.
+            // The cell's texels and the blocks of every level below at the crossing, read by
+            // the descent's next tests (measured: 5-10% faster, and the lower levels at once
+            // 5-10% more in most settings with caches warm).
             prefetch_cell(li, lj);
             for (int l = std::min(level, 3); l >= 0; --l)
                 __builtin_prefetch(level_ptr_[l] + size_t(lj >> l) * size_t(level_w_[l]) +

@@ -17,7 +17,6 @@
 #include <random>
 
 #include "harness/scene/perspective_camera.h"
-#include "harness/truth/cell_solver.h"
 #include "harness/truth/exact_tracer.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
@@ -317,25 +316,4 @@ TEST(RayWalk, RunsOfEqualRaysAndRaysOneBitApartHitWhatTheDdaHits) {
 }
 
 }  // namespace
-// The walk's start finds each ray's tile with floor_div (a shift for a power of two, else the
-// double quotient corrected by one): the floor of the exact quotient, checked against integer
-// division for negative and positive indices, near multiples and far out (2^40).
-TEST(RayWalk, TileOfACellIsTheFloorOfTheQuotient) {
-    auto reference = [](int64_t a, int64_t n) {
-        const int64_t q = a / n;
-        return (a % n != 0 && a < 0) ? q - 1 : q;
-    };
-    size_t checked = 0;
-    for (int64_t n : {1, 2, 3, 5, 7, 37, 64, 129, 2048, 16383, 16384}) {
-        for (int64_t a = -6 * n - 3; a <= 6 * n + 3; ++a, ++checked)
-            ASSERT_EQ(cell_solver::floor_div(a, n), reference(a, n)) << a << " / " << n;
-        for (int64_t base : {int64_t(1) << 40, -(int64_t(1) << 40)})
-            for (int64_t k = -2 * n; k <= 2 * n; k += std::max<int64_t>(1, n / 7), ++checked) {
-                const int64_t a = base / n * n + k;
-                ASSERT_EQ(cell_solver::floor_div(a, n), reference(a, n)) << a << " / " << n;
-            }
-    }
-    EXPECT_GT(checked, 400000u);
-}
-
 }  // namespace pxh
