@@ -347,7 +347,7 @@ class ViewTracer {
                 const double ex = hx ? (double(ci + ox) - X0) * idx : inf;
                 const double ey = hy ? (double(cj + oy) - Y0) * idy : inf;
                 const double tau_out = std::min({ex, ey, tmax});
-                const double t = t_.solve_cell(r, ci, cj, wi, wj, tau_out);
+                const double t = t_.solve_cell_pairs(r, ci, cj, wi, wj, tau_out);
                 if (t >= 0) return t_.hit_at(r, t, cells);
                 if (tau_out >= tmax) return t_.hit_at(r, tmax, cells);
                 if (ex <= ey) {

@@ -130,11 +130,28 @@ inline TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
 [[gnu::always_inline]] inline double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj,
                                                              int64_t wi, int64_t wj,
                                                              double tau_out) const {
+    const int64_t W = hf_.width, H = hf_.height;
+    const int64_t wi1 = wi + 1 == W ? 0 : wi + 1;
+    const float* row0 = texels_.data() + wj * W;                          // texels (*, j)
+    const float* row1 = texels_.data() + (wj + 1 == H ? 0 : wj + 1) * W;  // (*, j + 1)
+    return solve_corners(r, ci, cj, row0[wi], row0[wi1], row1[wi], row1[wi1], tau_out);
+}
+
+[[gnu::always_inline]] inline double ExactTracer::solve_cell_pairs(const Ray& r, int64_t ci,
+                                                                   int64_t cj, int64_t wi,
+                                                                   int64_t wj,
+                                                                   double tau_out) const {
     const int64_t W = hf_.width;
     const int64_t wi1 = wi + 1 == W ? 0 : wi + 1;
     const float* row = column_pairs_.data() + 2 * wj * W;  // (h(i, j), h(i, j + 1)) pairs
-    const float f00 = row[2 * wi], f01 = row[2 * wi + 1], f10 = row[2 * wi1],
-                f11 = row[2 * wi1 + 1];
+    return solve_corners(r, ci, cj, row[2 * wi], row[2 * wi1], row[2 * wi + 1], row[2 * wi1 + 1],
+                         tau_out);
+}
+
+[[gnu::always_inline]] inline double ExactTracer::solve_corners(const Ray& r, int64_t ci,
+                                                                int64_t cj, float f00, float f10,
+                                                                float f01, float f11,
+                                                                double tau_out) const {
     // The cell's maximum (its corners' maximum, the value the hierarchy is built from).
     const float top = std::max(std::max(f00, f10), std::max(f01, f11));
     if (r.zt - tau_out * r.vz > s_ * (double(top) - b_)) return -1;

@@ -15,8 +15,9 @@ namespace {
 
 // The next level of a maximum mipmap: each block the maximum of the (up to) 2 x 2 blocks of
 // `prev` (pw x ph) it covers.
-std::vector<float> coarser_level(const std::vector<float>& prev, int pw, int ph, int w, int h) {
-    std::vector<float> next(size_t(w) * h);
+HugePageVector<float> coarser_level(const HugePageVector<float>& prev, int pw, int ph, int w,
+                                    int h) {
+    HugePageVector<float> next(size_t(w) * h);
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
             float m = prev[size_t(2 * j) * pw + 2 * i];
@@ -31,8 +32,8 @@ std::vector<float> coarser_level(const std::vector<float>& prev, int pw, int ph,
 }
 
 // A w x h row-major level, column-major.
-std::vector<float> transposed(const std::vector<float>& level, int w, int h) {
-    std::vector<float> t(level.size());
+HugePageVector<float> transposed(const HugePageVector<float>& level, int w, int h) {
+    HugePageVector<float> t(level.size());
     for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) t[size_t(i) * h + j] = level[size_t(j) * w + i];
     return t;
@@ -43,6 +44,7 @@ std::vector<float> transposed(const std::vector<float>& level, int w, int h) {
 ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
     : hf_(hf), s_(scale), b_(bias) {
     throw_if_problem(scale_problem(scale));
+    texels_.assign(hf.texels.begin(), hf.texels.end());
     const int W = hf.width, H = hf.height;
     column_pairs_.resize(2 * hf.texels.size());
     for (int j = 0; j < H; ++j)
@@ -56,7 +58,7 @@ ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
 void ExactTracer::build_levels() {
     const HeightField& hf = hf_;
     const int W = hf.width, H = hf.height;
-    std::vector<float> cells(hf.texels.size());
+    HugePageVector<float> cells(hf.texels.size());
     for (int j = 0; j < H; ++j)
         for (int i = 0; i < W; ++i)
             cells[size_t(j) * W + i] = std::max({hf.wrapped(i, j), hf.wrapped(i + 1, j),
@@ -74,6 +76,7 @@ void ExactTracer::build_levels() {
     for (size_t l = 0; l < std::min<size_t>(kBandLevels, level_max_.size()); ++l)
         level_max_t_.push_back(transposed(level_max_[l], level_w_[l], level_h_[l]));
     for (const auto& level : level_max_) level_ptr_.push_back(level.data());
+    top_level_ = int(level_ptr_.size()) - 1;
 }
 
 void ExactTracer::trace(const View& view, Hits& out) const {

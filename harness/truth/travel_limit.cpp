@@ -54,8 +54,15 @@ std::string ray_travel_problem(double scale, Vec3d D) {
 std::string view_travel_problem(double scale, const View& view) {
     if (std::string p = view_problem(view); !p.empty()) return p;
     if (std::string p = scale_problem(scale); !p.empty()) return p;
-    for (const Vec3d& D : view.V)
+    for (const Vec3d& D : view.V) {
+        // ray_travel_problem's acceptance, without building its (empty) string per ray; a
+        // ray it would refuse, or cannot decide here, is asked in full for the reason.
+        const double side = std::sqrt(D.x * D.x + D.y * D.y);
+        if (D.z > 0 && std::isfinite(D.x) && std::isfinite(D.y) &&
+            scale * (side / D.z) <= kMaxRayTravelTiles * (1 + 1e-9))
+            continue;
         if (std::string p = ray_travel_problem(scale, D); !p.empty()) return p;
+    }
     return "";
 }
 
