@@ -26,12 +26,12 @@
 // alternated, exact / Embree 1.17-2.37 against 1.09-2.09 before, setting by setting alike).
 // Where the time goes (the 12 settings, caches warm): every ray walked twice in a row costs a
 // quarter to a half more than once, not twice; the packets and the rays' starts without the
-// walks 4-25%. Instructions (callgrind, per ray of a view): 1,600-2,100 at 512 x 512; at
+// walks 4-25%. Instructions (callgrind, per ray of a view): 1,550-1,850 at 512 x 512; at
 // 85 deg, D = 1.5 the DDA takes 38% of them, the block walks of the long rays (a fifth of the
 // rays, ~22 steps each, a third of them descents) 34%, packets 9%, starts 8%. Memory: at
 // 2048 x 2048 (texels and levels 37 MB) the tables in huge pages (harness/core/huge_pages.h:
 // Embree's BVH is in huge pages by default on Linux too) and the walk on row-major texels
-// (half the bytes of texel pairs) made the walk 1.2-1.7 times faster (pxh bench, alternated
+// (half the bytes of texel pairs) made the walk 1.2-1.8 times faster (pxh bench, alternated
 // with the build before); at 512 x 512, 1.0-1.2 times.
 // Tried again and dropped: one step of each of a packet's rays in turn, each step requesting
 // what its ray reads next (1.05 to 1.7 times slower), and tracing the rays of packets too wide
