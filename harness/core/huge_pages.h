@@ -2,10 +2,10 @@
 // tracer's texels and maximum mipmap): blocks of 256 KiB and more are rounded up to whole
 // 2 MiB pages, aligned to 2 MiB and, on Linux, marked MADV_HUGEPAGE before their first touch,
 // so that the kernel backs them with transparent huge pages where it can (with THP in
-// "madvise" mode, the common default, it does so only for memory marked this way). Smaller blocks, and every block where the
-// advice is refused, are ordinary memory: the contents never depend on it, only the number
-// of TLB misses does. Embree does the same for its BVH on Linux (its device option
-// "hugepages", on by default there: RenderKit/embree kernels/common/state.cpp, State::State,
+// "madvise" mode, the common default, it does so only for memory marked this way). Smaller blocks,
+// and every block where the advice is refused, are ordinary memory: the contents never depend on
+// it, only the number of TLB misses does. Embree does the same for its BVH on Linux (its device
+// option "hugepages", on by default there: RenderKit/embree kernels/common/state.cpp, State::State,
 // commit 0019193c6c073ebc8f0ae7df69442ba914953f72).
 #pragma once
 #include <cstddef>
