@@ -21,6 +21,13 @@ std::string travel_problem(double scale, double theta_deg, double travel) {
            number(kMaxRayTravelTiles) + " tiles (kMaxRayTravelTiles); lower the scale or the angle";
 }
 
+// Whether a ray along D of scale s stays within kMaxRayTravelTiles (s already checked).
+bool within_travel_limit(double scale, Vec3d D) {
+    if (!(D.z > 0 && std::isfinite(D.x) && std::isfinite(D.y))) return false;
+    const double side = std::sqrt(D.x * D.x + D.y * D.y);
+    return scale * (side / D.z) <= kMaxRayTravelTiles * (1 + 1e-9);  // NaN, inf: false
+}
+
 }  // namespace
 
 std::string scale_problem(double scale) {
@@ -42,27 +49,20 @@ std::string ray_travel_problem(double scale, double theta_deg) {
 
 std::string ray_travel_problem(double scale, Vec3d D) {
     if (std::string p = scale_problem(scale); !p.empty()) return p;
+    if (within_travel_limit(scale, D)) return "";
     if (!(D.z > 0 && std::isfinite(D.x) && std::isfinite(D.y)))
         return "the ray direction (" + number(D.x) + ", " + number(D.y) + ", " + number(D.z) +
                ") does not point above the surface (theta must lie in [0, 90))";
     const double side = std::sqrt(D.x * D.x + D.y * D.y);
-    const double travel = scale * (side / D.z);  // NaN or inf for absurd inputs: refused
-    if (travel <= kMaxRayTravelTiles * (1 + 1e-9)) return "";
+    const double travel = scale * (side / D.z);  // beyond the limit, NaN or inf
     return travel_problem(scale, std::atan2(side, D.z) * 180 / M_PI, travel);
 }
 
 std::string view_travel_problem(double scale, const View& view) {
     if (std::string p = view_problem(view); !p.empty()) return p;
     if (std::string p = scale_problem(scale); !p.empty()) return p;
-    for (const Vec3d& D : view.V) {
-        // ray_travel_problem's acceptance, without building its (empty) string per ray; a
-        // ray it would refuse, or cannot decide here, is asked in full for the reason.
-        const double side = std::sqrt(D.x * D.x + D.y * D.y);
-        if (D.z > 0 && std::isfinite(D.x) && std::isfinite(D.y) &&
-            scale * (side / D.z) <= kMaxRayTravelTiles * (1 + 1e-9))
-            continue;
-        if (std::string p = ray_travel_problem(scale, D); !p.empty()) return p;
-    }
+    for (const Vec3d& D : view.V)  // no string built per accepted ray
+        if (!within_travel_limit(scale, D)) return ray_travel_problem(scale, D);
     return "";
 }
 
