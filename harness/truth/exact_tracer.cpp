@@ -44,8 +44,12 @@ HugePageVector<float> transposed(const HugePageVector<float>& level, int w, int 
 ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
     : hf_(hf), s_(scale), b_(bias) {
     throw_if_problem(scale_problem(scale));
-    texels_.assign(hf.texels.begin(), hf.texels.end());
     const int W = hf.width, H = hf.height;
+    // (W + 1) x (H + 1): the first column and row repeated after the last, so a cell's four
+    // corners are at offsets 0, 1, W + 1 and W + 2 from its first, wherever the cell lies.
+    texels_.resize(size_t(W + 1) * size_t(H + 1));
+    for (int j = 0; j <= H; ++j)
+        for (int i = 0; i <= W; ++i) texels_[size_t(j) * size_t(W + 1) + i] = hf.wrapped(i, j);
     column_pairs_.resize(2 * hf.texels.size());
     for (int j = 0; j < H; ++j)
         for (int i = 0; i < W; ++i) {

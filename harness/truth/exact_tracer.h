@@ -81,8 +81,8 @@ class ExactTracer final : public Tracer {
     TruthHit walk(const Ray& r, double dda_travel) const;  // DDA below dda_travel cells
     TruthHit trace_ray_unchecked(Vec2d P, Vec3d V) const;  // a direction checked already
     TruthHit dda(const Ray& r) const;                      // trace_naive's DDA
-    // trace_ray's walk as a state machine (ray_walk_exact.cpp): walk_step advances one step
-    // and returns true with the hit when the ray is done.
+    // trace_ray's walk (ray_walk_exact.cpp): its state (WalkState) set by a start, then walked
+    // to the hit by walk_blocks (over the maximum mipmap) or walk_dda (level 0 throughout).
     struct WalkState;
     void walk_start(WalkState& w, const Ray& r, double dda_travel) const;
     void walk_start_ray(WalkState& w, const Ray& r, double dda_travel) const;  // cell untiled
@@ -97,8 +97,8 @@ class ExactTracer final : public Tracer {
     // An upper bound (from the maximum mipmap) of the corner maxima of the global cells
     // [gx0, gx1] x [gy0, gy1], both ends included, tiles wrapped.
     float cells_max(int64_t gx0, int64_t gx1, int64_t gy0, int64_t gy1) const;
-    bool walk_step(WalkState& w, TruthHit& out) const;
-    TruthHit walk_dda(const WalkState& w) const;   // walk_step at level 0 throughout, faster
+    TruthHit walk_blocks(const WalkState& w) const;
+    TruthHit walk_dda(const WalkState& w) const;   // walk_blocks at level 0 throughout, faster
     TruthHit finish(WalkState& w) const;           // the rest of the walk: its hit
     void prefetch_cell(int li, int lj) const;      // requests tile-local cell (li, lj)'s texels
     Ray make_ray(Vec2d P, const Ray& like) const;  // same direction as `like`, new start
@@ -114,6 +114,17 @@ class ExactTracer final : public Tracer {
                             double tau_out) const;
     double solve_corners(const Ray& r, int64_t ci, int64_t cj, float f00, float f10, float f01,
                          float f11, double tau_out) const;
+    // solve_corners in two parts: its first test (the ray at tau_out above the corners'
+    // maximum: no hit in the cell), and the closed form for a cell that passes it.
+    bool cell_below(const Ray& r, float f00, float f10, float f01, float f11, double tau_out) const;
+    double solve_patch(const Ray& r, int64_t ci, int64_t cj, float f00, float f10, float f01,
+                       float f11, double tau_out) const;
+    double solve_patch_inline(const Ray& r, int64_t ci, int64_t cj, float f00, float f10, float f01,
+                              float f11, double tau_out) const;
+    // Row wj of texels_ (tile-local, 0 <= wj <= height).
+    const float* texel_row(int64_t wj) const {
+        return texels_.data() + size_t(wj) * (size_t(hf_.width) + 1);
+    }
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
     // The per-ray path of the Tracer interface: packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
@@ -127,8 +138,9 @@ class ExactTracer final : public Tracer {
     // edges are partial. The last level is one block. level_max_t_[l]: the same, column-major,
     // for the levels trace_grid builds its bounds from.
     std::vector<HugePageVector<float>> level_max_, level_max_t_;
-    // The texels, row-major (a copy of the height field's, in huge pages), for the per-ray
-    // paths: a cell's four corners lie in two rows. column_pairs_: texel (i, j) and (i, j + 1)
+    // The texels, row-major, (W + 1) x (H + 1) (the height field's, its first column and row
+    // repeated after the last; in huge pages), for the per-ray paths: a cell's four corners lie
+    // in two rows, at fixed offsets from its first. column_pairs_: texel (i, j) and (i, j + 1)
     // side by side, row by row (a cell's corners in 16 consecutive bytes), for the band tracer.
     // Measured (pxh bench, single thread): the per-ray walk faster on texels_ (0-3% at
     // 512 x 512, 10% at 2048 x 2048: half the bytes, as many cache lines per cell), the band
