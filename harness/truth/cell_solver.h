@@ -132,7 +132,7 @@ inline TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
                                                              double tau_out) const {
     const float* c =
         texel_row(wj) + wi;  // texels (wi, wj), (wi + 1, wj); a row later the pair above
-    const size_t up = size_t(hf_.width) + 1;
+    const size_t up = texel_stride();
     return solve_corners(r, ci, cj, c[0], c[1], c[up], c[up + 1], tau_out);
 }
 

@@ -47,9 +47,9 @@ ExactTracer::ExactTracer(const HeightField& hf, double scale, double bias)
     const int W = hf.width, H = hf.height;
     // (W + 1) x (H + 1): the first column and row repeated after the last, so a cell's four
     // corners are at offsets 0, 1, W + 1 and W + 2 from its first, wherever the cell lies.
-    texels_.resize(size_t(W + 1) * size_t(H + 1));
+    texels_.resize(texel_stride() * size_t(H + 1));
     for (int j = 0; j <= H; ++j)
-        for (int i = 0; i <= W; ++i) texels_[size_t(j) * size_t(W + 1) + i] = hf.wrapped(i, j);
+        for (int i = 0; i <= W; ++i) texels_[size_t(j) * texel_stride() + i] = hf.wrapped(i, j);
     column_pairs_.resize(2 * hf.texels.size());
     for (int j = 0; j < H; ++j)
         for (int i = 0; i < W; ++i) {

@@ -121,9 +121,11 @@ class ExactTracer final : public Tracer {
                        float f11, double tau_out) const;
     double solve_patch_inline(const Ray& r, int64_t ci, int64_t cj, float f00, float f10, float f01,
                               float f11, double tau_out) const;
-    // Row wj of texels_ (tile-local, 0 <= wj <= height).
+    // The length of a row of texels_ (W + 1: a cell's corners at offsets 0, 1, stride and
+    // stride + 1 from its first), and row wj of texels_ (tile-local, 0 <= wj <= height).
+    size_t texel_stride() const { return size_t(hf_.width) + 1; }
     const float* texel_row(int64_t wj) const {
-        return texels_.data() + size_t(wj) * (size_t(hf_.width) + 1);
+        return texels_.data() + size_t(wj) * texel_stride();
     }
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
     // The per-ray path of the Tracer interface: packets (packet_floor), then each ray's walk.

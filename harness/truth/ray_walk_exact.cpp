@@ -48,7 +48,17 @@
 // pointer and exit lines kept as it moves and the closed form out of line (solve_patch):
 // 110-125 fewer instructions per ray, 2-5% faster at 512 x 512, 2048 x 2048 alike (within the
 // spread); kept. Compiling this file for x86-64-v3 (AVX2, FMA off): 0-3% faster at 512 x 512,
-// 3-8% slower at 2048 x 2048; dropped.
+// 3-8% slower at 2048 x 2048; dropped. In the round after that (a driver timing this path
+// alone, and callgrind): a walk over bounds of the blocks dilated by a cell on each side, in
+// its own arithmetic (the DDA's exact cell found only where a bound stops the walk, then the
+// DDA from there): 14% fewer instructions in the block walk, 512 x 512 unchanged, 2048 x 2048
+// 15-35% slower; the same walk for four rays in turn, each step free of branches on the
+// ray's data: 20-30% slower (three times the block steps: dilated bounds of small blocks
+// are loose), stopped at 8 x 8 blocks too; a slab descent per ray (packet_floor of one ray)
+// where a packet's rays are too far apart: at 60 deg, D = 16, a fifth of the DDA's cells but
+// 1.3-2 times slower. A 128 x 128 field at the same s W (every table in L1/L2) is no faster
+// per ray than 512 x 512: the walk is bound by its chain of dependent steps and branches,
+// not by memory, and not by its instruction count alone.
 //
 // Packets (trace_rays): 4 x 4 neighbouring pixels of a view descend through the slab together
 // (packet_floor): over a depth range [zt - u_lo, zt - u_hi] every ray of the packet lies in
@@ -187,7 +197,7 @@ inline void ExactTracer::prefetch_cell(int li, int lj) const {
     // The cell's two rows of texels.
     const float* c = texel_row(lj) + li;
     __builtin_prefetch(c);
-    __builtin_prefetch(c + hf_.width + 1);
+    __builtin_prefetch(c + texel_stride());
 }
 
 TruthHit ExactTracer::walk_blocks(const WalkState& w) const {
@@ -213,7 +223,7 @@ TruthHit ExactTracer::walk_blocks(const WalkState& w) const {
             const double tau_out = std::min(std::min(ex, ey), tau_max);
             ++cells;
             const float* c = texel_row(lj) + li;
-            const size_t up = size_t(W) + 1;
+            const size_t up = texel_stride();
             if (!cell_below(r, c[0], c[1], c[up], c[up + 1], tau_out)) {
                 const double t = solve_patch(r, ci, cj, c[0], c[1], c[up], c[up + 1], tau_out);
                 if (t >= 0) return hit_at(r, t, cells);
@@ -313,7 +323,7 @@ TruthHit ExactTracer::walk_dda(const WalkState& w) const {
     const Ray& r = w.r;
     const Axis &ax = w.ax, &ay = w.ay;
     const int W = hf_.width, H = hf_.height;
-    const ptrdiff_t up = ptrdiff_t(W) + 1;  // texels_'s row length
+    const ptrdiff_t up = ptrdiff_t(texel_stride());
     const double inf = std::numeric_limits<double>::infinity();
     int64_t ci = w.ci, cj = w.cj;
     int li = w.li, lj = w.lj, cells = w.cells;
