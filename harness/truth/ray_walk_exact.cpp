@@ -61,9 +61,9 @@
 // 0, cell_below's test per event; bit for bit, the same cells counted): at 60 deg, D = 16,
 // three quarters of the DDA's cells passed in windows of about 11, yet 5-10% slower in every
 // setting (a window's gathers and counts are a long chain, and whether it passes is hard to
-// predict). A 128 x 128 field at the same s W (every table in L1/L2) is no faster
-// per ray than 512 x 512: the walk is bound by its chain of dependent steps and branches,
-// not by memory, and not by its instruction count alone.
+// predict). A 128 x 128 field at the same s W (every table in L1/L2) is no faster per ray
+// than 512 x 512: the walk is bound by its chain of dependent steps and branches, not by
+// memory, and not by its instruction count alone.
 //
 // Packets (trace_rays): 4 x 4 neighbouring pixels of a view descend through the slab together
 // (packet_floor): over a depth range [zt - u_lo, zt - u_hi] every ray of the packet lies in
@@ -220,6 +220,7 @@ TruthHit ExactTracer::walk_blocks(const WalkState& w) const {
     const int sx = r.sx, sy = r.sy;
     int64_t ci = w.ci, cj = w.cj, ox = w.ox, oy = w.oy;
     int li = w.li, lj = w.lj, level = w.level, cells = w.cells;
+    const size_t up = texel_stride();
     for (;;) {
         if (level == 0) {
             // trace_naive's cell, its exits and its solver.
@@ -228,7 +229,6 @@ TruthHit ExactTracer::walk_blocks(const WalkState& w) const {
             const double tau_out = std::min(std::min(ex, ey), tau_max);
             ++cells;
             const float* c = texel_row(lj) + li;
-            const size_t up = texel_stride();
             if (!cell_below(r, c[0], c[1], c[up], c[up + 1], tau_out)) {
                 const double t = solve_patch(r, ci, cj, c[0], c[1], c[up], c[up + 1], tau_out);
                 if (t >= 0) return hit_at(r, t, cells);
