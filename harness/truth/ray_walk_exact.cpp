@@ -52,14 +52,14 @@
 // alone, and callgrind): a walk over bounds of the blocks dilated by a cell on each side, in
 // its own arithmetic (the DDA's exact cell found only where a bound stops the walk, then the
 // DDA from there): 14% fewer instructions in the block walk, 512 x 512 unchanged, 2048 x 2048
-// 15-35% slower; the same walk for four rays in turn, each step free of branches on the
-// ray's data: 20-30% slower (three times the block steps: dilated bounds of small blocks
+// 14-35% slower; the same walk for four rays in turn, each step free of branches on the
+// ray's data: 13-30% slower (three times the block steps: dilated bounds of small blocks
 // are loose), stopped at 8 x 8 blocks too; a slab descent per ray (packet_floor of one ray)
 // where a packet's rays are too far apart: at 60 deg, D = 16, a fifth of the DDA's cells but
-// 1.3-2 times slower; walk_dda with its next 8 column and 8 row crossings tested at once
+// 1.1-2 times slower; walk_dda with its next 8 column and 8 row crossings tested at once
 // (AVX-512: the cells from the merge of the two time lists, their maxima gathered from level
 // 0, cell_below's test per event; bit for bit, the same cells counted): at 60 deg, D = 16,
-// three quarters of the DDA's cells passed in windows of about 11, yet 5-10% slower in every
+// three quarters of the DDA's cells passed in windows of about 11, yet 2-11% slower in every
 // setting (a window's gathers and counts are a long chain, and whether it passes is hard to
 // predict). A 128 x 128 field at the same s W (every table in L1/L2) is no faster per ray
 // than 512 x 512: the walk is bound by its chain of dependent steps and branches, not by
