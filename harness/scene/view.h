@@ -46,6 +46,12 @@ struct View {
 
     size_t size() const { return P.size(); }
     Vec3d dir(size_t k) const { return V[parallel ? 0 : k]; }
+    // Whether sample k's ray is exactly (bit for bit) the ray through `at` along `d`.
+    bool has_ray(size_t k, Vec2d at, Vec3d d) const {
+        const Vec2d p = P[k];
+        const Vec3d v = dir(k);
+        return p.x == at.x && p.y == at.y && v.x == d.x && v.y == d.y && v.z == d.z;
+    }
     const Footprint& footprint(size_t k) const { return J[J.size() == 1 ? 0 : k]; }
     bool is_inside(size_t k) const { return inside.empty() || inside[k] != 0; }
     size_t outside_count() const;

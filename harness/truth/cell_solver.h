@@ -51,6 +51,28 @@ inline double first_root(double c0, double c1, double c2, double len) {
     return best;
 }
 
+// One axis of the DDA in global grid coordinates: the time the ray enters column (or row) c
+// crossing its near line, as trace_naive computes the exit of the previous one.
+struct DdaAxis {
+    double origin, inv_d;  // X0, 1 / dX
+    int step;              // +1 or -1
+    bool moves;            // d != 0
+    double at_line(int64_t k) const { return (double(k) - origin) * inv_d; }
+    double entry(int64_t c) const { return at_line(step > 0 ? c : c + 1); }
+    double exit(int64_t c) const { return at_line(step > 0 ? c + 1 : c); }
+    // The last cell (c or after, along step) entered at a time before t (strictly) or, with
+    // `or_equal`, at t too; the start cell counts as entered at -infinity (its entry time is
+    // <= 0 < t). `guess` is any nearby cell index.
+    int64_t last_entered(int64_t c, int64_t guess, double t, bool or_equal) const {
+        auto entered = [&](int64_t k) { return or_equal ? entry(k) <= t : entry(k) < t; };
+        // The guess, moved back to c or later (c itself is always entered).
+        if (step > 0 ? guess < c : guess > c) guess = c;
+        while (guess != c && !entered(guess)) guess -= step;
+        while (entered(guess + step)) guess += step;
+        return guess;
+    }
+};
+
 inline int64_t floor_div(int64_t a, int64_t n) {
     int64_t q = a / n;
     return (a % n != 0 && ((a < 0) != (n < 0))) ? q - 1 : q;

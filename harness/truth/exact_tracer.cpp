@@ -81,6 +81,7 @@ void ExactTracer::build_levels() {
         level_max_t_.push_back(transposed(level_max_[l], level_w_[l], level_h_[l]));
     for (const auto& level : level_max_) level_ptr_.push_back(level.data());
     top_level_ = int(level_ptr_.size()) - 1;
+    if (cpu_has_simd_path()) build_squares();
 }
 
 void ExactTracer::trace(const View& view, Hits& out) const {

@@ -70,6 +70,14 @@ class ExactTracer final : public Tracer {
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
     bool occluded(Vec2d uv, double z, Vec3d L) const override;
+    // The per-ray path's kernels: the AVX-512 square walk (ray_walk_simd.cpp) where the CPU
+    // has avx512f and avx512dq (and the field at least 2 x 2 cells), else the scalar walk
+    // (ray_walk_exact.cpp); both give trace_naive's hits bit for bit. set_simd(false) makes
+    // this tracer take the scalar walk (tests, benchmarks); set_simd(true) restores the
+    // default. Not to be called while another thread traces with this tracer.
+    static bool cpu_has_simd_path();
+    bool simd_path() const { return use_simd_ && square_levels_ > 0; }
+    void set_simd(bool on) { use_simd_ = on; }
     double z_top() const { return s_ * (1 - b_); }
     double scale() const override { return s_; }
     double z_bot() const { return -s_ * b_; }
@@ -128,8 +136,12 @@ class ExactTracer final : public Tracer {
         return texels_.data() + size_t(wj) * texel_stride();
     }
     TruthHit hit_at(const Ray& r, double tau, int cells) const;
-    // The per-ray path of the Tracer interface: packets (packet_floor), then each ray's walk.
+    // The per-ray path of the Tracer interface: trace_rays_simd where simd_path(), else
+    // packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
+    void trace_rays_simd(const View& view, Hits& out) const;  // ray_walk_simd.cpp
+    // The square walk's tables (square_max_), where the CPU has the SIMD path.
+    void build_squares();
     // The maximum mipmap's levels (construction).
     void build_levels();
 
@@ -152,6 +164,14 @@ class ExactTracer final : public Tracer {
     std::vector<int> level_w_, level_h_;
     std::vector<const float*> level_ptr_;  // level_max_[l].data()
     int top_level_ = 0;                    // the last level (one block)
+    // square_max_: for k = 1 .. square_levels_ (at most kSquareLevels), at (k - 1) W H + j W + i
+    // the maximum of level 0 over the 2^k x 2^k cells from tile-local cell (i, j) on, wrapped
+    // (ray_walk_simd.cpp's square walk; 5 tables: 20 bytes per texel). Built only where
+    // cpu_has_simd_path().
+    static constexpr int kSquareLevels = 5;
+    HugePageVector<float> square_max_;
+    int square_levels_ = 0;
+    bool use_simd_ = true;
 };
 
 }  // namespace pxh

@@ -93,27 +93,7 @@ namespace pxh {
 
 namespace {
 
-// One axis of the DDA in global grid coordinates: the time the ray enters column (or row) c
-// crossing its near line, as trace_naive computes the exit of the previous one.
-struct Axis {
-    double origin, inv_d;  // X0, 1 / dX
-    int step;              // +1 or -1
-    bool moves;            // d != 0
-    double at_line(int64_t k) const { return (double(k) - origin) * inv_d; }
-    double entry(int64_t c) const { return at_line(step > 0 ? c : c + 1); }
-    double exit(int64_t c) const { return at_line(step > 0 ? c + 1 : c); }
-    // The last cell (c or after, along step) entered at a time before t (strictly) or, with
-    // `or_equal`, at t too; the start cell counts as entered at -infinity (its entry time is
-    // <= 0 < t). `guess` is any nearby cell index.
-    int64_t last_entered(int64_t c, int64_t guess, double t, bool or_equal) const {
-        auto entered = [&](int64_t k) { return or_equal ? entry(k) <= t : entry(k) < t; };
-        // The guess, moved back to c or later (c itself is always entered).
-        if (step > 0 ? guess < c : guess > c) guess = c;
-        while (guess != c && !entered(guess)) guess -= step;
-        while (entered(guess + step)) guess += step;
-        return guess;
-    }
-};
+using Axis = cell_solver::DdaAxis;
 
 // Rays shorter than this (horizontal travel through the slab, in cells) are walked at level 0
 // (the DDA, walk_dda): their cells cost no more than the block tests (measured with pxh bench
@@ -144,13 +124,6 @@ int floor_log2(double x) {
     uint64_t bits;
     std::memcpy(&bits, &x, sizeof bits);
     return int((bits >> 52) & 0x7ff) - 1023;
-}
-
-// Whether sample k of the view has exactly (bit for bit) the ray P, V.
-bool same_ray(const View& view, size_t k, Vec2d P, Vec3d V) {
-    const Vec2d p = view.P[k];
-    const Vec3d v = view.dir(k);
-    return p.x == P.x && p.y == P.y && v.x == V.x && v.y == V.y && v.z == V.z;
 }
 
 }  // namespace
@@ -503,6 +476,7 @@ void ExactTracer::walk_start_below(WalkState& w, const Ray& r, double z_floor) c
 
 void ExactTracer::trace_rays(const View& view, Hits& out) const {
     // Every direction was checked against the travel limit (trace).
+    if (simd_path()) return trace_rays_simd(view, out);
     const size_t n = view.size();
     out.resize_all(n);
     // Packets: kPacketSide x kPacketSide pixel tiles of a square row-major image, else runs
@@ -536,8 +510,8 @@ void ExactTracer::trace_rays(const View& view, Hits& out) const {
                     const size_t k = j * row_len + i;
                     const Vec2d P = view.P[k];
                     const Vec3d V = view.dir(k);
-                    const bool run = (k > 0 && same_ray(view, k - 1, P, V)) ||
-                                     (k + 1 < n && same_ray(view, k + 1, P, V));
+                    const bool run = (k > 0 && view.has_ray(k - 1, P, V)) ||
+                                     (k + 1 < n && view.has_ray(k + 1, P, V));
                     if (!run) {
                         idx[m] = k;
                         rays[m++] = make_ray_unchecked(P, V);

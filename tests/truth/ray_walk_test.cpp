@@ -18,6 +18,7 @@
 
 #include "harness/scene/perspective_camera.h"
 #include "harness/truth/exact_tracer.h"
+#include "harness/truth/travel_limit.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
 #include "tests/test_util.h"
@@ -313,6 +314,104 @@ TEST(RayWalk, RunsOfEqualRaysAndRaysOneBitApartHitWhatTheDdaHits) {
         view.V.push_back(V);
     }
     EXPECT_EQ(interface_differences(t, view), 0u);
+}
+
+// A view's every sample through both per-ray paths (the AVX-512 square walk where the CPU has
+// it, and the scalar walk): how many differ from trace_naive's hit, bit for bit, plus how many
+// samples solve more cells than trace_naive does (`excess`; each path's count is a subset).
+size_t both_paths_differences(ExactTracer& t, const View& view, size_t& excess) {
+    size_t differ = 0;
+    for (bool simd : {true, false}) {
+        t.set_simd(simd);
+        differ += interface_differences(t, view);
+        Hits through;
+        t.trace(view, through);
+        for (size_t k = 0; k < view.size(); ++k)
+            excess += through.cells[k] > t.trace_naive(view.P[k], view.dir(k)).cells;
+    }
+    t.set_simd(true);
+    return differ;
+}
+
+TEST(RayWalk, TheVectorPathIsTakenWhereTheCpuHasIt) {
+    // The AVX-512 path needs the CPU's avx512f and avx512dq and a field of 2 x 2 cells or more
+    // (its tables); set_simd(false) forces the scalar walk.
+    const HeightField hf = test::random_field(16, 16, 1), thin = test::random_field(1, 40, 2);
+    ExactTracer t(hf, 0.1, 1.0);
+    const ExactTracer one_column(thin, 0.1, 1.0);
+    EXPECT_EQ(t.simd_path(), ExactTracer::cpu_has_simd_path());
+    EXPECT_FALSE(one_column.simd_path());
+    t.set_simd(false);
+    EXPECT_FALSE(t.simd_path());
+    t.set_simd(true);
+    EXPECT_EQ(t.simd_path(), ExactTracer::cpu_has_simd_path());
+    if (!ExactTracer::cpu_has_simd_path())
+        GTEST_SKIP() << "this CPU has no avx512f + avx512dq: only the scalar walk is tested";
+}
+
+TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
+    // Perspective views (near and far eyes, grazing and steep) and views of the rays that
+    // stress a DDA (starts on grid lines, axis-parallel, vertical and diagonal directions) on
+    // fields where one cell too many skipped changes a hit: single-texel spikes, thin walls,
+    // flat ground, white noise at sizes that are not powers of two, 3 cells wide (square
+    // tables of one level only), a thick slab whose grazing rays cross many tiles, smooth and
+    // measured fields.
+    HeightField walls = test::random_field(48, 40, 2);
+    for (int j = 0; j < walls.height; ++j)
+        for (int i = 0; i < walls.width; ++i)
+            walls.texels[size_t(j) * walls.width + i] = (i % 11 == 3 || j % 13 == 5) ? 0.9f : 0.1f;
+    HeightField spikes = test::random_field(40, 40, 3);
+    for (float& v : spikes.texels) v = 0.0f;
+    std::mt19937 rng(23);
+    for (int k = 0; k < 30; ++k) spikes.texels[rng() % spikes.texels.size()] = 1.0f;
+    HeightField flat = test::random_field(32, 32, 1);
+    for (float& v : flat.texels) v = 0.25f;
+    struct Case {
+        const char* what;
+        HeightField hf;
+        double s, b;
+    };
+    const Case cases[] = {{"spikes 40", spikes, 0.1, 1.0},
+                          {"walls 48 x 40", walls, 0.05, 0.8},
+                          {"flat 32", flat, 0.05, 1.0},
+                          {"random 37 x 129", test::random_field(37, 129, 8), 0.1, 0.5},
+                          {"random 3 x 200", test::random_field(3, 200, 4), 0.5, 0.5},
+                          {"random 64, thick slab", test::random_field(64, 64, 9), 1.0, 0.5},
+                          {"fbm 256", generated("fbm", 256), 0.05, 1.0},
+                          {"luxembourg (measured)", load_scan("luxembourg", "test"), 0.05, 1.0}};
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (const Case& c : cases) {
+        ExactTracer t(c.hf, c.s, c.b);
+        size_t rays = 0, differ = 0, excess = 0;
+        for (double theta : {0.0, 40.0, 70.0, 85.0, 89.0})
+            for (double distance : {1.2, 4.0, 20.0}) {
+                const PerspectiveParams p = params(theta, 20 + 37 * theta, distance, 50, 40);
+                if (!eye_slab_problem(p, c.s, c.b).empty()) continue;
+                const View view = PerspectiveCamera(p).view();
+                differ += both_paths_differences(t, view, excess);
+                rays += view.size();
+            }
+        View stress;
+        const int W = c.hf.width, H = c.hf.height;
+        const double zt = c.s * (1 - c.b);
+        for (double theta : {0.0, 10.0, 45.0, 70.0, 85.0, 89.5})
+            for (double phi : {0.0, 45.0, 90.0, 135.0, 180.0, 200.0, 270.0, 333.0}) {
+                const Vec3d V = view_vector(theta, phi);
+                if (!ray_travel_problem(c.s, V).empty()) continue;
+                for (int k = 0; k < 40; ++k) {
+                    Vec2d P{unit(rng) * 3 - 1, unit(rng) * 3 - 1};
+                    if (k % 3 != 2) P.x = (std::floor(unit(rng) * W) + 0.5) / W - V.x / V.z * zt;
+                    if (k % 3 != 1) P.y = (std::floor(unit(rng) * H) + 0.5) / H - V.y / V.z * zt;
+                    stress.P.push_back(P);
+                    stress.V.push_back(V);
+                }
+            }
+        differ += both_paths_differences(t, stress, excess);
+        rays += stress.size();
+        EXPECT_EQ(differ, 0u) << c.what << ": of " << rays << " rays, both paths";
+        EXPECT_EQ(excess, 0u) << c.what << ": cells solved beyond the DDA's";
+        EXPECT_GT(rays, 10000u) << c.what;
+    }
 }
 
 }  // namespace

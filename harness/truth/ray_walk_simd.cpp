@@ -1,0 +1,615 @@
+// The per-ray path on CPUs with AVX-512 (avx512f and avx512dq, checked at run time:
+// ExactTracer::simd_path; the tables need a field of at least 2 x 2 cells): every ray of a view traced 8 to a vector, trace_naive's hits bit
+// for bit, as the scalar walk (ray_walk_exact.cpp), which every other CPU takes.
+//
+// Two passes, in turn, until every ray of a chunk is resolved:
+//
+// A. The square walk (square_pass), in conservative arithmetic of its own: it finds a time
+//    t_safe such that every cell trace_naive's DDA leaves before t_safe is one its first
+//    test (cell_below) rejects. Its tables (ExactTracer::square_max_): for k = 1 .. K,
+//    the maximum of the cells' corner maxima over every n x n square of cells, n = 2^k, at
+//    every first cell (i, j) of the tile, wrapped. A step from time t: g = floor(x(t) + sx/2)
+//    (and the same in y) is the ray's column, or the one behind it where the ray lies in the
+//    first half of its cell; the square's columns run from g - 1 (sx > 0: [g - 1, g - 1 + n))
+//    or from g + 1 back (sx < 0: [g + 2 - n, g + 1]), so they hold the DDA's column at any
+//    time from t on until the ray crosses the square's far line, whichever side of a line
+//    rounding puts the DDA's cell, and the far line is half a cell or more ahead of the ray
+//    (every step moves on). Its crossing time te (the lower of the two far lines' and
+//    tau_max) is computed with trace_naive's own formula, (line - X0) / dX as (line - X0)
+//    * inv_dX, so a DDA cell beyond a far line is entered, hence left, no earlier than te
+//    (the formula is monotone in the line): every cell the DDA leaves in [t, te) lies in the
+//    square. When the ray at te lies above the square's maximum, zt - te vz > s (M - b),
+//    each of them is one cell_below rejects by its own test (the same expressions, monotone
+//    in the time and in the corner maximum): t moves to te, and the next square is twice as
+//    wide (up to 2^K). Otherwise t moves on to the time the ray comes down to s (M - b),
+//    where the ray provably lies above it there (that time is then before te), and the next
+//    square is half as wide; a failure at n = 2 ends the walk: t_safe = t. So every cell the
+//    DDA leaves before t_safe is rejected; where te reaches tau_max every cell is (the DDA
+//    stops in the cell it leaves at tau_max), and the ray's answer is tau_max.
+// B. The DDA (dda_pass) from the DDA's cell at t_safe (the last cell entered strictly before
+//    t_safe, found with trace_naive's entry times from a guess, as walk_start_below does; the
+//    cells before it were left before t_safe: rejected by cell_below), with trace_naive's
+//    exit times, cell_below's test and solve_patch's closed form, operation for operation in
+//    double, for up to kDdaCells cells. A ray it resolves (a hit, or tau_max) is done; any
+//    other goes back to pass A from the exit time of the last cell walked (rejected, as were
+//    all before it). Rare lanes take scalar code: a cell entry that is not found within one
+//    cell of the guess (DdaAxis::last_entered), and the bisection of cell_solver::first_root.
+//
+// Why vectors: the scalar walk is bound by its chains of dependent steps and branches on
+// each ray's data (ray_walk_exact.cpp's notes); here 4 independent vectors of 8 rays are
+// stepped in turn, without a branch on any ray's data, and a lane whose ray is done takes
+// the next ray of the chunk. Measured against the scalar walk with pxh bench --camera
+// perspective (README: the per-ray section).
+// GCC 12's AVX-512 headers start some conversions from _mm512_undefined_*(), which its
+// -Wmaybe-uninitialized reports once they are inlined here (a known false positive).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <immintrin.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "harness/truth/cell_solver.h"
+
+#define PXH_AVX512 __attribute__((target("avx512f,avx512dq,avx2")))
+#define PXH_AVX512_INLINE __attribute__((target("avx512f,avx512dq,avx2"), always_inline)) inline
+
+namespace pxh {
+
+namespace {
+
+// The first square of a walk: 2^kSquareStart cells on a side (2 to 4 measured alike).
+constexpr int kSquareStart = 3;
+// Vectors of 8 rays stepped in turn by the square walk (1: half as fast, 2 to 6 alike).
+constexpr int kLaneSets = 4;
+// The DDA's cells per ray in one pass B (4 to 16 measured alike).
+constexpr int kDdaCells = 8;
+// Rays per work chunk (tbb).
+constexpr size_t kChunk = 1024;
+
+// A chunk's rays, one array per parameter (ExactTracer::Ray's, for the vectors' loads).
+struct RayColumns {
+    std::vector<double> X0, Y0, dX, dY, iX, iY, vz, tm;
+    void resize(size_t n) {
+        for (auto* v : {&X0, &Y0, &dX, &dY, &iX, &iY, &vz, &tm}) v->resize(n);
+    }
+};
+
+// What the passes read of the tracer.
+struct SquareScene {
+    const float* texels;  // texels_, rows of `up` floats
+    int up;
+    const float* squares;  // square_max_: level k at (k - 1) W H
+    int levels;            // K
+    int W, H;
+    double s, b, zt;
+};
+
+PXH_AVX512_INLINE __m512d floor_pd(__m512d x) {
+    return _mm512_roundscale_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+}
+// a - n floor((a + 1/2) / n) for integers a (exact: (a + 1/2) / n is never within rounding of
+// an integer), in [0, n).
+PXH_AVX512_INLINE __m512d wrap_pd(__m512d a, __m512d n, __m512d inv_n) {
+    const __m512d half = _mm512_set1_pd(0.5);
+    return _mm512_sub_pd(a, _mm512_mul_pd(n, floor_pd(_mm512_mul_pd(_mm512_add_pd(a, half), inv_n))));
+}
+// std::min(a, b) and std::max(a, b), operand for operand: (b < a) ? b : a, (a < b) ? b : a.
+PXH_AVX512_INLINE __m512d std_min(__m512d a, __m512d b) {
+    return _mm512_mask_blend_pd(_mm512_cmp_pd_mask(b, a, _CMP_LT_OQ), a, b);
+}
+PXH_AVX512_INLINE __m512d std_max(__m512d a, __m512d b) {
+    return _mm512_mask_blend_pd(_mm512_cmp_pd_mask(a, b, _CMP_LT_OQ), a, b);
+}
+PXH_AVX512_INLINE __m256 std_max_ps(__m256 a, __m256 b) {
+    return _mm256_blendv_ps(a, b, _mm256_cmp_ps(a, b, _CMP_LT_OQ));
+}
+
+// ---- Pass A: the square walk ----
+
+struct SquareLanes {
+    __m512d X0, Y0, dX, dY, iX, iY, vz, ivz, tm, t, k;
+    __m512i slot;  // the ray's place in the pass's list
+    __mmask8 active;
+};
+
+struct SquareConsts {
+    __m512d W, H, iW, iH, WH, zt, s, b, K;
+    const float* squares;
+};
+
+// One step of every active lane; returns the lanes whose walk ended (t is their t_safe).
+PXH_AVX512_INLINE __mmask8 square_step(const SquareConsts& c, SquareLanes& L) {
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), two = _mm512_set1_pd(2);
+    const __m512d half = _mm512_set1_pd(0.5), mhalf = _mm512_set1_pd(-0.5);
+    const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
+    const __m512d t = L.t;
+    const __m512d x = _mm512_add_pd(L.X0, _mm512_mul_pd(t, L.dX));
+    const __m512d y = _mm512_add_pd(L.Y0, _mm512_mul_pd(t, L.dY));
+    const __mmask8 px = _mm512_cmp_pd_mask(L.dX, zero, _CMP_GT_OQ);
+    const __mmask8 py = _mm512_cmp_pd_mask(L.dY, zero, _CMP_GT_OQ);
+    const __mmask8 mx = _mm512_cmp_pd_mask(L.dX, zero, _CMP_NEQ_OQ);
+    const __mmask8 my = _mm512_cmp_pd_mask(L.dY, zero, _CMP_NEQ_OQ);
+    const __m512d gx = floor_pd(_mm512_add_pd(x, _mm512_mask_blend_pd(px, mhalf, half)));
+    const __m512d gy = floor_pd(_mm512_add_pd(y, _mm512_mask_blend_pd(py, mhalf, half)));
+    const __m512d n = _mm512_scalef_pd(one, L.k);
+    // The square's first column (row) and far line.
+    const __m512d ax = _mm512_mask_blend_pd(px, _mm512_sub_pd(_mm512_add_pd(gx, two), n),
+                                            _mm512_sub_pd(gx, one));
+    const __m512d ay = _mm512_mask_blend_pd(py, _mm512_sub_pd(_mm512_add_pd(gy, two), n),
+                                            _mm512_sub_pd(gy, one));
+    const __m512d lx = _mm512_mask_add_pd(ax, px, ax, n), ly = _mm512_mask_add_pd(ay, py, ay, n);
+    const __m512d tx = _mm512_mask_mul_pd(inf, mx, _mm512_sub_pd(lx, L.X0), L.iX);
+    const __m512d ty = _mm512_mask_mul_pd(inf, my, _mm512_sub_pd(ly, L.Y0), L.iY);
+    const __m512d te = _mm512_min_pd(_mm512_min_pd(tx, ty), L.tm);
+    // The square's maximum, from level k at its wrapped first cell.
+    const __m512d cell = _mm512_add_pd(_mm512_mul_pd(wrap_pd(ay, c.H, c.iH), c.W), wrap_pd(ax, c.W, c.iW));
+    const __m512d at = _mm512_add_pd(cell, _mm512_mul_pd(_mm512_sub_pd(L.k, one), c.WH));
+    const __m256 m = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), L.active,
+                                              _mm512_cvttpd_epi64(at), c.squares, 4);
+    const __m512d zM = _mm512_mul_pd(c.s, _mm512_sub_pd(_mm512_cvtps_pd(m), c.b));
+    const __mmask8 clear = _mm512_mask_cmp_pd_mask(
+        L.active, _mm512_sub_pd(c.zt, _mm512_mul_pd(te, L.vz)), zM, _CMP_GT_OQ);
+    const __mmask8 fail = L.active & __mmask8(~clear);
+    // A failure: on to where the ray comes down to zM, if it provably lies above zM there.
+    const __m512d ta = _mm512_min_pd(_mm512_mul_pd(_mm512_sub_pd(c.zt, zM), L.ivz), te);
+    const __mmask8 on = _mm512_mask_cmp_pd_mask(
+                            fail, _mm512_sub_pd(c.zt, _mm512_mul_pd(ta, L.vz)), zM, _CMP_GT_OQ) &
+                        _mm512_cmp_pd_mask(ta, t, _CMP_GT_OQ);
+    L.t = _mm512_mask_mov_pd(_mm512_mask_mov_pd(t, clear, te), on, ta);
+    const __m512d k = _mm512_mask_add_pd(L.k, clear & _mm512_cmp_pd_mask(L.k, c.K, _CMP_LT_OQ),
+                                         L.k, one);
+    L.k = _mm512_mask_sub_pd(k, fail, k, one);
+    return (fail & _mm512_cmp_pd_mask(L.k, zero, _CMP_EQ_OQ)) |
+           (clear & _mm512_cmp_pd_mask(te, L.tm, _CMP_GE_OQ));
+}
+
+// Rays list[0 .. n) of `rays`, starting at times t0[q]: t_safe[q], and bottom[q] = 1 where
+// every cell down to the slab bottom is rejected (the ray's answer is tau_max).
+PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const int* list,
+                            const double* t0, int n, double* t_safe, uint8_t* bottom) {
+    SquareConsts c;
+    c.W = _mm512_set1_pd(sc.W);
+    c.H = _mm512_set1_pd(sc.H);
+    c.iW = _mm512_set1_pd(1.0 / sc.W);
+    c.iH = _mm512_set1_pd(1.0 / sc.H);
+    c.WH = _mm512_set1_pd(double(sc.W) * sc.H);
+    c.zt = _mm512_set1_pd(sc.zt);
+    c.s = _mm512_set1_pd(sc.s);
+    c.b = _mm512_set1_pd(sc.b);
+    c.K = _mm512_set1_pd(sc.levels);
+    c.squares = sc.squares;
+    const double k0 = std::min(kSquareStart, sc.levels);
+    SquareLanes lanes[kLaneSets];
+    for (SquareLanes& L : lanes) {
+        L.X0 = L.Y0 = L.dX = L.dY = L.iX = L.iY = L.tm = L.t = _mm512_setzero_pd();
+        L.vz = L.ivz = L.k = _mm512_set1_pd(1);
+        L.slot = _mm512_setzero_si512();
+        L.active = 0;
+    }
+    int next = 0;
+    for (;;) {
+        bool any = false;
+        for (SquareLanes& L : lanes) {
+            // Free lanes take the next rays.
+            for (unsigned free = __mmask8(~L.active); free && next < n; free &= free - 1) {
+                const __mmask8 m = __mmask8(1u << __builtin_ctz(free));
+                const int r = list[next];
+                L.X0 = _mm512_mask_broadcastsd_pd(L.X0, m, _mm_set_sd(rays.X0[r]));
+                L.Y0 = _mm512_mask_broadcastsd_pd(L.Y0, m, _mm_set_sd(rays.Y0[r]));
+                L.dX = _mm512_mask_broadcastsd_pd(L.dX, m, _mm_set_sd(rays.dX[r]));
+                L.dY = _mm512_mask_broadcastsd_pd(L.dY, m, _mm_set_sd(rays.dY[r]));
+                L.iX = _mm512_mask_broadcastsd_pd(L.iX, m, _mm_set_sd(rays.iX[r]));
+                L.iY = _mm512_mask_broadcastsd_pd(L.iY, m, _mm_set_sd(rays.iY[r]));
+                L.vz = _mm512_mask_broadcastsd_pd(L.vz, m, _mm_set_sd(rays.vz[r]));
+                L.ivz = _mm512_mask_broadcastsd_pd(L.ivz, m, _mm_set_sd(1 / rays.vz[r]));
+                L.tm = _mm512_mask_broadcastsd_pd(L.tm, m, _mm_set_sd(rays.tm[r]));
+                L.t = _mm512_mask_broadcastsd_pd(L.t, m, _mm_set_sd(t0[next]));
+                L.k = _mm512_mask_broadcastsd_pd(L.k, m, _mm_set_sd(k0));
+                L.slot = _mm512_mask_set1_epi64(L.slot, m, next);
+                L.active |= m;
+                ++next;
+            }
+            any |= L.active != 0;
+        }
+        if (!any) return;
+        __mmask8 done[kLaneSets];
+        for (int v = 0; v < kLaneSets; ++v) done[v] = square_step(c, lanes[v]);
+        for (int v = 0; v < kLaneSets; ++v) {
+            if (!done[v]) continue;
+            SquareLanes& L = lanes[v];
+            _mm512_mask_i64scatter_pd(t_safe, done[v], L.slot, L.t, 8);
+            const __mmask8 at_bottom = done[v] & _mm512_cmp_pd_mask(L.t, L.tm, _CMP_GE_OQ);
+            if (at_bottom) {
+                alignas(64) int64_t slot[8];
+                _mm512_store_si512(slot, L.slot);
+                for (unsigned m = at_bottom; m; m &= m - 1) bottom[slot[__builtin_ctz(m)]] = 1;
+            }
+            L.active &= __mmask8(~done[v]);
+        }
+    }
+}
+
+// ---- Pass B: the DDA ----
+
+// DdaAxis::last_entered(floor(O), floor(O + t d), t, false) for the moving lanes `mv` (step
+// +1 where `p`), moving the guess by one cell each way at most; lanes that need more are
+// added to `slow` (their answer is then computed in scalar code).
+PXH_AVX512_INLINE __mmask8 entered(__m512d k, __m512d O, __m512d inv, __mmask8 p, __m512d t) {
+    const __m512d line = _mm512_mask_blend_pd(p, _mm512_add_pd(k, _mm512_set1_pd(1)), k);
+    return _mm512_cmp_pd_mask(_mm512_mul_pd(_mm512_sub_pd(line, O), inv), t, _CMP_LT_OQ);
+}
+PXH_AVX512_INLINE __m512d last_entered(__m512d O, __m512d d, __m512d inv, __mmask8 p, __mmask8 mv,
+                                       __m512d step, __m512d t, __mmask8& slow) {
+    const __m512d c = floor_pd(O);
+    __m512d g = floor_pd(_mm512_add_pd(O, _mm512_mul_pd(t, d)));
+    const __mmask8 behind = (p & _mm512_cmp_pd_mask(g, c, _CMP_LT_OQ)) |
+                            (__mmask8(~p) & _mm512_cmp_pd_mask(g, c, _CMP_GT_OQ));
+    g = _mm512_mask_mov_pd(g, behind, c);
+    const __mmask8 back =
+        _mm512_cmp_pd_mask(g, c, _CMP_NEQ_OQ) & __mmask8(~entered(g, O, inv, p, t));
+    g = _mm512_mask_sub_pd(g, back, g, step);
+    slow |= mv & _mm512_cmp_pd_mask(g, c, _CMP_NEQ_OQ) & __mmask8(~entered(g, O, inv, p, t));
+    const __mmask8 fwd = entered(_mm512_add_pd(g, step), O, inv, p, t);
+    g = _mm512_mask_add_pd(g, fwd, g, step);
+    slow |= mv & entered(_mm512_add_pd(g, step), O, inv, p, t);
+    return _mm512_mask_mov_pd(c, mv, g);
+}
+
+// Rays list[0 .. n) from their t_safe[q]: out_t[q] and resolved[q] (1: the answer, a hit or
+// tau_max; 0: not resolved in kDdaCells cells, out_t[q] the time to resume pass A from);
+// cells[list[q]] counts the cells walked, each once: a cell counts where it is left after
+// counted_to[list[q]], the exit of the last cell counted (a ray resumed from pass A may walk
+// its last cell again).
+PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const int* list,
+                         const double* t_safe, int n, double* out_t, uint8_t* resolved,
+                         int* cells, double* counted_to) {
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), mone = _mm512_set1_pd(-1);
+    const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
+    const __m512d W = _mm512_set1_pd(sc.W), H = _mm512_set1_pd(sc.H);
+    const __m512d iW = _mm512_set1_pd(1.0 / sc.W), iH = _mm512_set1_pd(1.0 / sc.H);
+    const __m512d zt = _mm512_set1_pd(sc.zt), s = _mm512_set1_pd(sc.s), b = _mm512_set1_pd(sc.b);
+    const __m512d neg_s = _mm512_set1_pd(-sc.s);
+    const __m512d sign = _mm512_castsi512_pd(_mm512_set1_epi64(int64_t(0x8000000000000000ULL)));
+    const __m512d magnitude = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));
+    const __m256i up = _mm256_set1_epi32(sc.up);
+    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    const float* tex = sc.texels;
+    for (int g0 = 0; g0 < n; g0 += 8) {
+        const int m = std::min(8, n - g0);
+        const __mmask8 valid = __mmask8((1u << m) - 1);
+        alignas(32) int32_t idx[8];
+        for (int q = 0; q < 8; ++q) idx[q] = list[g0 + std::min(q, m - 1)];
+        const __m256i vi = _mm256_load_si256(reinterpret_cast<const __m256i*>(idx));
+        const __m512d X0 = _mm512_i32gather_pd(vi, rays.X0.data(), 8);
+        const __m512d Y0 = _mm512_i32gather_pd(vi, rays.Y0.data(), 8);
+        const __m512d dX = _mm512_i32gather_pd(vi, rays.dX.data(), 8);
+        const __m512d dY = _mm512_i32gather_pd(vi, rays.dY.data(), 8);
+        const __m512d iX = _mm512_i32gather_pd(vi, rays.iX.data(), 8);
+        const __m512d iY = _mm512_i32gather_pd(vi, rays.iY.data(), 8);
+        const __m512d vz = _mm512_i32gather_pd(vi, rays.vz.data(), 8);
+        const __m512d tm = _mm512_i32gather_pd(vi, rays.tm.data(), 8);
+        const __m512d t = _mm512_maskz_loadu_pd(valid, t_safe + g0);
+        __m512d counted = _mm512_i32gather_pd(vi, counted_to, 8);
+        const __mmask8 px = _mm512_cmp_pd_mask(dX, zero, _CMP_GT_OQ);
+        const __mmask8 py = _mm512_cmp_pd_mask(dY, zero, _CMP_GT_OQ);
+        const __mmask8 mx = _mm512_cmp_pd_mask(dX, zero, _CMP_NEQ_OQ);
+        const __mmask8 my = _mm512_cmp_pd_mask(dY, zero, _CMP_NEQ_OQ);
+        const __m512d sx = _mm512_mask_blend_pd(px, mone, one), sy = _mm512_mask_blend_pd(py, mone, one);
+        // The DDA's cell at t.
+        __mmask8 slow = 0;
+        __m512d ci = last_entered(X0, dX, iX, px, mx, sx, t, slow);
+        __m512d cj = last_entered(Y0, dY, iY, py, my, sy, t, slow);
+        slow &= valid;
+        if (slow) {
+            alignas(64) double a[8], c[8];
+            _mm512_store_pd(a, ci);
+            _mm512_store_pd(c, cj);
+            for (unsigned mm = slow; mm; mm &= mm - 1) {
+                const int q = __builtin_ctz(mm), r = idx[q];
+                const double tq = t_safe[g0 + q];
+                const cell_solver::DdaAxis ax{rays.X0[r], rays.iX[r], rays.dX[r] > 0 ? 1 : -1,
+                                              rays.dX[r] != 0};
+                const cell_solver::DdaAxis ay{rays.Y0[r], rays.iY[r], rays.dY[r] > 0 ? 1 : -1,
+                                              rays.dY[r] != 0};
+                const int64_t cx = int64_t(std::floor(ax.origin)), cy = int64_t(std::floor(ay.origin));
+                a[q] = double(ax.moves ? ax.last_entered(cx, int64_t(std::floor(ax.origin + tq * rays.dX[r])),
+                                                         tq, false)
+                                       : cx);
+                c[q] = double(ay.moves ? ay.last_entered(cy, int64_t(std::floor(ay.origin + tq * rays.dY[r])),
+                                                         tq, false)
+                                       : cy);
+            }
+            ci = _mm512_load_pd(a);
+            cj = _mm512_load_pd(c);
+        }
+        // Tile-local cell, exit lines and exit times (walk_dda's).
+        __m512d li = wrap_pd(ci, W, iW), lj = wrap_pd(cj, H, iH);
+        __m512d xl = _mm512_mask_add_pd(ci, px, ci, one), yl = _mm512_mask_add_pd(cj, py, cj, one);
+        __m512d ex = _mm512_mask_mul_pd(inf, mx, _mm512_sub_pd(xl, X0), iX);
+        __m512d ey = _mm512_mask_mul_pd(inf, my, _mm512_sub_pd(yl, Y0), iY);
+        __mmask8 active = valid, done = 0;
+        __m512i walked = _mm512_setzero_si512();
+        __m512d answer = zero, last_exit = t;
+        for (int step = 0; step < kDdaCells && active; ++step) {
+            const __m512d tau_out = std_min(std_min(ex, ey), tm);
+            const __mmask8 fresh = active & _mm512_cmp_pd_mask(tau_out, counted, _CMP_GT_OQ);
+            walked = _mm512_mask_add_epi64(walked, fresh, walked, _mm512_set1_epi64(1));
+            counted = _mm512_mask_mov_pd(counted, fresh, tau_out);
+            const __m256i a00 = _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(lj), up),
+                                                 _mm512_cvttpd_epi32(li));
+            const __m256 f00 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex, a00, all, 4);
+            const __m256 f10 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + 1, a00, all, 4);
+            const __m256 f01 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up, a00, all, 4);
+            const __m256 f11 =
+                _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up + 1, a00, all, 4);
+            // cell_below.
+            const __m256 top = std_max_ps(std_max_ps(f00, f10), std_max_ps(f01, f11));
+            const __m512d z_top = _mm512_mul_pd(s, _mm512_sub_pd(_mm512_cvtps_pd(top), b));
+            const __m512d z_ray = _mm512_sub_pd(zt, _mm512_mul_pd(tau_out, vz));
+            const __mmask8 solve = active & __mmask8(~_mm512_cmp_pd_mask(z_ray, z_top, _CMP_GT_OQ));
+            __mmask8 hit = 0;
+            __m512d t_hit = zero;
+            if (solve) {
+                // solve_patch_inline, operation for operation.
+                __m512d tin = zero;
+                const __m512d ex_in = _mm512_mul_pd(
+                    _mm512_sub_pd(_mm512_mask_blend_pd(px, _mm512_add_pd(ci, one), ci), X0), iX);
+                tin = _mm512_mask_mov_pd(tin, mx, std_max(tin, ex_in));
+                const __m512d ey_in = _mm512_mul_pd(
+                    _mm512_sub_pd(_mm512_mask_blend_pd(py, _mm512_add_pd(cj, one), cj), Y0), iY);
+                tin = _mm512_mask_mov_pd(tin, my, std_max(tin, ey_in));
+                const __m512d h00 = _mm512_cvtps_pd(f00), h10 = _mm512_cvtps_pd(f10);
+                const __m512d h01 = _mm512_cvtps_pd(f01), h11 = _mm512_cvtps_pd(f11);
+                const __m512d fx0 = _mm512_sub_pd(_mm512_add_pd(X0, _mm512_mul_pd(tin, dX)), ci);
+                const __m512d fy0 = _mm512_sub_pd(_mm512_add_pd(Y0, _mm512_mul_pd(tin, dY)), cj);
+                const __m512d A = _mm512_sub_pd(h10, h00), B = _mm512_sub_pd(h01, h00);
+                const __m512d C = _mm512_add_pd(_mm512_sub_pd(_mm512_sub_pd(h00, h10), h01), h11);
+                const __m512d h0 = _mm512_add_pd(
+                    _mm512_add_pd(_mm512_add_pd(h00, _mm512_mul_pd(A, fx0)), _mm512_mul_pd(B, fy0)),
+                    _mm512_mul_pd(_mm512_mul_pd(C, fx0), fy0));
+                const __m512d h1 = _mm512_add_pd(
+                    _mm512_add_pd(_mm512_mul_pd(A, dX), _mm512_mul_pd(B, dY)),
+                    _mm512_mul_pd(C, _mm512_add_pd(_mm512_mul_pd(fx0, dY), _mm512_mul_pd(fy0, dX))));
+                const __m512d h2 = _mm512_mul_pd(_mm512_mul_pd(C, dX), dY);
+                const __m512d c0 = _mm512_sub_pd(_mm512_sub_pd(zt, _mm512_mul_pd(tin, vz)),
+                                                 _mm512_mul_pd(s, _mm512_sub_pd(h0, b)));
+                const __mmask8 at_entry = solve & _mm512_cmp_pd_mask(c0, zero, _CMP_LE_OQ);
+                // cell_solver::first_root(c0, c1, c2, len).
+                const __m512d c1 = _mm512_sub_pd(_mm512_xor_pd(vz, sign), _mm512_mul_pd(s, h1));
+                const __m512d c2 = _mm512_mul_pd(neg_s, h2);
+                const __m512d len = _mm512_sub_pd(tau_out, tin);
+                const __m512d f_end =
+                    _mm512_add_pd(c0, _mm512_mul_pd(_mm512_add_pd(c1, _mm512_mul_pd(c2, len)), len));
+                const __m512d slope_end =
+                    _mm512_add_pd(c1, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(2), c2), len));
+                const __mmask8 clears =
+                    _mm512_cmp_pd_mask(f_end, zero, _CMP_GT_OQ) &
+                    (_mm512_cmp_pd_mask(c2, zero, _CMP_LE_OQ) | _mm512_cmp_pd_mask(c1, zero, _CMP_GE_OQ) |
+                     _mm512_cmp_pd_mask(slope_end, zero, _CMP_LE_OQ));
+                const __mmask8 roots = solve & __mmask8(~at_entry) & __mmask8(~clears);
+                __m512d best = mone;
+                if (roots) {
+                    const __m512d c2ll =
+                        _mm512_mul_pd(_mm512_mul_pd(_mm512_and_pd(c2, magnitude), len), len);
+                    const __m512d scale = _mm512_add_pd(
+                        _mm512_add_pd(_mm512_and_pd(c0, magnitude),
+                                      _mm512_mul_pd(_mm512_and_pd(c1, magnitude), len)),
+                        c2ll);
+                    const __mmask8 linear =
+                        roots & _mm512_cmp_pd_mask(c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale),
+                                                   _CMP_LE_OQ);
+                    // consider(t): 0 <= t <= len and (best < 0 or t < best).
+                    __m512d cand[3];
+                    __mmask8 ok[3];
+                    const __mmask8 lin_root = linear & _mm512_cmp_pd_mask(c1, zero, _CMP_LT_OQ);
+                    cand[0] = _mm512_div_pd(_mm512_xor_pd(c0, sign), c1);
+                    ok[0] = lin_root;
+                    const __mmask8 quad = roots & __mmask8(~linear);
+                    const __m512d disc = _mm512_sub_pd(
+                        _mm512_mul_pd(c1, c1), _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
+                    const __m512d root = _mm512_sqrt_pd(disc);
+                    const __m512d q = _mm512_mul_pd(
+                        _mm512_set1_pd(-0.5),
+                        _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude),
+                                                       _mm512_and_pd(c1, sign))));
+                    const __mmask8 two_roots = quad & _mm512_cmp_pd_mask(disc, zero, _CMP_GE_OQ) &
+                                               _mm512_cmp_pd_mask(q, zero, _CMP_NEQ_OQ);
+                    cand[1] = _mm512_div_pd(q, c2);
+                    cand[2] = _mm512_div_pd(c0, q);
+                    ok[1] = ok[2] = two_roots;
+                    for (int r = 0; r < 3; ++r) {
+                        const __mmask8 take =
+                            ok[r] & _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
+                            _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
+                            (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
+                             _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
+                        best = _mm512_mask_mov_pd(best, take, cand[r]);
+                    }
+                    // No root found but the end value proves a crossing: first_root's bisection.
+                    const __mmask8 bisect = roots & _mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) &
+                                            _mm512_cmp_pd_mask(f_end, zero, _CMP_LE_OQ);
+                    if (bisect) {
+                        alignas(64) double bq[8], a0[8], a1[8], a2[8], al[8];
+                        _mm512_store_pd(bq, best);
+                        _mm512_store_pd(a0, c0);
+                        _mm512_store_pd(a1, c1);
+                        _mm512_store_pd(a2, c2);
+                        _mm512_store_pd(al, len);
+                        for (unsigned mm = bisect; mm; mm &= mm - 1) {
+                            const int r = __builtin_ctz(mm);
+                            bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
+                        }
+                        best = _mm512_load_pd(bq);
+                    }
+                }
+                const __mmask8 found = roots & _mm512_cmp_pd_mask(best, zero, _CMP_GE_OQ);
+                t_hit = _mm512_mask_mov_pd(t_hit, found, _mm512_add_pd(tin, best));
+                t_hit = _mm512_mask_mov_pd(t_hit, at_entry, tin);
+                hit = found | at_entry;
+            }
+            answer = _mm512_mask_mov_pd(answer, hit, t_hit);
+            const __mmask8 at_bottom =
+                active & __mmask8(~hit) & _mm512_cmp_pd_mask(tau_out, tm, _CMP_GE_OQ);
+            answer = _mm512_mask_mov_pd(answer, at_bottom, tm);
+            done |= hit | at_bottom;
+            active &= __mmask8(~(hit | at_bottom));
+            if (!active) break;
+            // The next cell: x on ex <= ey (walk_dda's step, tile-local indices wrapped).
+            last_exit = _mm512_mask_mov_pd(last_exit, active, tau_out);
+            const __mmask8 xs = active & _mm512_cmp_pd_mask(ex, ey, _CMP_LE_OQ);
+            const __mmask8 ys = active & __mmask8(~xs);
+            ci = _mm512_mask_add_pd(ci, xs, ci, sx);
+            li = _mm512_mask_add_pd(li, xs, li, sx);
+            li = _mm512_mask_mov_pd(li, xs & _mm512_cmp_pd_mask(li, W, _CMP_EQ_OQ), zero);
+            li = _mm512_mask_mov_pd(li, xs & _mm512_cmp_pd_mask(li, zero, _CMP_LT_OQ),
+                                    _mm512_sub_pd(W, one));
+            xl = _mm512_mask_add_pd(xl, xs, xl, sx);
+            ex = _mm512_mask_mul_pd(ex, xs, _mm512_sub_pd(xl, X0), iX);
+            cj = _mm512_mask_add_pd(cj, ys, cj, sy);
+            lj = _mm512_mask_add_pd(lj, ys, lj, sy);
+            lj = _mm512_mask_mov_pd(lj, ys & _mm512_cmp_pd_mask(lj, H, _CMP_EQ_OQ), zero);
+            lj = _mm512_mask_mov_pd(lj, ys & _mm512_cmp_pd_mask(lj, zero, _CMP_LT_OQ),
+                                    _mm512_sub_pd(H, one));
+            yl = _mm512_mask_add_pd(yl, ys, yl, sy);
+            ey = _mm512_mask_mul_pd(ey, ys, _mm512_sub_pd(yl, Y0), iY);
+        }
+        // Not resolved: resume pass A from the last exit (every cell walked was rejected).
+        answer = _mm512_mask_mov_pd(answer, active, last_exit);
+        alignas(64) double ans[8], upto[8];
+        alignas(64) int64_t cnt[8];
+        _mm512_store_pd(ans, answer);
+        _mm512_store_pd(upto, counted);
+        _mm512_store_si512(cnt, walked);
+        for (int q = 0; q < m; ++q) {
+            out_t[g0 + q] = ans[q];
+            resolved[g0 + q] = (done >> q) & 1;
+            cells[idx[q]] += int(cnt[q]);
+            counted_to[idx[q]] = upto[q];
+        }
+    }
+}
+
+}  // namespace
+
+bool ExactTracer::cpu_has_simd_path() {
+    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
+    return has;
+}
+
+void ExactTracer::build_squares() {
+    // Level 1 from level 0 (the cells' corner maxima), each next one from the one before:
+    // the square of side 2h at (i, j) is the four of side h at (i, j), (i + h, j), (i, j + h)
+    // and (i + h, j + h), wrapped.
+    const int W = hf_.width, H = hf_.height;
+    int K = 0;
+    while (K < kSquareLevels && (2 << K) <= std::min(W, H)) ++K;
+    square_levels_ = K;
+    if (K == 0) return;
+    const size_t WH = size_t(W) * size_t(H);
+    square_max_.resize(WH * size_t(K));
+    const float* prev = level_ptr_[0];
+    for (int k = 1; k <= K; ++k) {
+        const int h = 1 << (k - 1);
+        float* q = square_max_.data() + size_t(k - 1) * WH;
+        for (int j = 0; j < H; ++j) {
+            const size_t r0 = size_t(j) * W, r1 = size_t((j + h) % H) * W;
+            for (int i = 0; i < W; ++i) {
+                const int i1 = (i + h) % W;
+                q[r0 + i] = std::max(std::max(prev[r0 + i], prev[r0 + i1]),
+                                     std::max(prev[r1 + i], prev[r1 + i1]));
+            }
+        }
+        prev = q;
+    }
+}
+
+void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
+    const size_t n = view.size();
+    out.resize_all(n);
+    const SquareScene sc{texels_.data(), int(texel_stride()), square_max_.data(), square_levels_,
+                         hf_.width, hf_.height, s_, b_, z_top()};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
+        const size_t m = range.size();
+        std::vector<Ray> rays(m);
+        RayColumns cols;
+        cols.resize(m);
+        // A ray equal to a neighbour in the view (a perspective view's outside pixels all carry
+        // the look-at ray) is traced once per run of them, by the scalar walk, as trace_rays
+        // does; the others go to the passes (list).
+        std::vector<int> list, list_b(m), cells(m, 0);
+        std::vector<uint8_t> in_run(m, 0);
+        std::vector<TruthHit> run_hit(m);
+        bool cached = false;
+        Vec2d cP{};
+        Vec3d cV{};
+        TruthHit chit;
+        list.reserve(m);
+        for (size_t q = 0; q < m; ++q) {
+            const size_t k = range.begin() + q;
+            const Vec2d P = view.P[k];
+            const Vec3d V = view.dir(k);
+            if ((k > 0 && view.has_ray(k - 1, P, V)) || (k + 1 < n && view.has_ray(k + 1, P, V))) {
+                if (!cached || !(cP.x == P.x && cP.y == P.y && cV.x == V.x && cV.y == V.y &&
+                                 cV.z == V.z)) {
+                    chit = trace_ray_unchecked(P, V);
+                    cached = true;
+                    cP = P;
+                    cV = V;
+                }
+                in_run[q] = 1;
+                run_hit[q] = chit;
+                continue;
+            }
+            const Ray r = make_ray_unchecked(P, V);
+            rays[q] = r;
+            cols.X0[q] = r.X0;
+            cols.Y0[q] = r.Y0;
+            cols.dX[q] = r.dX;
+            cols.dY[q] = r.dY;
+            cols.iX[q] = r.inv_dX;
+            cols.iY[q] = r.inv_dY;
+            cols.vz[q] = r.vz;
+            cols.tm[q] = r.tau_max;
+            list.push_back(int(q));
+        }
+        // The rays still to resolve (list, from times t0), those pass A hands to pass B (list_b).
+        std::vector<double> t0(m, 0.0), t_safe(m), t_b(m), answer(m);
+        std::vector<double> counted_to(m, -std::numeric_limits<double>::infinity());
+        std::vector<uint8_t> bottom(m), resolved(m);
+        int count = int(list.size());
+        while (count > 0) {
+            std::fill(bottom.begin(), bottom.begin() + count, uint8_t(0));
+            square_pass(sc, cols, list.data(), t0.data(), count, t_safe.data(), bottom.data());
+            int nb = 0;
+            for (int q = 0; q < count; ++q) {
+                if (bottom[q]) {
+                    answer[list[q]] = rays[list[q]].tau_max;
+                } else {
+                    list_b[nb] = list[q];
+                    t_b[nb++] = t_safe[q];
+                }
+            }
+            dda_pass(sc, cols, list_b.data(), t_b.data(), nb, t_safe.data(), resolved.data(),
+                     cells.data(), counted_to.data());
+            count = 0;
+            for (int q = 0; q < nb; ++q) {
+                if (resolved[q]) {
+                    answer[list_b[q]] = t_safe[q];
+                } else {
+                    list[count] = list_b[q];
+                    t0[count++] = t_safe[q];
+                }
+            }
+        }
+        for (size_t q = 0; q < m; ++q)
+            out.set(range.begin() + q, in_run[q] ? run_hit[q] : hit_at(rays[q], answer[q], cells[q]));
+    });
+}
+
+}  // namespace pxh
