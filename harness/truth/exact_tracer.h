@@ -140,7 +140,7 @@ class ExactTracer final : public Tracer {
     // packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
     void trace_rays_simd(const View& view, Hits& out) const;  // ray_walk_simd.cpp
-    // The square walk's tables (square_max_), where the CPU has the SIMD path.
+    // The square walk's tables (square_code_), where the CPU has the SIMD path.
     void build_squares();
     // The maximum mipmap's levels (construction).
     void build_levels();
@@ -164,12 +164,15 @@ class ExactTracer final : public Tracer {
     std::vector<int> level_w_, level_h_;
     std::vector<const float*> level_ptr_;  // level_max_[l].data()
     int top_level_ = 0;                    // the last level (one block)
-    // square_max_: for k = 1 .. square_levels_ (at most kSquareLevels), at (k - 1) W H + j W + i
-    // the maximum of level 0 over the 2^k x 2^k cells from tile-local cell (i, j) on, wrapped
-    // (ray_walk_simd.cpp's square walk; 5 tables: 20 bytes per texel). Built only where
-    // cpu_has_simd_path().
+    // square_code_: for k = 1 .. square_levels_ (at most kSquareLevels), at (k - 1) W H + j W + i
+    // an upper bound of level 0's maximum over the 2^k x 2^k cells from tile-local cell (i, j)
+    // on, wrapped (ray_walk_simd.cpp's square walk): the code c of the bound square_lo_ + c
+    // square_step_ (in double, as computed there), the smallest of the 256 at or above the
+    // maximum. One byte per level and texel (4 bytes of padding after the last). Built only
+    // where cpu_has_simd_path().
     static constexpr int kSquareLevels = 5;
-    HugePageVector<float> square_max_;
+    HugePageVector<uint8_t> square_code_;
+    double square_lo_ = 0, square_step_ = 0;
     int square_levels_ = 0;
     bool use_simd_ = true;
 };

@@ -1,19 +1,20 @@
 // The per-ray path on CPUs with AVX-512 (avx512f and avx512dq, checked at run time:
-// ExactTracer::simd_path; the tables need a field of at least 2 x 2 cells): every ray of a view traced 8 to a vector, trace_naive's hits bit
-// for bit, as the scalar walk (ray_walk_exact.cpp), which every other CPU takes.
+// ExactTracer::simd_path; the tables need a field of at least 2 x 2 cells): every ray of a view
+// traced 8 to a vector, trace_naive's hits bit for bit, as the scalar walk (ray_walk_exact.cpp),
+// which every other CPU takes.
 //
 // Two passes, in turn, until every ray of a chunk is resolved:
 //
 // A. The square walk (square_pass), in conservative arithmetic of its own: it finds a time
 //    t_safe such that every cell trace_naive's DDA leaves before t_safe is one its first
-//    test (cell_below) rejects. Its tables (ExactTracer::square_max_): for k = 1 .. K,
-//    the maximum of the cells' corner maxima over every n x n square of cells, n = 2^k, at
-//    every first cell (i, j) of the tile, wrapped. A step from time t: g = floor(x(t) + sx/2)
-//    (and the same in y) is the ray's column, or the one behind it where the ray lies in the
-//    first half of its cell; the square's columns run from g - 1 (sx > 0: [g - 1, g - 1 + n))
-//    or from g + 1 back (sx < 0: [g + 2 - n, g + 1]), so they hold the DDA's column at any
-//    time from t on until the ray crosses the square's far line, whichever side of a line
-//    rounding puts the DDA's cell, and the far line is half a cell or more ahead of the ray
+//    test (cell_below) rejects. Its tables (ExactTracer::square_code_): for k = 1 .. K, an
+//    upper bound M (one byte: one of 256 heights) of the cells' corner maxima over every
+//    n x n square of cells, n = 2^k, at every first cell (i, j) of the tile, wrapped. A step from
+//    time t: g = floor(x(t) + sx/2) (and the same in y) is the ray's column, or the one behind it
+//    where the ray lies in the first half of its cell; the square's columns run from g - 1 (sx > 0:
+//    [g - 1, g - 1 + n)) or from g + 1 back (sx < 0: [g + 2 - n, g + 1]), so they hold the DDA's
+//    column at any time from t on until the ray crosses the square's far line, whichever side of a
+//    line rounding puts the DDA's cell, and the far line is half a cell or more ahead of the ray
 //    (every step moves on). Its crossing time te (the lower of the two far lines' and
 //    tau_max) is computed with trace_naive's own formula, (line - X0) / dX as (line - X0)
 //    * inv_dX, so a DDA cell beyond a far line is entered, hence left, no earlier than te
@@ -84,8 +85,9 @@ struct RayColumns {
 struct SquareScene {
     const float* texels;  // texels_, rows of `up` floats
     int up;
-    const float* squares;  // square_max_: level k at (k - 1) W H
-    int levels;            // K
+    const uint8_t* squares;  // square_code_: level k at (k - 1) W H
+    double lo, step;         // code c: the bound lo + c step
+    int levels;              // K
     int W, H;
     double s, b, zt;
 };
@@ -97,7 +99,8 @@ PXH_AVX512_INLINE __m512d floor_pd(__m512d x) {
 // an integer), in [0, n).
 PXH_AVX512_INLINE __m512d wrap_pd(__m512d a, __m512d n, __m512d inv_n) {
     const __m512d half = _mm512_set1_pd(0.5);
-    return _mm512_sub_pd(a, _mm512_mul_pd(n, floor_pd(_mm512_mul_pd(_mm512_add_pd(a, half), inv_n))));
+    return _mm512_sub_pd(a,
+                         _mm512_mul_pd(n, floor_pd(_mm512_mul_pd(_mm512_add_pd(a, half), inv_n))));
 }
 // std::min(a, b) and std::max(a, b), operand for operand: (b < a) ? b : a, (a < b) ? b : a.
 PXH_AVX512_INLINE __m512d std_min(__m512d a, __m512d b) {
@@ -119,8 +122,8 @@ struct SquareLanes {
 };
 
 struct SquareConsts {
-    __m512d W, H, iW, iH, WH, zt, s, b, K;
-    const float* squares;
+    __m512d W, H, iW, iH, WH, zt, s, b, K, lo, step;
+    const uint8_t* squares;
 };
 
 // One step of every active lane; returns the lanes whose walk ended (t is their t_safe).
@@ -139,31 +142,35 @@ PXH_AVX512_INLINE __mmask8 square_step(const SquareConsts& c, SquareLanes& L) {
     const __m512d gy = floor_pd(_mm512_add_pd(y, _mm512_mask_blend_pd(py, mhalf, half)));
     const __m512d n = _mm512_scalef_pd(one, L.k);
     // The square's first column (row) and far line.
-    const __m512d ax = _mm512_mask_blend_pd(px, _mm512_sub_pd(_mm512_add_pd(gx, two), n),
-                                            _mm512_sub_pd(gx, one));
-    const __m512d ay = _mm512_mask_blend_pd(py, _mm512_sub_pd(_mm512_add_pd(gy, two), n),
-                                            _mm512_sub_pd(gy, one));
+    const __m512d ax =
+        _mm512_mask_blend_pd(px, _mm512_sub_pd(_mm512_add_pd(gx, two), n), _mm512_sub_pd(gx, one));
+    const __m512d ay =
+        _mm512_mask_blend_pd(py, _mm512_sub_pd(_mm512_add_pd(gy, two), n), _mm512_sub_pd(gy, one));
     const __m512d lx = _mm512_mask_add_pd(ax, px, ax, n), ly = _mm512_mask_add_pd(ay, py, ay, n);
     const __m512d tx = _mm512_mask_mul_pd(inf, mx, _mm512_sub_pd(lx, L.X0), L.iX);
     const __m512d ty = _mm512_mask_mul_pd(inf, my, _mm512_sub_pd(ly, L.Y0), L.iY);
     const __m512d te = _mm512_min_pd(_mm512_min_pd(tx, ty), L.tm);
     // The square's maximum, from level k at its wrapped first cell.
-    const __m512d cell = _mm512_add_pd(_mm512_mul_pd(wrap_pd(ay, c.H, c.iH), c.W), wrap_pd(ax, c.W, c.iW));
+    const __m512d cell =
+        _mm512_add_pd(_mm512_mul_pd(wrap_pd(ay, c.H, c.iH), c.W), wrap_pd(ax, c.W, c.iW));
     const __m512d at = _mm512_add_pd(cell, _mm512_mul_pd(_mm512_sub_pd(L.k, one), c.WH));
-    const __m256 m = _mm512_mask_i64gather_ps(_mm256_setzero_ps(), L.active,
-                                              _mm512_cvttpd_epi64(at), c.squares, 4);
-    const __m512d zM = _mm512_mul_pd(c.s, _mm512_sub_pd(_mm512_cvtps_pd(m), c.b));
+    const __m256i code =
+        _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), L.active,
+                                                     _mm512_cvttpd_epi64(at), c.squares, 1),
+                         _mm256_set1_epi32(0xff));
+    const __m512d M = _mm512_add_pd(c.lo, _mm512_mul_pd(_mm512_cvtepi32_pd(code), c.step));
+    const __m512d zM = _mm512_mul_pd(c.s, _mm512_sub_pd(M, c.b));
     const __mmask8 clear = _mm512_mask_cmp_pd_mask(
         L.active, _mm512_sub_pd(c.zt, _mm512_mul_pd(te, L.vz)), zM, _CMP_GT_OQ);
     const __mmask8 fail = L.active & __mmask8(~clear);
     // A failure: on to where the ray comes down to zM, if it provably lies above zM there.
     const __m512d ta = _mm512_min_pd(_mm512_mul_pd(_mm512_sub_pd(c.zt, zM), L.ivz), te);
-    const __mmask8 on = _mm512_mask_cmp_pd_mask(
-                            fail, _mm512_sub_pd(c.zt, _mm512_mul_pd(ta, L.vz)), zM, _CMP_GT_OQ) &
+    const __mmask8 on = _mm512_mask_cmp_pd_mask(fail, _mm512_sub_pd(c.zt, _mm512_mul_pd(ta, L.vz)),
+                                                zM, _CMP_GT_OQ) &
                         _mm512_cmp_pd_mask(ta, t, _CMP_GT_OQ);
     L.t = _mm512_mask_mov_pd(_mm512_mask_mov_pd(t, clear, te), on, ta);
-    const __m512d k = _mm512_mask_add_pd(L.k, clear & _mm512_cmp_pd_mask(L.k, c.K, _CMP_LT_OQ),
-                                         L.k, one);
+    const __m512d k =
+        _mm512_mask_add_pd(L.k, clear & _mm512_cmp_pd_mask(L.k, c.K, _CMP_LT_OQ), L.k, one);
     L.k = _mm512_mask_sub_pd(k, fail, k, one);
     return (fail & _mm512_cmp_pd_mask(L.k, zero, _CMP_EQ_OQ)) |
            (clear & _mm512_cmp_pd_mask(te, L.tm, _CMP_GE_OQ));
@@ -184,6 +191,8 @@ PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const
     c.b = _mm512_set1_pd(sc.b);
     c.K = _mm512_set1_pd(sc.levels);
     c.squares = sc.squares;
+    c.lo = _mm512_set1_pd(sc.lo);
+    c.step = _mm512_set1_pd(sc.step);
     const double k0 = std::min(kSquareStart, sc.levels);
     SquareLanes lanes[kLaneSets];
     for (SquareLanes& L : lanes) {
@@ -267,8 +276,8 @@ PXH_AVX512_INLINE __m512d last_entered(__m512d O, __m512d d, __m512d inv, __mmas
 // counted_to[list[q]], the exit of the last cell counted (a ray resumed from pass A may walk
 // its last cell again).
 PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const int* list,
-                         const double* t_safe, int n, double* out_t, uint8_t* resolved,
-                         int* cells, double* counted_to) {
+                         const double* t_safe, int n, double* out_t, uint8_t* resolved, int* cells,
+                         double* counted_to) {
     const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), mone = _mm512_set1_pd(-1);
     const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
     const __m512d W = _mm512_set1_pd(sc.W), H = _mm512_set1_pd(sc.H);
@@ -300,7 +309,8 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
         const __mmask8 py = _mm512_cmp_pd_mask(dY, zero, _CMP_GT_OQ);
         const __mmask8 mx = _mm512_cmp_pd_mask(dX, zero, _CMP_NEQ_OQ);
         const __mmask8 my = _mm512_cmp_pd_mask(dY, zero, _CMP_NEQ_OQ);
-        const __m512d sx = _mm512_mask_blend_pd(px, mone, one), sy = _mm512_mask_blend_pd(py, mone, one);
+        const __m512d sx = _mm512_mask_blend_pd(px, mone, one),
+                      sy = _mm512_mask_blend_pd(py, mone, one);
         // The DDA's cell at t.
         __mmask8 slow = 0;
         __m512d ci = last_entered(X0, dX, iX, px, mx, sx, t, slow);
@@ -317,13 +327,16 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                                               rays.dX[r] != 0};
                 const cell_solver::DdaAxis ay{rays.Y0[r], rays.iY[r], rays.dY[r] > 0 ? 1 : -1,
                                               rays.dY[r] != 0};
-                const int64_t cx = int64_t(std::floor(ax.origin)), cy = int64_t(std::floor(ay.origin));
-                a[q] = double(ax.moves ? ax.last_entered(cx, int64_t(std::floor(ax.origin + tq * rays.dX[r])),
-                                                         tq, false)
-                                       : cx);
-                c[q] = double(ay.moves ? ay.last_entered(cy, int64_t(std::floor(ay.origin + tq * rays.dY[r])),
-                                                         tq, false)
-                                       : cy);
+                const int64_t cx = int64_t(std::floor(ax.origin)),
+                              cy = int64_t(std::floor(ay.origin));
+                a[q] = double(
+                    ax.moves ? ax.last_entered(cx, int64_t(std::floor(ax.origin + tq * rays.dX[r])),
+                                               tq, false)
+                             : cx);
+                c[q] = double(
+                    ay.moves ? ay.last_entered(cy, int64_t(std::floor(ay.origin + tq * rays.dY[r])),
+                                               tq, false)
+                             : cy);
             }
             ci = _mm512_load_pd(a);
             cj = _mm512_load_pd(c);
@@ -345,7 +358,8 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                                                  _mm512_cvttpd_epi32(li));
             const __m256 f00 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex, a00, all, 4);
             const __m256 f10 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + 1, a00, all, 4);
-            const __m256 f01 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up, a00, all, 4);
+            const __m256 f01 =
+                _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up, a00, all, 4);
             const __m256 f11 =
                 _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up + 1, a00, all, 4);
             // cell_below.
@@ -375,7 +389,8 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                     _mm512_mul_pd(_mm512_mul_pd(C, fx0), fy0));
                 const __m512d h1 = _mm512_add_pd(
                     _mm512_add_pd(_mm512_mul_pd(A, dX), _mm512_mul_pd(B, dY)),
-                    _mm512_mul_pd(C, _mm512_add_pd(_mm512_mul_pd(fx0, dY), _mm512_mul_pd(fy0, dX))));
+                    _mm512_mul_pd(C,
+                                  _mm512_add_pd(_mm512_mul_pd(fx0, dY), _mm512_mul_pd(fy0, dX))));
                 const __m512d h2 = _mm512_mul_pd(_mm512_mul_pd(C, dX), dY);
                 const __m512d c0 = _mm512_sub_pd(_mm512_sub_pd(zt, _mm512_mul_pd(tin, vz)),
                                                  _mm512_mul_pd(s, _mm512_sub_pd(h0, b)));
@@ -384,14 +399,14 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                 const __m512d c1 = _mm512_sub_pd(_mm512_xor_pd(vz, sign), _mm512_mul_pd(s, h1));
                 const __m512d c2 = _mm512_mul_pd(neg_s, h2);
                 const __m512d len = _mm512_sub_pd(tau_out, tin);
-                const __m512d f_end =
-                    _mm512_add_pd(c0, _mm512_mul_pd(_mm512_add_pd(c1, _mm512_mul_pd(c2, len)), len));
+                const __m512d f_end = _mm512_add_pd(
+                    c0, _mm512_mul_pd(_mm512_add_pd(c1, _mm512_mul_pd(c2, len)), len));
                 const __m512d slope_end =
                     _mm512_add_pd(c1, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(2), c2), len));
-                const __mmask8 clears =
-                    _mm512_cmp_pd_mask(f_end, zero, _CMP_GT_OQ) &
-                    (_mm512_cmp_pd_mask(c2, zero, _CMP_LE_OQ) | _mm512_cmp_pd_mask(c1, zero, _CMP_GE_OQ) |
-                     _mm512_cmp_pd_mask(slope_end, zero, _CMP_LE_OQ));
+                const __mmask8 clears = _mm512_cmp_pd_mask(f_end, zero, _CMP_GT_OQ) &
+                                        (_mm512_cmp_pd_mask(c2, zero, _CMP_LE_OQ) |
+                                         _mm512_cmp_pd_mask(c1, zero, _CMP_GE_OQ) |
+                                         _mm512_cmp_pd_mask(slope_end, zero, _CMP_LE_OQ));
                 const __mmask8 roots = solve & __mmask8(~at_entry) & __mmask8(~clears);
                 __m512d best = mone;
                 if (roots) {
@@ -402,8 +417,8 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                                       _mm512_mul_pd(_mm512_and_pd(c1, magnitude), len)),
                         c2ll);
                     const __mmask8 linear =
-                        roots & _mm512_cmp_pd_mask(c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale),
-                                                   _CMP_LE_OQ);
+                        roots & _mm512_cmp_pd_mask(
+                                    c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale), _CMP_LE_OQ);
                     // consider(t): 0 <= t <= len and (best < 0 or t < best).
                     __m512d cand[3];
                     __mmask8 ok[3];
@@ -411,24 +426,25 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                     cand[0] = _mm512_div_pd(_mm512_xor_pd(c0, sign), c1);
                     ok[0] = lin_root;
                     const __mmask8 quad = roots & __mmask8(~linear);
-                    const __m512d disc = _mm512_sub_pd(
-                        _mm512_mul_pd(c1, c1), _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
+                    const __m512d disc =
+                        _mm512_sub_pd(_mm512_mul_pd(c1, c1),
+                                      _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
                     const __m512d root = _mm512_sqrt_pd(disc);
-                    const __m512d q = _mm512_mul_pd(
-                        _mm512_set1_pd(-0.5),
-                        _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude),
-                                                       _mm512_and_pd(c1, sign))));
+                    const __m512d q =
+                        _mm512_mul_pd(_mm512_set1_pd(-0.5),
+                                      _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude),
+                                                                     _mm512_and_pd(c1, sign))));
                     const __mmask8 two_roots = quad & _mm512_cmp_pd_mask(disc, zero, _CMP_GE_OQ) &
                                                _mm512_cmp_pd_mask(q, zero, _CMP_NEQ_OQ);
                     cand[1] = _mm512_div_pd(q, c2);
                     cand[2] = _mm512_div_pd(c0, q);
                     ok[1] = ok[2] = two_roots;
                     for (int r = 0; r < 3; ++r) {
-                        const __mmask8 take =
-                            ok[r] & _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
-                            _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
-                            (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
-                             _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
+                        const __mmask8 take = ok[r] &
+                                              _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
+                                              _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
+                                              (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
+                                               _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
                         best = _mm512_mask_mov_pd(best, take, cand[r]);
                     }
                     // No root found but the end value proves a crossing: first_root's bisection.
@@ -505,35 +521,52 @@ bool ExactTracer::cpu_has_simd_path() {
 void ExactTracer::build_squares() {
     // Level 1 from level 0 (the cells' corner maxima), each next one from the one before:
     // the square of side 2h at (i, j) is the four of side h at (i, j), (i + h, j), (i, j + h)
-    // and (i + h, j + h), wrapped.
+    // and (i + h, j + h), wrapped. Each maximum is then stored as its code (exact_tracer.h).
     const int W = hf_.width, H = hf_.height;
     int K = 0;
     while (K < kSquareLevels && (2 << K) <= std::min(W, H)) ++K;
     square_levels_ = K;
     if (K == 0) return;
     const size_t WH = size_t(W) * size_t(H);
-    square_max_.resize(WH * size_t(K));
-    const float* prev = level_ptr_[0];
+    const float* cells = level_ptr_[0];
+    const float lo = *std::min_element(cells, cells + WH),
+                hi = *std::max_element(cells, cells + WH);
+    square_lo_ = lo;
+    square_step_ = (double(hi) - double(lo)) / 255;
+    auto bound = [&](int c) { return square_lo_ + double(c) * square_step_; };
+    while (bound(255) < double(hi)) square_step_ = std::nextafter(square_step_, HUGE_VAL);
+    auto code = [&](float m) {
+        int c = square_step_ > 0 ? int(std::ceil((double(m) - square_lo_) / square_step_)) : 0;
+        c = std::clamp(c, 0, 255);
+        while (c > 0 && bound(c - 1) >= double(m)) --c;
+        while (bound(c) < double(m)) ++c;  // ends by 255 (bound(255) >= hi)
+        return uint8_t(c);
+    };
+    square_code_.assign(WH * size_t(K) + 4, 0);
+    std::vector<float> prev(cells, cells + WH), next(WH);
     for (int k = 1; k <= K; ++k) {
         const int h = 1 << (k - 1);
-        float* q = square_max_.data() + size_t(k - 1) * WH;
+        uint8_t* q = square_code_.data() + size_t(k - 1) * WH;
         for (int j = 0; j < H; ++j) {
             const size_t r0 = size_t(j) * W, r1 = size_t((j + h) % H) * W;
             for (int i = 0; i < W; ++i) {
                 const int i1 = (i + h) % W;
-                q[r0 + i] = std::max(std::max(prev[r0 + i], prev[r0 + i1]),
-                                     std::max(prev[r1 + i], prev[r1 + i1]));
+                next[r0 + i] = std::max(std::max(prev[r0 + i], prev[r0 + i1]),
+                                        std::max(prev[r1 + i], prev[r1 + i1]));
+                q[r0 + i] = code(next[r0 + i]);
             }
         }
-        prev = q;
+        prev.swap(next);
     }
 }
 
 void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     const size_t n = view.size();
     out.resize_all(n);
-    const SquareScene sc{texels_.data(), int(texel_stride()), square_max_.data(), square_levels_,
-                         hf_.width, hf_.height, s_, b_, z_top()};
+    const SquareScene sc{
+        texels_.data(), int(texel_stride()), square_code_.data(), square_lo_, square_step_,
+        square_levels_, hf_.width,           hf_.height,          s_,         b_,
+        z_top()};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
         const size_t m = range.size();
         std::vector<Ray> rays(m);
@@ -555,8 +588,8 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             const Vec2d P = view.P[k];
             const Vec3d V = view.dir(k);
             if ((k > 0 && view.has_ray(k - 1, P, V)) || (k + 1 < n && view.has_ray(k + 1, P, V))) {
-                if (!cached || !(cP.x == P.x && cP.y == P.y && cV.x == V.x && cV.y == V.y &&
-                                 cV.z == V.z)) {
+                if (!cached ||
+                    !(cP.x == P.x && cP.y == P.y && cV.x == V.x && cV.y == V.y && cV.z == V.z)) {
                     chit = trace_ray_unchecked(P, V);
                     cached = true;
                     cP = P;
@@ -608,7 +641,8 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             }
         }
         for (size_t q = 0; q < m; ++q)
-            out.set(range.begin() + q, in_run[q] ? run_hit[q] : hit_at(rays[q], answer[q], cells[q]));
+            out.set(range.begin() + q,
+                    in_run[q] ? run_hit[q] : hit_at(rays[q], answer[q], cells[q]));
     });
 }
 
