@@ -270,247 +270,286 @@ PXH_AVX512_INLINE __m512d last_entered(__m512d O, __m512d d, __m512d inv, __mmas
     return _mm512_mask_mov_pd(c, mv, g);
 }
 
+// One pass B group: 8 rays (lanes beyond m repeat the last), their walks' state.
+struct DdaGroup {
+    __m512d X0, Y0, dX, dY, iX, iY, vz, tm, sx, sy, ci, cj, li, lj, xl, yl, ex, ey;
+    __m512d counted, answer, last_exit;
+    __m512i walked;
+    __mmask8 px, py, mx, my, active, done;
+    int m, steps;
+    alignas(32) int32_t idx[8];
+};
+
+// Pass B's constants, in each of its functions.
+#define PXH_DDA_CONSTS                                                                            \
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), mone = _mm512_set1_pd(-1); \
+    const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());                  \
+    const __m512d W = _mm512_set1_pd(sc.W), H = _mm512_set1_pd(sc.H);                             \
+    const __m512d iW = _mm512_set1_pd(1.0 / sc.W), iH = _mm512_set1_pd(1.0 / sc.H);               \
+    const __m512d zt = _mm512_set1_pd(sc.zt), s = _mm512_set1_pd(sc.s), b = _mm512_set1_pd(sc.b); \
+    const __m512d neg_s = _mm512_set1_pd(-sc.s);                                                  \
+    const __m512d sign = _mm512_castsi512_pd(_mm512_set1_epi64(int64_t(0x8000000000000000ULL)));  \
+    const __m512d magnitude = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));       \
+    const __m256i up = _mm256_set1_epi32(sc.up);                                                  \
+    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));                                \
+    const float* tex = sc.texels;
+
+// The group of rays list[g0 ..], from their t_safe: the DDA's cell at t_safe, its exits.
+PXH_AVX512_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColumns& rays,
+                                 const int* list, const double* t_safe, int g0, int n,
+                                 const double* counted_to) {
+    PXH_DDA_CONSTS(void)
+    neg_s, (void)sign, (void)magnitude, (void)up, (void)all, (void)tex, (void)zt, (void)s, (void)b;
+    const int m = G.m = std::min(8, n - g0);
+    const __mmask8 valid = __mmask8((1u << m) - 1);
+    for (int q = 0; q < 8; ++q) G.idx[q] = list[g0 + std::min(q, m - 1)];
+    const __m256i vi = _mm256_load_si256(reinterpret_cast<const __m256i*>(G.idx));
+    G.X0 = _mm512_i32gather_pd(vi, rays.X0.data(), 8);
+    G.Y0 = _mm512_i32gather_pd(vi, rays.Y0.data(), 8);
+    G.dX = _mm512_i32gather_pd(vi, rays.dX.data(), 8);
+    G.dY = _mm512_i32gather_pd(vi, rays.dY.data(), 8);
+    G.iX = _mm512_i32gather_pd(vi, rays.iX.data(), 8);
+    G.iY = _mm512_i32gather_pd(vi, rays.iY.data(), 8);
+    G.vz = _mm512_i32gather_pd(vi, rays.vz.data(), 8);
+    G.tm = _mm512_i32gather_pd(vi, rays.tm.data(), 8);
+    const __m512d t = _mm512_maskz_loadu_pd(valid, t_safe + g0);
+    G.counted = _mm512_i32gather_pd(vi, counted_to, 8);
+    G.px = _mm512_cmp_pd_mask(G.dX, zero, _CMP_GT_OQ);
+    G.py = _mm512_cmp_pd_mask(G.dY, zero, _CMP_GT_OQ);
+    G.mx = _mm512_cmp_pd_mask(G.dX, zero, _CMP_NEQ_OQ);
+    G.my = _mm512_cmp_pd_mask(G.dY, zero, _CMP_NEQ_OQ);
+    G.sx = _mm512_mask_blend_pd(G.px, mone, one);
+    G.sy = _mm512_mask_blend_pd(G.py, mone, one);
+    // The DDA's cell at t.
+    __mmask8 slow = 0;
+    G.ci = last_entered(G.X0, G.dX, G.iX, G.px, G.mx, G.sx, t, slow);
+    G.cj = last_entered(G.Y0, G.dY, G.iY, G.py, G.my, G.sy, t, slow);
+    slow &= valid;
+    if (slow) {
+        alignas(64) double a[8], c[8];
+        _mm512_store_pd(a, G.ci);
+        _mm512_store_pd(c, G.cj);
+        for (unsigned mm = slow; mm; mm &= mm - 1) {
+            const int q = __builtin_ctz(mm), r = G.idx[q];
+            const double tq = t_safe[g0 + q];
+            const cell_solver::DdaAxis ax{rays.X0[r], rays.iX[r], rays.dX[r] > 0 ? 1 : -1,
+                                          rays.dX[r] != 0};
+            const cell_solver::DdaAxis ay{rays.Y0[r], rays.iY[r], rays.dY[r] > 0 ? 1 : -1,
+                                          rays.dY[r] != 0};
+            const int64_t cx = int64_t(std::floor(ax.origin)), cy = int64_t(std::floor(ay.origin));
+            a[q] = double(ax.moves
+                              ? ax.last_entered(
+                                    cx, int64_t(std::floor(ax.origin + tq * rays.dX[r])), tq, false)
+                              : cx);
+            c[q] = double(ay.moves
+                              ? ay.last_entered(
+                                    cy, int64_t(std::floor(ay.origin + tq * rays.dY[r])), tq, false)
+                              : cy);
+        }
+        G.ci = _mm512_load_pd(a);
+        G.cj = _mm512_load_pd(c);
+    }
+    // Tile-local cell, exit lines and exit times (walk_dda's).
+    G.li = wrap_pd(G.ci, W, iW);
+    G.lj = wrap_pd(G.cj, H, iH);
+    G.xl = _mm512_mask_add_pd(G.ci, G.px, G.ci, one);
+    G.yl = _mm512_mask_add_pd(G.cj, G.py, G.cj, one);
+    G.ex = _mm512_mask_mul_pd(inf, G.mx, _mm512_sub_pd(G.xl, G.X0), G.iX);
+    G.ey = _mm512_mask_mul_pd(inf, G.my, _mm512_sub_pd(G.yl, G.Y0), G.iY);
+    G.active = valid;
+    G.done = 0;
+    G.walked = _mm512_setzero_si512();
+    G.answer = zero;
+    G.last_exit = t;
+    G.steps = 0;
+}
+
+// One cell of the DDA for every active lane (walk_dda's, cell_below's test, solve_patch).
+PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
+    PXH_DDA_CONSTS(void) iW, (void)iH, (void)inf;
+    const __m512d tau_out = std_min(std_min(G.ex, G.ey), G.tm);
+    const __mmask8 fresh = G.active & _mm512_cmp_pd_mask(tau_out, G.counted, _CMP_GT_OQ);
+    G.walked = _mm512_mask_add_epi64(G.walked, fresh, G.walked, _mm512_set1_epi64(1));
+    G.counted = _mm512_mask_mov_pd(G.counted, fresh, tau_out);
+    const __m256i a00 = _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(G.lj), up),
+                                         _mm512_cvttpd_epi32(G.li));
+    const __m256 f00 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex, a00, all, 4);
+    const __m256 f10 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + 1, a00, all, 4);
+    const __m256 f01 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up, a00, all, 4);
+    const __m256 f11 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up + 1, a00, all, 4);
+    // cell_below.
+    const __m256 top = std_max_ps(std_max_ps(f00, f10), std_max_ps(f01, f11));
+    const __m512d z_top = _mm512_mul_pd(s, _mm512_sub_pd(_mm512_cvtps_pd(top), b));
+    const __m512d z_ray = _mm512_sub_pd(zt, _mm512_mul_pd(tau_out, G.vz));
+    const __mmask8 solve = G.active & __mmask8(~_mm512_cmp_pd_mask(z_ray, z_top, _CMP_GT_OQ));
+    __mmask8 hit = 0;
+    __m512d t_hit = zero;
+    if (solve) {
+        // solve_patch_inline, operation for operation.
+        __m512d tin = zero;
+        const __m512d ex_in = _mm512_mul_pd(
+            _mm512_sub_pd(_mm512_mask_blend_pd(G.px, _mm512_add_pd(G.ci, one), G.ci), G.X0), G.iX);
+        tin = _mm512_mask_mov_pd(tin, G.mx, std_max(tin, ex_in));
+        const __m512d ey_in = _mm512_mul_pd(
+            _mm512_sub_pd(_mm512_mask_blend_pd(G.py, _mm512_add_pd(G.cj, one), G.cj), G.Y0), G.iY);
+        tin = _mm512_mask_mov_pd(tin, G.my, std_max(tin, ey_in));
+        const __m512d h00 = _mm512_cvtps_pd(f00), h10 = _mm512_cvtps_pd(f10);
+        const __m512d h01 = _mm512_cvtps_pd(f01), h11 = _mm512_cvtps_pd(f11);
+        const __m512d fx0 = _mm512_sub_pd(_mm512_add_pd(G.X0, _mm512_mul_pd(tin, G.dX)), G.ci);
+        const __m512d fy0 = _mm512_sub_pd(_mm512_add_pd(G.Y0, _mm512_mul_pd(tin, G.dY)), G.cj);
+        const __m512d A = _mm512_sub_pd(h10, h00), B = _mm512_sub_pd(h01, h00);
+        const __m512d C = _mm512_add_pd(_mm512_sub_pd(_mm512_sub_pd(h00, h10), h01), h11);
+        const __m512d h0 = _mm512_add_pd(
+            _mm512_add_pd(_mm512_add_pd(h00, _mm512_mul_pd(A, fx0)), _mm512_mul_pd(B, fy0)),
+            _mm512_mul_pd(_mm512_mul_pd(C, fx0), fy0));
+        const __m512d h1 = _mm512_add_pd(
+            _mm512_add_pd(_mm512_mul_pd(A, G.dX), _mm512_mul_pd(B, G.dY)),
+            _mm512_mul_pd(C, _mm512_add_pd(_mm512_mul_pd(fx0, G.dY), _mm512_mul_pd(fy0, G.dX))));
+        const __m512d h2 = _mm512_mul_pd(_mm512_mul_pd(C, G.dX), G.dY);
+        const __m512d c0 = _mm512_sub_pd(_mm512_sub_pd(zt, _mm512_mul_pd(tin, G.vz)),
+                                         _mm512_mul_pd(s, _mm512_sub_pd(h0, b)));
+        const __mmask8 at_entry = solve & _mm512_cmp_pd_mask(c0, zero, _CMP_LE_OQ);
+        // cell_solver::first_root(c0, c1, c2, len).
+        const __m512d c1 = _mm512_sub_pd(_mm512_xor_pd(G.vz, sign), _mm512_mul_pd(s, h1));
+        const __m512d c2 = _mm512_mul_pd(neg_s, h2);
+        const __m512d len = _mm512_sub_pd(tau_out, tin);
+        const __m512d f_end =
+            _mm512_add_pd(c0, _mm512_mul_pd(_mm512_add_pd(c1, _mm512_mul_pd(c2, len)), len));
+        const __m512d slope_end =
+            _mm512_add_pd(c1, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(2), c2), len));
+        const __mmask8 clears =
+            _mm512_cmp_pd_mask(f_end, zero, _CMP_GT_OQ) &
+            (_mm512_cmp_pd_mask(c2, zero, _CMP_LE_OQ) | _mm512_cmp_pd_mask(c1, zero, _CMP_GE_OQ) |
+             _mm512_cmp_pd_mask(slope_end, zero, _CMP_LE_OQ));
+        const __mmask8 roots = solve & __mmask8(~at_entry) & __mmask8(~clears);
+        __m512d best = mone;
+        if (roots) {
+            const __m512d c2ll =
+                _mm512_mul_pd(_mm512_mul_pd(_mm512_and_pd(c2, magnitude), len), len);
+            const __m512d scale =
+                _mm512_add_pd(_mm512_add_pd(_mm512_and_pd(c0, magnitude),
+                                            _mm512_mul_pd(_mm512_and_pd(c1, magnitude), len)),
+                              c2ll);
+            const __mmask8 linear =
+                roots &
+                _mm512_cmp_pd_mask(c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale), _CMP_LE_OQ);
+            // consider(t): 0 <= t <= len and (best < 0 or t < best).
+            __m512d cand[3];
+            __mmask8 ok[3];
+            const __mmask8 lin_root = linear & _mm512_cmp_pd_mask(c1, zero, _CMP_LT_OQ);
+            cand[0] = _mm512_div_pd(_mm512_xor_pd(c0, sign), c1);
+            ok[0] = lin_root;
+            const __mmask8 quad = roots & __mmask8(~linear);
+            const __m512d disc = _mm512_sub_pd(
+                _mm512_mul_pd(c1, c1), _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
+            const __m512d root = _mm512_sqrt_pd(disc);
+            const __m512d q = _mm512_mul_pd(
+                _mm512_set1_pd(-0.5), _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude),
+                                                                     _mm512_and_pd(c1, sign))));
+            const __mmask8 two_roots = quad & _mm512_cmp_pd_mask(disc, zero, _CMP_GE_OQ) &
+                                       _mm512_cmp_pd_mask(q, zero, _CMP_NEQ_OQ);
+            cand[1] = _mm512_div_pd(q, c2);
+            cand[2] = _mm512_div_pd(c0, q);
+            ok[1] = ok[2] = two_roots;
+            for (int r = 0; r < 3; ++r) {
+                const __mmask8 take = ok[r] & _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
+                                      _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
+                                      (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
+                                       _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
+                best = _mm512_mask_mov_pd(best, take, cand[r]);
+            }
+            // No root found but the end value proves a crossing: first_root's bisection.
+            const __mmask8 bisect = roots & _mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) &
+                                    _mm512_cmp_pd_mask(f_end, zero, _CMP_LE_OQ);
+            if (bisect) {
+                alignas(64) double bq[8], a0[8], a1[8], a2[8], al[8];
+                _mm512_store_pd(bq, best);
+                _mm512_store_pd(a0, c0);
+                _mm512_store_pd(a1, c1);
+                _mm512_store_pd(a2, c2);
+                _mm512_store_pd(al, len);
+                for (unsigned mm = bisect; mm; mm &= mm - 1) {
+                    const int r = __builtin_ctz(mm);
+                    bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
+                }
+                best = _mm512_load_pd(bq);
+            }
+        }
+        const __mmask8 found = roots & _mm512_cmp_pd_mask(best, zero, _CMP_GE_OQ);
+        t_hit = _mm512_mask_mov_pd(t_hit, found, _mm512_add_pd(tin, best));
+        t_hit = _mm512_mask_mov_pd(t_hit, at_entry, tin);
+        hit = found | at_entry;
+    }
+    G.answer = _mm512_mask_mov_pd(G.answer, hit, t_hit);
+    const __mmask8 at_bottom =
+        G.active & __mmask8(~hit) & _mm512_cmp_pd_mask(tau_out, G.tm, _CMP_GE_OQ);
+    G.answer = _mm512_mask_mov_pd(G.answer, at_bottom, G.tm);
+    G.done |= hit | at_bottom;
+    G.active &= __mmask8(~(hit | at_bottom));
+    if (!G.active) return;
+    // The next cell: x on G.ex <= G.ey (walk_dda's step, tile-local indices wrapped).
+    G.last_exit = _mm512_mask_mov_pd(G.last_exit, G.active, tau_out);
+    const __mmask8 xs = G.active & _mm512_cmp_pd_mask(G.ex, G.ey, _CMP_LE_OQ);
+    const __mmask8 ys = G.active & __mmask8(~xs);
+    G.ci = _mm512_mask_add_pd(G.ci, xs, G.ci, G.sx);
+    G.li = _mm512_mask_add_pd(G.li, xs, G.li, G.sx);
+    G.li = _mm512_mask_mov_pd(G.li, xs & _mm512_cmp_pd_mask(G.li, W, _CMP_EQ_OQ), zero);
+    G.li = _mm512_mask_mov_pd(G.li, xs & _mm512_cmp_pd_mask(G.li, zero, _CMP_LT_OQ),
+                              _mm512_sub_pd(W, one));
+    G.xl = _mm512_mask_add_pd(G.xl, xs, G.xl, G.sx);
+    G.ex = _mm512_mask_mul_pd(G.ex, xs, _mm512_sub_pd(G.xl, G.X0), G.iX);
+    G.cj = _mm512_mask_add_pd(G.cj, ys, G.cj, G.sy);
+    G.lj = _mm512_mask_add_pd(G.lj, ys, G.lj, G.sy);
+    G.lj = _mm512_mask_mov_pd(G.lj, ys & _mm512_cmp_pd_mask(G.lj, H, _CMP_EQ_OQ), zero);
+    G.lj = _mm512_mask_mov_pd(G.lj, ys & _mm512_cmp_pd_mask(G.lj, zero, _CMP_LT_OQ),
+                              _mm512_sub_pd(H, one));
+    G.yl = _mm512_mask_add_pd(G.yl, ys, G.yl, G.sy);
+    G.ey = _mm512_mask_mul_pd(G.ey, ys, _mm512_sub_pd(G.yl, G.Y0), G.iY);
+    if (++G.steps == kDdaCells) G.active = 0;  // resumed by pass A
+}
+
+// The group's answers.
+PXH_AVX512_INLINE void dda_finish(DdaGroup& G, int g0, double* out_t, uint8_t* resolved, int* cells,
+                                  double* counted_to) {
+    const int m = G.m;
+    // Not resolved: resume pass A from the last exit (every cell walked was rejected).
+    const __mmask8 open = __mmask8(((1u << m) - 1) & ~unsigned(G.done));
+    G.answer = _mm512_mask_mov_pd(G.answer, open, G.last_exit);
+    alignas(64) double ans[8], upto[8];
+    alignas(64) int64_t cnt[8];
+    _mm512_store_pd(ans, G.answer);
+    _mm512_store_pd(upto, G.counted);
+    _mm512_store_si512(cnt, G.walked);
+    for (int q = 0; q < m; ++q) {
+        out_t[g0 + q] = ans[q];
+        resolved[g0 + q] = (G.done >> q) & 1;
+        cells[G.idx[q]] += int(cnt[q]);
+        counted_to[G.idx[q]] = upto[q];
+    }
+}
+
 // Rays list[0 .. n) from their t_safe[q]: out_t[q] and resolved[q] (1: the answer, a hit or
 // tau_max; 0: not resolved in kDdaCells cells, out_t[q] the time to resume pass A from);
 // cells[list[q]] counts the cells walked, each once: a cell counts where it is left after
 // counted_to[list[q]], the exit of the last cell counted (a ray resumed from pass A may walk
-// its last cell again).
+// its last cell again). Two groups of 8 rays are walked in turn (their chains overlap).
 PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const int* list,
                          const double* t_safe, int n, double* out_t, uint8_t* resolved, int* cells,
                          double* counted_to) {
-    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), mone = _mm512_set1_pd(-1);
-    const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
-    const __m512d W = _mm512_set1_pd(sc.W), H = _mm512_set1_pd(sc.H);
-    const __m512d iW = _mm512_set1_pd(1.0 / sc.W), iH = _mm512_set1_pd(1.0 / sc.H);
-    const __m512d zt = _mm512_set1_pd(sc.zt), s = _mm512_set1_pd(sc.s), b = _mm512_set1_pd(sc.b);
-    const __m512d neg_s = _mm512_set1_pd(-sc.s);
-    const __m512d sign = _mm512_castsi512_pd(_mm512_set1_epi64(int64_t(0x8000000000000000ULL)));
-    const __m512d magnitude = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));
-    const __m256i up = _mm256_set1_epi32(sc.up);
-    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
-    const float* tex = sc.texels;
-    for (int g0 = 0; g0 < n; g0 += 8) {
-        const int m = std::min(8, n - g0);
-        const __mmask8 valid = __mmask8((1u << m) - 1);
-        alignas(32) int32_t idx[8];
-        for (int q = 0; q < 8; ++q) idx[q] = list[g0 + std::min(q, m - 1)];
-        const __m256i vi = _mm256_load_si256(reinterpret_cast<const __m256i*>(idx));
-        const __m512d X0 = _mm512_i32gather_pd(vi, rays.X0.data(), 8);
-        const __m512d Y0 = _mm512_i32gather_pd(vi, rays.Y0.data(), 8);
-        const __m512d dX = _mm512_i32gather_pd(vi, rays.dX.data(), 8);
-        const __m512d dY = _mm512_i32gather_pd(vi, rays.dY.data(), 8);
-        const __m512d iX = _mm512_i32gather_pd(vi, rays.iX.data(), 8);
-        const __m512d iY = _mm512_i32gather_pd(vi, rays.iY.data(), 8);
-        const __m512d vz = _mm512_i32gather_pd(vi, rays.vz.data(), 8);
-        const __m512d tm = _mm512_i32gather_pd(vi, rays.tm.data(), 8);
-        const __m512d t = _mm512_maskz_loadu_pd(valid, t_safe + g0);
-        __m512d counted = _mm512_i32gather_pd(vi, counted_to, 8);
-        const __mmask8 px = _mm512_cmp_pd_mask(dX, zero, _CMP_GT_OQ);
-        const __mmask8 py = _mm512_cmp_pd_mask(dY, zero, _CMP_GT_OQ);
-        const __mmask8 mx = _mm512_cmp_pd_mask(dX, zero, _CMP_NEQ_OQ);
-        const __mmask8 my = _mm512_cmp_pd_mask(dY, zero, _CMP_NEQ_OQ);
-        const __m512d sx = _mm512_mask_blend_pd(px, mone, one),
-                      sy = _mm512_mask_blend_pd(py, mone, one);
-        // The DDA's cell at t.
-        __mmask8 slow = 0;
-        __m512d ci = last_entered(X0, dX, iX, px, mx, sx, t, slow);
-        __m512d cj = last_entered(Y0, dY, iY, py, my, sy, t, slow);
-        slow &= valid;
-        if (slow) {
-            alignas(64) double a[8], c[8];
-            _mm512_store_pd(a, ci);
-            _mm512_store_pd(c, cj);
-            for (unsigned mm = slow; mm; mm &= mm - 1) {
-                const int q = __builtin_ctz(mm), r = idx[q];
-                const double tq = t_safe[g0 + q];
-                const cell_solver::DdaAxis ax{rays.X0[r], rays.iX[r], rays.dX[r] > 0 ? 1 : -1,
-                                              rays.dX[r] != 0};
-                const cell_solver::DdaAxis ay{rays.Y0[r], rays.iY[r], rays.dY[r] > 0 ? 1 : -1,
-                                              rays.dY[r] != 0};
-                const int64_t cx = int64_t(std::floor(ax.origin)),
-                              cy = int64_t(std::floor(ay.origin));
-                a[q] = double(
-                    ax.moves ? ax.last_entered(cx, int64_t(std::floor(ax.origin + tq * rays.dX[r])),
-                                               tq, false)
-                             : cx);
-                c[q] = double(
-                    ay.moves ? ay.last_entered(cy, int64_t(std::floor(ay.origin + tq * rays.dY[r])),
-                                               tq, false)
-                             : cy);
-            }
-            ci = _mm512_load_pd(a);
-            cj = _mm512_load_pd(c);
+    for (int g0 = 0; g0 < n; g0 += 16) {
+        DdaGroup a, b;
+        dda_start(a, sc, rays, list, t_safe, g0, n, counted_to);
+        const bool two = g0 + 8 < n;
+        if (two) dda_start(b, sc, rays, list, t_safe, g0 + 8, n, counted_to);
+        else b.active = 0;
+        while (a.active | b.active) {
+            if (a.active) dda_step(a, sc);
+            if (b.active) dda_step(b, sc);
         }
-        // Tile-local cell, exit lines and exit times (walk_dda's).
-        __m512d li = wrap_pd(ci, W, iW), lj = wrap_pd(cj, H, iH);
-        __m512d xl = _mm512_mask_add_pd(ci, px, ci, one), yl = _mm512_mask_add_pd(cj, py, cj, one);
-        __m512d ex = _mm512_mask_mul_pd(inf, mx, _mm512_sub_pd(xl, X0), iX);
-        __m512d ey = _mm512_mask_mul_pd(inf, my, _mm512_sub_pd(yl, Y0), iY);
-        __mmask8 active = valid, done = 0;
-        __m512i walked = _mm512_setzero_si512();
-        __m512d answer = zero, last_exit = t;
-        for (int step = 0; step < kDdaCells && active; ++step) {
-            const __m512d tau_out = std_min(std_min(ex, ey), tm);
-            const __mmask8 fresh = active & _mm512_cmp_pd_mask(tau_out, counted, _CMP_GT_OQ);
-            walked = _mm512_mask_add_epi64(walked, fresh, walked, _mm512_set1_epi64(1));
-            counted = _mm512_mask_mov_pd(counted, fresh, tau_out);
-            const __m256i a00 = _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(lj), up),
-                                                 _mm512_cvttpd_epi32(li));
-            const __m256 f00 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex, a00, all, 4);
-            const __m256 f10 = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + 1, a00, all, 4);
-            const __m256 f01 =
-                _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up, a00, all, 4);
-            const __m256 f11 =
-                _mm256_mask_i32gather_ps(_mm256_setzero_ps(), tex + sc.up + 1, a00, all, 4);
-            // cell_below.
-            const __m256 top = std_max_ps(std_max_ps(f00, f10), std_max_ps(f01, f11));
-            const __m512d z_top = _mm512_mul_pd(s, _mm512_sub_pd(_mm512_cvtps_pd(top), b));
-            const __m512d z_ray = _mm512_sub_pd(zt, _mm512_mul_pd(tau_out, vz));
-            const __mmask8 solve = active & __mmask8(~_mm512_cmp_pd_mask(z_ray, z_top, _CMP_GT_OQ));
-            __mmask8 hit = 0;
-            __m512d t_hit = zero;
-            if (solve) {
-                // solve_patch_inline, operation for operation.
-                __m512d tin = zero;
-                const __m512d ex_in = _mm512_mul_pd(
-                    _mm512_sub_pd(_mm512_mask_blend_pd(px, _mm512_add_pd(ci, one), ci), X0), iX);
-                tin = _mm512_mask_mov_pd(tin, mx, std_max(tin, ex_in));
-                const __m512d ey_in = _mm512_mul_pd(
-                    _mm512_sub_pd(_mm512_mask_blend_pd(py, _mm512_add_pd(cj, one), cj), Y0), iY);
-                tin = _mm512_mask_mov_pd(tin, my, std_max(tin, ey_in));
-                const __m512d h00 = _mm512_cvtps_pd(f00), h10 = _mm512_cvtps_pd(f10);
-                const __m512d h01 = _mm512_cvtps_pd(f01), h11 = _mm512_cvtps_pd(f11);
-                const __m512d fx0 = _mm512_sub_pd(_mm512_add_pd(X0, _mm512_mul_pd(tin, dX)), ci);
-                const __m512d fy0 = _mm512_sub_pd(_mm512_add_pd(Y0, _mm512_mul_pd(tin, dY)), cj);
-                const __m512d A = _mm512_sub_pd(h10, h00), B = _mm512_sub_pd(h01, h00);
-                const __m512d C = _mm512_add_pd(_mm512_sub_pd(_mm512_sub_pd(h00, h10), h01), h11);
-                const __m512d h0 = _mm512_add_pd(
-                    _mm512_add_pd(_mm512_add_pd(h00, _mm512_mul_pd(A, fx0)), _mm512_mul_pd(B, fy0)),
-                    _mm512_mul_pd(_mm512_mul_pd(C, fx0), fy0));
-                const __m512d h1 = _mm512_add_pd(
-                    _mm512_add_pd(_mm512_mul_pd(A, dX), _mm512_mul_pd(B, dY)),
-                    _mm512_mul_pd(C,
-                                  _mm512_add_pd(_mm512_mul_pd(fx0, dY), _mm512_mul_pd(fy0, dX))));
-                const __m512d h2 = _mm512_mul_pd(_mm512_mul_pd(C, dX), dY);
-                const __m512d c0 = _mm512_sub_pd(_mm512_sub_pd(zt, _mm512_mul_pd(tin, vz)),
-                                                 _mm512_mul_pd(s, _mm512_sub_pd(h0, b)));
-                const __mmask8 at_entry = solve & _mm512_cmp_pd_mask(c0, zero, _CMP_LE_OQ);
-                // cell_solver::first_root(c0, c1, c2, len).
-                const __m512d c1 = _mm512_sub_pd(_mm512_xor_pd(vz, sign), _mm512_mul_pd(s, h1));
-                const __m512d c2 = _mm512_mul_pd(neg_s, h2);
-                const __m512d len = _mm512_sub_pd(tau_out, tin);
-                const __m512d f_end = _mm512_add_pd(
-                    c0, _mm512_mul_pd(_mm512_add_pd(c1, _mm512_mul_pd(c2, len)), len));
-                const __m512d slope_end =
-                    _mm512_add_pd(c1, _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(2), c2), len));
-                const __mmask8 clears = _mm512_cmp_pd_mask(f_end, zero, _CMP_GT_OQ) &
-                                        (_mm512_cmp_pd_mask(c2, zero, _CMP_LE_OQ) |
-                                         _mm512_cmp_pd_mask(c1, zero, _CMP_GE_OQ) |
-                                         _mm512_cmp_pd_mask(slope_end, zero, _CMP_LE_OQ));
-                const __mmask8 roots = solve & __mmask8(~at_entry) & __mmask8(~clears);
-                __m512d best = mone;
-                if (roots) {
-                    const __m512d c2ll =
-                        _mm512_mul_pd(_mm512_mul_pd(_mm512_and_pd(c2, magnitude), len), len);
-                    const __m512d scale = _mm512_add_pd(
-                        _mm512_add_pd(_mm512_and_pd(c0, magnitude),
-                                      _mm512_mul_pd(_mm512_and_pd(c1, magnitude), len)),
-                        c2ll);
-                    const __mmask8 linear =
-                        roots & _mm512_cmp_pd_mask(
-                                    c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale), _CMP_LE_OQ);
-                    // consider(t): 0 <= t <= len and (best < 0 or t < best).
-                    __m512d cand[3];
-                    __mmask8 ok[3];
-                    const __mmask8 lin_root = linear & _mm512_cmp_pd_mask(c1, zero, _CMP_LT_OQ);
-                    cand[0] = _mm512_div_pd(_mm512_xor_pd(c0, sign), c1);
-                    ok[0] = lin_root;
-                    const __mmask8 quad = roots & __mmask8(~linear);
-                    const __m512d disc =
-                        _mm512_sub_pd(_mm512_mul_pd(c1, c1),
-                                      _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
-                    const __m512d root = _mm512_sqrt_pd(disc);
-                    const __m512d q =
-                        _mm512_mul_pd(_mm512_set1_pd(-0.5),
-                                      _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude),
-                                                                     _mm512_and_pd(c1, sign))));
-                    const __mmask8 two_roots = quad & _mm512_cmp_pd_mask(disc, zero, _CMP_GE_OQ) &
-                                               _mm512_cmp_pd_mask(q, zero, _CMP_NEQ_OQ);
-                    cand[1] = _mm512_div_pd(q, c2);
-                    cand[2] = _mm512_div_pd(c0, q);
-                    ok[1] = ok[2] = two_roots;
-                    for (int r = 0; r < 3; ++r) {
-                        const __mmask8 take = ok[r] &
-                                              _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
-                                              _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
-                                              (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
-                                               _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
-                        best = _mm512_mask_mov_pd(best, take, cand[r]);
-                    }
-                    // No root found but the end value proves a crossing: first_root's bisection.
-                    const __mmask8 bisect = roots & _mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) &
-                                            _mm512_cmp_pd_mask(f_end, zero, _CMP_LE_OQ);
-                    if (bisect) {
-                        alignas(64) double bq[8], a0[8], a1[8], a2[8], al[8];
-                        _mm512_store_pd(bq, best);
-                        _mm512_store_pd(a0, c0);
-                        _mm512_store_pd(a1, c1);
-                        _mm512_store_pd(a2, c2);
-                        _mm512_store_pd(al, len);
-                        for (unsigned mm = bisect; mm; mm &= mm - 1) {
-                            const int r = __builtin_ctz(mm);
-                            bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
-                        }
-                        best = _mm512_load_pd(bq);
-                    }
-                }
-                const __mmask8 found = roots & _mm512_cmp_pd_mask(best, zero, _CMP_GE_OQ);
-                t_hit = _mm512_mask_mov_pd(t_hit, found, _mm512_add_pd(tin, best));
-                t_hit = _mm512_mask_mov_pd(t_hit, at_entry, tin);
-                hit = found | at_entry;
-            }
-            answer = _mm512_mask_mov_pd(answer, hit, t_hit);
-            const __mmask8 at_bottom =
-                active & __mmask8(~hit) & _mm512_cmp_pd_mask(tau_out, tm, _CMP_GE_OQ);
-            answer = _mm512_mask_mov_pd(answer, at_bottom, tm);
-            done |= hit | at_bottom;
-            active &= __mmask8(~(hit | at_bottom));
-            if (!active) break;
-            // The next cell: x on ex <= ey (walk_dda's step, tile-local indices wrapped).
-            last_exit = _mm512_mask_mov_pd(last_exit, active, tau_out);
-            const __mmask8 xs = active & _mm512_cmp_pd_mask(ex, ey, _CMP_LE_OQ);
-            const __mmask8 ys = active & __mmask8(~xs);
-            ci = _mm512_mask_add_pd(ci, xs, ci, sx);
-            li = _mm512_mask_add_pd(li, xs, li, sx);
-            li = _mm512_mask_mov_pd(li, xs & _mm512_cmp_pd_mask(li, W, _CMP_EQ_OQ), zero);
-            li = _mm512_mask_mov_pd(li, xs & _mm512_cmp_pd_mask(li, zero, _CMP_LT_OQ),
-                                    _mm512_sub_pd(W, one));
-            xl = _mm512_mask_add_pd(xl, xs, xl, sx);
-            ex = _mm512_mask_mul_pd(ex, xs, _mm512_sub_pd(xl, X0), iX);
-            cj = _mm512_mask_add_pd(cj, ys, cj, sy);
-            lj = _mm512_mask_add_pd(lj, ys, lj, sy);
-            lj = _mm512_mask_mov_pd(lj, ys & _mm512_cmp_pd_mask(lj, H, _CMP_EQ_OQ), zero);
-            lj = _mm512_mask_mov_pd(lj, ys & _mm512_cmp_pd_mask(lj, zero, _CMP_LT_OQ),
-                                    _mm512_sub_pd(H, one));
-            yl = _mm512_mask_add_pd(yl, ys, yl, sy);
-            ey = _mm512_mask_mul_pd(ey, ys, _mm512_sub_pd(yl, Y0), iY);
-        }
-        // Not resolved: resume pass A from the last exit (every cell walked was rejected).
-        answer = _mm512_mask_mov_pd(answer, active, last_exit);
-        alignas(64) double ans[8], upto[8];
-        alignas(64) int64_t cnt[8];
-        _mm512_store_pd(ans, answer);
-        _mm512_store_pd(upto, counted);
-        _mm512_store_si512(cnt, walked);
-        for (int q = 0; q < m; ++q) {
-            out_t[g0 + q] = ans[q];
-            resolved[g0 + q] = (done >> q) & 1;
-            cells[idx[q]] += int(cnt[q]);
-            counted_to[idx[q]] = upto[q];
-        }
+        dda_finish(a, g0, out_t, resolved, cells, counted_to);
+        if (two) dda_finish(b, g0 + 8, out_t, resolved, cells, counted_to);
     }
 }
-
 }  // namespace
 
 bool ExactTracer::cpu_has_simd_path() {
