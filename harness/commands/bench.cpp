@@ -213,7 +213,13 @@ void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t 
     nlohmann::json doc = provenance(opt.threads);
     doc["benchmark"] = opt.camera == "perspective" ? kPerspectiveBenchTitle : kBenchTitle;
     doc["camera"] = opt.camera;
-    if (opt.camera == "perspective") doc["fov_deg"] = opt.fov;
+    if (opt.camera == "perspective") {
+        doc["fov_deg"] = opt.fov;
+        // Which per-ray kernels this CPU runs (both give trace_naive's hits bit for bit).
+        doc["exact_per_ray_path"] = ExactTracer::cpu_has_simd_path()
+                                        ? "avx512: square walk and DDA, 8 rays to a vector"
+                                        : "scalar: packets, then the max-mipmap walk per ray";
+    }
     doc["field"] = opt.field;
     doc["scale"] = opt.scale;
     doc["bias"] = opt.bias;

@@ -5,6 +5,7 @@
 //   cell_solver.h     the ray and the closed-form ray / bilinear-patch cell solver
 //   ray_walk.cpp      one ray at a time: trace_naive (DDA) and trace (over the mipmap)
 //   ray_walk_exact.cpp  one ray at a time, fast and bit for bit trace_naive: trace_ray
+//   ray_walk_simd.cpp   a view's rays 8 to a vector (AVX-512), bit for bit trace_naive
 //   band_tracer.cpp   every ray of an orthographic grid view at once: trace_grid
 //   true_shadow.cpp   the true hard shadow query: occluded
 #pragma once

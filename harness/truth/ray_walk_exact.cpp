@@ -1,7 +1,8 @@
 // The per-ray fast path (trace_ray, and every view that is not the orthographic grid): a walk
 // over the maximum mipmap that visits, of the cells trace_naive's DDA would visit, only those
 // the block maxima do not rule out, and solves each with trace_naive's own closed forms, hence
-// trace_naive's hits bit for bit.
+// trace_naive's hits bit for bit. On CPUs with AVX-512 a view's rays take ray_walk_simd.cpp's
+// vector path instead (trace_rays); single rays (trace_ray) always take this walk.
 //
 // Why the same bits: the DDA's cell sequence is the merge of the column-entry times tx(line)
 // and the row-entry times ty(line) (ties to x), both non-decreasing in the line index, so the

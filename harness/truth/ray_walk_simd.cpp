@@ -66,7 +66,7 @@ namespace {
 
 // The first square of a walk: 2^kSquareStart cells on a side (2 to 4 measured alike).
 constexpr int kSquareStart = 3;
-// Vectors of 8 rays stepped in turn by the square walk (1: half as fast, 2 to 6 alike).
+// Vectors of 8 rays stepped in turn by the square walk (1 and 2 slower, 3 and 6 no faster).
 constexpr int kLaneSets = 4;
 // Groups of 8 rays pass B walks in turn (1: 5-10% slower at 512 x 512, 60 deg; 3 and 4 as 2).
 constexpr int kDdaGroups = 2;
