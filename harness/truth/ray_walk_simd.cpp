@@ -366,6 +366,21 @@ PXH_AVX512_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayCo
     G.steps = 0;
 }
 
+// One axis of walk_dda's step, for the lanes `m`: the cell index c and its tile-local index l
+// (wrapped into [0, n)) move by `step`, the exit line el with them, and the exit time e is
+// computed again from it.
+PXH_AVX512_INLINE void dda_advance(__m512d& c, __m512d& l, __m512d& el, __m512d& e, __mmask8 m,
+                                   __m512d step, __m512d origin, __m512d inv, __m512d n) {
+    const __m512d zero = _mm512_setzero_pd();
+    c = _mm512_mask_add_pd(c, m, c, step);
+    l = _mm512_mask_add_pd(l, m, l, step);
+    l = _mm512_mask_mov_pd(l, m & _mm512_cmp_pd_mask(l, n, _CMP_EQ_OQ), zero);
+    l = _mm512_mask_mov_pd(l, m & _mm512_cmp_pd_mask(l, zero, _CMP_LT_OQ),
+                           _mm512_sub_pd(n, _mm512_set1_pd(1)));
+    el = _mm512_mask_add_pd(el, m, el, step);
+    e = _mm512_mask_mul_pd(e, m, _mm512_sub_pd(el, origin), inv);
+}
+
 // One cell of the DDA for every active lane (walk_dda's, cell_below's test, solve_patch).
 PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     PXH_DDA_CONSTS(void) iW, (void)iH, (void)inf;
@@ -493,20 +508,8 @@ PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     G.last_exit = _mm512_mask_mov_pd(G.last_exit, G.active, tau_out);
     const __mmask8 xs = G.active & _mm512_cmp_pd_mask(G.ex, G.ey, _CMP_LE_OQ);
     const __mmask8 ys = G.active & __mmask8(~xs);
-    G.ci = _mm512_mask_add_pd(G.ci, xs, G.ci, G.sx);
-    G.li = _mm512_mask_add_pd(G.li, xs, G.li, G.sx);
-    G.li = _mm512_mask_mov_pd(G.li, xs & _mm512_cmp_pd_mask(G.li, W, _CMP_EQ_OQ), zero);
-    G.li = _mm512_mask_mov_pd(G.li, xs & _mm512_cmp_pd_mask(G.li, zero, _CMP_LT_OQ),
-                              _mm512_sub_pd(W, one));
-    G.xl = _mm512_mask_add_pd(G.xl, xs, G.xl, G.sx);
-    G.ex = _mm512_mask_mul_pd(G.ex, xs, _mm512_sub_pd(G.xl, G.X0), G.iX);
-    G.cj = _mm512_mask_add_pd(G.cj, ys, G.cj, G.sy);
-    G.lj = _mm512_mask_add_pd(G.lj, ys, G.lj, G.sy);
-    G.lj = _mm512_mask_mov_pd(G.lj, ys & _mm512_cmp_pd_mask(G.lj, H, _CMP_EQ_OQ), zero);
-    G.lj = _mm512_mask_mov_pd(G.lj, ys & _mm512_cmp_pd_mask(G.lj, zero, _CMP_LT_OQ),
-                              _mm512_sub_pd(H, one));
-    G.yl = _mm512_mask_add_pd(G.yl, ys, G.yl, G.sy);
-    G.ey = _mm512_mask_mul_pd(G.ey, ys, _mm512_sub_pd(G.yl, G.Y0), G.iY);
+    dda_advance(G.ci, G.li, G.xl, G.ex, xs, G.sx, G.X0, G.iX, W);
+    dda_advance(G.cj, G.lj, G.yl, G.ey, ys, G.sy, G.Y0, G.iY, H);
     if (++G.steps == kDdaCells) G.active = 0;  // resumed by pass A
 }
 

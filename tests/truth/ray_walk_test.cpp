@@ -218,6 +218,24 @@ size_t packet_view_differences(const ExactTracer& t, double theta, double distan
     return size_t(n) * size_t(n);
 }
 
+// Thin walls (0.9) on flat ground (0.1), 48 x 40 texels.
+HeightField walls_field() {
+    HeightField walls = test::random_field(48, 40, 2);
+    for (int j = 0; j < walls.height; ++j)
+        for (int i = 0; i < walls.width; ++i)
+            walls.texels[size_t(j) * walls.width + i] = (i % 11 == 3 || j % 13 == 5) ? 0.9f : 0.1f;
+    return walls;
+}
+
+// 30 single-texel spikes (1) on ground at 0, 40 x 40 texels, placed from `seed`.
+HeightField spikes_field(uint32_t seed) {
+    HeightField spikes = test::random_field(40, 40, 3);
+    for (float& v : spikes.texels) v = 0.0f;
+    std::mt19937 rng(seed);
+    for (int k = 0; k < 30; ++k) spikes.texels[rng() % spikes.texels.size()] = 1.0f;
+    return spikes;
+}
+
 TEST(RayWalk, PacketsOfNeighbouringPixelsHitWhatTheDdaHits) {
     // Near eyes and many pixels per cell make packets whose rays lie close together (their
     // descent skips most of the slab), on fields where skipping one cell too many changes a
@@ -226,14 +244,7 @@ TEST(RayWalk, PacketsOfNeighbouringPixelsHitWhatTheDdaHits) {
     // Image sides that are not multiples of the packet's (partial packets at the right and
     // top edges), grazing views whose top rows are outside (the look-at ray, kept out of
     // the packets) and far eyes (packets too spread out to descend) are in the mix.
-    HeightField walls = test::random_field(48, 40, 2);
-    for (int j = 0; j < walls.height; ++j)
-        for (int i = 0; i < walls.width; ++i)
-            walls.texels[size_t(j) * walls.width + i] = (i % 11 == 3 || j % 13 == 5) ? 0.9f : 0.1f;
-    HeightField spikes = test::random_field(40, 40, 3);
-    for (float& v : spikes.texels) v = 0.0f;
-    std::mt19937 rng(17);
-    for (int k = 0; k < 30; ++k) spikes.texels[rng() % spikes.texels.size()] = 1.0f;
+    const HeightField walls = walls_field(), spikes = spikes_field(17);
     struct Case {
         const char* what;
         HeightField hf;
@@ -356,14 +367,8 @@ TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
     // flat ground, white noise at sizes that are not powers of two, 3 cells wide (square
     // tables of one level only), a thick slab whose grazing rays cross many tiles, smooth and
     // measured fields.
-    HeightField walls = test::random_field(48, 40, 2);
-    for (int j = 0; j < walls.height; ++j)
-        for (int i = 0; i < walls.width; ++i)
-            walls.texels[size_t(j) * walls.width + i] = (i % 11 == 3 || j % 13 == 5) ? 0.9f : 0.1f;
-    HeightField spikes = test::random_field(40, 40, 3);
-    for (float& v : spikes.texels) v = 0.0f;
+    const HeightField walls = walls_field(), spikes = spikes_field(23);
     std::mt19937 rng(23);
-    for (int k = 0; k < 30; ++k) spikes.texels[rng() % spikes.texels.size()] = 1.0f;
     HeightField flat = test::random_field(32, 32, 1);
     for (float& v : flat.texels) v = 0.25f;
     struct Case {
