@@ -6,6 +6,7 @@
 
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/sweep.h"
+#include "harness/truth/exact_tracer.h"
 
 namespace pxh {
 
@@ -25,6 +26,9 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     // 290 bytes per sample, which the terms below overestimate by a third).
     constexpr size_t kBaseBytes = size_t(192) << 20;
     constexpr size_t kEmbreeBytesPerTexel = 45;
+    // The exact tracer's square tables where the CPU has its AVX-512 path (ray_walk_simd.cpp):
+    // 5 bytes per texel kept, and two float levels while they are built (peak 13).
+    const size_t square_bytes_per_texel = ExactTracer::cpu_has_simd_path() ? 13 : 0;
     constexpr size_t kViewBytesPerSample = 16 + 40 + 16 + 8;  // P, exact hits, Embree hits, gap
     constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring
     const auto& backends = backends_override.empty() ? ex.backends : backends_override;
@@ -50,8 +54,8 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
         const FieldSize sz = field_size(spec);
         const size_t texels = sz.width * sz.height;
         // + the texture levels (4/3 of a float per texel) when a setting samples them
-        field = std::max(
-            field, texels * (4 + (sz.mask ? 1 : 0) + 6 + kEmbreeBytesPerTexel + (levels ? 6 : 0)));
+        field = std::max(field, texels * (4 + (sz.mask ? 1 : 0) + 6 + square_bytes_per_texel +
+                                          kEmbreeBytesPerTexel + (levels ? 6 : 0)));
     }
     const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
     // + a distance sweep's views waiting for the next distance (at most one per theta and
