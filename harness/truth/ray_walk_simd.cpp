@@ -75,11 +75,32 @@ constexpr int kDdaCells = 8;
 // Rays per work chunk (tbb).
 constexpr size_t kChunk = 1024;
 
-// A chunk's rays, one array per parameter (ExactTracer::Ray's, for the vectors' loads).
+// A chunk's rays still to resolve, one array per parameter (ExactTracer::Ray's, for the
+// vectors' loads; ivz = 1 / vz), and per ray its place in the chunk (id), the cells walked so
+// far (cells) and the exit time of the last one counted (counted, dda_pass). 8 entries of
+// padding after the last ray: pass A loads 8 at a time.
 struct RayColumns {
-    std::vector<double> X0, Y0, dX, dY, iX, iY, vz, tm;
+    std::vector<double> X0, Y0, dX, dY, iX, iY, vz, ivz, tm, counted;
+    std::vector<int> id, cells;
     void resize(size_t n) {
-        for (auto* v : {&X0, &Y0, &dX, &dY, &iX, &iY, &vz, &tm}) v->resize(n);
+        for (auto* v : {&X0, &Y0, &dX, &dY, &iX, &iY, &vz, &ivz, &tm, &counted}) v->resize(n + 8);
+        id.resize(n + 8);
+        cells.resize(n + 8);
+    }
+    // Ray `from` of `src` to place `to`.
+    void copy(int to, const RayColumns& src, int from) {
+        X0[to] = src.X0[from];
+        Y0[to] = src.Y0[from];
+        dX[to] = src.dX[from];
+        dY[to] = src.dY[from];
+        iX[to] = src.iX[from];
+        iY[to] = src.iY[from];
+        vz[to] = src.vz[from];
+        ivz[to] = src.ivz[from];
+        tm[to] = src.tm[from];
+        counted[to] = src.counted[from];
+        id[to] = src.id[from];
+        cells[to] = src.cells[from];
     }
 };
 
@@ -178,10 +199,15 @@ PXH_AVX512_INLINE __mmask8 square_step(const SquareConsts& c, SquareLanes& L) {
            (clear & _mm512_cmp_pd_mask(te, L.tm, _CMP_GE_OQ));
 }
 
-// Rays list[0 .. n) of `rays`, starting at times t0[q]: t_safe[q], and bottom[q] = 1 where
-// every cell down to the slab bottom is rejected (the ray's answer is tau_max).
-PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const int* list,
-                            const double* t0, int n, double* t_safe, uint8_t* bottom) {
+// The next ray of `col` into each lane of m, in lane order.
+PXH_AVX512_INLINE void take(__m512d& x, __mmask8 m, const double* col) {
+    x = _mm512_mask_expand_pd(x, m, _mm512_loadu_pd(col));
+}
+
+// Rays 0 .. n of `rays`, starting at times t0[q]: t_safe[q], and bottom[q] = 1 where every
+// cell down to the slab bottom is rejected (the ray's answer is tau_max).
+PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const double* t0, int n,
+                            double* t_safe, uint8_t* bottom) {
     SquareConsts c;
     c.W = _mm512_set1_pd(sc.W);
     c.H = _mm512_set1_pd(sc.H);
@@ -207,24 +233,29 @@ PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const
     for (;;) {
         bool any = false;
         for (SquareLanes& L : lanes) {
-            // Free lanes take the next rays.
-            for (unsigned free = __mmask8(~L.active); free && next < n; free &= free - 1) {
-                const __mmask8 m = __mmask8(1u << __builtin_ctz(free));
-                const int r = list[next];
-                L.X0 = _mm512_mask_broadcastsd_pd(L.X0, m, _mm_set_sd(rays.X0[r]));
-                L.Y0 = _mm512_mask_broadcastsd_pd(L.Y0, m, _mm_set_sd(rays.Y0[r]));
-                L.dX = _mm512_mask_broadcastsd_pd(L.dX, m, _mm_set_sd(rays.dX[r]));
-                L.dY = _mm512_mask_broadcastsd_pd(L.dY, m, _mm_set_sd(rays.dY[r]));
-                L.iX = _mm512_mask_broadcastsd_pd(L.iX, m, _mm_set_sd(rays.iX[r]));
-                L.iY = _mm512_mask_broadcastsd_pd(L.iY, m, _mm_set_sd(rays.iY[r]));
-                L.vz = _mm512_mask_broadcastsd_pd(L.vz, m, _mm_set_sd(rays.vz[r]));
-                L.ivz = _mm512_mask_broadcastsd_pd(L.ivz, m, _mm_set_sd(1 / rays.vz[r]));
-                L.tm = _mm512_mask_broadcastsd_pd(L.tm, m, _mm_set_sd(rays.tm[r]));
-                L.t = _mm512_mask_broadcastsd_pd(L.t, m, _mm_set_sd(t0[next]));
-                L.k = _mm512_mask_broadcastsd_pd(L.k, m, _mm_set_sd(k0));
-                L.slot = _mm512_mask_set1_epi64(L.slot, m, next);
+            // Free lanes take the next rays, in order (loads of 8, spread over the free lanes).
+            unsigned free = __mmask8(~L.active);
+            if (free && next < n) {
+                while (__builtin_popcount(free) > n - next)
+                    free &= ~(1u << (31 - __builtin_clz(free)));
+                const __mmask8 m = __mmask8(free);
+                take(L.X0, m, rays.X0.data() + next);
+                take(L.Y0, m, rays.Y0.data() + next);
+                take(L.dX, m, rays.dX.data() + next);
+                take(L.dY, m, rays.dY.data() + next);
+                take(L.iX, m, rays.iX.data() + next);
+                take(L.iY, m, rays.iY.data() + next);
+                take(L.vz, m, rays.vz.data() + next);
+                take(L.ivz, m, rays.ivz.data() + next);
+                take(L.tm, m, rays.tm.data() + next);
+                take(L.t, m, t0 + next);
+                L.k = _mm512_mask_mov_pd(L.k, m, _mm512_set1_pd(k0));
+                L.slot = _mm512_mask_expand_epi64(
+                    L.slot, m,
+                    _mm512_add_epi64(_mm512_set1_epi64(next),
+                                     _mm512_set_epi64(7, 6, 5, 4, 3, 2, 1, 0)));
                 L.active |= m;
-                ++next;
+                next += __builtin_popcount(free);
             }
             any |= L.active != 0;
         }
@@ -234,12 +265,16 @@ PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const
         for (int v = 0; v < kLaneSets; ++v) {
             if (!done[v]) continue;
             SquareLanes& L = lanes[v];
-            _mm512_mask_i64scatter_pd(t_safe, done[v], L.slot, L.t, 8);
+            // Scalar stores: a scatter of the one or two lanes done costs more (measured).
             const __mmask8 at_bottom = done[v] & _mm512_cmp_pd_mask(L.t, L.tm, _CMP_GE_OQ);
-            if (at_bottom) {
-                alignas(64) int64_t slot[8];
-                _mm512_store_si512(slot, L.slot);
-                for (unsigned m = at_bottom; m; m &= m - 1) bottom[slot[__builtin_ctz(m)]] = 1;
+            alignas(64) int64_t slot[8];
+            alignas(64) double t[8];
+            _mm512_store_si512(slot, L.slot);
+            _mm512_store_pd(t, L.t);
+            for (unsigned m = done[v]; m; m &= m - 1) {
+                const int q = __builtin_ctz(m);
+                t_safe[slot[q]] = t[q];
+                bottom[slot[q]] = uint8_t((at_bottom >> q) & 1);
             }
             L.active &= __mmask8(~done[v]);
         }
@@ -298,8 +333,7 @@ struct DdaGroup {
 
 // The group of rays list[g0 ..], from their t_safe: the DDA's cell at t_safe, its exits.
 PXH_AVX512_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColumns& rays,
-                                 const int* list, const double* t_safe, int g0, int n,
-                                 const double* counted_to) {
+                                 const int* list, const double* t_safe, int g0, int n) {
     PXH_DDA_CONSTS(void)
     neg_s, (void)sign, (void)magnitude, (void)up, (void)all, (void)tex, (void)zt, (void)s, (void)b;
     const int m = G.m = std::min(8, n - g0);
@@ -315,7 +349,7 @@ PXH_AVX512_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayCo
     G.vz = _mm512_i32gather_pd(vi, rays.vz.data(), 8);
     G.tm = _mm512_i32gather_pd(vi, rays.tm.data(), 8);
     const __m512d t = _mm512_maskz_loadu_pd(valid, t_safe + g0);
-    G.counted = _mm512_i32gather_pd(vi, counted_to, 8);
+    G.counted = _mm512_i32gather_pd(vi, rays.counted.data(), 8);
     G.px = _mm512_cmp_pd_mask(G.dX, zero, _CMP_GT_OQ);
     G.py = _mm512_cmp_pd_mask(G.dY, zero, _CMP_GT_OQ);
     G.mx = _mm512_cmp_pd_mask(G.dX, zero, _CMP_NEQ_OQ);
@@ -514,8 +548,8 @@ PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
 }
 
 // The group's answers.
-PXH_AVX512_INLINE void dda_finish(DdaGroup& G, int g0, double* out_t, uint8_t* resolved, int* cells,
-                                  double* counted_to) {
+PXH_AVX512_INLINE void dda_finish(DdaGroup& G, int g0, double* out_t, uint8_t* resolved,
+                                  RayColumns& rays) {
     const int m = G.m;
     // Not resolved: resume pass A from the last exit (every cell walked was rejected).
     const __mmask8 open = __mmask8(((1u << m) - 1) & ~unsigned(G.done));
@@ -528,24 +562,22 @@ PXH_AVX512_INLINE void dda_finish(DdaGroup& G, int g0, double* out_t, uint8_t* r
     for (int q = 0; q < m; ++q) {
         out_t[g0 + q] = ans[q];
         resolved[g0 + q] = (G.done >> q) & 1;
-        cells[G.idx[q]] += int(cnt[q]);
-        counted_to[G.idx[q]] = upto[q];
+        rays.cells[G.idx[q]] += int(cnt[q]);
+        rays.counted[G.idx[q]] = upto[q];
     }
 }
 
-// Rays list[0 .. n) from their t_safe[q]: out_t[q] and resolved[q] (1: the answer, a hit or
-// tau_max; 0: not resolved in kDdaCells cells, out_t[q] the time to resume pass A from);
-// cells[list[q]] counts the cells walked, each once: a cell counts where it is left after
-// counted_to[list[q]], the exit of the last cell counted (a ray resumed from pass A may walk
-// its last cell again). kDdaGroups groups of 8 rays are walked in turn (their chains overlap).
-PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const int* list,
-                         const double* t_safe, int n, double* out_t, uint8_t* resolved, int* cells,
-                         double* counted_to) {
+// Rays list[0 .. n) of `rays` from their t_safe[q]: out_t[q] and resolved[q] (1: the answer,
+// a hit or tau_max; 0: not resolved in kDdaCells cells, out_t[q] the time to resume pass A
+// from); rays.cells counts the cells walked, each once: a cell counts where it is left after
+// rays.counted, the exit of the last cell counted (a ray resumed from pass A may walk its last
+// cell again). kDdaGroups groups of 8 rays are walked in turn (their chains overlap).
+PXH_AVX512 void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list,
+                         const double* t_safe, int n, double* out_t, uint8_t* resolved) {
     for (int g0 = 0; g0 < n; g0 += 8 * kDdaGroups) {
         DdaGroup groups[kDdaGroups];
         const int count = std::min(kDdaGroups, (n - g0 + 7) / 8);
-        for (int k = 0; k < count; ++k)
-            dda_start(groups[k], sc, rays, list, t_safe, g0 + 8 * k, n, counted_to);
+        for (int k = 0; k < count; ++k) dda_start(groups[k], sc, rays, list, t_safe, g0 + 8 * k, n);
         for (bool any = true; any;) {
             any = false;
             for (int k = 0; k < count; ++k)
@@ -554,8 +586,81 @@ PXH_AVX512 void dda_pass(const SquareScene& sc, const RayColumns& rays, const in
                     any |= groups[k].active != 0;
                 }
         }
-        for (int k = 0; k < count; ++k)
-            dda_finish(groups[k], g0 + 8 * k, out_t, resolved, cells, counted_to);
+        for (int k = 0; k < count; ++k) dda_finish(groups[k], g0 + 8 * k, out_t, resolved, rays);
+    }
+}
+
+// A chunk's work arrays (trace_rays_simd), one set per thread, kept from chunk to chunk.
+// The rays of a pass A are cols' first ones (from times t0), those it hands to pass B
+// list_b's (from t_b); those pass B leaves open are copied to the first places of next, which
+// then takes cols' place.
+struct ChunkScratch {
+    RayColumns cols, next;
+    std::vector<int> where, list_b, cells;
+    std::vector<double> ex, ey, t0, t_safe, t_b, answer;
+    std::vector<uint8_t> bottom, resolved;
+    void resize(size_t m) {
+        if (where.size() >= m) return;
+        cols.resize(m);
+        next.resize(m);
+        for (auto* v : {&where, &list_b, &cells}) v->resize(m);
+        for (auto* v : {&ex, &ey, &t_safe, &t_b, &answer}) v->resize(m);
+        t0.resize(m + 8);
+        bottom.resize(m);
+        resolved.resize(m);
+    }
+};
+
+static_assert(sizeof(Vec2d) == 2 * sizeof(double) && sizeof(Vec3d) == 3 * sizeof(double));
+
+// The rays of the view's samples k0 + where[p], p < n, into cols at p: make_ray_unchecked's
+// arithmetic, operation for operation (and ivz = 1 / vz).
+PXH_AVX512 void make_rays(const View& view, size_t k0, const int* where, int n,
+                          const SquareScene& sc, RayColumns& c, double* ex_out, double* ey_out) {
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1);
+    const __m512d W = _mm512_set1_pd(sc.W), H = _mm512_set1_pd(sc.H), half = _mm512_set1_pd(0.5);
+    const __m512d zt = _mm512_set1_pd(sc.zt), s = _mm512_set1_pd(sc.s);
+    const __m512d sign = _mm512_castsi512_pd(_mm512_set1_epi64(int64_t(0x8000000000000000ULL)));
+    const double* P = &view.P[0].x;
+    const double* V = &view.V[0].x;
+    for (int p = 0; p < n; p += 8) {
+        const __mmask8 m = n - p >= 8 ? __mmask8(0xff) : __mmask8((1u << (n - p)) - 1);
+        const __m512i k = _mm512_add_epi64(_mm512_set1_epi64(int64_t(k0)),
+                                           _mm512_cvtepi32_epi64(_mm512_castsi512_si256(
+                                               _mm512_maskz_loadu_epi32(__mmask16(m), where + p))));
+        const __m512i kp = _mm512_add_epi64(k, k);
+        const __m512d Px = _mm512_mask_i64gather_pd(zero, m, kp, P, 8);
+        const __m512d Py = _mm512_mask_i64gather_pd(zero, m, kp, P + 1, 8);
+        __m512d Vx, Vy, Vz;
+        if (view.parallel) {
+            Vx = _mm512_set1_pd(V[0]);
+            Vy = _mm512_set1_pd(V[1]);
+            Vz = _mm512_set1_pd(V[2]);
+        } else {
+            const __m512i kv = _mm512_add_epi64(kp, k);
+            Vx = _mm512_mask_i64gather_pd(zero, m, kv, V, 8);
+            Vy = _mm512_mask_i64gather_pd(zero, m, kv, V + 1, 8);
+            Vz = _mm512_mask_i64gather_pd(one, m, kv, V + 2, 8);
+        }
+        const __m512d ex = _mm512_add_pd(Px, _mm512_mul_pd(_mm512_div_pd(Vx, Vz), zt));
+        const __m512d ey = _mm512_add_pd(Py, _mm512_mul_pd(_mm512_div_pd(Vy, Vz), zt));
+        const __m512d dX = _mm512_mul_pd(_mm512_xor_pd(Vx, sign), W);
+        const __m512d dY = _mm512_mul_pd(_mm512_xor_pd(Vy, sign), H);
+        _mm512_mask_storeu_pd(ex_out + p, m, ex);
+        _mm512_mask_storeu_pd(ey_out + p, m, ey);
+        _mm512_mask_storeu_pd(c.X0.data() + p, m, _mm512_sub_pd(_mm512_mul_pd(ex, W), half));
+        _mm512_mask_storeu_pd(c.Y0.data() + p, m, _mm512_sub_pd(_mm512_mul_pd(ey, H), half));
+        _mm512_mask_storeu_pd(c.dX.data() + p, m, dX);
+        _mm512_mask_storeu_pd(c.dY.data() + p, m, dY);
+        _mm512_mask_storeu_pd(
+            c.iX.data() + p, m,
+            _mm512_maskz_div_pd(_mm512_cmp_pd_mask(dX, zero, _CMP_NEQ_OQ), one, dX));
+        _mm512_mask_storeu_pd(
+            c.iY.data() + p, m,
+            _mm512_maskz_div_pd(_mm512_cmp_pd_mask(dY, zero, _CMP_NEQ_OQ), one, dY));
+        _mm512_mask_storeu_pd(c.vz.data() + p, m, Vz);
+        _mm512_mask_storeu_pd(c.ivz.data() + p, m, _mm512_div_pd(one, Vz));
+        _mm512_mask_storeu_pd(c.tm.data() + p, m, _mm512_div_pd(s, Vz));
     }
 }
 }  // namespace
@@ -615,23 +720,20 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
         square_levels_, hf_.width,           hf_.height,          s_,         b_,
         z_top()};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
-        const size_t m = range.size();
-        std::vector<Ray> rays(m);
-        RayColumns cols;
-        cols.resize(m);
+        const size_t m = range.size(), k0 = range.begin();
+        // Each thread's work arrays, kept from chunk to chunk.
+        thread_local ChunkScratch w;
+        w.resize(m);
         // A ray equal to a neighbour in the view (a perspective view's outside pixels all carry
         // the look-at ray) is traced once per run of them, by the scalar walk, as trace_rays
-        // does; the others go to the passes (list).
-        std::vector<int> list, list_b(m), cells(m, 0);
-        std::vector<uint8_t> in_run(m, 0);
-        std::vector<TruthHit> run_hit(m);
+        // does; the others go to the passes: chunk position where[p] at p in every array.
         bool cached = false;
         Vec2d cP{};
         Vec3d cV{};
         TruthHit chit;
-        list.reserve(m);
+        int count = 0;
         for (size_t q = 0; q < m; ++q) {
-            const size_t k = range.begin() + q;
+            const size_t k = k0 + q;
             const Vec2d P = view.P[k];
             const Vec3d V = view.dir(k);
             if ((k > 0 && view.has_ray(k - 1, P, V)) || (k + 1 < n && view.has_ray(k + 1, P, V))) {
@@ -642,54 +744,57 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
                     cP = P;
                     cV = V;
                 }
-                in_run[q] = 1;
-                run_hit[q] = chit;
+                out.set(k, chit);
                 continue;
             }
-            const Ray r = make_ray_unchecked(P, V);
-            rays[q] = r;
-            cols.X0[q] = r.X0;
-            cols.Y0[q] = r.Y0;
-            cols.dX[q] = r.dX;
-            cols.dY[q] = r.dY;
-            cols.iX[q] = r.inv_dX;
-            cols.iY[q] = r.inv_dY;
-            cols.vz[q] = r.vz;
-            cols.tm[q] = r.tau_max;
-            list.push_back(int(q));
+            w.where[count++] = int(q);
         }
-        // The rays still to resolve (list, from times t0), those pass A hands to pass B (list_b).
-        std::vector<double> t0(m, 0.0), t_safe(m), t_b(m), answer(m);
-        std::vector<double> counted_to(m, -std::numeric_limits<double>::infinity());
-        std::vector<uint8_t> bottom(m), resolved(m);
-        int count = int(list.size());
+        const int rays = count;
+        make_rays(view, k0, w.where.data(), rays, sc, w.cols, w.ex.data(), w.ey.data());
+        for (int p = 0; p < rays; ++p) {
+            w.cols.id[p] = p;
+            w.cols.cells[p] = 0;
+            w.cols.counted[p] = -std::numeric_limits<double>::infinity();
+            w.t0[p] = 0;
+        }
         while (count > 0) {
-            std::fill(bottom.begin(), bottom.begin() + count, uint8_t(0));
-            square_pass(sc, cols, list.data(), t0.data(), count, t_safe.data(), bottom.data());
+            RayColumns& cur = w.cols;
+            square_pass(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
             int nb = 0;
             for (int q = 0; q < count; ++q) {
-                if (bottom[q]) {
-                    answer[list[q]] = rays[list[q]].tau_max;
+                if (w.bottom[q]) {
+                    w.answer[cur.id[q]] = cur.tm[q];
+                    w.cells[cur.id[q]] = cur.cells[q];
                 } else {
-                    list_b[nb] = list[q];
-                    t_b[nb++] = t_safe[q];
+                    w.list_b[nb] = q;
+                    w.t_b[nb++] = w.t_safe[q];
                 }
             }
-            dda_pass(sc, cols, list_b.data(), t_b.data(), nb, t_safe.data(), resolved.data(),
-                     cells.data(), counted_to.data());
+            dda_pass(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(),
+                     w.resolved.data());
             count = 0;
             for (int q = 0; q < nb; ++q) {
-                if (resolved[q]) {
-                    answer[list_b[q]] = t_safe[q];
+                const int r = w.list_b[q];
+                if (w.resolved[q]) {
+                    w.answer[cur.id[r]] = w.t_safe[q];
+                    w.cells[cur.id[r]] = cur.cells[r];
                 } else {
-                    list[count] = list_b[q];
-                    t0[count++] = t_safe[q];
+                    w.next.copy(count, cur, r);
+                    w.t0[count++] = w.t_safe[q];
                 }
             }
+            std::swap(w.cols, w.next);
         }
-        for (size_t q = 0; q < m; ++q)
-            out.set(range.begin() + q,
-                    in_run[q] ? run_hit[q] : hit_at(rays[q], answer[q], cells[q]));
+        // hit_at's arithmetic.
+        const double zt = z_top();
+        for (int p = 0; p < rays; ++p) {
+            const size_t k = k0 + size_t(w.where[p]);
+            const Vec3d V = view.dir(k);
+            const double tau = w.answer[p];
+            out.uv[k] = {w.ex[p] - tau * V.x, w.ey[p] - tau * V.y};
+            out.z[k] = zt - tau * V.z;
+            out.cells[k] = w.cells[p];
+        }
     });
 }
 
