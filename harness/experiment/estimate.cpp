@@ -27,7 +27,8 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     constexpr size_t kBaseBytes = size_t(192) << 20;
     constexpr size_t kEmbreeBytesPerTexel = 45;
     // The exact tracer's square tables where the CPU has its AVX-512 path (ray_walk_simd.cpp):
-    // 5 bytes per texel kept, and two float levels while they are built (peak 13).
+    // 2.33 bytes per texel kept, and two float levels while they are built (peak 10.4; 13
+    // counted, a bound).
     const size_t square_bytes_per_texel = ExactTracer::cpu_has_simd_path() ? 13 : 0;
     constexpr size_t kViewBytesPerSample = 16 + 40 + 16 + 8;  // P, exact hits, Embree hits, gap
     constexpr size_t kOutputBytesPerSample = 16 + 4 + 8 + 8;  // uv, fetches, shadows, scoring

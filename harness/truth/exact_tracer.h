@@ -165,12 +165,13 @@ class ExactTracer final : public Tracer {
     std::vector<int> level_w_, level_h_;
     std::vector<const float*> level_ptr_;  // level_max_[l].data()
     int top_level_ = 0;                    // the last level (one block)
-    // square_code_: for k = 1 .. square_levels_ (at most kSquareLevels), at (k - 1) W H + j W + i
-    // an upper bound of level 0's maximum over the 2^k x 2^k cells from tile-local cell (i, j)
-    // on, wrapped (ray_walk_simd.cpp's square walk): the code c of the bound square_lo_ + c
-    // square_step_ (in double, as computed there), the smallest of the 256 at or above the
-    // maximum. One byte per level and texel (4 bytes of padding after the last). Built only
-    // where cpu_has_simd_path().
+    // square_code_: for k = 1 .. square_levels_ (at most kSquareLevels), an upper bound of
+    // level 0's maximum over the 2^k x 2^k cells from tile-local cell (i, j) on, wrapped
+    // (ray_walk_simd.cpp's square walk), one entry per d x d first cells (d = 1 for k <= 2,
+    // 2^(k - 2) above: the bound of their union; ray_walk_simd.cpp's SquareLayout): the code c
+    // of the bound square_lo_ + c square_step_ (in double, as computed there), the smallest of
+    // the 256 at or above the maximum. One byte per entry, 2.33 per texel in all (4 bytes of
+    // padding after the last). Built only where cpu_has_simd_path().
     static constexpr int kSquareLevels = 5;
     HugePageVector<uint8_t> square_code_;
     double square_lo_ = 0, square_step_ = 0;
