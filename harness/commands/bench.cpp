@@ -314,8 +314,10 @@ int run_bench(const BenchOptions& options) {
                  : generate_heightfield(*gen, size, size,
                                         resolve_params(gen->params, {}, "bench", gen->name));
         std::unique_ptr<ExactTracer> exact;
-        const double exact_build =
-            seconds([&] { exact = std::make_unique<ExactTracer>(hf, opt.scale, opt.bias); });
+        const double exact_build = seconds([&] {
+            exact = std::make_unique<ExactTracer>(hf, opt.scale, opt.bias);
+            if (persp) exact->prepare_rays();  // the per-ray path's tables: part of its build
+        });
         std::unique_ptr<EmbreeTracer> embree;
         const double embree_build =
             seconds([&] { embree = std::make_unique<EmbreeTracer>(hf, opt.scale, opt.bias); });

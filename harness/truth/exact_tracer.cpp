@@ -81,7 +81,15 @@ void ExactTracer::build_levels() {
         level_max_t_.push_back(transposed(level_max_[l], level_w_[l], level_h_[l]));
     for (const auto& level : level_max_) level_ptr_.push_back(level.data());
     top_level_ = int(level_ptr_.size()) - 1;
-    if (cpu_has_simd_path()) build_squares();
+    // The square walk's levels (its tables are built on the first per-ray trace: prepare_rays).
+    if (cpu_has_simd_path())
+        while (square_levels_ < kSquareLevels &&
+               (2 << square_levels_) <= std::min(hf.width, hf.height))
+            ++square_levels_;
+}
+
+void ExactTracer::prepare_rays() const {
+    if (simd_path()) std::call_once(squares_built_, [this] { build_squares(); });
 }
 
 void ExactTracer::trace(const View& view, Hits& out) const {

@@ -10,6 +10,7 @@
 //   true_shadow.cpp   the true hard shadow query: occluded
 #pragma once
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,9 @@ class ExactTracer final : public Tracer {
     static bool cpu_has_simd_path();
     bool simd_path() const { return use_simd_ && square_levels_ > 0; }
     void set_simd(bool on) { use_simd_ = on; }
+    // Builds the vector path's tables now where simd_path() (they are built on the first
+    // per-ray trace otherwise; orthographic grid views never need them). Thread-safe.
+    void prepare_rays() const;
     double z_top() const { return s_ * (1 - b_); }
     double scale() const override { return s_; }
     double z_bot() const { return -s_ * b_; }
@@ -141,8 +145,8 @@ class ExactTracer final : public Tracer {
     // packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
     void trace_rays_simd(const View& view, Hits& out) const;  // ray_walk_simd.cpp
-    // The square walk's tables (square_code_), where the CPU has the SIMD path.
-    void build_squares();
+    // The square walk's tables (square_code_), once (prepare_rays).
+    void build_squares() const;
     // The maximum mipmap's levels (construction).
     void build_levels();
 
@@ -173,8 +177,10 @@ class ExactTracer final : public Tracer {
     // the 256 at or above the maximum. One byte per entry, 2.33 per texel in all (4 bytes of
     // padding after the last). Built only where cpu_has_simd_path().
     static constexpr int kSquareLevels = 5;
-    HugePageVector<uint8_t> square_code_;
-    double square_lo_ = 0, square_step_ = 0;
+    // Built on first use (prepare_rays, squares_built_); square_levels_ by the constructor.
+    mutable HugePageVector<uint8_t> square_code_;
+    mutable double square_lo_ = 0, square_step_ = 0;
+    mutable std::once_flag squares_built_;
     int square_levels_ = 0;
     bool use_simd_ = true;
 };

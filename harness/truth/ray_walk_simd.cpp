@@ -709,14 +709,12 @@ bool ExactTracer::cpu_has_simd_path() {
     return has;
 }
 
-void ExactTracer::build_squares() {
+void ExactTracer::build_squares() const {
     // Level 1 from level 0 (the cells' corner maxima), each next one from the one before:
     // the square of side 2h at (i, j) is the four of side h at (i, j), (i + h, j), (i, j + h)
     // and (i + h, j + h), wrapped. Each maximum is then stored as its code (exact_tracer.h).
     const int W = hf_.width, H = hf_.height;
-    int K = 0;
-    while (K < kSquareLevels && (2 << K) <= std::min(W, H)) ++K;
-    square_levels_ = K;
+    const int K = square_levels_;  // the constructor's
     if (K == 0) return;
     const size_t WH = size_t(W) * size_t(H);
     const float* cells = level_ptr_[0];
@@ -765,6 +763,7 @@ void ExactTracer::build_squares() {
 void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     const size_t n = view.size();
     out.resize_all(n);
+    prepare_rays();
     const SquareScene sc{
         texels_.data(), int(texel_stride()), square_code_.data(), square_lo_, square_step_,
         square_levels_, hf_.width,           hf_.height,          s_,         b_,

@@ -82,6 +82,13 @@ Tally perspective_views(const HeightField& hf, double s, double b, int n) {
     return tally;
 }
 
+// A field and its slab (scale s, bias b), named for failure messages.
+struct FieldCase {
+    const char* what;
+    HeightField hf;
+    double s, b;
+};
+
 TEST(RayWalk, PerspectiveRaysHitWhatTheCellDdaHitsBitForBit) {
     struct Case {
         const char* what;
@@ -110,25 +117,20 @@ TEST(RayWalk, PerspectiveRaysHitWhatTheCellDdaHitsBitForBit) {
 }
 
 TEST(RayWalk, RaysThatStressTheDdaHitWhatItHits) {
-    struct Case {
-        const char* what;
-        HeightField hf;
-        double s, b;
-    };
     HeightField flat = test::random_field(32, 32, 1);
     for (float& v : flat.texels) v = 0.25f;
     HeightField bottom = flat;
     for (float& v : bottom.texels) v = 0.0f;
     HeightField spike = bottom;
     spike.texels[17 * 32 + 9] = 1.0f;
-    const Case cases[] = {{"flat", flat, 0.05, 1.0},
-                          {"at the slab bottom", bottom, 0.2, 0.5},
-                          {"one spike", spike, 0.3, 1.0},
-                          {"random 3 x 200", test::random_field(3, 200, 4), 0.5, 0.5},
-                          {"random 128 x 96", test::random_field(128, 96, 5), 0.1, 0.7}};
+    const FieldCase cases[] = {{"flat", flat, 0.05, 1.0},
+                               {"at the slab bottom", bottom, 0.2, 0.5},
+                               {"one spike", spike, 0.3, 1.0},
+                               {"random 3 x 200", test::random_field(3, 200, 4), 0.5, 0.5},
+                               {"random 128 x 96", test::random_field(128, 96, 5), 0.1, 0.7}};
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> unit(0, 1);
-    for (const Case& c : cases) {
+    for (const FieldCase& c : cases) {
         const ExactTracer t(c.hf, c.s, c.b);
         const int W = c.hf.width, H = c.hf.height;
         Tally tally;
@@ -245,16 +247,12 @@ TEST(RayWalk, PacketsOfNeighbouringPixelsHitWhatTheDdaHits) {
     // top edges), grazing views whose top rows are outside (the look-at ray, kept out of
     // the packets) and far eyes (packets too spread out to descend) are in the mix.
     const HeightField walls = walls_field(), spikes = spikes_field(17);
-    struct Case {
-        const char* what;
-        HeightField hf;
-        double s, b;
-    };
-    const Case cases[] = {{"spikes 40", spikes, 0.1, 1.0},
-                          {"walls 48 x 40", walls, 0.05, 0.8},
-                          {"fbm 128", generated("fbm", 128), 0.05, 1.0},
-                          {"luxembourg (measured)", load_scan("luxembourg", "test"), 0.05, 1.0}};
-    for (const Case& c : cases) {
+    const FieldCase cases[] = {
+        {"spikes 40", spikes, 0.1, 1.0},
+        {"walls 48 x 40", walls, 0.05, 0.8},
+        {"fbm 128", generated("fbm", 128), 0.05, 1.0},
+        {"luxembourg (measured)", load_scan("luxembourg", "test"), 0.05, 1.0}};
+    for (const FieldCase& c : cases) {
         const ExactTracer t(c.hf, c.s, c.b);
         size_t rays = 0, differ = 0;
         for (double theta : {20.0, 60.0, 80.0, 88.0})
@@ -371,21 +369,17 @@ TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
     std::mt19937 rng(23);
     HeightField flat = test::random_field(32, 32, 1);
     for (float& v : flat.texels) v = 0.25f;
-    struct Case {
-        const char* what;
-        HeightField hf;
-        double s, b;
-    };
-    const Case cases[] = {{"spikes 40", spikes, 0.1, 1.0},
-                          {"walls 48 x 40", walls, 0.05, 0.8},
-                          {"flat 32", flat, 0.05, 1.0},
-                          {"random 37 x 129", test::random_field(37, 129, 8), 0.1, 0.5},
-                          {"random 3 x 200", test::random_field(3, 200, 4), 0.5, 0.5},
-                          {"random 64, thick slab", test::random_field(64, 64, 9), 1.0, 0.5},
-                          {"fbm 256", generated("fbm", 256), 0.05, 1.0},
-                          {"luxembourg (measured)", load_scan("luxembourg", "test"), 0.05, 1.0}};
+    const FieldCase cases[] = {
+        {"spikes 40", spikes, 0.1, 1.0},
+        {"walls 48 x 40", walls, 0.05, 0.8},
+        {"flat 32", flat, 0.05, 1.0},
+        {"random 37 x 129", test::random_field(37, 129, 8), 0.1, 0.5},
+        {"random 3 x 200", test::random_field(3, 200, 4), 0.5, 0.5},
+        {"random 64, thick slab", test::random_field(64, 64, 9), 1.0, 0.5},
+        {"fbm 256", generated("fbm", 256), 0.05, 1.0},
+        {"luxembourg (measured)", load_scan("luxembourg", "test"), 0.05, 1.0}};
     std::uniform_real_distribution<double> unit(0, 1);
-    for (const Case& c : cases) {
+    for (const FieldCase& c : cases) {
         ExactTracer t(c.hf, c.s, c.b);
         size_t rays = 0, differ = 0, excess = 0;
         for (double theta : {0.0, 40.0, 70.0, 85.0, 89.0})
