@@ -85,25 +85,18 @@ constexpr size_t kChunk = 1024;
 struct RayColumns {
     std::vector<double> X0, Y0, dX, dY, iX, iY, vz, ivz, tm, counted;
     std::vector<int> id, cells;
+    static constexpr std::vector<double> RayColumns::*kReals[] = {
+        &RayColumns::X0, &RayColumns::Y0, &RayColumns::dX,  &RayColumns::dY, &RayColumns::iX,
+        &RayColumns::iY, &RayColumns::vz, &RayColumns::ivz, &RayColumns::tm, &RayColumns::counted};
+    static constexpr std::vector<int> RayColumns::*kInts[] = {&RayColumns::id, &RayColumns::cells};
     void resize(size_t n) {
-        for (auto* v : {&X0, &Y0, &dX, &dY, &iX, &iY, &vz, &ivz, &tm, &counted}) v->resize(n + 8);
-        id.resize(n + 8);
-        cells.resize(n + 8);
+        for (auto col : kReals) (this->*col).resize(n + 8);
+        for (auto col : kInts) (this->*col).resize(n + 8);
     }
     // Ray `from` of `src` to place `to`.
     void copy(int to, const RayColumns& src, int from) {
-        X0[to] = src.X0[from];
-        Y0[to] = src.Y0[from];
-        dX[to] = src.dX[from];
-        dY[to] = src.dY[from];
-        iX[to] = src.iX[from];
-        iY[to] = src.iY[from];
-        vz[to] = src.vz[from];
-        ivz[to] = src.ivz[from];
-        tm[to] = src.tm[from];
-        counted[to] = src.counted[from];
-        id[to] = src.id[from];
-        cells[to] = src.cells[from];
+        for (auto col : kReals) (this->*col)[to] = (src.*col)[from];
+        for (auto col : kInts) (this->*col)[to] = (src.*col)[from];
     }
 };
 
