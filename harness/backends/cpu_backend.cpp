@@ -148,9 +148,18 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
 std::unique_ptr<Backend> make_cpu_backend(const BackendSettings& settings);
 
 // Its registry entry (harness/backends/registry.cpp's PXH_BACKENDS).
+std::string cpu_skips(const MethodSpec& m) {
+    // A plug-in shader has no C++ twin: that it has GLSL rows only is what a plug-in is (and
+    // said where it is declared), not a setting skipped.
+    if (lod_glsl_only(m.lod))
+        return std::string("lod '") + lod_name(m.lod) +
+               "' samples through the GPU's own level selection: glsl only";
+    return "";
+}
+
 const BackendEntry& cpu_backend_entry() {
-    static const BackendEntry e{"cpu",         &read_cpu_settings, &make_cpu_backend,
-                                &cpu_variants, &cpu_timing,        &cpu_repeats};
+    static const BackendEntry e{"cpu",       &read_cpu_settings, &make_cpu_backend, &cpu_variants,
+                                &cpu_timing, &cpu_repeats,       &cpu_skips};
     return e;
 }
 

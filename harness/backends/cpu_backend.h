@@ -23,6 +23,10 @@ const TimingSpec& cpu_timing();
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
                  const Scene<double>& scene, const HeightField& hf);
 
+// "" unless the CPU backend skips setting m for a reason to be said (its registry entry's
+// skips): a GLSL-only lod mode. (It runs no plug-in shader either: a plug-in has no C++ twin.)
+std::string cpu_skips(const MethodSpec& m);
+
 class CpuBackend : public Backend {
   public:
     explicit CpuBackend(BackendSettings settings) : settings_(std::move(settings)) {}
@@ -30,7 +34,7 @@ class CpuBackend : public Backend {
     std::vector<Variant> variants() const override;
     // Methods with a C++ twin, in the level modes both twins share (base, level).
     bool runs(const MethodSpec& m) const override {
-        return m.method->run_float && m.method->run_double && !lod_glsl_only(m.lod);
+        return m.method->run_float && m.method->run_double && cpu_skips(m).empty();
     }
     MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
 

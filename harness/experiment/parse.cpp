@@ -4,6 +4,7 @@
 // method_entries.cpp. Every table's unread keys are errors at their FILE:LINE.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -14,6 +15,7 @@
 #include "harness/core/registry.h"
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
+#include "harness/metrics/row.h"
 #include "harness/scene/view.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
@@ -40,6 +42,29 @@ void check_safe_name(const std::string& name, const std::string& where, const st
 }
 
 void warn(Experiment& ex, const std::string& text) { ex.warnings.push_back(one_line(text)); }
+
+// A number exactly, for messages about values that print alike.
+std::string exactly(double v) {
+    char b[40];
+    std::snprintf(b, sizeof b, "%.17g", v);
+    return b;
+}
+
+// Distinct values that results.csv would print alike (its cells keep 10 significant digits)
+// would make rows whose keys are the same: refused at `where`, naming both.
+void refuse_alike(const std::vector<double>& values, const std::string& key,
+                  const std::string& where) {
+    for (size_t i = 0; i < values.size(); ++i)
+        for (size_t j = i + 1; j < values.size(); ++j)
+            if (values[i] != values[j] &&
+                format_cell_number(values[i]) == format_cell_number(values[j]))
+                throw InputError(where, key + " values " + exactly(values[i]) + " and " +
+                                            exactly(values[j]) + " both print as " +
+                                            format_cell_number(values[i]) +
+                                            " in results.csv (10 significant digits): their rows "
+                                            "would share their keys; give values that differ "
+                                            "there");
+}
 
 namespace {
 
@@ -146,6 +171,7 @@ void parse_theta(const ParamDict& vt, Experiment& ex) {
         warn(ex, theta_where + ": theta_deg " + what +
                      "): views are measured in increasing theta, each once");
     }
+    refuse_alike(ex.theta_deg, "theta_deg", theta_where);
 }
 
 // [views] phi_deg: normalised into [0, 360), each once (warned).
@@ -171,6 +197,52 @@ void parse_phi(const ParamDict& vt, Experiment& ex) {
                      std::to_string(ex.phi_deg.size() - unique.size()) +
                      " duplicate(s) dropped): each view is measured once");
     ex.phi_deg = std::move(unique);
+    refuse_alike(ex.phi_deg, "phi_deg", phi_where);
+    for (double p : ex.phi_deg)
+        if (format_cell_number(p) == "360")
+            throw InputError(phi_where, "phi_deg = " + exactly(p) +
+                                            " prints as 360 in results.csv (10 significant "
+                                            "digits), the azimuth of phi 0: give 0, or a value "
+                                            "that prints below 360");
+}
+
+// The camera's settings each once: a repeated value of one of its keys (distance = [2, 2, 3])
+// gives settings that repeat, dropped with a warning as repeated angles are; distinct values
+// that print alike in results.csv are refused at their key.
+void dedupe_camera_settings(const ParamDict& vt, Experiment& ex) {
+    std::vector<CameraSetting> unique;
+    size_t dropped = 0;
+    for (const CameraSetting& c : ex.camera_settings) {
+        bool repeat = false;
+        for (const CameraSetting& u : unique) {
+            bool same = true, alike = true;
+            for (size_t k = 0; k < c.values.size(); ++k) {
+                same = same && c.values[k].second == u.values[k].second;
+                alike = alike && format_cell_number(c.values[k].second) ==
+                                     format_cell_number(u.values[k].second);
+            }
+            if (same) {
+                repeat = true;
+                break;
+            }
+            if (alike)
+                for (size_t k = 0; k < c.values.size(); ++k)
+                    if (c.values[k].second != u.values[k].second)
+                        refuse_alike({c.values[k].second, u.values[k].second}, c.values[k].first,
+                                     vt.where(c.values[k].first));
+        }
+        if (repeat) ++dropped;
+        else unique.push_back(c);
+    }
+    if (dropped) {
+        std::string keys;
+        for (const auto& [k, v] : ex.camera_settings.front().values)
+            keys += (keys.empty() ? "" : ", ") + k;
+        warn(ex, vt.where() + ": camera '" + ex.camera + "' settings repeat (" +
+                     std::to_string(dropped) + " duplicate(s) of " + keys +
+                     " dropped): each view is measured once");
+    }
+    ex.camera_settings = std::move(unique);
 }
 
 // [views]: the view sweep (theta_deg, phi_deg) and the camera's name read here; the camera
@@ -186,7 +258,8 @@ void parse_views(const ParamDict& vt, Experiment& ex) {
                          "unknown camera '" + ex.camera + "' (known: " + join_names(known) + ")");
     ex.camera_params = vt;
     const size_t before = vt.asked().size();
-    ex.camera_settings = Camera::settings(ex.camera, vt, vt.where());
+    ex.camera_settings = Camera::settings(ex.camera, vt, vt.where(), ex.samples);
+    dedupe_camera_settings(vt, ex);
     const auto asked = vt.asked();
     const std::vector<std::string> own(asked.begin() + long(before), asked.end());
     vt.report_unused([&](const std::string& key, const std::string& all) {
@@ -271,6 +344,20 @@ void check_ray_travel(const Experiment& ex) {
     }
 }
 
+}  // namespace
+
+void check_camera_samples(const Experiment& ex, const std::string& where) {
+    const CameraEntry& cam = camera_entry(ex.camera, "camera");
+    if (!cam.samples_problem) return;
+    bool neighbours = false;  // a setting takes the GPU's derivatives between fragments
+    for (const MethodSpec& m : ex.methods) neighbours = neighbours || m.lod == LodMode::implicit;
+    for (const CameraSetting& c : ex.camera_settings)
+        if (const std::string why = cam.samples_problem(c, ex.samples, neighbours); !why.empty())
+            throw InputError(where.empty() ? ex.camera_params.where() : where, why);
+}
+
+namespace {
+
 // Every view of the camera (its settings x theta, the companion views' too) must see every
 // slab it looks at (the perspective camera: its eye above it): an InputError at the camera's
 // first key of [views] (or [views]) naming the field otherwise.
@@ -334,6 +421,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     if (render) parse_render(*render, ex);
     check_ray_travel(ex);
     check_camera_scenes(ex);
+    check_camera_samples(ex, "");
     return ex;
 }
 

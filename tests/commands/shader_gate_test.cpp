@@ -22,9 +22,11 @@ class ShaderGate : public pxh::test::CliTest {
     fs::path copy_with(const std::string& from, const std::string& to) {
         const fs::path d = dir / "gate";
         fs::create_directories(d);
-        for (const char* f : {"experiment.toml", "thresholds.toml", "gate.sh"})
+        for (const char* f : {"experiment.toml", "thresholds.toml", "gate.sh", "camera.toml",
+                              "camera_thresholds.toml"})
             fs::copy_file(ex / f, d / f);
-        fs::copy(ex / "baseline", d / "baseline", fs::copy_options::recursive);
+        for (const char* b : {"baseline", "camera_baseline", "camera_baseline_quick"})
+            fs::copy(ex / b, d / b, fs::copy_options::recursive);
         std::string shader = slurp(ex / "my_pom.frag.glsl");
         const size_t at = shader.find(from);
         EXPECT_NE(at, std::string::npos) << "the example's shader lacks: " << from;
@@ -33,9 +35,13 @@ class ShaderGate : public pxh::test::CliTest {
         return d;
     }
     // `sh gate.sh PXH DIR OUT` of the example itself: exit status, stdout + stderr in out.
-    int gate(const fs::path& d, std::string& out) {
+    int gate(const fs::path& d, std::string& out, const std::string& mode = "") {
+        fs::remove_all(dir / "run");
+        for (const char* f :
+             {"run.check.xml", "run.check.json", "run.compare.xml", "run.compare.json"})
+            fs::remove(dir / f);
         const int rc = pxh::test::shell("sh " + (ex / "gate.sh").string() + " " + PXH_BINARY + " " +
-                                            d.string() + " " + (dir / "run").string(),
+                                            d.string() + " " + (dir / "run").string() + " " + mode,
                                         dir / "gate.txt", dir / "gate.txt");
         out = slurp(dir / "gate.txt");
         return rc;
@@ -70,6 +76,36 @@ TEST_F(ShaderGate, FlippedVyFailsBothGatesWithBothVerdicts) {
     // Caught where the bug shows: an oblique azimuth at a moderate angle (limit 0.05 texel).
     EXPECT_NE(out.find("method=my_pom theta in [0, 60]"), std::string::npos) << out;
     EXPECT_NE(out.find("phi=30"), std::string::npos) << out;
+}
+
+// The README's camera recipe: the same shader through a perspective camera at texture levels,
+// gated in screen pixels; the full run and the quick one (--samples 32 of the same 64 x 64
+// image, against its own baseline) both pass as committed and both fail with V.y flipped, with
+// both verdicts, and the JUnit and JSON files a CI system reads.
+TEST_F(ShaderGate, CameraGateFullAndQuickCatchAFlippedVy) {
+    const fs::path same =
+        copy_with("vec2 dir = pxh_V.xy / pxh_V.z;", "vec2 dir = pxh_V.xy / pxh_V.z;");
+    std::string out;
+    for (const std::string mode : {"camera", "camera-quick"}) {
+        EXPECT_EQ(gate(same, out, mode), 0) << mode << "\n" << out;
+        EXPECT_NE(out.find("gate: pxh check pass, pxh compare pass"), std::string::npos) << out;
+    }
+    fs::remove_all(same);
+    const fs::path d = copy_with("vec2 dir = pxh_V.xy / pxh_V.z;",
+                                 "vec2 dir = vec2(pxh_V.x, -pxh_V.y) / pxh_V.z;");
+    for (const std::string mode : {"camera", "camera-quick"}) {
+        EXPECT_EQ(gate(d, out, mode), 1) << mode << "\n" << out;
+        EXPECT_NE(out.find("gate: pxh check FAIL, pxh compare FAIL"), std::string::npos) << out;
+        EXPECT_NE(out.find(" regression(s) beyond --fail-on"), std::string::npos) << out;
+        // The worst row names its view, distance included.
+        EXPECT_NE(out.find("  worst: my_pom p_steps=32 lod=level [glsl/r32f] on "),
+                  std::string::npos)
+            << out;
+        EXPECT_NE(out.find(" fov_deg=45 resolution=64: "), std::string::npos) << out;
+        EXPECT_NE(slurp(dir / "run.check.xml").find("<failure message=\"err_px_p95 worst"),
+                  std::string::npos);
+        EXPECT_NE(slurp(dir / "run.compare.json").find("\"passed\": false"), std::string::npos);
+    }
 }
 
 TEST_F(ShaderGate, NanOnMissFailsTheNonfiniteLimit) {

@@ -102,16 +102,19 @@ std::string with_line(std::string text, const std::string& after, const std::str
 
 TEST(ParamsUnread, ExperimentTopLevelKeyAtItsLine) {
     EXPECT_EQ(experiment_error(with_line(kExperiment, "samples = 8\n", "sampels = 8")),
-              "e.toml:3: unknown key 'sampels' in the experiment (known: name, description, "
+              "e.toml:3: unknown key 'sampels' (did you mean 'samples'?) in the experiment (known: "
+              "name, description, "
               "samples, backends, sweep_dt_deg, maps, exclude_filled, ground_truth, "
               "timing_repeats, precision, gl, gl_time_limit_s, texture_format, views, light, "
               "render, heightfields, methods)");
 }
 
 TEST(ParamsUnread, MethodEntryKeyAtItsLine) {
-    EXPECT_EQ(experiment_error(with_line(kExperiment, "layers = 8\n", "layerz = 4")),
-              "e.toml:12: unknown parameter 'layerz' for method 'pom' (known: layers, "
-              "layers_min, layers_max)");
+    EXPECT_EQ(
+        experiment_error(with_line(kExperiment, "layers = 8\n", "layerz = 4")),
+        "e.toml:12: unknown parameter 'layerz' (did you mean 'layers'?) for method 'pom' (known: "
+        "layers, "
+        "layers_min, layers_max)");
 }
 
 TEST(ParamsUnread, ViewsKeyTheOrthographicCameraDoesNotRead) {
@@ -129,7 +132,9 @@ TEST(ParamsUnread, ViewsKeyTheOrthographicCameraDoesNotRead) {
 TEST(ParamsUnread, MisspeltBackendKeyAtItsLine) {
     const std::string err =
         experiment_error(with_line(kExperiment, "samples = 8\n", "texture_formats = \"r16\""));
-    EXPECT_EQ(err.rfind("e.toml:3: unknown key 'texture_formats' in the experiment (known: ", 0),
+    EXPECT_EQ(err.rfind("e.toml:3: unknown key 'texture_formats' (did you mean 'texture_format'?) "
+                        "in the experiment (known: ",
+                        0),
               0u)
         << err;
     // The backends read their own keys: the right spelling is among those asked for.
@@ -182,7 +187,8 @@ TEST_F(ParamsThresholds, UnreadKeyAtItsLine) {
             "mx = 1\n");
     });
     EXPECT_EQ(err.rfind((dir / "limits.toml").string() +
-                            ":7: unknown key 'mx' in [[limit]] (keys: column, min, max, ",
+                            ":7: unknown key 'mx' (did you mean 'max'?) in [[limit]] (keys: "
+                            "column, min, max, ",
                         0),
               0u)
         << err;
@@ -192,7 +198,8 @@ TEST_F(ParamsThresholds, UnreadTopLevelKeyAtItsLine) {
     EXPECT_EQ(
         input_error([&] { check("\nlimitz = 2\n[[limit]]\ncolumn = \"err_p95\"\nmax = 1\n"); }),
         (dir / "limits.toml").string() +
-            ":2: unknown key 'limitz' (a thresholds file holds [[limit]] tables)");
+            ":2: unknown key 'limitz' (did you mean 'limit'?) (a thresholds file holds [[limit]] "
+            "tables)");
 }
 
 TEST_F(ParamsThresholds, BigIntegerRuleInTheThresholds) {

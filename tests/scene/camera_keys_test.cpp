@@ -24,7 +24,7 @@ TEST(CameraKeys, EveryCamerasKeysAreNumericKeyColumnsRightAfterCamera) {
         for (const CameraKey& k : e.keys)
             if (std::find(declared.begin(), declared.end(), k.name) == declared.end())
                 declared.push_back(k.name);
-    ASSERT_EQ(declared, (std::vector<std::string>{"distance", "fov_deg"}));
+    ASSERT_EQ(declared, (std::vector<std::string>{"distance", "fov_deg", "resolution"}));
     std::vector<std::string> keys;
     for (const CameraKey& k : camera_key_columns()) keys.push_back(k.name);
     EXPECT_EQ(keys, declared);
@@ -49,8 +49,9 @@ TEST(CameraKeys, EachSettingsValuesAreItsCamerasKeysInOrder) {
     for (const CameraEntry& e : camera_registry()) {
         const ParamDict p =
             ParamDict::parse("distance = [1.5, 3]\nfov_deg = 60\n", "v.toml", "[views]");
-        const std::vector<CameraSetting> settings =
-            e.name == std::string("perspective") ? e.read(p, "v.toml:1") : e.read({}, "v.toml:1");
+        const std::vector<CameraSetting> settings = e.name == std::string("perspective")
+                                                        ? e.read(p, "v.toml:1", 32)
+                                                        : e.read({}, "v.toml:1", 32);
         ASSERT_FALSE(settings.empty()) << e.name;
         for (const CameraSetting& s : settings) {
             ASSERT_EQ(s.values.size(), e.keys.size()) << e.name;
@@ -70,8 +71,9 @@ TEST(CameraKeys, FileNamesCarryEachKeyByItsTag) {
     EXPECT_EQ(camera_name_part(r), "");  // the orthographic camera has no keys
     r.set("distance", 1.5);
     r.set("fov_deg", 60);
-    EXPECT_EQ(camera_name_part(r), "_d1.5_f60");
-    EXPECT_NE(error_map_name(r, 3).stem.find("_t70_p0_d1.5_f60_cpu-float"), std::string::npos)
+    r.set("resolution", 256);
+    EXPECT_EQ(camera_name_part(r), "_d1.5_f60_r256");
+    EXPECT_NE(error_map_name(r, 3).stem.find("_t70_p0_d1.5_f60_r256_cpu-float"), std::string::npos)
         << error_map_name(r, 3).stem;
 }
 

@@ -51,21 +51,21 @@ doctor() { "$py" - "$work/run/results.csv" "$work/doctored/results.csv"; }
 doctor <<'EOF' || fail "cannot doctor the results"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1], newline="")))
-edits = [  # (method, params prefix, lod, theta, distance, column, factor)
-    ("parallax", "", "base", "80", "1.5", "err_mean", 1.025),
-    ("steep", "layers=16", "level", "60", "4", "err_p50", 0.975),
-    ("pom", "layers=32", "level", "80", "1.5", "fetches_mean", 1.025),
-    ("pom", "layers=adaptive", "level", "30", "4", "err_px_mean", 1.025),
-    ("parallax", "", "level", "80", "4", "samples_outside", 1.025),
-    ("steep", "layers=16", "base", "30", "1.5", "lod_mean", 1.025),
-    ("steep", "layers=16", "base", "60", "1.5", "err_mean", 1.015),  # within 2%: must pass
+edits = [  # (method, params prefix, lod, theta, distance, resolution, column, factor)
+    ("parallax", "", "base", "80", "1.5", "64", "err_mean", 1.025),
+    ("steep", "layers=16", "level", "60", "4", "160", "err_p50", 0.975),
+    ("pom", "layers=32", "level", "80", "1.5", "160", "fetches_mean", 1.025),
+    ("pom", "layers=adaptive", "level", "30", "4", "64", "err_px_mean", 1.025),
+    ("parallax", "", "level", "80", "4", "160", "samples_outside", 1.025),
+    ("steep", "layers=16", "base", "30", "1.5", "160", "lod_mean", 1.025),
+    ("steep", "layers=16", "base", "60", "1.5", "64", "err_mean", 1.015),  # within 2%: must pass
 ]
-for method, params, lod, theta, dist, col, factor in edits:
+for method, params, lod, theta, dist, res, col, factor in edits:
     hit = [r for r in rows if r["method"] == method and r["params"].startswith(params) and
            r["lod"] == lod and r["theta_deg"] == theta and r["distance"] == dist and
-           r["backend"] == "cpu"]
+           r["resolution"] == res and r["backend"] == "cpu"]
     if len(hit) != 1:
-        sys.exit(f"{len(hit)} rows match {method} {params} {lod} {theta} {dist}")
+        sys.exit(f"{len(hit)} rows match {method} {params} {lod} {theta} {dist} {res}")
     hit[0][col] = repr(float(hit[0][col]) * factor)
 with open(sys.argv[2], "w", newline="") as f:
     w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
