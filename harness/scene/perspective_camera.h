@@ -99,6 +99,14 @@ std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
                                                 const CameraSpec& spec);
 // Its keys as the results show them: distance ("_d"), fov_deg ("_f").
 std::vector<CameraKey> perspective_keys();
+// An upper bound of |P - C| over the camera's inside pixels (tiles from the look-at point; the
+// same at every phi): the farthest of the image's corner pixels when all four are inside (the
+// inside region is then their convex quadrilateral), else the horizon's bound, the eye's foot
+// plus E.z tan(89 degrees).
+double perspective_reach(const PerspectiveParams& p);
+// perspective_reach at this setting and view.
+double perspective_reach(const CameraSetting& setting, const CameraSpec& spec);
+
 // eye_slab_problem at this setting and view.
 std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,
                                       double scale, double bias);
