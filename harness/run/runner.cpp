@@ -148,7 +148,7 @@ struct ViewJob {
     // The coarsest spacing of float values at the inside samples' uv (texels, the larger of u
     // and v): a float row cannot place its uv closer than half of it to the truth.
     double float_spacing = 0;
-    // The sample where it is coarsest (its P).
+    // The first inside sample where it is coarsest (its P).
     Vec2d float_spacing_at{0, 0};
 
     ViewInput input() const {
@@ -219,7 +219,7 @@ constexpr double kFloatSpacingNote = 1.0 / 16;
 
 std::string float_spacing_note(const ViewJob& job) {
     return "float spaces uv " + format_number(job.float_spacing) +
-           " texels apart at the farthest sample (uv " + format_number(job.float_spacing_at.x) +
+           " texels apart at inside samples (e.g. uv " + format_number(job.float_spacing_at.x) +
            ", " + format_number(job.float_spacing_at.y) +
            "): float rounding alone costs up to half that; the double rows are exact there";
 }
@@ -360,7 +360,7 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
         lod_sum += std::max(job.lambda[k], 0.0);
     }
     job.lod_mean = inside ? lod_sum / double(inside) : NAN;
-    for (size_t k = 0; k < view.size(); ++k) {  // float's spacing at the farthest inside sample
+    for (size_t k = 0; k < view.size(); ++k) {  // float's coarsest spacing over the inside samples
         if (!view.is_inside(k)) continue;
         const Vec2d P = view.P[k];
         const double gap = std::max(float_gap(P.x) * c.hf.width, float_gap(P.y) * c.hf.height);
