@@ -151,6 +151,7 @@ std::unique_ptr<Backend> make_cpu_backend(const BackendSettings& settings);
 std::string cpu_skips(const MethodSpec& m) {
     // A plug-in shader has no C++ twin: that it has GLSL rows only is what a plug-in is (and
     // said where it is declared), not a setting skipped.
+    if (!m.method->run_float || !m.method->run_double) return "";
     if (lod_glsl_only(m.lod))
         return std::string("lod '") + lod_name(m.lod) +
                "' samples through the GPU's own level selection: glsl only";

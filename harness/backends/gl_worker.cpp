@@ -369,8 +369,9 @@ void visit(A& a, BackendSettings& s) {
             } else if (type == kCheck) {
                 GlslMethod m;
                 GlUniforms u;
-                in(m), in(u);
-                const std::vector<std::string> problems = gl->check(m, u);
+                std::vector<uint8_t> kinds;
+                in(m), in(u), in(kinds);
+                const std::vector<std::string> problems = gl->check(m, u, kinds);
                 answer(uint8_t(1));
                 answer(problems);
                 answer(gl->compiled_sources());
@@ -605,11 +606,12 @@ MethodOutput GlslChildBackend::run(const MethodSpec& m, const ViewInput& view, c
     return draw(glsl_draw_of(m, view, v));
 }
 
-std::vector<std::string> GlslChildBackend::check(const GlslMethod& m, const GlUniforms& uniforms) {
-    if (local_) return local_->check(m, uniforms);
+std::vector<std::string> GlslChildBackend::check(const GlslMethod& m, const GlUniforms& uniforms,
+                                                 const std::vector<uint8_t>& kinds) {
+    if (local_) return local_->check(m, uniforms, kinds);
     Out req;
     req(uint8_t(kCheck));
-    req(m), req(uniforms);
+    req(m), req(uniforms), req(kinds);
     const std::string answer = exchange(req.buf);
     In in(answer);
     uint8_t status = 0;

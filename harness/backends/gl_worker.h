@@ -68,7 +68,8 @@ class GlslChildBackend : public Backend {
     // A draw from plain data (the time limit applies).
     MethodOutput draw(const GlslDraw& d);
     // GlslBackend::check in the child: one line per problem, empty when none.
-    std::vector<std::string> check(const GlslMethod& m, const GlUniforms& uniforms);
+    std::vector<std::string> check(const GlslMethod& m, const GlUniforms& uniforms,
+                                   const std::vector<uint8_t>& kinds = {});
     // Children killed (time limit) or lost (died) so far.
     int restarts() const { return restarts_; }
     pid_t child_pid() const { return pid_; }

@@ -543,10 +543,22 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     set_method_uniforms(prog, f.uniforms);
 }
 
-std::vector<std::string> GlslBackend::check(const GlslMethod& m, const GlUniforms& uniforms) {
+std::vector<std::string> GlslBackend::check(const GlslMethod& m, const GlUniforms& uniforms,
+                                            const std::vector<uint8_t>& kinds) {
     use_gl_context(*ctx_);
+    std::vector<ProgramKind> programs;  // each program the rows compile (the grid's: none given)
+    for (const uint8_t k : kinds) programs.push_back({(k & 1) != 0, LodMode(k >> 1)});
+    if (programs.empty()) programs.push_back(ProgramKind());
+    for (const ProgramKind& kind : programs)
+        if (std::vector<std::string> problems = check_program(m, uniforms, kind); !problems.empty())
+            return problems;
+    return {};
+}
+
+std::vector<std::string> GlslBackend::check_program(const GlslMethod& m, const GlUniforms& uniforms,
+                                                    ProgramKind kind) {
     try {
-        const Program& program = program_for(m, ProgramKind());
+        const Program& program = program_for(m, kind);
         std::vector<DeclaredUniform> declared;
         for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
         for (const ResourceSpec& r : m.resources) declared.push_back({r.name, "sampler2D"});

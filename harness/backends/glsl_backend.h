@@ -2,6 +2,7 @@
 // harness/gl: OSMesa by default, or EGL) over an N x N RGBA32F framebuffer, read back and scored
 // by the same metrics as the CPU reference.
 #pragma once
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -84,6 +85,12 @@ struct GlslOptions {
     std::string gl = "osmesa";  // the GL context (harness/gl/registry.cpp: osmesa, egl)
 };
 
+// A program kind as GlslBackend::check takes it: one byte, bit 0 the point map (any view but
+// the orthographic grid), the lod mode above it.
+inline uint8_t glsl_program_kind(bool point_map, LodMode lod) {
+    return uint8_t((point_map ? 1 : 0) | (int(lod) << 1));
+}
+
 class GlslBackend : public Backend {
   public:
     // Creates the context and loads GL; throws std::runtime_error with a one-line reason.
@@ -121,8 +128,11 @@ class GlslBackend : public Backend {
     MethodOutput draw(const GlslDraw& d);
     // Compiles and links the method's program and checks its interface against `uniforms`
     // (and its resources' samplers): one line per problem ("FILE:LINE:COL: ..." for the
-    // driver's messages), empty when it is ready to draw.
-    std::vector<std::string> check(const GlslMethod& m, const GlUniforms& uniforms);
+    // driver's messages), empty when it is ready to draw. `kinds`: every program the rows will
+    // compile (glsl_program_kind: a perspective view's point map, the lod mode), each checked;
+    // none: the orthographic grid at level 0.
+    std::vector<std::string> check(const GlslMethod& m, const GlUniforms& uniforms,
+                                   const std::vector<uint8_t>& kinds = {});
     // The height texture's level L as the last draw uploaded it (glGetTexImage, as float), and
     // its GL_TEXTURE_MAX_LEVEL: what a test checks the upload against.
     std::vector<float> height_texture_level(int level, int& width, int& height);
@@ -143,6 +153,8 @@ class GlslBackend : public Backend {
         LodMode lod = LodMode::base;
     };
     const Program& program_for(const GlslMethod& m, ProgramKind kind);
+    std::vector<std::string> check_program(const GlslMethod& m, const GlUniforms& uniforms,
+                                           ProgramKind kind);
 
   public:
     // "builtin", or the shader file(s) the method's program is (or would be) compiled from.

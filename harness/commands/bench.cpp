@@ -297,6 +297,13 @@ int run_bench(const BenchOptions& options) {
                 if (const std::string why = perspective_problem(p); !why.empty())
                     throw InputError("--camera perspective", why);
                 check_eye_above_slab(p, opt.scale, opt.bias, "--distance");
+                for (int size : sizes)  // within the exact tracer's reach (kMaxSampleCells)
+                    if (const std::string why = reach_problem(0.5 + perspective_reach(p), size,
+                                                              scan ? scanned.height : size);
+                        !why.empty())
+                        throw InputError("--distance", "distance " + format_number(d) +
+                                                           " at theta " + format_number(theta) +
+                                                           " " + why);
             }
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
     const size_t rays = size_t(opt.samples) * size_t(opt.samples);

@@ -1,9 +1,11 @@
 // `pxh bench`: its options (the measurement itself is bench.cpp).
+#include <cmath>
 #include <memory>
 
 #include "harness/commands/bench.h"
 #include "harness/commands/commands.h"
 #include "harness/core/error.h"
+#include "harness/core/params.h"
 
 namespace pxh {
 
@@ -31,7 +33,6 @@ Command add_bench_command(CLI::App& app) {
         ->check(CLI::IsMember({"orthographic", "perspective"}));
     auto* distance = bench->add_option("--distance", bo->distances,
                                        "perspective: eye distances in tiles (default 1.5 4 16)");
-    distance->check(CLI::PositiveNumber);
     auto* fov = bench->add_option("--fov", bo->fov, "perspective: field of view, deg (default 45)");
     fov->check(CLI::Range(0.001, 179.999));
     auto* out = bench->add_option("--out", bo->out,
@@ -44,6 +45,20 @@ Command add_bench_command(CLI::App& app) {
                 if (bo->camera != "perspective" && (distance->count() || fov->count()))
                     throw InputError(distance->count() ? "--distance" : "--fov",
                                      "applies to --camera perspective only");
+                // Checked here, in pxh's words (CLI11's ranges let NaN through and print the
+                // largest double in full).
+                for (double t : bo->thetas)
+                    if (!(t >= 0 && t <= 89.999))
+                        throw InputError("--theta", format_number(t) + " is not in [0, 89.999]");
+                if (!std::isfinite(bo->phi))
+                    throw InputError("--phi", format_number(bo->phi) + " is not a finite angle");
+                if (!(bo->fov >= 0.001 && bo->fov <= 179.999))
+                    throw InputError("--fov",
+                                     format_number(bo->fov) + " is not in [0.001, 179.999]");
+                for (double d : bo->distances)
+                    if (!(d > 0 && std::isfinite(d)))
+                        throw InputError("--distance",
+                                         format_number(d) + " is not a positive number of tiles");
                 return run_bench(*bo);
             }};
 }

@@ -50,7 +50,24 @@ std::string short_text(const nlohmann::json& v) {
 SliceIn read_slice(const std::string& dir) {
     SliceIn s;
     s.dir = dir;
-    std::cout << verify_results_folder(dir, false) << "\n";  // InputError unless intact
+    std::error_code ec;
+    const fs::file_status st = fs::status(dir, ec);
+    if (fs::exists(st) && !fs::is_directory(st))
+        throw InputError(dir, fs::is_regular_file(st)
+                                  ? "is a file, not a slice's results folder"
+                                  : "is not a folder (a FIFO, socket or device?), not a slice's "
+                                    "results folder");
+    try {
+        std::cout << verify_results_folder(dir, false) << "\n";  // InputError unless intact
+    } catch (const InputError& e) {
+        // merge joins slices only as their runs wrote them: it has no --accept-edited.
+        std::string what = e.what();
+        const std::string offer = "pass --accept-edited to use them anyway";
+        if (const size_t at = what.find(offer); at != std::string::npos)
+            what.replace(at, offer.size(),
+                         "pxh merge joins only intact slices: run that slice again");
+        throw InputError("", what);
+    }
     const fs::path run_json = fs::path(dir) / "run.json";
     const std::string text = read_regular_file(run_json.string());
     s.run_json_sha256 = sha256_hex(text);
@@ -323,11 +340,28 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
 
 int cmd_merge(const MergeArgs& a, const std::string& command_line) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (a.out.empty()) throw InputError("merge", "the output folder OUT is an empty path");
+    for (const auto& d : a.dirs)
+        if (d.empty()) throw InputError("merge", "a slice's folder is an empty path");
     std::error_code ec;
     const fs::path out_abs = fs::weakly_canonical(fs::absolute(a.out), ec);
-    for (const auto& d : a.dirs)
-        if (fs::weakly_canonical(fs::absolute(d), ec) == out_abs)
+    // The output neither is a slice nor lies inside one (its files would join that slice's),
+    // nor holds one (--force would replace it).
+    const auto within = [](const fs::path& inner, const fs::path& outer) {
+        const fs::path rel = inner.lexically_relative(outer);
+        return !rel.empty() && *rel.begin() != "..";
+    };
+    for (const auto& d : a.dirs) {
+        const fs::path slice_abs = fs::weakly_canonical(fs::absolute(d), ec);
+        if (slice_abs == out_abs)
             throw InputError(a.out, "is one of the slices: merge into another folder");
+        if (within(out_abs, slice_abs))
+            throw InputError(
+                a.out, "lies inside the slice " + d + ": merge into a folder outside every slice");
+        if (within(slice_abs, out_abs))
+            throw InputError(a.out,
+                             "holds the slice " + d + ": merge into a folder outside every slice");
+    }
     std::vector<SliceIn> slices;
     for (const auto& d : a.dirs) slices.push_back(read_slice(d));
     const SliceIn& first = slices[0];

@@ -441,6 +441,8 @@ Command add_run_command(CLI::App& app, const std::string& command_line) {
                     throw InputError("--threads",
                                      std::to_string(ra->threads) + " is not a thread count (>= 1)");
                 ra->gl_time_limit_given = run->count("--gl-time-limit") > 0;
+                // Given, so checked: --shard '' is refused, not read as "unsharded".
+                if (run->count("--shard") && ra->shard.empty()) (void)parse_shard(ra->shard);
                 return cmd_run(*ra, command_line);
             }};
 }

@@ -218,7 +218,10 @@ std::vector<double> ParamDict::angles(const std::string& key,
     if (!(step > 0)) throw InputError(at, "'" + key + "' step must be > 0");
     if (!(to >= from)) throw InputError(at, "'" + key + "' needs to >= from");
     const double span = std::floor((to - from) / step + 1e-9) + 1;  // counted in double first
-    if (!(span <= 100000)) throw InputError(at, "'" + key + "' has too many angles");
+    if (!(span <= 100000))  // theta_deg, phi_deg, a camera's distance, ...: values, not angles
+        throw InputError(at, "'" + key + "' range { from = " + format_number(from) +
+                                 ", to = " + format_number(to) + ", step = " + format_number(step) +
+                                 " } gives " + format_number(span) + " values, more than 100000");
     const long long count = (long long)span;
     std::vector<double> out;
     for (long long k = 0; k < count; ++k) out.push_back(from + double(k) * step);

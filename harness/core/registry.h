@@ -24,14 +24,21 @@ inline std::string nearest_name(const std::string& name, const std::vector<std::
     std::string best;
     size_t best_d = std::max<size_t>(1, name.size() / 3) + 1;
     for (const std::string& k : known) {
-        std::vector<size_t> prev(k.size() + 1), cur(k.size() + 1);
+        // Optimal string alignment: insertions, deletions, substitutions and transpositions of
+        // neighbours ("pmo" is one step from "pom").
+        std::vector<size_t> back(k.size() + 1), prev(k.size() + 1), cur(k.size() + 1);
         for (size_t j = 0; j <= k.size(); ++j) prev[j] = j;
         for (size_t i = 1; i <= name.size(); ++i) {
             cur[0] = i;
-            for (size_t j = 1; j <= k.size(); ++j)
+            for (size_t j = 1; j <= k.size(); ++j) {
                 cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1,
                                    prev[j - 1] + (lower(name[i - 1]) != lower(k[j - 1]) ? 1 : 0)});
-            std::swap(prev, cur);
+                if (i > 1 && j > 1 && lower(name[i - 1]) == lower(k[j - 2]) &&
+                    lower(name[i - 2]) == lower(k[j - 1]))
+                    cur[j] = std::min(cur[j], back[j - 2] + 1);
+            }
+            back.swap(prev);
+            prev.swap(cur);
         }
         if (prev[k.size()] < best_d) best_d = prev[k.size()], best = k;
     }

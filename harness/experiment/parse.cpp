@@ -16,6 +16,7 @@
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
 #include "harness/metrics/row.h"
+#include "harness/scene/perspective_camera.h"
 #include "harness/scene/view.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
@@ -384,6 +385,58 @@ void check_camera_scenes(const Experiment& ex) {
             }
 }
 
+// Every inside pixel of a perspective view must lie within the exact tracer's reach of its field
+// (kMaxSampleCells: far eyes put samples so far out that the walk's exit lines stop moving):
+// an InputError at the camera's first key of [views] naming the field and the setting.
+// Float rows lose accuracy with distance (float spaces uv more coarsely far from the origin):
+// warned once per field where float's spacing there reaches 1/16 texel (the rows say it too:
+// harness/run/runner.cpp).
+void check_camera_reach(Experiment& ex) {
+    if (ex.camera != "perspective") return;
+    const auto keys = ex.camera_settings.front().values;
+    const std::string where =
+        keys.empty() ? ex.camera_params.where() : ex.camera_params.where(keys.front().first);
+    for (const HeightfieldSpec& h : ex.heightfields) {
+        const FieldSize size = field_size(h);
+        bool warned = false;
+        for (const CameraSetting& c : ex.camera_settings)
+            for (double t : ex.theta_deg) {
+                std::vector<double> thetas{t};
+                if (ex.sweep_dt_deg > 0)
+                    thetas.push_back(t + ex.sweep_dt_deg < 90 ? t + ex.sweep_dt_deg
+                                                              : t - ex.sweep_dt_deg);
+                for (double th : thetas) {
+                    // |P - C| at any phi (it turns the image about C), then |P.x|, |P.y|.
+                    const double reach = 0.5 + perspective_reach(c, {th, 0, ex.samples});
+                    if (const std::string why =
+                            reach_problem(reach, int(size.width), int(size.height));
+                        !why.empty())
+                        throw InputError(where, "heightfield '" + h.name + "': distance " +
+                                                    format_number(c.get("distance")) +
+                                                    " at theta " + format_number(th) +
+                                                    ", fov_deg " + format_number(c.get("fov_deg")) +
+                                                    " " + why);
+                    const float far = float(reach);
+                    const double gap = (double(std::nextafter(far, 2 * far)) - double(far)) *
+                                       double(std::max(size.width, size.height));
+                    if (!warned && gap >= 1.0 / 16) {
+                        warned = true;
+                        warn(ex, where + ": heightfield '" + h.name + "': distance " +
+                                     format_number(c.get("distance")) + " at theta " +
+                                     format_number(th) + ", fov_deg " +
+                                     format_number(c.get("fov_deg")) +
+                                     " puts inside pixels up to " + format_number(reach) +
+                                     " tiles from the origin, where float spaces uv " +
+                                     format_number(gap) +
+                                     " texels apart: the float rows (CPU float, GLSL) lose "
+                                     "accuracy with distance from there on (their rows say so "
+                                     "in 'error'); the double rows do not");
+                    }
+                }
+            }
+    }
+}
+
 }  // namespace
 
 Experiment parse_experiment(const std::string& text, const std::string& path,
@@ -422,6 +475,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     check_ray_travel(ex);
     check_camera_scenes(ex);
     check_camera_samples(ex, "");
+    check_camera_reach(ex);
     return ex;
 }
 

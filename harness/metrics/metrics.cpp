@@ -7,9 +7,20 @@ namespace pxh {
 
 static double wrap_half(double e) { return e - std::floor(e + 0.5); }
 
+// u - floor(u): the position inside its tile, whatever the tile's index; exact for u >= 0 and
+// u <= -1 (floor(u) is 0, or within a factor of two of u), within an ulp of 1 + u in (-1, 0).
+static double in_tile(double u) { return u - std::floor(u); }
+
 Vec2d texel_error(Vec2d uv_method, Vec2d uv_true, int width, int height) {
-    const double ex = uv_method.x - uv_true.x, ey = uv_method.y - uv_true.y;
-    if (!std::isfinite(ex) || !std::isfinite(ey)) return {NAN, NAN};
+    if (!std::isfinite(uv_method.x) || !std::isfinite(uv_method.y) || !std::isfinite(uv_true.x) ||
+        !std::isfinite(uv_true.y))
+        return {NAN, NAN};
+    // Each uv wrapped into its tile before the difference: uv_method - uv_true rounds away the
+    // position inside the tile once the two lie many tiles apart (a uv of 1e16 minus 0.3 is
+    // 1e16, whose wrapped error would read 0), and the tiled texture shows the same texel at
+    // both anyway.
+    const double ex = in_tile(uv_method.x) - in_tile(uv_true.x);
+    const double ey = in_tile(uv_method.y) - in_tile(uv_true.y);
     return {wrap_half(ex) * width, wrap_half(ey) * height};
 }
 

@@ -53,8 +53,7 @@ size_t Verdict::failures() const {
 
 std::string junit_xml(const Verdict& v) {
     std::ostringstream x;
-    x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!-- " << kMark << ": " << v.tool
-      << " -->\n";
+    x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!-- " << kMark << ": " << v.tool << " -->\n";
     x << "<testsuites name=\"" << xml_escaped(v.tool) << "\" tests=\"" << v.cases.size()
       << "\" failures=\"" << v.failures() << "\" errors=\"0\">\n";
     x << "  <testsuite name=\"" << xml_escaped(v.tool + " " + v.subject) << "\" tests=\""

@@ -10,17 +10,17 @@
 namespace pxh {
 
 struct VerdictCase {
-    std::string name;     // "err_p95 <= 0.5 on method=pom theta in [0, 60]"
-    std::string group;    // the JUnit classname: "pxh.check" or "pxh.compare.METHOD"
+    std::string name;   // "err_p95 <= 0.5 on method=pom theta in [0, 60]"
+    std::string group;  // the JUnit classname: "pxh.check" or "pxh.compare.METHOD"
     bool passed = true;
-    std::string message;  // one line: why it failed (empty when passed)
+    std::string message;               // one line: why it failed (empty when passed)
     std::vector<std::string> details;  // the failing rows, values included
     // Numbers a machine may want (JSON only): e.g. worst, limit, rows.
     std::vector<std::pair<std::string, double>> values;
 };
 
 struct Verdict {
-    std::string tool;  // "pxh check" | "pxh compare"
+    std::string tool;     // "pxh check" | "pxh compare"
     std::string subject;  // what was judged: the results folder(s)
     int exit_code = 0;    // what the command returns
     std::string summary;  // the one verdict line the console prints

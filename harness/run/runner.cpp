@@ -5,6 +5,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -144,6 +145,11 @@ struct ViewJob {
     ViewRows out;
     std::vector<double> lambda;  // each sample's level of detail (its footprint's)
     double lod_mean = NAN;       // mean max(lambda, 0) over the inside samples
+    // The coarsest spacing of float values at the inside samples' uv (texels, the larger of u
+    // and v): a float row cannot place its uv closer than half of it to the truth.
+    double float_spacing = 0;
+    // The first inside sample where it is coarsest (its P).
+    Vec2d float_spacing_at{0, 0};
 
     ViewInput input() const {
         ViewInput in{scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
@@ -206,6 +212,24 @@ struct ViewJob {
     }
 };
 
+// Float rows whose uv float spaces this coarsely (texels) or more at some inside sample say so:
+// from there on their error grows with the eye's distance whatever the method (a perspective
+// eye far out puts the samples far from the origin; double rows stay exact).
+constexpr double kFloatSpacingNote = 1.0 / 16;
+
+std::string float_spacing_note(const ViewJob& job) {
+    return "float spaces uv " + format_number(job.float_spacing) +
+           " texels apart at inside samples (e.g. uv " + format_number(job.float_spacing_at.x) +
+           ", " + format_number(job.float_spacing_at.y) +
+           "): float rounding alone costs up to half that; the double rows are exact there";
+}
+
+// The spacing of floats at |u| (the gap to the next float up), in double.
+double float_gap(double u) {
+    const float f = float(std::abs(u));
+    return double(std::nextafter(f, std::numeric_limits<float>::infinity())) - double(f);
+}
+
 ResultRow failed_row(const std::exception& e) {
     ResultRow row;
     row.fail(e.what());
@@ -233,6 +257,14 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view);
+                // No inside sample (a perspective view at or beyond the horizon): nothing was
+                // measured, a failure with its reason, never an ok row of empty cells.
+                if (!o.uv.empty() && row.num("samples_outside") >= double(o.uv.size()))
+                    throw std::runtime_error(
+                        "every sample (" + std::to_string(o.uv.size()) +
+                        ") lies outside the view (V.z <= cos 89 degrees: at or beyond the "
+                        "horizon, samples_outside): nothing to measure; lower theta or widen "
+                        "fov_deg");
                 // Every sample non-finite (a parameter combination that gives no answer at
                 // this view, e.g. a layer count of 0, or a shader that discards every sample):
                 // a failure, never a row of NaN "ok".
@@ -253,12 +285,15 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                         " exceeds the declared bound fetches_bound = " + std::to_string(bound) +
                         (m.method->plugin_shader.empty() ? " (the method's max_fetches)"
                                                          : " (the entry's max_fetches)"));
-                if (o.samples_discarded > 0)  // says so; the numbers stay (samples_discarded)
-                    row.set_text("error", "note: " + std::to_string(o.samples_discarded) + " of " +
-                                              std::to_string(o.uv.size()) +
-                                              " samples discarded or unwritten by the shader "
-                                              "(no uv: counted in samples_discarded and "
-                                              "nonfinite, left out of the errors)");
+                std::string notes;            // said in the row; the numbers stay
+                if (o.samples_discarded > 0)  // (samples_discarded)
+                    notes = "note: " + std::to_string(o.samples_discarded) + " of " +
+                            std::to_string(o.uv.size()) +
+                            " samples discarded or unwritten by the shader (no uv: counted in "
+                            "samples_discarded and nonfinite, left out of the errors)";
+                if (v.precision == "float" && job.float_spacing >= kFloatSpacingNote)
+                    notes += (notes.empty() ? "note: " : "; ") + float_spacing_note(job);
+                if (!notes.empty()) row.set_text("error", notes);
                 row.set("precompute_ms", res.precompute_ms());
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
@@ -325,6 +360,15 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
         lod_sum += std::max(job.lambda[k], 0.0);
     }
     job.lod_mean = inside ? lod_sum / double(inside) : NAN;
+    for (size_t k = 0; k < view.size(); ++k) {  // float's coarsest spacing over the inside samples
+        if (!view.is_inside(k)) continue;
+        const Vec2d P = view.P[k];
+        const double gap = std::max(float_gap(P.x) * c.hf.width, float_gap(P.y) * c.hf.height);
+        if (gap > job.float_spacing) {
+            job.float_spacing = gap;
+            job.float_spacing_at = P;
+        }
+    }
     job.holes = hole_mask(c.hf, job.truth.gt);
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;
     for (const auto& m : c.ex.methods)
@@ -534,20 +578,27 @@ bool software_renderer(const std::map<std::string, std::string>& f) {
 
 std::vector<std::string> check_plugin_shaders(const Experiment& ex, const RunOptions& opt) {
     // Each plug-in's first setting (left out by --only: none): every setting of a plug-in has
-    // the same uniforms (names and types), so one check each.
-    std::vector<const MethodSpec*> firsts;
-    for (const auto& p : ex.plugins)
-        for (const auto& m : ex.methods)
-            if (m.method == p.get()) {
-                firsts.push_back(&m);
-                break;
-            }
+    // the same uniforms (names and types), so one check each, of every program its rows
+    // compile (the camera's point map, each setting's lod mode: each declares other names).
+    const bool point_map = !camera_entry(ex.camera, "camera").parallel;
+    std::vector<std::pair<const MethodSpec*, std::vector<uint8_t>>> firsts;
+    for (const auto& p : ex.plugins) {
+        const MethodSpec* first = nullptr;
+        std::vector<uint8_t> kinds;
+        for (const auto& m : ex.methods) {
+            if (m.method != p.get()) continue;
+            if (!first) first = &m;
+            const uint8_t k = glsl_program_kind(point_map, m.lod);
+            if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
+        }
+        if (first) firsts.emplace_back(first, std::move(kinds));
+    }
     if (firsts.empty()) return {};
     GlslChildBackend gl(settings_of(ex, opt));
     std::vector<std::string> problems;
-    for (const MethodSpec* m : firsts)
+    for (const auto& [m, kinds] : firsts)
         for (auto& line :
-             gl.check(GlslMethod::of(*m->method), method_uniforms(*m->method, m->params)))
+             gl.check(GlslMethod::of(*m->method), method_uniforms(*m->method, m->params), kinds))
             problems.push_back(std::move(line));
     return problems;
 }

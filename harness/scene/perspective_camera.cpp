@@ -1,5 +1,6 @@
 #include "harness/scene/perspective_camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -264,6 +265,27 @@ PerspectiveParams params_of(const CameraSetting& setting, const CameraSpec& spec
 std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
                                                 const CameraSpec& spec) {
     return std::make_unique<PerspectiveCamera>(params_of(setting, spec));
+}
+
+double perspective_reach(const PerspectiveParams& p) {
+    const PerspectiveCamera cam(p);
+    const Vec3d E = cam.eye();
+    const double last = p.image_size() - 1;  // the image's corners bound every pixel measured
+    double reach = 0;
+    for (const double j : {0.0, last})
+        for (const double i : {0.0, last}) {
+            const PerspectivePixel px = cam.pixel(i, j);
+            if (!px.inside) {  // the horizon's bound: the eye's foot, then E.z tan(89 degrees)
+                const double c = outside_cos(), tan89 = std::sqrt(1 - c * c) / c;
+                return std::hypot(E.x - 0.5, E.y - 0.5) + E.z * tan89;
+            }
+            reach = std::max(reach, std::hypot(px.P.x - 0.5, px.P.y - 0.5));
+        }
+    return reach;
+}
+
+double perspective_reach(const CameraSetting& setting, const CameraSpec& spec) {
+    return perspective_reach(params_of(setting, spec));
 }
 
 std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,

@@ -118,6 +118,14 @@ std::vector<CameraKey> perspective_keys();
 // "" when N samples per side can be picked from the setting's image (N <= resolution).
 // With `neighbours` (lod implicit: the GPU's derivatives between neighbouring fragments) N = R.
 std::string perspective_samples_problem(const CameraSetting& setting, int samples, bool neighbours);
+// An upper bound of |P - C| over the camera's inside pixels (tiles from the look-at point; the
+// same at every phi): the farthest of the image's corner pixels when all four are inside (the
+// inside region is then their convex quadrilateral), else the horizon's bound, the eye's foot
+// plus E.z tan(89 degrees).
+double perspective_reach(const PerspectiveParams& p);
+// perspective_reach at this setting and view.
+double perspective_reach(const CameraSetting& setting, const CameraSpec& spec);
+
 // eye_slab_problem at this setting and view.
 std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,
                                       double scale, double bias);

@@ -78,6 +78,10 @@ inline int64_t floor_div(int64_t a, int64_t n) {
     return (a % n != 0 && ((a < 0) != (n < 0))) ? q - 1 : q;
 }
 
+// Throws std::runtime_error: a DDA from grid point (X0, Y0) walked `cells` cells, more than its
+// ray crosses (its exit lines stopped moving). Out of line, off the walks' hot path.
+[[noreturn, gnu::cold]] void walk_stalled(double X0, double Y0, int cells);
+
 }  // namespace cell_solver
 
 // The eye ray: E - tau V from the slab top (tau = 0) to the slab bottom (tau_max), in grid
@@ -108,6 +112,8 @@ inline ExactTracer::Ray ExactTracer::make_ray(Vec2d P, Vec3d V) const {
     // Within the travel limit every grid coordinate below (start, exits, the slab bottom) is a
     // few times W x kMaxRayTravelTiles at most: all conversions to integers are in range.
     throw_if_problem(ray_travel_problem(s_, V));
+    // Within the reach limit the DDA's exit lines keep moving (kMaxSampleCells).
+    throw_if_problem(sample_reach_problem(P, hf_.width, hf_.height));
     return make_ray_unchecked(P, V);
 }
 

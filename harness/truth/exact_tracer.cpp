@@ -94,6 +94,7 @@ void ExactTracer::prepare_rays() const {
 
 void ExactTracer::trace(const View& view, Hits& out) const {
     throw_if_problem(view_travel_problem(s_, view));  // every ray, before any work
+    throw_if_problem(view_reach_problem(view, hf_.width, hf_.height));
     if (view.orthographic_grid()) trace_grid(view.grid, view.V[0], out);
     else trace_rays(view, out);
 }

@@ -2,17 +2,31 @@
 // maximum mipmap (trace).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include "harness/truth/cell_solver.h"
 
 namespace pxh {
 
+void cell_solver::walk_stalled(double X0, double Y0, int cells) {
+    char buf[320];
+    std::snprintf(buf, sizeof buf,
+                  "exact tracer: the ray from grid point (%.17g, %.17g) walked %d cells, more than "
+                  "it crosses: its exit lines stopped moving (beyond kMaxSampleCells)",
+                  X0, Y0, cells);
+    throw std::runtime_error(buf);
+}
+
 TruthHit ExactTracer::trace_naive(Vec2d P, Vec3d V) const { return dda(make_ray(P, V)); }
 
 TruthHit ExactTracer::dda(const Ray& r) const {
     int64_t ci = int64_t(std::floor(r.X0)), cj = int64_t(std::floor(r.Y0));
+    // At most |dX| + |dY| + 2 line crossings (walk_dda's bound): never an endless loop.
+    const double cells_bound = r.tau_max * (std::abs(r.dX) + std::abs(r.dY)) + 9;
     for (int cells = 1;; ++cells) {
+        if (cells > cells_bound) cell_solver::walk_stalled(r.X0, r.Y0, cells);
         const double ex = r.exit_x(ci, ci + 1), ey = r.exit_y(cj, cj + 1);
         const double tau_out = std::min({ex, ey, r.tau_max});
         const double t = solve_cell(r, ci, cj, tau_out);

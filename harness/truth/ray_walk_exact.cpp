@@ -315,9 +315,13 @@ TruthHit ExactTracer::walk_dda(const WalkState& w) const {
     double ex = ax.moves ? (xl - xo) * xi : inf;
     double ey = ay.moves ? (yl - yo) * yi : inf;
     const double tau_max = r.tau_max;
+    // The ray crosses at most |dX| + |dY| + 2 lines over its travel; past that (and a rounding
+    // margin) its exit lines have stopped moving (a sample beyond kMaxSampleCells, which the
+    // entry points refuse): an error, never an endless loop.
+    const double cells_bound = double(cells) + tau_max * (std::abs(r.dX) + std::abs(r.dY)) + 8;
     for (;;) {
         const double tau_out = std::min(std::min(ex, ey), tau_max);
-        ++cells;
+        if (++cells > cells_bound) cell_solver::walk_stalled(r.X0, r.Y0, cells);
         const float f00 = c[0], f10 = c[1], f01 = c[up], f11 = c[up + 1];
         if (!cell_below(r, f00, f10, f01, f11, tau_out)) {
             const double t = solve_patch(r, ci, cj, f00, f10, f01, f11, tau_out);

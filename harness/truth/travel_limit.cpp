@@ -1,5 +1,6 @@
 #include "harness/truth/travel_limit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -56,6 +57,32 @@ std::string ray_travel_problem(double scale, Vec3d D) {
     const double side = std::sqrt(D.x * D.x + D.y * D.y);
     const double travel = scale * (side / D.z);  // beyond the limit, NaN or inf
     return travel_problem(scale, std::atan2(side, D.z) * 180 / M_PI, travel);
+}
+
+std::string sample_reach_problem(Vec2d P, int width, int height) {
+    const double cells = std::max(std::abs(P.x) * width, std::abs(P.y) * height);
+    if (cells <= kMaxSampleCells) return "";  // NaN: false
+    return "the sample at uv (" + number(P.x) + ", " + number(P.y) + ") lies " + number(cells) +
+           " cells from the origin of the " + std::to_string(width) + " x " +
+           std::to_string(height) + " field, beyond the exact tracer's limit of 2^36 cells " +
+           "(kMaxSampleCells), where its doubles no longer resolve a hit: bring the eye closer";
+}
+
+std::string reach_problem(double reach, int width, int height) {
+    const double cells = reach * std::max(width, height);
+    if (cells <= kMaxSampleCells) return "";  // NaN: false
+    return "puts inside pixels up to " + number(reach) + " tiles from the origin, " +
+           number(cells) + " cells of the " + std::to_string(width) + " x " +
+           std::to_string(height) +
+           " field: beyond the exact tracer's reach of 2^36 cells (kMaxSampleCells), where its "
+           "doubles no longer resolve a hit; bring the eye closer";
+}
+
+std::string view_reach_problem(const View& view, int width, int height) {
+    for (const Vec2d& P : view.P)  // no string built per accepted sample
+        if (!(std::max(std::abs(P.x) * width, std::abs(P.y) * height) <= kMaxSampleCells))
+            return sample_reach_problem(P, width, height);
+    return "";
 }
 
 std::string view_travel_problem(double scale, const View& view) {

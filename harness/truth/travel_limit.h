@@ -34,6 +34,27 @@ std::string ray_travel_problem(double scale, Vec3d D);
 // The first problem of a view: view_problem's, else ray_travel_problem's for its directions.
 std::string view_travel_problem(double scale, const View& view);
 
+// The reach limit: how far from the origin, in cells of the field (|u| W, |v| H), a sample's
+// point may lie before the exact tracer refuses it: 2^36 cells. There its doubles still resolve
+// 2^-16 of a cell (a hit to 1.5e-5 texel); far beyond, a perspective eye at D = 1e15 tiles over
+// a 32 x 32 field puts samples 2^53 cells out, where the DDA's next exit line x + 1 rounds back to
+// x and the walk never ends. The ray's entry into the slab lies within the travel limit of its
+// sample (6000 tiles x 16384 texels < 2^27 cells), inside the margin this leaves. Views beyond it
+// are refused when an experiment is read (the perspective camera's farthest inside pixel, at the
+// camera's key) and by pxh bench, and, as a last line of defence, by the tracers' entry points.
+inline constexpr double kMaxSampleCells = 68719476736.0;  // 2^36
+
+// "" when the point P of a field of W x H texels lies within kMaxSampleCells of the origin (in
+// each of |P.x| W and |P.y| H; NaN or infinite: a problem), else a one-line reason naming the
+// point, the cells and the limit.
+std::string sample_reach_problem(Vec2d P, int width, int height);
+// "" when samples up to `reach` tiles from the origin (in u and in v) lie within
+// kMaxSampleCells of a W x H field, else a reason naming both ("... puts inside pixels up to
+// R tiles from the origin, C cells of the W x H field: beyond ...").
+std::string reach_problem(double reach, int width, int height);
+// The first problem of a view's samples (sample_reach_problem of each P), "" if none.
+std::string view_reach_problem(const View& view, int width, int height);
+
 // "" unless the scale is not a finite positive number.
 std::string scale_problem(double scale);
 

@@ -18,8 +18,11 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <sstream>
 
 #include "harness/backends/gl_worker.h"
@@ -196,6 +199,41 @@ TEST_F(PluginRefused, HeightTextureAndCounterAroundTheInterface) {
     }
 }
 
+// The check before the run compiles every program the rows compile: each setting's lod mode
+// (and a perspective camera's point map) declares names the grid's program does not. Before, it
+// compiled the grid's alone: a plug-in declaring pxh_lambda passed it and failed every level
+// row (exit 1, a results folder written), and one assigning pxh_lambda was refused although its
+// level rows declare it.
+TEST_F(PluginRefused, EveryLodProgramOfTheRowsIsChecked) {
+    write("decl.frag.glsl", "float pxh_lambda;\nvec2 pxh_method(vec2 P) { return P; }\n");
+    plugin("decl.frag.glsl", "lod = \"level\"\n");
+    const std::string decl = (dir / "exp" / "decl.frag.glsl").lexically_normal().string();
+    expect_refused("pxh: error: " + decl + ":1:");
+    EXPECT_NE(err().find("pxh_lambda"), std::string::npos) << err();
+    plugin("decl.frag.glsl");  // lod = base only: nothing declares it twice
+    EXPECT_EQ(run(), 0) << err();
+    fs::remove_all(dir / "r");
+    write("grad.frag.glsl", "vec4 pxh_footprint;\nvec2 pxh_method(vec2 P) { return P; }\n");
+    plugin("grad.frag.glsl", "lod = \"grad\"\n");
+    expect_refused("grad.frag.glsl:1:");
+    // Assigning the level rows' own pxh_lambda: what those rows compile, so accepted there ...
+    write("set.frag.glsl",
+          "vec2 pxh_method(vec2 P) {\n  pxh_lambda = 0.0;\n  return P + 0.0 * pxh_height(P);\n}\n");
+    plugin("set.frag.glsl", "lod = \"level\"\n");
+    EXPECT_EQ(run(), 0) << err();
+    fs::remove_all(dir / "r");
+    // ... and refused where the rows' program has no such name (lod = base).
+    plugin("set.frag.glsl");
+    expect_refused("set.frag.glsl:2:2: error: `pxh_lambda' undeclared", 2);
+    // A macro of common.glsl's defined otherwise: the level program's preamble defines it.
+    write("def.frag.glsl", "#define PXH_LOD_LEVEL 1\nvec2 pxh_method(vec2 P) { return P; }\n");
+    plugin("def.frag.glsl", "lod = \"level\"\n");
+    expect_refused("def.frag.glsl:1:");
+    // Settings in several modes: each mode's program is checked.
+    plugin("decl.frag.glsl", "lod = [\"base\", \"level\"]\n");
+    expect_refused("decl.frag.glsl:1:");
+}
+
 TEST_F(PluginRefused, UnusedUniformIsFoundBeforeAnyRow) {
     write("u.frag.glsl", kOk);
     plugin("u.frag.glsl", "uniforms = { p_steps = 3.0 }\n");
@@ -309,6 +347,102 @@ TEST_F(PluginRows, DiscardEverythingAfterMaxmipHasNoNumbers) {
         EXPECT_EQ(t.get(r, "err_mean"), "") << "maxmip's numbers leaked into a discarding shader";
     }
     EXPECT_EQ(mine, 2);
+}
+
+// A uv far beyond the tile is a float without a fraction: it shows the texture at the tile's
+// corner, exactly as uv = 0 does. Its error is that of uv = 0, not 0 (texel_error used to
+// subtract before wrapping: 1e16 - uv_true rounded to 1e16, and every row read err 0, status
+// ok), on both cameras.
+TEST_F(PluginRows, HugeUvScoresAsTheTileCornerNotPerfect) {
+    write("k.frag.glsl",
+          "uniform float p_k;\nvec2 pxh_method(vec2 P) { return vec2(p_k) + P * 0.0; }\n");
+    for (const std::string camera : {"", "camera = \"perspective\"\ndistance = 2\n"}) {
+        write("exp.toml",
+              "samples = 16\nbackends = [\"glsl\"]\ntiming_repeats = 0\n[views]\n"
+              "theta_deg = [0, 60]\n" +
+                  camera +
+                  "[[heightfields]]\ngenerator = \"bricks\"\nsize = 64\nscale = 0.06\n"
+                  "bias = 1.0\n[[methods]]\nname = \"huge\"\nshader = \"k.frag.glsl\"\n"
+                  "max_fetches = 1\nuniforms = { p_k = 1e16 }\n[[methods]]\nname = "
+                  "\"zero\"\nshader = \"k.frag.glsl\"\nmax_fetches = 1\nuniforms = "
+                  "{ p_k = 0.0 }\n");
+        fs::remove_all(dir / "r");
+        ASSERT_EQ(run(), 0) << err();
+        const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
+        std::map<std::string, std::map<std::string, std::string>> rows;  // theta -> method -> mean
+        for (size_t r = 0; r < t.rows.size(); ++r) {
+            EXPECT_EQ(t.get(r, "status"), "ok");
+            EXPECT_EQ(t.get(r, "nonfinite"), "0");
+            rows[t.get(r, "theta_deg")][t.get(r, "method")] =
+                t.get(r, "err_mean") + " " + t.get(r, "err_max");
+        }
+        ASSERT_EQ(rows.size(), 2u) << camera;
+        for (auto& [theta, m] : rows) {
+            ASSERT_EQ(m.size(), 2u);
+            EXPECT_EQ(m["huge"], m["zero"]) << camera << " theta " << theta;
+            // The samples lie all over the tile: a quarter of it away on average (64 texels).
+            EXPECT_GT(std::stod(m["huge"]), 4.0) << camera << " theta " << theta;
+        }
+    }
+}
+
+// What holds on llvmpipe (README "What holds on which driver"): every loop is cut after 65535
+// iterations per fragment, counted over all its entries; the shader goes on and its row is ok.
+// One sample at theta 0 on a 16-texel field: the truth is P = (0.5, 0.5), and a shader returning
+// (0.5 + n / 2^21, 0.5) has err_mean = 16 n / 2^21 texels, so each row reads back its count.
+TEST_F(PluginRows, LlvmpipeCutsEveryLoopAt65535Iterations) {
+    write("one.frag.glsl",
+          "uniform int p_n;\nvec2 pxh_method(vec2 P) {\n  int i = 0;\n  while (i < p_n) i++;\n"
+          "  return vec2(0.5 + float(i) / 2097152.0, 0.5) + P * 0.0;\n}\n");
+    write("nest.frag.glsl",
+          "uniform int p_n;\nvec2 pxh_method(vec2 P) {\n  int i = 0, t = 0;\n  while (i < p_n) {\n"
+          "    int j = 0;\n    while (j < p_n) { j++; t++; }\n    i++;\n  }\n"
+          "  return vec2(0.5 + float(t) / 2097152.0, 0.5) + P * 0.0;\n}\n");
+    write("fetch.frag.glsl",
+          "uniform int p_n;\nvec2 pxh_method(vec2 P) {\n  int i = 0;\n  float h = 0.0;\n"
+          "  while (i < p_n) { h += pxh_height(P); i++; }\n  return P + 0.0 * h;\n}\n");
+    write("exp.toml",
+          "samples = 1\nbackends = [\"glsl\"]\ntiming_repeats = 0\n[views]\ntheta_deg = [0]\n"
+          "[[heightfields]]\ngenerator = \"bricks\"\nsize = 16\n"
+          "[[methods]]\nname = \"one\"\nshader = \"one.frag.glsl\"\nmax_fetches = 1\n"
+          "uniforms = { p_n = [100, 65535, 1000000] }\n"
+          "[[methods]]\nname = \"nest\"\nshader = \"nest.frag.glsl\"\nmax_fetches = 1\n"
+          "uniforms = { p_n = 60000 }\n"
+          "[[methods]]\nname = \"fetch\"\nshader = \"fetch.frag.glsl\"\nmax_fetches = 1000\n"
+          "uniforms = { p_n = 1000000 }\n");
+    EXPECT_EQ(run(), 1) << err();  // the fetching loop's row fails
+    if (slurp(dir / "r" / "run.json").find("llvmpipe") == std::string::npos)
+        GTEST_SKIP() << "not llvmpipe: these are llvmpipe's numbers";
+    const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
+    std::map<std::string, double> count;  // method params -> iterations read back
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        const std::string key = t.get(r, "method") + " " + t.get(r, "params");
+        if (t.get(r, "method") == "fetch") {
+            EXPECT_EQ(t.get(r, "status"), "failed");
+            EXPECT_NE(t.get(r, "error")
+                          .find("fetches_max = 65535 exceeds the declared bound "
+                                "fetches_bound = 1000"),
+                      std::string::npos)
+                << t.get(r, "error");
+            continue;
+        }
+        EXPECT_EQ(t.get(r, "status"), "ok") << key;  // cut, yet ok: what the README says
+        // err_mean has 10 digits: the count to within 1e-4, rounded.
+        count[key] = std::round(std::stod(t.get(r, "err_mean")) * 2097152.0 / 16);
+    }
+    ASSERT_EQ(count.size(), 4u);
+    EXPECT_EQ(count["one p_n=100"], 100);
+    EXPECT_EQ(count["one p_n=65535"], 65535);
+    EXPECT_EQ(count["one p_n=1000000"], 65535);  // not 1e6: cut
+    // The inner loop over all its 60000 entries: about 65535 in all, not 3.6e9.
+    EXPECT_GE(count["nest p_n=60000"], 65533);
+    EXPECT_LE(count["nest p_n=60000"], 65535);
+    // README says what holds here, not the promise that such a row fails.
+    std::ifstream readme(std::string(PXH_SOURCE_DIR) + "/README.md");
+    const std::string text((std::istreambuf_iterator<char>(readme)), {});
+    EXPECT_NE(text.find("every loop of the compiled shader after 65535 iterations per fragment"),
+              std::string::npos);
+    EXPECT_NE(text.find("an endless loop does **not** fail its row"), std::string::npos);
 }
 
 TEST_F(PluginRows, OverItsBoundFails) {

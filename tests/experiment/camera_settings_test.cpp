@@ -68,9 +68,9 @@ TEST(CameraSettings, RepeatsAreDroppedAndAlikeValuesRefused) {
               "c.toml:7: distance values 2.00000000001 and 2 both print as 2 in "
               "results.csv (10 significant digits): their rows would share their keys; give "
               "values that differ there");
-    EXPECT_NE(error_of(exp_with("distance = 2\nfov_deg = [45, 45.000000000001]"))
-                  .find("fov_deg values "),
-              std::string::npos);
+    EXPECT_NE(
+        error_of(exp_with("distance = 2\nfov_deg = [45, 45.000000000001]")).find("fov_deg values "),
+        std::string::npos);
     // Angles as well: theta and phi values that print alike, and a phi that prints as 360.
     std::string t = exp_with("distance = 2");
     t.replace(t.find("theta_deg = [30]"), 16, "theta_deg = [30, 30.0000000000001]");

@@ -5,6 +5,7 @@
 #include "harness/experiment/shard.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -421,6 +422,64 @@ TEST_F(ShardRefusals, MoreSlicesThanUnitsAndBadShardAreRefusedByRun) {
     const auto into = pxh("merge " + s(0) + " " + s(0) + " " + s(1) + " " + s(2) + " --force");
     EXPECT_EQ(into.status, 2);
     EXPECT_NE(into.err.find("is one of the slices"), std::string::npos) << into.err;
+}
+
+// Issue 51's messages: each a line naming what is wrong, exit 2, nothing written.
+TEST_F(ShardRefusals, EmptyPathsFifosAndNestedFoldersAreNamed) {
+    const std::string all = s(0) + " " + s(1) + " " + s(2);
+    // An empty OUT or slice path (before: a filesystem error, exit 1).
+    auto r = pxh("merge '' " + all);
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(r.err, "pxh: error: merge: the output folder OUT is an empty path\n");
+    expect_refused(s(0) + " '' " + s(2), "pxh: error: merge: a slice's folder is an empty path");
+    // A FIFO given as a slice (before: "no such results folder").
+    const std::string fifo = (dir / "fifo").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expect_refused(s(0) + " " + fifo + " " + s(2),
+                   "pxh: error: " + fifo +
+                       ": is not a folder (a FIFO, socket or device?), not a slice's results "
+                       "folder");
+    // OUT inside a slice (before: accepted, writing into slice 0's folder), or holding one.
+    const auto nested = pxh("merge " + s(0) + "/merged " + all);
+    EXPECT_EQ(nested.status, 2) << nested.err;
+    EXPECT_EQ(nested.err, "pxh: error: " + s(0) + "/merged: lies inside the slice " + s(0) +
+                              ": merge into a folder outside every slice\n");
+    EXPECT_FALSE(fs::exists(s(0) + "/merged"));
+    const fs::path parent = dir / "parent";
+    fs::create_directories(parent);
+    fs::copy(s(1), parent / "s1", fs::copy_options::recursive);
+    const auto holds = pxh("merge " + parent.string() + " " + s(0) + " " +
+                           (parent / "s1").string() + " " + s(2) + " --force");
+    EXPECT_EQ(holds.status, 2) << holds.err;
+    EXPECT_NE(holds.err.find(": holds the slice "), std::string::npos) << holds.err;
+    EXPECT_TRUE(fs::exists(parent / "s1" / "results.csv"));
+}
+
+TEST_F(ShardRefusals, EditedSliceIsNotOfferedAnOptionMergeLacks) {
+    const fs::path copy = dir / "edited";
+    fs::copy(s(1), copy, fs::copy_options::recursive);
+    std::string text = slurp(copy / "results.csv");
+    text.pop_back();
+    text += "9\n";  // one digit more in the last cell
+    std::ofstream(copy / "results.csv", std::ios::binary) << text;
+    const auto r =
+        pxh("merge " + (dir / "out").string() + " " + s(0) + " " + copy.string() + " " + s(2));
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(r.err.find("--accept-edited"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("pxh merge joins only intact slices: run that slice again"),
+              std::string::npos)
+        << r.err;
+    // merge has no such option indeed.
+    EXPECT_EQ(pxh("merge " + (dir / "out").string() + " " + s(0) + " --accept-edited").status, 2);
+}
+
+TEST_F(ShardRefusals, EmptyShardIsRefusedNotRunUnsharded) {
+    const auto r = pxh("run " + exp + " --quiet --out " + mine(3) + " --shard ''");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(r.err,
+              "pxh: error: --shard: '' is not I/N (I/N with 0 <= I < N, e.g. "
+              "$SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT)\n");
+    EXPECT_FALSE(fs::exists(mine(3)));
 }
 
 }  // namespace

@@ -27,6 +27,24 @@ TEST(TexelError, WrapsToHalfOpenRangeAndScales) {
     EXPECT_TRUE(std::isnan(texel_error({NAN, 0}, {0, 0}, 4, 4).x));
 }
 
+TEST(TexelError, HugeUvKeepsItsPlaceInTheTile) {
+    // A uv far beyond the tile (a plug-in's vec2(1e16), or P + vec2(1e30, -3e38) in float) is an
+    // integer in floating point: it shows the texture at the tile's corner, not at the truth.
+    // Subtracting first, 1e16 - 0.25 rounds to 1e16 and the wrapped error read 0.
+    Vec2d e = texel_error({1e16, 1e16}, {0.25, 0.5}, 64, 32);
+    EXPECT_DOUBLE_EQ(e.x, -0.25 * 64);  // 0 - 0.25 of a tile
+    EXPECT_DOUBLE_EQ(e.y, -0.5 * 32);   // 0 - 0.5 wraps to -0.5
+    e = texel_error({double(1e30f), double(-3e38f)}, {0.375, 0.125}, 16, 16);
+    EXPECT_DOUBLE_EQ(e.x, -0.375 * 16);
+    EXPECT_DOUBLE_EQ(e.y, -0.125 * 16);
+    // The truth far out and the method in the first tile: the same wrap, either way round.
+    e = texel_error({0.75, 0.25}, {-1099511627776.0 + 0.5, 1099511627776.0 + 0.125}, 8, 8);
+    EXPECT_DOUBLE_EQ(e.x, 0.25 * 8);
+    EXPECT_DOUBLE_EQ(e.y, 0.125 * 8);
+    // A non-finite truth is no error either.
+    EXPECT_TRUE(std::isnan(texel_error({0, 0}, {INFINITY, 0}, 4, 4).x));
+}
+
 TEST(ErrorStats, HandExample) {
     // Magnitudes 0, 0.25, 0.5, 1, 2 (+ one NaN, one Inf counted as non-finite).
     const ErrorStats s = error_stats({1.0, 0.0, 2.0, NAN, 0.25, 0.5, INFINITY});

@@ -55,8 +55,8 @@ class CameraGates : public pxh::test::CliTest {
 TEST_F(CameraGates, CompareOfNothingIsNoVerdict) {
     ASSERT_EQ(run_into("base", camera_exp(16, 32)).status, 0);
     ASSERT_EQ(run_into("quick", camera_exp(16, 32), "--samples 8").status, 0);
-    for (const std::string extra : {"", " --common", " --fail-on err_p95=+5%",
-                                    " --common --fail-on err_p95=+5%"}) {
+    for (const std::string extra :
+         {"", " --common", " --fail-on err_p95=+5%", " --common --fail-on err_p95=+5%"}) {
         const auto r = pxh("compare " + d("base") + " " + d("quick") + extra + " --json " +
                            d("v.json") + " --junit " + d("v.xml"));
         EXPECT_EQ(r.status, 2) << extra << "\n" << r.out << r.err;
@@ -77,8 +77,8 @@ TEST_F(CameraGates, CompareOfNothingIsNoVerdict) {
     // Two empty results folders: nothing to compare either.
     fs::create_directories(dir / "e1");
     fs::create_directories(dir / "e2");
-    const std::string header = slurp(dir / "base" / "results.csv").substr(
-        0, slurp(dir / "base" / "results.csv").find('\n') + 1);
+    const std::string header = slurp(dir / "base" / "results.csv")
+                                   .substr(0, slurp(dir / "base" / "results.csv").find('\n') + 1);
     write("e1/results.csv", header);
     write("e2/results.csv", header);
     const auto e = pxh("compare " + d("e1") + " " + d("e2") + " --accept-edited");
@@ -189,13 +189,15 @@ TEST_F(CameraGates, CheckFiltersByEveryAxisAndWritesVerdicts) {
     write("mine.json", "{\"my\": \"notes\"}\n");
     const auto again = pxh("check " + d("r") + " --thresholds " + th + " --json " + d("c.json"));
     EXPECT_EQ(again.status, 1) << again.err;
-    const auto theirs = pxh("check " + d("r") + " --thresholds " + th + " --json " + d("mine.json"));
+    const auto theirs =
+        pxh("check " + d("r") + " --thresholds " + th + " --json " + d("mine.json"));
     EXPECT_EQ(theirs.status, 2) << theirs.err;
     EXPECT_NE(theirs.err.find("is not a verdict pxh wrote: not replaced"), std::string::npos)
         << theirs.err;
     EXPECT_EQ(slurp(dir / "mine.json"), "{\"my\": \"notes\"}\n");
     // A distance range no row lies in checks nothing: refused.
-    const std::string empty = write("e.toml", "[[limit]]\ndistance_min = 100\ncolumn = \"err_p95\"\nmax = 1\n");
+    const std::string empty =
+        write("e.toml", "[[limit]]\ndistance_min = 100\ncolumn = \"err_p95\"\nmax = 1\n");
     const auto e = pxh("check " + d("r") + " --thresholds " + empty);
     EXPECT_EQ(e.status, 2) << e.out << e.err;
     EXPECT_NE(e.err.find("matches no row"), std::string::npos) << e.err;
@@ -239,7 +241,8 @@ TEST_F(CameraGates, CompareSortsRegressionsAndWritesVerdicts) {
     const std::string xml = slurp(dir / "g.xml");
     // 4 method settings and the rows of BASE found in NEW.
     EXPECT_NE(xml.find("tests=\"5\" failures=\"2\""), std::string::npos) << xml;
-    EXPECT_NE(xml.find("classname=\"pxh.compare\" name=\"pom layers=8;layers_min=off;layers_max=off [cpu/float]\""),
+    EXPECT_NE(xml.find("classname=\"pxh.compare\" name=\"pom "
+                       "layers=8;layers_min=off;layers_max=off [cpu/float]\""),
               std::string::npos)
         << xml;
 }
@@ -247,12 +250,16 @@ TEST_F(CameraGates, CompareSortsRegressionsAndWritesVerdicts) {
 // A setting a backend cannot run is said on stderr and in run.json, not silently missing.
 TEST_F(CameraGates, SkippedSettingsAreSaid) {
     ExperimentToml e("skip");
-    e.backends("\"cpu\", \"glsl\"").theta("[30]").field("fbm", 16).method("pom", "layers = 8\nlod = [\"base\", \"grad\"]");
+    e.backends("\"cpu\", \"glsl\"")
+        .theta("[30]")
+        .field("fbm", 16)
+        .method("pom", "layers = 8\nlod = [\"base\", \"grad\"]");
     const std::string f = write("skip.toml", e);
     const auto r = pxh("run " + f + " --quiet --backend cpu --out " + d("s"));
     ASSERT_EQ(r.status, 0) << r.err;
     const std::string want =
-        "backend cpu makes no rows of 1 method setting(s) (pom layers=8;layers_min=off;layers_max=off "
+        "backend cpu makes no rows of 1 method setting(s) (pom "
+        "layers=8;layers_min=off;layers_max=off "
         "lod=grad): lod 'grad' "
         "samples through the GPU's own level selection: glsl only";
     EXPECT_NE(r.err.find("pxh: warning: " + want), std::string::npos) << r.err;

@@ -15,6 +15,7 @@
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/metrics.h"
+#include "harness/run/runner.h"
 #include "harness/scene/perspective_camera.h"
 #include "harness/truth/embree_truth.h"
 #include "harness/truth/ground_truth.h"
@@ -305,6 +306,178 @@ TEST(TruthLimits, BenchRefusesViewsBeyondTheLimit) {
     EXPECT_FALSE(std::filesystem::exists(opt.out));  // refused before any work
 }
 
+// ---- Far eyes: the reach limit (kMaxSampleCells) ----------------------------------------------
+
+std::string far_eye_experiment(double distance, int size, const std::string& extra = "") {
+    return "samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n" + extra +
+           "[views]\ntheta_deg = [30]\ncamera = \"perspective\"\ndistance = " +
+           format_number(distance) + "\n[[heightfields]]\nname = \"f\"\ngenerator = \"fbm\"\n" +
+           "size = " + std::to_string(size) + "\nscale = 0.05\n[[methods]]\nname = \"pom\"\n" +
+           "layers = 8\n";
+}
+
+std::string far_eye_error(double distance, int size) {
+    try {
+        (void)parse_experiment(far_eye_experiment(distance, size), "e.toml");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+// The bound the refusal uses holds: no inside pixel lies farther from the look-at point, and
+// with every corner inside it is the farthest pixel itself.
+TEST(TruthLimits, PerspectiveReachBoundsEveryInsidePixel) {
+    for (double theta : {0.0, 30.0, 60.0, 85.0})
+        for (double phi : {0.0, 37.0})
+            for (double fov : {10.0, 45.0, 120.0})
+                for (double D : {1.5, 100.0, 1e6}) {
+                    const PerspectiveParams p{theta, phi, D, fov, 24};
+                    const PerspectiveCamera cam(p);
+                    const View v = cam.view();
+                    double far = 0;
+                    for (size_t k = 0; k < v.size(); ++k)
+                        if (v.is_inside(k))
+                            far = std::max(far, std::hypot(v.P[k].x - 0.5, v.P[k].y - 0.5));
+                    const double bound = perspective_reach(p);
+                    EXPECT_LE(far, bound * (1 + 1e-12)) << theta << " " << phi << " " << fov;
+                    if (cam.outside_count() == 0) {
+                        EXPECT_NEAR(far, bound, 1e-12 * bound) << theta << " " << fov << " " << D;
+                    }
+                }
+    // A closed form: theta 0, the image's corner pixel (i = j = 0 of 24) at D tan(F/2) (23/24)
+    // along both axes.
+    const double a = std::tan(22.5 * M_PI / 180) * 23.0 / 24;
+    EXPECT_NEAR(perspective_reach({0, 0, 10, 45, 24}), 10 * a * std::sqrt(2.0), 1e-12);
+}
+
+// fbm 32, pom 8, theta 30: D = 1e15 puts samples ~2^54 cells out, where the DDA's exit line
+// x + 1 rounds back to x (the run hung, as did size 1024 at 1e14 and pxh bench at 1e15). Refused
+// at the camera's key, naming the field, the setting and the limit; D = 1e9 stays accepted.
+TEST(TruthLimits, FarEyesAreRefusedAtTheirKey) {
+    EXPECT_EQ(far_eye_error(1e9, 32), "(no error)");
+    const std::string e = far_eye_error(1e15, 32);
+    EXPECT_EQ(e.rfind("e.toml:7: heightfield 'f': distance 1e+15 at theta 30, fov_deg 45 puts "
+                      "inside pixels up to ",
+                      0),
+              0u)
+        << e;
+    EXPECT_NE(e.find(" cells of the 32 x 32 field: beyond the exact tracer's reach of 2^36 cells "
+                     "(kMaxSampleCells), where its doubles no longer resolve a hit; bring the eye "
+                     "closer"),
+              std::string::npos)
+        << e;
+    EXPECT_NE(far_eye_error(1e14, 1024), "(no error)");
+    // The limit scales with the field: 1e9 tiles of 32 texels pass, of 4096 they do not.
+    EXPECT_NE(far_eye_error(1e9, 4096).find("4096 x 4096 field"), std::string::npos);
+}
+
+// The tracers refuse such samples themselves (a view that did not come through the parse), a
+// line naming the limit, never an endless walk.
+TEST(TruthLimits, TracersRefuseSamplesBeyondTheReach) {
+    const HeightField hf = generated("fbm", 32);
+    const ExactTracer exact(hf, 0.05, 1.0);
+    const Vec3d V = view_vector(30, 0);
+    const Vec2d far{1e15, 0.5};  // 3.2e16 cells: past 2^53
+    EXPECT_THROW(exact.trace_naive(far, V), std::invalid_argument);
+    EXPECT_THROW(exact.trace_ray(far, V), std::invalid_argument);
+    EXPECT_THROW(exact.trace(far, V), std::invalid_argument);
+    EXPECT_THROW(exact.trace_walk(far, V), std::invalid_argument);
+    const PerspectiveCamera cam({30, 0, 1e15, 45, 8});
+    Hits hits;
+    try {
+        exact.trace(cam.view(), hits);
+        ADD_FAILURE() << "traced a view 1e15 tiles out";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("kMaxSampleCells"), std::string::npos) << e.what();
+    }
+    // Just inside the limit a ray is traced (to the same hit by every path).
+    const Vec2d in{kMaxSampleCells / 32 - 1, 0.25};
+    const TruthHit a = exact.trace_naive(in, V), b = exact.trace_ray(in, V);
+    EXPECT_EQ(a.uv.x, b.uv.x);
+    EXPECT_EQ(a.uv.y, b.uv.y);
+    // b = 1: the ray enters at P (z_top = 0) and moves along -V, at most s tan 30 tiles.
+    EXPECT_LE(a.uv.x, in.x);
+    EXPECT_GE(a.uv.x, in.x - 0.05 * std::tan(M_PI / 6) - 1e-6);
+    EXPECT_EQ(a.uv.y, in.y);
+}
+
+// Float rows lose accuracy with distance (pom float err_mean 0.0002 at D 2, 3.8 at 1e7, double
+// rows 0.0002 throughout): the parse warns and the float rows say so; near eyes and double
+// rows say nothing.
+TEST(TruthLimits, FloatRowsSayWhereFloatStopsResolvingTexels) {
+    const std::string both = "precision = [\"float\", \"double\"]\n";
+    const Experiment near = parse_experiment(far_eye_experiment(2, 32, both), "e.toml");
+    EXPECT_TRUE(near.warnings.empty());
+    for (const ResultRow& r : run_experiment(near, {})) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        EXPECT_EQ(r.text("error"), "") << r.text("precision");
+    }
+    const Experiment far = parse_experiment(far_eye_experiment(1e7, 32, both), "e.toml");
+    ASSERT_EQ(far.warnings.size(), 1u);
+    EXPECT_EQ(far.warnings[0].rfind("e.toml:8: heightfield 'f': distance 10000000 at theta 30, "
+                                    "fov_deg 45 puts inside pixels up to ",
+                                    0),
+              0u)
+        << far.warnings[0];
+    EXPECT_NE(far.warnings[0].find("the float rows (CPU float, GLSL) lose accuracy with distance"),
+              std::string::npos)
+        << far.warnings[0];
+    const auto rows = run_experiment(far, {});
+    ASSERT_EQ(rows.size(), 2u);
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        if (r.text("precision") == "double") {
+            EXPECT_EQ(r.text("error"), "");
+            EXPECT_LT(r.num("err_mean"), 0.01);
+            continue;
+        }
+        // The farthest inside sample of this view lies 5.78e6 tiles out: floats there are half
+        // a tile = 16 texels apart (2^22 <= 5.78e6 < 2^23).
+        EXPECT_EQ(r.text("error").rfind("note: float spaces uv 16 texels apart at inside "
+                                        "samples (e.g. uv ",
+                                        0),
+                  0u)
+            << r.text("error");
+        EXPECT_GT(r.num("err_mean"), 1.0);  // the drift the note explains
+    }
+}
+
+// A view with no inside pixel (theta 89.5, fov 1: every pixel looks past 89 degrees) measures
+// nothing: its rows fail with the reason, never ok with empty cells.
+TEST(TruthLimits, AllOutsideViewFailsWithItsReason) {
+    std::string toml = far_eye_experiment(4, 32);
+    toml.replace(toml.find("theta_deg = [30]"), 16, "theta_deg = [89.5]\nfov_deg = 1");
+    const auto rows = run_experiment(parse_experiment(toml, "e.toml"), {});
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_FALSE(rows[0].ok());
+    EXPECT_EQ(rows[0].text("error").rfind("every sample (256) lies outside the view (V.z <= cos 89 "
+                                          "degrees: at or beyond the horizon, samples_outside): "
+                                          "nothing to measure",
+                                          0),
+              0u)
+        << rows[0].text("error");
+    EXPECT_TRUE(std::isnan(rows[0].num("err_mean")));
+}
+
+// A range of a camera's distances is values, not angles; the count is named.
+TEST(TruthLimits, LongDistanceRangeNamesItsValues) {
+    std::string toml = far_eye_experiment(4, 32);
+    toml.replace(toml.find("distance = 4"), 12, "distance = { from = 1, to = 1e6, step = 1 }");
+    EXPECT_THROW(
+        {
+            try {
+                (void)parse_experiment(toml, "e.toml");
+            } catch (const InputError& e) {
+                EXPECT_STREQ(e.what(),
+                             "e.toml:7: 'distance' range { from = 1, to = 1000000, step = 1 } "
+                             "gives 1000000 values, more than 100000");
+                throw;
+            }
+        },
+        InputError);
+}
+
 // ---- Through the binary ----------------------------------------------------------------------
 
 class TruthLimitsCli : public test::CliTest {
@@ -419,6 +592,56 @@ TEST_F(TruthLimitsCli, RunRefusesViewsBeyondTheLimit) {
         EXPECT_EQ(r.err.rfind("pxh: error: " + e + ":", 0), 0u) << r.err;
         EXPECT_NE(r.err.find("kMaxRayTravelTiles"), std::string::npos) << r.err;
         EXPECT_FALSE(std::filesystem::exists(out));
+    }
+}
+
+// pxh run and pxh bench at a far eye: exit 2, one line, nothing written (both hung before).
+TEST_F(TruthLimitsCli, FarEyesAreRefusedByRunAndBench) {
+    const std::string e = write("far.toml", far_eye_experiment(1e15, 32));
+    const auto out = dir / "far";
+    test::CliResult r = pxh_timeout("run " + e + " --quiet --out " + out.string(), 60);
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(
+        r.err.rfind("pxh: error: " + e + ":7: heightfield 'f': distance 1e+15 at theta 30", 0), 0u)
+        << r.err;
+    EXPECT_NE(r.err.find("kMaxSampleCells"), std::string::npos) << r.err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    const std::string json = (dir / "b.json").string();
+    r = pxh_timeout(
+        "bench --camera perspective --distance 1e15 --sizes 32 --samples 8 "
+        "--repeats 1 --theta 30 --out " +
+            json,
+        60);
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("pxh: error: --distance: distance 1e+15 at theta 30 puts inside pixels "
+                          "up to ",
+                          0),
+              0u)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(json));
+}
+
+// pxh bench's numbers, refused in pxh's words with exit 2: NaN (CLI11's ranges let it through,
+// exit 1 later) and 0 (CLI11 printed the whole range of doubles, 309 digits).
+TEST_F(TruthLimitsCli, BenchRefusesNanAndZeroInOneShortLine) {
+    const std::string json = (dir / "b.json").string();
+    const std::pair<std::string, std::string> cases[] = {
+        {"--phi nan", "pxh: error: --phi: nan is not a finite angle\n"},
+        {"--theta nan", "pxh: error: --theta: nan is not in [0, 89.999]\n"},
+        {"--camera perspective --distance 0",
+         "pxh: error: --distance: 0 is not a positive number of tiles\n"},
+        {"--camera perspective --distance -2",
+         "pxh: error: --distance: -2 is not a positive number of tiles\n"},
+        {"--camera perspective --fov nan", "pxh: error: --fov: nan is not in [0.001, 179.999]\n"},
+    };
+    for (const auto& [args, line] : cases) {
+        const test::CliResult r =
+            pxh_timeout("bench --sizes 16 --samples 4 --repeats 1 " + args + " --out " + json, 60);
+        EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+        EXPECT_EQ(r.err, line) << args;
+        EXPECT_FALSE(std::filesystem::exists(json)) << args;
     }
 }
 
