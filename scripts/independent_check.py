@@ -246,8 +246,17 @@ def view_vector(theta, phi):
     return np.array([math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)])
 
 
-def perspective(theta, phi, dist, fov, n):
-    """P (n*n x 2), V (n*n x 3), inside mask, dP/di and dP/dj (n*n x 2); sample j n + i."""
+def subset_pixels(n, res):
+    """The image pixel of each of n samples along one axis of an image of res pixels:
+    floor((a + 0.5) res / n)."""
+    return ((2 * np.arange(n) + 1) * res) // (2 * n)
+
+
+def perspective(theta, phi, dist, fov, n, res=None):
+    """P (n*n x 2), V (n*n x 3), inside mask, dP/di and dP/dj (n*n x 2); sample b n + a is
+    image pixel (subset_pixels(a), subset_pixels(b)) of the res x res image (res = n: pixel
+    (a, b))."""
+    res = n if res is None else res
     t, p = math.radians(theta), math.radians(phi)
     v0 = view_vector(theta, phi)
     eye = np.array([0.5, 0.5, 0.0]) + dist * v0
@@ -255,16 +264,17 @@ def perspective(theta, phi, dist, fov, n):
     right = np.array([-math.sin(p), math.cos(p), 0.0])
     up = np.array([-math.cos(t) * math.cos(p), -math.cos(t) * math.sin(p), math.sin(t)])
     a = math.tan(math.radians(fov) / 2)
-    jj, ii = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
-    x = (2 * (ii.ravel() + 0.5) / n - 1)[:, None]
-    y = (2 * (jj.ravel() + 0.5) / n - 1)[:, None]
+    px = subset_pixels(n, res)
+    jj, ii = np.meshgrid(px, px, indexing="ij")
+    x = (2 * (ii.ravel() + 0.5) / res - 1)[:, None]
+    y = (2 * (jj.ravel() + 0.5) / res - 1)[:, None]
     d = fwd + a * x * right + a * y * up
     with np.errstate(divide="ignore", invalid="ignore"):
         pt = eye - (eye[2] / d[:, 2:3]) * d
         vv = -d / np.linalg.norm(d, axis=1, keepdims=True)
         inside = vv[:, 2] > COS_89
         dz = d[:, 2:3]
-        k = -eye[2] * (2 * a / n) / (dz * dz)
+        k = -eye[2] * (2 * a / res) / (dz * dz)
         dpdi = k * (right * dz - d * right[2])
         dpdj = k * (up * dz - d * up[2])
     return pt[:, :2], vv, inside, dpdi[:, :2], dpdj[:, :2], (eye, d)
@@ -280,20 +290,22 @@ def orthographic(theta, phi, n):
     return pt, vv, np.ones(n * n, bool), dpdi, dpdj
 
 
-def footprint_by_differences(theta, phi, dist, fov, n, step=1e-3):
+def footprint_by_differences(theta, phi, dist, fov, n, step=1e-3, res=None):
     """dP/di, dP/dj by central differences of P over a fraction of a pixel (the closed form's
     independent check)."""
+    res = n if res is None else res
     t, p = math.radians(theta), math.radians(phi)
     v0 = view_vector(theta, phi)
     eye = np.array([0.5, 0.5, 0.0]) + dist * v0
     right = np.array([-math.sin(p), math.cos(p), 0.0])
     up = np.array([-math.cos(t) * math.cos(p), -math.cos(t) * math.sin(p), math.sin(t)])
     a = math.tan(math.radians(fov) / 2)
-    jj, ii = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    px = subset_pixels(n, res)
+    jj, ii = np.meshgrid(px, px, indexing="ij")
 
     def point(di, dj):
-        x = (2 * (ii.ravel() + 0.5 + di) / n - 1)[:, None]
-        y = (2 * (jj.ravel() + 0.5 + dj) / n - 1)[:, None]
+        x = (2 * (ii.ravel() + 0.5 + di) / res - 1)[:, None]
+        y = (2 * (jj.ravel() + 0.5 + dj) / res - 1)[:, None]
         d = -v0 + a * x * right + a * y * up
         with np.errstate(divide="ignore", invalid="ignore"):
             return (eye - (eye[2] / d[:, 2:3]) * d)[:, :2]
@@ -594,13 +606,15 @@ def check(args):
         theta, phi, n = float(row["theta_deg"]), float(row["phi_deg"]), int(row["samples"])
         if row["camera"] == "perspective":
             dist, fov = float(row["distance"]), float(row["fov_deg"])
-            key = ("p", row["heightfield"], s, b, theta, phi, n, dist, fov)
+            # Results written before the camera had a resolution: an image of n pixels a side.
+            res = int(float(row["resolution"])) if row.get("resolution") else n
+            key = ("p", row["heightfield"], s, b, theta, phi, n, dist, fov, res)
         else:
             key = ("o", row["heightfield"], s, b, theta, phi, n)
         if key not in cache:
             if row["camera"] == "perspective":
-                pts, vv, inside, dpdi, dpdj, _ = perspective(theta, phi, dist, fov, n)
-                fdi, fdj = footprint_by_differences(theta, phi, dist, fov, n)
+                pts, vv, inside, dpdi, dpdj, _ = perspective(theta, phi, dist, fov, n, res)
+                fdi, fdj = footprint_by_differences(theta, phi, dist, fov, n, res=res)
                 interior = inside.copy()
                 jj, ii = np.divmod(np.arange(n * n), n)
                 interior &= (ii > 0) & (ii < n - 1) & (jj > 0) & (jj < n - 1)

@@ -155,6 +155,9 @@ struct BackendEntry {
     const TimingSpec& (*timing)();
     // Timed repeats per row under these settings (run.json).
     int (*repeats)(const BackendSettings&);
+    // Why it makes no rows of this method setting ("" when it runs it; nullptr: it runs every
+    // setting): pxh run warns, on stderr and in run.json, naming what was skipped and why.
+    std::string (*skips)(const MethodSpec&) = nullptr;
 };
 const std::vector<BackendEntry>& backend_registry();
 std::vector<std::string> backend_names();  // in registry order
@@ -172,5 +175,8 @@ const TimingSpec& backend_timing(const std::string& name);
 // How many timed repeats a row of backend NAME makes under these settings (its entry's repeats).
 int backend_repeats(const std::string& name, const BackendSettings& settings);
 std::vector<CounterSpec> backend_counters();
+// "" when backend NAME runs method setting m, else why it makes no rows of it (its entry's
+// skips).
+std::string backend_skips(const std::string& name, const MethodSpec& m);
 
 }  // namespace pxh

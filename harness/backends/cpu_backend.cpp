@@ -148,9 +148,19 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
 std::unique_ptr<Backend> make_cpu_backend(const BackendSettings& settings);
 
 // Its registry entry (harness/backends/registry.cpp's PXH_BACKENDS).
+std::string cpu_skips(const MethodSpec& m) {
+    if (!m.method->run_float || !m.method->run_double)
+        return "a plug-in shader has no C++ twin: it runs on the glsl backend only";
+    if (lod_glsl_only(m.lod))
+        return std::string("lod '") + lod_name(m.lod) +
+               "' samples through the GPU's own level selection: glsl only";
+    return "";
+}
+
 const BackendEntry& cpu_backend_entry() {
     static const BackendEntry e{"cpu",         &read_cpu_settings, &make_cpu_backend,
-                                &cpu_variants, &cpu_timing,        &cpu_repeats};
+                                &cpu_variants, &cpu_timing,        &cpu_repeats,
+                                &cpu_skips};
     return e;
 }
 

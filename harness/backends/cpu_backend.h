@@ -23,15 +23,16 @@ const TimingSpec& cpu_timing();
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,
                  const Scene<double>& scene, const HeightField& hf);
 
+// "" when the CPU backend runs setting m, else why not (its registry entry's skips).
+std::string cpu_skips(const MethodSpec& m);
+
 class CpuBackend : public Backend {
   public:
     explicit CpuBackend(BackendSettings settings) : settings_(std::move(settings)) {}
     std::string name() const override { return "cpu"; }
     std::vector<Variant> variants() const override;
     // Methods with a C++ twin, in the level modes both twins share (base, level).
-    bool runs(const MethodSpec& m) const override {
-        return m.method->run_float && m.method->run_double && !lod_glsl_only(m.lod);
-    }
+    bool runs(const MethodSpec& m) const override { return cpu_skips(m).empty(); }
     MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
 
   private:

@@ -51,6 +51,11 @@ const TimingSpec& backend_timing(const std::string& name) {
     return find_entry(backend_registry(), name, "backend", "backend").timing();
 }
 
+std::string backend_skips(const std::string& name, const MethodSpec& m) {
+    const BackendEntry& e = find_entry(backend_registry(), name, "backend", "backend");
+    return e.skips ? e.skips(m) : std::string();
+}
+
 std::vector<CounterSpec> backend_counters() {
     std::vector<CounterSpec> out;
     for (const auto& e : backend_registry())

@@ -13,7 +13,7 @@ Command add_check_command(CLI::App& app) {
                                      "check a results folder against accuracy limits; "
                                      "exit 1 if any fails");
     struct Args {
-        std::string dir, thresholds;
+        std::string dir, thresholds, junit, json;
         bool accept_edited = false;
     };
     auto a = std::make_shared<Args>();
@@ -21,11 +21,15 @@ Command add_check_command(CLI::App& app) {
     check->add_option("--thresholds", a->thresholds, "thresholds file (TOML, [[limit]] tables)")
         ->required();
     check->add_flag("--accept-edited", a->accept_edited, kAcceptEditedHelp);
+    check->add_option("--junit", a->junit,
+                      "also write the verdict as JUnit XML to FILE (a testcase per limit; a "
+                      "failure names the worst row and its value)");
+    check->add_option("--json", a->json, "also write the verdict as JSON to FILE");
     return {check, [a] {
                 // A CI gate passes only on the results a run wrote (run.json's sha256 and rows).
                 const std::string verified = verify_results_folder(a->dir, a->accept_edited);
                 std::cout << verified << "\n";
-                const int rc = run_check(a->dir, a->thresholds);
+                const int rc = run_check(a->dir, a->thresholds, {a->junit, a->json});
                 if (verified.rfind("NOT VERIFIED", 0) == 0)
                     std::cout << "results NOT VERIFIED: " << a->dir
                               << " differs from its run.json\n";

@@ -11,10 +11,11 @@ namespace pxh {
 Command add_compare_command(CLI::App& app) {
     auto* cmp = app.add_subcommand(
         "compare",
-        "compare two results folders row by row (matched by method, params, field, s, b, view, "
-        "backend, precision, format); exit 1 with --fail-on when NEW regresses");
+        "compare two results folders row by row (matched by every key: method, params, field, "
+        "s, b, view, camera keys, lod, backend, precision, format); exit 1 with --fail-on when "
+        "NEW regresses, exit 2 when no row matched");
     struct Args {
-        std::string base, now, fail_on;
+        std::string base, now, fail_on, junit, json;
         bool markdown = false, accept_edited = false, common = false;
         std::vector<double> bands;
     };
@@ -37,11 +38,17 @@ Command add_compare_command(CLI::App& app) {
                     "view-angle band edges in degrees (default 0,30,60,75,85,90)")
         ->delimiter(',');
     cmp->add_flag("--accept-edited", a->accept_edited, kAcceptEditedHelp);
+    cmp->add_option("--junit", a->junit,
+                    "also write the verdict as JUnit XML to FILE (a testcase per method setting "
+                    "and backend variant; failures list the regressions with their values)");
+    cmp->add_option("--json", a->json, "also write the verdict as JSON to FILE");
     return {cmp, [a, fail_on] {
                 CompareOptions opt;
                 opt.markdown = a->markdown;
                 opt.common = a->common;
                 opt.band_edges = a->bands;
+                opt.junit = a->junit;
+                opt.json = a->json;
                 // Given is given: --fail-on "" is an error, not a gate switched off.
                 if (fail_on->count()) opt.fail_on = parse_fail_on(a->fail_on);
                 for (const std::string& d : {a->base, a->now})  // printed under the verdict

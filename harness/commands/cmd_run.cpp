@@ -38,6 +38,15 @@ namespace fs = std::filesystem;
 namespace pxh {
 namespace {
 
+// "0:07", "12:34", "1:02:03": a duration in seconds as the progress line shows it.
+std::string clock_time(double secs) {
+    const long t = long(secs + 0.5), h = t / 3600, m = t / 60 % 60, sec = t % 60;
+    char b[32];
+    if (h) std::snprintf(b, sizeof b, "%ld:%02ld:%02ld", h, m, sec);
+    else std::snprintf(b, sizeof b, "%ld:%02ld", m, sec);
+    return b;
+}
+
 struct RunArgs {
     std::string file, out_dir, shader_dir;
     std::string gl;  // GL context; empty: the experiment's (default osmesa)
@@ -274,6 +283,11 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
         ex.samples = *a.samples;
     }
     check_plugin_backends(ex, a.backends);
+    check_camera_samples(ex, a.samples ? "--samples" : "");
+    for (const std::string& w : skipped_settings(ex, a.backends)) {  // said, never silent
+        std::cerr << "pxh: warning: " << w << "\n";
+        ex.warnings.push_back(w);
+    }
     if (a.gl_time_limit_given && !(a.gl_time_limit > 0 && a.gl_time_limit <= kMaxGlTimeLimitS))
         throw InputError("--gl-time-limit", format_number(a.gl_time_limit) +
                                                 " is outside (0, 86400] (seconds per row)");
@@ -328,12 +342,21 @@ int cmd_run(const RunArgs& a, const std::string& command_line) {
                 ViewOutput view{rows, errors, truth, inside, first};
                 for (const ViewWriter* w : writers) w->write({ex, tmp_dir}, view);
             };
+    const auto t0 = std::chrono::steady_clock::now();
     if (!a.quiet)
-        opt.progress = [tty](const std::string& line) {
+        opt.progress = [tty, t0](size_t step, size_t steps, const std::string& what) {
+            // Elapsed, and what is left at the mean pace of the views done so far.
+            const double secs =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            std::string line = "[" + std::to_string(step) + "/" + std::to_string(steps) + " " +
+                               clock_time(secs);
+            if (step > 1)
+                line += ", ~" + clock_time(secs / double(step - 1) * double(steps - step + 1)) +
+                        " left";
+            line += "] " + what;
             if (tty) std::cerr << "\r\033[K" << line << std::flush;
             else std::cerr << line << "\n";
         };
-    const auto t0 = std::chrono::steady_clock::now();
     RunInfo info;
     const auto rows = run_experiment(ex, opt, &info);
     const double secs =

@@ -8,6 +8,7 @@
 #include "harness/commands/commands.h"
 #include "harness/core/error.h"
 #include "harness/core/safe_files.h"
+#include "harness/results/provenance.h"
 
 using namespace pxh;
 
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
         "pxh: measures how far parallax-mapping methods are from the true displaced "
         "surface, and what they cost"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "pxh 0.1.0");
+    app.set_version_flag("--version", [] { return "pxh " + pxh_version(); });
 
     std::string command_line;  // as typed (run.json records it)
     for (int i = 0; i < argc; ++i) command_line += (i ? " " : "") + std::string(argv[i]);

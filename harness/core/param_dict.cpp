@@ -9,6 +9,7 @@
 #include <set>
 
 #include "harness/core/error.h"
+#include "harness/core/registry.h"
 
 namespace pxh {
 
@@ -268,9 +269,15 @@ void ParamDict::report_unused(const UnusedMessage& message) const {
     if (unread.empty()) return;
     std::string known;
     for (const auto& a : asked()) known += (known.empty() ? "" : ", ") + a;
-    throw InputError(where(unread), message ? message(unread, known)
-                                            : "unknown key '" + unread + "' in " + t_->context +
-                                                  " (known: " + known + ")");
+    const std::string near = did_you_mean(unread, asked());
+    std::string msg = message ? message(unread, known)
+                              : "unknown key '" + unread + "' in " + t_->context + " (known: " +
+                                    known + ")";
+    // The nearest known key, right after the unknown one's name.
+    const std::string quoted = "'" + unread + "'";
+    if (const size_t at = msg.find(quoted); !near.empty() && at != std::string::npos)
+        msg.insert(at + quoted.size(), near);
+    throw InputError(where(unread), msg);
 }
 
 }  // namespace pxh

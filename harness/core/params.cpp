@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "harness/core/error.h"
+#include "harness/core/registry.h"
 
 namespace pxh {
 
@@ -231,9 +232,14 @@ ParamValues resolve_params(const std::vector<ParamSpec>& specs, const GivenParam
         for (const auto& s : specs) known |= (s.name == key);
         if (!known) {
             std::string names;
-            for (const auto& s : specs) names += (names.empty() ? "" : ", ") + s.name;
+            std::vector<std::string> all;
+            for (const auto& s : specs) {
+                names += (names.empty() ? "" : ", ") + s.name;
+                all.push_back(s.name);
+            }
             throw InputError(where,
-                             "unknown parameter '" + key + "' for " + owner +
+                             "unknown parameter '" + key + "'" + did_you_mean(key, all) + " for " +
+                                 owner +
                                  (names.empty() ? " (it takes none)" : " (known: " + names + ")"));
         }
     }

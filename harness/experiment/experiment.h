@@ -105,15 +105,30 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
 ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
                                   const std::string& where);
 
-// pxh run --only KEY=V[|V...],...: keeps the method entries, height-field entries, views and
-// backends that match (keys: method, heightfield, backend, theta_deg, phi_deg, scale, bias; a
-// repeated key or V|V is "any of"). A key that matches nothing is an InputError("--only", ...)
-// naming what there is.
+// pxh run --only KEY=V[|V...],...: keeps the method settings, height-field entries, views,
+// camera settings and backend variants that match. The keys are the rows' axes (row_axes():
+// method, params, lod, heightfield, scale, bias, theta_deg, phi_deg, backend, precision,
+// texture_format, camera, the camera's own keys such as distance), each numeric one also as a
+// range KEY_min=V, KEY_max=V (inclusive; theta_min, theta_max for theta_deg); a repeated key or
+// V|V is "any of". An unknown key is an InputError("--only", ...) listing the keys (and the
+// nearest one); a key that matches nothing names what there is.
 void apply_only(Experiment& ex, const std::string& spec);
 
 // A run with plug-in shaders needs the glsl backend: an InputError naming them otherwise (the
 // experiment's backends after --only, or `backends_override`, pxh run --backend, when given).
 void check_plugin_backends(const Experiment& ex, const std::vector<std::string>& backends_override);
+
+// The method settings a backend of the run makes no rows of, one line per backend and reason
+// ("backend cpu makes no rows of 2 method setting(s) (pom lod=grad, ...): lod 'grad' samples
+// through the GPU's own level selection: glsl only"): pxh run prints them as warnings and
+// records them in run.json.
+std::vector<std::string> skipped_settings(const Experiment& ex,
+                                          const std::vector<std::string>& backends_override);
+
+// Whether the camera can measure ex.samples per side at each of its settings (the perspective
+// camera: samples <= resolution): an InputError at `where` (pxh run's "--samples"), or at
+// [views] when `where` is empty, otherwise. parse_experiment checks the file's samples.
+void check_camera_samples(const Experiment& ex, const std::string& where);
 
 // What the experiment's keys ask of the backends (ex.backend); the command line's overrides
 // are the runner's.

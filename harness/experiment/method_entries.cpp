@@ -2,6 +2,7 @@
 // uniforms, fetch bound and CPU reference); each setting resolved and checked, a repeated one
 // kept once.
 #include <algorithm>
+#include <map>
 #include <cctype>
 #include <cfloat>
 #include <cmath>
@@ -194,8 +195,13 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     const MethodInfo* m = plugin ? make_plugin(t, name, ex, uniforms) : find_method(name);
     if (!m) {
         std::string names;
-        for (const auto& mi : all_methods()) names += (names.empty() ? "" : ", ") + mi.name;
-        throw InputError(t.where("name"), "unknown method '" + name + "' (known: " + names + ")");
+        std::vector<std::string> all;
+        for (const auto& mi : all_methods()) {
+            names += (names.empty() ? "" : ", ") + mi.name;
+            all.push_back(mi.name);
+        }
+        throw InputError(t.where("name"), "unknown method '" + name + "'" +
+                                              did_you_mean(name, all) + " (known: " + names + ")");
     }
     // `heightfields`: the entries it runs on (empty: all).
     const std::vector<std::string> fields = t.strings("heightfields", {});
@@ -319,6 +325,34 @@ void check_plugin_backends(const Experiment& ex,
                      "the plug-in shader(s) " + plugins +
                          " run on the glsl backend only, and this run has backends " +
                          join_names(names) + ": add glsl (a plug-in has no CPU rows)");
+}
+
+std::vector<std::string> skipped_settings(const Experiment& ex,
+                                          const std::vector<std::string>& backends_override) {
+    const auto& names = backends_override.empty() ? ex.backends : backends_override;
+    std::vector<std::string> out;
+    for (const std::string& b : names) {
+        // Per reason, the settings skipped (each named once).
+        std::map<std::string, std::vector<std::string>> by_reason;
+        for (const MethodSpec& m : ex.methods) {
+            const std::string why = backend_skips(b, m);
+            if (why.empty()) continue;
+            std::string name = m.method->name;
+            if (!m.params.canonical().empty()) name += " " + m.params.canonical();
+            if (m.lod != LodMode::base) name += std::string(" lod=") + lod_name(m.lod);
+            auto& v = by_reason[why];
+            if (std::find(v.begin(), v.end(), name) == v.end()) v.push_back(name);
+        }
+        for (const auto& [why, settings] : by_reason) {
+            std::string listed;
+            for (size_t i = 0; i < settings.size() && i < 6; ++i)
+                listed += (i ? ", " : "") + settings[i];
+            if (settings.size() > 6) listed += ", ... (" + std::to_string(settings.size()) + ")";
+            out.push_back("backend " + b + " makes no rows of " + std::to_string(settings.size()) +
+                          " method setting(s) (" + listed + "): " + why);
+        }
+    }
+    return out;
 }
 
 }  // namespace pxh

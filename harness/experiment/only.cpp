@@ -1,87 +1,241 @@
-// pxh run --only KEY=V[|V...],...: the experiment narrowed to the matching entries, views and
-// backends.
+// pxh run --only KEY=V[|V...],...: the experiment narrowed to the matching entries, views,
+// camera settings, level modes and backend variants. The keys are the rows' axes
+// (harness/metrics/columns.h, row_axes()), each numeric one also as a range KEY_min=V and
+// KEY_max=V (theta's: theta_min, theta_max).
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <map>
-#include <set>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
+#include "harness/core/registry.h"
+#include "harness/metrics/columns.h"
 
 namespace pxh {
+namespace {
+
+// What --only asks of one axis: any of the listed values, and within the range.
+struct Want {
+    std::vector<std::string> values;
+    std::optional<double> lo, hi;
+    std::string given;  // as typed, for messages
+};
+
+std::optional<double> parse_number(const std::string& w) {
+    char* end = nullptr;
+    const double d = std::strtod(w.c_str(), &end);
+    if (w.empty() || !end || *end != '\0' || std::isnan(d)) return std::nullopt;
+    return d;
+}
+
+bool same_number(double a, double b) { return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(b)); }
+
+// The range keys of a numeric axis: theta_deg -> theta_min; distance -> distance_min.
+std::string range_base(const ColumnSpec& c) {
+    return c.name == "theta_deg" ? "theta" : c.name == "phi_deg" ? "phi" : c.name;
+}
+
+// The axes --only selects by, each with how to narrow the experiment (nullptr: an axis a run
+// cannot be narrowed by, with the reason).
+struct Selector {
+    std::function<void(Experiment&, const Want&, const std::function<bool(const std::string&)>&,
+                       const std::function<bool(double)>&)>
+        apply;
+    const char* why_not = nullptr;
+};
+
+template <class List, class Pred, class Name>
+void keep(List& list, Pred pred, const std::string& what, Name name_of) {
+    std::string known;
+    List kept;
+    for (const auto& x : list) {
+        const std::string n = name_of(x);
+        if (known.find(n) == std::string::npos) known += (known.empty() ? "" : ", ") + n;
+        if (pred(x)) kept.push_back(x);
+    }
+    if (kept.empty())
+        throw InputError("--only", "no " + what + " matches (the experiment has: " + known + ")");
+    list = std::move(kept);
+}
+
+const std::map<std::string, Selector>& selectors() {
+    using Text = std::function<bool(const std::string&)>;
+    using Num = std::function<bool(double)>;
+    static const std::map<std::string, Selector> s = {
+        {"method",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(
+                 ex.methods, [&](const MethodSpec& m) { return ok(m.method->name); }, "method",
+                 [](const MethodSpec& m) { return m.method->name; });
+         }}},
+        {"params",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(
+                 ex.methods, [&](const MethodSpec& m) { return ok(m.params.canonical()); },
+                 "params", [](const MethodSpec& m) { return m.params.canonical(); });
+         }}},
+        {"lod",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(
+                 ex.methods, [&](const MethodSpec& m) { return ok(lod_name(m.lod)); }, "lod",
+                 [](const MethodSpec& m) { return std::string(lod_name(m.lod)); });
+         }}},
+        {"heightfield",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(
+                 ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.name); },
+                 "heightfield", [](const HeightfieldSpec& h) { return h.name; });
+         }}},
+        {"scale",
+         {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
+             keep(
+                 ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.scale); }, "scale",
+                 [](const HeightfieldSpec& h) { return format_number(h.scale); });
+         }}},
+        {"bias",
+         {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
+             keep(
+                 ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.bias); }, "bias",
+                 [](const HeightfieldSpec& h) { return format_number(h.bias); });
+         }}},
+        {"theta_deg",
+         {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
+             keep(ex.theta_deg, ok, "theta_deg", [](double t) { return format_number(t); });
+         }}},
+        {"phi_deg",
+         {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
+             keep(ex.phi_deg, ok, "phi_deg", [](double p) { return format_number(p); });
+         }}},
+        {"backend",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(ex.backends, ok, "backend", [](const std::string& b) { return b; });
+         }}},
+        {"precision",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(ex.backend.precisions, ok, "precision", [](const std::string& p) { return p; });
+         }}},
+        {"texture_format",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(ex.backend.texture_formats, ok, "texture_format",
+                  [](const std::string& f) { return f; });
+         }}},
+        {"camera",
+         {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             std::vector<std::string> one{ex.camera};
+             keep(one, ok, "camera", [](const std::string& c) { return c; });
+         }}},
+        {"samples", {nullptr, "a run's samples are set with --samples, not selected"}},
+        {"ground_truth", {nullptr, "a run has one ground truth (the file's ground_truth)"}},
+    };
+    return s;
+}
+
+// A camera key's selector: the camera's settings whose value of KEY matches.
+void keep_camera_settings(Experiment& ex, const std::string& key, const std::function<bool(double)>& ok) {
+    keep(
+        ex.camera_settings, [&](const CameraSetting& c) { return ok(c.get(key)); }, key,
+        [&](const CameraSetting& c) { return format_number(c.get(key)); });
+}
+
+}  // namespace
 
 void apply_only(Experiment& ex, const std::string& spec) {
-    std::map<std::string, std::vector<std::string>> want;
+    // Every key --only knows, from the registry's axes, and the camera's own keys.
+    std::vector<std::string> known;
+    std::map<std::string, const ColumnSpec*> axis_of;   // KEY and KEY_min / KEY_max -> the axis
+    std::map<std::string, int> range_end;               // KEY_min -> -1, KEY_max -> +1
+    for (const ColumnSpec* c : row_axes()) {
+        known.push_back(c->name);
+        axis_of[c->name] = c;
+        if (c->numeric()) {
+            axis_of[range_base(*c) + "_min"] = c;
+            axis_of[range_base(*c) + "_max"] = c;
+            range_end[range_base(*c) + "_min"] = -1;
+            range_end[range_base(*c) + "_max"] = +1;
+        }
+    }
+    const auto listed = [&] {
+        std::string s;
+        for (const std::string& k : known) {
+            const ColumnSpec* c = axis_of[k];
+            s += (s.empty() ? "" : ", ") + k;
+            if (c->numeric()) s += " (and " + range_base(*c) + "_min, " + range_base(*c) + "_max)";
+        }
+        return s;
+    };
+    std::map<std::string, Want> want;  // by axis name
     std::stringstream ss(spec);
     std::string item;
     while (std::getline(ss, item, ',')) {
         const auto eq = item.find('=');
-        const std::string key = item.substr(0, eq);
-        static const std::set<std::string> keys = {"method",  "heightfield", "backend", "theta_deg",
-                                                   "phi_deg", "scale",       "bias"};
-        if (eq == std::string::npos || eq + 1 == item.size() || !keys.count(key))
-            throw InputError("--only", "'" + item +
-                                           "' is not KEY=VALUE[|VALUE] with KEY one of method, "
-                                           "heightfield, backend, theta_deg, phi_deg, scale, bias");
-        std::stringstream vs(item.substr(eq + 1));
+        if (eq == std::string::npos || eq == 0 || eq + 1 == item.size())
+            throw InputError("--only", "'" + item + "' is not KEY=VALUE[|VALUE] (keys: " +
+                                           listed() + ")");
+        const std::string key = item.substr(0, eq), value = item.substr(eq + 1);
+        const auto a = axis_of.find(key);
+        if (a == axis_of.end()) {
+            std::vector<std::string> all;
+            for (const auto& [k, c] : axis_of) all.push_back(k);
+            const std::string near = nearest_name(key, all);
+            throw InputError("--only", "unknown key '" + key + "'" +
+                                           (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                           "; the keys are the rows' axes: " + listed());
+        }
+        const ColumnSpec& axis = *a->second;
+        Want& w = want[axis.name];
+        w.given += (w.given.empty() ? "" : ",") + item;
+        if (const auto r = range_end.find(key); r != range_end.end()) {
+            const auto v = parse_number(value);
+            if (!v) throw InputError("--only", "'" + item + "': " + key + " must be a number");
+            (r->second < 0 ? w.lo : w.hi) = *v;
+            continue;
+        }
+        std::stringstream vs(value);
         std::string v;
-        while (std::getline(vs, v, '|')) want[key].push_back(v);
+        while (std::getline(vs, v, '|')) {
+            if (axis.numeric() && !parse_number(v))
+                throw InputError("--only", "'" + item + "': " + key + " takes numbers, not '" + v + "'");
+            w.values.push_back(v);
+        }
     }
-    auto text_ok = [&](const char* key, const std::string& v) {
-        const auto it = want.find(key);
-        return it == want.end() ||
-               std::find(it->second.begin(), it->second.end(), v) != it->second.end();
-    };
-    auto num_ok = [&](const char* key, double v) {
-        const auto it = want.find(key);
-        if (it == want.end()) return true;
-        for (const auto& w : it->second) {
-            char* end = nullptr;
-            const double d = std::strtod(w.c_str(), &end);
-            if (end && *end == '\0' && !w.empty() &&
-                std::abs(d - v) <= 1e-9 * std::max(1.0, std::abs(v)))
-                return true;
+    for (const auto& [name, w] : want) {
+        const ColumnSpec& axis = *find_column(name);
+        const auto text_ok = [&](const std::string& v) {
+            return w.values.empty() || std::find(w.values.begin(), w.values.end(), v) != w.values.end();
+        };
+        const auto num_ok = [&](double v) {
+            if (std::isnan(v)) return false;
+            if ((w.lo && v < *w.lo) || (w.hi && v > *w.hi)) return false;
+            if (w.values.empty()) return true;
+            for (const auto& s : w.values)
+                if (same_number(v, *parse_number(s))) return true;
+            return false;
+        };
+        const auto sel = selectors().find(name);
+        if (sel != selectors().end()) {
+            if (!sel->second.apply)
+                throw InputError("--only", "'" + w.given + "': " + name +
+                                               " is an axis of the rows but not one to select by: " +
+                                               sel->second.why_not);
+            sel->second.apply(ex, w, text_ok, num_ok);
+            continue;
         }
-        return false;
-    };
-    auto keep = [](auto& list, auto pred, const char* what, auto name_of) {
-        std::string known;
-        std::remove_reference_t<decltype(list)> kept;
-        for (const auto& x : list) {
-            const std::string n = name_of(x);
-            if (known.find(n) == std::string::npos) known += (known.empty() ? "" : ", ") + n;
-            if (pred(x)) kept.push_back(x);
-        }
-        if (kept.empty())
-            throw InputError("--only", std::string("no ") + what +
-                                           " matches (the experiment has: " + known + ")");
-        list = std::move(kept);
-    };
-    keep(
-        ex.methods, [&](const MethodSpec& m) { return text_ok("method", m.method->name); },
-        "method", [](const MethodSpec& m) { return m.method->name; });
-    keep(
-        ex.heightfields,
-        [&](const HeightfieldSpec& h) {
-            return text_ok("heightfield", h.name) && num_ok("scale", h.scale) &&
-                   num_ok("bias", h.bias);
-        },
-        "heightfield",
-        [](const HeightfieldSpec& h) {
-            return h.name + " (s=" + format_number(h.scale) + " b=" + format_number(h.bias) + ")";
-        });
-    keep(
-        ex.theta_deg, [&](double t) { return num_ok("theta_deg", t); }, "theta_deg",
-        [](double t) { return format_number(t); });
-    keep(
-        ex.phi_deg, [&](double p) { return num_ok("phi_deg", p); }, "phi_deg",
-        [](double p) { return format_number(p); });
-    keep(
-        ex.backends, [&](const std::string& b) { return text_ok("backend", b); }, "backend",
-        [](const std::string& b) { return b; });
+        // A camera's own key: the settings of the experiment's camera with a matching value.
+        const CameraEntry& cam = camera_entry(ex.camera, "camera");
+        const bool own = std::any_of(cam.keys.begin(), cam.keys.end(),
+                                     [&](const CameraKey& k) { return k.name == name; });
+        if (!own)
+            throw InputError("--only", "'" + w.given + "': the experiment's camera '" + ex.camera +
+                                           "' has no key " + name + " (its rows leave it empty)");
+        if (!axis.numeric())
+            throw InputError("--only", "'" + w.given + "': " + name + " cannot be selected");
+        keep_camera_settings(ex, name, num_ok);
+    }
 }
 
 }  // namespace pxh

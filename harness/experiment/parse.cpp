@@ -186,7 +186,7 @@ void parse_views(const ParamDict& vt, Experiment& ex) {
                          "unknown camera '" + ex.camera + "' (known: " + join_names(known) + ")");
     ex.camera_params = vt;
     const size_t before = vt.asked().size();
-    ex.camera_settings = Camera::settings(ex.camera, vt, vt.where());
+    ex.camera_settings = Camera::settings(ex.camera, vt, vt.where(), ex.samples);
     const auto asked = vt.asked();
     const std::vector<std::string> own(asked.begin() + long(before), asked.end());
     vt.report_unused([&](const std::string& key, const std::string& all) {
@@ -271,6 +271,20 @@ void check_ray_travel(const Experiment& ex) {
     }
 }
 
+}  // namespace
+
+void check_camera_samples(const Experiment& ex, const std::string& where) {
+    const CameraEntry& cam = camera_entry(ex.camera, "camera");
+    if (!cam.samples_problem) return;
+    bool neighbours = false;  // a setting takes the GPU's derivatives between fragments
+    for (const MethodSpec& m : ex.methods) neighbours = neighbours || m.lod == LodMode::implicit;
+    for (const CameraSetting& c : ex.camera_settings)
+        if (const std::string why = cam.samples_problem(c, ex.samples, neighbours); !why.empty())
+            throw InputError(where.empty() ? ex.camera_params.where() : where, why);
+}
+
+namespace {
+
 // Every view of the camera (its settings x theta, the companion views' too) must see every
 // slab it looks at (the perspective camera: its eye above it): an InputError at the camera's
 // first key of [views] (or [views]) naming the field otherwise.
@@ -334,6 +348,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     if (render) parse_render(*render, ex);
     check_ray_travel(ex);
     check_camera_scenes(ex);
+    check_camera_samples(ex, "");
     return ex;
 }
 

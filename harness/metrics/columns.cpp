@@ -15,6 +15,7 @@ namespace {
 constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
                      kNum = ColumnType::number;
 constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+constexpr ColumnAxis kNamed = ColumnAxis::named, kQuiet = ColumnAxis::quiet;
 
 // THE table: every column of results.csv, in file order, grouped by the metric that fills it.
 // One line per column; a new column goes where it should appear in results.csv (a new metric's
@@ -22,25 +23,27 @@ constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
 const std::vector<ColumnSpec>& builtin_columns() {
     static const std::vector<ColumnSpec> cols = {
         // What ran (harness/run/runner.cpp fills them).
-        {"method", kText, kKey, "the method (methods/NAME)"},
-        {"params", kText, kKey, "its parameters, canonical (k=v;k=v)"},
-        {"heightfield", kText, kKey, "the height field's name in the experiment"},
+        {"method", kText, kKey, "the method (methods/NAME)", kNamed},
+        {"params", kText, kKey, "its parameters, canonical (k=v;k=v)", kNamed},
+        {"heightfield", kText, kKey, "the height field's name in the experiment", kNamed},
         {"heightfield_id", kText, kKey, "generator + parameters, or file + sha256"},
-        {"backend", kText, kKey, "cpu | glsl"},
-        {"precision", kText, kKey, "float | double (GLSL: float)"},
-        {"texture_format", kText, kKey, "GLSL rows: r32f | r16 | r8"},
+        {"backend", kText, kKey, "cpu | glsl", kNamed},
+        {"precision", kText, kKey, "float | double (GLSL: float)", kNamed},
+        {"texture_format", kText, kKey, "GLSL rows: r32f | r16 | r8", kNamed},
         {"shader", kText, kKey, "GLSL rows: builtin, or the shader file(s) compiled"},
         {"shader_sha256", kText, kKey, "GLSL rows: sha256 of the method's shader source compiled"},
-        {"scale", kNum, kKey, "height scale s"},
-        {"bias", kNum, kKey, "height bias b"},
-        {"theta_deg", kNum, kKey, "view angle from the normal (degrees)"},
-        {"phi_deg", kNum, kKey, "view azimuth (degrees)"},
-        {"samples", kInt, kKey, "samples per side (N x N grid)"},
+        {"scale", kNum, kKey, "height scale s", kNamed, "s"},
+        {"bias", kNum, kKey, "height bias b", kNamed, "b"},
+        {"theta_deg", kNum, kKey, "view angle from the normal (degrees)", kNamed, "theta"},
+        {"phi_deg", kNum, kKey, "view azimuth (degrees)", kNamed, "phi"},
+        {"samples", kInt, kKey,
+         "samples per side: the N x N grid, or the N x N pixels measured of a camera's image",
+         kQuiet},
         {"width", kInt, kKey, "height field width (texels)"},
         {"height", kInt, kKey, "height field height (texels)"},
-        {"camera", kText, kKey, "orthographic | perspective ([views] camera)"},
+        {"camera", kText, kKey, "orthographic | perspective ([views] camera)", kQuiet},
         // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
-        {"lod", kText, kKey, "texture level mode: base | level | grad | implicit"},
+        {"lod", kText, kKey, "texture level mode: base | level | grad | implicit", kNamed},
         // Error statistics (harness/metrics/error_stats.cpp).
         {"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"},
         {"err_rms", kNum, kMeasured, "root mean square texel error"},
@@ -105,7 +108,8 @@ const std::vector<ColumnSpec>& builtin_columns() {
          "measured fields: fraction of true hits on a filled hole"},
         {"excluded", kInt, kMeasured, "samples left out of err_* (exclude_filled = true)"},
         {"gt_cells_mean", kNum, kMeasured, "exact tracer: cells per ray given to the solver"},
-        {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns"},
+        {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns",
+         kQuiet},
         {"gt_agree_p50", kNum, kMeasured, "|hit_exact - hit_embree| median (texels)"},
         {"gt_agree_p99", kNum, kMeasured, "|hit_exact - hit_embree| 99th percentile (texels)"},
         {"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"},
@@ -163,7 +167,7 @@ struct Registry {
                 for (const CameraEntry& cam : camera_registry())
                     for (const CameraKey& k : cam.keys) {
                         if (ids.count(k.name)) continue;  // two cameras may share a key
-                        add({k.name, kNum, kKey, k.meaning}, order.size());
+                        add({k.name, kNum, kKey, k.meaning, kNamed}, order.size());
                         camera_keys.push_back(k);
                     }
         }
@@ -210,6 +214,30 @@ size_t column_id(std::string_view name) {
 const ColumnSpec& column_spec(size_t id) { return registry().specs.at(id); }
 
 const std::vector<CameraKey>& camera_key_columns() { return registry().camera_keys; }
+
+std::vector<const ColumnSpec*> row_axes() {
+    std::vector<const ColumnSpec*> out;
+    for (const ColumnSpec* c : result_column_specs())
+        if (c->axis != ColumnAxis::none) out.push_back(c);
+    return out;
+}
+
+std::string axes_name(const std::function<std::string(const std::string&)>& cell) {
+    // What series_of and field_of name already.
+    static const char* const kInSeries[] = {"method",         "params",      "lod",   "backend",
+                                            "precision",      "texture_format", "heightfield",
+                                            "scale",          "bias"};
+    std::string s;
+    for (const ColumnSpec* c : row_axes()) {
+        if (c->axis != ColumnAxis::named) continue;
+        if (std::find(std::begin(kInSeries), std::end(kInSeries), c->name) != std::end(kInSeries))
+            continue;
+        const std::string v = cell(c->name);
+        if (!v.empty()) s += " " + c->shown_as() + "=" + v;
+    }
+    return s;
+}
+
 
 ColumnRegistration::ColumnRegistration(ColumnSpec spec) : name_(spec.name) {
     Registry& r = registry();

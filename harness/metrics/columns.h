@@ -9,6 +9,7 @@
 // registered at run time with ColumnRegistration.
 #pragma once
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,12 +20,23 @@ struct CameraKey;  // harness/scene/view.h
 
 enum class ColumnType { text, integer, number };  // numbers are doubles; NaN is an empty cell
 enum class ColumnRole { key, measured };
+// A key that says where in the experiment's grid a row lies (what ran, on what, from where):
+// named axes appear in a row's name ("theta=30 distance=4"); quiet ones identify the row but are
+// implied by its name (samples, camera, ground_truth). pxh run --only, pxh check's filters and
+// ratio baselines, pxh compare's row identity and names, the report's tables and the view's
+// file names all take the axes from here (row_axes()).
+enum class ColumnAxis { none, named, quiet };
 
 struct ColumnSpec {
     std::string name;
     ColumnType type = ColumnType::number;
     ColumnRole role = ColumnRole::measured;
     std::string meaning;  // one line, for docs and `pxh columns`-like listings
+    ColumnAxis axis = ColumnAxis::none;
+    // The axis' short label in row names ("theta" for theta_deg); empty: its name.
+    std::string label = {};
+    bool numeric() const { return type != ColumnType::text; }
+    const std::string& shown_as() const { return label.empty() ? name : label; }
 };
 
 // Every registered column, in results.csv order.
@@ -37,6 +49,14 @@ const ColumnSpec* find_column(std::string_view name);
 // registered is a programming error (std::logic_error naming it).
 size_t column_id(std::string_view name);
 const ColumnSpec& column_spec(size_t id);
+
+// Every axis column (ColumnSpec::axis != none), in results.csv order.
+std::vector<const ColumnSpec*> row_axes();
+
+// " theta=30 phi=0 distance=4 fov_deg=45": a row's named axes other than what its series and
+// field name (method, params, lod, backend, precision, texture_format, heightfield, scale,
+// bias), each that has a value, as " label=value". `cell` gives a column's cell.
+std::string axes_name(const std::function<std::string(const std::string&)>& cell);
 
 // Every camera's own keys (CameraEntry::keys), each a numeric key column, in column order:
 // what pxh check filters by, pxh compare keys rows by and the view's file names carry.

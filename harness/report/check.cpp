@@ -1,6 +1,7 @@
 // `pxh check DIR --thresholds FILE`: every [[limit]] of the file against the typed rows of
 // DIR/results.csv.
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "harness/core/params.h"
 #include "harness/metrics/columns.h"
 #include "harness/report/report.h"
+#include "harness/report/verdict.h"
 #include "harness/results/csv_table.h"
 #include "harness/results/results.h"
 #include "harness/scene/view.h"
@@ -22,23 +24,26 @@ namespace pxh {
 
 namespace {
 
-// The key columns a limit may select rows by: text ones compared as text (params whatever the
-// spaces around its separators), numeric ones as numbers (the cameras' own keys among them:
-// camera_key_columns()). Any of them may be a list ("any of").
-const std::vector<std::string> kTextFilters = {"method",       "params",    "heightfield",
-                                               "backend",      "precision", "texture_format",
-                                               "ground_truth", "camera",    "lod"};
-std::vector<std::string> with_camera_keys(std::vector<std::string> v) {
-    for (const CameraKey& c : camera_key_columns()) v.push_back(c.name);
+// The key columns a limit may select rows by: every axis of the registry (row_axes(): method,
+// field, backend, angles, the cameras' keys, lod, and any added later), text ones compared as
+// text (params whatever the spaces around its separators), numeric ones as numbers, any of them
+// a list ("any of"); and for each numeric axis a range, KEY_min and KEY_max (inclusive; theta's
+// are theta_min and theta_max).
+std::vector<const ColumnSpec*> filter_columns() { return row_axes(); }
+// The range keys of a numeric axis: theta_deg -> theta_min, theta_max; distance ->
+// distance_min, distance_max.
+std::string range_key(const ColumnSpec& c, const char* end) {
+    const std::string base = c.name == "theta_deg" ? "theta" : c.name == "phi_deg" ? "phi" : c.name;
+    return base + end;
+}
+// What identifies a row's baseline for `ratio_to`: every axis but the method and its
+// parameters (the same field, view, camera, lod, backend, variant and reference as the row).
+std::vector<std::string> same_as_baseline() {
+    std::vector<std::string> v;
+    for (const ColumnSpec* c : row_axes())
+        if (c->name != "method" && c->name != "params") v.push_back(c->name);
     return v;
 }
-const std::vector<std::string> kNumberFilters =
-    with_camera_keys({"scale", "bias", "phi_deg", "samples"});
-// What identifies a row's baseline for `ratio_to`: the same field, view and backend (and
-// variant and reference) as the row, another method.
-const std::vector<std::string> kSameAsBaseline =
-    with_camera_keys({"heightfield", "scale", "bias", "theta_deg", "phi_deg", "samples", "backend",
-                      "precision", "texture_format", "ground_truth", "camera"});
 
 bool contains(const std::vector<std::string>& v, const std::string& s) {
     return std::find(v.begin(), v.end(), s) != v.end();
@@ -105,10 +110,16 @@ struct RatioTo {
 };
 
 // One [[limit]] as read: where it is, its column, bounds, θ range and row filters.
+// A numeric axis' range filter: KEY_min <= the row's value <= KEY_max (either may be absent).
+struct Range {
+    std::string key;
+    std::optional<double> lo, hi;
+};
+
 struct Limit {
     std::string where, column, what;
     std::optional<double> lo, hi;
-    double tmin = -1, tmax = 1e9;
+    std::vector<Range> ranges;
     std::vector<Filter> filters;
     std::optional<RatioTo> ratio;
 };
@@ -176,7 +187,8 @@ Filter read_filter(const std::string& key, const std::vector<ParamDict::Element>
     Filter flt;
     flt.key = key;
     flt.where = where;
-    flt.numeric = contains(kNumberFilters, key);
+    const ColumnSpec* spec = find_column(key);
+    flt.numeric = spec && spec->numeric();
     const std::string expected =
         flt.numeric ? "a number or a list of numbers" : "a string or a list of strings";
     for (const auto& v : values) {
@@ -261,16 +273,20 @@ Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
     const auto column = lt.string("column");
     l.lo = num("min");
     l.hi = num("max");
-    const auto tmin = num("theta_min"), tmax = num("theta_max");
+    // Each numeric axis' range, in the registry's order.
+    for (const ColumnSpec* c : filter_columns()) {
+        if (!c->numeric()) continue;
+        Range r{c->name, num(range_key(*c, "_min")), num(range_key(*c, "_max"))};
+        if (r.lo || r.hi) l.ranges.push_back(r);
+    }
     lt.string("note");  // a comment for the reader of the file
     // ratio_to is read (its table taken) before the unread keys are reported, its keys after.
     const std::optional<ParamDict> ratio =
         lt.table("ratio_to", "ratio_to",
                  "'ratio_to' must be a table, e.g. ratio_to = { method = \"parallax\" }");
-    std::vector<std::string> filters = kTextFilters;
-    filters.insert(filters.end(), kNumberFilters.begin(), kNumberFilters.end());
     std::vector<std::pair<std::string, std::vector<ParamDict::Element>>> given;
-    for (const auto& key : filters) {
+    for (const ColumnSpec* c : filter_columns()) {
+        const std::string& key = c->name;
         if (!lt.has(key)) continue;
         try {
             given.emplace_back(key, lt.elements(key));
@@ -286,8 +302,9 @@ Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
     check_column(f, lt.where("column"), l.column);
     if (!l.lo && !l.hi) throw InputError(l.where, "[[limit]] needs 'min' or 'max'");
     if (ratio) l.ratio = read_ratio_to(*ratio, lt.where("ratio_to"), f);
-    l.tmin = tmin.value_or(-1);
-    l.tmax = tmax.value_or(1e9);
+    for (const Range& r : l.ranges)
+        if (!f.has(r.key))
+            throw InputError(l.where, "results.csv has no column '" + r.key + "' to take a range of");
     for (const auto& [key, elements] : given) {
         Filter flt = read_filter(key, elements, lt.where(key), f);
         std::string values;
@@ -296,10 +313,14 @@ Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
                   (lt.is_list(key) ? "[" + values + "]" : values);
         l.filters.push_back(std::move(flt));
     }
-    if (tmin || tmax)
-        l.what += std::string(l.what.empty() ? "" : " ") + "theta in [" +
-                  format_number(l.tmin < 0 ? 0 : l.tmin) + ", " +
-                  (l.tmax > 1e8 ? std::string("90") : format_number(l.tmax)) + "]";
+    for (const Range& r : l.ranges) {
+        const ColumnSpec& c = *find_column(r.key);
+        const bool theta = r.key == "theta_deg";
+        l.what += std::string(l.what.empty() ? "" : " ") + c.shown_as() + " in [" +
+                  (r.lo ? format_number(*r.lo) : theta ? std::string("0") : std::string("-inf")) +
+                  ", " + (r.hi ? format_number(*r.hi) : theta ? std::string("90") : std::string("inf")) +
+                  "]";
+    }
     if (l.ratio) l.what += std::string(l.what.empty() ? "" : " ") + "(/ " + l.ratio->shown() + ")";
     return l;
 }
@@ -310,8 +331,10 @@ std::vector<size_t> matching_rows(const Limit& l, const ResultsFile& f) {
         const ResultRow& row = f.rows[r];
         bool ok = true;
         for (const auto& flt : l.filters) ok = ok && flt.matches(row);
-        const double th = row.num("theta_deg");
-        ok = ok && th >= l.tmin && th <= l.tmax;
+        for (const Range& rg : l.ranges) {
+            const double v = row.num(rg.key);
+            ok = ok && !std::isnan(v) && (!rg.lo || v >= *rg.lo) && (!rg.hi || v <= *rg.hi);
+        }
         if (ok) match.push_back(r);
     }
     if (match.empty())
@@ -321,11 +344,8 @@ std::vector<size_t> matching_rows(const Limit& l, const ResultsFile& f) {
 }
 
 // A row as a failing limit names it: "pom layers=32 [cpu/float] on bricks s=0.05 b=1 theta=85
-// phi=0".
-std::string row_named(const ResultRow& row) {
-    return series_of(row) + " on " + field_of(row) + " theta=" + row.cell("theta_deg") +
-           " phi=" + row.cell("phi_deg");
-}
+// phi=0" (and its other axes: " distance=4 fov_deg=45 resolution=256").
+std::string row_named(const ResultRow& row) { return row_name(row); }
 
 std::string short_number(double v) {
     char s[32];
@@ -336,7 +356,8 @@ std::string short_number(double v) {
 // The key a row shares with its ratio_to baseline (kSameAsBaseline).
 std::string baseline_key(const ResultRow& row) {
     std::string k;
-    for (const auto& c : kSameAsBaseline) k += row.cell(c) + '\x1f';
+    static const std::vector<std::string> same = same_as_baseline();
+    for (const auto& c : same) k += row.cell(c) + '\x1f';
     return k;
 }
 
@@ -458,12 +479,35 @@ int print_outcomes(const std::vector<Outcome>& outcomes) {
 
 }  // namespace
 
-int run_check(const std::string& dir, const std::string& file) {
+int run_check(const std::string& dir, const std::string& file, const CheckOptions& opt) {
     const ResultsFile f = read_results((std::filesystem::path(dir) / "results.csv").string());
     const std::vector<ParamDict> limits = read_thresholds(file);
     std::vector<Outcome> outcomes;
     for (const auto& limit : limits) outcomes.push_back(evaluate(read_limit(limit, f), f));
-    return print_outcomes(outcomes) ? 1 : 0;
+    const int failed = print_outcomes(outcomes);
+    const int rc = failed ? 1 : 0;
+    // The machine-readable verdict: a testcase per limit.
+    Verdict v{"pxh check", dir + " --thresholds " + file, rc,
+              std::to_string(outcomes.size() - size_t(failed)) + " passed, " +
+                  std::to_string(failed) + " failed",
+              {}};
+    for (size_t i = 0; i < outcomes.size(); ++i) {
+        const Outcome& o = outcomes[i];
+        VerdictCase c{"#" + std::to_string(i + 1) + " " + o.column + " " + o.limit + " on " + o.what,
+                      "pxh.check",
+                      o.pass,
+                      "",
+                      o.pass ? std::vector<std::string>{} : o.details,
+                      {{"worst", o.worst}, {"rows", double(o.rows)}}};
+        if (!o.pass)
+            c.message = o.column + " worst " +
+                        (std::isfinite(o.worst) ? short_number(o.worst) : std::string("-")) +
+                        ", limit " + o.limit + (o.note.empty() ? "" : " (" + o.note + ")");
+        v.cases.push_back(std::move(c));
+    }
+    if (!opt.junit.empty()) write_verdict_file(opt.junit, junit_xml(v), "--junit");
+    if (!opt.json.empty()) write_verdict_file(opt.json, verdict_json(v), "--json");
+    return rc;
 }
 
 }  // namespace pxh

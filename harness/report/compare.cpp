@@ -19,6 +19,7 @@
 #include "harness/metrics/timing_stats.h"
 #include "harness/report/bands.h"
 #include "harness/report/text_table.h"
+#include "harness/report/verdict.h"
 #include "harness/results/csv_table.h"
 #include "harness/results/results.h"
 #include "harness/scene/view.h"
@@ -26,29 +27,39 @@
 namespace pxh {
 namespace {
 
-// What identifies a row across runs: what ran, on what, from where, where; then the cameras'
-// own keys (camera_key_columns(): the perspective camera's distance, fov_deg).
-const char* const kFixedKeys[] = {
-    "method",  "params",  "heightfield", "scale",          "bias",   "theta_deg", "phi_deg",
-    "samples", "backend", "precision",   "texture_format", "camera", "lod"};
+// What identifies a row across runs: every axis of the registry (row_axes(): what ran, on
+// what, from where, where; the cameras' own keys among them) but the ground truth, whose
+// change compare refuses outright (it is not a row of another run, it is another measure).
 const std::vector<std::string>& keys() {
     static const std::vector<std::string> k = [] {
-        std::vector<std::string> all(std::begin(kFixedKeys), std::end(kFixedKeys));
-        for (const CameraKey& c : camera_key_columns()) all.push_back(c.name);
+        std::vector<std::string> all;
+        for (const ColumnSpec* c : row_axes())
+            if (c->name != "ground_truth") all.push_back(c->name);
         return all;
     }();
     return k;
 }
-// The changes reported (differences; timings as ratios).
-const char* const kErrors[] = {"err_mean", "err_p95", "err_max", "fetches_mean"};
+size_t key_index(const std::string& c) {
+    return size_t(std::find(keys().begin(), keys().end(), c) - keys().begin());
+}
+// The changes reported (differences; timings as ratios): texel errors, fetches, pixel errors.
+const char* const kErrors[] = {"err_mean",    "err_p95",    "err_max",
+                               "fetches_mean", "err_px_mean", "err_px_p95"};
+constexpr int kNumErrors = 6;
 constexpr size_t kShown = 50;  // rows listed per list; the rest counted
 
-// A key's cell; results written before cameras and level modes had columns are the
-// orthographic camera's rows at lod base.
+// A key's cell; results written before cameras, level modes and camera resolutions had
+// columns are the orthographic camera's rows at lod base, a perspective image of `samples`
+// pixels a side.
 std::string key_cell(const ResultRow& r, const std::string& c) {
     std::string v = r.cell(c);
-    if (v.empty() && c == "camera") return "orthographic";
-    if (v.empty() && c == "lod") return "base";
+    if (!v.empty()) return v;
+    if (c == "camera") return "orthographic";
+    if (c == "lod") return "base";
+    for (const CameraEntry& e : camera_registry())
+        for (const CameraKey& k : e.keys)
+            if (k.name == c && !k.default_column.empty() && r.text("camera") == e.name)
+                return r.cell(k.default_column);
     return v;
 }
 
@@ -56,25 +67,6 @@ std::string key_of(const ResultRow& r) {
     std::string k;
     for (const std::string& c : keys()) k += key_cell(r, c) + '\x1f';
     return k;
-}
-
-// " distance=4 fov_deg=45" for a perspective row (its camera's keys that have a value), ""
-// otherwise. `cell` gives a key's cell.
-template <class Cell>
-std::string camera_name(const Cell& cell) {
-    std::string s;
-    for (const CameraKey& c : camera_key_columns()) {
-        const std::string v = cell(c.name);
-        if (!v.empty()) s += " " + c.name + "=" + v;
-    }
-    return s;
-}
-
-// "pom layers=32 [cpu/float] on bricks s=0.05 b=1 theta=30 phi=0" (+ " D=4 fov=45")
-std::string row_name(const ResultRow& r) {
-    return series_of(r) + " on " + field_of(r) + " theta=" + r.cell("theta_deg") +
-           " phi=" + r.cell("phi_deg") +
-           camera_name([&](const std::string& c) { return r.cell(c); });
 }
 
 // Four significant digits, "-" when missing.
@@ -90,21 +82,23 @@ std::string signed_sig(double v) {
     return (v > 0 ? "+" : "") + sig(v);
 }
 
-// The row's name from its key (row_name of the row the key was made of).
-std::string name_of_key(const std::string& key) {
+// The key's fields, in keys() order.
+std::vector<std::string> fields_of_key(const std::string& key) {
     std::vector<std::string> f;
     size_t at = 0;
     for (size_t end; (end = key.find('\x1f', at)) != std::string::npos; at = end + 1)
         f.push_back(key.substr(at, end - at));
+    return f;
+}
+
+// The row's name from its key (row_name of the row the key was made of).
+std::string name_of_key(const std::string& key) {
+    const std::vector<std::string> f = fields_of_key(key);
     if (f.size() != keys().size()) return key;
-    // method, params, heightfield, scale, bias, theta, phi, samples, backend, precision, format,
-    // camera, lod, then the cameras' keys
-    const auto cell = [&](const std::string& c) {
-        return f[size_t(std::find(keys().begin(), keys().end(), c) - keys().begin())];
-    };
-    return f[0] + (f[1].empty() ? "" : " " + f[1]) + (f[12] == "base" ? "" : " lod=" + f[12]) +
-           " [" + f[8] + "/" + (f[10].empty() ? f[9] : f[10]) + "] on " + f[2] + " s=" + f[3] +
-           " b=" + f[4] + " theta=" + f[5] + " phi=" + f[6] + camera_name(cell);
+    return row_name([&](const std::string& c) {
+        const size_t i = key_index(c);
+        return i < f.size() ? f[i] : std::string();
+    });
 }
 
 // Texts shared by many rows (shader files, hashes, ground truths), kept once.
@@ -126,7 +120,7 @@ struct Rec {
     const std::string* time_unit = nullptr;  // "" when untimed
     double width = NAN, height = NAN, theta = NAN;
     bool ok = false, matched = false;
-    double err[4] = {NAN, NAN, NAN, NAN};
+    double err[kNumErrors] = {NAN, NAN, NAN, NAN, NAN, NAN};
     std::vector<double> tol;  // the --fail-on columns' values
     double t_median = NAN;    // time, in time_unit
     std::vector<double> repeats;
@@ -144,7 +138,7 @@ Rec rec_of(const ResultRow& r, size_t line, const std::string& where, const Comp
     x.width = r.num("width");
     x.height = r.num("height");
     x.theta = r.num("theta_deg");
-    for (int i = 0; i < 4; ++i) x.err[i] = r.num(kErrors[i]);
+    for (int i = 0; i < kNumErrors; ++i) x.err[i] = r.num(kErrors[i]);
     for (const CompareTolerance& t : opt.fail_on) x.tol.push_back(r.num(t.column));
     x.time_unit = pool.of(r.text("time_unit"));
     x.t_median = r.num("time");
@@ -291,7 +285,7 @@ struct Capped {
 
 // Per method setting and theta band: mean changes, geometric-mean timing ratio and verdicts.
 struct BandAcc {
-    Mean d[4];
+    Mean d[kNumErrors];
     double log_ratio = 0;
     int n_ratio = 0, rows = 0, slower = 0, faster = 0, noise = 0, no_verdict = 0;
 };
@@ -302,10 +296,34 @@ struct Changed {
     std::vector<std::string> cells;
 };
 
+// Regressions, largest change first: the first kShown kept, the rest counted.
+struct Ranked {
+    std::vector<std::pair<double, std::string>> items;  // (size of change, text)
+    size_t total = 0;
+    void add(double size, std::string s) {
+        items.emplace_back(std::isnan(size) ? INFINITY : size, std::move(s));
+        ++total;
+        if (items.size() > 4 * kShown) trim();
+    }
+    void trim() {
+        std::stable_sort(items.begin(), items.end(),
+                         [](const auto& a, const auto& b) { return a.first > b.first; });
+        if (items.size() > kShown) items.resize(kShown);
+    }
+};
+
+// One compared row group (a method setting on a backend variant): a JUnit testcase.
+struct GroupAcc {
+    size_t rows = 0, regressions = 0;
+    std::vector<std::string> details;  // the first kShown regressions' texts
+};
+
 // Everything compare prints, gathered while NEW streams past BASE.
 struct Tally {
     size_t matched = 0, changed = 0, only_new = 0;
-    Capped only_new_names, regressions;
+    Capped only_new_names;
+    Ranked regressions;
+    std::map<std::string, GroupAcc> groups;
     std::map<std::pair<std::string, int>, BandAcc> bands;
     std::vector<Changed> rows;  // kept to the kShown largest (trimmed as it grows)
     size_t rows_changed = 0;
@@ -325,8 +343,15 @@ std::string short_sha(const std::string& s) { return s.empty() ? "none" : s.subs
 void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::string& name,
               const CompareOptions& opt, Bands& bands, Tally& tally) {
     ++tally.matched;
+    GroupAcc& group = tally.groups[series_of(now)];
+    ++group.rows;
+    const auto regression = [&](double size, const std::string& text) {
+        tally.regressions.add(size, text);
+        ++group.regressions;
+        if (group.details.size() < kShown) group.details.push_back(text);
+    };
     bool any = b.ok != n.ok;
-    for (int i = 0; i < 4; ++i) any = any || !same(b.err[i], n.err[i]);
+    for (int i = 0; i < kNumErrors; ++i) any = any || !same(b.err[i], n.err[i]);
     tally.changed += any;
     if (*b.shader_sha256 != *n.shader_sha256)
         tally.shader_changes.insert(setting_of(now) + ": " + short_sha(*b.shader_sha256) + " -> " +
@@ -355,7 +380,7 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::strin
     // The gate.
     if (!opt.fail_on.empty()) {
         if (b.ok && !n.ok) {
-            tally.regressions.add(name + ": failed (" + one_line(n.error) + ")");
+            regression(INFINITY, name + ": failed (" + one_line(n.error) + ")");
         } else if (n.ok) {
             for (size_t k = 0; k < opt.fail_on.size(); ++k) {
                 const CompareTolerance& t = opt.fail_on[k];
@@ -371,8 +396,12 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::strin
                     else if (timing.kind == Timing::no_repeats)
                         why = "; no verdict: no repeats recorded";
                 }
-                tally.regressions.add(name + ": " + t.column + " " + sig(b.tol[k]) + " -> " +
-                                      sig(n.tol[k]) + " (allowed " + allowance(t) + why + ")");
+                // The size of the change, relative to the base (absolute from a base of 0).
+                const double size = std::isfinite(n.tol[k])
+                                        ? (n.tol[k] - b.tol[k]) / (b.tol[k] != 0 ? std::abs(b.tol[k]) : 1.0)
+                                        : INFINITY;
+                regression(size, name + ": " + t.column + " " + sig(b.tol[k]) + " -> " +
+                                     sig(n.tol[k]) + " (allowed " + allowance(t) + why + ")");
             }
         }
     }
@@ -383,7 +412,7 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::strin
             bands.add_view(band, b.theta);
             BandAcc& a = tally.bands[{series_of(now), band}];
             ++a.rows;
-            for (int i = 0; i < 4; ++i) a.d[i].add(n.err[i] - b.err[i]);
+            for (int i = 0; i < kNumErrors; ++i) a.d[i].add(n.err[i] - b.err[i]);
             if (std::isfinite(timing.ratio) && timing.ratio > 0) {
                 a.log_ratio += std::log(timing.ratio);
                 ++a.n_ratio;
@@ -404,15 +433,17 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::strin
     };
     const double d = std::abs(n.err[1] - b.err[1]);
     tally.rows.push_back({std::isfinite(d) ? d : INFINITY,
-                          {name, change(0), change(1), change(2), change(3), ratio_fmt(timing)}});
+                          {name, change(0), change(1), change(2), change(4), change(5), change(3),
+                           ratio_fmt(timing)}});
     if (tally.rows.size() > 4 * kShown) trim(tally.rows);
 }
 
 TextTable band_table(const Tally& tally, const Bands& bands) {
     TextTable t;
-    t.header = {"method [backend]", "theta band", "rows",      "d err_mean",
-                "d err_p95",        "d err_max",  "d fetches", "time ratio"};
-    t.align = "llrrrrrr";
+    t.header = {"method [backend]", "theta band", "rows",          "d err_mean",
+                "d err_p95",        "d err_max",  "d err_px_mean", "d err_px_p95",
+                "d fetches",        "time ratio"};
+    t.align = "llrrrrrrrr";
     for (const auto& [k, a] : tally.bands) {
         std::string ratio = "-";
         if (a.n_ratio) {
@@ -426,10 +457,12 @@ TextTable band_table(const Tally& tally, const Bands& bands) {
         }
         t.rows.push_back({k.first, bands.edges(size_t(k.second)), std::to_string(a.rows),
                           signed_sig(a.d[0].get()), signed_sig(a.d[1].get()),
-                          signed_sig(a.d[2].get()), signed_sig(a.d[3].get()), ratio});
+                          signed_sig(a.d[2].get()), signed_sig(a.d[4].get()),
+                          signed_sig(a.d[5].get()), signed_sig(a.d[3].get()), ratio});
     }
     t.notes.push_back(
-        "d: mean over the band's rows of NEW - BASE (texels; fetches per sample); time ratio: "
+        "d: mean over the band's rows of NEW - BASE (err: texels; err_px: screen pixels; "
+        "fetches per sample); time ratio: "
         "geometric mean of NEW / BASE medians of time (each row in its backend's time_unit); a row "
         "is "
         "slower or faster when a two-sided Mann-Whitney U test over its timed repeats gives "
@@ -440,8 +473,9 @@ TextTable band_table(const Tally& tally, const Bands& bands) {
 TextTable row_table(Tally& tally) {
     trim(tally.rows);
     TextTable t;
-    t.header = {"changed row", "err_mean", "err_p95", "err_max", "fetches", "time ratio"};
-    t.align = "lrrrrr";
+    t.header = {"changed row", "err_mean",   "err_p95", "err_max",
+                "err_px_mean", "err_px_p95", "fetches", "time ratio"};
+    t.align = "lrrrrrrr";
     for (const Changed& c : tally.rows) t.rows.push_back(c.cells);
     if (tally.rows_changed == 0)
         t.notes.push_back("No row's errors, fetches, status or time (p < 0.05) changed.");
@@ -473,6 +507,41 @@ void list(std::ostream& out, bool markdown, const std::string& title, const Capp
     for (const std::string& s : v.items) out << (markdown ? "- " : "  ") << s << "\n";
     if (v.items.size() < v.total) out << "  ... and " << v.total - v.items.size() << " more\n";
     out << "\n";
+}
+
+// Every key's values in one run, for saying how two runs differ when no row matches.
+struct KeyValues {
+    std::vector<std::set<std::string>> values = std::vector<std::set<std::string>>(keys().size());
+    void add(const ResultRow& r) {
+        for (size_t i = 0; i < keys().size(); ++i)
+            if (values[i].size() < 64) values[i].insert(key_cell(r, keys()[i]));
+    }
+};
+
+std::string listed(const std::set<std::string>& v) {
+    std::string s;
+    size_t n = 0;
+    for (const std::string& x : v) {
+        if (n++ == 4) return s + ", ...";
+        s += (s.empty() ? "" : ", ") + (x.empty() ? std::string("(empty)") : x);
+    }
+    return s.empty() ? "(no rows)" : s;
+}
+
+// "samples 64 vs 32; lod base vs level": the keys whose values differ between the runs.
+std::string key_differences(const KeyValues& b, const KeyValues& n) {
+    std::string s;
+    for (size_t i = 0; i < keys().size(); ++i) {
+        if (b.values[i] == n.values[i]) continue;
+        s += (s.empty() ? "" : "; ") + keys()[i] + " " + listed(b.values[i]) + " vs " +
+             listed(n.values[i]);
+    }
+    return s.empty() ? "no key's values (each run's rows combine them differently)" : s;
+}
+
+void write_verdict_files(const CompareOptions& opt, const Verdict& v) {
+    if (!opt.junit.empty()) write_verdict_file(opt.junit, junit_xml(v), "--junit");
+    if (!opt.json.empty()) write_verdict_file(opt.json, verdict_json(v), "--json");
 }
 
 }  // namespace
@@ -529,11 +598,13 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
     std::vector<Rec> base;
     std::unordered_map<std::string, size_t> by_key;
     std::string base_csv;
+    KeyValues base_values, new_values;
     {
         RowStream in(base_dir);
         base_csv = in.path();
         ResultRow row;
         while (in.next(row)) {
+            base_values.add(row);
             if (!by_key.emplace(key_of(row), base.size()).second)
                 throw InputError(in.where(), "two rows with the same keys (" + row_name(row) + ")");
             base.push_back(rec_of(row, in.line(), in.where(), opt, pool));
@@ -547,6 +618,7 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
         std::unordered_set<std::string> only_new;  // the keys of NEW's rows that BASE lacks
         ResultRow row;
         while (in.next(row)) {
+            new_values.add(row);
             const Rec n = rec_of(row, in.line(), in.where(), opt, pool);
             const std::string key = key_of(row), name = row_name(row);
             const auto it = by_key.find(key);
@@ -589,11 +661,28 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
         std::sort(missing.begin(), missing.end());
         for (const auto& m : missing) only_base.add(name_of_key(*m.second));
     }
-    if (!opt.fail_on.empty() && !opt.common)
+    const bool gate_missing = !opt.fail_on.empty() && !opt.common;
+    if (gate_missing) {
         for (const std::string& r : only_base.items)
-            tally.regressions.add(r + ": missing from NEW");
-    if (!opt.fail_on.empty() && !opt.common && only_base.total > only_base.items.size())
+            tally.regressions.add(INFINITY, r + ": missing from NEW");
         tally.regressions.total += only_base.total - only_base.items.size();
+    }
+    tally.regressions.trim();
+
+    // A comparison of nothing is no verdict: exit 2, saying how the two runs differ.
+    if (tally.matched == 0) {
+        const std::string why =
+            "no row of NEW matches a row of BASE (" + std::to_string(base.size()) +
+            " rows in BASE, " + std::to_string(tally.only_new) + " in NEW): " +
+            (base.empty() && tally.only_new == 0 ? std::string("both runs are empty")
+                                                 : "their keys differ in " +
+                                                       key_differences(base_values, new_values)) +
+            "; nothing was compared, so there is no verdict";
+        Verdict v{"pxh compare", base_dir + " -> " + new_dir, 2, "NO VERDICT: " + why, {}};
+        v.cases.push_back({"rows matched", "pxh.compare", false, why, {}, {{"matched", 0}}});
+        write_verdict_files(opt, v);
+        throw InputError(new_dir + "/results.csv", why);
+    }
 
     const bool md = opt.markdown;
     const std::string h = md ? "### " : "";
@@ -632,7 +721,12 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
         << "\n";
     for (const std::string& c : tally.shader_changes) out << (md ? "- " : "  ") << c << "\n";
     out << "\n";
-    if (!opt.fail_on.empty()) list(out, md, "Regressions beyond --fail-on", tally.regressions);
+    if (!opt.fail_on.empty() && tally.regressions.total) {
+        Capped shown;
+        for (const auto& r : tally.regressions.items) shown.add(r.second);
+        shown.total = tally.regressions.total;
+        list(out, md, "Regressions beyond --fail-on (largest change first)", shown);
+    }
     // The details.
     if (md)
         out << "<details><summary>Details: per method and theta band, per changed "
@@ -644,9 +738,30 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
     list(out, md, std::string("Rows only in NEW") + (opt.common ? " (left out: --common)" : ""),
          tally.only_new_names);
     if (md) out << "</details>\n\n";
+    const int rc = !opt.fail_on.empty() && tally.regressions.total ? 1 : 0;
+    // The machine-readable verdict: a testcase per compared row group.
+    Verdict v{"pxh compare", base_dir + " -> " + new_dir, rc, verdict, {}};
+    for (const auto& [series, g] : tally.groups) {
+        VerdictCase c{series, "pxh.compare", g.regressions == 0, "", g.details,
+                      {{"rows", double(g.rows)}, {"regressions", double(g.regressions)}}};
+        if (g.regressions)
+            c.message = std::to_string(g.regressions) + " of " + std::to_string(g.rows) +
+                        " matched rows regress beyond --fail-on";
+        v.cases.push_back(std::move(c));
+    }
+    if (gate_missing || only_base.total) {
+        VerdictCase c{"rows of BASE found in NEW", "pxh.compare", !gate_missing || !only_base.total,
+                      "", {}, {{"missing", double(only_base.total)}}};
+        if (!c.passed) {
+            c.message = std::to_string(only_base.total) + " rows of BASE are missing from NEW";
+            c.details = only_base.items;
+        }
+        v.cases.push_back(std::move(c));
+    }
+    write_verdict_files(opt, v);
     if (opt.fail_on.empty()) return 0;
     out << verdict << "\n";
-    return tally.regressions.total ? 1 : 0;
+    return rc;
 }
 
 }  // namespace pxh

@@ -29,6 +29,7 @@ struct CompareOptions {
     bool common = false;  // only the rows both runs have (the others counted, not a regression)
     std::vector<CompareTolerance> fail_on;  // empty: report only, exit 0
     std::vector<double> band_edges;         // theta bands (empty: the report's default)
+    std::string junit, json;  // --junit FILE, --json FILE: the verdict for CI (report/verdict.h)
 };
 
 // Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and
@@ -36,7 +37,10 @@ struct CompareOptions {
 // when there are too few repeats to say), a row that was ok failed, or (without `common`) a base
 // row is missing from NEW. Times are compared between rows of the same time_unit only. Bad
 // input (no results.csv, a malformed one, two rows with the same keys, a matched row on another
-// field size, ground truth or time_unit) is an InputError naming the file and line.
+// field size, ground truth or time_unit) is an InputError naming the file and line. So is a
+// comparison in which no row matched (with or without --common, gate or not): it names the keys
+// whose values differ between the runs ("samples 64 vs 32"); a gate over nothing never passes.
+// The regressions are listed largest change first (relative to the base value).
 int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
                 std::ostream& out);
 

@@ -39,6 +39,12 @@ double parse_figure_width(const std::string& text);
 // matches it. Returns 0 if all pass, 1 if any fails; throws InputError (exit 2, FILE:LINE of
 // the offending key) on a malformed file, a filter value no row has, or a limit that matches
 // no row.
-int run_check(const std::string& dir, const std::string& thresholds_file);
+// --junit FILE / --json FILE also write the verdict (harness/report/verdict.h): a testcase per
+// limit, failures with the worst value and the rows.
+struct CheckOptions {
+    std::string junit, json;
+};
+int run_check(const std::string& dir, const std::string& thresholds_file,
+              const CheckOptions& options = {});
 
 }  // namespace pxh

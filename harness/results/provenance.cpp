@@ -50,12 +50,16 @@ std::string utc_timestamp(const char* fmt) {
     return buf;
 }
 
+std::string pxh_version() {
+    const std::string src = PXH_SOURCE_DIR;
+    return std::string(PXH_VERSION) + " (" +
+           run_command("git -C '" + src + "' describe --always --tags --dirty 2>/dev/null") + ")";
+}
+
 nlohmann::json provenance(int threads) {
     nlohmann::json j;
     const std::string src = PXH_SOURCE_DIR;
-    j["pxh_version"] =
-        std::string(PXH_VERSION) + " (" +
-        run_command("git -C '" + src + "' describe --always --tags --dirty 2>/dev/null") + ")";
+    j["pxh_version"] = pxh_version();
     j["git_commit"] = run_command("git -C '" + src + "' rev-parse HEAD 2>/dev/null");
     j["git_dirty"] = !run_command("git -C '" + src + "' status --porcelain 2>/dev/null").empty();
     j["compiler"] = std::string("g++ ") + __VERSION__;

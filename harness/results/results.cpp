@@ -157,4 +157,16 @@ std::string field_of(const ResultRow& r) {
     return r.text("heightfield") + " s=" + r.cell("scale") + " b=" + r.cell("bias");
 }
 
+std::string row_name(const std::function<std::string(const std::string&)>& cell) {
+    const std::string params = cell("params"), lod = cell("lod"), fmt = cell("texture_format");
+    return cell("method") + (params.empty() ? "" : " " + params) +
+           (lod.empty() || lod == "base" ? "" : " lod=" + lod) + " [" + cell("backend") + "/" +
+           (fmt.empty() ? cell("precision") : fmt) + "] on " + cell("heightfield") +
+           " s=" + cell("scale") + " b=" + cell("bias") + axes_name(cell);
+}
+
+std::string row_name(const ResultRow& r) {
+    return row_name([&](const std::string& c) { return r.cell(c); });
+}
+
 }  // namespace pxh

@@ -1,6 +1,7 @@
 // results.csv: rows (harness/metrics/row.h) written in the registry's column order
 // (harness/metrics/columns.cpp), and read back into typed rows once (pxh report, pxh check).
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,5 +47,10 @@ std::string setting_of(const ResultRow& r);  // method, parameters and a lod oth
 std::string group_of(const ResultRow& r);    // backend/precision or format: "glsl/r32f"
 std::string series_of(const ResultRow& r);   // "pom layers=8 [glsl/r32f]"
 std::string field_of(const ResultRow& r);    // "fbm s=0.05 b=1"
+// "pom layers=8 [glsl/r32f] on fbm s=0.05 b=1 theta=30 phi=0 distance=4 fov_deg=45": the
+// series, the field and the row's other named axes (harness/metrics/columns.h, row_axes()).
+// `cell` gives a column's cell, so a name can be made from a row or from the keys alone.
+std::string row_name(const std::function<std::string(const std::string&)>& cell);
+std::string row_name(const ResultRow& r);
 
 }  // namespace pxh

@@ -403,10 +403,10 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& 
         if (opt.progress) {
             std::ostringstream os;
             const std::string cam = ex.camera_settings[at.camera].label();
-            os << "[" << step << "/" << steps << "] " << ctx.spec.name << " s=" << ctx.spec.scale
+            os << ctx.spec.name << " s=" << ctx.spec.scale
                << " b=" << ctx.spec.bias << " theta=" << fmt_angle(theta)
                << " phi=" << fmt_angle(phi) << (cam.empty() ? "" : " " + cam);
-            opt.progress(os.str());
+            opt.progress(step, steps, os.str());
         }
         ViewRows view = evaluate_view(ctx, theta, phi, at.camera, true);
         if (ex.sweep_dt_deg > 0) {

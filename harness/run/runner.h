@@ -40,7 +40,8 @@ struct RunOptions {
     std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
                        const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>
         on_view;
-    std::function<void(const std::string&)> progress;  // one status line per step
+    // One call per view, as it starts: its number (from 1) of `steps`, and what it is.
+    std::function<void(size_t step, size_t steps, const std::string& what)> progress;
     // A slice of the run (pxh run --shard): only the views (heightfields[field], phi_deg[phi],
     // camera_settings[camera], theta_deg[theta]) it accepts are run; a field none of whose
     // views runs is not built. Without sweep_dt_deg a theta sweep must be accepted whole or not

@@ -1,6 +1,7 @@
 #include "harness/scene/perspective_camera.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -13,6 +14,7 @@ namespace pxh {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+constexpr int kMaxResolution = 8192;  // as samples (harness/experiment/parse.cpp)
 
 std::string number(double v) {
     std::ostringstream os;
@@ -37,7 +39,17 @@ std::string perspective_problem(const PerspectiveParams& p) {
     if (!(p.fov_deg > 0 && p.fov_deg < 180))
         return "fov_deg = " + number(p.fov_deg) + " is not in (0, 180)";
     if (p.samples < 1) return "samples = " + std::to_string(p.samples) + " is not at least 1";
+    if (p.resolution > 0 && p.samples > p.resolution)
+        return "samples = " + std::to_string(p.samples) + " exceeds the image's resolution " +
+               std::to_string(p.resolution) + " (samples picks N x N of its pixels)";
+    if (p.resolution < 0)
+        return "resolution = " + std::to_string(p.resolution) + " is not at least 1";
     return "";
+}
+
+int subset_pixel(int a, int n, int r) {
+    // Exact in integers: floor((2a + 1) r / (2n)).
+    return int(((2 * int64_t(a) + 1) * int64_t(r)) / (2 * int64_t(n)));
 }
 
 std::string eye_slab_problem(const PerspectiveParams& p, double scale, double bias) {
@@ -93,8 +105,12 @@ PerspectiveCamera::PerspectiveCamera(const PerspectiveParams& p) : p_(p) {
     a_ = std::tan(0.5 * p.fov_deg * kDeg);
 }
 
+int PerspectiveCamera::pixel_of(int a) const {
+    return subset_pixel(a, p_.samples, p_.image_size());
+}
+
 PerspectivePixel PerspectiveCamera::pixel(double i, double j) const {
-    const double n = p_.samples;
+    const double n = p_.image_size();
     const double x = 2 * (i + 0.5) / n - 1, y = 2 * (j + 0.5) / n - 1;
     const double ax = a_ * x, ay = a_ * y;
     PerspectivePixel px;
@@ -115,7 +131,7 @@ PerspectivePixel PerspectiveCamera::pixel(double i, double j) const {
 
 Footprint PerspectiveCamera::footprint(double i, double j) const {
     const Vec3d d = pixel(i, j).d;
-    const double k = -E_.z * (2 * a_ / p_.samples) / (d.z * d.z);
+    const double k = -E_.z * (2 * a_ / p_.image_size()) / (d.z * d.z);
     const auto column = [&](Vec3d e) -> Vec2d {
         return {k * (e.x * d.z - d.x * e.z), k * (e.y * d.z - d.y * e.z)};
     };
@@ -132,11 +148,13 @@ View PerspectiveCamera::view() const {
     v.parallel = false;
     v.grid = 0;
     // The look-at pixel's footprint (the image centre), what an outside sample carries.
-    const Footprint centre = footprint(0.5 * (n - 1), 0.5 * (n - 1));
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
+    const double c = 0.5 * (p_.image_size() - 1);
+    const Footprint centre = footprint(c, c);
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) {
+            const int i = pixel_of(a), j = pixel_of(b);
             const PerspectivePixel px = pixel(i, j);
-            const size_t k = size_t(j) * n + i;
+            const size_t k = size_t(b) * n + a;
             v.P[k] = px.inside ? px.P : Vec2d{0.5, 0.5};
             v.V[k] = px.inside ? px.V : V0_;
             v.J[k] = px.inside ? footprint(i, j) : centre;
@@ -148,8 +166,9 @@ View PerspectiveCamera::view() const {
 std::vector<uint8_t> PerspectiveCamera::inside() const {
     const int n = p_.samples;
     std::vector<uint8_t> in(size_t(n) * n);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) in[size_t(j) * n + i] = pixel(i, j).inside ? 1 : 0;
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a)
+            in[size_t(b) * n + a] = pixel(pixel_of(a), pixel_of(b)).inside ? 1 : 0;
     return in;
 }
 
@@ -162,13 +181,13 @@ size_t PerspectiveCamera::outside_count() const {
 std::vector<Footprint> PerspectiveCamera::footprints() const {
     const int n = p_.samples;
     std::vector<Footprint> J(size_t(n) * n);
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) J[size_t(j) * n + i] = footprint(i, j);
+    for (int b = 0; b < n; ++b)
+        for (int a = 0; a < n; ++a) J[size_t(b) * n + a] = footprint(pixel_of(a), pixel_of(b));
     return J;
 }
 
 std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
-                                                     const std::string& loc) {
+                                                     const std::string& loc, int samples) {
     if (!params.has("distance"))
         throw InputError(loc,
                          "camera 'perspective' needs distance (the eye's distance from the "
@@ -184,15 +203,46 @@ std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
             throw InputError(params.where("fov_deg"),
                              "fov_deg = " + number(f) +
                                  " is impossible: the full field of view lies in (0, 180)");
+    // The image's pixels per side: integers in [1, kMaxResolution], default the file's samples.
+    std::vector<double> resolutions{double(samples)};
+    if (params.has("resolution")) {
+        resolutions = params.numbers("resolution", {});
+        for (double r : resolutions)
+            if (!(r >= 1 && r <= kMaxResolution && r == std::floor(r)))
+                throw InputError(params.where("resolution"),
+                                 "resolution = " + number(r) +
+                                     " is not a whole number of pixels per side in [1, " +
+                                     std::to_string(kMaxResolution) + "]");
+    }
     std::vector<CameraSetting> out;
     for (double d : distances)
-        for (double f : fovs) out.push_back({{{"distance", d}, {"fov_deg", f}}});
+        for (double f : fovs)
+            for (double r : resolutions)
+                out.push_back({{{"distance", d}, {"fov_deg", f}, {"resolution", r}}});
     return out;
+}
+
+std::string perspective_samples_problem(const CameraSetting& setting, int samples,
+                                        bool neighbours) {
+    const double r = setting.get("resolution");
+    if (samples > r)
+        return "samples = " + std::to_string(samples) +
+               " exceeds the perspective image's resolution " + number(r) +
+               ": samples picks N x N of the image's R x R pixels (N <= R)";
+    if (neighbours && samples != r)
+        return "lod 'implicit' takes the GPU's derivatives between neighbouring fragments, which "
+               "are neighbouring pixels only when samples = resolution (here " +
+               std::to_string(samples) + " of " + number(r) +
+               "): measure it at samples = resolution, or use lod 'grad' (the exact footprint)";
+    return "";
 }
 
 std::vector<CameraKey> perspective_keys() {
     return {{"distance", "perspective: eye distance from the look-at point (tiles)", "d"},
-            {"fov_deg", "perspective: full field of view of the square image (degrees)", "f"}};
+            {"fov_deg", "perspective: full field of view of the square image (degrees)", "f"},
+            {"resolution",
+             "perspective: the image's pixels per side (samples picks N x N of them)", "r",
+             "samples"}};
 }
 
 namespace {
@@ -205,6 +255,8 @@ PerspectiveParams params_of(const CameraSetting& setting, const CameraSpec& spec
     p.samples = spec.samples;
     p.distance = setting.get("distance");
     p.fov_deg = setting.get("fov_deg");
+    const double r = setting.get("resolution");
+    p.resolution = std::isnan(r) ? 0 : int(r);
     return p;
 }
 

@@ -5,7 +5,12 @@
 // degrees), and the footprint J = [dP/di, dP/dj] in closed form; rho and lambda from J.
 //
 // Registered as camera "perspective": [views] distance (tiles; a value, a list or a range
-// { from, to, step }, swept) and fov_deg (degrees, default 45; a value or a list).
+// { from, to, step }, swept), fov_deg (degrees, default 45; a value or a list) and resolution
+// (the image's pixels per side, default the experiment file's samples; a value or a list). The
+// run's `samples` N picks N x N of the R x R image's pixels, spread evenly over it (pixel
+// index floor((a + 0.5) R / N) for a = 0 .. N - 1, in each axis): every measured pixel keeps
+// its ray, footprint, lambda and inside flag of the full image, so a quick run at a lower N
+// measures pixels of the same image at the same levels.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -23,11 +28,18 @@ struct PerspectiveParams {
     double theta_deg = 0, phi_deg = 0;
     double distance = 0;  // D, tiles from C to the eye
     double fov_deg = 45;  // F, full field of view of the square image
-    int samples = 0;      // N pixels per side
+    int samples = 0;      // N pixels per side measured
+    int resolution = 0;   // R pixels per side of the image (0: R = N)
+    int image_size() const { return resolution > 0 ? resolution : samples; }
 };
 
+// The image pixel (in one axis) of measured sample a of N across an image of R pixels:
+// floor((a + 0.5) R / N), the pixel under the centre of the a-th of N equal bands (a itself
+// when N = R).
+int subset_pixel(int a, int n, int r);
+
 // "" when the parameters make a camera, else a one-line reason: theta in [0, 90), phi finite,
-// D > 0 finite, F in (0, 180), N >= 1.
+// D > 0 finite, F in (0, 180), N >= 1, 1 <= N <= R when R is given.
 std::string perspective_problem(const PerspectiveParams& p);
 
 // "" when the eye lies above the slab of scale s and bias b (D cos theta > s (1 - b)), else the
@@ -64,15 +76,19 @@ class PerspectiveCamera final : public Camera {
     explicit PerspectiveCamera(const PerspectiveParams& p);
     std::string name() const override { return "perspective"; }
 
-    // Every pixel's ray, sample index j N + i (row j = 0 at the bottom, as gl_FragCoord), its
-    // footprint and the inside mask. An outside sample carries the look-at ray (P = C, V = V0)
+    // Every measured pixel's ray, sample index b N + a for image pixel (subset_pixel(a),
+    // subset_pixel(b)) (row 0 at the bottom, as gl_FragCoord; with N = R sample j N + i is
+    // pixel (i, j)), its footprint and the inside mask. An outside sample carries the look-at ray (P = C, V = V0)
     // and the look-at pixel's footprint so that every stage can process it; its results must
     // be left out by the mask (View::inside).
     View view() const override;
     std::vector<uint8_t> inside() const;  // 1 per inside sample, in sample order
+    // The image pixel of sample a of N along one axis (subset_pixel at this N and R).
+    int pixel_of(int a) const;
     size_t outside_count() const;
 
-    // Pixel (i, j), at continuous pixel coordinates (integers are pixel centres' indices).
+    // Image pixel (i, j) of the R x R image, at continuous pixel coordinates (integers are pixel
+    // centres' indices).
     PerspectivePixel pixel(double i, double j) const;
     // The closed-form footprint of pixel (i, j) (valid where the ray meets the plane, d.z < 0).
     Footprint footprint(double i, double j) const;
@@ -94,11 +110,15 @@ class PerspectiveCamera final : public Camera {
 // The registry's entry points: the settings its keys give (the product of distance x fov_deg,
 // distance outer), and the camera at one of them.
 std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
-                                                     const std::string& loc);
+                                                     const std::string& loc, int samples);
 std::unique_ptr<Camera> make_perspective_camera(const CameraSetting& setting,
                                                 const CameraSpec& spec);
-// Its keys as the results show them: distance ("_d"), fov_deg ("_f").
+// Its keys as the results show them: distance ("_d"), fov_deg ("_f"), resolution ("_r").
 std::vector<CameraKey> perspective_keys();
+// "" when N samples per side can be picked from the setting's image (N <= resolution).
+// With `neighbours` (lod implicit: the GPU's derivatives between neighbouring fragments) N = R.
+std::string perspective_samples_problem(const CameraSetting& setting, int samples,
+                                        bool neighbours);
 // eye_slab_problem at this setting and view.
 std::string perspective_scene_problem(const CameraSetting& setting, const CameraSpec& spec,
                                       double scale, double bias);

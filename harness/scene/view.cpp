@@ -78,7 +78,7 @@ OrthographicCamera::OrthographicCamera(double theta_deg, double phi_deg, int n)
 namespace {
 
 // Reads no keys of its own: one setting, with no values.
-std::vector<CameraSetting> read_orthographic_settings(const ParamDict&, const std::string&) {
+std::vector<CameraSetting> read_orthographic_settings(const ParamDict&, const std::string&, int) {
     return {CameraSetting{}};
 }
 
@@ -92,7 +92,7 @@ const std::vector<CameraEntry>& camera_registry() {
     static const std::vector<CameraEntry> entries = {
         {"orthographic", &read_orthographic_settings, &make_orthographic_camera, nullptr, true},
         {"perspective", &read_perspective_settings, &make_perspective_camera,
-         &perspective_scene_problem, false, perspective_keys()},
+         &perspective_scene_problem, false, perspective_keys(), &perspective_samples_problem},
     };
     return entries;
 }
@@ -104,8 +104,8 @@ const CameraEntry& camera_entry(const std::string& name, const std::string& loc)
 }
 
 std::vector<CameraSetting> Camera::settings(const std::string& name, const ParamDict& params,
-                                            const std::string& loc) {
-    return find_entry(camera_registry(), name, "camera", loc).read(params, loc);
+                                            const std::string& loc, int samples) {
+    return find_entry(camera_registry(), name, "camera", loc).read(params, loc, samples);
 }
 
 std::unique_ptr<Camera> Camera::create(const std::string& name, const CameraSetting& setting,
@@ -114,7 +114,8 @@ std::unique_ptr<Camera> Camera::create(const std::string& name, const CameraSett
 }
 
 std::unique_ptr<Camera> make_camera(const std::string& name, const CameraSpec& spec) {
-    return Camera::create(name, Camera::settings(name, ParamDict(), "camera").front(), spec);
+    return Camera::create(name, Camera::settings(name, ParamDict(), "camera", spec.samples).front(),
+                          spec);
 }
 
 }  // namespace pxh

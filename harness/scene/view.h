@@ -94,10 +94,11 @@ class Camera {
     virtual View view() const = 0;
     // The settings camera NAME reads from its own keys in `params` ([views]; the orthographic
     // camera reads none and has one empty setting), in sweep order; `loc` (FILE:LINE of
-    // [views]) names the view in its errors. An unknown NAME is
+    // [views]) names the view in its errors; `samples` is the experiment file's (a camera's
+    // defaults may follow it: the perspective camera's resolution). An unknown NAME is
     // InputError(loc, "unknown camera 'x' (known: orthographic, perspective)").
     static std::vector<CameraSetting> settings(const std::string& name, const ParamDict& params,
-                                               const std::string& loc);
+                                               const std::string& loc, int samples);
     // Camera NAME for one view at one of its settings. Cheap: the runner makes one per view.
     static std::unique_ptr<Camera> create(const std::string& name, const CameraSetting& setting,
                                           const CameraSpec& spec);
@@ -122,12 +123,16 @@ class OrthographicCamera final : public Camera {
 // keys and the file names take a camera's keys from here (harness/metrics/columns.cpp).
 struct CameraKey {
     std::string name, meaning, tag;
+    // Results written before the key existed: the column whose cell stands for it ("samples" for
+    // the perspective camera's resolution); "" when none.
+    std::string default_column = {};
 };
 
 // The registry (camera_registry() in harness/scene/view.cpp): one line per camera.
 struct CameraEntry {
     const char* name;
-    std::vector<CameraSetting> (*read)(const ParamDict& params, const std::string& loc);
+    std::vector<CameraSetting> (*read)(const ParamDict& params, const std::string& loc,
+                                       int samples);
     std::unique_ptr<Camera> (*make)(const CameraSetting& setting, const CameraSpec& spec);
     // "" when the camera at this setting and view can look at a surface of scale s and bias b,
     // else why not (the perspective camera: its eye must lie above the slab); nullptr: always.
@@ -137,8 +142,14 @@ struct CameraEntry {
     // to 89 degrees from the normal whatever theta, and the truth's travel limit is checked there.
     bool parallel = false;
     // Its own keys, in the order of its settings' values (the perspective camera: distance,
-    // fov_deg); none for the orthographic camera.
+    // fov_deg, resolution); none for the orthographic camera.
     std::vector<CameraKey> keys = {};
+    // "" when the camera at this setting can measure `samples` per side, else why not (the
+    // perspective camera: samples picks N x N pixels of its image, so N <= resolution; and
+    // with `neighbours`, when something takes differences between neighbouring samples as
+    // between neighbouring pixels (lod implicit), N = resolution); nullptr: any.
+    std::string (*samples_problem)(const CameraSetting& setting, int samples,
+                                   bool neighbours) = nullptr;
 };
 const CameraEntry& camera_entry(const std::string& name, const std::string& loc);
 const std::vector<CameraEntry>& camera_registry();

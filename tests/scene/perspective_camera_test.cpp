@@ -355,5 +355,41 @@ TEST(PerspectiveCamera, BadParametersAreRefused) {
     }
 }
 
+// samples N < resolution R: the view's samples are pixels of the R x R image, spread evenly
+// (floor((a + 0.5) R / N) per axis), each with the full image's ray, footprint and inside flag,
+// bit for bit; N = R is the whole image in its order.
+TEST(PerspectiveCamera, SubsetPixelsKeepTheFullImagesRaysAndFootprints) {
+    EXPECT_EQ(subset_pixel(0, 8, 32), 2);
+    EXPECT_EQ(subset_pixel(7, 8, 32), 30);
+    EXPECT_EQ(subset_pixel(0, 3, 10), 1);  // floor(10/6)
+    EXPECT_EQ(subset_pixel(1, 3, 10), 5);  // floor(30/6)
+    EXPECT_EQ(subset_pixel(2, 3, 10), 8);  // floor(50/6)
+    for (int n = 1; n <= 9; ++n)
+        for (int a = 0; a < n; ++a) EXPECT_EQ(subset_pixel(a, n, n), a);
+    for (const int n : {5, 16, 37}) {
+        PerspectiveParams full = params(78, 40, 1.5, 60, 37), sub = full;
+        sub.samples = n;
+        sub.resolution = 37;
+        const View vf = PerspectiveCamera(full).view(), vs = PerspectiveCamera(sub).view();
+        ASSERT_EQ(vs.size(), size_t(n) * n);
+        size_t outside = 0;
+        for (int b = 0; b < n; ++b)
+            for (int a = 0; a < n; ++a) {
+                const size_t k = size_t(b) * n + a;
+                const size_t f = size_t(subset_pixel(b, n, 37)) * 37 + subset_pixel(a, n, 37);
+                EXPECT_TRUE(vs.has_ray(k, vf.P[f], vf.V[f])) << n << " " << a << " " << b;
+                EXPECT_EQ(vs.J[k].dPdi.x, vf.J[f].dPdi.x);
+                EXPECT_EQ(vs.J[k].dPdj.y, vf.J[f].dPdj.y);
+                EXPECT_EQ(vs.inside[k], vf.inside[f]);
+                outside += !vs.is_inside(k);
+            }
+        EXPECT_GT(outside, 0u) << "the view should reach past the horizon at 78 deg, fov 60";
+    }
+    PerspectiveParams over = params(45, 0, 2, 45, 33);
+    over.resolution = 32;
+    EXPECT_EQ(perspective_problem(over),
+              "samples = 33 exceeds the image's resolution 32 (samples picks N x N of its pixels)");
+}
+
 }  // namespace
 }  // namespace pxh

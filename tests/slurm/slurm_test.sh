@@ -82,6 +82,18 @@ opts=(--samples 8)
 "$pxh" run "$exp" "${opts[@]}" --quiet --out "$work/full" >"$work/full.log" 2>&1 ||
   fail "the unsharded run failed: $(tail -n 1 "$work/full.log")"
 
+# A refused submit creates nothing and says why in one line: a partition the cluster lacks,
+# and an OUT that sbatch would read as a pattern.
+bad=$(SBATCH_PARTITION=no_such_partition PXH="$pxh" "$src/examples/slurm/submit.sh" "$exp" "$work/bad" 2 2>&1) &&
+  fail "submit.sh to a missing partition passed: $bad"
+[ "$(wc -l <<<"$bad")" -eq 1 ] || fail "submit.sh's refusal is not one line: $bad"
+grep -q "sbatch refused the job array: .*partition.*(SBATCH_PARTITION" <<<"$bad" ||
+  fail "submit.sh does not explain sbatch's refusal: $bad"
+[ ! -e "$work/bad.slices" ] && [ ! -e "$work/bad" ] || fail "a refused submit left $work/bad.slices behind"
+echo "slurm_test: refused submit: $bad"
+pct=$(PXH="$pxh" "$src/examples/slurm/submit.sh" "$exp" "$work/run-%j" 2 2>&1) && fail "OUT with % accepted: $pct"
+grep -q "pattern" <<<"$pct" && [ ! -e "$work/run-%j.slices" ] || fail "OUT with %: $pct"
+
 submitted=$(PXH="$pxh" "$src/examples/slurm/submit.sh" "$exp" "$work/merged" 4 "${opts[@]}" 2>&1) ||
   fail "submit.sh: $submitted"
 echo "slurm_test: $submitted"
@@ -109,4 +121,17 @@ cmp_out=$(python3 "$src/scripts/compare_results.py" "$work/full/results.csv" "$w
   fail "merged != unsharded: $cmp_out"
 echo "slurm_test: $(head -n 1 <<<"$cmp_out" | sed 's/, timing columns skipped.*//'): $(tail -n 1 <<<"$cmp_out")"
 echo "slurm_test: $verified"
+
+# A requeued task whose slice is complete has nothing to do (exit 0, so afterok still holds);
+# the merge takes complete slices only, not a killed task's .partial folder.
+requeue=$(SLURM_ARRAY_TASK_ID=2 SLURM_ARRAY_TASK_COUNT=4 PXH="$pxh" \
+  bash "$src/examples/slurm/sweep.sbatch" "$exp" "$work/merged.slices" "${opts[@]}" 2>&1) ||
+  fail "a requeued task of a complete slice failed: $requeue"
+grep -q "complete already" <<<"$requeue" || fail "requeued task: $requeue"
+mkdir "$work/merged.slices/shard-1.partial-999-abcdef01" || fail "cannot make a stray partial folder"
+remerge=$(PXH="$pxh" bash "$src/examples/slurm/merge.sbatch" "$work/remerged" "$work/merged.slices" 2>&1) ||
+  fail "merge.sbatch with a stray .partial folder: $remerge"
+cmp_out=$(python3 "$src/scripts/compare_results.py" "$work/full/results.csv" "$work/remerged/results.csv") ||
+  fail "re-merged != unsharded: $cmp_out"
+echo "slurm_test: requeue of a complete slice skipped; a stray .partial folder left out of the merge"
 echo "slurm_test: passed in $(($(date +%s) - t0)) s"

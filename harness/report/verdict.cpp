@@ -1,0 +1,135 @@
+#include "harness/report/verdict.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <system_error>
+
+#include "harness/core/error.h"
+#include "harness/core/safe_files.h"
+
+namespace pxh {
+namespace {
+
+constexpr const char* kMark = "pxh verdict";  // in the first bytes of every file written here
+
+std::string xml_escaped(const std::string& s) {
+    std::string out;
+    for (const char c : s) {
+        switch (c) {
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
+            default:
+                // XML 1.0 has no control characters but tab and newline.
+                if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') out += ' ';
+                else out += c;
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+size_t Verdict::failures() const {
+    size_t n = 0;
+    for (const VerdictCase& c : cases) n += !c.passed;
+    return n;
+}
+
+std::string junit_xml(const Verdict& v) {
+    std::ostringstream x;
+    x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!-- " << kMark << ": " << v.tool
+      << " -->\n";
+    x << "<testsuites name=\"" << xml_escaped(v.tool) << "\" tests=\"" << v.cases.size()
+      << "\" failures=\"" << v.failures() << "\" errors=\"0\">\n";
+    x << "  <testsuite name=\"" << xml_escaped(v.tool + " " + v.subject) << "\" tests=\""
+      << v.cases.size() << "\" failures=\"" << v.failures() << "\" errors=\"0\" skipped=\"0\">\n";
+    x << "    <properties><property name=\"summary\" value=\"" << xml_escaped(v.summary)
+      << "\"/></properties>\n";
+    for (const VerdictCase& c : v.cases) {
+        x << "    <testcase classname=\"" << xml_escaped(c.group) << "\" name=\""
+          << xml_escaped(c.name) << "\"";
+        if (c.passed) {
+            x << "/>\n";
+            continue;
+        }
+        x << ">\n      <failure message=\"" << xml_escaped(c.message) << "\" type=\"regression\">";
+        for (size_t i = 0; i < c.details.size(); ++i)
+            x << (i ? "\n" : "") << xml_escaped(c.details[i]);
+        x << "</failure>\n    </testcase>\n";
+    }
+    x << "  </testsuite>\n</testsuites>\n";
+    return x.str();
+}
+
+std::string verdict_json(const Verdict& v) {
+    nlohmann::ordered_json j;
+    j["format"] = std::string(kMark) + " 1";
+    j["tool"] = v.tool;
+    j["subject"] = v.subject;
+    j["passed"] = v.exit_code == 0;
+    j["exit_code"] = v.exit_code;
+    j["summary"] = v.summary;
+    j["failures"] = v.failures();
+    j["cases"] = nlohmann::ordered_json::array();
+    for (const VerdictCase& c : v.cases) {
+        nlohmann::ordered_json e;
+        e["name"] = c.name;
+        e["group"] = c.group;
+        e["passed"] = c.passed;
+        if (!c.message.empty()) e["message"] = c.message;
+        if (!c.details.empty()) e["details"] = c.details;
+        for (const auto& [k, value] : c.values)
+            e[k] = std::isfinite(value) ? nlohmann::ordered_json(value) : nullptr;
+        j["cases"].push_back(std::move(e));
+    }
+    return j.dump(2) + "\n";
+}
+
+void write_verdict_file(const std::string& path, const std::string& text, const char* option) {
+    namespace fs = std::filesystem;
+    if (path.empty()) throw InputError(option, "an empty file name");
+    std::error_code ec;
+    const fs::file_status st = fs::symlink_status(path, ec);
+    if (fs::exists(st)) {
+        if (!fs::is_regular_file(st))
+            throw InputError(option, path + " exists and is not a regular file: not replaced");
+        std::ifstream in(path, std::ios::binary);
+        std::string head(256, '\0');
+        in.read(head.data(), std::streamsize(head.size()));
+        head.resize(size_t(in.gcount()));
+        if (head.find(kMark) == std::string::npos)
+            throw InputError(option, path +
+                                         " exists and is not a verdict pxh wrote: not replaced "
+                                         "(name a new file, or remove it yourself)");
+    }
+    const fs::path p(path);
+    const fs::path tmp = p.parent_path() / (".pxh-verdict-" + random_hex8() + ".tmp");
+    try {
+        create_new_file(tmp, text);
+    } catch (const std::exception& e) {
+        throw InputError(option, e.what());
+    }
+    fs::rename(tmp, p, ec);
+    if (ec) {
+        fs::remove(tmp);
+        throw InputError(option, path + ": cannot write: " + ec.message());
+    }
+}
+
+}  // namespace pxh
