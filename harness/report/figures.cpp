@@ -15,8 +15,10 @@
 
 #include "harness/core/error.h"
 #include "harness/core/shipped_files.h"
+#include "harness/metrics/columns.h"
 #include "harness/report/report_data.h"
 #include "harness/results/error_maps.h"
+#include "harness/scene/view.h"
 
 extern char** environ;
 
@@ -42,6 +44,16 @@ std::string key_fields(const ResultRow& r) {
     for (const char* k : {"backend", "precision", "texture_format"})
         out += "," + csv_quote(r.text(k));
     return out;
+}
+
+// A row's camera view as CSV fields: its view (view_of: "distance=4 fov_deg=45 resolution=256",
+// empty for a camera without keys), the part of pxh run's file names that tells views apart
+// (camera_name_part: "_d4_f45_r256") and its level mode; the plotter groups pictures and maps
+// by the view, names its files by the tag and titles their panels with both.
+const char* const kViewHeader = "camera_view,camera_tag,lod";
+std::string view_fields(const ResultRow& r) {
+    return csv_quote(view_of(r)) + "," + csv_quote(camera_name_part(r)) + "," +
+           csv_quote(r.text("lod"));
 }
 
 // A picture or map path of row i (column c): relative to the results folder and inside it, no
@@ -157,7 +169,8 @@ void vs_distance(const ReportData& d) {
 // data/error_scale.csv, the colour scale every map was drawn with (error_colour).
 void maps(const ReportData& d) {
     std::ostringstream o;
-    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map,map_x0,map_y0,map_side\n";
+    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map,map_x0,map_y0,map_side,"
+      << kViewHeader << "\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
@@ -170,7 +183,7 @@ void maps(const ReportData& d) {
         o << csv_quote(field_of(r)) << "," << csv_quote(r.cell("phi_deg")) << ","
           << csv_quote(series_of(r)) << "," << key_fields(r) << ","
           << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "," << box.x0 << ","
-          << box.y0 << "," << box.side << "\n";
+          << box.y0 << "," << box.side << "," << view_fields(r) << "\n";
         ++n;
     }
     if (!n) return;
@@ -313,7 +326,10 @@ void cost_vs_error_bands(const ReportData& d) {
 void pictures(const ReportData& d) {
     std::ostringstream o;
     o << "heightfield,theta_deg,phi_deg,series," << kKeyHeader
-      << ",img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use\n";
+      << ",img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use," << kViewHeader;
+    // the camera's keys as numbers too (empty on a row without them)
+    for (const CameraKey& k : camera_key_columns()) o << "," << csv_quote(k.name);
+    o << "\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
@@ -324,6 +340,8 @@ void pictures(const ReportData& d) {
           << "," << csv_num(r.num("img_psnr_db")) << "," << csv_num(r.num("img_ssim"));
         for (const char* c : {"picture", "picture_diff", "picture_truth", "picture_use"})
             o << "," << csv_quote(r.text(c));
+        o << "," << view_fields(r);
+        for (const CameraKey& k : camera_key_columns()) o << "," << csv_num(r.num(k.name));
         o << "\n";
         ++n;
     }
@@ -337,8 +355,9 @@ void images_table(const ReportData& d) {
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
         if (r.text("picture_use").find("montage") == std::string::npos) continue;
-        const std::string v =
-            r.text("heightfield") + " θ=" + r.cell("theta_deg") + " φ=" + r.cell("phi_deg");
+        const std::string cam = view_of(r);
+        const std::string v = r.text("heightfield") + " θ=" + r.cell("theta_deg") +
+                              " φ=" + r.cell("phi_deg") + (cam.empty() ? "" : " " + cam);
         if (std::find(views.begin(), views.end(), v) == views.end()) views.push_back(v);
         const double p = r.num("img_psnr_db");
         cell[series_of(r)][v] =

@@ -529,15 +529,25 @@ def distance_axis(ax, distances, show_labels, width_in):
 
 
 def vs_distance(F, st, rows):
-    """error_vs_distance: texel error (top row) and pixel error (bottom row) against the eye's
-    distance, a column per view angle; one figure per field (error_vs_distance_1, _2, ... in
-    the run's field order when there are several), means and p95 as in vs_theta."""
+    """error_vs_distance_FIELD: texel error (top row) and pixel error (bottom row) against the
+    eye's distance, a column per view angle; one figure per field (named by it, as the error
+    maps and pictures are), means and p95 as in vs_theta."""
     if not rows:
         return
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
-    for k, field in enumerate(fields):
-        name = "error_vs_distance" if len(fields) == 1 else f"error_vs_distance_{k + 1}"
-        vs_distance_field(F, st, [r for r in rows if r["heightfield"] == field], name)
+    for field in fields:
+        vs_distance_field(F, st, [r for r in rows if r["heightfield"] == field],
+                          safe(f"error_vs_distance_{field}"))
+
+
+def linthresh_of(values, most=0.01):
+    """The linear range of a symlog error axis: a decade below the smallest positive value
+    (at most `most`), so small errors (pixel errors near 1e-3 far away) lie on the log part,
+    with a decade tick at or below them, and are not squashed onto the axis."""
+    v = [x for x in values if x is not None and math.isfinite(x) and x > 0]
+    if not v:
+        return most
+    return min(most, 10.0 ** (math.floor(math.log10(min(v)) + 1e-9) - 1))
 
 
 def vs_distance_field(F, st, rows, name):
@@ -553,7 +563,7 @@ def vs_distance_field(F, st, rows, name):
     ph = pw * 0.72
     fig, grid = plt.subplots(nr, nc, figsize=(F.width, ph * nr + 0.35), squeeze=False,
                              constrained_layout=True)
-    folded_all, series, panels = {}, 0, 0
+    folded_all, series, panels, y_ticks = {}, 0, 0, {}
     quantities = (("err_mean", "err_p95", "texel error", 0.01),
                   ("err_px_mean", "err_px_p95", "pixel error", 0.01))
     for f, field in enumerate(fields):
@@ -573,8 +583,12 @@ def vs_distance_field(F, st, rows, name):
                 folded_all.update(folded)
                 series += n
                 panels += 1
-                top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin)
-                error_axis(ax, lin, top, ph)
+                vals = [num(r[k]) for r in rows if r["heightfield"] == field
+                        for k in (mean, p95)]
+                lin_q = linthresh_of(vals, lin)
+                top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin_q)
+                error_axis(ax, lin_q, top, ph)
+                y_ticks.setdefault(label, [float(t) for t in ax.get_yticks()])
                 last = 2 * f + q == nr - 1
                 distance_axis(ax, distances, last, pw)
                 head = f"θ = {theta:g}°" + ("" if len(fields) == 1 else f", {titles[field]}")
@@ -591,7 +605,7 @@ def vs_distance_field(F, st, rows, name):
     note = join_notes("top: texel error; bottom: pixel error |J⁻¹e| (means over φ and fov)",
                       field_note, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, name, panels, series, legend, note=note)
+    F.save(fig, name, panels, series, legend, note=note, y_ticks=y_ticks)
 
 
 def unit_of(cost):
@@ -806,9 +820,11 @@ def montage(F, st, rows, scale):
     every tile on the one colour scale pxh run draws, its bar drawn once below."""
     results = os.path.dirname(os.path.abspath(F.out))  # map paths: relative to the results
     views = {}
-    for r in rows:
-        views.setdefault((r.get("heightfield", ""), r.get("phi_deg", "")), []).append(r)
-    for (field, phi), vrows in views.items():
+    for r in rows:  # a montage per field, azimuth and camera view
+        views.setdefault((r.get("heightfield", ""), r.get("phi_deg", ""),
+                          r.get("camera_view", "")), []).append(r)
+    for (field, phi, _), vrows in views.items():
+        cam = view_title(vrows[0])
         thetas = sorted({num(r["theta_deg"]) for r in vrows})
         per = {}
         for r in vrows:
@@ -836,8 +852,11 @@ def montage(F, st, rows, scale):
             label = " ".join(x for x in (s[0], short_params(s[1])) if x)  # whole: 2 lines
             labels.append(fit(f"{label} [{' = '.join(gs)}]", F.width - 0.1, 6, 2))
         # above each row its label (one or two lines of 6 pt), above the first the θ titles
+        # (upright, or thinned, where many angles leave narrow tiles)
+        heads, rotation, short = column_heads(thetas, cell)
+        head_h = 0.15 if not rotation else max(len(h) for h in heads) * 6.5 * 0.62 / 72 + 0.06
         pads = [0.05 + (lab.count("\n") + 1) * 6 * 1.25 / 72 for lab in labels]
-        pads[0] += 0.15
+        pads[0] += head_h
         height = sum(pads) + len(tiles) * cell + bar
         fig = plt.figure(figsize=(F.width, height))
         sides = [im.shape[0] for _, _, imgs in tiles for im in imgs.values() if im is not None]
@@ -858,21 +877,56 @@ def montage(F, st, rows, scale):
             ax.imshow(row, interpolation="nearest", aspect="auto")
             ax.axis("off")
             if i == 0:
-                for j, th in enumerate(thetas):
-                    fig.text((margin + j * (cell + gap) + cell / 2) / F.width,
-                             (y + pads[0] - 0.13) / height + cell / height, f"θ = {th:g}°",
-                             ha="center", va="bottom", fontsize=6.5)
+                for j, head in enumerate(heads):
+                    if head:
+                        fig.text((margin + j * (cell + gap) + cell / 2) / F.width,
+                                 (y + cell + pads[0] - head_h + 0.02) / height, head,
+                                 ha="center", va="bottom", fontsize=6.5, rotation=rotation)
             fig.text(0.5, (y + cell + 0.02) / height, labels[i], ha="center", va="bottom",
                      fontsize=6)
         bw = min(F.width - 0.6, 4.0)
         error_colourbar(fig, [(F.width - bw) / 2 / F.width, 0.36 / height, bw / F.width,
                               0.1 / height], scale)
-        fig.suptitle(fit(f"error maps: {field}, φ = {phi}°\na row per method setting; maps "
+        fig.suptitle(fit(f"error maps: {field}, φ = {phi}°" + (f", {cam}" if cam else "") +
+                         ("\ncolumns: view angle θ" if short else "") +
+                         "\na row per method setting; maps "
                          "identical pixel for pixel shown once, their backends named together",
-                         F.width - 0.1, 7, 4), fontsize=7, y=1.0, va="bottom")
-        name = safe(f"error_maps_{field}_p{phi}")
+                         F.width - 0.1, 7, 5), fontsize=7, y=1.0, va="bottom")
+        name = safe(f"error_maps_{field}_p{phi}{vrows[0].get('camera_tag') or ''}")
         F.save(fig, name, len(tiles) * len(thetas), len(tiles), [],
                rows=[f"{s[0]} {s[1]} [{' = '.join(gs)}]".strip() for s, gs, _ in tiles])
+
+
+def view_title(r):
+    """A row's camera view as a title part, from its camera_view field (data/pictures.csv,
+    data/maps.csv: the camera's own keys, "distance=4 fov_deg=45"): "distance = 4,
+    fov_deg = 45"; "" for a camera without keys (orthographic) or data without the field."""
+    kv = [p.split("=", 1) for p in (r.get("camera_view") or "").split() if "=" in p]
+    return ", ".join(f"{k} = {v}" for k, v in kv)
+
+
+def view_tag(r):
+    """The part of file names that tells camera views apart (pxh run's own: "_d4_f45_r256")
+    and a level mode other than base ("_level")."""
+    lod = r.get("lod") or ""
+    return (r.get("camera_tag") or "") + ("" if lod in ("", "base") else f"_{lod}")
+
+
+def column_heads(thetas, cell, pt=6.5):
+    """The θ heads of a montage's columns, each a tile `cell` inches wide: ("θ = 30°", 0)
+    where those fit, else the angles alone ("30°": the title says the columns are θ), else
+    the angles turned upright (90); upright heads too close for their line height are
+    thinned to every k-th column. Returns (heads, rotation, shortened)."""
+    def width(t):
+        return len(t) * pt * 0.62 / 72
+    full = [f"θ = {t:g}°" for t in thetas]
+    if all(width(t) <= cell - 0.03 for t in full):
+        return full, 0, False
+    short = [f"{t:g}°" for t in thetas]
+    if all(width(t) <= cell - 0.03 for t in short):
+        return short, 0, True
+    step = max(1, math.ceil(pt * 1.3 / 72 / max(cell + 0.04, 1e-3)))
+    return [h if j % step == 0 else "" for j, h in enumerate(short)], 90, True
 
 
 def safe(name):
@@ -958,8 +1012,10 @@ def picture_montage(F, st, results, rows):
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
+    cam = view_title(r0)
     title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
-                f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
+                f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                ": a numbered checkerboard through each "
                 "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
                 F.width, 7, 4)
 
@@ -991,7 +1047,8 @@ def picture_montage(F, st, results, rows):
         bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
                     ha="center", va="top", transform=bottom.transAxes)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
-    name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
+    name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
+                + (r0.get("camera_tag") or ""))
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
 
@@ -1019,10 +1076,12 @@ def strip(F, st, results, rows):
         axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
                               fontsize=5 if small else 6, labelpad=2)
     r0 = rows[0]
+    cam = view_title(r0)
     fig.suptitle(fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
-                     f"(φ = {num(r0['phi_deg']):g}°); under each: PSNR dB, SSIM", F.width, 7, 2),
+                     f"(φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                     "); under each: PSNR dB, SSIM", F.width, 7, 3),
                  fontsize=7, y=1.0, va="top")
-    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}")
+    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}")
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
 
@@ -1059,11 +1118,14 @@ def pictures(F, st, rows):
     results = os.path.dirname(os.path.abspath(F.out))
     views = {}
     strips = {}
-    for r in rows:
+    for r in rows:  # a montage per view (camera keys included: one truth each), a strip per
+        # field, azimuth, camera view and setting (its level mode: one strip each)
+        cam = r.get("camera_view", "")
         if "montage" in r["picture_use"].split():
-            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"]), []).append(r)
+            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam),
+                             []).append(r)
         if "strip" in r["picture_use"].split():
-            strips.setdefault((r["heightfield"], r["phi_deg"]), []).append(r)
+            strips.setdefault((r["heightfield"], r["phi_deg"], cam, setting(r)), []).append(r)
     for v in views.values():
         picture_montage(F, st, results, v)
     for v in strips.values():
@@ -1091,7 +1153,10 @@ def main():
     vt = read(os.path.join(data, "vs_theta.csv"))
     cost = read(os.path.join(data, "cost_vs_error.csv"))
     bands = read(os.path.join(data, "cost_vs_error_bands.csv"))
-    st = Styles([setting(r) for r in cost + vt + bands], width)
+    maps = os.path.join(data, "maps.csv")
+    pics = os.path.join(data, "pictures.csv")
+    extra = [read(p) for p in (maps, pics) if os.path.exists(p)]
+    st = Styles([setting(r) for r in cost + vt + bands + [r for e in extra for r in e]], width)
     vs_theta(F, st, vt)
     sweep_vs_theta(F, st, vt)
     vd_path = os.path.join(data, "vs_distance.csv")
@@ -1099,10 +1164,8 @@ def main():
         vs_distance(F, st, read(vd_path))
     cost_figure(F, st, bands, "cost_vs_error", ["fetches_mean"])
     cost_figure(F, st, bands, "time_vs_error", time_costs(bands))
-    maps = os.path.join(data, "maps.csv")
     if os.path.exists(maps):
         montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))
-    pics = os.path.join(data, "pictures.csv")
     if os.path.exists(pics):
         pictures(F, st, read(pics))
     F.manifest()

@@ -12,7 +12,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "harness/metrics/row.h"
 #include "harness/results/csv_table.h"
+#include "harness/results/results.h"
 #include "tests/cli_util.h"
 
 namespace fs = std::filesystem;

@@ -49,8 +49,9 @@ TEST(CameraKeys, EachSettingsValuesAreItsCamerasKeysInOrder) {
     for (const CameraEntry& e : camera_registry()) {
         const ParamDict p =
             ParamDict::parse("distance = [1.5, 3]\nfov_deg = 60\n", "v.toml", "[views]");
-        const std::vector<CameraSetting> settings =
-            e.name == std::string("perspective") ? e.read(p, "v.toml:1") : e.read({}, "v.toml:1");
+        const std::vector<CameraSetting> settings = e.name == std::string("perspective")
+                                                        ? e.read(p, "v.toml:1", 64)
+                                                        : e.read({}, "v.toml:1", 64);
         ASSERT_FALSE(settings.empty()) << e.name;
         for (const CameraSetting& s : settings) {
             ASSERT_EQ(s.values.size(), e.keys.size()) << e.name;
