@@ -80,16 +80,18 @@ const std::string& inside_path(const ReportData& d, size_t i, const char* c) {
     return rel;
 }
 
-// data/vs_theta.csv: error and sweeps against θ per field and series (means over φ).
+// data/vs_theta.csv: error and sweeps against θ per field, series and camera view (means over
+// φ; a camera run's views apart: a mean over distances mixes errors orders of magnitude apart),
+// with a camera view's pixel error.
 void vs_theta(const ReportData& d) {
-    using Key = std::tuple<std::string, std::string, double>;
-    std::map<Key, std::array<Mean, 4>> acc;
+    using Key = std::tuple<std::string, std::string, double, std::string>;
+    std::map<Key, std::array<Mean, 6>> acc;
     std::map<Key, size_t> first;
     std::map<Key, std::vector<std::string>> phis;  // the azimuths each mean is over
     std::vector<Key> order;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
-        const Key key{field_of(r), series_of(r), r.num("theta_deg")};
+        const Key key{field_of(r), series_of(r), r.num("theta_deg"), view_of(r)};
         if (!acc.count(key)) {
             order.push_back(key);
             first[key] = i;
@@ -102,11 +104,15 @@ void vs_theta(const ReportData& d) {
         a[1].add(r.num("err_p95"));
         a[2].add(r.num("sliding"));
         a[3].add(r.num("shimmering"));
+        if (!std::get<3>(key).empty()) {  // orthographic rows: a fixed multiple of the texels
+            a[4].add(r.num("err_px_p50"));
+            a[5].add(r.num("err_px_p95"));
+        }
     }
     std::ostringstream o;
     o << "heightfield,series," << kKeyHeader
       << ",theta_deg,err_p50,err_p95,sliding,shimmering,"
-         "phi_deg_list\n";
+         "phi_deg_list,camera_view,camera_tag,err_px_p50,err_px_p95\n";
     for (const auto& k : order) {
         const auto& a = acc[k];
         o << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
@@ -115,7 +121,9 @@ void vs_theta(const ReportData& d) {
           << csv_num(a[3].get());
         std::string pl;
         for (const auto& p : phis[k]) pl += (pl.empty() ? "" : ";") + p;
-        o << "," << csv_quote(pl) << "\n";
+        o << "," << csv_quote(pl) << "," << csv_quote(std::get<3>(k)) << ","
+          << csv_quote(camera_name_part(d.row(first[k]))) << "," << csv_num(a[4].get()) << ","
+          << csv_num(a[5].get()) << "\n";
     }
     d.write("data/vs_theta.csv", o.str());
 }

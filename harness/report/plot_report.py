@@ -434,7 +434,25 @@ def panel_size(F, nc, aspect):
     return pw, pw * aspect
 
 
-def vs_theta(F, st, rows):
+def by_view(rows):
+    """[(rows, tag, title)] per camera view of vs_theta.csv rows (the camera's keys: a view
+    each, in ascending order of their values; one, with no tag or title, for a camera
+    without keys or data without the field)."""
+    views = {}
+    for r in rows:
+        views.setdefault(r.get("camera_view") or "", []).append(r)
+
+    def values(v):
+        return [num(p.split("=", 1)[1]) or 0 for p in v.split() if "=" in p]
+    return [(vr, vr[0].get("camera_tag") or "", view_title(vr[0]))
+            for v, vr in sorted(views.items(), key=lambda kv: values(kv[0]))]
+
+
+def vs_theta(F, st, rows, tag="", cam=""):
+    """error_vs_theta: p50 and p95 texel error against θ, a panel per field; a camera view's
+    (error_vs_theta_d4_f45_r256: one per view) with its pixel error in the rows below."""
+    if cam and any(num(r.get("err_px_p50")) is not None for r in rows):
+        return vs_theta_camera(F, st, rows, tag, cam)
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
     titles, common = field_titles(fields)
     nc = F.columns(len(fields))
@@ -461,12 +479,63 @@ def vs_theta(F, st, rows):
                   key=lambda p: num(p) if num(p) is not None else 0)
     azimuth = ("means over the azimuths φ = " + ", ".join(phis) + "°") if len(phis) > 1 else (
         f"φ = {phis[0]}°" if phis else None)
-    note = join_notes(azimuth, common, fold_note(folded_all))
+    note = join_notes(azimuth, f"camera: {cam}" if cam else None, common,
+                      fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, "error_vs_theta", len(fields), series, legend, note=note)
+    F.save(fig, "error_vs_theta" + tag, len(fields), series, legend, note=note)
 
 
-def sweep_vs_theta(F, st, rows):
+def azimuth_note(rows):
+    phis = sorted({p for r in rows for p in r.get("phi_deg_list", "").split(";") if p},
+                  key=lambda p: num(p) if num(p) is not None else 0)
+    return ("means over the azimuths φ = " + ", ".join(phis) + "°") if len(phis) > 1 else (
+        f"φ = {phis[0]}°" if phis else None)
+
+
+def vs_theta_camera(F, st, rows, tag, cam):
+    """A camera view's error_vs_theta: texel error (top rows) and pixel error |J⁻¹e| (rows
+    below), p50 solid, p95 hollow, a panel per field."""
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    titles, common = field_titles(fields)
+    nc = F.columns(len(fields))
+    per = math.ceil(len(fields) / nc)
+    fig, grid = plt.subplots(2 * per, nc, figsize=(F.width, F.width / nc * 0.72 * 2 * per + 0.35),
+                             squeeze=False, constrained_layout=True)
+    pw, ph = panel_size(F, nc, 0.72)
+    folded_all, series, panels = {}, 0, 0
+    for q, (p50, p95, what) in enumerate((("err_p50", "err_p95", "texel error"),
+                                          ("err_px_p50", "err_px_p95", "pixel error"))):
+        for k in range(per * nc):
+            ax = grid[q * per + k // nc][k % nc]
+            if k >= len(fields):
+                ax.axis("off")
+                continue
+            field = fields[k]
+            folded, n = draw_curves(ax, st, curves_of(rows, field, (p50, p95)), True)
+            folded_all.update(folded)
+            series += n
+            panels += 1
+            vals = [num(r[c]) for r in rows if r["heightfield"] == field for c in (p50, p95)]
+            lin = linthresh_of(vals, 0.01)
+            error_axis(ax, lin, top_of(vals, lin), ph)
+            ax.set_title(fit(f"{what.split()[0]}: {titles[field]}", 0.8 * pw, 8, 2))
+            bottom = q == 1 and k >= len(fields) - nc
+            theta_axis(ax, bottom)
+            if k % nc == 0:
+                ax.set_ylabel(what)
+            if bottom:
+                ax.set_xlabel("view angle θ (°)")
+    handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
+    handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="p50"),
+                mlines.Line2D([], [], color="0.3", lw=0.7, marker="o", mfc="white",
+                              label="p95")]
+    note = join_notes(f"camera: {cam}; top: texel error, below: pixel error |J⁻¹e|",
+                      azimuth_note(rows), common, fold_note(folded_all))
+    legend = F.legend(fig, handles, note)
+    F.save(fig, "error_vs_theta" + tag, panels, series, legend, note=note)
+
+
+def sweep_vs_theta(F, st, rows, tag="", cam=""):
     last_theta = max((num(r["theta_deg"]) for r in rows if num(r["theta_deg"]) is not None),
                      default=None)
     rows = [r for r in rows if num(r["sliding"]) is not None or num(r["shimmering"]) is not None]
@@ -505,10 +574,10 @@ def sweep_vs_theta(F, st, rows):
     why = (f"sliding, shimmering: change to the next θ of the sweep, so the last θ "
            f"({last_theta:g}°) has none (sweep_dt_deg gives every θ a step)"
            ) if missing_last else None
-    note = join_notes("top rows: sliding; bottom rows: shimmering (each a mean over φ)", why,
-                      common, fold_note(folded_all))
+    note = join_notes("top rows: sliding; bottom rows: shimmering (each a mean over φ)",
+                      f"camera: {cam}" if cam else None, why, common, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, "sweep_vs_theta", panels, series, legend, note=note)
+    F.save(fig, "sweep_vs_theta" + tag, panels, series, legend, note=note)
 
 
 def distance_axis(ax, distances, show_labels, width_in):
@@ -588,6 +657,9 @@ def vs_distance_field(F, st, rows, name):
                 lin_q = linthresh_of(vals, lin)
                 top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin_q)
                 error_axis(ax, lin_q, top, ph)
+                # every decade marked (unlabelled where the labels were thinned to fit)
+                ax.yaxis.set_minor_locator(matplotlib.ticker.FixedLocator(
+                    decade_ticks(lin_q, top, 100, first_step=1)))
                 y_ticks.setdefault(label, [float(t) for t in ax.get_yticks()])
                 last = 2 * f + q == nr - 1
                 distance_axis(ax, distances, last, pw)
@@ -1059,7 +1131,14 @@ def strip(F, st, results, rows):
     g = group(rows[0])
     rows = sorted((r for r in rows if group(r) == g), key=lambda r: num(r["theta_deg"]))
     n = len(rows)
-    fig, axes = image_grid(F.width, n, [0.45, 0.03, 0.03], 0.3, left=0.3)
+    r0 = rows[0]
+    cam = view_title(r0)
+    title = fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
+                f"(φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                "); under each: PSNR dB, SSIM", F.width, 7, 3)
+    # above the tiles: the title's lines (7 pt) and the θ heads (6 pt); 0.45 in for two lines
+    top = max(0.45, (title.count("\n") + 1) * 7 * 1.25 / 72 + 6 * 1.25 / 72 + 0.1)
+    fig, axes = image_grid(F.width, n, [top, 0.03, 0.03], 0.3, left=0.3)
     for j, r in enumerate(rows):
         for i, key in enumerate(("picture_truth", "picture", "picture_diff")):
             show(axes[i][j], load(results, r[key]))
@@ -1075,12 +1154,7 @@ def strip(F, st, results, rows):
     for i, lab in enumerate(("truth", st.labels[s], "|diff.|" if small else "|difference|")):
         axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
                               fontsize=5 if small else 6, labelpad=2)
-    r0 = rows[0]
-    cam = view_title(r0)
-    fig.suptitle(fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
-                     f"(φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
-                     "); under each: PSNR dB, SSIM", F.width, 7, 3),
-                 fontsize=7, y=1.0, va="top")
+    fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}")
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
@@ -1157,8 +1231,9 @@ def main():
     pics = os.path.join(data, "pictures.csv")
     extra = [read(p) for p in (maps, pics) if os.path.exists(p)]
     st = Styles([setting(r) for r in cost + vt + bands + [r for e in extra for r in e]], width)
-    vs_theta(F, st, vt)
-    sweep_vs_theta(F, st, vt)
+    for rows, tag, cam in by_view(vt):  # a camera run: a figure per camera view
+        vs_theta(F, st, rows, tag, cam)
+        sweep_vs_theta(F, st, rows, tag, cam)
     vd_path = os.path.join(data, "vs_distance.csv")
     if os.path.exists(vd_path):
         vs_distance(F, st, read(vd_path))
