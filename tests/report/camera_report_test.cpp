@@ -249,4 +249,21 @@ TEST_F(CameraReport, PicturesCarryTheViewAndLevelMode) {
     EXPECT_EQ(md_row(md, "pom lod=level [cpu/float]").size(), 2u) << md;
 }
 
+// data/vs_theta.csv: a line per camera view (never a mean over distances), with its pixel
+// error, so error_vs_theta and sweep_vs_theta are drawn per view.
+TEST_F(CameraReport, VsThetaIsPerViewWithPixelError) {
+    const fs::path rep = report(results({
+        row("pom", "base", 60, 1, 0.5, 1.0, 0.25, 0.5),
+        row("pom", "base", 60, 16, 50, 100, 0.002, 0.004),
+    }));
+    const pxh::CsvTable t = pxh::read_csv((rep / "data" / "vs_theta.csv").string());
+    ASSERT_EQ(t.rows.size(), 2u);
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        const bool near = t.get(r, "camera_view") == "distance=1 fov_deg=45 resolution=64";
+        EXPECT_EQ(t.get(r, "camera_tag"), near ? "_d1_f45_r64" : "_d16_f45_r64");
+        EXPECT_EQ(t.get(r, "err_p95"), near ? "1" : "100");
+        EXPECT_EQ(t.get(r, "err_px_p95"), near ? "0.5" : "0.004");
+    }
+}
+
 }  // namespace

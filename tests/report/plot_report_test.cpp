@@ -220,6 +220,32 @@ TEST_F(PlotScript, CameraPicturesPerViewAndLevelMode) {
     EXPECT_FALSE(figs.count("strip_bricks_p30"));
 }
 
+// A camera run's vs_theta.csv: error_vs_theta and sweep_vs_theta per camera view, named by its
+// tag; error_vs_theta with the pixel error below the texel error (a panel each per field).
+TEST_F(PlotScript, ErrorVsThetaPerCameraView) {
+    std::string csv = slurp(dir / "data" / "vs_theta.csv");
+    std::istringstream in(csv);
+    std::string header, out;
+    std::getline(in, header);
+    out = header + ",camera_view,camera_tag,err_px_p50,err_px_p95\n";
+    for (std::string line; std::getline(in, line);)
+        for (const char* d : {"1", "16"})
+            out += line + ",distance=" + d + " fov_deg=45,_d" + d + "_f45," +
+                   (std::string(d) == "1" ? "0.1,0.2" : "0.001,0.002") + "\n";
+    std::ofstream(dir / "data" / "vs_theta.csv") << out;
+    auto figs = plot("3.5", "png");
+    for (const std::string d : {"1", "16"}) {
+        const std::string tag = "_d" + d + "_f45";
+        ASSERT_TRUE(figs.count("error_vs_theta" + tag)) << tag;
+        EXPECT_EQ(figs["error_vs_theta" + tag]["panels"], 4);  // 2 fields x texel, pixel
+        ASSERT_TRUE(figs.count("sweep_vs_theta" + tag)) << tag;
+        const std::string note = figs["error_vs_theta" + tag]["note"];
+        EXPECT_NE(note.find("camera: distance = " + d + ", fov_deg = 45"), std::string::npos)
+            << note;
+    }
+    EXPECT_FALSE(figs.count("error_vs_theta"));
+}
+
 // error_vs_distance: one figure per field, named by it; the pixel panels ticked down to their
 // smallest values (1e-3 here), not 0 and 0.1 only.
 TEST_F(PlotScript, ErrorVsDistanceNamedByFieldAndTickedToItsValues) {
