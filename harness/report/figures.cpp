@@ -284,7 +284,8 @@ void cost_vs_error(const ReportData& d) {
 
 // data/cost_vs_error_bands.csv: per angle band and series, the means over the series' rows in
 // that band, with Pareto flags per (band, group, cost) over exactly those points: a figure
-// panel per band draws one group's points of that band and its front.
+// panel per band draws one group's points of that band and its front. A camera run: the same
+// per camera view (columns camera_view, camera_tag; fronts per view), a figure each.
 void cost_vs_error_bands(const ReportData& d) {
     const size_t n = d.series_order.size();
     const std::vector<std::string> names = cost_names(d);
@@ -295,35 +296,46 @@ void cost_vs_error_bands(const ReportData& d) {
     o << "," << kKeyHeader;
     for (const std::string& u : d.time_units)
         o << "," << csv_quote("time_min[" + u + "]") << "," << csv_quote("time_max[" + u + "]");
+    if (d.has_views()) o << ",camera_view,camera_tag";
     o << "\n";
-    for (size_t b : d.present_bands()) {
-        std::vector<std::vector<double>> cost(n, std::vector<double>(names.size(), NAN));
-        std::vector<double> err(n, NAN);
-        for (size_t i = 0; i < n; ++i) {
-            const auto& band = d.series.at(d.series_order[i]).band;
-            if (!band.count(b)) continue;
-            const Acc& a = band.at(b);
-            cost[i] = costs_of(d, a);
-            err[i] = a.err_mean.get();
-        }
-        const auto flag = pareto_flags(d, cost, err);
-        for (size_t i = 0; i < n; ++i) {
-            const Series& s = d.series.at(d.series_order[i]);
-            if (!s.band.count(b)) continue;
-            o << b << "," << csv_num(d.bands.lo(b)) << "," << csv_num(d.bands.hi(b)) << ","
-              << csv_quote(d.bands.label(b)) << "," << csv_quote(d.series_order[i]) << ","
-              << csv_quote(s.setting) << "," << csv_quote(s.group) << "," << csv_num(err[i]) << ","
-              << csv_num(s.band.at(b).err_p95.get());
-            for (double c : cost[i]) o << "," << csv_num(c);
-            for (const char* f : flag[i]) o << "," << f;
-            const Acc& a = s.band.at(b);
-            o << "," << key_fields(d.row(s.first_row));
-            for (const std::string& u : d.time_units) {
-                const TimeMeans* t = a.times_in(u);
-                o << "," << csv_num(t ? t->min.get() : NAN) << ","
-                  << csv_num(t ? t->max.get() : NAN);
+    const std::vector<std::string> views =
+        d.has_views() ? d.view_order : std::vector<std::string>{""};
+    for (const std::string& view : views) {
+        const std::map<std::string, Series>& sers =
+            d.has_views() ? d.views.at(view).series : d.series;
+        for (size_t b : d.present_bands()) {
+            std::vector<std::vector<double>> cost(n, std::vector<double>(names.size(), NAN));
+            std::vector<double> err(n, NAN);
+            for (size_t i = 0; i < n; ++i) {
+                auto it = sers.find(d.series_order[i]);
+                if (it == sers.end() || !it->second.band.count(b)) continue;
+                const Acc& a = it->second.band.at(b);
+                cost[i] = costs_of(d, a);
+                err[i] = a.err_mean.get();
             }
-            o << "\n";
+            const auto flag = pareto_flags(d, cost, err);
+            for (size_t i = 0; i < n; ++i) {
+                auto it = sers.find(d.series_order[i]);
+                if (it == sers.end() || !it->second.band.count(b)) continue;
+                const Series& s = it->second;
+                o << b << "," << csv_num(d.bands.lo(b)) << "," << csv_num(d.bands.hi(b)) << ","
+                  << csv_quote(d.bands.label(b)) << "," << csv_quote(d.series_order[i]) << ","
+                  << csv_quote(s.setting) << "," << csv_quote(s.group) << "," << csv_num(err[i])
+                  << "," << csv_num(s.band.at(b).err_p95.get());
+                for (double c : cost[i]) o << "," << csv_num(c);
+                for (const char* f : flag[i]) o << "," << f;
+                const Acc& a = s.band.at(b);
+                o << "," << key_fields(d.row(s.first_row));
+                for (const std::string& u : d.time_units) {
+                    const TimeMeans* t = a.times_in(u);
+                    o << "," << csv_num(t ? t->min.get() : NAN) << ","
+                      << csv_num(t ? t->max.get() : NAN);
+                }
+                if (d.has_views())
+                    o << "," << csv_quote(view) << ","
+                      << csv_quote(camera_name_part(d.row(s.first_row)));
+                o << "\n";
+            }
         }
     }
     d.write("data/cost_vs_error_bands.csv", o.str());

@@ -773,7 +773,7 @@ def cost_axis(ax, cost, lo, hi, width_in, show_labels):
         ax.tick_params(labelbottom=False)
 
 
-def cost_figure(F, st, rows, name, costs):
+def cost_figure(F, st, rows, name, costs, cam=""):
     """Per cost and group (groups with equal points folded into one) a block of panels, one
     per band (all bands side by side at double width, two per row at single); one x range per
     block and one y range per row of panels, so a row reads across."""
@@ -835,6 +835,8 @@ def cost_figure(F, st, rows, name, costs):
     if any("†" in label[b] for b in bands):
         notes.append("† the band holds a single view (one θ)")
     notes.append("means over the fields, azimuths and θ of each band")
+    if cam:
+        notes.append(f"camera: {cam}")
     note = join_notes(*notes)
     legend = F.legend(fig, handles, note)
     F.save(fig, name, sum(1 for _ in fronts), len(drawn), legend,
@@ -1237,8 +1239,9 @@ def main():
     vd_path = os.path.join(data, "vs_distance.csv")
     if os.path.exists(vd_path):
         vs_distance(F, st, read(vd_path))
-    cost_figure(F, st, bands, "cost_vs_error", ["fetches_mean"])
-    cost_figure(F, st, bands, "time_vs_error", time_costs(bands))
+    for rows, tag, cam in by_view(bands):  # a camera run: a figure per camera view
+        cost_figure(F, st, rows, "cost_vs_error" + tag, ["fetches_mean"], cam)
+        cost_figure(F, st, rows, "time_vs_error" + tag, time_costs(rows), cam)
     if os.path.exists(maps):
         montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))
     if os.path.exists(pics):

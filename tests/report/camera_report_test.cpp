@@ -266,4 +266,25 @@ TEST_F(CameraReport, VsThetaIsPerViewWithPixelError) {
     }
 }
 
+// data/cost_vs_error_bands.csv: the points and Pareto fronts per camera view. Near, pom is on
+// the front (less error than parallax); far away both are, each view on its own numbers.
+TEST_F(CameraReport, CostPointsAndFrontsPerView) {
+    const fs::path rep = report(results({
+        row("parallax", "base", 60, 1, 3, 6, 1.5, 3, 1),
+        row("pom", "base", 60, 1, 0.05, 0.1, 0.02, 0.04, 32),
+        row("parallax", "base", 60, 16, 0.01, 6, 0.01, 0.02, 1),
+        row("pom", "base", 60, 16, 0.05, 0.1, 0.001, 0.002, 32),
+    }));
+    const pxh::CsvTable t = pxh::read_csv((rep / "data" / "cost_vs_error_bands.csv").string());
+    ASSERT_EQ(t.rows.size(), 4u);
+    ASSERT_GE(t.index("camera_view"), 0);
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        const bool far = t.get(r, "camera_tag") == "_d16_f45_r64";
+        const bool pom = t.get(r, "setting") == "pom";
+        EXPECT_EQ(t.get(r, "err_mean"), far ? (pom ? "0.05" : "0.01") : (pom ? "0.05" : "3"));
+        // far: parallax is cheaper and better, pom off the front; near both on it
+        EXPECT_EQ(t.get(r, "pareto_fetches"), far && pom ? "0" : "1") << r;
+    }
+}
+
 }  // namespace

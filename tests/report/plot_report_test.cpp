@@ -246,6 +246,24 @@ TEST_F(PlotScript, ErrorVsThetaPerCameraView) {
     EXPECT_FALSE(figs.count("error_vs_theta"));
 }
 
+// A camera run's cost_vs_error_bands.csv: cost_vs_error and time_vs_error per camera view.
+TEST_F(PlotScript, CostFiguresPerCameraView) {
+    std::istringstream in(slurp(dir / "data" / "cost_vs_error_bands.csv"));
+    std::string header, out;
+    std::getline(in, header);
+    out = header + ",camera_view,camera_tag\n";
+    for (std::string line; std::getline(in, line);)
+        for (const char* d : {"1", "16"}) out += line + ",distance=" + d + ",_d" + d + "\n";
+    std::ofstream(dir / "data" / "cost_vs_error_bands.csv") << out;
+    auto figs = plot("3.5", "png");
+    for (const char* name :
+         {"cost_vs_error_d1", "cost_vs_error_d16", "time_vs_error_d1", "time_vs_error_d16"})
+        EXPECT_TRUE(figs.count(name)) << name;
+    EXPECT_FALSE(figs.count("cost_vs_error"));
+    EXPECT_EQ(figs["cost_vs_error_d16"]["panels"], 2);  // a panel per band, as before
+    EXPECT_NE(figs["cost_vs_error_d16"]["legend"].dump().find("pom"), std::string::npos);
+}
+
 // error_vs_distance: one figure per field, named by it; the pixel panels ticked down to their
 // smallest values (1e-3 here), not 0 and 0.1 only.
 TEST_F(PlotScript, ErrorVsDistanceNamedByFieldAndTickedToItsValues) {
