@@ -868,7 +868,7 @@ def load_map(results, r, px):
     return img[::k, ::k]
 
 
-def error_colourbar(fig, rect, scale):
+def error_colourbar(fig, rect, scale, outside=False):
     """The colour scale all maps of a montage share (data/error_scale.csv: pxh's own colours),
     drawn once in rect (figure fractions)."""
     l2 = np.array([float(r["log2_texels"]) for r in scale])
@@ -883,8 +883,10 @@ def error_colourbar(fig, rect, scale):
     ax.tick_params(axis="x", labelsize=6, length=2, pad=1)
     for sp in ax.spines.values():
         sp.set_linewidth(0.3)
-    ax.set_xlabel("texel error (log scale; below 1/16: darkest; magenta: non-finite)",
-                  fontsize=6, labelpad=1)
+    label = "texel error (log scale; below 1/16: darkest; magenta: non-finite" + (
+        "; grey: outside the camera's view)" if outside else ")")
+    width = rect[2] * fig.get_figwidth()  # the bar's width, inches: the label wrapped to it
+    ax.set_xlabel(fit(label, width + 0.4, 6, 2) if outside else label, fontsize=6, labelpad=1)
     return ax
 
 
@@ -960,7 +962,7 @@ def montage(F, st, rows, scale):
                      fontsize=6)
         bw = min(F.width - 0.6, 4.0)
         error_colourbar(fig, [(F.width - bw) / 2 / F.width, 0.36 / height, bw / F.width,
-                              0.1 / height], scale)
+                              0.1 / height], scale, outside=bool(cam))
         fig.suptitle(fit(f"error maps: {field}, φ = {phi}°" + (f", {cam}" if cam else "") +
                          ("\ncolumns: view angle θ" if short else "") +
                          "\na row per method setting; maps "

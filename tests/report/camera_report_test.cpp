@@ -2,6 +2,7 @@
 // (the camera's keys: distance, fov_deg, resolution), pixel error beside texel error, budgets
 // ranked by pixel error first, sliding_dist / shimmering_dist in sweep.md, and the pictures'
 // and maps' data carrying the view and the level mode.
+#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -14,6 +15,7 @@
 
 #include "harness/report/report.h"
 #include "harness/results/csv_table.h"
+#include "harness/results/error_maps.h"
 #include "harness/results/results.h"
 #include "tests/cli_util.h"
 
@@ -285,6 +287,46 @@ TEST_F(CameraReport, CostPointsAndFrontsPerView) {
         // far: parallax is cheaper and better, pom off the front; near both on it
         EXPECT_EQ(t.get(r, "pareto_fetches"), far && pom ? "0" : "1") << r;
     }
+}
+
+// A camera's error map lies as its pictures do: sample row j is PNG row n - 1 - j, and the
+// samples outside the view are grey, not the magenta of a non-finite error.
+TEST_F(CameraReport, CameraMapsAreAsSeenAndGreyOutside) {
+    const int n = 16;
+    std::vector<pxh::Vec2d> errors(size_t(n) * n);
+    std::vector<uint8_t> inside(errors.size(), 1);
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const size_t at = size_t(j) * n + i;
+            errors[at] = j < 8 ? pxh::Vec2d{16, 0} : pxh::Vec2d{1.0 / 16, 0};
+            if (j < 4) {
+                inside[at] = 0;
+                errors[at] = {NAN, NAN};
+            }
+        }
+    pxh::write_error_map(errors, n, (dir / "maps").string(), "cam", "a title", inside, true);
+    OIIO::ImageBuf png((dir / "maps" / "cam.png").string());
+    ASSERT_TRUE(png.read()) << png.geterror();
+    const pxh::ErrorMapBox box = pxh::error_map_box(n);
+    const int k = box.side / n;
+    float lo[3], hi[3];
+    pxh::error_colour(1.0 / 16, lo);
+    pxh::error_colour(16, hi);
+    const auto at = [&](int sample_row) {  // the colour of sample (0, sample_row) in the PNG
+        float px[4];
+        png.getpixel(box.x0 + k / 2, box.y0 + (n - 1 - sample_row) * k + k / 2, px);
+        return std::vector<float>{px[0], px[1], px[2]};
+    };
+    const auto near = [](const std::vector<float>& a, const float* c) {
+        for (int q = 0; q < 3; ++q)
+            if (std::abs(a[size_t(q)] - c[q]) > 1.0f / 255) return false;
+        return true;
+    };
+    const float grey[3] = {0.5f, 0.5f, 0.5f};
+    EXPECT_TRUE(near(at(0), grey));
+    EXPECT_TRUE(near(at(3), grey));
+    EXPECT_TRUE(near(at(5), hi));
+    EXPECT_TRUE(near(at(12), lo));
 }
 
 }  // namespace
