@@ -15,8 +15,10 @@
 
 #include "harness/core/error.h"
 #include "harness/core/shipped_files.h"
+#include "harness/metrics/columns.h"
 #include "harness/report/report_data.h"
 #include "harness/results/error_maps.h"
+#include "harness/scene/view.h"
 
 extern char** environ;
 
@@ -44,6 +46,16 @@ std::string key_fields(const ResultRow& r) {
     return out;
 }
 
+// A row's camera view as CSV fields: its view (view_of: "distance=4 fov_deg=45 resolution=256",
+// empty for a camera without keys), the part of pxh run's file names that tells views apart
+// (camera_name_part: "_d4_f45_r256") and its level mode; the plotter groups pictures and maps
+// by the view, names its files by the tag and titles their panels with both.
+const char* const kViewHeader = "camera_view,camera_tag,lod";
+std::string view_fields(const ResultRow& r) {
+    return csv_quote(view_of(r)) + "," + csv_quote(camera_name_part(r)) + "," +
+           csv_quote(r.text("lod"));
+}
+
 // A picture or map path of row i (column c): relative to the results folder and inside it, no
 // part of it a symbolic link (a path that leaves the folder is refused: the plotter would read
 // whatever it names). A missing file is left to the plotter (a blank tile, with a warning).
@@ -68,16 +80,18 @@ const std::string& inside_path(const ReportData& d, size_t i, const char* c) {
     return rel;
 }
 
-// data/vs_theta.csv: error and sweeps against θ per field and series (means over φ).
+// data/vs_theta.csv: error and sweeps against θ per field, series and camera view (means over
+// φ; a camera run's views apart: a mean over distances mixes errors orders of magnitude apart),
+// with a camera view's pixel error.
 void vs_theta(const ReportData& d) {
-    using Key = std::tuple<std::string, std::string, double>;
-    std::map<Key, std::array<Mean, 4>> acc;
+    using Key = std::tuple<std::string, std::string, double, std::string>;
+    std::map<Key, std::array<Mean, 6>> acc;
     std::map<Key, size_t> first;
     std::map<Key, std::vector<std::string>> phis;  // the azimuths each mean is over
     std::vector<Key> order;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
-        const Key key{field_of(r), series_of(r), r.num("theta_deg")};
+        const Key key{field_of(r), series_of(r), r.num("theta_deg"), view_of(r)};
         if (!acc.count(key)) {
             order.push_back(key);
             first[key] = i;
@@ -90,11 +104,15 @@ void vs_theta(const ReportData& d) {
         a[1].add(r.num("err_p95"));
         a[2].add(r.num("sliding"));
         a[3].add(r.num("shimmering"));
+        if (!std::get<3>(key).empty()) {  // orthographic rows: a fixed multiple of the texels
+            a[4].add(r.num("err_px_p50"));
+            a[5].add(r.num("err_px_p95"));
+        }
     }
     std::ostringstream o;
     o << "heightfield,series," << kKeyHeader
       << ",theta_deg,err_p50,err_p95,sliding,shimmering,"
-         "phi_deg_list\n";
+         "phi_deg_list,camera_view,camera_tag,err_px_p50,err_px_p95\n";
     for (const auto& k : order) {
         const auto& a = acc[k];
         o << csv_quote(std::get<0>(k)) << "," << csv_quote(std::get<1>(k)) << ","
@@ -103,7 +121,9 @@ void vs_theta(const ReportData& d) {
           << csv_num(a[3].get());
         std::string pl;
         for (const auto& p : phis[k]) pl += (pl.empty() ? "" : ";") + p;
-        o << "," << csv_quote(pl) << "\n";
+        o << "," << csv_quote(pl) << "," << csv_quote(std::get<3>(k)) << ","
+          << csv_quote(camera_name_part(d.row(first[k]))) << "," << csv_num(a[4].get()) << ","
+          << csv_num(a[5].get()) << "\n";
     }
     d.write("data/vs_theta.csv", o.str());
 }
@@ -157,7 +177,8 @@ void vs_distance(const ReportData& d) {
 // data/error_scale.csv, the colour scale every map was drawn with (error_colour).
 void maps(const ReportData& d) {
     std::ostringstream o;
-    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map,map_x0,map_y0,map_side\n";
+    o << "heightfield,phi_deg,series," << kKeyHeader << ",theta_deg,map,map_x0,map_y0,map_side,"
+      << kViewHeader << "\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
@@ -170,7 +191,7 @@ void maps(const ReportData& d) {
         o << csv_quote(field_of(r)) << "," << csv_quote(r.cell("phi_deg")) << ","
           << csv_quote(series_of(r)) << "," << key_fields(r) << ","
           << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "," << box.x0 << ","
-          << box.y0 << "," << box.side << "\n";
+          << box.y0 << "," << box.side << "," << view_fields(r) << "\n";
         ++n;
     }
     if (!n) return;
@@ -263,7 +284,8 @@ void cost_vs_error(const ReportData& d) {
 
 // data/cost_vs_error_bands.csv: per angle band and series, the means over the series' rows in
 // that band, with Pareto flags per (band, group, cost) over exactly those points: a figure
-// panel per band draws one group's points of that band and its front.
+// panel per band draws one group's points of that band and its front. A camera run: the same
+// per camera view (columns camera_view, camera_tag; fronts per view), a figure each.
 void cost_vs_error_bands(const ReportData& d) {
     const size_t n = d.series_order.size();
     const std::vector<std::string> names = cost_names(d);
@@ -274,35 +296,46 @@ void cost_vs_error_bands(const ReportData& d) {
     o << "," << kKeyHeader;
     for (const std::string& u : d.time_units)
         o << "," << csv_quote("time_min[" + u + "]") << "," << csv_quote("time_max[" + u + "]");
+    if (d.has_views()) o << ",camera_view,camera_tag";
     o << "\n";
-    for (size_t b : d.present_bands()) {
-        std::vector<std::vector<double>> cost(n, std::vector<double>(names.size(), NAN));
-        std::vector<double> err(n, NAN);
-        for (size_t i = 0; i < n; ++i) {
-            const auto& band = d.series.at(d.series_order[i]).band;
-            if (!band.count(b)) continue;
-            const Acc& a = band.at(b);
-            cost[i] = costs_of(d, a);
-            err[i] = a.err_mean.get();
-        }
-        const auto flag = pareto_flags(d, cost, err);
-        for (size_t i = 0; i < n; ++i) {
-            const Series& s = d.series.at(d.series_order[i]);
-            if (!s.band.count(b)) continue;
-            o << b << "," << csv_num(d.bands.lo(b)) << "," << csv_num(d.bands.hi(b)) << ","
-              << csv_quote(d.bands.label(b)) << "," << csv_quote(d.series_order[i]) << ","
-              << csv_quote(s.setting) << "," << csv_quote(s.group) << "," << csv_num(err[i]) << ","
-              << csv_num(s.band.at(b).err_p95.get());
-            for (double c : cost[i]) o << "," << csv_num(c);
-            for (const char* f : flag[i]) o << "," << f;
-            const Acc& a = s.band.at(b);
-            o << "," << key_fields(d.row(s.first_row));
-            for (const std::string& u : d.time_units) {
-                const TimeMeans* t = a.times_in(u);
-                o << "," << csv_num(t ? t->min.get() : NAN) << ","
-                  << csv_num(t ? t->max.get() : NAN);
+    const std::vector<std::string> views =
+        d.has_views() ? d.view_order : std::vector<std::string>{""};
+    for (const std::string& view : views) {
+        const std::map<std::string, Series>& sers =
+            d.has_views() ? d.views.at(view).series : d.series;
+        for (size_t b : d.present_bands()) {
+            std::vector<std::vector<double>> cost(n, std::vector<double>(names.size(), NAN));
+            std::vector<double> err(n, NAN);
+            for (size_t i = 0; i < n; ++i) {
+                auto it = sers.find(d.series_order[i]);
+                if (it == sers.end() || !it->second.band.count(b)) continue;
+                const Acc& a = it->second.band.at(b);
+                cost[i] = costs_of(d, a);
+                err[i] = a.err_mean.get();
             }
-            o << "\n";
+            const auto flag = pareto_flags(d, cost, err);
+            for (size_t i = 0; i < n; ++i) {
+                auto it = sers.find(d.series_order[i]);
+                if (it == sers.end() || !it->second.band.count(b)) continue;
+                const Series& s = it->second;
+                o << b << "," << csv_num(d.bands.lo(b)) << "," << csv_num(d.bands.hi(b)) << ","
+                  << csv_quote(d.bands.label(b)) << "," << csv_quote(d.series_order[i]) << ","
+                  << csv_quote(s.setting) << "," << csv_quote(s.group) << "," << csv_num(err[i])
+                  << "," << csv_num(s.band.at(b).err_p95.get());
+                for (double c : cost[i]) o << "," << csv_num(c);
+                for (const char* f : flag[i]) o << "," << f;
+                const Acc& a = s.band.at(b);
+                o << "," << key_fields(d.row(s.first_row));
+                for (const std::string& u : d.time_units) {
+                    const TimeMeans* t = a.times_in(u);
+                    o << "," << csv_num(t ? t->min.get() : NAN) << ","
+                      << csv_num(t ? t->max.get() : NAN);
+                }
+                if (d.has_views())
+                    o << "," << csv_quote(view) << ","
+                      << csv_quote(camera_name_part(d.row(s.first_row)));
+                o << "\n";
+            }
         }
     }
     d.write("data/cost_vs_error_bands.csv", o.str());
@@ -313,7 +346,10 @@ void cost_vs_error_bands(const ReportData& d) {
 void pictures(const ReportData& d) {
     std::ostringstream o;
     o << "heightfield,theta_deg,phi_deg,series," << kKeyHeader
-      << ",img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use\n";
+      << ",img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use," << kViewHeader;
+    // the camera's keys as numbers too (empty on a row without them)
+    for (const CameraKey& k : camera_key_columns()) o << "," << csv_quote(k.name);
+    o << "\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
@@ -324,6 +360,8 @@ void pictures(const ReportData& d) {
           << "," << csv_num(r.num("img_psnr_db")) << "," << csv_num(r.num("img_ssim"));
         for (const char* c : {"picture", "picture_diff", "picture_truth", "picture_use"})
             o << "," << csv_quote(r.text(c));
+        o << "," << view_fields(r);
+        for (const CameraKey& k : camera_key_columns()) o << "," << csv_num(r.num(k.name));
         o << "\n";
         ++n;
     }
@@ -337,8 +375,9 @@ void images_table(const ReportData& d) {
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
         if (r.text("picture_use").find("montage") == std::string::npos) continue;
-        const std::string v =
-            r.text("heightfield") + " θ=" + r.cell("theta_deg") + " φ=" + r.cell("phi_deg");
+        const std::string cam = view_of(r);
+        const std::string v = r.text("heightfield") + " θ=" + r.cell("theta_deg") +
+                              " φ=" + r.cell("phi_deg") + (cam.empty() ? "" : " " + cam);
         if (std::find(views.begin(), views.end(), v) == views.end()) views.push_back(v);
         const double p = r.num("img_psnr_db");
         cell[series_of(r)][v] =

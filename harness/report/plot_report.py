@@ -434,7 +434,25 @@ def panel_size(F, nc, aspect):
     return pw, pw * aspect
 
 
-def vs_theta(F, st, rows):
+def by_view(rows):
+    """[(rows, tag, title)] per camera view of vs_theta.csv rows (the camera's keys: a view
+    each, in ascending order of their values; one, with no tag or title, for a camera
+    without keys or data without the field)."""
+    views = {}
+    for r in rows:
+        views.setdefault(r.get("camera_view") or "", []).append(r)
+
+    def values(v):
+        return [num(p.split("=", 1)[1]) or 0 for p in v.split() if "=" in p]
+    return [(vr, vr[0].get("camera_tag") or "", view_title(vr[0]))
+            for v, vr in sorted(views.items(), key=lambda kv: values(kv[0]))]
+
+
+def vs_theta(F, st, rows, tag="", cam=""):
+    """error_vs_theta: p50 and p95 texel error against θ, a panel per field; a camera view's
+    (error_vs_theta_d4_f45_r256: one per view) with its pixel error in the rows below."""
+    if cam and any(num(r.get("err_px_p50")) is not None for r in rows):
+        return vs_theta_camera(F, st, rows, tag, cam)
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
     titles, common = field_titles(fields)
     nc = F.columns(len(fields))
@@ -461,12 +479,63 @@ def vs_theta(F, st, rows):
                   key=lambda p: num(p) if num(p) is not None else 0)
     azimuth = ("means over the azimuths φ = " + ", ".join(phis) + "°") if len(phis) > 1 else (
         f"φ = {phis[0]}°" if phis else None)
-    note = join_notes(azimuth, common, fold_note(folded_all))
+    note = join_notes(azimuth, f"camera: {cam}" if cam else None, common,
+                      fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, "error_vs_theta", len(fields), series, legend, note=note)
+    F.save(fig, "error_vs_theta" + tag, len(fields), series, legend, note=note)
 
 
-def sweep_vs_theta(F, st, rows):
+def azimuth_note(rows):
+    phis = sorted({p for r in rows for p in r.get("phi_deg_list", "").split(";") if p},
+                  key=lambda p: num(p) if num(p) is not None else 0)
+    return ("means over the azimuths φ = " + ", ".join(phis) + "°") if len(phis) > 1 else (
+        f"φ = {phis[0]}°" if phis else None)
+
+
+def vs_theta_camera(F, st, rows, tag, cam):
+    """A camera view's error_vs_theta: texel error (top rows) and pixel error |J⁻¹e| (rows
+    below), p50 solid, p95 hollow, a panel per field."""
+    fields = list(dict.fromkeys(r["heightfield"] for r in rows))
+    titles, common = field_titles(fields)
+    nc = F.columns(len(fields))
+    per = math.ceil(len(fields) / nc)
+    fig, grid = plt.subplots(2 * per, nc, figsize=(F.width, F.width / nc * 0.72 * 2 * per + 0.35),
+                             squeeze=False, constrained_layout=True)
+    pw, ph = panel_size(F, nc, 0.72)
+    folded_all, series, panels = {}, 0, 0
+    for q, (p50, p95, what) in enumerate((("err_p50", "err_p95", "texel error"),
+                                          ("err_px_p50", "err_px_p95", "pixel error"))):
+        for k in range(per * nc):
+            ax = grid[q * per + k // nc][k % nc]
+            if k >= len(fields):
+                ax.axis("off")
+                continue
+            field = fields[k]
+            folded, n = draw_curves(ax, st, curves_of(rows, field, (p50, p95)), True)
+            folded_all.update(folded)
+            series += n
+            panels += 1
+            vals = [num(r[c]) for r in rows if r["heightfield"] == field for c in (p50, p95)]
+            lin = linthresh_of(vals, 0.01)
+            error_axis(ax, lin, top_of(vals, lin), ph)
+            ax.set_title(fit(f"{what.split()[0]}: {titles[field]}", 0.8 * pw, 8, 2))
+            bottom = q == 1 and k >= len(fields) - nc
+            theta_axis(ax, bottom)
+            if k % nc == 0:
+                ax.set_ylabel(what)
+            if bottom:
+                ax.set_xlabel("view angle θ (°)")
+    handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
+    handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="p50"),
+                mlines.Line2D([], [], color="0.3", lw=0.7, marker="o", mfc="white",
+                              label="p95")]
+    note = join_notes(f"camera: {cam}; top: texel error, below: pixel error |J⁻¹e|",
+                      azimuth_note(rows), common, fold_note(folded_all))
+    legend = F.legend(fig, handles, note)
+    F.save(fig, "error_vs_theta" + tag, panels, series, legend, note=note)
+
+
+def sweep_vs_theta(F, st, rows, tag="", cam=""):
     last_theta = max((num(r["theta_deg"]) for r in rows if num(r["theta_deg"]) is not None),
                      default=None)
     rows = [r for r in rows if num(r["sliding"]) is not None or num(r["shimmering"]) is not None]
@@ -505,10 +574,10 @@ def sweep_vs_theta(F, st, rows):
     why = (f"sliding, shimmering: change to the next θ of the sweep, so the last θ "
            f"({last_theta:g}°) has none (sweep_dt_deg gives every θ a step)"
            ) if missing_last else None
-    note = join_notes("top rows: sliding; bottom rows: shimmering (each a mean over φ)", why,
-                      common, fold_note(folded_all))
+    note = join_notes("top rows: sliding; bottom rows: shimmering (each a mean over φ)",
+                      f"camera: {cam}" if cam else None, why, common, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, "sweep_vs_theta", panels, series, legend, note=note)
+    F.save(fig, "sweep_vs_theta" + tag, panels, series, legend, note=note)
 
 
 def distance_axis(ax, distances, show_labels, width_in):
@@ -529,15 +598,25 @@ def distance_axis(ax, distances, show_labels, width_in):
 
 
 def vs_distance(F, st, rows):
-    """error_vs_distance: texel error (top row) and pixel error (bottom row) against the eye's
-    distance, a column per view angle; one figure per field (error_vs_distance_1, _2, ... in
-    the run's field order when there are several), means and p95 as in vs_theta."""
+    """error_vs_distance_FIELD: texel error (top row) and pixel error (bottom row) against the
+    eye's distance, a column per view angle; one figure per field (named by it, as the error
+    maps and pictures are), means and p95 as in vs_theta."""
     if not rows:
         return
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
-    for k, field in enumerate(fields):
-        name = "error_vs_distance" if len(fields) == 1 else f"error_vs_distance_{k + 1}"
-        vs_distance_field(F, st, [r for r in rows if r["heightfield"] == field], name)
+    for field in fields:
+        vs_distance_field(F, st, [r for r in rows if r["heightfield"] == field],
+                          safe(f"error_vs_distance_{field}"))
+
+
+def linthresh_of(values, most=0.01):
+    """The linear range of a symlog error axis: a decade below the smallest positive value
+    (at most `most`), so small errors (pixel errors near 1e-3 far away) lie on the log part,
+    with a decade tick at or below them, and are not squashed onto the axis."""
+    v = [x for x in values if x is not None and math.isfinite(x) and x > 0]
+    if not v:
+        return most
+    return min(most, 10.0 ** (math.floor(math.log10(min(v)) + 1e-9) - 1))
 
 
 def vs_distance_field(F, st, rows, name):
@@ -553,7 +632,7 @@ def vs_distance_field(F, st, rows, name):
     ph = pw * 0.72
     fig, grid = plt.subplots(nr, nc, figsize=(F.width, ph * nr + 0.35), squeeze=False,
                              constrained_layout=True)
-    folded_all, series, panels = {}, 0, 0
+    folded_all, series, panels, y_ticks = {}, 0, 0, {}
     quantities = (("err_mean", "err_p95", "texel error", 0.01),
                   ("err_px_mean", "err_px_p95", "pixel error", 0.01))
     for f, field in enumerate(fields):
@@ -573,8 +652,15 @@ def vs_distance_field(F, st, rows, name):
                 folded_all.update(folded)
                 series += n
                 panels += 1
-                top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin)
-                error_axis(ax, lin, top, ph)
+                vals = [num(r[k]) for r in rows if r["heightfield"] == field
+                        for k in (mean, p95)]
+                lin_q = linthresh_of(vals, lin)
+                top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin_q)
+                error_axis(ax, lin_q, top, ph)
+                # every decade marked (unlabelled where the labels were thinned to fit)
+                ax.yaxis.set_minor_locator(matplotlib.ticker.FixedLocator(
+                    decade_ticks(lin_q, top, 100, first_step=1)))
+                y_ticks.setdefault(label, [float(t) for t in ax.get_yticks()])
                 last = 2 * f + q == nr - 1
                 distance_axis(ax, distances, last, pw)
                 head = f"θ = {theta:g}°" + ("" if len(fields) == 1 else f", {titles[field]}")
@@ -591,7 +677,7 @@ def vs_distance_field(F, st, rows, name):
     note = join_notes("top: texel error; bottom: pixel error |J⁻¹e| (means over φ and fov)",
                       field_note, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
-    F.save(fig, name, panels, series, legend, note=note)
+    F.save(fig, name, panels, series, legend, note=note, y_ticks=y_ticks)
 
 
 def unit_of(cost):
@@ -687,7 +773,7 @@ def cost_axis(ax, cost, lo, hi, width_in, show_labels):
         ax.tick_params(labelbottom=False)
 
 
-def cost_figure(F, st, rows, name, costs):
+def cost_figure(F, st, rows, name, costs, cam=""):
     """Per cost and group (groups with equal points folded into one) a block of panels, one
     per band (all bands side by side at double width, two per row at single); one x range per
     block and one y range per row of panels, so a row reads across."""
@@ -749,6 +835,8 @@ def cost_figure(F, st, rows, name, costs):
     if any("†" in label[b] for b in bands):
         notes.append("† the band holds a single view (one θ)")
     notes.append("means over the fields, azimuths and θ of each band")
+    if cam:
+        notes.append(f"camera: {cam}")
     note = join_notes(*notes)
     legend = F.legend(fig, handles, note)
     F.save(fig, name, sum(1 for _ in fronts), len(drawn), legend,
@@ -780,7 +868,7 @@ def load_map(results, r, px):
     return img[::k, ::k]
 
 
-def error_colourbar(fig, rect, scale):
+def error_colourbar(fig, rect, scale, outside=False):
     """The colour scale all maps of a montage share (data/error_scale.csv: pxh's own colours),
     drawn once in rect (figure fractions)."""
     l2 = np.array([float(r["log2_texels"]) for r in scale])
@@ -795,8 +883,10 @@ def error_colourbar(fig, rect, scale):
     ax.tick_params(axis="x", labelsize=6, length=2, pad=1)
     for sp in ax.spines.values():
         sp.set_linewidth(0.3)
-    ax.set_xlabel("texel error (log scale; below 1/16: darkest; magenta: non-finite)",
-                  fontsize=6, labelpad=1)
+    label = "texel error (log scale; below 1/16: darkest; magenta: non-finite" + (
+        "; grey: outside the camera's view)" if outside else ")")
+    width = rect[2] * fig.get_figwidth()  # the bar's width, inches: the label wrapped to it
+    ax.set_xlabel(fit(label, width + 0.4, 6, 2) if outside else label, fontsize=6, labelpad=1)
     return ax
 
 
@@ -806,9 +896,11 @@ def montage(F, st, rows, scale):
     every tile on the one colour scale pxh run draws, its bar drawn once below."""
     results = os.path.dirname(os.path.abspath(F.out))  # map paths: relative to the results
     views = {}
-    for r in rows:
-        views.setdefault((r.get("heightfield", ""), r.get("phi_deg", "")), []).append(r)
-    for (field, phi), vrows in views.items():
+    for r in rows:  # a montage per field, azimuth and camera view
+        views.setdefault((r.get("heightfield", ""), r.get("phi_deg", ""),
+                          r.get("camera_view", "")), []).append(r)
+    for (field, phi, _), vrows in views.items():
+        cam = view_title(vrows[0])
         thetas = sorted({num(r["theta_deg"]) for r in vrows})
         per = {}
         for r in vrows:
@@ -836,8 +928,11 @@ def montage(F, st, rows, scale):
             label = " ".join(x for x in (s[0], short_params(s[1])) if x)  # whole: 2 lines
             labels.append(fit(f"{label} [{' = '.join(gs)}]", F.width - 0.1, 6, 2))
         # above each row its label (one or two lines of 6 pt), above the first the θ titles
+        # (upright, or thinned, where many angles leave narrow tiles)
+        heads, rotation, short = column_heads(thetas, cell)
+        head_h = 0.15 if not rotation else max(len(h) for h in heads) * 6.5 * 0.62 / 72 + 0.06
         pads = [0.05 + (lab.count("\n") + 1) * 6 * 1.25 / 72 for lab in labels]
-        pads[0] += 0.15
+        pads[0] += head_h
         height = sum(pads) + len(tiles) * cell + bar
         fig = plt.figure(figsize=(F.width, height))
         sides = [im.shape[0] for _, _, imgs in tiles for im in imgs.values() if im is not None]
@@ -858,21 +953,56 @@ def montage(F, st, rows, scale):
             ax.imshow(row, interpolation="nearest", aspect="auto")
             ax.axis("off")
             if i == 0:
-                for j, th in enumerate(thetas):
-                    fig.text((margin + j * (cell + gap) + cell / 2) / F.width,
-                             (y + pads[0] - 0.13) / height + cell / height, f"θ = {th:g}°",
-                             ha="center", va="bottom", fontsize=6.5)
+                for j, head in enumerate(heads):
+                    if head:
+                        fig.text((margin + j * (cell + gap) + cell / 2) / F.width,
+                                 (y + cell + pads[0] - head_h + 0.02) / height, head,
+                                 ha="center", va="bottom", fontsize=6.5, rotation=rotation)
             fig.text(0.5, (y + cell + 0.02) / height, labels[i], ha="center", va="bottom",
                      fontsize=6)
         bw = min(F.width - 0.6, 4.0)
         error_colourbar(fig, [(F.width - bw) / 2 / F.width, 0.36 / height, bw / F.width,
-                              0.1 / height], scale)
-        fig.suptitle(fit(f"error maps: {field}, φ = {phi}°\na row per method setting; maps "
+                              0.1 / height], scale, outside=bool(cam))
+        fig.suptitle(fit(f"error maps: {field}, φ = {phi}°" + (f", {cam}" if cam else "") +
+                         ("\ncolumns: view angle θ" if short else "") +
+                         "\na row per method setting; maps "
                          "identical pixel for pixel shown once, their backends named together",
-                         F.width - 0.1, 7, 4), fontsize=7, y=1.0, va="bottom")
-        name = safe(f"error_maps_{field}_p{phi}")
+                         F.width - 0.1, 7, 5), fontsize=7, y=1.0, va="bottom")
+        name = safe(f"error_maps_{field}_p{phi}{vrows[0].get('camera_tag') or ''}")
         F.save(fig, name, len(tiles) * len(thetas), len(tiles), [],
                rows=[f"{s[0]} {s[1]} [{' = '.join(gs)}]".strip() for s, gs, _ in tiles])
+
+
+def view_title(r):
+    """A row's camera view as a title part, from its camera_view field (data/pictures.csv,
+    data/maps.csv: the camera's own keys, "distance=4 fov_deg=45"): "distance = 4,
+    fov_deg = 45"; "" for a camera without keys (orthographic) or data without the field."""
+    kv = [p.split("=", 1) for p in (r.get("camera_view") or "").split() if "=" in p]
+    return ", ".join(f"{k} = {v}" for k, v in kv)
+
+
+def view_tag(r):
+    """The part of file names that tells camera views apart (pxh run's own: "_d4_f45_r256")
+    and a level mode other than base ("_level")."""
+    lod = r.get("lod") or ""
+    return (r.get("camera_tag") or "") + ("" if lod in ("", "base") else f"_{lod}")
+
+
+def column_heads(thetas, cell, pt=6.5):
+    """The θ heads of a montage's columns, each a tile `cell` inches wide: ("θ = 30°", 0)
+    where those fit, else the angles alone ("30°": the title says the columns are θ), else
+    the angles turned upright (90); upright heads too close for their line height are
+    thinned to every k-th column. Returns (heads, rotation, shortened)."""
+    def width(t):
+        return len(t) * pt * 0.62 / 72
+    full = [f"θ = {t:g}°" for t in thetas]
+    if all(width(t) <= cell - 0.03 for t in full):
+        return full, 0, False
+    short = [f"{t:g}°" for t in thetas]
+    if all(width(t) <= cell - 0.03 for t in short):
+        return short, 0, True
+    step = max(1, math.ceil(pt * 1.3 / 72 / max(cell + 0.04, 1e-3)))
+    return [h if j % step == 0 else "" for j, h in enumerate(short)], 90, True
 
 
 def safe(name):
@@ -958,8 +1088,10 @@ def picture_montage(F, st, results, rows):
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
+    cam = view_title(r0)
     title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
-                f"φ = {num(r0['phi_deg']):g}°: a numbered checkerboard through each "
+                f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                ": a numbered checkerboard through each "
                 "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
                 F.width, 7, 4)
 
@@ -991,7 +1123,8 @@ def picture_montage(F, st, results, rows):
         bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
                     ha="center", va="top", transform=bottom.transAxes)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
-    name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}")
+    name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
+                + (r0.get("camera_tag") or ""))
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
 
@@ -1002,7 +1135,14 @@ def strip(F, st, results, rows):
     g = group(rows[0])
     rows = sorted((r for r in rows if group(r) == g), key=lambda r: num(r["theta_deg"]))
     n = len(rows)
-    fig, axes = image_grid(F.width, n, [0.45, 0.03, 0.03], 0.3, left=0.3)
+    r0 = rows[0]
+    cam = view_title(r0)
+    title = fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
+                f"(φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                "); under each: PSNR dB, SSIM", F.width, 7, 3)
+    # above the tiles: the title's lines (7 pt) and the θ heads (6 pt); 0.45 in for two lines
+    top = max(0.45, (title.count("\n") + 1) * 7 * 1.25 / 72 + 6 * 1.25 / 72 + 0.1)
+    fig, axes = image_grid(F.width, n, [top, 0.03, 0.03], 0.3, left=0.3)
     for j, r in enumerate(rows):
         for i, key in enumerate(("picture_truth", "picture", "picture_diff")):
             show(axes[i][j], load(results, r[key]))
@@ -1018,11 +1158,8 @@ def strip(F, st, results, rows):
     for i, lab in enumerate(("truth", st.labels[s], "|diff.|" if small else "|difference|")):
         axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
                               fontsize=5 if small else 6, labelpad=2)
-    r0 = rows[0]
-    fig.suptitle(fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
-                     f"(φ = {num(r0['phi_deg']):g}°); under each: PSNR dB, SSIM", F.width, 7, 2),
-                 fontsize=7, y=1.0, va="top")
-    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}")
+    fig.suptitle(title, fontsize=7, y=1.0, va="top")
+    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}")
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
 
@@ -1059,11 +1196,14 @@ def pictures(F, st, rows):
     results = os.path.dirname(os.path.abspath(F.out))
     views = {}
     strips = {}
-    for r in rows:
+    for r in rows:  # a montage per view (camera keys included: one truth each), a strip per
+        # field, azimuth, camera view and setting (its level mode: one strip each)
+        cam = r.get("camera_view", "")
         if "montage" in r["picture_use"].split():
-            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"]), []).append(r)
+            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam),
+                             []).append(r)
         if "strip" in r["picture_use"].split():
-            strips.setdefault((r["heightfield"], r["phi_deg"]), []).append(r)
+            strips.setdefault((r["heightfield"], r["phi_deg"], cam, setting(r)), []).append(r)
     for v in views.values():
         picture_montage(F, st, results, v)
     for v in strips.values():
@@ -1091,18 +1231,21 @@ def main():
     vt = read(os.path.join(data, "vs_theta.csv"))
     cost = read(os.path.join(data, "cost_vs_error.csv"))
     bands = read(os.path.join(data, "cost_vs_error_bands.csv"))
-    st = Styles([setting(r) for r in cost + vt + bands], width)
-    vs_theta(F, st, vt)
-    sweep_vs_theta(F, st, vt)
+    maps = os.path.join(data, "maps.csv")
+    pics = os.path.join(data, "pictures.csv")
+    extra = [read(p) for p in (maps, pics) if os.path.exists(p)]
+    st = Styles([setting(r) for r in cost + vt + bands + [r for e in extra for r in e]], width)
+    for rows, tag, cam in by_view(vt):  # a camera run: a figure per camera view
+        vs_theta(F, st, rows, tag, cam)
+        sweep_vs_theta(F, st, rows, tag, cam)
     vd_path = os.path.join(data, "vs_distance.csv")
     if os.path.exists(vd_path):
         vs_distance(F, st, read(vd_path))
-    cost_figure(F, st, bands, "cost_vs_error", ["fetches_mean"])
-    cost_figure(F, st, bands, "time_vs_error", time_costs(bands))
-    maps = os.path.join(data, "maps.csv")
+    for rows, tag, cam in by_view(bands):  # a camera run: a figure per camera view
+        cost_figure(F, st, rows, "cost_vs_error" + tag, ["fetches_mean"], cam)
+        cost_figure(F, st, rows, "time_vs_error" + tag, time_costs(rows), cam)
     if os.path.exists(maps):
         montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))
-    pics = os.path.join(data, "pictures.csv")
     if os.path.exists(pics):
         pictures(F, st, read(pics))
     F.manifest()

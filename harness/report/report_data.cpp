@@ -13,6 +13,9 @@
 #include <sstream>
 
 #include "harness/core/error.h"
+#include "harness/core/params.h"
+#include "harness/metrics/columns.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 
@@ -63,6 +66,11 @@ void Acc::add(const ResultRow& r, const char* budget_column) {
     sliding.add(r.num("sliding"));
     shimmering.add(r.num("shimmering"));
     budget.add(r.num(budget_column));
+    px_mean.add(r.num("err_px_mean"));
+    px_p95.add(r.num("err_px_p95"));
+    sliding_dist.add(r.num("sliding_dist"));
+    shimmering_dist.add(r.num("shimmering_dist"));
+    px_budget.add(r.num("err_px_p95"));
     nonfinite = nonfinite || r.num("nonfinite") > 0;
 }
 
@@ -74,6 +82,26 @@ const TimeMeans* Acc::times_in(const std::string& unit) const {
 double Acc::time_in(const std::string& unit) const {
     const TimeMeans* t = times_in(unit);
     return t ? t->time.get() : NAN;
+}
+
+std::string view_of(const ResultRow& r) {
+    std::string v;
+    for (const CameraKey& k : camera_key_columns()) {
+        const double x = r.num(k.name);
+        if (std::isfinite(x)) v += (v.empty() ? "" : " ") + k.name + "=" + format_number(x);
+    }
+    return v;
+}
+
+std::string ReportData::view_title(const std::string& view) {
+    if (view.empty()) return "no camera keys (orthographic)";
+    std::string t;
+    std::stringstream ss(view);
+    for (std::string kv; ss >> kv;) {
+        const size_t eq = kv.find('=');
+        t += (t.empty() ? "" : ", ") + kv.substr(0, eq) + " = " + kv.substr(eq + 1);
+    }
+    return t;
 }
 
 ReportData::ReportData(const std::string& d, const ReportOptions& o)
@@ -132,16 +160,47 @@ void ReportData::collect() {
         Series& fser = per_field[s];
         ser.all.add(rr, metric.column);
         fser.all.add(rr, metric.column);
+        // the view's parts: all fields, and this field
+        const std::string v = view_of(rr);
+        pixel_error = pixel_error || (!v.empty() && std::isfinite(rr.num("err_px_mean")));
+        if (std::find(view_order.begin(), view_order.end(), v) == view_order.end())
+            view_order.push_back(v);
+        Part* parts[] = {&views[v], &field_views[field][v]};
+        for (Part* p : parts) {
+            if (!p->series.count(s)) {
+                p->series[s] = {set, rr.text("method"), group_of(rr), r, {}, {}};
+                p->settings[set].series.push_back(s);
+            }
+            p->series[s].all.add(rr, metric.column);
+        }
         const int b = bands.of(rr.num("theta_deg"));
         if (b < 0) continue;
         ser.band[size_t(b)].add(rr, metric.column);
         fser.band[size_t(b)].add(rr, metric.column);
         settings[set].band[size_t(b)].add(rr, metric.column);
+        for (Part* p : parts) {
+            p->series[s].band[size_t(b)].add(rr, metric.column);
+            p->settings[set].band[size_t(b)].add(rr, metric.column);
+        }
     }
     for (size_t r : failed) {
         const int b = bands.of(row(r).num("theta_deg"));
-        if (b >= 0) settings[setting_of(row(r))].failed_bands.insert(size_t(b));
+        if (b < 0) continue;
+        const std::string set = setting_of(row(r)), v = view_of(row(r));
+        settings[set].failed_bands.insert(size_t(b));
+        views[v].settings[set].failed_bands.insert(size_t(b));
+        field_views[field_of(row(r))][v].settings[set].failed_bands.insert(size_t(b));
     }
+    // views in ascending order of their keys' values (distance 1, 4, 16; not 1, 16, 4)
+    const auto values = [](const std::string& v) {
+        std::vector<double> x;
+        std::stringstream ss(v);
+        for (std::string kv; ss >> kv;) x.push_back(std::stod(kv.substr(kv.find('=') + 1)));
+        return x;
+    };
+    std::stable_sort(
+        view_order.begin(), view_order.end(),
+        [&](const std::string& a, const std::string& b) { return values(a) < values(b); });
 }
 
 namespace {

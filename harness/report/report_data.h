@@ -29,9 +29,11 @@ struct TimeMeans {
     Mean time, min, max;
 };
 
-// Means over the ok rows of a series (or setting), overall or in one band.
+// Means over the ok rows of a series (or setting), overall or in one band. budget: the
+// --budget-metric's column; px_budget: err_px_p95 (the pixel budget of camera runs).
 struct Acc {
     Mean err_mean, err_p50, err_p95, fetches, sliding, shimmering, budget;
+    Mean px_mean, px_p95, sliding_dist, shimmering_dist, px_budget;
     std::map<std::string, TimeMeans> time;  // by time_unit (a series has one: its backend's)
     double worst_p95 = NAN;
     bool nonfinite = false;  // some row had samples with NaN/Inf output
@@ -54,6 +56,18 @@ struct Setting {
     std::set<size_t> failed_bands;    // bands where one of its rows failed
 };
 
+// The rows of one camera view (every field pooled, or one field): their series and settings,
+// as ReportData::series / settings hold them for all the rows.
+struct Part {
+    std::map<std::string, Series> series;
+    std::map<std::string, Setting> settings;
+};
+
+// A row's camera view: its camera's own keys (camera_key_columns(): distance, fov_deg,
+// resolution of a perspective camera) that it has, as "distance=4 fov_deg=45 resolution=256";
+// "" for a camera without keys (orthographic).
+std::string view_of(const ResultRow& r);
+
 struct ReportData {
     std::string dir;            // the results folder
     std::filesystem::path out;  // DIR/report
@@ -68,6 +82,21 @@ struct ReportData {
     // field -> series -> its rows on that field.
     std::vector<std::string> field_order;
     std::map<std::string, std::map<std::string, Series>> field_series;
+    // The camera views of the ok rows (view_of), ascending by their keys' values; one ""
+    // when no row has a camera key (an orthographic run: its tables are as they always were).
+    // The tables of a run with views are one per view: a mean over distances mixes errors
+    // that differ by orders of magnitude.
+    std::vector<std::string> view_order;
+    std::map<std::string, Part> views;                               // view -> its rows
+    std::map<std::string, std::map<std::string, Part>> field_views;  // field -> view -> rows
+    bool has_views() const { return view_order.size() > 1 || !view_order.front().empty(); }
+    // Some ok row of a camera view (view_of not empty) has a pixel error (err_px_mean): the
+    // tables show it beside the texel error and budget.md ranks by it. (Orthographic rows have
+    // one too, err * N / W, but a fixed multiple of the texel error says nothing new: their
+    // tables stay as they were.)
+    bool pixel_error = false;
+    // "distance = 4, fov_deg = 45, resolution = 256": a view as a table's heading.
+    static std::string view_title(const std::string& view);
     // Every backend/precision or format of the report, in order of appearance.
     std::vector<std::string> group_order;
     // Every time_unit of the ok rows, in order of appearance: a cost column or panel each.

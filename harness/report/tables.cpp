@@ -9,7 +9,10 @@
 
 #include "harness/core/error.h"
 #include "harness/core/params.h"
+#include "harness/metrics/columns.h"
 #include "harness/report/report_data.h"
+#include "harness/results/error_maps.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 
@@ -27,7 +30,40 @@ void summary_csv_line(std::ostream& csv, const ReportData& d, const std::string&
         << csv_num(a.err_p95.get()) << "," << csv_num(a.worst_p95) << ","
         << csv_num(a.fetches.get());
     for (const std::string& u : d.time_units) csv << "," << csv_num(a.time_in(u));
-    csv << "," << csv_num(a.sliding.get()) << "," << csv_num(a.shimmering.get()) << "\n";
+    csv << "," << csv_num(a.sliding.get()) << "," << csv_num(a.shimmering.get());
+    if (d.has_views())
+        csv << "," << csv_num(a.px_mean.get()) << "," << csv_num(a.px_p95.get()) << ","
+            << csv_num(a.sliding_dist.get()) << "," << csv_num(a.shimmering_dist.get());
+    csv << "\n";
+}
+
+// A camera run's view as the leading CSV fields: a value per camera key column of the run.
+std::vector<std::string> view_keys(const ReportData& d) {
+    std::vector<std::string> keys;
+    if (!d.has_views()) return keys;
+    for (const CameraKey& k : camera_key_columns())
+        for (const auto& v : d.view_order)
+            if ((" " + v).find(" " + k.name + "=") != std::string::npos) {
+                keys.push_back(k.name);
+                break;
+            }
+    return keys;
+}
+std::string view_key_list(const ReportData& d) {
+    std::string out;
+    for (const std::string& k : view_keys(d)) out += (out.empty() ? "" : ", ") + k;
+    return out;
+}
+std::string view_fields(const ReportData& d, const std::string& view) {
+    std::string out;
+    for (const std::string& k : view_keys(d)) {
+        std::string value;
+        std::stringstream ss(view);
+        for (std::string kv; ss >> kv;)
+            if (kv.rfind(k + "=", 0) == 0) value = kv.substr(k.size() + 1);
+        out += value + ",";
+    }
+    return out;
 }
 
 // The header of summary.csv / fields.csv: a time[UNIT] column per time_unit of the rows.
@@ -36,7 +72,13 @@ std::string summary_columns(const ReportData& d) {
         "series,setting,method,group,band,theta_lo,theta_hi,band_views,err_mean,err_p50,err_p95,"
         "err_p95_worst,fetches_mean";
     for (const std::string& u : d.time_units) h += "," + csv_quote("time[" + u + "]");
-    return h + ",sliding,shimmering\n";
+    h += ",sliding,shimmering";
+    if (d.has_views()) {
+        std::string keys;
+        for (const std::string& k : view_keys(d)) keys += k + ",";
+        h = keys + h + ",err_px_mean,err_px_p95,sliding_dist,shimmering_dist";
+    }
+    return h + "\n";
 }
 
 // Every band row and the "all" row of a series.
@@ -105,6 +147,9 @@ std::string time_text(double v) {
     return fmt(v, std::clamp(2 - magnitude, 0, 6));
 }
 
+// Three significant digits in fixed notation ("0.250", "0.00123"), "-" when missing.
+std::string sig3(double v) { return std::isfinite(v) ? time_text(v) : "-"; }
+
 // A time cell of a line: the value of each member that has one (a series has a time in its
 // backend's unit only), distinct values joined.
 template <class Get>
@@ -135,17 +180,23 @@ std::pair<TextTable, TextTable> series_tables(const ReportData& d,
     TextTable md, tex;
     md.header.push_back("method");
     tex.header.push_back("method");
+    // A camera run: pixel error beside texel error in every band.
+    const bool px = d.pixel_error;
     for (size_t b : bands) {
-        md.header.push_back(d.bands.label(b) + " mean / p95");
-        tex.header.push_back(d.bands.label(b));
+        md.header.push_back(d.bands.label(b) + (px ? " texel mean / p95" : " mean / p95"));
+        tex.header.push_back(d.bands.label(b) + (px ? " texel" : ""));
+        if (!px) continue;
+        md.header.push_back(d.bands.label(b) + " pixel mean / p95");
+        tex.header.push_back(d.bands.label(b) + " pixel");
     }
+    const size_t band_columns = bands.size() * (px ? 2 : 1);
     std::vector<std::string> costs{"fetches"};
     for (const std::string& u : d.time_units) costs.push_back("time (" + u + ")");
     for (const std::string& h : costs) {
         md.header.push_back(h);
         tex.header.push_back(h);
     }
-    md.align = tex.align = "l" + std::string(bands.size() + costs.size(), 'r');
+    md.align = tex.align = "l" + std::string(band_columns + costs.size(), 'r');
     const auto shown = [&](const Series& ser) {
         std::vector<std::string> c;
         for (size_t b : bands) {
@@ -153,6 +204,10 @@ std::pair<TextTable, TextTable> series_tables(const ReportData& d,
             c.push_back(it == ser.band.end() ? "-"
                                              : fmt(it->second.err_mean.get()) + " / " +
                                                    fmt(it->second.err_p95.get()));
+            if (px)  // three significant digits: far away pixel errors are 1e-3 and less
+                c.push_back(it == ser.band.end() ? "-"
+                                                 : sig3(it->second.px_mean.get()) + " / " +
+                                                       sig3(it->second.px_p95.get()));
         }
         c.push_back(fmt(ser.all.fetches.get(), 1));
         return c;
@@ -174,7 +229,9 @@ std::pair<TextTable, TextTable> series_tables(const ReportData& d,
         row.front() = tex_name(d, l, !all_merged);
         tex.rows.push_back(row);
     }
-    tex.notes.push_back("Band cells: mean / p95 texel error.");
+    tex.notes.push_back(px ? "Band cells: mean / p95 texel error (texel), mean / p95 pixel "
+                             "error (pixel)."
+                           : "Band cells: mean / p95 texel error.");
     if (all_merged && groups.size() > 1 && !lines.empty()) {
         std::string g;
         for (const Series* s : lines.front().members)
@@ -190,6 +247,14 @@ std::vector<std::string> summary_notes(const ReportData& d, bool tex) {
     notes.push_back(
         "Texel error, mean over rows of the per-row mean / 95th percentile, per "
         "band of the view angle θ (degrees); fetches and times over all angles.");
+    if (d.pixel_error)
+        notes.push_back(
+            "Pixel error: the same means of err_px_mean / err_px_p95, the texel error seen on "
+            "the screen (|J⁻¹ e|, screen pixels): what a viewer of the camera's image sees.");
+    if (d.has_views())
+        notes.push_back(
+            "One table per camera view (its keys: " + view_key_list(d) +
+            "): a mean over distances would mix errors that differ by orders of magnitude.");
     notes.push_back(kMergeNote);
     if (tex) notes.push_back("Method labels and their parameters: legend.tex.");
     return notes;
@@ -212,15 +277,36 @@ std::string file_name_of(const std::string& field) {
 void write_summary(const ReportData& d) {
     std::ostringstream csv;
     csv << summary_columns(d);
-    for (const auto& s : d.series_order) summary_csv(csv, d, "", s, d.series.at(s));
-    auto [md, tex] = series_tables(d, d.series);
-    md.notes = summary_notes(d, false);
-    const auto extra = tex.notes;
-    tex.notes = summary_notes(d, true);
-    tex.notes.insert(tex.notes.begin(), extra.begin(), extra.end());
+    if (!d.has_views()) {
+        for (const auto& s : d.series_order) summary_csv(csv, d, "", s, d.series.at(s));
+        auto [md, tex] = series_tables(d, d.series);
+        md.notes = summary_notes(d, false);
+        const auto extra = tex.notes;
+        tex.notes = summary_notes(d, true);
+        tex.notes.insert(tex.notes.begin(), extra.begin(), extra.end());
+        d.write("summary.csv", csv.str());
+        d.write("summary.md", md.markdown());
+        d.write("summary.tex", tex.latex(d.dir + "/results.csv"));
+        return;
+    }
+    // A camera run: a table per view, the notes once at the end.
+    std::ostringstream md, tex;
+    md << "# Summary per camera view\n";
+    for (const auto& v : d.view_order) {
+        const auto& sers = d.views.at(v).series;
+        for (const auto& s : d.series_order)
+            if (sers.count(s)) summary_csv(csv, d, view_fields(d, v), s, sers.at(s));
+        auto [m, t] = series_tables(d, sers);
+        md << "\n## " << ReportData::view_title(v) << "\n\n" << m.markdown();
+        t.notes.insert(t.notes.begin(), "Camera view: " + ReportData::view_title(v) + ".");
+        tex << t.latex(d.dir + "/results.csv") << "\n";
+    }
+    md << "\n";
+    for (const auto& n : summary_notes(d, false)) md << n << "\n\n";
+    for (const auto& n : summary_notes(d, true)) tex << tex_text(n) << "\n\n";
     d.write("summary.csv", csv.str());
-    d.write("summary.md", md.markdown());
-    d.write("summary.tex", tex.latex(d.dir + "/results.csv"));
+    d.write("summary.md", md.str());
+    d.write("summary.tex", tex.str());
 }
 
 // fields.csv / fields.md / fields/FIELD.tex: the summary of each height field on its own.
@@ -232,20 +318,39 @@ void write_fields(const ReportData& d) {
     report_folder(d.out, "fields");
     std::set<std::string> names;
     for (const auto& field : d.field_order) {
-        const auto& sers = d.field_series.at(field);
-        for (const auto& s : d.series_order)
-            if (sers.count(s)) summary_csv(csv, d, csv_quote(field) + ",", s, sers.at(s));
-        auto [m, t] = series_tables(d, sers);
-        md << "\n## " << one_line(field) << "\n\n" << m.markdown();
-        std::string name = file_name_of(field);
-        for (int k = 2; names.count(name); ++k)
-            name = file_name_of(field) + "_" + std::to_string(k);
-        names.insert(name);
-        const auto extra = t.notes;
-        t.notes = summary_notes(d, true);
-        t.notes.insert(t.notes.begin(), extra.begin(), extra.end());
-        t.notes.insert(t.notes.begin(), "Height field: " + field + ".");
-        d.write("fields/" + name + ".tex", t.latex(d.dir + "/results.csv"));
+        // a camera run: a table per view of the field (fields/FIELD_d4_f45_r256.tex)
+        std::vector<std::pair<std::string, const std::map<std::string, Series>*>> parts;
+        if (!d.has_views()) parts.emplace_back("", &d.field_series.at(field));
+        else
+            for (const auto& v : d.view_order)
+                if (d.field_views.at(field).count(v))
+                    parts.emplace_back(v, &d.field_views.at(field).at(v).series);
+        if (d.has_views()) md << "\n## " << one_line(field) << "\n";
+        for (const auto& [view, sers_p] : parts) {
+            const auto& sers = *sers_p;
+            for (const auto& s : d.series_order)
+                if (sers.count(s))
+                    summary_csv(csv, d, csv_quote(field) + "," + view_fields(d, view), s,
+                                sers.at(s));
+            auto [m, t] = series_tables(d, sers);
+            if (d.has_views())
+                md << "\n### " << ReportData::view_title(view) << "\n\n" << m.markdown();
+            else md << "\n## " << one_line(field) << "\n\n" << m.markdown();
+            const std::string stem =
+                file_name_of(field) +
+                (view.empty() ? "" : camera_name_part(d.row(sers.begin()->second.first_row)));
+            std::string name = stem;
+            for (int k = 2; names.count(name); ++k) name = stem + "_" + std::to_string(k);
+            names.insert(name);
+            const auto extra = t.notes;
+            t.notes = summary_notes(d, true);
+            t.notes.insert(t.notes.begin(), extra.begin(), extra.end());
+            if (!view.empty())
+                t.notes.insert(t.notes.begin(),
+                               "Camera view: " + ReportData::view_title(view) + ".");
+            t.notes.insert(t.notes.begin(), "Height field: " + field + ".");
+            d.write("fields/" + name + ".tex", t.latex(d.dir + "/results.csv"));
+        }
     }
     md << "\n";
     for (const auto& n : summary_notes(d, false)) md << n << "\n\n";
@@ -301,38 +406,73 @@ void write_failed(const ReportData& d) {
     if (shown < d.failed.size()) std::cout << "  ... and " << d.failed.size() - shown << " more\n";
 }
 
-// sweep.md: sliding / shimmering per series and band (when measured).
+// sweep.md: sliding / shimmering per series and band (when measured), and a camera run's
+// sliding_dist / shimmering_dist (what crawls as the eye moves away), a table per view.
 void write_sweep(const ReportData& d) {
-    bool any = false;
-    for (const auto& s : d.series_order) any |= d.series.at(s).all.shimmering.n > 0;
-    if (!any) return;
-    const auto bands = d.present_bands();
-    TextTable tt;
-    tt.header.push_back("method");
-    for (size_t b : bands) tt.header.push_back(d.bands.label(b) + " sliding / shimmering");
-    tt.align = "l" + std::string(bands.size(), 'r');
-    const auto shown = [&](const Series& ser) {
-        std::vector<std::string> c;
-        for (size_t b : bands) {
-            auto it = ser.band.find(b);
-            c.push_back(it == ser.band.end() ? "-"
-                                             : fmt(it->second.sliding.get()) + " / " +
-                                                   fmt(it->second.shimmering.get()));
-        }
-        return c;
-    };
-    for (const Line& l : merge_lines(d, d.series, shown)) {
-        std::vector<std::string> row = shown(*l.members.front());
-        row.insert(row.begin(), md_name(l));
-        tt.rows.push_back(row);
+    bool angle = false, dist = false;
+    for (const auto& s : d.series_order) {
+        angle |= d.series.at(s).all.shimmering.n > 0;
+        dist |= d.series.at(s).all.shimmering_dist.n > 0;
     }
-    tt.notes = d.notes();
-    tt.notes.push_back(
-        "Texels per degree of view change (docs/conventions.md section 5.3): "
-        "sliding = |mean change of the error vector| / dt, shimmering = mean "
-        "|change - mean change| / dt.");
-    tt.notes.push_back(kMergeNote);
-    d.write("sweep.md", tt.markdown());
+    if (!angle && !dist) return;
+    const auto bands = d.present_bands();
+    const auto table = [&](const std::map<std::string, Series>& sers) {
+        TextTable tt;
+        tt.header.push_back("method");
+        for (size_t b : bands) {
+            if (angle) tt.header.push_back(d.bands.label(b) + " sliding / shimmering");
+            if (dist) tt.header.push_back(d.bands.label(b) + " sliding_dist / shimmering_dist");
+        }
+        tt.align = "l" + std::string(bands.size() * (size_t(angle) + size_t(dist)), 'r');
+        const auto shown = [&](const Series& ser) {
+            std::vector<std::string> c;
+            for (size_t b : bands) {
+                auto it = ser.band.find(b);
+                const bool none = it == ser.band.end();
+                if (angle)
+                    c.push_back(none ? "-"
+                                     : fmt(it->second.sliding.get()) + " / " +
+                                           fmt(it->second.shimmering.get()));
+                if (dist)
+                    c.push_back(none ? "-"
+                                     : sig3(it->second.sliding_dist.get()) + " / " +
+                                           sig3(it->second.shimmering_dist.get()));
+            }
+            return c;
+        };
+        for (const Line& l : merge_lines(d, sers, shown)) {
+            std::vector<std::string> row = shown(*l.members.front());
+            row.insert(row.begin(), md_name(l));
+            tt.rows.push_back(row);
+        }
+        return tt;
+    };
+    std::vector<std::string> notes = d.notes();
+    if (angle)
+        notes.push_back(
+            "Texels per degree of view change (docs/conventions.md section 5.3): "
+            "sliding = |mean change of the error vector| / dt, shimmering = mean "
+            "|change - mean change| / dt.");
+    if (dist)
+        notes.push_back(
+            "sliding_dist / shimmering_dist: the same between consecutive eye distances, in "
+            "texels per tile of eye distance (README, sliding_dist); on the nearer view's row, "
+            "so the farthest distance has none (-).");
+    notes.push_back(kMergeNote);
+    if (!d.has_views()) {
+        TextTable tt = table(d.series);
+        tt.notes = notes;
+        d.write("sweep.md", tt.markdown());
+        return;
+    }
+    std::ostringstream md;
+    md << "# Sweeps per camera view\n";
+    for (const auto& v : d.view_order)
+        md << "\n## " << ReportData::view_title(v) << "\n\n"
+           << table(d.views.at(v).series).markdown();
+    md << "\n";
+    for (const auto& n : notes) md << n << "\n\n";
+    d.write("sweep.md", md.str());
 }
 
 // precision.md: what float precision itself costs, per setting and view angle (worst over the
@@ -377,17 +517,26 @@ void write_precision(const ReportData& d) {
 
 namespace {
 
+// The error a budget table ranks by: a column's means in Acc (budget: --budget-metric's,
+// px_budget: err_px_p95).
+struct Ranking {
+    const char* header;
+    std::string meaning, column;
+    std::vector<double> budgets;
+    Mean Acc::*mean;
+};
+
 // Does a setting meet a budget in a band? Only if no row of it failed there, none had
 // non-finite outputs, and every one of its series (backend, precision, texture format) with
 // rows there is within the budget: the conservative reading.
-bool meets(const ReportData& d, const Setting& set, size_t band, double budget) {
+bool meets(const Part& p, const Setting& set, size_t band, double budget, const Ranking& k) {
     if (set.failed_bands.count(band)) return false;
     bool any = false;
     for (const auto& s : set.series) {
-        const auto& bands = d.series.at(s).band;
+        const auto& bands = p.series.at(s).band;
         auto it = bands.find(band);
         if (it == bands.end()) continue;
-        if (it->second.nonfinite || !(it->second.budget.get() <= budget)) return false;
+        if (it->second.nonfinite || !((it->second.*k.mean).get() <= budget)) return false;
         any = true;
     }
     return any;
@@ -395,13 +544,16 @@ bool meets(const ReportData& d, const Setting& set, size_t band, double budget) 
 
 // The cheapest setting meeting a budget in a band (fewest fetches, then the time in each
 // time_unit of the report, in order), as a cell (the setting's LaTeX label with `tex`).
-std::string cheapest(const ReportData& d, size_t b, double budget, bool tex) {
+std::string cheapest(const ReportData& d, const Part& p, size_t b, double budget, bool tex,
+                     const Ranking& k) {
     const std::string* best = nullptr;
     double best_f = INFINITY;  // missing counts as the dearest
     std::vector<double> best_t;
     for (const auto& name : d.setting_order) {
-        const Setting& set = d.settings.at(name);
-        if (!meets(d, set, b, budget)) continue;
+        auto sit = p.settings.find(name);
+        if (sit == p.settings.end()) continue;
+        const Setting& set = sit->second;
+        if (!meets(p, set, b, budget, k)) continue;
         const Acc& a = set.band.at(b);
         const double f = std::isfinite(a.fetches.get()) ? a.fetches.get() : INFINITY;
         std::vector<double> t;
@@ -417,40 +569,92 @@ std::string cheapest(const ReportData& d, size_t b, double budget, bool tex) {
     return best ? *best + " (" + fmt(best_f, 1) + " fetches)" : "no setting meets this budget";
 }
 
-}  // namespace
-
-// budget.md / budget.tex: per band and budget, the cheapest method setting meeting it.
-void write_budget(const ReportData& d) {
+// The budget table of one part (every row, or one camera view) under one ranking.
+std::pair<TextTable, TextTable> budget_tables(const ReportData& d, const Part& p,
+                                              const Ranking& k) {
     const auto bands = d.present_bands();
     TextTable tt;
-    tt.header.push_back(d.metric.header);
+    tt.header.push_back(k.header);
     for (size_t b : bands) tt.header.push_back(d.bands.label(b));
     tt.align = "r" + std::string(bands.size(), 'l');
     TextTable tex = tt;
-    for (double budget : d.metric.budgets) {
+    for (double budget : k.budgets) {
         std::vector<std::string> row = {format_number(budget)}, tex_row = row;
         for (size_t b : bands) {
-            row.push_back(cheapest(d, b, budget, false));
-            tex_row.push_back(cheapest(d, b, budget, true));
+            row.push_back(cheapest(d, p, b, budget, false, k));
+            tex_row.push_back(cheapest(d, p, b, budget, true, k));
         }
         tt.rows.push_back(row);
         tex.rows.push_back(tex_row);
     }
-    tt.notes = d.notes();
-    tt.notes.push_back(
-        std::string("Cheapest method setting (fewest fetches, height and map lookups, per "
-                    "sample, then time, unit by unit, over its rows in the band) whose "
-                    "mean ") +
-        d.metric.meaning + " (`" + d.metric.column +
-        "`) in the band is within the budget on every backend, precision and "
-        "texture format it ran on, with no failed row and no non-finite "
-        "output there.");
-    tex.notes = tt.notes;
-    tex.notes.push_back(
+    return {tt, tex};
+}
+
+std::string budget_note(const Ranking& k) {
+    return std::string(
+               "Cheapest method setting (fewest fetches, height and map lookups, per "
+               "sample, then time, unit by unit, over its rows in the band) whose "
+               "mean ") +
+           k.meaning + " (`" + k.column +
+           "`) in the band is within the budget on every backend, precision and "
+           "texture format it ran on, with no failed row and no non-finite "
+           "output there.";
+}
+
+}  // namespace
+
+// budget.md / budget.tex: per band and budget, the cheapest method setting meeting it. A
+// camera run: per view, ranked first by pixel error (err_px_p95: what the camera's image
+// shows), then by the --budget-metric's texel error.
+void write_budget(const ReportData& d) {
+    const Ranking texel{d.metric.header, d.metric.meaning, d.metric.column, d.metric.budgets,
+                        &Acc::budget};
+    const char* const kTexNote =
         "A cell: the setting, its fetches per sample; --: no setting meets this budget. Method "
-        "labels and their parameters: legend.tex.");
-    d.write("budget.md", tt.markdown());
-    d.write("budget.tex", tex.latex(d.dir + "/results.csv"));
+        "labels and their parameters: legend.tex.";
+    if (!d.has_views()) {
+        Part all{d.series, d.settings};
+        auto [tt, tex] = budget_tables(d, all, texel);
+        tt.notes = d.notes();
+        tt.notes.push_back(budget_note(texel));
+        tex.notes = tt.notes;
+        tex.notes.push_back(kTexNote);
+        d.write("budget.md", tt.markdown());
+        d.write("budget.tex", tex.latex(d.dir + "/results.csv"));
+        return;
+    }
+    const Ranking pixel{"p95 budget (pixels)",
+                        "95th-percentile pixel error",
+                        "err_px_p95",
+                        {0.1, 0.25, 0.5, 1, 2, 4},
+                        &Acc::px_budget};
+    std::vector<const Ranking*> rankings;
+    if (d.pixel_error) rankings.push_back(&pixel);
+    rankings.push_back(&texel);
+    std::ostringstream md, tex;
+    md << "# Budgets per camera view\n";
+    for (const auto& v : d.view_order) {
+        md << "\n## " << ReportData::view_title(v) << "\n";
+        for (const Ranking* k : rankings) {
+            auto [m, t] = budget_tables(d, d.views.at(v), *k);
+            md << "\n" << m.markdown();
+            t.notes = {"Camera view: " + ReportData::view_title(v) + "; " + k->meaning + "."};
+            tex << t.latex(d.dir + "/results.csv") << "\n";
+        }
+    }
+    std::vector<std::string> notes = d.notes();
+    if (d.pixel_error)
+        notes.push_back(
+            "A camera run: ranked first by pixel error (err_px_p95, the error on the screen, "
+            "which shrinks with distance as texels shrink), then by the texel error "
+            "(--budget-metric).");
+    for (const Ranking* k : rankings) notes.push_back(budget_note(*k));
+    md << "\n";
+    for (const auto& n : notes) md << n << "\n\n";
+    for (const auto& n : notes) tex << tex_text(n) << "\n\n";
+    tex << tex_text(kTexNote) << "\n";
+    d.write("budget.md", md.str());
+    d.write("budget.tex", tex.str());
 }
 
 }  // namespace pxh

@@ -53,7 +53,8 @@ ErrorMapBox error_map_box(int n) {
 }
 
 std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::string& dir,
-                            const std::string& stem, const std::string& title) {
+                            const std::string& stem, const std::string& title,
+                            const std::vector<uint8_t>& inside, bool as_seen) {
     namespace fs = std::filesystem;
     make_own_folder(dir);  // inside the run's own partial folder: never through a link
     // Data: N x N x 3 floats.
@@ -74,13 +75,18 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
     OIIO::ImageBuf pic(OIIO::ImageSpec(width, top + side + legend, 3, OIIO::TypeDesc::UINT8));
     const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0};
     OIIO::ImageBufAlgo::fill(pic, white);
+    bool outside = false;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-            const Vec2d e = errors[size_t(j) * n + i];
-            float rgb[3];
-            error_colour(std::hypot(e.x, e.y), rgb);
+            const size_t at = size_t(j) * n + i;
+            const Vec2d e = errors[at];
+            float rgb[3] = {0.5f, 0.5f, 0.5f};  // outside the camera's view: grey
+            if (at < inside.size() && !inside[at]) outside = true;
+            else error_colour(std::hypot(e.x, e.y), rgb);
+            const int row = as_seen ? n - 1 - j : j;
             OIIO::ImageBufAlgo::fill(
-                pic, rgb, OIIO::ROI(x0 + i * k, x0 + (i + 1) * k, top + j * k, top + (j + 1) * k));
+                pic, rgb,
+                OIIO::ROI(x0 + i * k, x0 + (i + 1) * k, top + row * k, top + (row + 1) * k));
         }
     OIIO::ImageBufAlgo::render_text(pic, 6, 19, title, 14, kFont, black);
     // Legend: the colour bar from 1/16 to 16 texels (log2), ticks labelled.
@@ -96,8 +102,11 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
         OIIO::ImageBufAlgo::fill(pic, black, OIIO::ROI(x, x + 1, by1, by1 + 4));
         OIIO::ImageBufAlgo::render_text(pic, x - 8, by1 + 17, labels[t], 12, kFont, black);
     }
-    OIIO::ImageBufAlgo::render_text(
-        pic, bx0, by1 + 34, "texel error (log scale; magenta: non-finite)", 12, kFont, black);
+    OIIO::ImageBufAlgo::render_text(pic, bx0, by1 + 34,
+                                    outside
+                                        ? "texel error (log; magenta: non-finite; grey: outside)"
+                                        : "texel error (log scale; magenta: non-finite)",
+                                    12, kFont, black);
     const std::string png = (fs::path(dir) / (stem + ".png")).string();
     write_new_image(pic, png);
     return stem + ".png";

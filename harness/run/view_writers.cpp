@@ -20,13 +20,15 @@ namespace {
 // map column.
 bool maps_wanted(const Experiment& ex) { return ex.maps; }
 
+// A camera's map as its pictures are: outside pixels grey, rows as the viewer sees them.
 void write_maps(const ViewWriteContext& c, ViewOutput& v) {
+    const bool as_seen = c.ex.camera != "orthographic";
     for (size_t i = 0; i < v.rows.size(); ++i) {
         if (v.errors[i].empty()) continue;
         const ErrorMapName name = error_map_name(v.rows[i], v.first + i);
         v.rows[i].set_text(
             "map", "maps/" + write_error_map(v.errors[i], c.ex.samples, (c.dir / "maps").string(),
-                                             name.stem, name.title));
+                                             name.stem, name.title, v.inside, as_seen));
     }
 }
 

@@ -3,7 +3,9 @@
 // pieces of text overlap or touch, none leaves the canvas, no figure is wider than asked for.
 // On a reduced copy of the default experiment (its six fields, ten settings, seven angles, two
 // azimuths, both backends and [render]; fewer samples, smaller fields) and on a "wide" one
-// (many settings, long parameter strings, scans, a plug-in shader with a long uniform name).
+// (many settings, long parameter strings, scans, a plug-in shader with a long uniform name), on a
+// perspective camera run (three distances, two level modes, maps and pictures) and on error maps
+// of eighteen view angles.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -82,6 +84,65 @@ theta_deg = [40, 85]
 strip_method = "pom")");
 }
 
+// A perspective camera at three distances, two level modes, error maps and pictures: a montage
+// per view, a strip per view and level mode, error_vs_distance per field (issue 46).
+const char* kCamera = R"(name = "camera"
+samples = 32
+backends = ["cpu"]
+precision = "float"
+timing_repeats = 1
+maps = true
+[views]
+camera = "perspective"
+theta_deg = [30, 60, 80]
+phi_deg = [30]
+distance = [1, 4, 16]
+fov_deg = 45
+[render]
+heightfields = ["bricks"]
+phi_deg = 30
+theta_deg = [60]
+strip_method = "pom"
+[[heightfields]]
+generator = "bricks"
+size = 64
+scale = 0.05
+bias = 1.0
+[[heightfields]]
+generator = "fbm"
+size = 64
+scale = 0.05
+bias = 1.0
+[[methods]]
+name = "parallax"
+lod = ["base", "level"]
+[[methods]]
+name = "pom"
+layers = 32
+lod = ["base", "level"]
+)";
+
+// Error maps at many view angles (θ 0 to 85 in steps of 5): the montage's column heads.
+const char* kAngles = R"(name = "angles"
+samples = 8
+backends = ["cpu"]
+precision = "float"
+timing_repeats = 1
+maps = true
+[views]
+theta_deg = { from = 0, to = 85, step = 5 }
+[[heightfields]]
+generator = "bricks"
+size = 32
+scale = 0.05
+bias = 1.0
+[[methods]]
+name = "parallax"
+[[methods]]
+name = "pom"
+layers = 16
+)";
+
 class FigureCollisions : public ::testing::Test {
   protected:
     static fs::path root;
@@ -98,7 +159,9 @@ class FigureCollisions : public ::testing::Test {
         std::ofstream(root / "default.toml") << default_reduced();
         std::ofstream(root / "wide.toml") << wide_experiment();
         std::ofstream(root / "plugin.frag.glsl") << kPlugin;
-        for (const char* name : {"default", "wide"}) {
+        std::ofstream(root / "camera.toml") << kCamera;
+        std::ofstream(root / "angles.toml") << kAngles;
+        for (const char* name : {"default", "wide", "camera", "angles"}) {
             const fs::path log = root / (std::string(name) + "_run.txt");
             const std::string cmd = std::string(PXH_BINARY) + " run " +
                                     (root / (std::string(name) + ".toml")).string() +
@@ -139,5 +202,9 @@ TEST_F(FigureCollisions, DefaultSingle) { check("default", "single"); }
 TEST_F(FigureCollisions, DefaultDouble) { check("default", "double"); }
 TEST_F(FigureCollisions, WideSingle) { check("wide", "single"); }
 TEST_F(FigureCollisions, WideDouble) { check("wide", "double"); }
+TEST_F(FigureCollisions, CameraSingle) { check("camera", "single"); }
+TEST_F(FigureCollisions, CameraDouble) { check("camera", "double"); }
+TEST_F(FigureCollisions, ManyAnglesSingle) { check("angles", "single"); }
+TEST_F(FigureCollisions, ManyAnglesDouble) { check("angles", "double"); }
 
 }  // namespace

@@ -185,6 +185,140 @@ TEST_F(PlotScript, LongAndNonLatinNamesDraw) {
     EXPECT_LT(png_width("error_vs_theta.png"), 1.05 * 3.5 * 300);
 }
 
+// A camera run's pictures: a montage per view (D = 1 and 16 never under one truth), a strip
+// per view and level mode (never six panels "θ = 45°"), named and titled by the view.
+TEST_F(PlotScript, CameraPicturesPerViewAndLevelMode) {
+    std::string csv =
+        "heightfield,theta_deg,phi_deg,series,method,params,backend,precision,texture_format,"
+        "img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use,camera_view,"
+        "camera_tag,lod,distance,fov_deg,resolution\n";
+    for (const char* d : {"1", "16"})
+        for (const char* lod : {"base", "level"})
+            for (const char* th : {"30", "60"}) {
+                const std::string tag = std::string("_d") + d + "_f45_r64";
+                const std::string params =
+                    std::string(lod) == "base" ? "layers=8" : "layers=8;lod=level";
+                csv += std::string("bricks,") + th + ",30,s,pom," + params +
+                       ",cpu,float,,30,0.9,pictures/a.png,pictures/b.png,pictures/t" + tag +
+                       ".png," + (std::string(th) == "60" ? "montage strip" : "strip") +
+                       ",distance=" + d + " fov_deg=45 resolution=64," + tag + "," + lod + "," + d +
+                       ",45,64\n";
+            }
+    std::ofstream(dir / "data" / "pictures.csv") << csv;
+    auto figs = plot("3.5", "png");
+    for (const char* d : {"1", "16"}) {
+        const std::string tag = std::string("_d") + d + "_f45_r64";
+        ASSERT_TRUE(figs.count("picture_bricks_t60_p30" + tag)) << tag;
+        // the truth, then base and level each over its difference
+        EXPECT_EQ(figs["picture_bricks_t60_p30" + tag]["panels"], 5);
+        for (const std::string lod : {"", "_level"}) {
+            ASSERT_TRUE(figs.count("strip_bricks_p30" + tag + lod)) << tag << lod;
+            EXPECT_EQ(figs["strip_bricks_p30" + tag + lod]["panels"], 6);  // 3 x two θ
+        }
+    }
+    EXPECT_FALSE(figs.count("picture_bricks_t60_p30"));
+    EXPECT_FALSE(figs.count("strip_bricks_p30"));
+}
+
+// A camera run's vs_theta.csv: error_vs_theta and sweep_vs_theta per camera view, named by its
+// tag; error_vs_theta with the pixel error below the texel error (a panel each per field).
+TEST_F(PlotScript, ErrorVsThetaPerCameraView) {
+    std::string csv = slurp(dir / "data" / "vs_theta.csv");
+    std::istringstream in(csv);
+    std::string header, out;
+    std::getline(in, header);
+    out = header + ",camera_view,camera_tag,err_px_p50,err_px_p95\n";
+    for (std::string line; std::getline(in, line);)
+        for (const char* d : {"1", "16"})
+            out += line + ",distance=" + d + " fov_deg=45,_d" + d + "_f45," +
+                   (std::string(d) == "1" ? "0.1,0.2" : "0.001,0.002") + "\n";
+    std::ofstream(dir / "data" / "vs_theta.csv") << out;
+    auto figs = plot("3.5", "png");
+    for (const std::string d : {"1", "16"}) {
+        const std::string tag = "_d" + d + "_f45";
+        ASSERT_TRUE(figs.count("error_vs_theta" + tag)) << tag;
+        EXPECT_EQ(figs["error_vs_theta" + tag]["panels"], 4);  // 2 fields x texel, pixel
+        ASSERT_TRUE(figs.count("sweep_vs_theta" + tag)) << tag;
+        const std::string note = figs["error_vs_theta" + tag]["note"];
+        EXPECT_NE(note.find("camera: distance = " + d + ", fov_deg = 45"), std::string::npos)
+            << note;
+    }
+    EXPECT_FALSE(figs.count("error_vs_theta"));
+}
+
+// A camera run's cost_vs_error_bands.csv: cost_vs_error and time_vs_error per camera view.
+TEST_F(PlotScript, CostFiguresPerCameraView) {
+    std::istringstream in(slurp(dir / "data" / "cost_vs_error_bands.csv"));
+    std::string header, out;
+    std::getline(in, header);
+    out = header + ",camera_view,camera_tag\n";
+    for (std::string line; std::getline(in, line);)
+        for (const char* d : {"1", "16"}) out += line + ",distance=" + d + ",_d" + d + "\n";
+    std::ofstream(dir / "data" / "cost_vs_error_bands.csv") << out;
+    auto figs = plot("3.5", "png");
+    for (const char* name :
+         {"cost_vs_error_d1", "cost_vs_error_d16", "time_vs_error_d1", "time_vs_error_d16"})
+        EXPECT_TRUE(figs.count(name)) << name;
+    EXPECT_FALSE(figs.count("cost_vs_error"));
+    EXPECT_EQ(figs["cost_vs_error_d16"]["panels"], 2);  // a panel per band, as before
+    EXPECT_NE(figs["cost_vs_error_d16"]["legend"].dump().find("pom"), std::string::npos);
+}
+
+// error_vs_distance: one figure per field, named by it; the pixel panels ticked down to their
+// smallest values (1e-3 here), not 0 and 0.1 only.
+TEST_F(PlotScript, ErrorVsDistanceNamedByFieldAndTickedToItsValues) {
+    std::string csv =
+        "heightfield,theta_deg,series,method,params,backend,precision,texture_format,distance,"
+        "err_mean,err_p95,err_px_mean,err_px_p95,lod_mean\n";
+    for (const char* f : {"bricks s=0.05 b=1", "fbm s=0.05 b=1"})
+        for (const char* th : {"30", "60"})
+            for (const auto& [d, px] : std::vector<std::pair<const char*, const char*>>{
+                     {"1", "0.08"}, {"4", "0.01"}, {"16", "0.0015"}})
+                csv += std::string("\"") + f + "\"," + th + ",s,pom,layers=8,cpu,float,," + d +
+                       ",0.5,1," + px + "," + px + ",0\n";
+    std::ofstream(dir / "data" / "vs_distance.csv") << csv;
+    for (const char* width : {"3.5", "7"}) {
+        auto figs = plot(width, "png");
+        ASSERT_TRUE(figs.count("error_vs_distance_bricks_s_0.05_b_1")) << width;
+        ASSERT_TRUE(figs.count("error_vs_distance_fbm_s_0.05_b_1")) << width;
+        EXPECT_FALSE(figs.count("error_vs_distance_1"));
+        const auto ticks = figs["error_vs_distance_bricks_s_0.05_b_1"]["y_ticks"]["pixel error"];
+        double smallest = 1;
+        for (const auto& t : ticks)
+            if (t.get<double>() > 0) smallest = std::min(smallest, t.get<double>());
+        EXPECT_LE(smallest, 0.0015) << ticks.dump();
+        EXPECT_GE(ticks.size(), 3u) << ticks.dump();
+    }
+}
+
+// Error maps of many view angles (θ 0 to 85 in steps of 5): the column heads fit at single
+// and double width, no two touching (tests/figure_text_check.py on the drawn figure).
+TEST_F(PlotScript, ErrorMapHeadsFitAtManyAngles) {
+    std::string maps =
+        "heightfield,phi_deg,series,method,params,backend,precision,texture_format,theta_deg,"
+        "map,map_x0,map_y0,map_side,camera_view,camera_tag,lod\n";
+    for (const char* m : {"pom", "parallax"})
+        for (int th = 0; th <= 85; th += 5)
+            maps += std::string("bricks,0,s,") + m + ",,cpu,float,," + std::to_string(th) +
+                    ",maps/x.png,0,28,384,,,base\n";
+    std::ofstream(dir / "data" / "maps.csv") << maps;
+    std::string scale = "log2_texels,r,g,b\n";
+    for (int k = 0; k <= 8; ++k) scale += std::to_string(k - 4) + ",0.5,0.5,0.5\n";
+    std::ofstream(dir / "data" / "error_scale.csv") << scale;
+    for (const char* width : {"3.5", "7"}) {
+        const fs::path log = dir.parent_path() / "check.txt";
+        const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) +
+                                "/tests/figure_text_check.py " + std::string(PXH_SOURCE_DIR) +
+                                "/harness/report/plot_report.py " + dir.string() + " " + width +
+                                " >" + log.string() + " 2>&1";
+        const int rc = std::system(cmd.c_str());
+        const std::string out = slurp(log);
+        EXPECT_EQ(rc, 0) << width << ": " << out;
+        EXPECT_EQ(out.find("collision"), std::string::npos) << width << ": " << out;
+        EXPECT_NE(out.find("checked "), std::string::npos) << out;
+    }
+}
+
 }  // namespace
 
 namespace {
