@@ -124,8 +124,10 @@ struct SquareScene {
     const float* texels;  // texels_, rows of `up` floats
     int up;
     const uint8_t* squares;  // square_code_, laid out as SquareLayout
-    double lo, step;         // code c: the bound lo + c step
-    int levels;              // K
+    // SquareLayout's by level k (index k; 0 unused), for the vectors' lookups.
+    alignas(64) double inv_spacing[8], cols[8], base[8];
+    double lo, step;  // code c: the bound lo + c step
+    int levels;       // K
     int W, H;
     double s, b, zt;
 };
@@ -233,16 +235,9 @@ PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const
     c.H = _mm512_set1_pd(sc.H);
     c.iW = _mm512_set1_pd(1.0 / sc.W);
     c.iH = _mm512_set1_pd(1.0 / sc.H);
-    const SquareLayout layout(sc.W, sc.H, sc.levels);
-    alignas(64) double inv_spacing[8] = {}, cols[8] = {}, base[8] = {};
-    for (int k = 1; k <= sc.levels; ++k) {
-        inv_spacing[k] = 1.0 / layout.spacing[k];  // powers of two: exact
-        cols[k] = layout.cols[k];
-        base[k] = double(layout.base[k]);
-    }
-    c.inv_spacing = _mm512_load_pd(inv_spacing);
-    c.cols = _mm512_load_pd(cols);
-    c.base = _mm512_load_pd(base);
+    c.inv_spacing = _mm512_load_pd(sc.inv_spacing);
+    c.cols = _mm512_load_pd(sc.cols);
+    c.base = _mm512_load_pd(sc.base);
     c.zt = _mm512_set1_pd(sc.zt);
     c.s = _mm512_set1_pd(sc.s);
     c.b = _mm512_set1_pd(sc.b);
@@ -757,10 +752,24 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     const size_t n = view.size();
     out.resize_all(n);
     prepare_rays();
-    const SquareScene sc{
-        texels_.data(), int(texel_stride()), square_code_.data(), square_lo_, square_step_,
-        square_levels_, hf_.width,           hf_.height,          s_,         b_,
-        z_top()};
+    SquareScene sc{};
+    sc.texels = texels_.data();
+    sc.up = int(texel_stride());
+    sc.squares = square_code_.data();
+    const SquareLayout layout(hf_.width, hf_.height, square_levels_);
+    for (int k = 0; k < 8; ++k) {
+        sc.inv_spacing[k] = k > 0 && k <= square_levels_ ? 1.0 / layout.spacing[k] : 0;  // exact
+        sc.cols[k] = layout.cols[k];
+        sc.base[k] = double(layout.base[k]);
+    }
+    sc.lo = square_lo_;
+    sc.step = square_step_;
+    sc.levels = square_levels_;
+    sc.W = hf_.width;
+    sc.H = hf_.height;
+    sc.s = s_;
+    sc.b = b_;
+    sc.zt = z_top();
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
         const size_t m = range.size(), k0 = range.begin();
         // Each thread's work arrays, kept from chunk to chunk.
@@ -827,15 +836,9 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             }
             std::swap(w.cols, w.next);
         }
-        // hit_at's arithmetic.
-        const double zt = z_top();
         for (int p = 0; p < rays; ++p) {
             const size_t k = k0 + size_t(w.where[p]);
-            const Vec3d V = view.dir(k);
-            const double tau = w.answer[p];
-            out.uv[k] = {w.ex[p] - tau * V.x, w.ey[p] - tau * V.y};
-            out.z[k] = zt - tau * V.z;
-            out.cells[k] = w.cells[p];
+            out.set(k, hit_at_tau(w.ex[p], w.ey[p], sc.zt, view.dir(k), w.answer[p], w.cells[p]));
         }
     });
 }
