@@ -7,6 +7,8 @@ namespace pxh {
 
 // Commit, compiler, library versions, CPU, threads, date, host.
 nlohmann::json provenance(int threads);
+// The CPU's model name (/proc/cpuinfo), or "unknown".
+std::string cpu_model();
 std::string utc_timestamp(const char* fmt = "%Y-%m-%dT%H:%M:%SZ");
 
 }  // namespace pxh

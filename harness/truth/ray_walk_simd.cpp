@@ -1,7 +1,9 @@
-// The per-ray path on CPUs with AVX-512 (avx512f and avx512dq, checked at run time:
-// ExactTracer::simd_path; the tables need a field of at least 2 x 2 cells): every ray of a view
-// traced 8 to a vector, trace_naive's hits bit for bit, as the scalar walk (ray_walk_exact.cpp),
-// which every other CPU takes.
+// The per-ray vector paths (ExactTracer::ray_path, chosen at run time; the tables need a field
+// of at least 2 x 2 cells): every ray of a view traced 8 to a vector where the CPU has AVX-512
+// (avx512f and avx512dq: the kernels here), 4 to a vector where it has AVX2 and FMA (the same
+// passes in ray_walk_avx2.cpp), trace_naive's hits bit for bit, as the scalar walk
+// (ray_walk_exact.cpp), which every other CPU takes. This file also holds what both vector paths
+// share: the square tables (build_squares) and the driver (trace_rays_simd).
 //
 // Two passes, in turn, until every ray of a chunk is resolved:
 //
@@ -59,6 +61,7 @@
 #include <vector>
 
 #include "harness/truth/cell_solver.h"
+#include "harness/truth/ray_walk_vector.h"
 
 #define PXH_AVX512 __attribute__((target("avx512f,avx512dq,avx2")))
 #define PXH_AVX512_INLINE __attribute__((target("avx512f,avx512dq,avx2"), always_inline)) inline
@@ -67,70 +70,14 @@ namespace pxh {
 
 namespace {
 
-// The first square of a walk: 2^kSquareStart cells on a side (2 to 4 measured alike).
-constexpr int kSquareStart = 3;
+using namespace vector_walk;
+
 // Vectors of 8 rays stepped in turn by the square walk (1 and 2 slower, 3 and 6 no faster).
 constexpr int kLaneSets = 4;
 // Groups of 8 rays pass B walks in turn (1: 5-10% slower at 512 x 512, 60 deg; 3 and 4 as 2).
 constexpr int kDdaGroups = 2;
-// The DDA's cells per ray in one pass B (4 to 16 measured alike).
-constexpr int kDdaCells = 8;
 // Rays per work chunk (tbb).
 constexpr size_t kChunk = 1024;
-
-// A chunk's rays still to resolve, one array per parameter (ExactTracer::Ray's, for the
-// vectors' loads; ivz = 1 / vz), and per ray its place in the chunk (id), the cells walked so
-// far (cells) and the exit time of the last one counted (counted, dda_pass). 8 entries of
-// padding after the last ray: pass A loads 8 at a time.
-struct RayColumns {
-    std::vector<double> X0, Y0, dX, dY, iX, iY, vz, ivz, tm, counted;
-    std::vector<int> id, cells;
-    static constexpr std::vector<double> RayColumns::*kReals[] = {
-        &RayColumns::X0, &RayColumns::Y0, &RayColumns::dX,  &RayColumns::dY, &RayColumns::iX,
-        &RayColumns::iY, &RayColumns::vz, &RayColumns::ivz, &RayColumns::tm, &RayColumns::counted};
-    static constexpr std::vector<int> RayColumns::*kInts[] = {&RayColumns::id, &RayColumns::cells};
-    void resize(size_t n) {
-        for (auto col : kReals) (this->*col).resize(n + 8);
-        for (auto col : kInts) (this->*col).resize(n + 8);
-    }
-    // Ray `from` of `src` to place `to`.
-    void copy(int to, const RayColumns& src, int from) {
-        for (auto col : kReals) (this->*col)[to] = (src.*col)[from];
-        for (auto col : kInts) (this->*col)[to] = (src.*col)[from];
-    }
-};
-
-// Where level k (1 .. K <= 7) of the square tables lies in square_code_: entry (I, J) of its
-// cols[k] x rows[k] grid, at base[k] + J cols[k] + I, bounds the squares of 2^k cells on a side
-// whose first cell (i, j) lies in [I d, I d + d) x [J d, J d + d), d = spacing[k] =
-// 2^max(0, k - 2) (so it bounds the square of 2^k + d - 1 cells from (I d, J d), wrapped): the
-// larger levels are stored at a coarser spacing, smaller tables for slightly larger squares.
-struct SquareLayout {
-    int spacing[8] = {}, cols[8] = {}, rows[8] = {};
-    size_t base[8] = {}, total = 0;
-    SquareLayout(int W, int H, int K) {
-        for (int k = 1; k <= K; ++k) {
-            spacing[k] = 1 << std::max(0, k - 2);
-            cols[k] = (W + spacing[k] - 1) / spacing[k];
-            rows[k] = (H + spacing[k] - 1) / spacing[k];
-            base[k] = total;
-            total += size_t(cols[k]) * size_t(rows[k]);
-        }
-    }
-};
-
-// What the passes read of the tracer.
-struct SquareScene {
-    const float* texels;  // texels_, rows of `up` floats
-    int up;
-    const uint8_t* squares;  // square_code_, laid out as SquareLayout
-    // SquareLayout's by level k (index k; 0 unused), for the vectors' lookups.
-    alignas(64) double inv_spacing[8], cols[8], base[8];
-    double lo, step;  // code c: the bound lo + c step
-    int levels;       // K
-    int W, H;
-    double s, b, zt;
-};
 
 PXH_AVX512_INLINE __m512d floor_pd(__m512d x) {
     return _mm512_roundscale_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -692,9 +639,12 @@ PXH_AVX512 void make_rays(const View& view, size_t k0, const int* where, int n,
 }
 }  // namespace
 
-bool ExactTracer::cpu_has_simd_path() {
-    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-    return has;
+ExactTracer::RayPath ExactTracer::cpu_best_path() {
+    static const RayPath best =
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") ? RayPath::avx512
+        : __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")       ? RayPath::avx2
+                                                                                : RayPath::scalar;
+    return best;
 }
 
 void ExactTracer::build_squares() const {
@@ -770,6 +720,13 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     sc.s = s_;
     sc.b = b_;
     sc.zt = z_top();
+    // The path's kernels.
+    auto* const make_rays_of =
+        ray_path() == RayPath::avx512 ? make_rays : vector_walk::avx2::make_rays;
+    auto* const square_pass_of =
+        ray_path() == RayPath::avx512 ? square_pass : vector_walk::avx2::square_pass;
+    auto* const dda_pass_of =
+        ray_path() == RayPath::avx512 ? dda_pass : vector_walk::avx2::dda_pass;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
         const size_t m = range.size(), k0 = range.begin();
         // Each thread's work arrays, kept from chunk to chunk.
@@ -801,7 +758,7 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             w.where[count++] = int(q);
         }
         const int rays = count;
-        make_rays(view, k0, w.where.data(), rays, sc, w.cols, w.ex.data(), w.ey.data());
+        make_rays_of(view, k0, w.where.data(), rays, sc, w.cols, w.ex.data(), w.ey.data());
         for (int p = 0; p < rays; ++p) {
             w.cols.id[p] = p;
             w.cols.cells[p] = 0;
@@ -810,7 +767,7 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
         }
         while (count > 0) {
             RayColumns& cur = w.cols;
-            square_pass(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
+            square_pass_of(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
             int nb = 0;
             for (int q = 0; q < count; ++q) {
                 if (w.bottom[q]) {
@@ -821,8 +778,8 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
                     w.t_b[nb++] = w.t_safe[q];
                 }
             }
-            dda_pass(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(),
-                     w.resolved.data());
+            dda_pass_of(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(),
+                        w.resolved.data());
             count = 0;
             for (int q = 0; q < nb; ++q) {
                 const int r = w.list_b[q];
