@@ -91,6 +91,8 @@ void ExactTracer::build_levels() {
         while (square_levels_ < kSquareLevels &&
                (2 << square_levels_) <= std::min(hf.width, hf.height))
             ++square_levels_;
+    // The vector paths index the texels and the tables in 32-bit integers.
+    if (3 * texel_stride() * size_t(H + 1) >= (size_t(1) << 31)) square_levels_ = 0;
 }
 
 const char* ExactTracer::path_name(RayPath p) {

@@ -62,7 +62,9 @@ PXH_AVX2_INLINE V lanes_mask(int m) {  // lane q all-ones where bit q of m
         _mm256_cmpeq_epi64(_mm256_and_si256(_mm256_set1_epi64x(m), bit), bit));
 }
 
-PXH_AVX2_INLINE V floor_pd(V x) { return _mm256_round_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+PXH_AVX2_INLINE V floor_pd(V x) {
+    return _mm256_round_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+}
 // a - n floor((a + 1/2) / n) for integers a, in [0, n) (ray_walk_simd.cpp's).
 PXH_AVX2_INLINE V wrap_pd(V a, V n, V inv_n) {
     return sub(a, mul(n, floor_pd(mul(add(a, set1(0.5)), inv_n))));
@@ -76,35 +78,24 @@ PXH_AVX2_INLINE __m128 std_max_ps(__m128 a, __m128 b) {
 // Integer-valued doubles (|x| < 2^31) as 32-bit integers.
 PXH_AVX2_INLINE __m128i to_i32(V x) { return _mm256_cvttpd_epi32(x); }
 
-// Entry k (0 .. 7, per lane) of an 8-entry table held as two vectors (entries 0-3, 4-7):
-// `pair` holds the dword pair (2 (k & 3), 2 (k & 3) + 1) per lane, `high` where k >= 4.
-struct Pick {
-    __m256i pair;
-    V high;
-};
-PXH_AVX2_INLINE Pick pick_of(__m128i k) {
-    const __m256i k64 = _mm256_cvtepu32_epi64(k);
-    const __m256i d = _mm256_slli_epi64(_mm256_and_si256(k64, _mm256_set1_epi64x(3)), 1);
-    Pick p;
-    p.pair = _mm256_or_si256(d, _mm256_slli_epi64(_mm256_add_epi64(d, _mm256_set1_epi64x(1)), 32));
-    p.high = _mm256_castsi256_pd(_mm256_cmpgt_epi64(k64, _mm256_set1_epi64x(3)));
-    return p;
-}
-PXH_AVX2_INLINE V lookup(const Pick& p, V lo4, V hi4) {
-    const V a = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(lo4), p.pair));
-    const V b = _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(hi4), p.pair));
-    return blend(p.high, a, b);
-}
 // 2^k for integers 0 <= k < 1023.
 PXH_AVX2_INLINE V pow2(__m128i k) {
     return _mm256_castsi256_pd(_mm256_slli_epi64(
         _mm256_add_epi64(_mm256_cvtepu32_epi64(k), _mm256_set1_epi64x(1023)), 52));
+}
+// Entry k[q] of an 8-entry table of 32-bit integers, per lane.
+PXH_AVX2_INLINE __m128i lookup(__m256i table, __m128i k) {
+    return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(table, _mm256_castsi128_si256(k)));
 }
 
 // ---- Pass A: the square walk ----
 
 struct SquareLanes {
     V X0, Y0, dX, dY, iX, iY, vz, ivz, tm, t, k;
+    // Per ray, from dX and dY (lanes set when they take a ray): sx / 2, the far line's offset
+    // from the ray's column less sx n (fx: -1 where sx > 0, else 2), sx, and the masks sx > 0
+    // and dX != 0 (the same in y).
+    V hx, hy, fx, fy, sx, sy, px, py, mx, my;
     V active;
     int slot[4];  // the ray's place in the pass's list
     int active_bits;
@@ -112,42 +103,43 @@ struct SquareLanes {
 
 struct SquareConsts {
     V W, H, iW, iH, zt, s, b, K, lo, step;
-    V inv_spacing[2], cols[2], base[2];  // SquareLayout's, by level: entries 0-3, 4-7
+    __m256i cols, base;  // SquareLayout's by level k (entry k), as 32-bit integers
+    __m128i last;        // the tables' last entry
     const uint8_t* squares;
 };
 
-// One step of every active lane; returns the lanes whose walk ended (t is their t_safe).
+// One step of every active lane; returns the lanes whose walk ended (t is their t_safe). The
+// square's first column and far line are ray_walk_simd.cpp's (sx > 0: g - 1 and g - 1 + n;
+// sx < 0: g + 2 - n for both), and its table entry the same (base + J cols + I, with
+// I = wrap(first column) >> max(0, k - 2), J likewise): integers, exact in either arithmetic.
 PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L) {
-    const V zero = _mm256_setzero_pd(), one = set1(1), two = set1(2);
-    const V half = set1(0.5), mhalf = set1(-0.5);
+    const V zero = _mm256_setzero_pd(), one = set1(1);
     const V inf = set1(std::numeric_limits<double>::infinity());
     const V t = L.t;
     const V x = add(L.X0, mul(t, L.dX));
     const V y = add(L.Y0, mul(t, L.dY));
-    const V px = gt(L.dX, zero), py = gt(L.dY, zero);
-    const V mx = ne(L.dX, zero), my = ne(L.dY, zero);
-    const V gx = floor_pd(add(x, blend(px, mhalf, half)));
-    const V gy = floor_pd(add(y, blend(py, mhalf, half)));
+    const V gx = floor_pd(add(x, L.hx));
+    const V gy = floor_pd(add(y, L.hy));
     const __m128i level = to_i32(L.k);
     const V n = pow2(level);
-    // The square's first column (row) and far line.
-    const V ax = blend(px, sub(add(gx, two), n), sub(gx, one));
-    const V ay = blend(py, sub(add(gy, two), n), sub(gy, one));
-    const V lx = blend(px, ax, add(ax, n)), ly = blend(py, ay, add(ay, n));
-    const V tx = blend(mx, inf, mul(sub(lx, L.X0), L.iX));
-    const V ty = blend(my, inf, mul(sub(ly, L.Y0), L.iY));
+    // The square's far line and first column.
+    const V lx = add(add(gx, L.fx), mul(L.sx, n)), ly = add(add(gy, L.fy), mul(L.sy, n));
+    const V ax = sub(lx, and_(L.px, n)), ay = sub(ly, and_(L.py, n));
+    const V tx = blend(L.mx, inf, mul(sub(lx, L.X0), L.iX));
+    const V ty = blend(L.my, inf, mul(sub(ly, L.Y0), L.iY));
     const V te = _mm256_min_pd(_mm256_min_pd(tx, ty), L.tm);
-    // The square's maximum, from level k at its wrapped first cell.
-    const Pick p = pick_of(level);
-    const V inv_d = lookup(p, c.inv_spacing[0], c.inv_spacing[1]);
-    const V at = add(add(lookup(p, c.base[0], c.base[1]),
-                         mul(floor_pd(mul(wrap_pd(ay, c.H, c.iH), inv_d)),
-                             lookup(p, c.cols[0], c.cols[1]))),
-                     floor_pd(mul(wrap_pd(ax, c.W, c.iW), inv_d)));
-    // Inactive lanes read entry 0.
+    // The square's maximum, from level k at its wrapped first cell (every lane's entry is in
+    // the tables: the index is clamped to them whatever a free lane holds).
+    const __m128i shift =
+        _mm_max_epi32(_mm_sub_epi32(level, _mm_set1_epi32(2)), _mm_setzero_si128());
+    const __m128i I = _mm_srlv_epi32(to_i32(wrap_pd(ax, c.W, c.iW)), shift);
+    const __m128i J = _mm_srlv_epi32(to_i32(wrap_pd(ay, c.H, c.iH)), shift);
+    const __m128i at = _mm_min_epu32(
+        _mm_add_epi32(
+            _mm_add_epi32(lookup(c.base, level), _mm_mullo_epi32(J, lookup(c.cols, level))), I),
+        c.last);
     const __m128i code = _mm_and_si128(
-        _mm_i32gather_epi32(reinterpret_cast<const int*>(c.squares), to_i32(and_(at, L.active)), 1),
-        _mm_set1_epi32(0xff));
+        _mm_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1), _mm_set1_epi32(0xff));
     const V M = add(c.lo, mul(_mm256_cvtepi32_pd(code), c.step));
     const V zM = mul(c.s, sub(M, c.b));
     const V clear = and_(L.active, gt(sub(c.zt, mul(te, L.vz)), zM));
@@ -159,6 +151,21 @@ PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L) {
     const V k = blend(and_(clear, lt(L.k, c.K)), L.k, add(L.k, one));
     L.k = blend(fail, k, sub(k, one));
     return or_(and_(fail, eq(L.k, zero)), and_(clear, ge(te, L.tm)));
+}
+
+// The per-ray values SquareLanes keeps from dX and dY.
+PXH_AVX2_INLINE void set_signs(SquareLanes& L) {
+    const V zero = _mm256_setzero_pd(), one = set1(1), mone = set1(-1);
+    L.px = gt(L.dX, zero);
+    L.py = gt(L.dY, zero);
+    L.mx = ne(L.dX, zero);
+    L.my = ne(L.dY, zero);
+    L.hx = blend(L.px, set1(-0.5), set1(0.5));
+    L.hy = blend(L.py, set1(-0.5), set1(0.5));
+    L.fx = blend(L.px, set1(2), mone);
+    L.fy = blend(L.py, set1(2), mone);
+    L.sx = blend(L.px, mone, one);
+    L.sy = blend(L.py, mone, one);
 }
 
 // Lane permutations of AVX-512's expand: for the free lanes f (bit q: lane q), the dword pairs
@@ -194,11 +201,14 @@ PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const d
     c.H = set1(sc.H);
     c.iW = set1(1.0 / sc.W);
     c.iH = set1(1.0 / sc.H);
-    for (int h = 0; h < 2; ++h) {
-        c.inv_spacing[h] = _mm256_load_pd(sc.inv_spacing + 4 * h);
-        c.cols[h] = _mm256_load_pd(sc.cols + 4 * h);
-        c.base[h] = _mm256_load_pd(sc.base + 4 * h);
+    alignas(32) int32_t cols[8], base[8];
+    for (int k = 0; k < 8; ++k) {
+        cols[k] = int32_t(sc.cols[k]);  // below 2^31: ExactTracer's square_levels_
+        base[k] = int32_t(sc.base[k]);
     }
+    c.cols = _mm256_load_si256(reinterpret_cast<const __m256i*>(cols));
+    c.base = _mm256_load_si256(reinterpret_cast<const __m256i*>(base));
+    c.last = _mm_set1_epi32(int32_t(sc.entries - 1));
     c.zt = set1(sc.zt);
     c.s = set1(sc.s);
     c.b = set1(sc.b);
@@ -211,6 +221,7 @@ PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const d
     for (SquareLanes& L : lanes) {
         L.X0 = L.Y0 = L.dX = L.dY = L.iX = L.iY = L.tm = L.t = _mm256_setzero_pd();
         L.vz = L.ivz = L.k = set1(1);
+        set_signs(L);
         L.active = _mm256_setzero_pd();
         L.active_bits = 0;
         for (int& s : L.slot) s = 0;
@@ -238,6 +249,7 @@ PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const d
                 take(L.tm, m, perm, rays.tm.data() + next);
                 take(L.t, m, perm, t0 + next);
                 L.k = blend(m, L.k, set1(k0));
+                set_signs(L);
                 for (unsigned f = free; f; f &= f - 1) L.slot[__builtin_ctz(f)] = next++;
                 L.active = or_(L.active, m);
                 L.active_bits |= int(free);
@@ -395,8 +407,7 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     const __m128i a00 =
         _mm_add_epi32(_mm_mullo_epi32(to_i32(G.lj), _mm_set1_epi32(sc.up)), to_i32(G.li));
     // Each corner pair (i, i + 1) of a row as one 8-byte element.
-    const __m256i row0 =
-        _mm256_i32gather_epi64(reinterpret_cast<const long long*>(tex), a00, 4);
+    const __m256i row0 = _mm256_i32gather_epi64(reinterpret_cast<const long long*>(tex), a00, 4);
     const __m256i row1 =
         _mm256_i32gather_epi64(reinterpret_cast<const long long*>(tex + sc.up), a00, 4);
     // Even dwords (the first corner) to the low half, odd ones to the high half.
@@ -443,8 +454,7 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
         V best = mone;
         if (bits(roots)) {
             const V c2ll = mul(mul(and_(c2, magnitude), len), len);
-            const V scale =
-                add(add(and_(c0, magnitude), mul(and_(c1, magnitude), len)), c2ll);
+            const V scale = add(add(and_(c0, magnitude), mul(and_(c1, magnitude), len)), c2ll);
             const V linear = and_(roots, le(c2ll, mul(set1(1e-14), scale)));
             // consider(t): 0 <= t <= len and (best < 0 or t < best).
             V cand[3], ok[3];
@@ -544,8 +554,8 @@ PXH_AVX2 void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list,
     }
 }
 
-PXH_AVX2 void make_rays(const View& view, size_t k0, const int* where, int n,
-                        const SquareScene& sc, RayColumns& c, double* ex_out, double* ey_out) {
+PXH_AVX2 void make_rays(const View& view, size_t k0, const int* where, int n, const SquareScene& sc,
+                        RayColumns& c, double* ex_out, double* ey_out) {
     const V zero = _mm256_setzero_pd(), one = set1(1);
     const V W = set1(sc.W), H = set1(sc.H), half = set1(0.5);
     const V zt = set1(sc.zt), s = set1(sc.s);
@@ -556,10 +566,10 @@ PXH_AVX2 void make_rays(const View& view, size_t k0, const int* where, int n,
         // Lanes beyond the last ray repeat it.
         const int live = std::min(4, n - p);
         const __m256i m = _mm256_castpd_si256(lanes_mask((1 << live) - 1));
-        const __m256i k = _mm256_setr_epi64x(
-            int64_t(k0) + where[p], int64_t(k0) + where[p + std::min(1, live - 1)],
-            int64_t(k0) + where[p + std::min(2, live - 1)],
-            int64_t(k0) + where[p + std::min(3, live - 1)]);
+        const __m256i k = _mm256_setr_epi64x(int64_t(k0) + where[p],
+                                             int64_t(k0) + where[p + std::min(1, live - 1)],
+                                             int64_t(k0) + where[p + std::min(2, live - 1)],
+                                             int64_t(k0) + where[p + std::min(3, live - 1)]);
         const __m256i kp = _mm256_add_epi64(k, k);
         const V Px = _mm256_i64gather_pd(P, kp, 8);
         const V Py = _mm256_i64gather_pd(P + 1, kp, 8);

@@ -706,6 +706,7 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     sc.texels = texels_.data();
     sc.up = int(texel_stride());
     sc.squares = square_code_.data();
+    sc.entries = SquareLayout(hf_.width, hf_.height, square_levels_).total;
     const SquareLayout layout(hf_.width, hf_.height, square_levels_);
     for (int k = 0; k < 8; ++k) {
         sc.inv_spacing[k] = k > 0 && k <= square_levels_ ? 1.0 / layout.spacing[k] : 0;  // exact

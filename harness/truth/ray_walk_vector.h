@@ -63,6 +63,7 @@ struct SquareScene {
     const float* texels;  // texels_, rows of `up` floats
     int up;
     const uint8_t* squares;  // square_code_, laid out as SquareLayout
+    size_t entries;          // SquareLayout's total
     // SquareLayout's by level k (index k; 0 unused), for the vectors' lookups.
     alignas(64) double inv_spacing[8], cols[8], base[8];
     double lo, step;  // code c: the bound lo + c step
@@ -78,8 +79,8 @@ void make_rays(const View& view, size_t k0, const int* where, int n, const Squar
                RayColumns& c, double* ex_out, double* ey_out);
 void square_pass(const SquareScene& sc, const RayColumns& rays, const double* t0, int n,
                  double* t_safe, uint8_t* bottom);
-void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list, const double* t_safe,
-              int n, double* out_t, uint8_t* resolved);
+void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list, const double* t_safe, int n,
+              double* out_t, uint8_t* resolved);
 }  // namespace avx2
 
 }  // namespace pxh::vector_walk
