@@ -69,12 +69,12 @@ PXH_AVX2_INLINE V floor_pd(V x) {
 PXH_AVX2_INLINE V wrap_pd(V a, V n, V inv_n) {
     return sub(a, mul(n, floor_pd(mul(add(a, set1(0.5)), inv_n))));
 }
-// std::min(a, b) and std::max(a, b), operand for operand: (b < a) ? b : a, (a < b) ? b : a.
-PXH_AVX2_INLINE V std_min(V a, V b) { return blend(lt(b, a), a, b); }
-PXH_AVX2_INLINE V std_max(V a, V b) { return blend(lt(a, b), a, b); }
-PXH_AVX2_INLINE __m128 std_max_ps(__m128 a, __m128 b) {
-    return _mm_blendv_ps(a, b, _mm_cmp_ps(a, b, _CMP_LT_OQ));
-}
+// std::min(a, b) and std::max(a, b), operand for operand: (b < a) ? b : a, (a < b) ? b : a,
+// which are minpd(b, a) and maxpd(b, a) (each returns its second operand unless the first is
+// strictly below, or above).
+PXH_AVX2_INLINE V std_min(V a, V b) { return _mm256_min_pd(b, a); }
+PXH_AVX2_INLINE V std_max(V a, V b) { return _mm256_max_pd(b, a); }
+PXH_AVX2_INLINE __m128 std_max_ps(__m128 a, __m128 b) { return _mm_max_ps(b, a); }
 // Integer-valued doubles (|x| < 2^31) as 32-bit integers.
 PXH_AVX2_INLINE __m128i to_i32(V x) { return _mm256_cvttpd_epi32(x); }
 
@@ -305,10 +305,21 @@ struct DdaGroup {
     V X0, Y0, dX, dY, iX, iY, vz, tm, sx, sy, ci, cj, li, lj, xl, yl, ex, ey;
     V counted, answer, last_exit;
     __m256i walked;
+    __m256i row0, row1;  // the corner pairs of the cell (li, lj), read a step ahead
     V px, py, mx, my, active, done;
     int m, steps, active_bits;
     alignas(16) int32_t idx[4];
 };
+
+// Reads the corner pairs (i, i + 1) of the rows of cell (li, lj), each as one 8-byte element,
+// for the next step (issued a step ahead, so that the reads overlap the other groups' work).
+PXH_AVX2_INLINE void fetch(DdaGroup& G, const SquareScene& sc) {
+    const __m128i a00 =
+        _mm_add_epi32(_mm_mullo_epi32(to_i32(G.lj), _mm_set1_epi32(sc.up)), to_i32(G.li));
+    const auto* tex = reinterpret_cast<const long long*>(sc.texels);
+    G.row0 = _mm256_i32gather_epi64(tex, a00, 4);
+    G.row1 = _mm256_i32gather_epi64(reinterpret_cast<const long long*>(sc.texels + sc.up), a00, 4);
+}
 
 // The group of rays list[g0 ..], from their t_safe: the DDA's cell at t_safe, its exits.
 PXH_AVX2_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColumns& rays,
@@ -379,6 +390,7 @@ PXH_AVX2_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColu
     G.answer = zero;
     G.last_exit = t;
     G.steps = 0;
+    fetch(G, sc);
 }
 
 // One axis of walk_dda's step, for the lanes `m` (ray_walk_simd.cpp's dda_advance).
@@ -399,21 +411,14 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     const V zt = set1(sc.zt), s = set1(sc.s), b = set1(sc.b), neg_s = set1(-sc.s);
     const V sign = _mm256_castsi256_pd(_mm256_set1_epi64x(int64_t(0x8000000000000000ULL)));
     const V magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
-    const float* tex = sc.texels;
     const V tau_out = std_min(std_min(G.ex, G.ey), G.tm);
     const V fresh = and_(G.active, gt(tau_out, G.counted));
     G.walked = _mm256_sub_epi64(G.walked, _mm256_castpd_si256(fresh));  // + 1 where fresh
     G.counted = blend(fresh, G.counted, tau_out);
-    const __m128i a00 =
-        _mm_add_epi32(_mm_mullo_epi32(to_i32(G.lj), _mm_set1_epi32(sc.up)), to_i32(G.li));
-    // Each corner pair (i, i + 1) of a row as one 8-byte element.
-    const __m256i row0 = _mm256_i32gather_epi64(reinterpret_cast<const long long*>(tex), a00, 4);
-    const __m256i row1 =
-        _mm256_i32gather_epi64(reinterpret_cast<const long long*>(tex + sc.up), a00, 4);
     // Even dwords (the first corner) to the low half, odd ones to the high half.
     const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    const __m256 r0 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(row0, split));
-    const __m256 r1 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(row1, split));
+    const __m256 r0 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(G.row0, split));
+    const __m256 r1 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(G.row1, split));
     const __m128 f00 = _mm256_castps256_ps128(r0), f10 = _mm256_extractf128_ps(r0, 1);
     const __m128 f01 = _mm256_castps256_ps128(r1), f11 = _mm256_extractf128_ps(r1, 1);
     // cell_below.
@@ -511,7 +516,9 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     if (++G.steps == kDdaCells) {  // resumed by pass A
         G.active = zero;
         G.active_bits = 0;
+        return;
     }
+    fetch(G, sc);
 }
 
 // The group's answers.
