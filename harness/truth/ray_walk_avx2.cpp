@@ -96,6 +96,7 @@ struct SquareLanes {
     // from the ray's column less sx n (fx: -1 where sx > 0, else 2), sx, and the masks sx > 0
     // and dX != 0 (the same in y).
     V hx, hy, fx, fy, sx, sy, px, py, mx, my;
+    V te;  // the time the ray leaves the step's square (square_read)
     V active;
     int slot[4];  // the ray's place in the pass's list
     int active_bits;
@@ -108,12 +109,12 @@ struct SquareConsts {
     const uint8_t* squares;
 };
 
-// One step of every active lane; returns the lanes whose walk ended (t is their t_safe). The
+// One step of every active lane, in two halves (square_read, then square_step), so that the lane
+// sets' reads of the tables are all under way before the first is used. The
 // square's first column and far line are ray_walk_simd.cpp's (sx > 0: g - 1 and g - 1 + n;
 // sx < 0: g + 2 - n for both), and its table entry the same (base + J cols + I, with
 // I = wrap(first column) >> max(0, k - 2), J likewise): integers, exact in either arithmetic.
-PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L) {
-    const V zero = _mm256_setzero_pd(), one = set1(1);
+PXH_AVX2_INLINE __m128i square_read(const SquareConsts& c, SquareLanes& L) {
     const V inf = set1(std::numeric_limits<double>::infinity());
     const V t = L.t;
     const V x = add(L.X0, mul(t, L.dX));
@@ -138,8 +139,16 @@ PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L) {
         _mm_add_epi32(
             _mm_add_epi32(lookup(c.base, level), _mm_mullo_epi32(J, lookup(c.cols, level))), I),
         c.last);
-    const __m128i code = _mm_and_si128(
-        _mm_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1), _mm_set1_epi32(0xff));
+    L.te = te;
+    return _mm_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1);
+}
+
+// The step's second half, from the square's code (its entry, read by square_read): returns the
+// lanes whose walk ended (t is their t_safe).
+PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L, __m128i entry) {
+    const V zero = _mm256_setzero_pd(), one = set1(1);
+    const V t = L.t, te = L.te;
+    const __m128i code = _mm_and_si128(entry, _mm_set1_epi32(0xff));
     const V M = add(c.lo, mul(_mm256_cvtepi32_pd(code), c.step));
     const V zM = mul(c.s, sub(M, c.b));
     const V clear = and_(L.active, gt(sub(c.zt, mul(te, L.vz)), zM));
@@ -257,8 +266,10 @@ PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const d
             any |= L.active_bits != 0;
         }
         if (!any) return;
+        __m128i entry[kLaneSets];
+        for (int v = 0; v < kLaneSets; ++v) entry[v] = square_read(c, lanes[v]);
         V done[kLaneSets];
-        for (int v = 0; v < kLaneSets; ++v) done[v] = square_step(c, lanes[v]);
+        for (int v = 0; v < kLaneSets; ++v) done[v] = square_step(c, lanes[v], entry[v]);
         for (int v = 0; v < kLaneSets; ++v) {
             const int d = bits(done[v]);
             if (!d) continue;
