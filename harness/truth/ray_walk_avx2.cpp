@@ -109,8 +109,9 @@ struct SquareConsts {
     const uint8_t* squares;
 };
 
-// One step of every active lane, in two halves (square_read, then square_step), so that the lane
-// sets' reads of the tables are all under way before the first is used. The
+// One step of every active lane, in two halves (square_read, then square_step): the first
+// prefetches each lane's table entry, the second reads them, so that the lane sets' reads of
+// the tables are all under way before the first is used. The
 // square's first column and far line are ray_walk_simd.cpp's (sx > 0: g - 1 and g - 1 + n;
 // sx < 0: g + 2 - n for both), and its table entry the same (base + J cols + I, with
 // I = wrap(first column) >> max(0, k - 2), J likewise): integers, exact in either arithmetic.
@@ -140,15 +141,20 @@ PXH_AVX2_INLINE __m128i square_read(const SquareConsts& c, SquareLanes& L) {
             _mm_add_epi32(lookup(c.base, level), _mm_mullo_epi32(J, lookup(c.cols, level))), I),
         c.last);
     L.te = te;
-    return _mm_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1);
+    alignas(16) int32_t a[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(a), at);
+    for (int q = 0; q < 4; ++q)
+        _mm_prefetch(reinterpret_cast<const char*>(c.squares + a[q]), _MM_HINT_T0);
+    return at;
 }
 
-// The step's second half, from the square's code (its entry, read by square_read): returns the
+// The step's second half, from the square's entry in the tables (square_read's): returns the
 // lanes whose walk ended (t is their t_safe).
-PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L, __m128i entry) {
+PXH_AVX2_INLINE V square_step(const SquareConsts& c, SquareLanes& L, __m128i at) {
     const V zero = _mm256_setzero_pd(), one = set1(1);
     const V t = L.t, te = L.te;
-    const __m128i code = _mm_and_si128(entry, _mm_set1_epi32(0xff));
+    const __m128i code = _mm_and_si128(
+        _mm_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1), _mm_set1_epi32(0xff));
     const V M = add(c.lo, mul(_mm256_cvtepi32_pd(code), c.step));
     const V zM = mul(c.s, sub(M, c.b));
     const V clear = and_(L.active, gt(sub(c.zt, mul(te, L.vz)), zM));
@@ -316,20 +322,25 @@ struct DdaGroup {
     V X0, Y0, dX, dY, iX, iY, vz, tm, sx, sy, ci, cj, li, lj, xl, yl, ex, ey;
     V counted, answer, last_exit;
     __m256i walked;
-    __m256i row0, row1;  // the corner pairs of the cell (li, lj), read a step ahead
+    __m128i a00;  // the first corner of cell (li, lj) in the texels (fetch)
     V px, py, mx, my, active, done;
     int m, steps, active_bits;
     alignas(16) int32_t idx[4];
 };
 
-// Reads the corner pairs (i, i + 1) of the rows of cell (li, lj), each as one 8-byte element,
-// for the next step (issued a step ahead, so that the reads overlap the other groups' work).
+// Where cell (li, lj)'s corners lie in the texels, and a prefetch of its two rows' corner pairs
+// for the next step (issued a step ahead; prefetches, unlike gathers, do not hold up the steps
+// after them while the memory answers, so many cells are requested at once).
 PXH_AVX2_INLINE void fetch(DdaGroup& G, const SquareScene& sc) {
     const __m128i a00 =
         _mm_add_epi32(_mm_mullo_epi32(to_i32(G.lj), _mm_set1_epi32(sc.up)), to_i32(G.li));
-    const auto* tex = reinterpret_cast<const long long*>(sc.texels);
-    G.row0 = _mm256_i32gather_epi64(tex, a00, 4);
-    G.row1 = _mm256_i32gather_epi64(reinterpret_cast<const long long*>(sc.texels + sc.up), a00, 4);
+    G.a00 = a00;
+    alignas(16) int32_t a[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(a), a00);
+    for (int q = 0; q < 4; ++q) {
+        _mm_prefetch(reinterpret_cast<const char*>(sc.texels + a[q]), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(sc.texels + sc.up + a[q]), _MM_HINT_T0);
+    }
 }
 
 // The group of rays list[g0 ..], from their t_safe: the DDA's cell at t_safe, its exits.
@@ -426,10 +437,15 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     const V fresh = and_(G.active, gt(tau_out, G.counted));
     G.walked = _mm256_sub_epi64(G.walked, _mm256_castpd_si256(fresh));  // + 1 where fresh
     G.counted = blend(fresh, G.counted, tau_out);
+    // Each corner pair (i, i + 1) of the cell's rows as one 8-byte element.
+    const __m256i row0 =
+        _mm256_i32gather_epi64(reinterpret_cast<const long long*>(sc.texels), G.a00, 4);
+    const __m256i row1 =
+        _mm256_i32gather_epi64(reinterpret_cast<const long long*>(sc.texels + sc.up), G.a00, 4);
     // Even dwords (the first corner) to the low half, odd ones to the high half.
     const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-    const __m256 r0 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(G.row0, split));
-    const __m256 r1 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(G.row1, split));
+    const __m256 r0 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(row0, split));
+    const __m256 r1 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(row1, split));
     const __m128 f00 = _mm256_castps256_ps128(r0), f10 = _mm256_extractf128_ps(r0, 1);
     const __m128 f01 = _mm256_castps256_ps128(r1), f11 = _mm256_extractf128_ps(r1, 1);
     // cell_below.
