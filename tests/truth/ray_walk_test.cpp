@@ -17,9 +17,12 @@
 #include <cstdlib>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "harness/scene/perspective_camera.h"
+#include "harness/truth/embree_truth.h"
 #include "harness/truth/exact_tracer.h"
 #include "harness/truth/travel_limit.h"
 #include "heightfields/heightfields.h"
@@ -389,6 +392,35 @@ TEST(RayWalk, TheVectorPathIsTakenWhereTheCpuHasIt) {
         GTEST_SKIP() << "this CPU's widest per-ray path is "
                      << ExactTracer::path_name(ExactTracer::cpu_best_path())
                      << ": the wider ones are not tested here";
+}
+
+TEST(RayWalk, PxhTracerPathCapsTheDefaultPathAndEmbreesKernels) {
+    // PXH_TRACER_PATH caps the default per-ray path (never above what the CPU has) and Embree's
+    // instruction set alike; another value is refused.
+    using P = ExactTracer::RayPath;
+    const char* before = std::getenv("PXH_TRACER_PATH");
+    const std::string saved = before ? before : "";
+    const struct {
+        const char* value;
+        P path;
+        const char* embree;
+    } cases[] = {{"scalar", P::scalar, "max_isa=sse4.2"},
+                 {"avx2", P::avx2, "max_isa=avx2"},
+                 {"avx512", P::avx512, ""}};
+    for (const auto& c : cases) {
+        ::setenv("PXH_TRACER_PATH", c.value, 1);
+        EXPECT_EQ(ExactTracer::default_path(), std::min(c.path, ExactTracer::cpu_best_path()))
+            << c.value;
+        EXPECT_EQ(EmbreeTracer::device_config(), c.embree) << c.value;
+        const HeightField hf = test::random_field(16, 16, 1);
+        EXPECT_EQ(ExactTracer(hf, 0.1, 1.0).ray_path(), ExactTracer::default_path()) << c.value;
+    }
+    ::setenv("PXH_TRACER_PATH", "avx3", 1);
+    EXPECT_THROW(ExactTracer::default_path(), std::invalid_argument);
+    ::unsetenv("PXH_TRACER_PATH");
+    EXPECT_EQ(ExactTracer::default_path(), ExactTracer::cpu_best_path());
+    EXPECT_EQ(EmbreeTracer::device_config(), "");
+    if (before) ::setenv("PXH_TRACER_PATH", saved.c_str(), 1);
 }
 
 TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
