@@ -3,12 +3,17 @@
 // to a vector, so trace_naive's hits bit for bit. Masks are vectors of all-ones lanes (AVX2 has
 // no mask registers): m ? b : a is blendv(a, b, m), and the AVX-512 code's masked operations
 // are blends of their unmasked results. The AVX-512 file describes the passes; what differs:
-//   - level k's layout entries (SquareLayout) are looked up by two in-lane permutes and a
-//     blend (AVX2 permutes 4 doubles, the table has 8 entries); 2^k is built from its exponent;
+//   - the square's lines come from values kept per ray (sx / 2, sx, the far line's offset), and
+//     its table entry is computed in 32-bit integers (one permute per layout table, a shift for
+//     the spacing); the same squares and entries: integers, exact either way;
+//   - each square walk step is split in two halves over all lane sets: the first prefetches each
+//     lane's table entry, the second reads it; the DDA prefetches its next cell's two rows a step
+//     ahead (a gather holds up the instructions after it until memory answers, a prefetch does
+//     not, so every lane's request is under way at once);
 //   - a lane set takes the next rays into its free lanes by a permute from a table of the 16
-//     masks (AVX-512's expand);
+//     masks (AVX-512's expand), and 8 lane sets (4 DDA groups) are stepped in turn, not 4 (2);
 //   - arithmetic that the AVX-512 code does on 64-bit integers is done on 32-bit ones (indices
-//     below 2^31: the tables and the texels hold fewer entries).
+//     below 2^31: ExactTracer takes the scalar walk on larger fields).
 // FMA is not used for arithmetic (the build does not contract: each product is rounded, as in
 // trace_naive); it is part of the path's requirement as the CPUs that have AVX2 have it.
 // GCC 12's gather intrinsics start from _mm256_undefined_*(), which its -Wmaybe-uninitialized
