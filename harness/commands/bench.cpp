@@ -10,11 +10,13 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <sstream>
 
 #include "harness/core/error.h"
 #include "harness/core/safe_files.h"
@@ -208,18 +210,50 @@ void write_bench_file(const std::string& out, const std::string& text, bool repl
     }
 }
 
+// The CPU's flags (/proc/cpuinfo's first "flags" line), space-separated.
+std::string cpu_flags() {
+    std::ifstream f("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(f, line))
+        if (line.rfind("flags", 0) == 0) {
+            const auto pos = line.find(':');
+            return pos == std::string::npos ? "" : line.substr(pos + 2);
+        }
+    return "";
+}
+
+// The paths both tracers take on this CPU (as capped by PXH_TRACER_PATH), and the CPU's vector
+// flags (the whole list under cpu_flags).
+nlohmann::json paths_taken() {
+    const char* env = std::getenv("PXH_TRACER_PATH");
+    const ExactTracer::RayPath path = ExactTracer::default_path();
+    std::string vector_flags;
+    std::istringstream flags(cpu_flags());
+    for (std::string f; flags >> f;)
+        if (f == "sse4_2" || f == "avx" || f == "fma" || f.rfind("avx2", 0) == 0 ||
+            f.rfind("avx512", 0) == 0)
+            vector_flags += (vector_flags.empty() ? "" : " ") + f;
+    const char* per_ray =
+        path == ExactTracer::RayPath::avx512 ? "avx512: square walk and DDA, 8 rays to a vector"
+        : path == ExactTracer::RayPath::avx2 ? "avx2: square walk and DDA, 4 rays to a vector"
+                                             : "scalar: packets, then the max-mipmap walk per ray";
+    return {{"exact_per_ray_path", per_ray},
+            {"exact_band_path", "scalar: the band tracer (the same code on every CPU)"},
+            {"embree_isa", EmbreeTracer::isa()},
+            {"embree_device_config", EmbreeTracer::device_config()},
+            {"pxh_tracer_path_env", env ? env : ""},
+            {"cpu_best_per_ray_path", ExactTracer::path_name(ExactTracer::cpu_best_path())},
+            {"cpu_vector_flags", vector_flags},
+            {"cpu_flags", cpu_flags()}};
+}
+
 // The JSON document: provenance, the settings and every view's entry.
 void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t rays) {
     nlohmann::json doc = provenance(opt.threads);
     doc["benchmark"] = opt.camera == "perspective" ? kPerspectiveBenchTitle : kBenchTitle;
     doc["camera"] = opt.camera;
-    if (opt.camera == "perspective") {
-        doc["fov_deg"] = opt.fov;
-        // Which per-ray kernels this CPU runs (both give trace_naive's hits bit for bit).
-        doc["exact_per_ray_path"] = ExactTracer::cpu_has_simd_path()
-                                        ? "avx512: square walk and DDA, 8 rays to a vector"
-                                        : "scalar: packets, then the max-mipmap walk per ray";
-    }
+    if (opt.camera == "perspective") doc["fov_deg"] = opt.fov;
+    doc.update(paths_taken());
     doc["field"] = opt.field;
     doc["scale"] = opt.scale;
     doc["bias"] = opt.bias;
@@ -308,6 +342,20 @@ int run_bench(const BenchOptions& options) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
     const size_t rays = size_t(opt.samples) * size_t(opt.samples);
     nlohmann::json results = nlohmann::json::array();
+    // The paths taken and the CPU, before the table.
+    {
+        const nlohmann::json p = paths_taken();
+        std::printf("cpu: %s; vector flags: %s\n", cpu_model().c_str(),
+                    p["cpu_vector_flags"].get<std::string>().c_str());
+        std::printf(
+            "exact: %s; Embree: %s kernels%s\n",
+            (persp ? p["exact_per_ray_path"] : p["exact_band_path"]).get<std::string>().c_str(),
+            p["embree_isa"].get<std::string>().c_str(),
+            p["pxh_tracer_path_env"].get<std::string>().empty()
+                ? ""
+                : (" (PXH_TRACER_PATH=" + p["pxh_tracer_path_env"].get<std::string>() + ")")
+                      .c_str());
+    }
     // Only the columns measured: the per-ray tracers' throughput with --naive alone.
     std::printf("%-6s %-6s", "size", "theta");
     if (persp) std::printf(" %-6s %8s", "D", "outside");

@@ -28,6 +28,8 @@ std::string run_command(const std::string& cmd) {
     return out;
 }
 
+}  // namespace
+
 std::string cpu_model() {
     std::ifstream f("/proc/cpuinfo");
     std::string line;
@@ -38,8 +40,6 @@ std::string cpu_model() {
         }
     return "unknown";
 }
-
-}  // namespace
 
 std::string utc_timestamp(const char* fmt) {
     std::time_t t = std::time(nullptr);

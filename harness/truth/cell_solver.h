@@ -147,12 +147,17 @@ inline ExactTracer::Ray ExactTracer::make_ray(Vec2d P, const Ray& like) const {
     return r;
 }
 
-inline TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
+// The hit at parameter tau of the ray from (ex, ey, zt) along -V (every per-ray path's).
+inline TruthHit hit_at_tau(double ex, double ey, double zt, Vec3d V, double tau, int cells) {
     TruthHit h;
-    h.uv = {r.ex - tau * r.vx, r.ey - tau * r.vy};
-    h.z = r.zt - tau * r.vz;
+    h.uv = {ex - tau * V.x, ey - tau * V.y};
+    h.z = zt - tau * V.z;
     h.cells = cells;
     return h;
+}
+
+inline TruthHit ExactTracer::hit_at(const Ray& r, double tau, int cells) const {
+    return hit_at_tau(r.ex, r.ey, r.zt, {r.vx, r.vy, r.vz}, tau, cells);
 }
 
 [[gnu::always_inline]] inline double ExactTracer::solve_cell(const Ray& r, int64_t ci, int64_t cj,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -13,6 +14,29 @@
 #include "harness/truth/travel_limit.h"
 
 namespace pxh {
+
+std::string EmbreeTracer::device_config() {
+    const char* env = std::getenv("PXH_TRACER_PATH");
+    const std::string path = env ? env : "";
+    if (path == "avx2") return "max_isa=avx2";
+    if (path == "scalar") return "max_isa=sse4.2";
+    return "";
+}
+
+std::string EmbreeTracer::isa() {
+    // Embree's own tests (its cpuinfo: AVX512SKX needs avx512f, cd, dq, bw and vl).
+    const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+                        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+                        __builtin_cpu_supports("avx512vl");
+    const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") &&
+                      __builtin_cpu_supports("bmi") && __builtin_cpu_supports("bmi2");
+    const std::string config = device_config();
+    const int cap = config == "max_isa=sse4.2" ? 0 : config == "max_isa=avx2" ? 2 : 3;
+    if (avx512 && cap >= 3) return "avx512";
+    if (avx2 && cap >= 2) return "avx2";
+    if (__builtin_cpu_supports("avx") && cap >= 1) return "avx";
+    return "sse4.2";
+}
 
 EmbreeTracer::EmbreeTracer(const HeightField& hf, double scale, double bias)
     : W_(hf.width), H_(hf.height), s_(scale), b_(bias) {
@@ -26,7 +50,8 @@ EmbreeTracer::EmbreeTracer(const HeightField& hf, double scale, double bias)
         zs_ = std::ldexp(1.0, e - 1);
     }
     const auto t0 = std::chrono::steady_clock::now();
-    RTCDevice dev = rtcNewDevice(nullptr);
+    const std::string config = device_config();
+    RTCDevice dev = rtcNewDevice(config.empty() ? nullptr : config.c_str());
     if (!dev) throw std::runtime_error("Embree: cannot create a device");
     RTCScene scene = rtcNewScene(dev);
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);

@@ -2,6 +2,7 @@
 // (vertices at texel centres, two triangles per cell), the periodic tiling handled by walking
 // each ray tile by tile, each segment traced in the base tile with packets of 16 rays.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "harness/core/vec.h"
@@ -30,6 +31,15 @@ class EmbreeTracer final : public Tracer {
     std::vector<Vec2d> trace(const std::vector<Vec2d>& P, Vec3d V) const;
     void trace(const std::vector<Vec2d>& P, Vec3d V, std::vector<Vec2d>& out) const;  // reuses out
     double build_ms() const { return build_ms_; }
+    // The device's configuration: "max_isa=avx2" where the environment's PXH_TRACER_PATH is
+    // avx2, "max_isa=sse4.2" where it is scalar (the build's x86-64-v2 baseline), else empty
+    // (Embree takes the widest of its kernels the CPU runs), so that a run capped to a path
+    // caps both tracers as a CPU without the wider instructions would.
+    static std::string device_config();
+    // The kernels Embree runs: "avx512", "avx2", "avx" or "sse4.2" (the widest the CPU has,
+    // as Embree tests them, within device_config's cap; Embree's packets of 16 rays run as one
+    // vector of 16 lanes only with avx512).
+    static std::string isa();
 
   private:
     // n <= 16 rays: P[k] along V[k * v_step] (v_step 0: one direction for all).

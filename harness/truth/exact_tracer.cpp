@@ -4,7 +4,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "harness/truth/cell_solver.h"
 #include "harness/truth/travel_limit.h"
@@ -81,11 +84,36 @@ void ExactTracer::build_levels() {
         level_max_t_.push_back(transposed(level_max_[l], level_w_[l], level_h_[l]));
     for (const auto& level : level_max_) level_ptr_.push_back(level.data());
     top_level_ = int(level_ptr_.size()) - 1;
-    // The square walk's levels (its tables are built on the first per-ray trace: prepare_rays).
-    if (cpu_has_simd_path())
+    // The square walk's levels (its tables are built on the first per-ray trace: prepare_rays),
+    // for any vector path the CPU has (set_path may choose one the environment left out).
+    path_ = default_path();
+    if (cpu_best_path() != RayPath::scalar)
         while (square_levels_ < kSquareLevels &&
                (2 << square_levels_) <= std::min(hf.width, hf.height))
             ++square_levels_;
+    // The vector paths index the texels and the tables in 32-bit integers.
+    if (3 * texel_stride() * size_t(H + 1) >= (size_t(1) << 31)) square_levels_ = 0;
+}
+
+const char* ExactTracer::path_name(RayPath p) {
+    switch (p) {
+        case RayPath::avx512:
+            return "avx512";
+        case RayPath::avx2:
+            return "avx2";
+        default:
+            return "scalar";
+    }
+}
+
+ExactTracer::RayPath ExactTracer::default_path() {
+    const char* env = std::getenv("PXH_TRACER_PATH");
+    if (!env || !*env) return cpu_best_path();
+    const std::string want = env;
+    for (RayPath p : {RayPath::scalar, RayPath::avx2, RayPath::avx512})
+        if (want == path_name(p)) return std::min(p, cpu_best_path());
+    throw std::invalid_argument("PXH_TRACER_PATH='" + want +
+                                "': not a per-ray path (scalar, avx2 or avx512)");
 }
 
 void ExactTracer::prepare_rays() const {

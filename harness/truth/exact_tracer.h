@@ -6,9 +6,11 @@
 //   ray_walk.cpp      one ray at a time: trace_naive (DDA) and trace (over the mipmap)
 //   ray_walk_exact.cpp  one ray at a time, fast and bit for bit trace_naive: trace_ray
 //   ray_walk_simd.cpp   a view's rays 8 to a vector (AVX-512), bit for bit trace_naive
+//   ray_walk_avx2.cpp   the same at 4 to a vector (AVX2 and FMA)
 //   band_tracer.cpp   every ray of an orthographic grid view at once: trace_grid
 //   true_shadow.cpp   the true hard shadow query: occluded
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -72,14 +74,25 @@ class ExactTracer final : public Tracer {
     // True hard shadow: does the ray from the surface point (uv, z) toward L (unit, L.z > 0)
     // pass strictly below the surface before leaving the slab at z_top? L.z <= 0: shadowed.
     bool occluded(Vec2d uv, double z, Vec3d L) const override;
-    // The per-ray path's kernels: the AVX-512 square walk (ray_walk_simd.cpp) where the CPU
-    // has avx512f and avx512dq (and the field at least 2 x 2 cells), else the scalar walk
-    // (ray_walk_exact.cpp); both give trace_naive's hits bit for bit. set_simd(false) makes
-    // this tracer take the scalar walk (tests, benchmarks); set_simd(true) restores the
-    // default. Not to be called while another thread traces with this tracer.
-    static bool cpu_has_simd_path();
-    bool simd_path() const { return use_simd_ && square_levels_ > 0; }
-    void set_simd(bool on) { use_simd_ = on; }
+    // The per-ray path's kernels (ray_path): the square walk and DDA 8 rays to a vector
+    // (avx512, ray_walk_simd.cpp) where the CPU has avx512f and avx512dq, 4 to a vector (avx2,
+    // ray_walk_avx2.cpp) where it has avx2 and fma, else the scalar walk (scalar,
+    // ray_walk_exact.cpp); the vector paths need a field of at least 2 x 2 cells. All give
+    // trace_naive's hits bit for bit. The default is the CPU's best (cpu_best_path) capped by
+    // the environment's PXH_TRACER_PATH (scalar, avx2 or avx512: to take a path as a CPU without
+    // the wider ones would; default_path throws std::invalid_argument for another value).
+    // set_path picks this tracer's (tests, benchmarks), capped by what the CPU has; set_simd(on)
+    // is set_path(on ? default_path() : scalar). Not to be called while another thread traces
+    // with this tracer.
+    enum class RayPath { scalar, avx2, avx512 };
+    static const char* path_name(RayPath p);
+    static RayPath cpu_best_path();
+    static RayPath default_path();
+    static bool cpu_has_simd_path() { return default_path() != RayPath::scalar; }
+    RayPath ray_path() const { return square_levels_ > 0 ? path_ : RayPath::scalar; }
+    bool simd_path() const { return ray_path() != RayPath::scalar; }
+    void set_path(RayPath p) { path_ = std::min(p, cpu_best_path()); }
+    void set_simd(bool on) { set_path(on ? default_path() : RayPath::scalar); }
     // Builds the vector path's tables now where simd_path() (they are built on the first
     // per-ray trace otherwise; orthographic grid views never need them). Thread-safe.
     void prepare_rays() const;
@@ -175,14 +188,14 @@ class ExactTracer final : public Tracer {
     // 2^(k - 2) above: the bound of their union; ray_walk_simd.cpp's SquareLayout): the code c
     // of the bound square_lo_ + c square_step_ (in double, as computed there), the smallest of
     // the 256 at or above the maximum. One byte per entry, 2.33 per texel in all (4 bytes of
-    // padding after the last). Built only where cpu_has_simd_path().
+    // padding after the last). Built only for a vector path (ray_path).
     static constexpr int kSquareLevels = 5;
     // Built on first use (prepare_rays, squares_built_); square_levels_ by the constructor.
     mutable HugePageVector<uint8_t> square_code_;
     mutable double square_lo_ = 0, square_step_ = 0;
     mutable std::once_flag squares_built_;
     int square_levels_ = 0;
-    bool use_simd_ = true;
+    RayPath path_ = RayPath::scalar;  // the constructor's default_path()
 };
 
 }  // namespace pxh

@@ -1,7 +1,9 @@
-// The per-ray path on CPUs with AVX-512 (avx512f and avx512dq, checked at run time:
-// ExactTracer::simd_path; the tables need a field of at least 2 x 2 cells): every ray of a view
-// traced 8 to a vector, trace_naive's hits bit for bit, as the scalar walk (ray_walk_exact.cpp),
-// which every other CPU takes.
+// The per-ray vector paths (ExactTracer::ray_path, chosen at run time; the tables need a field
+// of at least 2 x 2 cells): every ray of a view traced 8 to a vector where the CPU has AVX-512
+// (avx512f and avx512dq: the kernels here), 4 to a vector where it has AVX2 and FMA (the same
+// passes in ray_walk_avx2.cpp), trace_naive's hits bit for bit, as the scalar walk
+// (ray_walk_exact.cpp), which every other CPU takes. This file also holds what both vector paths
+// share: the square tables (build_squares) and the driver (trace_rays_simd).
 //
 // Two passes, in turn, until every ray of a chunk is resolved:
 //
@@ -42,8 +44,9 @@
 // Why vectors: the scalar walk is bound by its chains of dependent steps and branches on
 // each ray's data (ray_walk_exact.cpp's notes); here 4 independent vectors of 8 rays are
 // stepped in turn, without a branch on any ray's data, and a lane whose ray is done takes
-// the next ray of the chunk. Measured against the scalar walk with pxh bench --camera
-// perspective (README: the per-ray section).
+// the next ray of the chunk. The tables' and texels' reads are prefetched a half-step (pass A)
+// or a step (pass B) before the gathers that use them, so that misses overlap. Measured against
+// the scalar walk with pxh bench --camera perspective (README: the per-ray section).
 // GCC 12's AVX-512 headers start some conversions from _mm512_undefined_*(), which its
 // -Wmaybe-uninitialized reports once they are inlined here (a known false positive).
 #if defined(__GNUC__) && !defined(__clang__)
@@ -59,6 +62,7 @@
 #include <vector>
 
 #include "harness/truth/cell_solver.h"
+#include "harness/truth/ray_walk_vector.h"
 
 #define PXH_AVX512 __attribute__((target("avx512f,avx512dq,avx2")))
 #define PXH_AVX512_INLINE __attribute__((target("avx512f,avx512dq,avx2"), always_inline)) inline
@@ -67,68 +71,14 @@ namespace pxh {
 
 namespace {
 
-// The first square of a walk: 2^kSquareStart cells on a side (2 to 4 measured alike).
-constexpr int kSquareStart = 3;
+using namespace vector_walk;
+
 // Vectors of 8 rays stepped in turn by the square walk (1 and 2 slower, 3 and 6 no faster).
 constexpr int kLaneSets = 4;
 // Groups of 8 rays pass B walks in turn (1: 5-10% slower at 512 x 512, 60 deg; 3 and 4 as 2).
 constexpr int kDdaGroups = 2;
-// The DDA's cells per ray in one pass B (4 to 16 measured alike).
-constexpr int kDdaCells = 8;
 // Rays per work chunk (tbb).
 constexpr size_t kChunk = 1024;
-
-// A chunk's rays still to resolve, one array per parameter (ExactTracer::Ray's, for the
-// vectors' loads; ivz = 1 / vz), and per ray its place in the chunk (id), the cells walked so
-// far (cells) and the exit time of the last one counted (counted, dda_pass). 8 entries of
-// padding after the last ray: pass A loads 8 at a time.
-struct RayColumns {
-    std::vector<double> X0, Y0, dX, dY, iX, iY, vz, ivz, tm, counted;
-    std::vector<int> id, cells;
-    static constexpr std::vector<double> RayColumns::*kReals[] = {
-        &RayColumns::X0, &RayColumns::Y0, &RayColumns::dX,  &RayColumns::dY, &RayColumns::iX,
-        &RayColumns::iY, &RayColumns::vz, &RayColumns::ivz, &RayColumns::tm, &RayColumns::counted};
-    static constexpr std::vector<int> RayColumns::*kInts[] = {&RayColumns::id, &RayColumns::cells};
-    void resize(size_t n) {
-        for (auto col : kReals) (this->*col).resize(n + 8);
-        for (auto col : kInts) (this->*col).resize(n + 8);
-    }
-    // Ray `from` of `src` to place `to`.
-    void copy(int to, const RayColumns& src, int from) {
-        for (auto col : kReals) (this->*col)[to] = (src.*col)[from];
-        for (auto col : kInts) (this->*col)[to] = (src.*col)[from];
-    }
-};
-
-// Where level k (1 .. K <= 7) of the square tables lies in square_code_: entry (I, J) of its
-// cols[k] x rows[k] grid, at base[k] + J cols[k] + I, bounds the squares of 2^k cells on a side
-// whose first cell (i, j) lies in [I d, I d + d) x [J d, J d + d), d = spacing[k] =
-// 2^max(0, k - 2) (so it bounds the square of 2^k + d - 1 cells from (I d, J d), wrapped): the
-// larger levels are stored at a coarser spacing, smaller tables for slightly larger squares.
-struct SquareLayout {
-    int spacing[8] = {}, cols[8] = {}, rows[8] = {};
-    size_t base[8] = {}, total = 0;
-    SquareLayout(int W, int H, int K) {
-        for (int k = 1; k <= K; ++k) {
-            spacing[k] = 1 << std::max(0, k - 2);
-            cols[k] = (W + spacing[k] - 1) / spacing[k];
-            rows[k] = (H + spacing[k] - 1) / spacing[k];
-            base[k] = total;
-            total += size_t(cols[k]) * size_t(rows[k]);
-        }
-    }
-};
-
-// What the passes read of the tracer.
-struct SquareScene {
-    const float* texels;  // texels_, rows of `up` floats
-    int up;
-    const uint8_t* squares;  // square_code_, laid out as SquareLayout
-    double lo, step;         // code c: the bound lo + c step
-    int levels;              // K
-    int W, H;
-    double s, b, zt;
-};
 
 PXH_AVX512_INLINE __m512d floor_pd(__m512d x) {
     return _mm512_roundscale_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -155,6 +105,7 @@ PXH_AVX512_INLINE __m256 std_max_ps(__m256 a, __m256 b) {
 
 struct SquareLanes {
     __m512d X0, Y0, dX, dY, iX, iY, vz, ivz, tm, t, k;
+    __m512d te;    // the time the ray leaves the step's square (square_read)
     __m512i slot;  // the ray's place in the pass's list
     __mmask8 active;
 };
@@ -165,8 +116,10 @@ struct SquareConsts {
     const uint8_t* squares;
 };
 
-// One step of every active lane; returns the lanes whose walk ended (t is their t_safe).
-PXH_AVX512_INLINE __mmask8 square_step(const SquareConsts& c, SquareLanes& L) {
+// One step of every active lane, in two halves (square_read, then square_step): the first
+// finds the square and prefetches each lane's table entry, the second reads them, so that the
+// lane sets' reads of the tables are all under way before the first is used.
+PXH_AVX512_INLINE __m512i square_read(const SquareConsts& c, SquareLanes& L) {
     const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), two = _mm512_set1_pd(2);
     const __m512d half = _mm512_set1_pd(0.5), mhalf = _mm512_set1_pd(-0.5);
     const __m512d inf = _mm512_set1_pd(std::numeric_limits<double>::infinity());
@@ -197,10 +150,23 @@ PXH_AVX512_INLINE __mmask8 square_step(const SquareConsts& c, SquareLanes& L) {
                       _mm512_mul_pd(floor_pd(_mm512_mul_pd(wrap_pd(ay, c.H, c.iH), inv_d)),
                                     _mm512_permutexvar_pd(level, c.cols))),
         floor_pd(_mm512_mul_pd(wrap_pd(ax, c.W, c.iW), inv_d)));
-    const __m256i code =
-        _mm256_and_si256(_mm512_mask_i64gather_epi32(_mm256_setzero_si256(), L.active,
-                                                     _mm512_cvttpd_epi64(at), c.squares, 1),
-                         _mm256_set1_epi32(0xff));
+    L.te = te;
+    // Inactive lanes may hold any index: a prefetch does not fault, the gather skips them.
+    const __m512i entry = _mm512_cvttpd_epi64(at);
+    alignas(64) int64_t a[8];
+    _mm512_store_si512(a, entry);
+    for (int q = 0; q < 8; ++q)
+        _mm_prefetch(reinterpret_cast<const char*>(c.squares + a[q]), _MM_HINT_T0);
+    return entry;
+}
+// The step's second half, from the square's entry in the tables (square_read's): returns the
+// lanes whose walk ended (t is their t_safe).
+PXH_AVX512_INLINE __mmask8 square_step(const SquareConsts& c, SquareLanes& L, __m512i at) {
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1);
+    const __m512d t = L.t, te = L.te;
+    const __m256i code = _mm256_and_si256(
+        _mm512_mask_i64gather_epi32(_mm256_setzero_si256(), L.active, at, c.squares, 1),
+        _mm256_set1_epi32(0xff));
     const __m512d M = _mm512_add_pd(c.lo, _mm512_mul_pd(_mm512_cvtepi32_pd(code), c.step));
     const __m512d zM = _mm512_mul_pd(c.s, _mm512_sub_pd(M, c.b));
     const __mmask8 clear = _mm512_mask_cmp_pd_mask(
@@ -233,16 +199,9 @@ PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const
     c.H = _mm512_set1_pd(sc.H);
     c.iW = _mm512_set1_pd(1.0 / sc.W);
     c.iH = _mm512_set1_pd(1.0 / sc.H);
-    const SquareLayout layout(sc.W, sc.H, sc.levels);
-    alignas(64) double inv_spacing[8] = {}, cols[8] = {}, base[8] = {};
-    for (int k = 1; k <= sc.levels; ++k) {
-        inv_spacing[k] = 1.0 / layout.spacing[k];  // powers of two: exact
-        cols[k] = layout.cols[k];
-        base[k] = double(layout.base[k]);
-    }
-    c.inv_spacing = _mm512_load_pd(inv_spacing);
-    c.cols = _mm512_load_pd(cols);
-    c.base = _mm512_load_pd(base);
+    c.inv_spacing = _mm512_load_pd(sc.inv_spacing);
+    c.cols = _mm512_load_pd(sc.cols);
+    c.base = _mm512_load_pd(sc.base);
     c.zt = _mm512_set1_pd(sc.zt);
     c.s = _mm512_set1_pd(sc.s);
     c.b = _mm512_set1_pd(sc.b);
@@ -290,7 +249,9 @@ PXH_AVX512 void square_pass(const SquareScene& sc, const RayColumns& rays, const
         }
         if (!any) return;
         __mmask8 done[kLaneSets];
-        for (int v = 0; v < kLaneSets; ++v) done[v] = square_step(c, lanes[v]);
+        __m512i at[kLaneSets];
+        for (int v = 0; v < kLaneSets; ++v) at[v] = square_read(c, lanes[v]);
+        for (int v = 0; v < kLaneSets; ++v) done[v] = square_step(c, lanes[v], at[v]);
         for (int v = 0; v < kLaneSets; ++v) {
             if (!done[v]) continue;
             SquareLanes& L = lanes[v];
@@ -341,6 +302,7 @@ struct DdaGroup {
     __m512d X0, Y0, dX, dY, iX, iY, vz, tm, sx, sy, ci, cj, li, lj, xl, yl, ex, ey;
     __m512d counted, answer, last_exit;
     __m512i walked;
+    __m256i a00;  // cell (li, lj)'s first corner in the texels (dda_fetch)
     __mmask8 px, py, mx, my, active, done;
     int m, steps;
     alignas(32) int32_t idx[8];
@@ -358,6 +320,21 @@ struct DdaGroup {
     const __m512d magnitude = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));       \
     const __m256i up = _mm256_set1_epi32(sc.up);                                                  \
     const float* tex = sc.texels;
+
+// Where cell (li, lj)'s corners lie in the texels, and a prefetch of its two rows' corner pairs
+// for the next step (a gather holds up the instructions after it until memory answers, a
+// prefetch does not, so every group's requests are under way at once).
+PXH_AVX512_INLINE void dda_fetch(DdaGroup& G, const SquareScene& sc) {
+    G.a00 =
+        _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(G.lj), _mm256_set1_epi32(sc.up)),
+                         _mm512_cvttpd_epi32(G.li));
+    alignas(32) int32_t a[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(a), G.a00);
+    for (int q = 0; q < 8; ++q) {
+        _mm_prefetch(reinterpret_cast<const char*>(sc.texels + a[q]), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(sc.texels + sc.up + a[q]), _MM_HINT_T0);
+    }
+}
 
 // The group of rays list[g0 ..], from their t_safe: the DDA's cell at t_safe, its exits.
 PXH_AVX512_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColumns& rays,
@@ -426,6 +403,7 @@ PXH_AVX512_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayCo
     G.answer = zero;
     G.last_exit = t;
     G.steps = 0;
+    dda_fetch(G, sc);
 }
 
 // One axis of walk_dda's step, for the lanes `m`: the cell index c and its tile-local index l
@@ -445,17 +423,15 @@ PXH_AVX512_INLINE void dda_advance(__m512d& c, __m512d& l, __m512d& el, __m512d&
 
 // One cell of the DDA for every active lane (walk_dda's, cell_below's test, solve_patch).
 PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
-    PXH_DDA_CONSTS(void) iW, (void)iH, (void)inf;
+    PXH_DDA_CONSTS(void) iW, (void)iH, (void)inf, (void)up;
     const __m512d tau_out = std_min(std_min(G.ex, G.ey), G.tm);
     const __mmask8 fresh = G.active & _mm512_cmp_pd_mask(tau_out, G.counted, _CMP_GT_OQ);
     G.walked = _mm512_mask_add_epi64(G.walked, fresh, G.walked, _mm512_set1_epi64(1));
     G.counted = _mm512_mask_mov_pd(G.counted, fresh, tau_out);
-    const __m256i a00 = _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(G.lj), up),
-                                         _mm512_cvttpd_epi32(G.li));
     // Each corner pair (i, i + 1) of a row as one 8-byte element (two gathers, not four:
-    // measured faster).
-    const __m512i row0 = _mm512_i32gather_epi64(a00, tex, 4);
-    const __m512i row1 = _mm512_i32gather_epi64(a00, tex + sc.up, 4);
+    // measured faster), prefetched a step ahead (dda_fetch).
+    const __m512i row0 = _mm512_i32gather_epi64(G.a00, tex, 4);
+    const __m512i row1 = _mm512_i32gather_epi64(G.a00, tex + sc.up, 4);
     const __m256 f00 = _mm256_castsi256_ps(_mm512_cvtepi64_epi32(row0));
     const __m256 f10 = _mm256_castsi256_ps(_mm512_cvtepi64_epi32(_mm512_srli_epi64(row0, 32)));
     const __m256 f01 = _mm256_castsi256_ps(_mm512_cvtepi64_epi32(row1));
@@ -576,7 +552,11 @@ PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     const __mmask8 ys = G.active & __mmask8(~xs);
     dda_advance(G.ci, G.li, G.xl, G.ex, xs, G.sx, G.X0, G.iX, W);
     dda_advance(G.cj, G.lj, G.yl, G.ey, ys, G.sy, G.Y0, G.iY, H);
-    if (++G.steps == kDdaCells) G.active = 0;  // resumed by pass A
+    if (++G.steps == kDdaCells) {  // resumed by pass A
+        G.active = 0;
+        return;
+    }
+    dda_fetch(G, sc);
 }
 
 // The group's answers.
@@ -697,9 +677,12 @@ PXH_AVX512 void make_rays(const View& view, size_t k0, const int* where, int n,
 }
 }  // namespace
 
-bool ExactTracer::cpu_has_simd_path() {
-    static const bool has = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq");
-    return has;
+ExactTracer::RayPath ExactTracer::cpu_best_path() {
+    static const RayPath best =
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") ? RayPath::avx512
+        : __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")       ? RayPath::avx2
+                                                                                : RayPath::scalar;
+    return best;
 }
 
 void ExactTracer::build_squares() const {
@@ -757,10 +740,32 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     const size_t n = view.size();
     out.resize_all(n);
     prepare_rays();
-    const SquareScene sc{
-        texels_.data(), int(texel_stride()), square_code_.data(), square_lo_, square_step_,
-        square_levels_, hf_.width,           hf_.height,          s_,         b_,
-        z_top()};
+    SquareScene sc{};
+    sc.texels = texels_.data();
+    sc.up = int(texel_stride());
+    sc.squares = square_code_.data();
+    sc.entries = SquareLayout(hf_.width, hf_.height, square_levels_).total;
+    const SquareLayout layout(hf_.width, hf_.height, square_levels_);
+    for (int k = 0; k < 8; ++k) {
+        sc.inv_spacing[k] = k > 0 && k <= square_levels_ ? 1.0 / layout.spacing[k] : 0;  // exact
+        sc.cols[k] = layout.cols[k];
+        sc.base[k] = double(layout.base[k]);
+    }
+    sc.lo = square_lo_;
+    sc.step = square_step_;
+    sc.levels = square_levels_;
+    sc.W = hf_.width;
+    sc.H = hf_.height;
+    sc.s = s_;
+    sc.b = b_;
+    sc.zt = z_top();
+    // The path's kernels.
+    auto* const make_rays_of =
+        ray_path() == RayPath::avx512 ? make_rays : vector_walk::avx2::make_rays;
+    auto* const square_pass_of =
+        ray_path() == RayPath::avx512 ? square_pass : vector_walk::avx2::square_pass;
+    auto* const dda_pass_of =
+        ray_path() == RayPath::avx512 ? dda_pass : vector_walk::avx2::dda_pass;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk), [&](const auto& range) {
         const size_t m = range.size(), k0 = range.begin();
         // Each thread's work arrays, kept from chunk to chunk.
@@ -792,7 +797,7 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             w.where[count++] = int(q);
         }
         const int rays = count;
-        make_rays(view, k0, w.where.data(), rays, sc, w.cols, w.ex.data(), w.ey.data());
+        make_rays_of(view, k0, w.where.data(), rays, sc, w.cols, w.ex.data(), w.ey.data());
         for (int p = 0; p < rays; ++p) {
             w.cols.id[p] = p;
             w.cols.cells[p] = 0;
@@ -801,7 +806,7 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
         }
         while (count > 0) {
             RayColumns& cur = w.cols;
-            square_pass(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
+            square_pass_of(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
             int nb = 0;
             for (int q = 0; q < count; ++q) {
                 if (w.bottom[q]) {
@@ -812,8 +817,8 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
                     w.t_b[nb++] = w.t_safe[q];
                 }
             }
-            dda_pass(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(),
-                     w.resolved.data());
+            dda_pass_of(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(),
+                        w.resolved.data());
             count = 0;
             for (int q = 0; q < nb; ++q) {
                 const int r = w.list_b[q];
@@ -827,15 +832,9 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             }
             std::swap(w.cols, w.next);
         }
-        // hit_at's arithmetic.
-        const double zt = z_top();
         for (int p = 0; p < rays; ++p) {
             const size_t k = k0 + size_t(w.where[p]);
-            const Vec3d V = view.dir(k);
-            const double tau = w.answer[p];
-            out.uv[k] = {w.ex[p] - tau * V.x, w.ey[p] - tau * V.y};
-            out.z[k] = zt - tau * V.z;
-            out.cells[k] = w.cells[p];
+            out.set(k, hit_at_tau(w.ex[p], w.ey[p], sc.zt, view.dir(k), w.answer[p], w.cells[p]));
         }
     });
 }

@@ -12,11 +12,17 @@
 // are not square images.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "harness/scene/perspective_camera.h"
+#include "harness/truth/embree_truth.h"
 #include "harness/truth/exact_tracer.h"
 #include "harness/truth/travel_limit.h"
 #include "heightfields/heightfields.h"
@@ -171,6 +177,34 @@ size_t interface_differences(const ExactTracer& t, const View& view) {
     return differ;
 }
 
+// The per-ray paths this CPU can take (ExactTracer::RayPath, widest first).
+std::vector<ExactTracer::RayPath> cpu_paths() {
+    using P = ExactTracer::RayPath;
+    std::vector<P> paths;
+    for (P p : {P::avx512, P::avx2, P::scalar})
+        if (p <= ExactTracer::cpu_best_path()) paths.push_back(p);
+    return paths;
+}
+
+// A view's every sample through every per-ray path the CPU has (the AVX-512 and AVX2 square
+// walks where it has them, and the scalar walk): how many differ from trace_naive's hit, bit for
+// bit, plus how many samples solve more cells than trace_naive does (`excess`; each path's count
+// is a subset).
+size_t all_paths_differences(ExactTracer& t, const View& view, size_t& excess) {
+    size_t differ = 0;
+    for (ExactTracer::RayPath path : cpu_paths()) {
+        t.set_path(path);
+        EXPECT_EQ(t.ray_path(), path);
+        differ += interface_differences(t, view);
+        Hits through;
+        t.trace(view, through);
+        for (size_t k = 0; k < view.size(); ++k)
+            excess += through.cells[k] > t.trace_naive(view.P[k], view.dir(k)).cells;
+    }
+    t.set_simd(true);
+    return differ;
+}
+
 TEST(RayWalk, LargePerspectiveViewsThroughTheInterfaceHitWhatTheDdaHits) {
     // 96 x 96 pixels: several of the tracer's work chunks; at 85 and 89 degrees the top rows are
     // outside (each the look-at ray, a run that spans chunks), at 30 none are.
@@ -182,14 +216,15 @@ TEST(RayWalk, LargePerspectiveViewsThroughTheInterfaceHitWhatTheDdaHits) {
                           {"luxembourg (measured)", load_scan("luxembourg", "test")},
                           {"random 50 x 70", test::random_field(50, 70, 3)}};
     for (const Case& c : cases) {
-        const ExactTracer t(c.hf, 0.05, 1.0);
+        ExactTracer t(c.hf, 0.05, 1.0);
+        size_t excess = 0;
         for (double theta : {30.0, 85.0, 89.0})
             for (double distance : {1.5, 16.0})
                 for (double fov : {30.0, 60.0}) {
                     const PerspectiveParams p = params(theta, 20, distance, fov, 96);
                     const PerspectiveCamera cam(p);
                     const View view = cam.view();
-                    EXPECT_EQ(interface_differences(t, view), 0u)
+                    EXPECT_EQ(all_paths_differences(t, view, excess), 0u)
                         << c.what << ", theta " << theta << ", D " << distance << ", fov " << fov;
                     if (theta >= 85) {
                         // Outside pixels: the look-at ray's own hit, every one of them.
@@ -271,7 +306,8 @@ TEST(RayWalk, ViewsThatAreNotSquareImagesHitWhatTheDdaHits) {
     // A view whose size is not a square is traced in runs of consecutive samples: the rows
     // of a 70 x 33 perspective image, one ray, two equal rays, and a view cut short.
     const HeightField hf = generated("fbm", 96);
-    const ExactTracer t(hf, 0.05, 1.0);
+    ExactTracer t(hf, 0.05, 1.0);
+    size_t excess = 0;
     const PerspectiveCamera cam(params(70, 30, 1.5, 50, 70));
     const View full = cam.view();
     for (size_t count : {size_t(70 * 33), size_t(1), size_t(2), size_t(4899)}) {
@@ -279,7 +315,7 @@ TEST(RayWalk, ViewsThatAreNotSquareImagesHitWhatTheDdaHits) {
         view.P.assign(full.P.begin(), full.P.begin() + long(count));
         view.V.assign(full.V.begin(), full.V.begin() + long(count));
         if (count == 2) view.P[1] = view.P[0], view.V[1] = view.V[0];
-        EXPECT_EQ(interface_differences(t, view), 0u) << count << " samples";
+        EXPECT_EQ(all_paths_differences(t, view, excess), 0u) << count << " samples";
     }
 }
 
@@ -288,7 +324,7 @@ TEST(RayWalk, RunsOfEqualRaysAndRaysOneBitApartHitWhatTheDdaHits) {
     // chunks), each run's neighbour one bit away in one of P.x, P.y, V.x, V.y, V.z: a tracer that
     // reused a hit for a ray that only looks alike would differ from the DDA.
     const HeightField hf = test::random_field(64, 48, 21);
-    const ExactTracer t(hf, 0.1, 0.6);
+    ExactTracer t(hf, 0.1, 0.6);
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> unit(0, 1);
     View view;
@@ -322,40 +358,69 @@ TEST(RayWalk, RunsOfEqualRaysAndRaysOneBitApartHitWhatTheDdaHits) {
         view.P.push_back(P);
         view.V.push_back(V);
     }
-    EXPECT_EQ(interface_differences(t, view), 0u);
-}
-
-// A view's every sample through both per-ray paths (the AVX-512 square walk where the CPU has
-// it, and the scalar walk): how many differ from trace_naive's hit, bit for bit, plus how many
-// samples solve more cells than trace_naive does (`excess`; each path's count is a subset).
-size_t both_paths_differences(ExactTracer& t, const View& view, size_t& excess) {
-    size_t differ = 0;
-    for (bool simd : {true, false}) {
-        t.set_simd(simd);
-        differ += interface_differences(t, view);
-        Hits through;
-        t.trace(view, through);
-        for (size_t k = 0; k < view.size(); ++k)
-            excess += through.cells[k] > t.trace_naive(view.P[k], view.dir(k)).cells;
-    }
-    t.set_simd(true);
-    return differ;
+    size_t excess = 0;
+    EXPECT_EQ(all_paths_differences(t, view, excess), 0u);
 }
 
 TEST(RayWalk, TheVectorPathIsTakenWhereTheCpuHasIt) {
-    // The AVX-512 path needs the CPU's avx512f and avx512dq and a field of 2 x 2 cells or more
-    // (its tables); set_simd(false) forces the scalar walk.
+    // The AVX-512 path needs the CPU's avx512f and avx512dq, the AVX2 path its avx2 and fma, both
+    // a field of 2 x 2 cells or more (their tables); set_path takes any the CPU has, and no wider
+    // one; set_simd(false) forces the scalar walk. The default is the widest (unless
+    // PXH_TRACER_PATH caps it).
+    using P = ExactTracer::RayPath;
     const HeightField hf = test::random_field(16, 16, 1), thin = test::random_field(1, 40, 2);
     ExactTracer t(hf, 0.1, 1.0);
     const ExactTracer one_column(thin, 0.1, 1.0);
+    EXPECT_EQ(t.ray_path(), ExactTracer::default_path());
+    EXPECT_LE(ExactTracer::default_path(), ExactTracer::cpu_best_path());
+    if (!std::getenv("PXH_TRACER_PATH")) {
+        EXPECT_EQ(ExactTracer::default_path(), ExactTracer::cpu_best_path());
+    }
     EXPECT_EQ(t.simd_path(), ExactTracer::cpu_has_simd_path());
-    EXPECT_FALSE(one_column.simd_path());
+    EXPECT_EQ(one_column.ray_path(), P::scalar);
     t.set_simd(false);
     EXPECT_FALSE(t.simd_path());
+    EXPECT_EQ(t.ray_path(), P::scalar);
     t.set_simd(true);
     EXPECT_EQ(t.simd_path(), ExactTracer::cpu_has_simd_path());
-    if (!ExactTracer::cpu_has_simd_path())
-        GTEST_SKIP() << "this CPU has no avx512f + avx512dq: only the scalar walk is tested";
+    for (P p : {P::scalar, P::avx2, P::avx512}) {
+        t.set_path(p);
+        EXPECT_EQ(t.ray_path(), std::min(p, ExactTracer::cpu_best_path()));
+    }
+    EXPECT_STREQ(ExactTracer::path_name(P::avx2), "avx2");
+    if (ExactTracer::cpu_best_path() != P::avx512)
+        GTEST_SKIP() << "this CPU's widest per-ray path is "
+                     << ExactTracer::path_name(ExactTracer::cpu_best_path())
+                     << ": the wider ones are not tested here";
+}
+
+TEST(RayWalk, PxhTracerPathCapsTheDefaultPathAndEmbreesKernels) {
+    // PXH_TRACER_PATH caps the default per-ray path (never above what the CPU has) and Embree's
+    // instruction set alike; another value is refused.
+    using P = ExactTracer::RayPath;
+    const char* before = std::getenv("PXH_TRACER_PATH");
+    const std::string saved = before ? before : "";
+    const struct {
+        const char* value;
+        P path;
+        const char* embree;
+    } cases[] = {{"scalar", P::scalar, "max_isa=sse4.2"},
+                 {"avx2", P::avx2, "max_isa=avx2"},
+                 {"avx512", P::avx512, ""}};
+    for (const auto& c : cases) {
+        ::setenv("PXH_TRACER_PATH", c.value, 1);
+        EXPECT_EQ(ExactTracer::default_path(), std::min(c.path, ExactTracer::cpu_best_path()))
+            << c.value;
+        EXPECT_EQ(EmbreeTracer::device_config(), c.embree) << c.value;
+        const HeightField hf = test::random_field(16, 16, 1);
+        EXPECT_EQ(ExactTracer(hf, 0.1, 1.0).ray_path(), ExactTracer::default_path()) << c.value;
+    }
+    ::setenv("PXH_TRACER_PATH", "avx3", 1);
+    EXPECT_THROW(ExactTracer::default_path(), std::invalid_argument);
+    ::unsetenv("PXH_TRACER_PATH");
+    EXPECT_EQ(ExactTracer::default_path(), ExactTracer::cpu_best_path());
+    EXPECT_EQ(EmbreeTracer::device_config(), "");
+    if (before) ::setenv("PXH_TRACER_PATH", saved.c_str(), 1);
 }
 
 TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
@@ -387,7 +452,7 @@ TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
                 const PerspectiveParams p = params(theta, 20 + 37 * theta, distance, 50, 40);
                 if (!eye_slab_problem(p, c.s, c.b).empty()) continue;
                 const View view = PerspectiveCamera(p).view();
-                differ += both_paths_differences(t, view, excess);
+                differ += all_paths_differences(t, view, excess);
                 rays += view.size();
             }
         View stress;
@@ -405,9 +470,9 @@ TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
                     stress.V.push_back(V);
                 }
             }
-        differ += both_paths_differences(t, stress, excess);
+        differ += all_paths_differences(t, stress, excess);
         rays += stress.size();
-        EXPECT_EQ(differ, 0u) << c.what << ": of " << rays << " rays, both paths";
+        EXPECT_EQ(differ, 0u) << c.what << ": of " << rays << " rays, every path the CPU has";
         EXPECT_EQ(excess, 0u) << c.what << ": cells solved beyond the DDA's";
         EXPECT_GT(rays, 10000u) << c.what;
     }
