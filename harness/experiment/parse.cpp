@@ -362,6 +362,18 @@ namespace {
 // Every view of the camera (its settings x theta, the companion views' too) must see every
 // slab it looks at (the perspective camera: its eye above it): an InputError at the camera's
 // first key of [views] (or [views]) naming the field otherwise.
+// Every theta a run traces: the views' and, with sweep_dt_deg, each one's companion dt away
+// (below when theta + dt would reach 90).
+std::vector<double> measured_thetas(const Experiment& ex) {
+    std::vector<double> out;
+    for (double t : ex.theta_deg) {
+        out.push_back(t);
+        if (ex.sweep_dt_deg > 0)
+            out.push_back(t + ex.sweep_dt_deg < 90 ? t + ex.sweep_dt_deg : t - ex.sweep_dt_deg);
+    }
+    return out;
+}
+
 void check_camera_scenes(const Experiment& ex) {
     const CameraEntry& cam = camera_entry(ex.camera, "camera");
     if (!cam.scene_problem) return;
@@ -370,19 +382,13 @@ void check_camera_scenes(const Experiment& ex) {
         keys.empty() ? ex.camera_params.where() : ex.camera_params.where(keys.front().first);
     for (const HeightfieldSpec& h : ex.heightfields)
         for (const CameraSetting& c : ex.camera_settings)
-            for (double t : ex.theta_deg) {
-                std::vector<double> thetas{t};
-                if (ex.sweep_dt_deg > 0)
-                    thetas.push_back(t + ex.sweep_dt_deg < 90 ? t + ex.sweep_dt_deg
-                                                              : t - ex.sweep_dt_deg);
-                for (double th : thetas)
-                    if (const std::string why =
-                            cam.scene_problem(c, {th, 0, ex.samples}, h.scale, h.bias);
-                        !why.empty())
-                        throw InputError(where, "heightfield '" + h.name +
-                                                    "' (s = " + format_number(h.scale) +
-                                                    ", b = " + format_number(h.bias) + "): " + why);
-            }
+            for (double th : measured_thetas(ex))
+                if (const std::string why =
+                        cam.scene_problem(c, {th, 0, ex.samples}, h.scale, h.bias);
+                    !why.empty())
+                    throw InputError(where, "heightfield '" + h.name +
+                                                "' (s = " + format_number(h.scale) +
+                                                ", b = " + format_number(h.bias) + "): " + why);
 }
 
 // Every inside pixel of a perspective view must lie within the exact tracer's reach of its field
@@ -400,38 +406,29 @@ void check_camera_reach(Experiment& ex) {
         const FieldSize size = field_size(h);
         bool warned = false;
         for (const CameraSetting& c : ex.camera_settings)
-            for (double t : ex.theta_deg) {
-                std::vector<double> thetas{t};
-                if (ex.sweep_dt_deg > 0)
-                    thetas.push_back(t + ex.sweep_dt_deg < 90 ? t + ex.sweep_dt_deg
-                                                              : t - ex.sweep_dt_deg);
-                for (double th : thetas) {
-                    // |P - C| at any phi (it turns the image about C), then |P.x|, |P.y|.
-                    const double reach = 0.5 + perspective_reach(c, {th, 0, ex.samples});
-                    if (const std::string why =
-                            reach_problem(reach, int(size.width), int(size.height));
-                        !why.empty())
-                        throw InputError(where, "heightfield '" + h.name + "': distance " +
-                                                    format_number(c.get("distance")) +
-                                                    " at theta " + format_number(th) +
-                                                    ", fov_deg " + format_number(c.get("fov_deg")) +
-                                                    " " + why);
-                    const float far = float(reach);
-                    const double gap = (double(std::nextafter(far, 2 * far)) - double(far)) *
-                                       double(std::max(size.width, size.height));
-                    if (!warned && gap >= 1.0 / 16) {
-                        warned = true;
-                        warn(ex, where + ": heightfield '" + h.name + "': distance " +
-                                     format_number(c.get("distance")) + " at theta " +
-                                     format_number(th) + ", fov_deg " +
-                                     format_number(c.get("fov_deg")) +
-                                     " puts inside pixels up to " + format_number(reach) +
-                                     " tiles from the origin, where float spaces uv " +
-                                     format_number(gap) +
-                                     " texels apart: the float rows (CPU float, GLSL) lose "
-                                     "accuracy with distance from there on (their rows say so "
-                                     "in 'error'); the double rows do not");
-                    }
+            for (double th : measured_thetas(ex)) {
+                // |P - C| at any phi (it turns the image about C), then |P.x|, |P.y|.
+                const double reach = 0.5 + perspective_reach(c, {th, 0, ex.samples});
+                if (const std::string why = reach_problem(reach, int(size.width), int(size.height));
+                    !why.empty())
+                    throw InputError(where, "heightfield '" + h.name + "': distance " +
+                                                format_number(c.get("distance")) + " at theta " +
+                                                format_number(th) + ", fov_deg " +
+                                                format_number(c.get("fov_deg")) + " " + why);
+                const float far = float(reach);
+                const double gap = (double(std::nextafter(far, 2 * far)) - double(far)) *
+                                   double(std::max(size.width, size.height));
+                if (!warned && gap >= 1.0 / 16) {
+                    warned = true;
+                    warn(ex,
+                         where + ": heightfield '" + h.name + "': distance " +
+                             format_number(c.get("distance")) + " at theta " + format_number(th) +
+                             ", fov_deg " + format_number(c.get("fov_deg")) +
+                             " puts inside pixels up to " + format_number(reach) +
+                             " tiles from the origin, where float spaces uv " + format_number(gap) +
+                             " texels apart: the float rows (CPU float, GLSL) lose "
+                             "accuracy with distance from there on (their rows say so "
+                             "in 'error'); the double rows do not");
                 }
             }
     }

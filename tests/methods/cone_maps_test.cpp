@@ -6,11 +6,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <sstream>
 
 #include "harness/backends/cpu_backend.h"
 #include "harness/backends/glsl_backend.h"
@@ -297,38 +295,6 @@ TEST(ConeMaps, EverySettingsGlslTwinAgreesWithTheCpuFloatTwin) {
                 << st.m->name << " " << spec.params.canonical();
         }
     }
-}
-
-// Not a check: the generation time of each map (run with --gtest_also_run_disabled_tests;
-// PXH_CONE_SIZES="128 256" and PXH_CONE_FIELDS="fbm sine" choose; the relaxed maps only up
-// to their limit, the book's with PXH_CONE_BOOK=1).
-TEST(ConeMaps, DISABLED_GenerationTimes) {
-    auto list = [](const char* env, const char* def) {
-        std::vector<std::string> out;
-        std::istringstream in(std::getenv(env) ? std::getenv(env) : def);
-        for (std::string w; in >> w;) out.push_back(w);
-        return out;
-    };
-    for (const std::string& field : list("PXH_CONE_FIELDS", "fbm"))
-        for (const std::string& size : list("PXH_CONE_SIZES", "128 256")) {
-            const GeneratorInfo* g = find_generator(field);
-            const int n = std::stoi(size);
-            const HeightField hf =
-                generate_heightfield(*g, n, n, resolve_params(g->params, {}, "t", field));
-            auto time = [&](const char* what, std::vector<float> (*f)(const HeightField&)) {
-                const auto t0 = std::chrono::steady_clock::now();
-                f(hf);
-                const double ms =
-                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                        .count();
-                std::printf("[ cone ] %s %d^2 %s: %.0f ms\n", field.c_str(), n, what, ms);
-            };
-            time("dummer", cone_maps::dummer);
-            time("bilinear", cone_maps::bilinear);
-            if (size_t(n) * size_t(n) > cone_maps::kRelaxedTexelLimit) continue;
-            time("relaxed_ban", cone_maps::relaxed_ban);
-            if (std::getenv("PXH_CONE_BOOK")) time("relaxed_book", cone_maps::relaxed_book);
-        }
 }
 
 }  // namespace

@@ -179,6 +179,7 @@ TEST(Tracer, GroundTruthThroughTheInterface) {
     size_t lit = 0;
     for (size_t k = 0; k < a.uv.size(); ++k) {
         ASSERT_EQ(a.uv[k].x, b.uv[k].x);
+        ASSERT_EQ(a.uv[k].y, b.uv[k].y);
         ASSERT_EQ(a.z[k], b.z[k]);
         ASSERT_EQ(a.lit[k], b.lit[k]);
         lit += a.lit[k];
