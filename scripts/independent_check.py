@@ -17,8 +17,8 @@ fetches_mean, err_px_mean and samples_outside, and lod_mean (the mean of max(lam
 the inside pixels, whatever the row's lod: it pins the footprint and lambda on their own). It
 uses nothing of pxh but the numbers it wrote: the field is decoded from the PNG here, and the
 camera, the footprint, the texture levels, the trilinear fetch, the exact ground truth, the
-methods and the statistics are written from the contract (../shared/spec/conventions.md,
-sections 1-7; docs/conventions.md restates it) in numpy.
+methods and the statistics are written from the contract (docs/conventions.md, sections 1-5,
+6 and 10, the repository's statement of it) in numpy.
 
 Precision: everything runs in float64. pxh's rows are float (CPU float twin, GLSL); the float
 rounding of a uv near 1 is about 6e-8 tile, 1e-5 texel at these sizes, far below 2% of any

@@ -1,9 +1,11 @@
 #include "harness/core/params.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <system_error>
 
 #include "harness/core/error.h"
 #include "harness/core/registry.h"
@@ -292,6 +294,15 @@ std::string describe_param(const ParamSpec& s) {
     }
     os << "): " << s.help;
     return os.str();
+}
+
+std::optional<double> parse_number(const std::string& text) {
+    double v = 0;
+    const char* end = text.data() + text.size();
+    // from_chars: no leading spaces or '+', no hexadecimal in the general format.
+    const auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
+    if (text.empty() || ec != std::errc() || ptr != end) return std::nullopt;
+    return v;
 }
 
 }  // namespace pxh

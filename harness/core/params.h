@@ -163,5 +163,8 @@ void check_param_kind(const ParamSpec& spec, const ParamValue& v, const std::str
 std::string describe_param(const ParamSpec& spec);
 
 std::string format_number(double v);
+// The whole text as a number (decimal or scientific notation, inf, -inf, nan; no spaces, no
+// hexadecimal); nullopt otherwise, and for an empty text.
+std::optional<double> parse_number(const std::string& text);
 
 }  // namespace pxh

@@ -26,10 +26,10 @@ struct Want {
     std::string given;  // as typed, for messages
 };
 
-std::optional<double> parse_number(const std::string& w) {
-    char* end = nullptr;
-    const double d = std::strtod(w.c_str(), &end);
-    if (w.empty() || !end || *end != '\0' || std::isnan(d)) return std::nullopt;
+// A --only value as a number: the whole text, not nan.
+std::optional<double> only_number(const std::string& w) {
+    const auto d = parse_number(w);
+    if (!d || std::isnan(*d)) return std::nullopt;
     return d;
 }
 
@@ -186,7 +186,7 @@ void apply_only(Experiment& ex, const std::string& spec) {
         Want& w = want[axis.name];
         w.given += (w.given.empty() ? "" : ",") + item;
         if (const auto r = range_end.find(key); r != range_end.end()) {
-            const auto v = parse_number(value);
+            const auto v = only_number(value);
             if (!v) throw InputError("--only", "'" + item + "': " + key + " must be a number");
             (r->second < 0 ? w.lo : w.hi) = *v;
             continue;
@@ -194,7 +194,7 @@ void apply_only(Experiment& ex, const std::string& spec) {
         std::stringstream vs(value);
         std::string v;
         while (std::getline(vs, v, '|')) {
-            if (axis.numeric() && !parse_number(v))
+            if (axis.numeric() && !only_number(v))
                 throw InputError("--only",
                                  "'" + item + "': " + key + " takes numbers, not '" + v + "'");
             w.values.push_back(v);
@@ -211,7 +211,7 @@ void apply_only(Experiment& ex, const std::string& spec) {
             if ((w.lo && v < *w.lo) || (w.hi && v > *w.hi)) return false;
             if (w.values.empty()) return true;
             for (const auto& s : w.values)
-                if (same_number(v, *parse_number(s))) return true;
+                if (same_number(v, *only_number(s))) return true;
             return false;
         };
         const auto sel = selectors().find(name);

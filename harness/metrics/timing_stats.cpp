@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "harness/core/params.h"
 #include "harness/metrics/row.h"
-#include "harness/results/csv_table.h"
 
 namespace pxh {
 

@@ -32,15 +32,6 @@ double CsvTable::number(size_t row, const std::string& column) const {
     throw InputError(where(row), "column '" + column + "': '" + s + "' is not a number");
 }
 
-std::optional<double> parse_number(const std::string& text) {
-    double v = 0;
-    const char* end = text.data() + text.size();
-    // from_chars: no leading spaces or '+', no hexadecimal in the general format.
-    const auto [ptr, ec] = std::from_chars(text.data(), end, v, std::chars_format::general);
-    if (text.empty() || ec != std::errc() || ptr != end) return std::nullopt;
-    return v;
-}
-
 std::string read_regular_file(const std::string& path) {
     std::error_code ec;
     const auto st = std::filesystem::status(path, ec);

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "harness/core/params.h"  // parse_number
+
 namespace pxh {
 
 struct CsvTable {
@@ -22,10 +24,6 @@ struct CsvTable {
     double number(size_t row, const std::string& column) const;
     std::string where(size_t row) const;  // "PATH:LINE" of a row
 };
-
-// The whole text as a number (decimal or scientific notation, inf, -inf, nan; no spaces, no
-// hexadecimal); nullopt otherwise, and for an empty text.
-std::optional<double> parse_number(const std::string& text);
 
 // The contents of a regular file. Anything else (missing, a folder, a FIFO, a device) is an
 // InputError naming the path, raised before opening it (a FIFO would block the read).
