@@ -18,11 +18,12 @@
 #include "harness/results/error_maps.h"
 #include "harness/results/results.h"
 #include "tests/cli_util.h"
+#include "tests/report/report_folder.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-using Cells = std::map<std::string, std::string>;
+using pxh::test::Cells;
 using pxh::test::slurp;
 
 const std::vector<std::string> kColumns = {
@@ -76,29 +77,9 @@ Cells row(const std::string& method, const std::string& lod, double theta, doubl
 class CameraReport : public pxh::test::CliTest {
   protected:
     fs::path results(const std::vector<Cells>& rows) {
-        const fs::path res = dir / "res";
-        fs::create_directories(res);
-        std::string text;
-        for (size_t c = 0; c < kColumns.size(); ++c) text += (c ? "," : "") + kColumns[c];
-        text += "\n";
-        for (const auto& r : rows) {
-            for (size_t c = 0; c < kColumns.size(); ++c) {
-                auto it = r.find(kColumns[c]);
-                text += (c ? "," : "") + pxh::csv_quote(it == r.end() ? "" : it->second);
-            }
-            text += "\n";
-        }
-        std::ofstream(res / "results.csv", std::ios::binary) << text;
-        return res;
+        return pxh::test::write_results_folder(dir, kColumns, rows);
     }
-    static fs::path report(const fs::path& res) {
-        pxh::ReportOptions o;
-        o.plots = false;
-        testing::internal::CaptureStdout();
-        pxh::run_report(res.string(), o);
-        testing::internal::GetCapturedStdout();
-        return res / "report";
-    }
+    static fs::path report(const fs::path& res) { return pxh::test::report_tables_of(res); }
     // The text of a Markdown section: from the line `heading` to the next heading of its level.
     static std::string section(const std::string& md, const std::string& heading) {
         const size_t at = md.find("\n" + heading + "\n");
@@ -107,18 +88,8 @@ class CameraReport : public pxh::test::CliTest {
         const size_t end = md.find("\n" + level, at + heading.size() + 2);
         return md.substr(at, end == std::string::npos ? std::string::npos : end - at);
     }
-    // The cells after the first of the Markdown row whose first cell is `first`.
     static std::vector<std::string> md_row(const std::string& md, const std::string& first) {
-        std::istringstream in(md);
-        for (std::string line; std::getline(in, line);) {
-            if (line.rfind("| " + first + " |", 0) != 0) continue;
-            std::vector<std::string> cells;
-            size_t at = first.size() + 5;
-            for (size_t bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 3)
-                cells.push_back(line.substr(at, bar - at));
-            return cells;
-        }
-        return {};
+        return pxh::test::markdown_row(md, first);
     }
 };
 

@@ -21,11 +21,12 @@
 #include "harness/results/error_maps.h"
 #include "harness/results/results.h"
 #include "tests/cli_util.h"
+#include "tests/report/report_folder.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-using Cells = std::map<std::string, std::string>;
+using pxh::test::Cells;
 
 const std::vector<std::string> kColumns = {
     "method",         "params",    "heightfield",  "scale",    "bias",      "backend", "precision",
@@ -73,41 +74,11 @@ class ReportTables : public pxh::test::CliTest {
     fs::path results(const std::vector<Cells>& rows,
                      const std::vector<std::string>& columns = kColumns,
                      const std::string& name = "res") {
-        const fs::path res = dir / name;
-        fs::create_directories(res);
-        std::string text;
-        for (size_t c = 0; c < columns.size(); ++c) text += (c ? "," : "") + columns[c];
-        text += "\n";
-        for (const auto& r : rows) {
-            for (size_t c = 0; c < columns.size(); ++c) {
-                auto it = r.find(columns[c]);
-                text += (c ? "," : "") + pxh::csv_quote(it == r.end() ? "" : it->second);
-            }
-            text += "\n";
-        }
-        std::ofstream(res / "results.csv", std::ios::binary) << text;
-        return res;
+        return pxh::test::write_results_folder(dir, columns, rows, name);
     }
-    static fs::path report(const fs::path& res) {
-        pxh::ReportOptions o;
-        o.plots = false;
-        testing::internal::CaptureStdout();
-        pxh::run_report(res.string(), o);
-        testing::internal::GetCapturedStdout();
-        return res / "report";
-    }
-    // The cells after the first of the Markdown row whose first cell is `first`; empty if none.
+    static fs::path report(const fs::path& res) { return pxh::test::report_tables_of(res); }
     static std::vector<std::string> md_row(const std::string& md, const std::string& first) {
-        std::istringstream in(md);
-        for (std::string line; std::getline(in, line);) {
-            if (line.rfind("| " + first + " |", 0) != 0) continue;
-            std::vector<std::string> cells;
-            size_t at = first.size() + 5;
-            for (size_t bar; (bar = line.find(" |", at)) != std::string::npos; at = bar + 3)
-                cells.push_back(line.substr(at, bar - at));
-            return cells;
-        }
-        return {};
+        return pxh::test::markdown_row(md, first);
     }
     static int count(const std::string& text, const std::string& what) {
         int n = 0;
