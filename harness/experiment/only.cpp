@@ -37,11 +37,6 @@ bool same_number(double a, double b) {
     return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(b));
 }
 
-// The range keys of a numeric axis: theta_deg -> theta_min; distance -> distance_min.
-std::string range_base(const ColumnSpec& c) {
-    return c.name == "theta_deg" ? "theta" : c.name == "phi_deg" ? "phi" : c.name;
-}
-
 // The axes --only selects by, each with how to narrow the experiment (nullptr: an axis a run
 // cannot be narrowed by, with the reason).
 struct Selector {
@@ -149,10 +144,10 @@ void apply_only(Experiment& ex, const std::string& spec) {
         known.push_back(c->name);
         axis_of[c->name] = c;
         if (c->numeric()) {
-            axis_of[range_base(*c) + "_min"] = c;
-            axis_of[range_base(*c) + "_max"] = c;
-            range_end[range_base(*c) + "_min"] = -1;
-            range_end[range_base(*c) + "_max"] = +1;
+            axis_of[range_key(*c, false)] = c;
+            axis_of[range_key(*c, true)] = c;
+            range_end[range_key(*c, false)] = -1;
+            range_end[range_key(*c, true)] = +1;
         }
     }
     const auto listed = [&] {
@@ -160,7 +155,8 @@ void apply_only(Experiment& ex, const std::string& spec) {
         for (const std::string& k : known) {
             const ColumnSpec* c = axis_of[k];
             s += (s.empty() ? "" : ", ") + k;
-            if (c->numeric()) s += " (and " + range_base(*c) + "_min, " + range_base(*c) + "_max)";
+            if (c->numeric())
+                s += " (and " + range_key(*c, false) + ", " + range_key(*c, true) + ")";
         }
         return s;
     };

@@ -221,6 +221,13 @@ std::vector<const ColumnSpec*> row_axes() {
     return out;
 }
 
+std::string range_key(const ColumnSpec& axis, bool max) {
+    const std::string base = axis.name == "theta_deg" ? "theta"
+                             : axis.name == "phi_deg" ? "phi"
+                                                      : axis.name;
+    return base + (max ? "_max" : "_min");
+}
+
 std::string axes_name(const std::function<std::string(const std::string&)>& cell) {
     // What series_of and field_of name already.
     static const char* const kInSeries[] = {"method",      "params",    "lod",

@@ -53,6 +53,10 @@ const ColumnSpec& column_spec(size_t id);
 // Every axis column (ColumnSpec::axis != none), in results.csv order.
 std::vector<const ColumnSpec*> row_axes();
 
+// The range keys of a numeric axis, KEY_min and KEY_max: "theta_min" for theta_deg, "phi_min"
+// for phi_deg, "distance_min" for distance (pxh run --only and pxh check's [[limit]] alike).
+std::string range_key(const ColumnSpec& axis, bool max);
+
 // " theta=30 phi=0 distance=4 fov_deg=45": a row's named axes other than what its series and
 // field name (method, params, lod, backend, precision, texture_format, heightfield, scale,
 // bias), each that has a value, as " label=value". `cell` gives a column's cell.

@@ -30,12 +30,6 @@ namespace {
 // a list ("any of"); and for each numeric axis a range, KEY_min and KEY_max (inclusive; theta's
 // are theta_min and theta_max).
 std::vector<const ColumnSpec*> filter_columns() { return row_axes(); }
-// The range keys of a numeric axis: theta_deg -> theta_min, theta_max; distance ->
-// distance_min, distance_max.
-std::string range_key(const ColumnSpec& c, const char* end) {
-    const std::string base = c.name == "theta_deg" ? "theta" : c.name == "phi_deg" ? "phi" : c.name;
-    return base + end;
-}
 // What identifies a row's baseline for `ratio_to`: every axis but the method and its
 // parameters (the same field, view, camera, lod, backend, variant and reference as the row).
 std::vector<std::string> same_as_baseline() {
@@ -276,7 +270,7 @@ Limit read_limit(const ParamDict& lt, const ResultsFile& f) {
     // Each numeric axis' range, in the registry's order.
     for (const ColumnSpec* c : filter_columns()) {
         if (!c->numeric()) continue;
-        Range r{c->name, num(range_key(*c, "_min")), num(range_key(*c, "_max"))};
+        Range r{c->name, num(range_key(*c, false)), num(range_key(*c, true))};
         if (r.lo || r.hi) l.ranges.push_back(r);
     }
     lt.string("note");  // a comment for the reader of the file
