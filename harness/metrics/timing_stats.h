@@ -1,8 +1,10 @@
 // The timed repeats of a row (results.csv's time_repeats, in the row's time_unit: every
 // repeat, ';'-separated, in the order measured) and the significance test `pxh compare` decides
 // timing noise with: the two-sided Mann-Whitney U test (as Google Benchmark's tools/compare.py,
-// which calls scipy.stats.mannwhitneyu): exact when there are no ties and the samples are small,
-// else the normal approximation with tie and continuity corrections.
+// which calls scipy.stats.mannwhitneyu): exact for small samples (up to kExactUMaxValues values
+// in all), ties included (the exact permutation distribution given the tie groups: timer ticks
+// make equal repeats common, and the normal approximation scipy falls back to there misstates
+// p for 5 + 5 repeats), else the normal approximation with tie and continuity corrections.
 #pragma once
 #include <cstddef>
 #include <optional>
@@ -20,8 +22,10 @@ std::optional<std::vector<double>> parse_repeats(const std::string& cell);
 struct UTest {
     double u = 0;        // U of the first sample: pairs (a_i > b_j), ties counted 1/2
     double p = 1;        // two-sided p-value
-    bool exact = false;  // from the exact null distribution (no ties, small samples)
+    bool exact = false;  // from the exact (permutation) null distribution: small samples
 };
+// Samples of up to this many values in all get the exact p-value.
+constexpr size_t kExactUMaxValues = 40;
 // Needs both samples non-empty (std::invalid_argument otherwise).
 UTest mann_whitney_u(const std::vector<double>& a, const std::vector<double>& b);
 

@@ -46,7 +46,8 @@ double brute_force_p(const std::vector<double>& a, const std::vector<double>& b)
         double u = 0;
         for (size_t i = 0; i < n; ++i)
             for (size_t j = 0; j < n; ++j)
-                if (in_a[i] && !in_a[j]) u += pooled[i] > pooled[j] ? 1 : 0;
+                if (in_a[i] && !in_a[j])
+                    u += pooled[i] > pooled[j] ? 1 : pooled[i] == pooled[j] ? 0.5 : 0;
         return u;
     };
     std::vector<bool> observed(n, false);
@@ -76,22 +77,55 @@ TEST(TimingStats, ExactMatchesBruteForce) {
         }
 }
 
-TEST(TimingStats, NormalApproximationWithTies) {
-    // Ties: a = {1, 1, 2}, b = {2, 3, 3}. U = 0.5 (the 2 = 2 pair counts half); three tie
-    // groups of two: sum(t^3 - t) = 18; sigma^2 = 9/12 (7 - 18/30) = 4.8;
-    // z = (|0.5 - 4.5| - 0.5) / sqrt(4.8); p = erfc(z / sqrt 2) = 0.110148924...
+// Equal repeats (timer ticks) keep the p-value exact: the permutation distribution given the
+// tie groups, against the brute-force enumeration (ties counted 1/2 there too).
+TEST(TimingStats, ExactWithTiesMatchesBruteForce) {
+    // a = {1, 1, 2}, b = {2, 3, 3}: U = 0.5 (the 2 = 2 pair counts half). Of the 20 splits,
+    // |U - 4.5| >= 4 for U = 0.5 (the observed one: {1, 1, 2} with either 2) and U = 8.5
+    // (mirror), 2 splits each: p = 4 / 20. (scipy's normal approximation says 0.110.)
     auto t = mann_whitney_u({1, 1, 2}, {2, 3, 3});
-    EXPECT_FALSE(t.exact);
+    EXPECT_TRUE(t.exact);
     EXPECT_DOUBLE_EQ(t.u, 0.5);
-    EXPECT_NEAR(t.p, 0.11014892418594703, 1e-12);
+    EXPECT_DOUBLE_EQ(t.p, 4.0 / 20);
+    EXPECT_NEAR(t.p, brute_force_p({1, 1, 2}, {2, 3, 3}), 1e-12);
+    // 5 + 5 timer-tick repeats, ties inside each sample only, fully separated: as without ties,
+    // 2 / 252 (what pxh compare prints for a shader slower in every frame).
+    t = mann_whitney_u({9, 9, 9.5, 10, 10}, {0.04, 0.04, 0.05, 0.05, 0.05});
+    EXPECT_DOUBLE_EQ(t.u, 25);
+    EXPECT_DOUBLE_EQ(t.p, 2.0 / 252);
+    // Random samples drawn from a few values (many ties, within and across the samples).
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> d(0, 3);
+    for (size_t n1 : {1, 2, 4, 5, 6})
+        for (size_t n2 : {2, 3, 5, 7}) {
+            std::vector<double> a(n1), b(n2);
+            for (auto& x : a) x = d(rng) + (n1 % 2);  // shifted in some: a range of p-values
+            for (auto& x : b) x = d(rng);
+            const auto u = mann_whitney_u(a, b);
+            EXPECT_NEAR(u.p, brute_force_p(a, b), 1e-12) << n1 << " vs " << n2;
+        }
+}
+
+TEST(TimingStats, NormalApproximationForLargeSamples) {
     // Large samples (n = 50 > 40): no ties, sigma^2 = 625 / 12 * 51; a = 0..24,
     // b = 10.5..34.5: U = 105, p = erfc(((312.5 - 105) - 0.5) / sigma / sqrt 2).
     std::vector<double> a, b;
     for (int i = 0; i < 25; ++i) a.push_back(i), b.push_back(i + 10.5);
-    t = mann_whitney_u(a, b);
+    auto t = mann_whitney_u(a, b);
     EXPECT_FALSE(t.exact);
     EXPECT_DOUBLE_EQ(t.u, 105);
     EXPECT_NEAR(t.p, 5.909644085596031e-05, 1e-15);
+    // With ties (n = 50): a = 0..24, b = 15..39, so 15..24 are ten tie groups of two,
+    // sum(t^3 - t) = 60.
+    std::vector<double> bt;
+    for (int i = 0; i < 25; ++i) bt.push_back(i + 15);
+    t = mann_whitney_u(a, bt);
+    EXPECT_FALSE(t.exact);
+    // a > b pairs: a = 16..24 over b = 15..a-1: sum_{k=1}^{9} k = 45; ties a = b = 15..24: 10.
+    EXPECT_DOUBLE_EQ(t.u, 45 + 0.5 * 10);
+    // sigma^2 = 625 / 12 (51 - 60 / 2450); z = (312.5 - 50 - 0.5) / sigma.
+    const double sigma = std::sqrt(625.0 / 12 * (51 - 60.0 / 2450));
+    EXPECT_NEAR(t.p, std::erfc((312.5 - 50 - 0.5) / sigma / std::sqrt(2.0)), 1e-15);
     // All tied: no information at all.
     t = mann_whitney_u({2, 2, 2}, {2, 2});
     EXPECT_DOUBLE_EQ(t.p, 1);
