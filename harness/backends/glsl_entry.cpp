@@ -67,9 +67,8 @@ void glsl_record(const Backend& b, const BackendSettings& settings, nlohmann::js
                    {"GL_VERSION", fact(f, "gl_version")},
                    {"GL_QUERY_COUNTER_BITS", bits.empty() ? 0 : std::stoi(bits)},
                    {"driver", driver}};
-    block["shader_dir"] = settings.shader_dir.empty()
-                              ? ""
-                              : std::filesystem::absolute(settings.shader_dir).string();
+    block["shader_dir"] =
+        settings.shader_dir.empty() ? "" : std::filesystem::absolute(settings.shader_dir).string();
     const char* lp = std::getenv("LP_NUM_THREADS");
     block["LP_NUM_THREADS"] = lp ? lp : "";
 }

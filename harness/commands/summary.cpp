@@ -87,9 +87,19 @@ void print_summary(const std::vector<ResultRow>& rows) {
 
 namespace pxh {
 
-void print_failed_rows(const std::vector<ResultRow>& rows) {
+void print_run(const std::vector<ResultRow>& rows, double seconds, const std::filesystem::path& dir,
+               bool quiet) {
     size_t failed = 0, shown = 0;
     for (const auto& r : rows) failed += !r.ok();
+    if (!quiet) print_summary(rows);
+    std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
+              << std::fixed << seconds << " s -> " << dir.string() << std::endl;
+    // A closed pipe (SIGPIPE is ignored): the results are complete, the output is not.
+    if (!std::cout)
+        throw std::runtime_error(
+            "cannot write to standard output (a closed pipe?); the results "
+            "are complete in " +
+            dir.string());
     for (const auto& r : rows) {
         if (r.ok()) continue;
         if (++shown > 10) {

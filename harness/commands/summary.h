@@ -2,6 +2,7 @@
 // and the rows that failed.
 #pragma once
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -14,9 +15,12 @@ namespace pxh {
 // Per method, parameters and backend: mean error over all rows, the worst p95, cost.
 void print_summary(const std::vector<ResultRow>& rows);
 
-// A failure is never a success: the failed rows named on stderr (their metrics are empty), the
-// first ten and a count of the rest.
-void print_failed_rows(const std::vector<ResultRow>& rows);
+// After a run: the summary (unless quiet), "N rows (F failed) in S s -> DIR", and the failed
+// rows named on stderr (a failure is never a success: their metrics are empty; the first ten
+// and a count of the rest). A closed pipe is a std::runtime_error saying the results are
+// complete in DIR.
+void print_run(const std::vector<ResultRow>& rows, double seconds, const std::filesystem::path& dir,
+               bool quiet);
 
 // The progress line on stderr, one call per view: "[3/12 0:07, ~0:21 left] bricks ... theta=45"
 // (elapsed, and what is left at the mean pace of the views done so far), rewritten in place on

@@ -39,7 +39,9 @@ class ViewGrid {
         const size_t per = sweeps_per_field();
         return {s / per, s % per / cameras, s % cameras, 0};
     }
-    size_t sweep_index(const ViewAt& v) const { return (v.field * phis + v.phi) * cameras + v.camera; }
+    size_t sweep_index(const ViewAt& v) const {
+        return (v.field * phis + v.phi) * cameras + v.camera;
+    }
     // The view's place in run order.
     size_t index(const ViewAt& v) const { return sweep_index(v) * thetas + v.theta; }
 };

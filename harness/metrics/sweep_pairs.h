@@ -54,8 +54,8 @@ class SweepPairer {
     // Keeps what the view's later pairs need: its errors as the sweep's previous view, and, when
     // `wait` (its successor setting's view runs later in this run), until that view runs.
     // `index`: its rows' indices in the run.
-    void keep(size_t phi, size_t camera, size_t theta, ViewErrors errors,
-              std::vector<size_t> index, bool wait);
+    void keep(size_t phi, size_t camera, size_t theta, ViewErrors errors, std::vector<size_t> index,
+              bool wait);
 
   private:
     struct Kept {

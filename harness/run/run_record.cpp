@@ -4,6 +4,7 @@
 #include <set>
 
 #include "harness/core/error.h"
+#include "harness/core/safe_files.h"
 #include "harness/core/sha256.h"
 #include "harness/results/provenance.h"
 #include "harness/results/run_folder.h"
@@ -80,7 +81,8 @@ nlohmann::json shard_record(const Experiment& ex, const Slice& s, const ShardSel
               {"samples", ex.samples},
               {"backends", sel.backends},
               {"gl", sel.gl},
-              {"shader_dir", sel.shader_dir},
+              {"shader_dir",
+               sel.shader_dir.empty() ? "" : std::filesystem::absolute(sel.shader_dir).string()},
               {"maps", ex.maps}}},
             {"build", build_record()},
             {"units_total", s.units.size()},
@@ -99,6 +101,21 @@ void finish_run_record(nlohmann::json& run, const std::vector<ResultRow>& rows, 
     // Written last: the sha256 of every file above (pxh check and report verify them).
     run["files"] = file_records(dir);
     write_file_synced(dir / "run.json", run.dump(2) + "\n");
+}
+
+void check_recordable(const std::string& out_dir, const std::string& command_line,
+                      const std::string& shader_dir) {
+    if (const std::string why = utf8_problem(out_dir); !why.empty())
+        throw InputError("--out", "is not UTF-8 (" + why + "); run.json records it");
+    if (const std::string why = utf8_problem(command_line); !why.empty())
+        throw InputError("command line", "an argument is not UTF-8 (" +
+                                             why.substr(why.find(',') + 2) +
+                                             "); run.json records the command line");
+    if (!shader_dir.empty())  // recorded as an absolute path: the current folder's too
+        if (const std::string why = utf8_problem(std::filesystem::absolute(shader_dir).string());
+            !why.empty())
+            throw InputError("--shader-dir",
+                             "its absolute path is not UTF-8 (" + why + "); run.json records it");
 }
 
 nlohmann::json parse_run_record(const std::string& text, const std::string& path) {

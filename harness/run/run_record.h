@@ -33,7 +33,7 @@ struct ShardSelection {
     std::string only;                   // --only
     std::vector<std::string> backends;  // the backends that ran
     std::string gl;                     // --gl
-    std::string shader_dir;             // --shader-dir, absolute ("" for none)
+    std::string shader_dir;             // --shader-dir (recorded absolute; "" for none)
 };
 
 // run.json's "shard": the slice, the partition, the experiment's sha256, the selection, the
@@ -45,6 +45,12 @@ nlohmann::json shard_record(const Experiment& ex, const Slice& s, const ShardSel
 // last, the sha256 of every file in `dir`; then writes it there as run.json (synced).
 void finish_run_record(nlohmann::json& run, const std::vector<ResultRow>& rows, double seconds,
                        const std::filesystem::path& dir);
+
+// What run.json records of the command line must be UTF-8 (else the run would end in a JSON
+// error): --out, every argument, --shader-dir's absolute path ("" for none). InputError naming
+// the option otherwise, before any work.
+void check_recordable(const std::string& out_dir, const std::string& command_line,
+                      const std::string& shader_dir);
 
 // A run.json's text as a record: InputError(path, "unreadable: ...") when it does not parse
 // as a JSON object.

@@ -38,9 +38,10 @@ struct RunOptions {
     // sample inside; View::inside); first_index is the index the view's first row has in the
     // whole run's results.csv (a slice's maps and pictures are named as the unsharded run
     // names them).
-    std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
-                       const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>
-        on_view;
+    using ViewHook =
+        std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
+                           const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>;
+    ViewHook on_view;
     // One call per view, as it starts: its number (from 1) of `steps`, and what it is.
     std::function<void(size_t step, size_t steps, const std::string& what)> progress;
     // A slice of the run (pxh run --shard): only the views of the grid (ViewGrid) it accepts

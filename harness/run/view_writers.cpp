@@ -103,4 +103,14 @@ std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex) {
     return out;
 }
 
+RunOptions::ViewHook view_writers_into(const Experiment& ex, const fs::path& dir) {
+    const std::vector<const ViewWriter*> writers = wanted_view_writers(ex);
+    if (writers.empty()) return {};
+    return [&ex, dir, writers](std::vector<ResultRow>& rows, const auto& errors, const auto& truth,
+                               const auto& inside, size_t first) {
+        ViewOutput view{rows, errors, truth, inside, first};
+        for (const ViewWriter* w : writers) w->write({ex, dir}, view);
+    };
+}
+
 }  // namespace pxh

@@ -1,5 +1,7 @@
 // The safe-file helpers every writer of pxh uses: UTF-8 validation (run.json records paths and
 // text) and new files that never follow links or replace a file.
+#include "harness/core/safe_files.h"
+
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -8,7 +10,6 @@
 #include <string>
 
 #include "harness/core/error.h"
-#include "harness/core/safe_files.h"
 #include "tests/cli_util.h"
 
 namespace {
