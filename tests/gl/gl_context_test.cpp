@@ -202,8 +202,12 @@ TEST_F(GlCli, FlagOverridesTheExperimentKey) {
     ASSERT_EQ(pxh("run " + exp + " --quiet --out " + (dir / "file").string()).status, 0);
     ASSERT_EQ(pxh("run " + exp + " --quiet --gl osmesa --out " + (dir / "flag").string()).status,
               0);
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "file" / "run.json"))["gl"]["context"], "egl");
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "flag" / "run.json"))["gl"]["context"], "osmesa");
+    EXPECT_EQ(nlohmann::json::parse(
+                  slurp(dir / "file" / "run.json"))["backends"]["glsl"]["gl"]["context"],
+              "egl");
+    EXPECT_EQ(nlohmann::json::parse(
+                  slurp(dir / "flag" / "run.json"))["backends"]["glsl"]["gl"]["context"],
+              "osmesa");
     const CsvTable t = read_csv((dir / "file" / "results.csv").string());
     ASSERT_EQ(t.rows.size(), 2u);
     EXPECT_EQ(t.get(0, "backend"), "cpu");
