@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/core/limits.h"  // kDefaultGlTimeLimitS, kMaxGlTimeLimitS
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
 #include "harness/scene/texture_levels.h"
@@ -23,9 +24,6 @@
 namespace pxh {
 
 class ParamDict;
-
-constexpr double kDefaultGlTimeLimitS = 120;  // gl_time_limit_s, pxh run --gl-time-limit
-constexpr double kMaxGlTimeLimitS = 86400;    // the largest accepted (one day)
 
 // Median, minimum and maximum of repeated timings (NaN when there are none).
 struct Spread {
@@ -140,6 +138,18 @@ class Backend {
     virtual nlohmann::json record(const BackendSettings& settings) const;
 };
 
+// What a backend's preflight check is given (BackendEntry::preflight): the run's plug-in shader
+// settings, each with every level mode its rows use, and whether the camera's rays are parallel
+// (a camera whose rays are not draws through per-pixel maps: another program).
+struct PluginSettings {
+    const MethodSpec* first;    // the plug-in's first setting: every setting has its uniforms
+    std::vector<LodMode> lods;  // each level mode its settings run in, once, in order
+};
+struct Preflight {
+    std::vector<PluginSettings> plugins;
+    bool parallel_camera = true;
+};
+
 // The registry (harness/backends/registry.cpp): one line per backend.
 struct BackendEntry {
     const char* name;
@@ -158,7 +168,21 @@ struct BackendEntry {
     // Why it makes no rows of this method setting ("" when it runs it; nullptr: it runs every
     // setting): pxh run warns, on stderr and in run.json, naming what was skipped and why.
     std::string (*skips)(const MethodSpec&) = nullptr;
+    // Checked before any row runs and before anything is written, when the run uses it (the
+    // GLSL backend: every plug-in shader compiled and linked in each program its rows use, its
+    // uniforms checked): one line per problem, empty when ready; nullptr: nothing to check.
+    std::vector<std::string> (*preflight)(const Preflight&, const BackendSettings&) = nullptr;
+    // Warnings about the backend as the run made it (the GLSL backend: --gl egl that gave a
+    // software renderer), one line each; nullptr: none.
+    std::vector<std::string> (*warnings)(const Backend&, const BackendSettings&) = nullptr;
+    // What else its block of run.json records of the run (the GLSL backend: its GL context and
+    // driver, shader_dir, LP_NUM_THREADS), added to Backend::record's; nullptr: nothing.
+    void (*record)(const Backend&, const BackendSettings&, nlohmann::json& block) = nullptr;
+    // Whether its float rows are the reference the other backends' rows are compared with
+    // (agree_*) and its float and double rows with each other (the CPU backend).
+    bool reference = false;
 };
+const BackendEntry& backend_entry(const std::string& name);
 const std::vector<BackendEntry>& backend_registry();
 std::vector<std::string> backend_names();  // in registry order
 // Throws InputError(where, "unknown backend 'x' (known: cpu, glsl)") for an unknown name.

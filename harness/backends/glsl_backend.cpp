@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "harness/backends/glsl_entry.h"
 #include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"
@@ -748,8 +749,14 @@ std::vector<Variant> glsl_variants(const BackendSettings& settings) {
 // a GL process of its own (make_glsl_backend, harness/backends/gl_worker.cpp).
 std::unique_ptr<Backend> make_glsl_backend(const BackendSettings& settings);
 const BackendEntry& glsl_backend_entry() {
-    static const BackendEntry e{"glsl",         &read_glsl_settings, &make_glsl_backend,
-                                &glsl_variants, &glsl_timing,        &glsl_repeats};
+    static const BackendEntry e = [] {
+        BackendEntry b{"glsl",         &read_glsl_settings, &make_glsl_backend,
+                       &glsl_variants, &glsl_timing,        &glsl_repeats};
+        b.preflight = &glsl_preflight;  // harness/backends/glsl_entry.cpp
+        b.warnings = &glsl_warnings;
+        b.record = &glsl_record;
+        return b;
+    }();
     return e;
 }
 

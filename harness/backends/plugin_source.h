@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-namespace pxh {
+#include "harness/core/limits.h"  // kMaxPluginShaderBytes
 
-constexpr size_t kMaxPluginShaderBytes = size_t(1) << 20;  // 1 MiB
+namespace pxh {
 
 struct PluginSource {
     std::string text;      // the file's content, as compiled and recorded in run.json

@@ -27,6 +27,10 @@ const std::vector<BackendEntry>& backend_registry() {
 
 std::vector<std::string> backend_names() { return entry_names(backend_registry()); }
 
+const BackendEntry& backend_entry(const std::string& name) {
+    return find_entry(backend_registry(), name, "backend", "backend");
+}
+
 void check_backend_name(const std::string& name, const std::string& where) {
     find_entry(backend_registry(), name, "backend", where);
 }
@@ -64,18 +68,20 @@ std::vector<CounterSpec> backend_counters() {
 }
 
 nlohmann::json Backend::record(const BackendSettings& settings) const {
-    const BackendEntry& e = find_entry(backend_registry(), name(), "backend", "backend");
+    const BackendEntry& e = backend_entry(name());
     const TimingSpec& t = e.timing();
     nlohmann::json counters = nlohmann::json::array();
     for (const CounterSpec& c : t.counters)
         counters.push_back({{"name", c.name}, {"unit", c.unit}, {"meaning", c.meaning}});
-    return {{"timing",
-             {{"unit", t.unit},
-              {"measures", t.measures},
-              {"repeats", e.repeats(settings)},
-              {"counters", counters}}},
-            {"facts", facts()},
-            {"sources", sources()}};
+    nlohmann::json block = {{"timing",
+                             {{"unit", t.unit},
+                              {"measures", t.measures},
+                              {"repeats", e.repeats(settings)},
+                              {"counters", counters}}},
+                            {"facts", facts()},
+                            {"sources", sources()}};
+    if (e.record) e.record(*this, settings, block);
+    return block;
 }
 
 Timing timing_of(std::string unit, std::vector<double> repeats) {

@@ -6,6 +6,8 @@
 #include "harness/commands/commands.h"
 #include "harness/core/error.h"
 #include "harness/core/params.h"
+#include "harness/core/registry.h"
+#include "harness/scene/view.h"
 
 namespace pxh {
 
@@ -29,8 +31,12 @@ Command add_bench_command(CLI::App& app) {
         "--naive", bo->naive,
         "also time the per-ray tracers (trace: the tile-local max-mipmap walk; trace_ray: the "
         "fast path, bit for bit trace_naive; trace_naive: the per-cell DDA) on the same rays");
-    bench->add_option("--camera", bo->camera, "orthographic (default) or perspective")
-        ->check(CLI::IsMember({"orthographic", "perspective"}));
+    bench
+        ->add_option("--camera", bo->camera,
+                     "a camera (" + join_names(camera_names()) + "; default " + bo->camera +
+                         "): parallel rays time the exact tracer's band path, others its "
+                         "per-ray path")
+        ->check(CLI::IsMember(camera_names()));
     auto* distance = bench->add_option("--distance", bo->distances,
                                        "perspective: eye distances in tiles (default 1.5 4 16)");
     auto* fov = bench->add_option("--fov", bo->fov, "perspective: field of view, deg (default 45)");
@@ -42,9 +48,11 @@ Command add_bench_command(CLI::App& app) {
     return {bench, [bo, out, distance, fov] {
                 if (out->count() && bo->out.empty())
                     throw InputError("--out", "is empty: name the JSON file");
-                if (bo->camera != "perspective" && (distance->count() || fov->count()))
+                // An eye distance and field of view: a camera whose rays are not parallel.
+                if (camera_entry(bo->camera, "--camera").parallel &&
+                    (distance->count() || fov->count()))
                     throw InputError(distance->count() ? "--distance" : "--fov",
-                                     "applies to --camera perspective only");
+                                     "applies to a camera with an eye, not --camera " + bo->camera);
                 // Checked here, in pxh's words (CLI11's ranges let NaN through and print the
                 // largest double in full).
                 for (double t : bo->thetas)

@@ -23,6 +23,7 @@
 #include "harness/results/provenance.h"
 #include "harness/results/results.h"
 #include "harness/results/run_folder.h"
+#include "harness/run/run_record.h"
 
 namespace fs = std::filesystem;
 
@@ -71,24 +72,8 @@ SliceIn read_slice(const std::string& dir) {
     const fs::path run_json = fs::path(dir) / "run.json";
     const std::string text = read_regular_file(run_json.string());
     s.run_json_sha256 = sha256_hex(text);
-    try {
-        s.run = nlohmann::json::parse(text);
-    } catch (const std::exception& e) {
-        throw InputError(run_json.string(), std::string("unreadable: ") + e.what());
-    }
-    if (!s.run.contains("shard") || !s.run["shard"].is_object())
-        throw InputError(dir,
-                         "is not a slice: its run.json has no shard record (written by pxh "
-                         "run --shard I/N)");
-    s.shard = s.run["shard"];
-    for (const char* k : {"index", "count", "units_total"})
-        if (!s.shard.contains(k) || !s.shard[k].is_number_unsigned())
-            throw InputError(run_json.string(), std::string("shard record without '") + k + "'");
-    for (const char* k : {"partition", "experiment_sha256", "selection", "build", "units"})
-        if (!s.shard.contains(k))
-            throw InputError(run_json.string(), std::string("shard record without '") + k + "'");
-    if (!s.shard["units"].is_array())
-        throw InputError(run_json.string(), "shard record: 'units' is not a list");
+    s.run = parse_run_record(text, run_json.string());
+    s.shard = shard_record_of(s.run, run_json.string(), dir);
     return s;
 }
 
@@ -120,12 +105,23 @@ void check_same_run(const SliceIn& a, const SliceIn& b) {
                 b.dir, "was run by another build of pxh: " + k + " " +
                            short_text(bb.contains(k) ? bb[k] : nlohmann::json("none")) + " where " +
                            a.dir + " has " + short_text(v));
-    if (a.run.contains("gl") != b.run.contains("gl") ||
-        (a.run.contains("gl") && a.run["gl"] != b.run["gl"]))
-        throw InputError(b.dir, "ran its GLSL rows on another GL driver: " +
-                                    short_text(b.run.value("gl", nlohmann::json("none"))) +
-                                    " where " + a.dir + " has " +
-                                    short_text(a.run.value("gl", nlohmann::json("none"))));
+    // Each backend's facts (the GLSL backend's: its GL context, renderer and driver).
+    const auto facts = [](const SliceIn& s, const std::string& name) {
+        const nlohmann::json none = "none";
+        if (!s.run.contains("backends") || !s.run["backends"].is_object()) return none;
+        const auto& blocks = s.run["backends"];
+        return blocks.contains(name) && blocks[name].is_object() ? blocks[name].value("facts", none)
+                                                                 : none;
+    };
+    std::set<std::string> names;
+    for (const SliceIn* s : {&a, &b})
+        if (s->run.contains("backends") && s->run["backends"].is_object())
+            for (const auto& [name, block] : s->run["backends"].items()) names.insert(name);
+    for (const std::string& name : names)
+        if (facts(a, name) != facts(b, name))
+            throw InputError(b.dir, "ran its " + name +
+                                        " rows on another setup: " + short_text(facts(b, name)) +
+                                        " where " + a.dir + " has " + short_text(facts(a, name)));
     for (const auto& [k, v] : sa["selection"].items())
         if (!sb["selection"].contains(k) || sb["selection"][k] != v)
             throw InputError(b.dir, "is a slice of another selection of the experiment: " + k +
@@ -183,10 +179,14 @@ nlohmann::json slice_provenance(const SliceIn& s) {
                         {"run_json_sha256", s.run_json_sha256},
                         {"units", units},
                         {"cost", s.shard.value("cost", 0.0)}};
-    for (const char* k :
-         {"host", "cpu_model", "threads", "date_utc", "seconds", "rows", "failed_rows",
-          "command_line", "git_commit", "pxh_version", "LP_NUM_THREADS"})
+    for (const char* k : {"host", "cpu_model", "threads", "date_utc", "seconds", "rows",
+                          "failed_rows", "command_line", "git_commit", "pxh_version"})
         if (s.run.contains(k)) p[k] = s.run[k];
+    // What a backend's block records of the slice's own process (llvmpipe's threads).
+    if (s.run.contains("backends") && s.run["backends"].is_object())
+        for (const auto& [name, block] : s.run["backends"].items())
+            if (block.is_object() && block.contains("LP_NUM_THREADS"))
+                p["LP_NUM_THREADS"] = block["LP_NUM_THREADS"];
     return p;
 }
 
@@ -302,16 +302,12 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
                              const std::string& command_line, double merge_seconds) {
     nlohmann::json run = provenance(int(tbb::info::default_concurrency()));
     run["command_line"] = command_line;
-    for (const char* k :
-         {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
-          "plugin_shaders", "backends", "gl_renderer", "gl_version", "shader_dir", "gl"})
+    for (const char* k : {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
+                          "plugin_shaders", "backends"})
         if (first.run.contains(k)) run[k] = first.run[k];
-    nlohmann::json shaders = nlohmann::json::object();
     double seconds = 0;
     nlohmann::json from = nlohmann::json::array();
     for (const auto& [index, s] : by_index) {
-        if (s->run.contains("shaders") && s->run["shaders"].is_object())
-            for (const auto& [k, v] : s->run["shaders"].items()) shaders[k] = v;
         // Each backend's sources: every slice's (a slice compiles only what its rows ran).
         if (run.contains("backends") && run["backends"].is_object() &&
             s->run.contains("backends") && s->run["backends"].is_object())
@@ -323,7 +319,6 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
         seconds += s->run.value("seconds", 0.0);
         from.push_back(slice_provenance(*s));
     }
-    if (!shaders.empty()) run["shaders"] = shaders;
     run["rows"] = g.rows;
     run["failed_rows"] = g.failed;
     run["seconds"] = seconds;  // the slices' run times added up

@@ -1,12 +1,19 @@
 #include "harness/commands/summary.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <iostream>
 #include <map>
 #include <sstream>
 #include <string>
+
+#include "harness/core/error.h"
+#include "harness/core/params.h"
 
 namespace pxh {
 namespace {
@@ -74,6 +81,78 @@ void print_summary(const std::vector<ResultRow>& rows) {
                  "time: mean over rows of the median timed repeat, in the backend's unit (cpu: "
                  "single-thread ns/sample; glsl: ms/frame); shadow: fraction of samples with a "
                  "wrong hard shadow\n";
+}
+
+}  // namespace pxh
+
+namespace pxh {
+
+void print_run(const std::vector<ResultRow>& rows, double seconds, const std::filesystem::path& dir,
+               bool quiet) {
+    size_t failed = 0, shown = 0;
+    for (const auto& r : rows) failed += !r.ok();
+    if (!quiet) print_summary(rows);
+    std::cout << rows.size() << " rows (" << failed << " failed) in " << std::setprecision(1)
+              << std::fixed << seconds << " s -> " << dir.string() << std::endl;
+    // A closed pipe (SIGPIPE is ignored): the results are complete, the output is not.
+    if (!std::cout)
+        throw std::runtime_error(
+            "cannot write to standard output (a closed pipe?); the results "
+            "are complete in " +
+            dir.string());
+    for (const auto& r : rows) {
+        if (r.ok()) continue;
+        if (++shown > 10) {
+            std::cerr << "pxh: ... and " << failed - 10
+                      << " more failed rows (status=failed in results.csv)\n";
+            break;
+        }
+        std::cerr << "pxh: failed row: " << setting_of(r) << " | " << r.text("heightfield")
+                  << " | theta " << format_number(r.num("theta_deg")) << " phi "
+                  << format_number(r.num("phi_deg")) << " | " << group_of(r) << ": "
+                  << one_line(r.text("error")) << "\n";
+    }
+}
+
+namespace {
+
+// "0:07", "12:34", "1:02:03": a duration in seconds as the progress line shows it.
+std::string clock_time(double secs) {
+    const long t = long(secs + 0.5), h = t / 3600, m = t / 60 % 60, sec = t % 60;
+    char b[32];
+    if (h) std::snprintf(b, sizeof b, "%ld:%02ld:%02ld", h, m, sec);
+    else std::snprintf(b, sizeof b, "%ld:%02ld", m, sec);
+    return b;
+}
+
+}  // namespace
+
+std::function<void(size_t, size_t, const std::string&)> progress_printer() {
+    const bool tty = isatty(STDERR_FILENO);
+    const auto t0 = std::chrono::steady_clock::now();
+    return [tty, t0](size_t step, size_t steps, const std::string& what) {
+        const double secs =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        std::string line =
+            "[" + std::to_string(step) + "/" + std::to_string(steps) + " " + clock_time(secs);
+        if (step > 1)
+            line +=
+                ", ~" + clock_time(secs / double(step - 1) * double(steps - step + 1)) + " left";
+        line += "] " + what;
+        if (tty) std::cerr << "\r\033[K" << line << std::flush;
+        else std::cerr << line << "\n";
+    };
+}
+
+void end_progress() {
+    if (isatty(STDERR_FILENO)) std::cerr << "\r\033[K";
+}
+
+void print_slice(const Slice& s, const nlohmann::json& rec) {
+    std::cout << "shard " << s.shard.text() << ": " << s.mine.size() << " of " << s.units.size()
+              << " units, " << std::setprecision(1) << std::fixed
+              << 100.0 * rec["cost"].get<double>() / rec["cost_total"].get<double>()
+              << "% of the estimated cost (pxh merge OUT DIR... joins the slices)\n";
 }
 
 }  // namespace pxh

@@ -1,23 +1,14 @@
 // What a run will take, estimated before any work: rows and peak memory (experiment.h).
 #include <algorithm>
-#include <iomanip>
 #include <set>
-#include <sstream>
 
+#include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
+#include "harness/experiment/view_grid.h"
 #include "harness/metrics/sweep.h"
 #include "harness/truth/exact_tracer.h"
 
 namespace pxh {
-
-std::string format_bytes(size_t bytes) {
-    std::ostringstream os;
-    os << std::fixed;
-    if (bytes < (size_t(1) << 30))
-        os << std::setprecision(1) << double(bytes) / double(1 << 20) << " MiB";
-    else os << std::setprecision(1) << double(bytes) / double(size_t(1) << 30) << " GiB";
-    return os.str();
-}
 
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
     // The model's constants (see experiment.h), measured on this project's machine (peak
@@ -42,8 +33,7 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
         size_t methods = 0;
         for (const auto& m : ex.methods) methods += m.runs_on(h.name);
         rows_per_view = std::max(rows_per_view, methods * per_method);
-        est.rows += ex.theta_deg.size() * ex.phi_deg.size() * ex.camera_settings.size() * methods *
-                    per_method;
+        est.rows += ViewGrid(ex).views_per_field() * methods * per_method;
     }
 
     const bool levels = std::any_of(ex.methods.begin(), ex.methods.end(),
@@ -61,7 +51,8 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     const size_t n2 = size_t(ex.samples) * size_t(ex.samples);
     // + a distance sweep's views waiting for the next distance (at most one per theta and
     // setting between a setting and its successor) and a slice's companion at the next distance
-    const std::vector<DistanceStep> dist = distance_steps(ex.camera_settings);
+    const std::vector<DistanceStep> dist =
+        distance_steps(ex.camera_settings, camera_entry(ex.camera, "camera").pair_key());
     size_t waiting = 0;
     for (size_t c = 0; c < dist.size(); ++c) {
         size_t open = 0;
@@ -71,7 +62,7 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     const size_t views_alive = (ex.sweep_dt_deg > 0 ? 3 : 2) + (waiting ? waiting + 1 : 0);
     // A camera whose rays are not parallel: per sample V (24), J (32), inside (1); every
     // view: lambda (8).
-    const size_t camera_bytes = (ex.camera == "orthographic" ? 0 : 24 + 32 + 1) + 8;
+    const size_t camera_bytes = (camera_entry(ex.camera, "camera").parallel ? 0 : 24 + 32 + 1) + 8;
     const size_t view =
         n2 * (kViewBytesPerSample + camera_bytes + rows_per_view * 16 * views_alive +
               3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
@@ -82,6 +73,19 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
                  " + one view's sample buffers " + format_bytes(view) + " + result rows " +
                  format_bytes(results);
     return est;
+}
+
+void check_run_size(const Experiment& ex, const std::vector<std::string>& backends_override,
+                    size_t max_rows, size_t max_memory) {
+    const RunEstimate est = estimate_run(ex, backends_override);
+    if (est.rows > max_rows)
+        throw InputError(ex.path, "the run would write " + std::to_string(est.rows) +
+                                      " rows, over the limit of " + std::to_string(max_rows) +
+                                      " (raise it with --max-rows N)");
+    if (est.peak_bytes > max_memory)
+        throw InputError(ex.path, "the run would need about " + format_bytes(est.peak_bytes) +
+                                      " of memory, over the limit of " + format_bytes(max_memory) +
+                                      " (" + est.detail + "; raise it with --max-memory SIZE)");
 }
 
 }  // namespace pxh

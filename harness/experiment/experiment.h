@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "harness/backends/backend.h"
+#include "harness/core/limits.h"
 #include "harness/core/param_dict.h"
 #include "harness/core/params.h"
 #include "harness/scene/heightfield.h"
@@ -74,10 +75,6 @@ struct Experiment {
     std::vector<std::string> warnings;
 };
 
-constexpr size_t kDefaultMaxRows = 1000000;
-constexpr size_t kDefaultMaxMemoryBytes = size_t(8) << 30;  // 8 GiB
-constexpr size_t kBytesPerRow = 1024;  // a result row kept until results.csv is written
-
 // Limits checked while the file is read, before any sweep is expanded (pxh run's --max-rows,
 // --max-memory and --backend): the rows of every [[heightfields]] and [[methods]] entry are
 // counted from its factors (values per swept key x fields x theta x phi x backend variants;
@@ -98,6 +95,23 @@ struct ParseLimits {
 Experiment load_experiment(const std::string& path, const ParseLimits& limits = {});
 Experiment parse_experiment(const std::string& text, const std::string& path,
                             const ParseLimits& limits = {});
+
+// What pxh run's command line overrides in the experiment: --only, --samples, --backend,
+// --maps, and the limits --max-rows and --max-memory (each checked where it is given).
+struct RunOverrides {
+    std::string only;
+    std::optional<int> samples;         // in [1, kMaxSamples] (checked by the caller)
+    std::vector<std::string> backends;  // empty: the file's
+    bool maps = false;
+    size_t max_rows = kDefaultMaxRows;
+    size_t max_memory = kDefaultMaxMemoryBytes;
+};
+// The experiment as pxh run takes it: the file read (load_experiment, its sweeps counted
+// against the limits), --only applied, --samples set, plug-ins against the backends and the
+// camera against the samples checked, the settings a backend makes no rows of said (stderr
+// and warnings), and the whole run's estimate against the limits (also for a slice: merge holds
+// every row). InputError at the key's FILE:LINE, or naming the flag, otherwise.
+Experiment load_run_experiment(const std::string& path, const RunOverrides& o);
 
 // A method's resolved parameter set: given values checked against its declarations (an
 // InputError naming `where` otherwise), defaults and the values unset optional parameters
@@ -158,8 +172,9 @@ struct RunEstimate {
     std::string detail;  // one line: the terms above, in MiB
 };
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override);
-
-// "512 MiB", "12.5 GiB": sizes in messages.
-std::string format_bytes(size_t bytes);
+// The run's estimate against pxh run's --max-rows and --max-memory: an InputError at the
+// experiment file naming the estimate and the flag that raises the limit.
+void check_run_size(const Experiment& ex, const std::vector<std::string>& backends_override,
+                    size_t max_rows, size_t max_memory);
 
 }  // namespace pxh

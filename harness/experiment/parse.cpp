@@ -16,7 +16,6 @@
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
 #include "harness/metrics/row.h"
-#include "harness/scene/perspective_camera.h"
 #include "harness/scene/view.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
@@ -122,7 +121,7 @@ void parse_settings(const ParamDict& root, Experiment& ex) {
         check_safe_name(ex.name, root.where("name"), "experiment name", true);
     }
     root.string("description");
-    ex.samples = root.integer("samples", ex.samples, 1, 8192);
+    ex.samples = root.integer("samples", ex.samples, 1, kMaxSamples);
     ex.backends = root.strings("backends", ex.backends);
     for (const auto& b : ex.backends) check_backend_name(b, root.where("backends"));
     if (auto v = root.number("sweep_dt_deg")) {
@@ -398,7 +397,8 @@ void check_camera_scenes(const Experiment& ex) {
 // warned once per field where float's spacing there reaches 1/16 texel (the rows say it too:
 // harness/run/runner.cpp).
 void check_camera_reach(Experiment& ex) {
-    if (ex.camera != "perspective") return;
+    const CameraEntry& camera = camera_entry(ex.camera, ex.camera_params.where());
+    if (!camera.reach) return;  // its samples stay within the tile
     const auto keys = ex.camera_settings.front().values;
     const std::string where =
         keys.empty() ? ex.camera_params.where() : ex.camera_params.where(keys.front().first);
@@ -408,27 +408,27 @@ void check_camera_reach(Experiment& ex) {
         for (const CameraSetting& c : ex.camera_settings)
             for (double th : measured_thetas(ex)) {
                 // |P - C| at any phi (it turns the image about C), then |P.x|, |P.y|.
-                const double reach = 0.5 + perspective_reach(c, {th, 0, ex.samples});
+                const double reach = 0.5 + camera.reach(c, {th, 0, ex.samples});
+                // "distance 1e+15, fov_deg 45, resolution 32 at theta 30"
+                std::string view;
+                for (const auto& [key, value] : c.values)
+                    view += (view.empty() ? "" : ", ") + key + " " + format_number(value);
+                view += " at theta " + format_number(th);
                 if (const std::string why = reach_problem(reach, int(size.width), int(size.height));
                     !why.empty())
-                    throw InputError(where, "heightfield '" + h.name + "': distance " +
-                                                format_number(c.get("distance")) + " at theta " +
-                                                format_number(th) + ", fov_deg " +
-                                                format_number(c.get("fov_deg")) + " " + why);
+                    throw InputError(where, "heightfield '" + h.name + "': " + view + " " + why);
                 const float far = float(reach);
                 const double gap = (double(std::nextafter(far, 2 * far)) - double(far)) *
                                    double(std::max(size.width, size.height));
                 if (!warned && gap >= 1.0 / 16) {
                     warned = true;
-                    warn(ex,
-                         where + ": heightfield '" + h.name + "': distance " +
-                             format_number(c.get("distance")) + " at theta " + format_number(th) +
-                             ", fov_deg " + format_number(c.get("fov_deg")) +
-                             " puts inside pixels up to " + format_number(reach) +
-                             " tiles from the origin, where float spaces uv " + format_number(gap) +
-                             " texels apart: the float rows (CPU float, GLSL) lose "
-                             "accuracy with distance from there on (their rows say so "
-                             "in 'error'); the double rows do not");
+                    warn(ex, where + ": heightfield '" + h.name + "': " + view +
+                                 " puts inside pixels up to " + format_number(reach) +
+                                 " tiles from the origin, where float spaces uv " +
+                                 format_number(gap) +
+                                 " texels apart: the float rows (CPU float, GLSL) lose "
+                                 "accuracy with distance from there on (their rows say so "
+                                 "in 'error'); the double rows do not");
                 }
             }
     }
@@ -492,6 +492,21 @@ Experiment load_experiment(const std::string& path, const ParseLimits& limits) {
     ss << f.rdbuf();
     Experiment ex = parse_experiment(ss.str(), path, limits);
     for (const auto& w : ex.warnings) std::cerr << "pxh: warning: " << one_line(w) << "\n";
+    return ex;
+}
+
+Experiment load_run_experiment(const std::string& path, const RunOverrides& o) {
+    Experiment ex = load_experiment(path, {o.max_rows, o.max_memory, o.backends});
+    ex.maps = ex.maps || o.maps;
+    if (!o.only.empty()) apply_only(ex, o.only);
+    if (o.samples) ex.samples = *o.samples;
+    check_plugin_backends(ex, o.backends);
+    check_camera_samples(ex, o.samples ? "--samples" : "");
+    for (const std::string& w : skipped_settings(ex, o.backends)) {  // said, never silent
+        std::cerr << "pxh: warning: " << w << "\n";
+        ex.warnings.push_back(w);
+    }
+    check_run_size(ex, o.backends, o.max_rows, o.max_memory);
     return ex;
 }
 

@@ -70,34 +70,33 @@ std::vector<WorkUnit> work_units(const Experiment& ex,
     const double samples = double(ex.samples) * double(ex.samples);
     const bool per_view = ex.sweep_dt_deg > 0;
     std::vector<WorkUnit> units;
-    for (size_t f = 0; f < ex.heightfields.size(); ++f) {
-        const HeightfieldSpec& h = ex.heightfields[f];
-        const FieldSize size = field_size(h);
+    const ViewGrid grid(ex);
+    std::vector<FieldSize> sizes;  // each field's, read once (a file's from its header)
+    for (const auto& h : ex.heightfields) sizes.push_back(field_size(h));
+    for (size_t s = 0; s < grid.sweeps(); ++s) {  // in run order
+        const ViewAt at = grid.sweep(s);
+        const HeightfieldSpec& h = ex.heightfields[at.field];
+        const FieldSize& size = sizes[at.field];
         const double setup = double(size.width) * double(size.height) * kSetupPerTexel;
-        for (size_t p = 0; p < ex.phi_deg.size(); ++p)
-            for (size_t c = 0; c < ex.camera_settings.size(); ++c) {
-                const double phi = ex.phi_deg[p];
-                WorkUnit u{f, p, 0, 0, setup, c};
-                for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
-                    const double theta = ex.theta_deg[t];
-                    u.cost +=
-                        samples * view_cost(ex, h, size, theta, phi, backends, settings, true);
-                    if (per_view) {
-                        const double other = theta + ex.sweep_dt_deg < 90 ? theta + ex.sweep_dt_deg
-                                                                          : theta - ex.sweep_dt_deg;
-                        u.cost +=
-                            samples * view_cost(ex, h, size, other, phi, backends, settings, false);
-                        u.theta_begin = t;
-                        u.theta_end = t + 1;
-                        units.push_back(u);
-                        u.cost = setup;
-                    }
-                }
-                if (!per_view) {
-                    u.theta_end = ex.theta_deg.size();
-                    units.push_back(u);
-                }
+        const double phi = ex.phi_deg[at.phi];
+        WorkUnit u{at.field, at.phi, 0, 0, setup, at.camera};
+        for (size_t t = 0; t < grid.thetas; ++t) {
+            const double theta = ex.theta_deg[t];
+            u.cost += samples * view_cost(ex, h, size, theta, phi, backends, settings, true);
+            if (per_view) {
+                const double other = theta + ex.sweep_dt_deg < 90 ? theta + ex.sweep_dt_deg
+                                                                  : theta - ex.sweep_dt_deg;
+                u.cost += samples * view_cost(ex, h, size, other, phi, backends, settings, false);
+                u.theta_begin = t;
+                u.theta_end = t + 1;
+                units.push_back(u);
+                u.cost = setup;
             }
+        }
+        if (!per_view) {
+            u.theta_end = grid.thetas;
+            units.push_back(u);
+        }
     }
     return units;
 }
@@ -123,6 +122,18 @@ std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardS
     }
     std::sort(mine.begin(), mine.end());
     return mine;
+}
+
+Slice make_slice(const Experiment& ex, const ShardSpec& shard,
+                 const std::vector<std::string>& backends_override) {
+    Slice s{shard, work_units(ex, backends_override), {}, ViewGrid(ex), {}};
+    s.mine = shard_units(s.units, s.shard);
+    s.unit_of.assign(s.grid.views(), -1);
+    for (size_t u : s.mine)
+        for (size_t t = s.units[u].theta_begin; t < s.units[u].theta_end; ++t)
+            s.unit_of[s.grid.index({s.units[u].field, s.units[u].phi, s.units[u].camera, t})] =
+                int(u);
+    return s;
 }
 
 nlohmann::json build_record() {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "harness/experiment/experiment.h"
+#include "harness/experiment/view_grid.h"
 
 namespace pxh {
 
@@ -55,6 +56,20 @@ std::vector<WorkUnit> work_units(const Experiment& ex,
 // slice above 4/3 of the best possible largest slice. Needs shard.count <= units.size()
 // (an InputError naming --shard otherwise: a slice with nothing to do is refused).
 std::vector<size_t> shard_units(const std::vector<WorkUnit>& units, const ShardSpec& shard);
+
+// One slice of a sharded run: the run's units, the slice's, and each view's unit.
+struct Slice {
+    ShardSpec shard;
+    std::vector<WorkUnit> units;  // all of the run's
+    std::vector<size_t> mine;     // indices into units, ascending
+    ViewGrid grid;
+    std::vector<int> unit_of;  // per view (ViewGrid::index): its unit, -1 another slice's
+    bool includes(const ViewAt& v) const { return unit_of[grid.index(v)] >= 0; }
+    size_t unit(const ViewAt& v) const { return size_t(unit_of[grid.index(v)]); }
+};
+// Slice `shard` of the run (work_units, shard_units); InputError("--shard", ...) as they throw.
+Slice make_slice(const Experiment& ex, const ShardSpec& shard,
+                 const std::vector<std::string>& backends_override);
 
 // What built this pxh, as run.json's "shard" record keeps it (pxh merge refuses slices whose
 // records differ): pxh_version (the release), compiler, compile_flags, build_type, libraries

@@ -4,7 +4,7 @@
 
 #include "harness/metrics/metric.h"
 #include "harness/metrics/metrics.h"
-#include "harness/scene/perspective_camera.h"
+#include "harness/scene/footprint.h"
 
 namespace pxh {
 

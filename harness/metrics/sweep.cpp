@@ -31,22 +31,24 @@ void add_distance_sweep(const std::vector<Vec2d>& near, const std::vector<Vec2d>
     add_pair(near, far, dd, row, "sliding_dist", "shimmering_dist", "sweep_dd");
 }
 
-std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& settings) {
+std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& settings,
+                                         const std::string& pair_key) {
     std::vector<DistanceStep> steps(settings.size());
-    const auto others_equal = [](const CameraSetting& a, const CameraSetting& b) {
+    if (pair_key.empty()) return steps;  // a camera whose sweep pairs nothing (orthographic)
+    const auto others_equal = [&](const CameraSetting& a, const CameraSetting& b) {
         if (a.values.size() != b.values.size()) return false;
         for (size_t k = 0; k < a.values.size(); ++k)
             if (a.values[k].first != b.values[k].first ||
-                (a.values[k].first != "distance" && !(a.values[k].second == b.values[k].second)))
+                (a.values[k].first != pair_key && !(a.values[k].second == b.values[k].second)))
                 return false;
         return true;
     };
     for (size_t c = 0; c < settings.size(); ++c) {
-        const double d = settings[c].get("distance");
-        if (!std::isfinite(d)) continue;  // a camera without a distance (orthographic)
+        const double d = settings[c].get(pair_key);
+        if (!std::isfinite(d)) continue;
         for (size_t n = c + 1; n < settings.size(); ++n)
             if (others_equal(settings[c], settings[n])) {
-                const double dd = settings[n].get("distance") - d;
+                const double dd = settings[n].get(pair_key) - d;
                 if (dd > 0) steps[c] = {n, dd};
                 break;
             }

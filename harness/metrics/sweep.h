@@ -3,6 +3,7 @@
 // sweep) (docs/conventions.md section 5.3; the statistics are sweep_metrics in metrics.h).
 #pragma once
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "harness/core/vec.h"
@@ -22,14 +23,16 @@ void add_sweep(const std::vector<Vec2d>& lo, const std::vector<Vec2d>& hi, doubl
 void add_distance_sweep(const std::vector<Vec2d>& near, const std::vector<Vec2d>& far, double dd,
                         ResultRow& row);
 
-// A camera setting's successor along the distance sweep: the next setting in the list with
-// every other key (fov_deg) equal, when its distance is larger (dd > 0); the settings' order
-// is the experiment's (distance outer, fov_deg inner).
+// A camera setting's successor along the sweep of the camera's pair key (CameraEntry::pair_key:
+// the perspective camera's distance): the next setting in the list with every other key
+// (fov_deg, resolution) equal, when its value of the key is larger (dd > 0); the settings'
+// order is the experiment's (the pair key outer). No key (""): no successors.
 struct DistanceStep {
     size_t next = 0;  // index into the settings
-    double dd = 0;    // its distance minus this one's (tiles); 0: no successor
+    double dd = 0;    // its value minus this one's (tiles); 0: no successor
     bool pairs() const { return dd > 0; }
 };
-std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& settings);
+std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& settings,
+                                         const std::string& pair_key);
 
 }  // namespace pxh

@@ -12,14 +12,14 @@
 #include <set>
 #include <sstream>
 
-#include "harness/backends/gl_worker.h"
 #include "harness/core/error.h"
 #include "harness/core/params.h"
+#include "harness/experiment/view_grid.h"
 #include "harness/metrics/agreement.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
-#include "harness/metrics/sweep.h"
-#include "harness/scene/perspective_camera.h"
+#include "harness/metrics/sweep_pairs.h"
+#include "harness/scene/footprint.h"
 #include "harness/scene/texture_levels.h"
 
 namespace pxh {
@@ -73,8 +73,8 @@ struct References {
 
 References make_references(const HeightField& hf, const HeightfieldSpec& spec) {
     References r;
-    r.other = make_tracer("embree", hf, spec.scale, spec.bias);
-    r.exact = make_tracer("exact", hf, spec.scale, spec.bias);
+    r.other = make_tracer(TracerRole::cross_check, hf, spec.scale, spec.bias);
+    r.exact = make_tracer(TracerRole::exact_reference, hf, spec.scale, spec.bias);
     return r;
 }
 
@@ -244,7 +244,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
     std::optional<MethodOutput> cpu_float, cpu_double;
     std::optional<size_t> float_row;
     for (const auto& backend : job.c.backends) {
-        const bool is_cpu = backend->name() == "cpu";
+        const bool is_cpu = backend_entry(backend->name()).reference;
         if (!backend->runs(m)) continue;
         for (const Variant& v : backend->variants()) {
             try {
@@ -297,7 +297,8 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 row.set("precompute_ms", res.precompute_ms());
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
-                    const size_t i = job.emit(std::move(row), job.errors_of(o), m, "cpu", v);
+                    const size_t i =
+                        job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
                     if (v.precision == "float") {
                         float_row = i;
                         cpu_float = std::move(o);
@@ -403,146 +404,103 @@ bool same_field(const HeightfieldSpec& a, const HeightfieldSpec& b) {
            a.gen_params.canonical() == b.gen_params.canonical() && a.name == b.name;
 }
 
-// Where one sweep is in the run: its indices, which of its views run, and the index its
-// first row has in the whole (unsharded) run.
+// Where one sweep is in the run: its place in the view grid, which of its views run, and the
+// index its first row has in the whole (unsharded) run.
 struct SweepPlace {
-    size_t field, phi, camera;
+    ViewAt at;               // theta 0
     std::vector<bool> runs;  // per theta
     size_t first_row, rows_per_view;
 };
 
-// The distance sweep of a perspective run (docs/conventions.md section 5.3): each view of a
-// camera setting with a successor (the next distance, the other keys equal) pairs pixel by pixel
-// with the view at the same field, phi and theta there, and the nearer view's rows carry the
-// pair. Settings run in order (distance outer), so a view waits, with its error vectors and
-// where its rows are, until its successor's view runs; a slice without that view traces it as a
-// companion instead (timed = false), so a sharded run gives the unsharded numbers.
-struct DistancePairs {
-    std::vector<DistanceStep> steps;  // per camera setting (distance_steps)
-    std::vector<size_t> before;       // per camera setting: the one whose successor it is, or npos
-    struct Waiting {
-        std::vector<std::vector<Vec2d>> errors;
-        std::vector<size_t> index;  // the rows' indices in the run
-    };
-    std::map<std::array<size_t, 3>, Waiting> waiting;  // (phi, camera, theta) of the nearer view
+// "bricks s=0.05 b=1 theta=45 phi=0 distance=4 fov_deg=45": a view, as progress names it.
+std::string view_label(const FieldContext& ctx, double theta, double phi, const std::string& cam) {
+    std::ostringstream os;
+    os << ctx.spec.name << " s=" << ctx.spec.scale << " b=" << ctx.spec.bias
+       << " theta=" << fmt_angle(theta) << " phi=" << fmt_angle(phi)
+       << (cam.empty() ? "" : " " + cam);
+    return os.str();
+}
 
-    explicit DistancePairs(const std::vector<CameraSetting>& settings)
-        : steps(distance_steps(settings)), before(settings.size(), size_t(-1)) {
-        for (size_t c = 0; c < steps.size(); ++c)
-            if (steps[c].pairs()) before[steps[c].next] = c;
-    }
-};
+// A view's rows against the row count and index its place in the run assumes.
+void check_view_place(const ViewRows& view, const SweepPlace& sw, size_t t, bool whole_run,
+                      size_t rows_so_far) {
+    if (view.rows.size() != sw.rows_per_view)
+        throw std::logic_error("a view made " + std::to_string(view.rows.size()) +
+                               " rows, not the " + std::to_string(sw.rows_per_view) +
+                               " its place in the run assumes");
+    const size_t first = sw.first_row + t * sw.rows_per_view;
+    if (whole_run && first != rows_so_far)
+        throw std::logic_error("row index " + std::to_string(first) + " of a view is not " +
+                               std::to_string(rows_so_far));
+}
 
-// Runs the theta sweep of one field and azimuth; rows join `rows` view by view.
-void run_sweep(const FieldContext& ctx, const SweepPlace& at, const RunOptions& opt, size_t& step,
-               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, DistancePairs& dist) {
+// Runs the theta sweep of one field, azimuth and camera setting; rows join `rows` view by view,
+// their sliding and shimmering pairs through `pairs` (a view that pairs with one this run does
+// not make, a slice's, is traced as a companion, timed = false: the unsharded numbers).
+void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& opt, size_t& step,
+               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, SweepPairer& pairs) {
     const Experiment& ex = ctx.ex;
-    const double phi = ex.phi_deg[at.phi];
-    ViewRows prev;  // the previous view of this sweep (same field and phi)
-    std::vector<size_t> prev_index;
+    const size_t p = sw.at.phi, c = sw.at.camera;
+    const double phi = ex.phi_deg[p];
+    pairs.start_sweep();
     for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
-        if (!at.runs[t]) continue;
+        if (!sw.runs[t]) continue;
         const double theta = ex.theta_deg[t];
         ++step;
-        if (opt.progress) {
-            std::ostringstream os;
-            const std::string cam = ex.camera_settings[at.camera].label();
-            os << ctx.spec.name << " s=" << ctx.spec.scale << " b=" << ctx.spec.bias
-               << " theta=" << fmt_angle(theta) << " phi=" << fmt_angle(phi)
-               << (cam.empty() ? "" : " " + cam);
-            opt.progress(step, steps, os.str());
-        }
-        ViewRows view = evaluate_view(ctx, theta, phi, at.camera, true);
-        if (ex.sweep_dt_deg > 0) {
-            // A companion view dt away (below when theta + dt would reach 90).
-            const bool up = theta + ex.sweep_dt_deg < 90;
-            const double other = up ? theta + ex.sweep_dt_deg : theta - ex.sweep_dt_deg;
-            const ViewRows comp = evaluate_view(ctx, other, phi, at.camera, false);
-            for (size_t i = 0; i < view.rows.size(); ++i)
-                add_sweep(up ? view.errors[i] : comp.errors[i],
-                          up ? comp.errors[i] : view.errors[i], ex.sweep_dt_deg, view.rows[i]);
-        } else if (t > 0) {
-            // Consecutive views: the pair (theta_{k-1}, theta_k) goes on row k-1.
-            const double dt = theta - ex.theta_deg[t - 1];
-            for (size_t i = 0; i < view.rows.size() && i < prev_index.size(); ++i)
-                if (dt > 0) add_sweep(prev.errors[i], view.errors[i], dt, rows[prev_index[i]]);
-        }
-        // The distance sweep: this view is the farther one of a pair waiting for it, and the
-        // nearer one of its own pair (now, with a companion view, or when its successor runs).
-        if (const size_t near = dist.before[at.camera]; near != size_t(-1)) {
-            const auto it = dist.waiting.find({at.phi, near, t});
-            if (it != dist.waiting.end()) {
-                const double dd = dist.steps[near].dd;
-                for (size_t i = 0; i < view.rows.size() && i < it->second.index.size(); ++i)
-                    add_distance_sweep(it->second.errors[i], view.errors[i], dd,
-                                       rows[it->second.index[i]]);
-                dist.waiting.erase(it);
-            }
-        }
-        const DistanceStep& next = dist.steps[at.camera];
+        if (opt.progress)
+            opt.progress(step, steps, view_label(ctx, theta, phi, ex.camera_settings[c].label()));
+        ViewRows view = evaluate_view(ctx, theta, phi, c, true);
+        if (const auto other = pairs.theta_companion(theta))
+            pairs.pair_companion(theta, view.errors,
+                                 evaluate_view(ctx, *other, phi, c, false).errors, view.rows);
+        pairs.pair_earlier(p, c, t, view.errors, rows);
+        const DistanceStep& next = pairs.successor(c);
         const bool wait =
-            next.pairs() && (!opt.include || opt.include(at.field, at.phi, next.next, t));
-        if (next.pairs() && !wait) {
-            const ViewRows far = evaluate_view(ctx, theta, phi, next.next, false);
-            for (size_t i = 0; i < view.rows.size(); ++i)
-                add_distance_sweep(view.errors[i], far.errors[i], next.dd, view.rows[i]);
-        }
-        if (view.rows.size() != at.rows_per_view)
-            throw std::logic_error("a view made " + std::to_string(view.rows.size()) +
-                                   " rows, not the " + std::to_string(at.rows_per_view) +
-                                   " its place in the run assumes");
-        const size_t first = at.first_row + t * at.rows_per_view;
-        if (!opt.include && first != rows.size())
-            throw std::logic_error("row index " + std::to_string(first) + " of a view is not " +
-                                   std::to_string(rows.size()));
+            next.pairs() && (!opt.include || opt.include({sw.at.field, p, next.next, t}));
+        if (next.pairs() && !wait)
+            pairs.pair_successor(
+                c, view.errors, evaluate_view(ctx, theta, phi, next.next, false).errors, view.rows);
+        check_view_place(view, sw, t, !opt.include, rows.size());
+        const size_t first = sw.first_row + t * sw.rows_per_view;
         if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, view.inside, first);
-        if (info) info->views.push_back({at.field, at.phi, at.camera, t, view.rows.size()});
-        prev_index.clear();
+        if (info) info->views.push_back({{sw.at.field, p, c, t}, view.rows.size()});
+        std::vector<size_t> index;
         for (auto& r : view.rows) {
-            prev_index.push_back(rows.size());
+            index.push_back(rows.size());
             rows.push_back(std::move(r));
         }
-        if (wait) {  // the theta pairing keeps this view's errors only while it needs them
-            const bool theta_next = ex.sweep_dt_deg <= 0 && t + 1 < ex.theta_deg.size();
-            dist.waiting[{at.phi, at.camera, t}] = {
-                theta_next ? view.errors : std::move(view.errors), prev_index};
-        }
-        prev = std::move(view);
+        pairs.keep(p, c, t, std::move(view.errors), std::move(index), wait);
     }
 }
 
 // Which views run (all, or a slice's), and where each sweep's rows are in the whole run:
-// every view of a field has one row per method setting it runs x backend x variant. `steps`:
-// the views that run.
+// every view of a field has one row per method setting it runs x backend x variant, in sweep
+// order (ViewGrid). `steps`: the views that run.
 std::vector<SweepPlace> plan_sweeps(const Experiment& ex, const RunOptions& opt,
                                     const std::vector<std::unique_ptr<Backend>>& backends,
                                     size_t& steps) {
-    const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
-    const size_t nc = ex.camera_settings.size();
+    const ViewGrid grid(ex);
     std::vector<SweepPlace> places;
     size_t first_row = 0;
-    for (size_t h = 0; h < ex.heightfields.size(); ++h) {
+    for (size_t s = 0; s < grid.sweeps(); ++s) {
+        const ViewAt at = grid.sweep(s);
         size_t per_view = 0;
         for (const auto& m : ex.methods)
-            if (m.runs_on(ex.heightfields[h].name))
+            if (m.runs_on(ex.heightfields[at.field].name))
                 for (const auto& b : backends)
                     if (b->runs(m)) per_view += b->variants().size();
-        for (size_t p = 0; p < np; ++p)
-            for (size_t c = 0; c < nc; ++c) {
-                SweepPlace at{h, p, c, std::vector<bool>(nt, true), first_row, per_view};
-                size_t n = 0;
-                for (size_t t = 0; t < nt; ++t) {
-                    if (opt.include) at.runs[t] = opt.include(h, p, c, t);
-                    n += at.runs[t];
-                }
-                if (n != 0 && n != nt && ex.sweep_dt_deg <= 0)
-                    throw std::logic_error(
-                        "a slice must take a theta sweep whole (its consecutive "
-                        "views pair up)");
-                steps += n;
-                first_row += nt * per_view;
-                places.push_back(std::move(at));
-            }
+        SweepPlace sw{at, std::vector<bool>(grid.thetas, true), first_row, per_view};
+        size_t n = 0;
+        for (size_t t = 0; t < grid.thetas; ++t) {
+            if (opt.include) sw.runs[t] = opt.include({at.field, at.phi, at.camera, t});
+            n += sw.runs[t];
+        }
+        if (n != 0 && n != grid.thetas && ex.sweep_dt_deg <= 0)
+            throw std::logic_error(
+                "a slice must take a theta sweep whole (its consecutive views pair up)");
+        steps += n;
+        first_row += grid.thetas * per_view;
+        places.push_back(std::move(sw));
     }
     return places;
 }
@@ -562,78 +520,42 @@ BackendSettings settings_of(const Experiment& ex, const RunOptions& opt) {
 
 }  // namespace
 
-bool software_renderer(const std::map<std::string, std::string>& f) {
-    auto has = [](const std::string& s, const char* what) {
-        std::string low;
-        for (char c : s) low += char(std::tolower(static_cast<unsigned char>(c)));
-        return low.find(what) != std::string::npos;
-    };
-    const auto r = f.find("gl_renderer");
-    const auto p = f.find("gl_driver.platform");
-    const std::string renderer = r == f.end() ? "" : r->second;
-    const std::string platform = p == f.end() ? "" : p->second;
-    return has(renderer, "llvmpipe") || has(renderer, "softpipe") || has(renderer, "swiftshader") ||
-           has(renderer, "software") || has(platform, "software");
-}
-
-std::vector<std::string> check_plugin_shaders(const Experiment& ex, const RunOptions& opt) {
-    // Each plug-in's first setting (left out by --only: none): every setting of a plug-in has
-    // the same uniforms (names and types), so one check each, of every program its rows
-    // compile (the camera's point map, each setting's lod mode: each declares other names).
-    const bool point_map = !camera_entry(ex.camera, "camera").parallel;
-    std::vector<std::pair<const MethodSpec*, std::vector<uint8_t>>> firsts;
+std::vector<std::string> preflight_backends(const Experiment& ex, const RunOptions& opt) {
+    // Each plug-in's first setting (left out by --only: none) and every level mode its settings
+    // run in: every setting of a plug-in has the same uniforms, so one check per program.
+    Preflight pre;
+    pre.parallel_camera = camera_entry(ex.camera, "camera").parallel;
     for (const auto& p : ex.plugins) {
-        const MethodSpec* first = nullptr;
-        std::vector<uint8_t> kinds;
+        PluginSettings s{nullptr, {}};
         for (const auto& m : ex.methods) {
             if (m.method != p.get()) continue;
-            if (!first) first = &m;
-            const uint8_t k = glsl_program_kind(point_map, m.lod);
-            if (std::find(kinds.begin(), kinds.end(), k) == kinds.end()) kinds.push_back(k);
+            if (!s.first) s.first = &m;
+            if (std::find(s.lods.begin(), s.lods.end(), m.lod) == s.lods.end())
+                s.lods.push_back(m.lod);
         }
-        if (first) firsts.emplace_back(first, std::move(kinds));
+        if (s.first) pre.plugins.push_back(std::move(s));
     }
-    if (firsts.empty()) return {};
-    GlslChildBackend gl(settings_of(ex, opt));
+    const BackendSettings settings = settings_of(ex, opt);
     std::vector<std::string> problems;
-    for (const auto& [m, kinds] : firsts)
-        for (auto& line :
-             gl.check(GlslMethod::of(*m->method), method_uniforms(*m->method, m->params), kinds))
-            problems.push_back(std::move(line));
+    for (const auto& name : opt.backends.empty() ? ex.backends : opt.backends)
+        if (const BackendEntry& e = backend_entry(name); e.preflight)
+            for (auto& line : e.preflight(pre, settings)) problems.push_back(std::move(line));
     return problems;
 }
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
     const BackendSettings settings = settings_of(ex, opt);
     const auto backends = make_backends(ex, opt, settings);
-    if (opt.warning && settings.gl == "egl")
+    if (opt.warning)
         for (const auto& b : backends)
-            if (b->name() == "glsl" && software_renderer(b->facts())) {
-                const auto f = b->facts();
-                opt.warning("--gl egl gave a software renderer (GL_RENDERER '" +
-                            (f.count("gl_renderer") ? f.at("gl_renderer") : "") +
-                            "', EGL platform '" +
-                            (f.count("gl_driver.platform") ? f.at("gl_driver.platform") : "") +
-                            "'): no GPU's EGL device was usable, so the GLSL timings are the "
-                            "CPU's");
-            }
+            if (const BackendEntry& e = backend_entry(b->name()); e.warnings)
+                for (const auto& line : e.warnings(*b, settings)) opt.warning(line);
     CpuBackend reference(settings);
-    if (info)
-        for (const auto& b : backends)
-            for (const auto& [k, v] : b->facts()) {
-                if (k == "gl_renderer") info->gl_renderer = v;
-                if (k == "gl_version") info->gl_version = v;
-                if (k == "gl_context") info->gl_context = v;
-                if (k == "gl_vendor") info->gl_vendor = v;
-                if (k == "gl_timer_bits") info->gl_timer_bits = std::stoi(v);
-                if (k.rfind("gl_driver.", 0) == 0) info->gl_driver[k.substr(10)] = v;
-            }
     // Height fields are built one at a time (a sweep of thousands of fields, or of scales on
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
     // reuse it.
     check_field_files(ex);
-    const size_t nt = ex.theta_deg.size(), np = ex.phi_deg.size();
-    const size_t per_field = np * ex.camera_settings.size();  // sweeps per field
+    const ViewGrid grid(ex);
     size_t steps = 0;
     const std::vector<SweepPlace> places = plan_sweeps(ex, opt, backends, steps);
     std::vector<ResultRow> rows;
@@ -644,12 +566,15 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     std::optional<TextureLevels> levels;     // ... when a setting samples the levels
     const bool any_levels = std::any_of(ex.methods.begin(), ex.methods.end(),
                                         [](const MethodSpec& m) { return m.lod != LodMode::base; });
+    SweepPairer pairs(ex.theta_deg, ex.sweep_dt_deg, ex.camera_settings,
+                      camera_entry(ex.camera, "camera").pair_key());
     for (size_t h = 0; h < ex.heightfields.size(); ++h) {
         const HeightfieldSpec& spec = ex.heightfields[h];
-        bool any = false;
-        for (size_t p = 0; p < per_field; ++p)
-            for (size_t t = 0; t < nt; ++t) any = any || places[h * per_field + p].runs[t];
-        if (!any) continue;  // another slice's field
+        const auto sweeps = places.begin() + long(h * grid.sweeps_per_field());
+        if (std::none_of(sweeps, sweeps + long(grid.sweeps_per_field()), [](const SweepPlace& s) {
+                return std::count(s.runs.begin(), s.runs.end(), true) > 0;
+            }))
+            continue;  // another slice's field
         if (!field || !same_field(spec, *built)) {
             if (info && resources) info->resource_builds += resources->builds();
             resources.reset();
@@ -665,19 +590,14 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         const FieldContext ctx{ex,          backends,   reference,
                                *field,      spec,       *refs.exact,
                                *refs.other, *resources, levels ? &*levels : nullptr};
-        DistancePairs dist(ex.camera_settings);  // the field's views waiting for the next distance
-        for (size_t p = 0; p < per_field; ++p) {
-            const SweepPlace& at = places[h * per_field + p];
-            if (std::count(at.runs.begin(), at.runs.end(), true))
-                run_sweep(ctx, at, opt, step, steps, rows, info, dist);
-        }
+        pairs.start_field();
+        for (auto sw = sweeps; sw != sweeps + long(grid.sweeps_per_field()); ++sw)
+            if (std::count(sw->runs.begin(), sw->runs.end(), true))
+                run_sweep(ctx, *sw, opt, step, steps, rows, info, pairs);
     }
     if (info && resources) info->resource_builds += resources->builds();
     if (info)
-        for (const auto& b : backends) {
-            for (const auto& [k, v] : b->sources()) info->shaders[k] = v;
-            info->backends[b->name()] = b->record(settings);
-        }
+        for (const auto& b : backends) info->backends[b->name()] = b->record(settings);
     return rows;
 }
 

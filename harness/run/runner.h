@@ -9,6 +9,7 @@
 #include "harness/backends/backend.h"
 #include "harness/backends/cpu_backend.h"
 #include "harness/experiment/experiment.h"
+#include "harness/experiment/view_grid.h"
 #include "harness/metrics/agreement.h"
 #include "harness/results/results.h"
 #include "harness/truth/ground_truth.h"
@@ -37,44 +38,38 @@ struct RunOptions {
     // sample inside; View::inside); first_index is the index the view's first row has in the
     // whole run's results.csv (a slice's maps and pictures are named as the unsharded run
     // names them).
-    std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
-                       const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>
-        on_view;
+    using ViewHook =
+        std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
+                           const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>;
+    ViewHook on_view;
     // One call per view, as it starts: its number (from 1) of `steps`, and what it is.
     std::function<void(size_t step, size_t steps, const std::string& what)> progress;
-    // A slice of the run (pxh run --shard): only the views (heightfields[field], phi_deg[phi],
-    // camera_settings[camera], theta_deg[theta]) it accepts are run; a field none of whose
-    // views runs is not built. Without sweep_dt_deg a theta sweep must be accepted whole or not
-    // at all (its consecutive views pair up). Empty: every view.
-    std::function<bool(size_t field, size_t phi, size_t camera, size_t theta)> include;
+    // A slice of the run (pxh run --shard): only the views of the grid (ViewGrid) it accepts
+    // are run; a field none of whose views runs is not built. Without sweep_dt_deg a theta sweep
+    // must be accepted whole or not at all (its consecutive views pair up). Empty: every view.
+    ViewFilter include;
 };
 
 struct RunInfo {
-    std::string gl_renderer, gl_version;           // when the GLSL backend ran
-    std::string gl_context, gl_vendor;             // ... the context (osmesa, egl) and GL_VENDOR
-    std::map<std::string, std::string> gl_driver;  // ... the driver behind it (GlContext::driver)
-    int gl_timer_bits = 0;                         // ... GL_QUERY_COUNTER_BITS of GL_TIME_ELAPSED
-    std::map<std::string, std::string> shaders;    // every GLSL source compiled -> sha256
     // run.json's "backends": each backend's own block (Backend::record: its facts, sources,
-    // timing unit, what a repeat measures, repeats per row, counters), by name.
+    // timing unit, what a repeat measures, repeats per row, counters, and what its entry adds:
+    // the GLSL backend's GL context and driver), by name.
     std::map<std::string, nlohmann::json> backends;
     int resource_builds = 0;  // method resources built (once per field, and s, b if they use them)
-    // Every view run, in run order: its indices (as RunOptions::include takes them) and rows.
+    // Every view run, in run order: its place in the grid and its rows.
     struct ViewDone {
-        size_t field, phi, camera, theta, rows;
+        ViewAt at;
+        size_t rows;
     };
     std::vector<ViewDone> views;
 };
 
-// Every plug-in shader of the experiment compiled and linked, and its uniforms checked against
-// its entry, in a GL process of its own, before any row runs: one line per problem (the
-// driver's messages as FILE:LINE:COL: ... of the user's file), empty when all are ready (and
-// at once, without GL, when there is no plug-in). std::runtime_error when no GL context can be
-// made.
-std::vector<std::string> check_plugin_shaders(const Experiment& ex, const RunOptions& opt);
-
-// Whether a GL renderer is software (llvmpipe, softpipe, SwiftShader, an EGL software device).
-bool software_renderer(const std::map<std::string, std::string>& backend_facts);
+// Every backend the run uses checked before any row runs and before anything is written
+// (BackendEntry::preflight: the GLSL backend compiles and links every plug-in shader in each
+// program its rows use and checks its uniforms, in a GL process of its own): one line per
+// problem, empty when all are ready. std::runtime_error when a check cannot be made (no GL
+// context).
+std::vector<std::string> preflight_backends(const Experiment& ex, const RunOptions& opt);
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt,
                                       RunInfo* info = nullptr);

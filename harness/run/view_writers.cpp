@@ -22,7 +22,7 @@ bool maps_wanted(const Experiment& ex) { return ex.maps; }
 
 // A camera's map as its pictures are: outside pixels grey, rows as the viewer sees them.
 void write_maps(const ViewWriteContext& c, ViewOutput& v) {
-    const bool as_seen = c.ex.camera != "orthographic";
+    const bool as_seen = !camera_entry(c.ex.camera, "camera").parallel;
     for (size_t i = 0; i < v.rows.size(); ++i) {
         if (v.errors[i].empty()) continue;
         const ErrorMapName name = error_map_name(v.rows[i], v.first + i);
@@ -44,7 +44,7 @@ void write_pictures(const ViewWriteContext& c, ViewOutput& v) {
     const bool montage = std::count(r.theta_deg.begin(), r.theta_deg.end(), theta) > 0;
     const int n = c.ex.samples;
     // A camera's image as the viewer sees it (outside pixels grey); the grid in texture space.
-    const bool as_seen = c.ex.camera != "orthographic";
+    const bool as_seen = !camera_entry(c.ex.camera, "camera").parallel;
     const std::vector<float> truth_pic = picture(v.truth, n, v.inside);
     const fs::path dir = c.dir / "pictures";
     std::string truth_file;  // written once, when the first row of the view needs it
@@ -101,6 +101,16 @@ std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex) {
     for (const ViewWriter& w : view_writers())
         if (w.wanted(ex)) out.push_back(&w);
     return out;
+}
+
+RunOptions::ViewHook view_writers_into(const Experiment& ex, const fs::path& dir) {
+    const std::vector<const ViewWriter*> writers = wanted_view_writers(ex);
+    if (writers.empty()) return {};
+    return [&ex, dir, writers](std::vector<ResultRow>& rows, const auto& errors, const auto& truth,
+                               const auto& inside, size_t first) {
+        ViewOutput view{rows, errors, truth, inside, first};
+        for (const ViewWriter* w : writers) w->write({ex, dir}, view);
+    };
 }
 
 }  // namespace pxh

@@ -14,6 +14,7 @@
 #include "harness/core/vec.h"
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/row.h"
+#include "harness/run/runner.h"
 
 namespace pxh {
 
@@ -44,6 +45,9 @@ const std::vector<ViewWriter>& view_writers();
 
 // The writers the experiment wants (empty: the run needs no per-view callback).
 std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex);
+// RunOptions::on_view calling each of them per view, into the results folder `dir` (an empty
+// function when the experiment wants none). `ex` must outlive it.
+RunOptions::ViewHook view_writers_into(const Experiment& ex, const std::filesystem::path& dir);
 
 // The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI[_dD_fF].png", safe characters.
 std::string truth_picture_name(const ResultRow& r);

@@ -6,19 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "harness/core/limits.h"  // kMaxImage*: the largest accepted image
 #include "harness/core/vec.h"
 
 namespace pxh {
-
-// Largest accepted height field image (any source that reads a W x H field from a file should
-// apply the same limits). Refused from the header, before the pixels are read:
-// more than kMaxImageSide texels per side or kMaxImageTexels in all; more than
-// kMaxImageChannels channels; more than kMaxImageBytes for all channels uncompressed, as stored
-// (a tile, in tiled files, must fit the same limits). The largest field is 256 MiB of floats.
-constexpr long long kMaxImageSide = 16384;
-constexpr long long kMaxImageTexels = 64ll * 1024 * 1024;
-constexpr long long kMaxImageChannels = 64;
-constexpr long long kMaxImageBytes = 1024ll * 1024 * 1024;
 
 struct HeightField {
     int width = 0, height = 0;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "harness/core/error.h"
+#include "harness/core/limits.h"
 #include "harness/core/param_dict.h"
 
 namespace pxh {
@@ -15,7 +16,6 @@ namespace pxh {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
-constexpr int kMaxResolution = 8192;  // as samples (harness/experiment/parse.cpp)
 
 std::string number(double v) {
     std::ostringstream os;
@@ -65,31 +65,6 @@ void check_eye_above_slab(const PerspectiveParams& p, double scale, double bias,
                           const std::string& where) {
     const std::string problem = eye_slab_problem(p, scale, bias);
     if (!problem.empty()) throw InputError(where, problem);
-}
-
-double footprint_scale(const Footprint& J, int width, int height) {
-    const double W = width, H = height;
-    const double ix = W * J.dPdi.x, iy = H * J.dPdi.y, jx = W * J.dPdj.x, jy = H * J.dPdj.y;
-    return std::max(std::sqrt(ix * ix + iy * iy), std::sqrt(jx * jx + jy * jy));
-}
-
-double footprint_lod(const Footprint& J, int width, int height) {
-    return std::log2(footprint_scale(J, width, height));
-}
-
-std::vector<double> sample_lods(const std::vector<Footprint>& J, int width, int height) {
-    std::vector<double> lod(J.size());
-    for (size_t k = 0; k < J.size(); ++k) lod[k] = footprint_lod(J[k], width, height);
-    return lod;
-}
-
-double pixel_error(const Footprint& J, Vec2d e) {
-    // J = [[a, c], [b, d]] with columns dP/di = (a, b), dP/dj = (c, d): solve J (di, dj) = e.
-    const double a = J.dPdi.x, b = J.dPdi.y, c = J.dPdj.x, d = J.dPdj.y;
-    const double det = a * d - b * c;
-    if (!(det != 0) || !std::isfinite(det)) return std::numeric_limits<double>::quiet_NaN();
-    const double di = (d * e.x - c * e.y) / det, dj = (a * e.y - b * e.x) / det;
-    return std::sqrt(di * di + dj * dj);
 }
 
 PerspectiveCamera::PerspectiveCamera(const PerspectiveParams& p) : p_(p) {
@@ -204,16 +179,16 @@ std::vector<CameraSetting> read_perspective_settings(const ParamDict& params,
             throw InputError(params.where("fov_deg"),
                              "fov_deg = " + number(f) +
                                  " is impossible: the full field of view lies in (0, 180)");
-    // The image's pixels per side: integers in [1, kMaxResolution], default the file's samples.
+    // The image's pixels per side: integers in [1, kMaxSamples], default the file's samples.
     std::vector<double> resolutions{double(samples)};
     if (params.has("resolution")) {
         resolutions = params.numbers("resolution", {});
         for (double r : resolutions)
-            if (!(r >= 1 && r <= kMaxResolution && r == std::floor(r)))
+            if (!(r >= 1 && r <= kMaxSamples && r == std::floor(r)))
                 throw InputError(params.where("resolution"),
                                  "resolution = " + number(r) +
                                      " is not a whole number of pixels per side in [1, " +
-                                     std::to_string(kMaxResolution) + "]");
+                                     std::to_string(kMaxSamples) + "]");
     }
     std::vector<CameraSetting> out;
     for (double d : distances)
@@ -239,7 +214,7 @@ std::string perspective_samples_problem(const CameraSetting& setting, int sample
 }
 
 std::vector<CameraKey> perspective_keys() {
-    return {{"distance", "perspective: eye distance from the look-at point (tiles)", "d"},
+    return {{"distance", "perspective: eye distance from the look-at point (tiles)", "d", "", true},
             {"fov_deg", "perspective: full field of view of the square image (degrees)", "f"},
             {"resolution", "perspective: the image's pixels per side (samples picks N x N of them)",
              "r", "samples"}};

@@ -1,8 +1,8 @@
-// The perspective camera and pixel footprints (docs/conventions.md section 10): a pinhole at
+// The perspective camera (docs/conventions.md section 10): a pinhole at
 // eye distance D (tiles) from the look-at point C = (0.5, 0.5, 0) along the view direction of
 // (theta, phi), an N x N square image of full field of view F. Per pixel: the sample P where the
 // pixel's ray meets the polygon z = 0, its view vector V, whether it is outside (V.z <= cos 89
-// degrees), and the footprint J = [dP/di, dP/dj] in closed form; rho and lambda from J.
+// degrees), and the footprint J = [dP/di, dP/dj] in closed form (footprint.h: rho, lambda).
 //
 // Registered as camera "perspective": [views] distance (tiles; a value, a list or a range
 // { from, to, step }, swept), fov_deg (degrees, default 45; a value or a list) and resolution
@@ -49,18 +49,6 @@ std::string eye_slab_problem(const PerspectiveParams& p, double scale, double bi
 // Throws InputError(where, reason) unless the eye lies above the slab.
 void check_eye_above_slab(const PerspectiveParams& p, double scale, double bias,
                           const std::string& where);
-
-// rho = max(|(W dPdi.x, H dPdi.y)|, |(W dPdj.x, H dPdj.y)|): level-0 texels per pixel.
-double footprint_scale(const Footprint& J, int width, int height);
-// lambda = log2(rho): the isotropic level of detail of GL's scale-factor formula.
-double footprint_lod(const Footprint& J, int width, int height);
-
-// lambda of every sample: footprint_lod of each footprint, in sample order.
-std::vector<double> sample_lods(const std::vector<Footprint>& J, int width, int height);
-
-// The pixel error |J^-1 e_uv| (e_uv the uv error, wrapped per tile): screen pixels between the
-// shown and the true point. NaN for a singular J or a non-finite error.
-double pixel_error(const Footprint& J, Vec2d e_uv);
 
 // One pixel of a perspective camera.
 struct PerspectivePixel {

@@ -92,12 +92,19 @@ const std::vector<CameraEntry>& camera_registry() {
     static const std::vector<CameraEntry> entries = {
         {"orthographic", &read_orthographic_settings, &make_orthographic_camera, nullptr, true},
         {"perspective", &read_perspective_settings, &make_perspective_camera,
-         &perspective_scene_problem, false, perspective_keys(), &perspective_samples_problem},
+         &perspective_scene_problem, false, perspective_keys(), &perspective_samples_problem,
+         static_cast<double (*)(const CameraSetting&, const CameraSpec&)>(&perspective_reach)},
     };
     return entries;
 }
 
 std::vector<std::string> camera_names() { return entry_names(camera_registry()); }
+
+std::string CameraEntry::pair_key() const {
+    for (const CameraKey& k : keys)
+        if (k.sweep_pairs) return k.name;
+    return "";
+}
 
 const CameraEntry& camera_entry(const std::string& name, const std::string& loc) {
     return find_entry(camera_registry(), name, "camera", loc);

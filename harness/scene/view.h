@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "harness/core/vec.h"
+#include "harness/scene/footprint.h"
 
 namespace pxh {
 
@@ -24,12 +25,6 @@ std::vector<Vec2d> sample_grid(int n);
 
 // Unit vector toward the eye for polar angle theta and azimuth phi (degrees).
 Vec3d view_vector(double theta_deg, double phi_deg);
-
-// A pixel's footprint: the uv change per pixel step, dP/di (one column to the right) and dP/dj
-// (one row up) (docs/conventions.md section 10).
-struct Footprint {
-    Vec2d dPdi, dPdj;
-};
 
 // The rays of one view, plus what the tracers' fast paths may assume about them.
 struct View {
@@ -126,6 +121,10 @@ struct CameraKey {
     // Results written before the key existed: the column whose cell stands for it ("samples" for
     // the perspective camera's resolution); "" when none.
     std::string default_column = {};
+    // Whether the run's sweep pairs along this key (docs/conventions.md section 5.3): a setting
+    // and the next one that differs only in it, at a larger value, pair pixel by pixel
+    // (sliding_dist, shimmering_dist: the perspective camera's distance). At most one key.
+    bool sweep_pairs = false;
 };
 
 // The registry (camera_registry() in harness/scene/view.cpp): one line per camera.
@@ -150,6 +149,12 @@ struct CameraEntry {
     // between neighbouring pixels (lod implicit), N = resolution); nullptr: any.
     std::string (*samples_problem)(const CameraSetting& setting, int samples,
                                    bool neighbours) = nullptr;
+    // How far (tiles) from the look-at point its inside samples reach at this setting and view
+    // (the same at every phi): the exact tracer must resolve a hit that far out (the perspective
+    // camera: its farthest inside pixel); nullptr: within the tile (the orthographic grid).
+    double (*reach)(const CameraSetting& setting, const CameraSpec& spec) = nullptr;
+    // The key its sweep pairs along (CameraKey::sweep_pairs), "" when none.
+    std::string pair_key() const;
 };
 const CameraEntry& camera_entry(const std::string& name, const std::string& loc);
 const std::vector<CameraEntry>& camera_registry();

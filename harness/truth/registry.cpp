@@ -12,8 +12,8 @@ std::unique_ptr<Tracer> make_embree_tracer(const HeightField&, double scale, dou
 
 const std::vector<TracerEntry>& tracer_registry() {
     static const std::vector<TracerEntry> entries = {
-        {"exact", &make_exact_tracer},
-        {"embree", &make_embree_tracer},
+        {"exact", &make_exact_tracer, TracerRole::exact_reference},
+        {"embree", &make_embree_tracer, TracerRole::cross_check},
     };
     return entries;
 }
@@ -27,6 +27,13 @@ void check_tracer_name(const std::string& name, const std::string& where) {
 std::unique_ptr<Tracer> make_tracer(const std::string& name, const HeightField& hf, double scale,
                                     double bias) {
     return find_entry(tracer_registry(), name, "tracer", "tracer").make(hf, scale, bias);
+}
+
+std::unique_ptr<Tracer> make_tracer(TracerRole role, const HeightField& hf, double scale,
+                                    double bias) {
+    for (const TracerEntry& e : tracer_registry())
+        if (e.role == role) return e.make(hf, scale, bias);
+    throw std::logic_error("no tracer of this role is registered");
 }
 
 bool Tracer::occluded(Vec2d, double, Vec3d) const {

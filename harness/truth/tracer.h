@@ -56,10 +56,16 @@ class Tracer {
     virtual bool occluded(Vec2d uv, double z, Vec3d L) const;
 };
 
+// What a run asks of a tracer: every view is traced by both references, the exact tracer (the
+// truth's heights, true shadows and cost) and a second, independent one its hits are checked
+// against (gt_agree_*); the experiment's ground_truth names which of the two gives the uv.
+enum class TracerRole { exact_reference, cross_check };
+
 // The registry (harness/truth/registry.cpp): one line per tracer.
 struct TracerEntry {
     const char* name;
     std::unique_ptr<Tracer> (*make)(const HeightField& hf, double scale, double bias);
+    TracerRole role;
 };
 const std::vector<TracerEntry>& tracer_registry();
 std::vector<std::string> tracer_names();  // in registry order
@@ -68,6 +74,9 @@ void check_tracer_name(const std::string& name, const std::string& where);
 // Builds it for the field and s, b (throws std::invalid_argument for a scale that is not a
 // finite positive number).
 std::unique_ptr<Tracer> make_tracer(const std::string& name, const HeightField& hf, double scale,
+                                    double bias);
+// The tracer of this role (the registry's first of it), built for the field and s, b.
+std::unique_ptr<Tracer> make_tracer(TracerRole role, const HeightField& hf, double scale,
                                     double bias);
 
 }  // namespace pxh

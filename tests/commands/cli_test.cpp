@@ -117,8 +117,14 @@ TEST_F(Cli, EachBackendTimesInItsOwnUnit) {
     EXPECT_EQ(b.at("glsl").at("timing").at("unit"), "ms/frame");
     EXPECT_EQ(b.at("glsl").at("timing").at("repeats"), 5);  // RunOptions::gl_frames
     EXPECT_EQ(b.at("glsl").at("timing").at("counters").at(0).at("name"), "gpu_ms_per_frame");
-    EXPECT_EQ(b.at("glsl").at("facts").at("gl_renderer"), run.at("gl_renderer"));
-    EXPECT_EQ(b.at("glsl").at("sources"), run.at("shaders"));
+    // Each backend writes only its own block: the GL facts are the glsl block's, once.
+    EXPECT_FALSE(b.at("glsl").at("facts").at("gl_renderer").get<std::string>().empty());
+    EXPECT_EQ(b.at("glsl").at("gl").at("GL_RENDERER"), b.at("glsl").at("facts").at("gl_renderer"));
+    EXPECT_FALSE(b.at("glsl").at("sources").empty());
+    for (const char* k :
+         {"gl", "gl_renderer", "gl_version", "shaders", "shader_dir", "LP_NUM_THREADS"})
+        EXPECT_FALSE(run.contains(k)) << k;
+    EXPECT_FALSE(b.at("cpu").contains("gl"));
     EXPECT_FALSE(b.at("glsl").at("timing").at("measures").get<std::string>().empty());
 }
 
@@ -297,12 +303,15 @@ TEST_F(Cli, GlslBackendRowsAndBrokenShader) {
     }
     EXPECT_EQ(checked, 24 * 11);
     // run.json: the sha256 of every shader source compiled (the override and the built-ins).
+    // (the glsl backend's block: its sources; with the --shader-dir it read them from).
     const auto run = nlohmann::json::parse(slurp(dir / "res" / "run.json"));
+    const auto& glsl = run["backends"]["glsl"];
     const std::string pom_file = (dir / "shaders" / "pom.frag.glsl").string();
-    ASSERT_TRUE(run["shaders"].contains(pom_file)) << run["shaders"].dump();
-    EXPECT_EQ(run["shaders"][pom_file], pxh::sha256_file(pom_file));
-    EXPECT_TRUE(run["shaders"].contains("builtin:methods/parallax/parallax.frag.glsl"));
-    EXPECT_TRUE(run["shaders"].contains("builtin:methods/common.glsl"));
+    ASSERT_TRUE(glsl["sources"].contains(pom_file)) << glsl["sources"].dump();
+    EXPECT_EQ(glsl["sources"][pom_file], pxh::sha256_file(pom_file));
+    EXPECT_TRUE(glsl["sources"].contains("builtin:methods/parallax/parallax.frag.glsl"));
+    EXPECT_TRUE(glsl["sources"].contains("builtin:methods/common.glsl"));
+    EXPECT_EQ(glsl["shader_dir"], fs::absolute(dir / "shaders").string());
 }
 
 // A --shader-dir that does not exist is an error, not the built-in shaders' numbers.

@@ -373,11 +373,11 @@ TEST_F(ShardRefusals, ForeignSlices) {
                    "was run by another pxh version: 0.0.9 (abc) where " + s(0));
     expect_refused(s(0) + " " + with_build(1, "binary_sha256", "00ff") + " " + s(2),
                    "was run by another build of pxh: binary_sha256 00ff where " + s(0));
-    // GLSL rows drawn by another GL driver.
+    // GLSL rows drawn by another GL driver (the glsl backend's block of run.json says which).
     const std::string gl = edited(1, "gl", [](nlohmann::json& j) {
-        j["gl"] = {{"GL_RENDERER", "llvmpipe (LLVM 99, 512 bits)"}};
+        j["backends"]["glsl"]["facts"]["gl_renderer"] = "llvmpipe (LLVM 99, 512 bits)";
     });
-    expect_refused(s(0) + " " + gl + " " + s(2), gl + ": ran its GLSL rows on another GL driver");
+    expect_refused(s(0) + " " + gl + " " + s(2), gl + ": ran its glsl rows on another setup: ");
     // Not a slice at all: an unsharded run.
     ASSERT_EQ(pxh("run " + exp + " --quiet --out " + mine(5)).status, 0);
     expect_refused(s(0) + " " + mine(5), mine(5) + ": is not a slice");

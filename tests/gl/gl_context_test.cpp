@@ -163,14 +163,14 @@ TEST_F(GlCli, EglEqualsOsmesaOnEveryGlslRowOfTheDefaultExperiment) {
     // run.json records which context ran, and what is behind it.
     for (const char* gl : {"osmesa", "egl"}) {
         const auto run = nlohmann::json::parse(slurp(dir / gl / "run.json"));
-        ASSERT_TRUE(run.contains("gl")) << gl;
-        EXPECT_EQ(run["gl"]["context"], gl);
-        EXPECT_FALSE(run["gl"]["GL_RENDERER"].get<std::string>().empty());
-        EXPECT_FALSE(run["gl"]["GL_VENDOR"].get<std::string>().empty());
-        EXPECT_NE(run["gl"]["GL_VERSION"].get<std::string>().find("4.5"), std::string::npos);
-        EXPECT_EQ(run["gl"]["GL_QUERY_COUNTER_BITS"], 64);
-        EXPECT_TRUE(
-            run["gl"]["driver"].contains(std::string(gl) == "egl" ? "platform" : "OSMESA_VERSION"));
+        ASSERT_TRUE(run["backends"]["glsl"].contains("gl")) << gl;
+        const auto& g = run["backends"]["glsl"]["gl"];
+        EXPECT_EQ(g["context"], gl);
+        EXPECT_FALSE(g["GL_RENDERER"].get<std::string>().empty());
+        EXPECT_FALSE(g["GL_VENDOR"].get<std::string>().empty());
+        EXPECT_NE(g["GL_VERSION"].get<std::string>().find("4.5"), std::string::npos);
+        EXPECT_EQ(g["GL_QUERY_COUNTER_BITS"], 64);
+        EXPECT_TRUE(g["driver"].contains(std::string(gl) == "egl" ? "platform" : "OSMESA_VERSION"));
     }
 }
 
@@ -202,8 +202,12 @@ TEST_F(GlCli, FlagOverridesTheExperimentKey) {
     ASSERT_EQ(pxh("run " + exp + " --quiet --out " + (dir / "file").string()).status, 0);
     ASSERT_EQ(pxh("run " + exp + " --quiet --gl osmesa --out " + (dir / "flag").string()).status,
               0);
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "file" / "run.json"))["gl"]["context"], "egl");
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "flag" / "run.json"))["gl"]["context"], "osmesa");
+    EXPECT_EQ(nlohmann::json::parse(
+                  slurp(dir / "file" / "run.json"))["backends"]["glsl"]["gl"]["context"],
+              "egl");
+    EXPECT_EQ(nlohmann::json::parse(
+                  slurp(dir / "flag" / "run.json"))["backends"]["glsl"]["gl"]["context"],
+              "osmesa");
     const CsvTable t = read_csv((dir / "file" / "results.csv").string());
     ASSERT_EQ(t.rows.size(), 2u);
     EXPECT_EQ(t.get(0, "backend"), "cpu");

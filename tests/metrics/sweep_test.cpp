@@ -256,7 +256,10 @@ TEST(DistanceSweep, SuccessorsAreTheNextDistanceAtTheSameFieldOfView) {
     std::vector<CameraSetting> s;
     for (double d : {1.0, 2.0, 0.5})
         for (double f : {30.0, 45.0}) s.push_back({{{"distance", d}, {"fov_deg", f}}});
-    const auto st = distance_steps(s);
+    // The perspective camera's entry names the key its sweep pairs along.
+    const std::string key = camera_entry("perspective", "test").pair_key();
+    ASSERT_EQ(key, "distance");
+    const auto st = distance_steps(s, key);
     ASSERT_EQ(st.size(), 6u);
     EXPECT_EQ(st[0].next, 2u);
     EXPECT_EQ(st[0].dd, 1.0);
@@ -266,7 +269,10 @@ TEST(DistanceSweep, SuccessorsAreTheNextDistanceAtTheSameFieldOfView) {
     EXPECT_FALSE(st[3].pairs());
     EXPECT_FALSE(st[4].pairs());  // the last distance
     EXPECT_FALSE(st[5].pairs());
-    EXPECT_FALSE(distance_steps({CameraSetting{}})[0].pairs());  // orthographic: no distance
+    // The orthographic camera pairs along no key: no successors.
+    EXPECT_EQ(camera_entry("orthographic", "test").pair_key(), "");
+    EXPECT_FALSE(distance_steps({CameraSetting{}}, "")[0].pairs());
+    EXPECT_FALSE(distance_steps(s, "")[0].pairs());
 }
 
 // A perspective run over theta {45, 80} and distance {1.5, 4} at fov 60 (the 80-degree views
@@ -384,7 +390,7 @@ TEST(DistanceSweep, SlicesAndThreadsGiveTheSameNumbers) {
     const Experiment ex = distance_run();
     const auto whole = run_experiment(ex, {});
     RunOptions near_only;
-    near_only.include = [](size_t, size_t, size_t camera, size_t) { return camera == 0; };
+    near_only.include = [](const ViewAt& v) { return v.camera == 0; };
     const auto slice = run_experiment(ex, near_only);
     ASSERT_EQ(slice.size(), 4u);
     std::vector<ResultRow> one;

@@ -357,8 +357,8 @@ TEST(TruthLimits, PerspectiveReachBoundsEveryInsidePixel) {
 TEST(TruthLimits, FarEyesAreRefusedAtTheirKey) {
     EXPECT_EQ(far_eye_error(1e9, 32), "(no error)");
     const std::string e = far_eye_error(1e15, 32);
-    EXPECT_EQ(e.rfind("e.toml:7: heightfield 'f': distance 1e+15 at theta 30, fov_deg 45 puts "
-                      "inside pixels up to ",
+    EXPECT_EQ(e.rfind("e.toml:7: heightfield 'f': distance 1e+15, fov_deg 45, resolution 16 at "
+                      "theta 30 puts inside pixels up to ",
                       0),
               0u)
         << e;
@@ -415,8 +415,8 @@ TEST(TruthLimits, FloatRowsSayWhereFloatStopsResolvingTexels) {
     }
     const Experiment far = parse_experiment(far_eye_experiment(1e7, 32, both), "e.toml");
     ASSERT_EQ(far.warnings.size(), 1u);
-    EXPECT_EQ(far.warnings[0].rfind("e.toml:8: heightfield 'f': distance 10000000 at theta 30, "
-                                    "fov_deg 45 puts inside pixels up to ",
+    EXPECT_EQ(far.warnings[0].rfind("e.toml:8: heightfield 'f': distance 10000000, fov_deg 45, "
+                                    "resolution 16 at theta 30 puts inside pixels up to ",
                                     0),
               0u)
         << far.warnings[0];
@@ -603,7 +603,7 @@ TEST_F(TruthLimitsCli, FarEyesAreRefusedByRunAndBench) {
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_EQ(
-        r.err.rfind("pxh: error: " + e + ":7: heightfield 'f': distance 1e+15 at theta 30", 0), 0u)
+        r.err.rfind("pxh: error: " + e + ":7: heightfield 'f': distance 1e+15, fov_deg 45", 0), 0u)
         << r.err;
     EXPECT_NE(r.err.find("kMaxSampleCells"), std::string::npos) << r.err;
     EXPECT_FALSE(std::filesystem::exists(out));
