@@ -38,7 +38,7 @@ void add_run_flags(CLI::App& run, RunArgs& a) {
                  "no progress or summary (the final one-line count is still printed)");
     run.add_flag("--maps", a.o.maps, "write an error map (EXR + false-colour PNG) per row");
     std::string axes;  // the rows' axes, from the column registry
-    for (const ColumnSpec* c : row_axes()) axes += (axes.empty() ? "" : ", ") + c->name;
+    for (const std::string& k : only_keys()) axes += (axes.empty() ? "" : ", ") + k;
     run.add_option("--only", a.o.only,
                    "run a subset: KEY=VALUE[|VALUE],... with KEY one of the rows' axes (" + axes +
                        "), a numeric one also as a range KEY_min=V, KEY_max=V (theta_min for "

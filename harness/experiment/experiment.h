@@ -127,6 +127,8 @@ ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
 // V|V is "any of". An unknown key is an InputError("--only", ...) listing the keys (and the
 // nearest one); a key that matches nothing names what there is.
 void apply_only(Experiment& ex, const std::string& spec);
+// The axes --only selects by (row_axes() less those a run sets otherwise, such as samples).
+std::vector<std::string> only_keys();
 
 // A run with plug-in shaders needs the glsl backend: an InputError naming them otherwise (the
 // experiment's backends after --only, or `backends_override`, pxh run --backend, when given).

@@ -135,6 +135,23 @@ void keep_camera_settings(Experiment& ex, const std::string& key,
 
 }  // namespace
 
+namespace {
+
+// An axis --only selects by: every axis but those a run sets another way (samples).
+bool selectable(const std::string& axis) {
+    const auto s = selectors().find(axis);
+    return s == selectors().end() || s->second.apply;
+}
+
+}  // namespace
+
+std::vector<std::string> only_keys() {
+    std::vector<std::string> keys;
+    for (const ColumnSpec* c : row_axes())
+        if (selectable(c->name)) keys.push_back(c->name);
+    return keys;
+}
+
 void apply_only(Experiment& ex, const std::string& spec) {
     // Every key --only knows, from the registry's axes, and the camera's own keys.
     std::vector<std::string> known;
@@ -153,6 +170,7 @@ void apply_only(Experiment& ex, const std::string& spec) {
     const auto listed = [&] {
         std::string s;
         for (const std::string& k : known) {
+            if (!selectable(k)) continue;  // said when given
             const ColumnSpec* c = axis_of[k];
             s += (s.empty() ? "" : ", ") + k;
             if (c->numeric())

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "harness/backends/cpu_backend.h"
@@ -277,6 +278,18 @@ TEST(RunOnly, KeepsTheMatchingEntriesAndViews) {
               "--only: no heightfield matches (the experiment has: a (s=0.02 b=1), a "
               "(s=0.05 b=1), b (s=0.05 b=1))");
     EXPECT_THROW(apply_only(ex2, "color=red"), InputError);
+    // The keys it lists are the ones it selects by: samples is an axis a run sets with
+    // --samples, refused when given and not offered.
+    const std::vector<std::string> keys = only_keys();
+    EXPECT_EQ(std::count(keys.begin(), keys.end(), "samples"), 0);
+    for (const char* k : {"method", "theta_deg", "distance", "lod"})
+        EXPECT_EQ(std::count(keys.begin(), keys.end(), k), 1) << k;
+    const std::string unknown = test::input_error([&] { apply_only(ex2, "color=red"); });
+    EXPECT_EQ(unknown.find("samples"), std::string::npos) << unknown;
+    EXPECT_NE(unknown.find("distance (and distance_min, distance_max)"), std::string::npos)
+        << unknown;
+    EXPECT_NE(test::input_error([&] { apply_only(ex2, "samples=8"); }).find("not one to select by"),
+              std::string::npos);
 }
 
 }  // namespace

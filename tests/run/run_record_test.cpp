@@ -88,20 +88,24 @@ TEST(RunRecord, ShardRecordNamesItsUnitsAndSelection) {
 }
 
 TEST(RunRecord, ReadersRefuseWhatIsNotARecord) {
-    EXPECT_EQ(error_of([] { parse_run_record("{ not json", "d/run.json"); }).rfind(
-                  "d/run.json: unreadable: ", 0),
+    EXPECT_EQ(error_of([] {
+                  parse_run_record("{ not json", "d/run.json");
+              }).rfind("d/run.json: unreadable: ", 0),
               0u);
     EXPECT_EQ(error_of([] { parse_run_record("[1, 2]", "d/run.json"); }),
               "d/run.json: unreadable: not a JSON object");
     const nlohmann::json none = {{"rows", 1}};
-    EXPECT_EQ(error_of([&] { shard_record_of(none, "d/run.json", "d"); }).rfind(
-                  "d: is not a slice: its run.json has no shard record", 0),
+    EXPECT_EQ(error_of([&] {
+                  shard_record_of(none, "d/run.json", "d");
+              }).rfind("d: is not a slice: its run.json has no shard record", 0),
               0u);
     const nlohmann::json partial =
         nlohmann::json::parse(R"({"shard": {"index": 0, "units_total": 2}})");
     EXPECT_EQ(error_of([&] { shard_record_of(partial, "d/run.json", "d"); }),
               "d/run.json: shard record without 'count'");
-    EXPECT_EQ(error_of([] { check_recordable("out\xff", "pxh run", ""); }).rfind("--out: is not UTF-8", 0),
+    EXPECT_EQ(error_of([] {
+                  check_recordable("out\xff", "pxh run", "");
+              }).rfind("--out: is not UTF-8", 0),
               0u);
 }
 
