@@ -1,5 +1,6 @@
-// Internal to `pxh import` (heightfields/scanned.cpp, heightfields/scanned_sources.cpp): a
-// Debian package's unpacked files, a grid with holes, and the converters of the sources.
+// Internal to `pxh import` (heightfields/scanned_import.cpp and the files it calls) and the
+// scans' loading (heightfields/scanned.cpp): a Debian package's unpacked files, a grid with
+// holes, and the converters of the sources.
 #pragma once
 #include <cstdint>
 #include <nlohmann/json.hpp>
@@ -37,6 +38,23 @@ struct Converted {
 // the mean of those neighbours, all from the previous pass's state; sets grid.filled. Returns
 // the number of holes.
 int fill_holes(Grid& g);
+
+// The folder of the committed scans (heightfields/scanned): where `pxh import` writes and the
+// scans are listed and loaded from by default (heightfields/scanned.cpp).
+std::string default_scan_dir();
+
+// A Debian package's files, unpacked into cache/NAME once (later calls read the cache);
+// with `members`, only those paths ("./usr/...") (heightfields/scanned_packages.cpp).
+Package fetch_package(const std::string& name, const std::string& cache,
+                      const std::vector<std::string>& members = {});
+// License names from a Debian copyright file (machine-readable format: "License:" fields).
+std::vector<std::string> licences(const std::string& copyright);
+
+// The sources converted in heightfields/scanned_converters.cpp.
+Converted convert_jacksboro(const Package& pkg);
+Converted convert_motorcycle(const Package& pkg);
+Converted convert_bunny(const Package& pkg, const std::string& cache);
+Converted convert_lidar(const Package& pkg, const std::string& cache);
 
 // The sources converted in heightfields/scanned_sources.cpp.
 Converted convert_topobathy(const Package& pkg);

@@ -1,5 +1,6 @@
-// Scanned sources beside those of scanned.cpp (read by `pxh import`, heightfields/scanned.cpp). All
-// verified inside the Debian 12 packages (apt-get download + dpkg-deb -x):
+// Scanned sources beside those of scanned_converters.cpp (read by `pxh import`,
+// heightfields/scanned_import.cpp). All verified inside the Debian 12 packages (apt-get
+// download + dpkg-deb -x):
 //   topobathy  python-matplotlib-data: mpl-data/sample_data/topobathy.npz, float32 91 x 120
 //              metres (land and sea floor off British Columbia), lat/lon axes in the archive
 //   egm96      proj-data: /usr/share/proj/egm96_15.gtx, the EGM96 geoid undulation on a 15'

@@ -86,8 +86,10 @@ def main():
     spec = importlib.util.spec_from_file_location("plot_report", script)
     pr = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(pr)
+    pictures = sys.modules["plot_pictures"]  # the strips' GIFs (imported by plot_report)
+    figures = sys.modules["plot_figures"]  # Figures and matplotlib's pyplot
     findings, counts = [], []
-    save = pr.Figures.save
+    save = figures.Figures.save
 
     def checked_save(self, fig, name, panels, series, legend, **extra):
         f, n = check_figure(fig, name, self.width)
@@ -96,14 +98,14 @@ def main():
         if "--save" in argv[4:]:
             return save(self, fig, name, panels, series, legend, **extra)
         # checked as drawn; not written at 300 dpi (slow): the manifest entry only
-        pr.plt.close(fig)
+        figures.plt.close(fig)
         self.drawn.append(dict(name=name, files=[], panels=panels, series=series,
                                legend=legend, **extra))
 
-    pr.Figures.save = checked_save
+    figures.Figures.save = checked_save
     if "--save" not in argv[4:]:
         # the strips' animated GIFs are Pillow frames, no matplotlib text: nothing to check
-        pr.animate = lambda *args, **kwargs: None
+        pictures.animate = lambda *args, **kwargs: None
     sys.argv = [script, report, "--width", str(width), "--formats", "png"]
     pr.main()
     for line in findings:

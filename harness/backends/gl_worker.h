@@ -20,7 +20,7 @@
 // program linking the library that is not pxh (pxh_tests) names pxh's binary. A program that
 // names none draws in-process, without the time limit (in_process() says so).
 //
-// Adding a field to MethodOutput (or to GlslDraw): one line in its visit() in gl_worker.cpp,
+// Adding a field to MethodOutput (or to GlslDraw): one line in its visit() in gl_wire.h,
 // which both writes and reads it; a static_assert on sizeof(MethodOutput) there stops a build
 // whose MethodOutput grew without it.
 #pragma once

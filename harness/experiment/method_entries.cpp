@@ -184,6 +184,53 @@ std::vector<LodMode> read_lods(const ParamDict& t, const MethodInfo& m, const Ex
     return out;
 }
 
+// `heightfields`: the entries the method runs on (empty: all), each one known and, when the
+// method needs a bias, of that bias.
+std::vector<std::string> read_method_fields(const ParamDict& t, const std::string& name,
+                                            const MethodInfo& m, const Experiment& ex) {
+    const std::vector<std::string> fields = t.strings("heightfields", {});
+    for (const auto& f : fields) {
+        bool known = false;
+        for (const auto& h : ex.heightfields) known = known || h.name == f;
+        if (!known)
+            throw InputError(t.where("heightfields"),
+                             "method '" + name + "': no heightfield named '" + f + "'");
+    }
+    if (!std::isnan(m.required_bias))
+        for (const auto& h : ex.heightfields) {
+            const bool runs =
+                fields.empty() || std::find(fields.begin(), fields.end(), h.name) != fields.end();
+            if (runs && h.bias != m.required_bias)
+                throw InputError(t.where("name"), "method '" + name + "' needs bias = " +
+                                                      format_number(m.required_bias) + " (" +
+                                                      m.bias_reason + "); heightfield '" + h.name +
+                                                      "' has bias = " + format_number(h.bias));
+        }
+    return fields;
+}
+
+// The entry's rows from its factors, before the sweep is expanded, checked against the limits.
+void check_method_rows(const Sweeps& sweeps, const MethodSpec& proto,
+                       const std::vector<LodMode>& lods, const Experiment& ex, ParseState& state,
+                       const std::string& where) {
+    const MethodInfo* m = proto.method;
+    RowProduct rows;
+    for (const auto& [key, values] : sweeps)
+        if (values.size() > 1) rows.times(values.size(), key);
+    size_t fields_run = 0;
+    for (const auto& h : ex.heightfields) fields_run += proto.runs_on(h.name);
+    rows.times(fields_run, "heightfield(s)");
+    rows.times(ex.theta_deg.size(), "theta");
+    rows.times(ex.phi_deg.size(), "phi");
+    if (ex.camera_settings.size() > 1) rows.times(ex.camera_settings.size(), "camera settings");
+    size_t variants = 0;  // per parameter setting, over its lod modes (grad, implicit: GLSL)
+    for (LodMode lod : lods)
+        variants +=
+            variants_per_setting(ex, state.limits, !m->plugin_shader.empty() || lod_glsl_only(lod));
+    rows.times(variants, lods.size() > 1 ? "lod mode x backend variant(s)" : "backend variant(s)");
+    check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
+}
+
 }  // namespace
 
 void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
@@ -203,25 +250,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
         throw InputError(t.where("name"), "unknown method '" + name + "'" +
                                               did_you_mean(name, all) + " (known: " + names + ")");
     }
-    // `heightfields`: the entries it runs on (empty: all).
-    const std::vector<std::string> fields = t.strings("heightfields", {});
-    for (const auto& f : fields) {
-        bool known = false;
-        for (const auto& h : ex.heightfields) known = known || h.name == f;
-        if (!known)
-            throw InputError(t.where("heightfields"),
-                             "method '" + name + "': no heightfield named '" + f + "'");
-    }
-    if (!std::isnan(m->required_bias))
-        for (const auto& h : ex.heightfields) {
-            const bool runs =
-                fields.empty() || std::find(fields.begin(), fields.end(), h.name) != fields.end();
-            if (runs && h.bias != m->required_bias)
-                throw InputError(t.where("name"), "method '" + name + "' needs bias = " +
-                                                      format_number(m->required_bias) + " (" +
-                                                      m->bias_reason + "); heightfield '" + h.name +
-                                                      "' has bias = " + format_number(h.bias));
-        }
+    const std::vector<std::string> fields = read_method_fields(t, name, *m, ex);
     // The parameters in the table's order (the sweep's order), each read by its spec.
     const ParamDict& pt = plugin ? uniforms : t;
     Sweeps sweeps;
@@ -251,22 +280,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
                    name + "'" + (names.empty() ? " (it takes none)" : " (known: " + names + ")");
         });
     }
-    // Its rows from its factors, before the sweep is expanded.
-    RowProduct rows;
-    for (const auto& [key, values] : sweeps)
-        if (values.size() > 1) rows.times(values.size(), key);
-    size_t fields_run = 0;
-    for (const auto& h : ex.heightfields) fields_run += proto.runs_on(h.name);
-    rows.times(fields_run, "heightfield(s)");
-    rows.times(ex.theta_deg.size(), "theta");
-    rows.times(ex.phi_deg.size(), "phi");
-    if (ex.camera_settings.size() > 1) rows.times(ex.camera_settings.size(), "camera settings");
-    size_t variants = 0;  // per parameter setting, over its lod modes (grad, implicit: GLSL)
-    for (LodMode lod : lods)
-        variants +=
-            variants_per_setting(ex, state.limits, !m->plugin_shader.empty() || lod_glsl_only(lod));
-    rows.times(variants, lods.size() > 1 ? "lod mode x backend variant(s)" : "backend variant(s)");
-    check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
+    check_method_rows(sweeps, proto, lods, ex, state, where);
     // A setting given twice (a repeated value, or two entries) is measured once: its rows
     // would repeat, and pxh compare refuses repeated rows.
     size_t repeats = 0;

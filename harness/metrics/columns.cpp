@@ -17,11 +17,9 @@ constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
 constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
 constexpr ColumnAxis kNamed = ColumnAxis::named, kQuiet = ColumnAxis::quiet;
 
-// THE table: every column of results.csv, in file order, grouped by the metric that fills it.
-// One line per column; a new column goes where it should appear in results.csv (a new metric's
-// columns before status, error).
-const std::vector<ColumnSpec>& builtin_columns() {
-    static const std::vector<ColumnSpec> cols = {
+// What ran: the keys of a row.
+std::vector<ColumnSpec> run_columns() {
+    return {
         // What ran (harness/run/runner.cpp fills them).
         {"method", kText, kKey, "the method (methods/NAME)", kNamed},
         {"params", kText, kKey, "its parameters, canonical (k=v;k=v)", kNamed},
@@ -44,6 +42,12 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"camera", kText, kKey, "orthographic | perspective ([views] camera)", kQuiet},
         // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit", kNamed},
+    };
+}
+
+// The error statistics and the height fetches.
+std::vector<ColumnSpec> error_columns() {
+    return {
         // Error statistics (harness/metrics/error_stats.cpp).
         {"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"},
         {"err_rms", kNum, kMeasured, "root mean square texel error"},
@@ -69,6 +73,12 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"fetches_max", kNum, kMeasured,
          "filtered lookups (height map or precomputed map) per sample, max"},
         {"fetches_bound", kInt, kKey, "the method's declared fetch bound for this view"},
+    };
+}
+
+// Timing, agreement between backends and precisions, sweeps.
+std::vector<ColumnSpec> timing_columns() {
+    return {
         // Timing (harness/metrics/timing.cpp), in the unit the row's backend names; each
         // backend's counters follow time_repeats (from the backends' registry entries).
         {"time", kNum, kMeasured, "median time of the timed repeats, in time_unit"},
@@ -93,6 +103,12 @@ const std::vector<ColumnSpec>& builtin_columns() {
          "perspective: mean |change of e - mean change| / dd (texels per tile)"},
         {"sweep_dd", kNum, kMeasured,
          "the distance step dd the two above were measured over (tiles)"},
+    };
+}
+
+// Error maps, pictures, ground truth, method resources, outcome.
+std::vector<ColumnSpec> output_columns() {
+    return {
         // Error map (harness/results/error_maps.cpp).
         {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
         // Pictures of the [render] views (harness/results/pictures.cpp, metrics/image_metrics).
@@ -125,6 +141,19 @@ const std::vector<ColumnSpec>& builtin_columns() {
         {"status", kText, kKey, "ok | failed"},
         {"error", kText, kKey, "the message when failed"},
     };
+}
+
+// THE table: every column of results.csv, in file order, grouped by the metric that fills it.
+// One line per column; a new column goes where it should appear in results.csv (a new metric's
+// columns before status, error).
+// It is the groups above, concatenated in file order.
+const std::vector<ColumnSpec>& builtin_columns() {
+    static const std::vector<ColumnSpec> cols = [] {
+        std::vector<ColumnSpec> all;
+        for (auto group : {run_columns, error_columns, timing_columns, output_columns})
+            for (ColumnSpec& c : group()) all.push_back(std::move(c));
+        return all;
+    }();
     return cols;
 }
 

@@ -1,0 +1,134 @@
+// pxh compare's reading of the two runs: BASE's results.csv kept as compact records by key,
+// NEW's streamed past them one row at a time, matched pairs checked (field size, ground truth,
+// time unit) and handed to the tallies.
+#include <filesystem>
+#include <unordered_set>
+
+#include "harness/core/error.h"
+#include "harness/metrics/columns.h"
+#include "harness/metrics/timing_stats.h"
+#include "harness/report/compare_parts.h"
+#include "harness/results/csv_table.h"
+#include "harness/results/results.h"
+
+namespace pxh::compare_detail {
+
+const char* const kErrors[] = {"err_mean",     "err_p95",     "err_max",
+                               "fetches_mean", "err_px_mean", "err_px_p95"};
+
+namespace {
+
+Rec rec_of(const ResultRow& r, size_t line, const std::string& where, const CompareOptions& opt,
+           Pool& pool) {
+    Rec x;
+    x.line = line;
+    x.ok = r.ok();
+    x.error = r.text("error");
+    x.shader = pool.of(r.text("shader"));
+    x.shader_sha256 = pool.of(r.text("shader_sha256"));
+    x.ground_truth = pool.of(r.text("ground_truth"));
+    x.width = r.num("width");
+    x.height = r.num("height");
+    x.theta = r.num("theta_deg");
+    for (int i = 0; i < kNumErrors; ++i) x.err[i] = r.num(kErrors[i]);
+    for (const CompareTolerance& t : opt.fail_on) x.tol.push_back(r.num(t.column));
+    x.time_unit = pool.of(r.text("time_unit"));
+    x.t_median = r.num("time");
+    const auto reps = parse_repeats(r.text("time_repeats"));
+    if (!reps)
+        throw InputError(where, "column 'time_repeats': '" + r.text("time_repeats") +
+                                    "' is not a ';'-separated list of times");
+    x.repeats = *reps;
+    return x;
+}
+
+std::string size_of(const Rec& r) { return sig(r.width) + "x" + sig(r.height); }
+
+// results.csv of a results folder, one typed row at a time.
+class RowStream {
+  public:
+    explicit RowStream(const std::string& dir)
+        : in_(path_of(dir)), specs_(column_specs_of(in_.columns())) {}
+    bool next(ResultRow& row) {
+        if (!in_.next(fields_)) return false;
+        row = parse_result_row(specs_, fields_, in_.where());
+        return true;
+    }
+    std::string where() const { return in_.where(); }
+    size_t line() const { return in_.line(); }
+    const std::string& path() const { return in_.path(); }
+
+  private:
+    static std::string path_of(const std::string& dir) {
+        const auto path = std::filesystem::path(dir) / "results.csv";
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(path, ec))
+            throw InputError(dir, "no results.csv here (a pxh run's results folder is needed)");
+        return path.string();
+    }
+    CsvReader in_;
+    std::vector<const ColumnSpec*> specs_;
+    std::vector<std::string> fields_;
+};
+
+// Rows that only look alike: refused, not compared.
+void check_alike(const Rec& b, const Rec& n, const std::string& name, const std::string& where,
+                 const std::string& there) {
+    if (!same(b.width, n.width) || !same(b.height, n.height))
+        throw InputError(where, name + " is on a " + size_of(n) + " field here but " + size_of(b) +
+                                    " in BASE (" + there +
+                                    "): compare refuses to match rows across "
+                                    "different field sizes");
+    if (*b.ground_truth != *n.ground_truth)
+        throw InputError(where, name + " is measured against ground truth '" + *n.ground_truth +
+                                    "' here but '" + *b.ground_truth + "' in BASE (" + there +
+                                    "): compare refuses to match rows across "
+                                    "different ground truths");
+    if (!b.time_unit->empty() && !n.time_unit->empty() && *b.time_unit != *n.time_unit)
+        throw InputError(where, name + " is timed in " + *n.time_unit + " here but in " +
+                                    *b.time_unit + " in BASE (" + there +
+                                    "): compare refuses to compare times in "
+                                    "different units");
+}
+
+}  // namespace
+
+void read_base(const std::string& base_dir, const CompareOptions& opt, Base& base) {
+    RowStream in(base_dir);
+    base.csv = in.path();
+    ResultRow row;
+    while (in.next(row)) {
+        base.values.add(row);
+        if (!base.by_key.emplace(key_of(row), base.rows.size()).second)
+            throw InputError(in.where(), "two rows with the same keys (" + row_name(row) + ")");
+        base.rows.push_back(rec_of(row, in.line(), in.where(), opt, base.pool));
+    }
+}
+
+KeyValues stream_new(const std::string& new_dir, const CompareOptions& opt, Base& base,
+                     Bands& bands, Tally& tally) {
+    KeyValues new_values;
+    RowStream in(new_dir);
+    std::unordered_set<std::string> only_new;  // the keys of NEW's rows that BASE lacks
+    ResultRow row;
+    while (in.next(row)) {
+        new_values.add(row);
+        const Rec n = rec_of(row, in.line(), in.where(), opt, base.pool);
+        const std::string key = key_of(row), name = row_name(row);
+        const auto it = base.by_key.find(key);
+        Rec* b = it == base.by_key.end() ? nullptr : &base.rows[it->second];
+        if (b ? b->matched : !only_new.insert(key).second)
+            throw InputError(in.where(), "two rows with the same keys (" + name + ")");
+        if (!b) {
+            ++tally.only_new;
+            tally.only_new_names.add(name);
+            continue;
+        }
+        b->matched = true;
+        check_alike(*b, n, name, in.where(), base.csv + ":" + std::to_string(b->line));
+        add_pair(*b, n, row, name, opt, bands, tally);
+    }
+    return new_values;
+}
+
+}  // namespace pxh::compare_detail

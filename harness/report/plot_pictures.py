@@ -1,0 +1,208 @@
+"""pxh report's plot script (plot_report.py): the rendered pictures: a montage per view (truth,
+each setting's picture over its difference), a strip per setting over the theta sweep, and its
+animated GIF."""
+import math
+import os
+import sys
+
+import matplotlib.image as mpimg
+import numpy as np
+
+from plot_files import inside, num, safe
+from plot_text import ellipsize, fit, metrics_text, view_tag, view_title
+from plot_figures import group, plt, setting
+
+
+def load(results, rel, what="data/pictures.csv", cache={}):
+    path = inside(results, rel, what)
+    if path not in cache:
+        if not os.path.exists(path):
+            print(f"pxh: warning: picture not found: {path} (left blank)", file=sys.stderr)
+            cache[path] = None
+        else:
+            cache[path] = mpimg.imread(path)
+    return cache[path]
+
+
+def same_picture(results, a, b):
+    x, y = load(results, a), load(results, b)
+    return x is not None and y is not None and x.shape == y.shape and (x == y).all()
+
+
+def fold_pictures(results, rows):
+    """[(groups, row)] per setting: rows whose pictures are identical, pixel for pixel, are
+    shown once."""
+    out = {}
+    for r in rows:
+        per = out.setdefault(setting(r), [])
+        for gs, ref in per:
+            if same_picture(results, ref["picture"], r["picture"]):
+                gs.append(group(r))
+                break
+        else:
+            per.append(([group(r)], r))
+    return out
+
+
+def show(ax, img):
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for sp in ax.spines.values():
+        sp.set_linewidth(0.3)
+    if img is not None:
+        ax.imshow(img, interpolation="nearest")
+
+
+def image_grid(width, ncols, pads, bottom, left=0.0):
+    """A figure of square image axes, ncols wide: pads[i] inches above row i (titles, labels),
+    `bottom` inches below the last row, `left` inches for row labels; exact positions, so the
+    images fill the width with no empty band."""
+    gap, margin = 0.04, 0.03  # margin: each side, so spines and labels stay inside the width
+    left += margin
+    cell = (width - left - margin - (ncols - 1) * gap) / ncols
+    height = sum(pads) + len(pads) * cell + bottom
+    fig = plt.figure(figsize=(width, height))
+    axes, y = [], height
+    for pad in pads:
+        y -= pad + cell
+        axes.append([fig.add_axes([(left + j * (cell + gap)) / width, y / height, cell / width,
+                                   cell / height]) for j in range(ncols)])
+    return fig, axes
+
+
+def picture_montage(F, st, results, rows):
+    """One field and view: the truth's picture, then per method setting its picture over its
+    difference from the truth (identical pictures of several groups shown once)."""
+    r0 = rows[0]
+    folded = fold_pictures(results, rows)
+    tiles = [(s, gs, r) for s in st.order if s in folded for gs, r in folded[s]]
+    multi = any(len(v) > 1 for v in folded.values())
+    cells = [(None, None, r0)] + tiles
+    nc = min(len(cells), 6 if F.width >= 6 else 3)
+    blocks = math.ceil(len(cells) / nc)
+    cell = F.width / nc - 0.06
+    names = ["truth (ray traced)"] + [fit(st.full[s], cell, 6, 2 if multi else 3) + (
+        "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
+    groups = sorted({g for t in tiles for g in t[1]})
+    note = None if multi or len(groups) < 2 else (
+        " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
+    cam = view_title(r0)
+    title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
+                f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                ": a numbered checkerboard through each "
+                "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
+                F.width, 7, 4)
+
+    def lines_in(k):  # the most title lines of block k
+        return max(n.count("\n") + 1 for n in names[k * nc:(k + 1) * nc])
+
+    def line(pt):  # inches a line of pt-point text takes
+        return pt * 1.25 / 72
+
+    # above block 0: the figure's title and the tiles' titles; above the others: the previous
+    # block's PSNR / SSIM lines (two, 5.5 pt) and the titles
+    pads = [p for k in range(blocks) for p in (
+        ((title.count("\n") + 1) * line(7) + 0.06 if k == 0 else 2 * line(5.5) + 0.08) +
+        lines_in(k) * line(6.5) + 0.06, 0.03)]
+    fig, axes = image_grid(F.width, nc, pads, 0.3)
+    for ax in (a for row in axes for a in row):
+        ax.axis("off")
+    for k, (s, gs, r) in enumerate(cells):
+        top, bottom = axes[2 * (k // nc)][k % nc], axes[2 * (k // nc) + 1][k % nc]
+        top.axis("on")
+        if s is None:
+            show(top, load(results, r["picture_truth"]))
+            top.set_title("truth (ray traced)", fontsize=6.5)
+            continue
+        bottom.axis("on")
+        show(top, load(results, r["picture"]))
+        show(bottom, load(results, r["picture_diff"]))
+        top.set_title(names[k], fontsize=6)
+        bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
+                    ha="center", va="top", transform=bottom.transAxes)
+    fig.suptitle(title, fontsize=7, y=1.0, va="top")
+    name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
+                + (r0.get("camera_tag") or ""))
+    F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
+
+
+def strip(F, st, results, rows):
+    """One method setting over the θ sweep: truth, method, difference per θ (its first group;
+    with an animated GIF of the same frames)."""
+    s = setting(rows[0])
+    g = group(rows[0])
+    rows = sorted((r for r in rows if group(r) == g), key=lambda r: num(r["theta_deg"]))
+    n = len(rows)
+    r0 = rows[0]
+    cam = view_title(r0)
+    title = fit(f"{st.labels[s]} [{g}] on {r0['heightfield']} over the θ sweep "
+                f"(φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
+                "); under each: PSNR dB, SSIM", F.width, 7, 3)
+    # above the tiles: the title's lines (7 pt) and the θ heads (6 pt); 0.45 in for two lines
+    top = max(0.45, (title.count("\n") + 1) * 7 * 1.25 / 72 + 6 * 1.25 / 72 + 0.1)
+    fig, axes = image_grid(F.width, n, [top, 0.03, 0.03], 0.3, left=0.3)
+    for j, r in enumerate(rows):
+        for i, key in enumerate(("picture_truth", "picture", "picture_diff")):
+            show(axes[i][j], load(results, r[key]))
+        cell = (F.width - 0.3) / n
+        axes[0][j].set_title(fit(f"θ = {num(r['theta_deg']):g}°", cell, 6, 1), fontsize=6)
+        # PSNR over SSIM, alternate tiles a line lower when tiles are too narrow for them
+        low = cell < 0.62 and j % 2 == 1
+        axes[2][j].text(0.5, -0.03 - (0.42 if low else 0), metrics_text(r).replace(", ", "\n")
+                        .replace("PSNR ", "").replace("SSIM ", ""), fontsize=5 if cell < 0.62
+                        else 5.5, ha="center", va="top", transform=axes[2][j].transAxes)
+    side = axes[0][0].get_position().height * fig.get_figheight()
+    small = side < 0.6
+    for i, lab in enumerate(("truth", st.labels[s], "|diff.|" if small else "|difference|")):
+        axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
+                              fontsize=5 if small else 6, labelpad=2)
+    fig.suptitle(title, fontsize=7, y=1.0, va="top")
+    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}")
+    F.save(fig, name, 3 * n, 1, [])
+    animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
+
+
+def animate(F, results, rows, name, what):
+    """An animated GIF: per θ, truth | method | difference side by side (Pillow, the
+    python3-pil package matplotlib depends on)."""
+    from PIL import Image, ImageDraw
+    frames = []
+    for r in rows:
+        imgs = [load(results, r[k]) for k in ("picture_truth", "picture", "picture_diff")]
+        if any(i is None for i in imgs):
+            return
+        row = np.concatenate([i[..., :3] for i in imgs], axis=1)
+        img = Image.fromarray((row * 255).round().astype("uint8")).resize(
+            (row.shape[1] * 2, row.shape[0] * 2), Image.NEAREST)
+        canvas = Image.new("RGB", (img.width, img.height + 16), "white")
+        canvas.paste(img, (0, 16))
+        text = (f"{what}  theta = {num(r['theta_deg']):g} deg  (truth | method | difference)"
+                f"  {metrics_text(r).replace('∞', 'inf')}")
+        # PIL's built-in bitmap font draws Latin-1 only: anything else becomes '?'
+        text = ellipsize(text, img.width // 6).replace("…", "...")
+        text = text.encode("latin-1", "replace").decode("latin-1")
+        ImageDraw.Draw(canvas).text((4, 2), text, fill="black")
+        frames.append(canvas)
+    path = os.path.join(F.out, name + ".gif")
+    F.own.write(name + ".gif", lambda f: frames[0].save(
+        f, format="GIF", save_all=True, append_images=frames[1:], duration=900, loop=0))
+    print(f"plot: {path}")
+    F.drawn[-1]["files"].append(name + ".gif")
+
+
+def pictures(F, st, rows):
+    results = os.path.dirname(os.path.abspath(F.out))
+    views = {}
+    strips = {}
+    for r in rows:  # a montage per view (camera keys included: one truth each), a strip per
+        # field, azimuth, camera view and setting (its level mode: one strip each)
+        cam = r.get("camera_view", "")
+        if "montage" in r["picture_use"].split():
+            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam),
+                             []).append(r)
+        if "strip" in r["picture_use"].split():
+            strips.setdefault((r["heightfield"], r["phi_deg"], cam, setting(r)), []).append(r)
+    for v in views.values():
+        picture_montage(F, st, results, v)
+    for v in strips.values():
+        strip(F, st, results, v)
