@@ -185,8 +185,8 @@ namespace {
 // cell beyond the face, `oc` to the other axis' cell at t (o, with origin O0 and step d:
 // DdaAxis::last_entered; `on_y`, the face is a row: ties go to x).
 [[gnu::always_inline]] inline void skip_block(const Axis& o, double O0, double d, double t,
-                                                int64_t beyond, int64_t& c, int64_t& oc,
-                                                bool on_y = false) {
+                                              int64_t beyond, int64_t& c, int64_t& oc,
+                                              bool on_y = false) {
     if (o.moves) oc = o.last_entered(oc, int64_t(std::floor(O0 + t * d)), t, on_y);
     c = beyond;
 }
