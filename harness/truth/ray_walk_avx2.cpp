@@ -431,13 +431,57 @@ PXH_AVX2_INLINE void dda_advance(V& c, V& l, V& el, V& e, V m, V step, V origin,
     e = blend(m, e, mul(sub(el, origin), inv));
 }
 
+// cell_solver::first_root(c0, c1, c2, len) for the lanes `roots` (ray_walk_simd.cpp's
+// dda_roots): the first root in [0, len], or -1 where none is found.
+PXH_AVX2_INLINE V dda_roots(V c0, V c1, V c2, V len, V f_end, V roots) {
+    const V zero = _mm256_setzero_pd();
+    const V sign = _mm256_castsi256_pd(_mm256_set1_epi64x(int64_t(0x8000000000000000ULL)));
+    const V magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
+    V best = set1(-1);
+    const V c2ll = mul(mul(and_(c2, magnitude), len), len);
+    const V scale = add(add(and_(c0, magnitude), mul(and_(c1, magnitude), len)), c2ll);
+    const V linear = and_(roots, le(c2ll, mul(set1(1e-14), scale)));
+    // consider(t): 0 <= t <= len and (best < 0 or t < best).
+    V cand[3], ok[3];
+    cand[0] = div(xor_(c0, sign), c1);
+    ok[0] = and_(linear, lt(c1, zero));
+    const V quad = andnot(linear, roots);
+    const V disc = sub(mul(c1, c1), mul(mul(set1(4), c2), c0));
+    const V root = _mm256_sqrt_pd(disc);
+    const V q = mul(set1(-0.5), add(c1, or_(and_(root, magnitude), and_(c1, sign))));
+    const V two_roots = and_(and_(quad, ge(disc, zero)), ne(q, zero));
+    cand[1] = div(q, c2);
+    cand[2] = div(c0, q);
+    ok[1] = ok[2] = two_roots;
+    for (int r = 0; r < 3; ++r) {
+        const V take = and_(and_(and_(ok[r], ge(cand[r], zero)), le(cand[r], len)),
+                            or_(lt(best, zero), lt(cand[r], best)));
+        best = blend(take, best, cand[r]);
+    }
+    // No root found but the end value proves a crossing: first_root's bisection.
+    const int bisect = bits(and_(and_(roots, lt(best, zero)), le(f_end, zero)));
+    if (bisect) {
+        alignas(32) double bq[4], a0[4], a1[4], a2[4], al[4];
+        _mm256_store_pd(bq, best);
+        _mm256_store_pd(a0, c0);
+        _mm256_store_pd(a1, c1);
+        _mm256_store_pd(a2, c2);
+        _mm256_store_pd(al, len);
+        for (unsigned mm = unsigned(bisect); mm; mm &= mm - 1) {
+            const int r = __builtin_ctz(mm);
+            bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
+        }
+        best = _mm256_load_pd(bq);
+    }
+    return best;
+}
+
 // One cell of the DDA for every active lane (walk_dda's, cell_below's test, solve_patch).
 PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     const V zero = _mm256_setzero_pd(), one = set1(1), mone = set1(-1);
     const V W = set1(sc.W), H = set1(sc.H);
     const V zt = set1(sc.zt), s = set1(sc.s), b = set1(sc.b), neg_s = set1(-sc.s);
     const V sign = _mm256_castsi256_pd(_mm256_set1_epi64x(int64_t(0x8000000000000000ULL)));
-    const V magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7fffffffffffffffLL));
     const V tau_out = std_min(std_min(G.ex, G.ey), G.tm);
     const V fresh = and_(G.active, gt(tau_out, G.counted));
     G.walked = _mm256_sub_epi64(G.walked, _mm256_castpd_si256(fresh));  // + 1 where fresh
@@ -489,43 +533,7 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
             and_(gt(f_end, zero), or_(or_(le(c2, zero), ge(c1, zero)), le(slope_end, zero)));
         const V roots = andnot(clears, andnot(at_entry, solve));
         V best = mone;
-        if (bits(roots)) {
-            const V c2ll = mul(mul(and_(c2, magnitude), len), len);
-            const V scale = add(add(and_(c0, magnitude), mul(and_(c1, magnitude), len)), c2ll);
-            const V linear = and_(roots, le(c2ll, mul(set1(1e-14), scale)));
-            // consider(t): 0 <= t <= len and (best < 0 or t < best).
-            V cand[3], ok[3];
-            cand[0] = div(xor_(c0, sign), c1);
-            ok[0] = and_(linear, lt(c1, zero));
-            const V quad = andnot(linear, roots);
-            const V disc = sub(mul(c1, c1), mul(mul(set1(4), c2), c0));
-            const V root = _mm256_sqrt_pd(disc);
-            const V q = mul(set1(-0.5), add(c1, or_(and_(root, magnitude), and_(c1, sign))));
-            const V two_roots = and_(and_(quad, ge(disc, zero)), ne(q, zero));
-            cand[1] = div(q, c2);
-            cand[2] = div(c0, q);
-            ok[1] = ok[2] = two_roots;
-            for (int r = 0; r < 3; ++r) {
-                const V take = and_(and_(and_(ok[r], ge(cand[r], zero)), le(cand[r], len)),
-                                    or_(lt(best, zero), lt(cand[r], best)));
-                best = blend(take, best, cand[r]);
-            }
-            // No root found but the end value proves a crossing: first_root's bisection.
-            const int bisect = bits(and_(and_(roots, lt(best, zero)), le(f_end, zero)));
-            if (bisect) {
-                alignas(32) double bq[4], a0[4], a1[4], a2[4], al[4];
-                _mm256_store_pd(bq, best);
-                _mm256_store_pd(a0, c0);
-                _mm256_store_pd(a1, c1);
-                _mm256_store_pd(a2, c2);
-                _mm256_store_pd(al, len);
-                for (unsigned mm = unsigned(bisect); mm; mm &= mm - 1) {
-                    const int r = __builtin_ctz(mm);
-                    bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
-                }
-                best = _mm256_load_pd(bq);
-            }
-        }
+        if (bits(roots)) best = dda_roots(c0, c1, c2, len, f_end, roots);
         const V found = and_(roots, ge(best, zero));
         t_hit = blend(found, t_hit, add(tin, best));
         t_hit = blend(at_entry, t_hit, tin);

@@ -179,6 +179,40 @@ inline void ExactTracer::prefetch_cell(int li, int lj) const {
     __builtin_prefetch(c + texel_stride());
 }
 
+namespace {
+
+// walk_blocks's skip of a block across the face it reaches first, at time t: `c` moves to the
+// cell beyond the face, `oc` to the other axis' cell at t (o, with origin O0 and step d:
+// DdaAxis::last_entered; `on_y`, the face is a row: ties go to x).
+[[gnu::always_inline]] inline void skip_block(const Axis& o, double O0, double d, double t,
+                                              int64_t beyond, int64_t& c, int64_t& oc,
+                                              bool on_y = false) {
+    if (o.moves) oc = o.last_entered(oc, int64_t(std::floor(O0 + t * d)), t, on_y);
+    c = beyond;
+}
+
+// walk_blocks's new cell (ci, cj): its tile (ox, oy) and local indices (li, lj); the level
+// climbs one at most, and only once the ray has left the current block's parent (inside it,
+// the parent's test would fail again), as trace does.
+[[gnu::always_inline]] inline void move_to_cell(int64_t ci, int64_t cj, int W, int H, int top,
+                                                int64_t& ox, int64_t& oy, int& li, int& lj,
+                                                int& level) {
+    const int oli = li, olj = lj;
+    li = int(ci - ox);
+    lj = int(cj - oy);
+    if (li >= W || li < 0 || lj >= H || lj < 0) {
+        ox = cell_solver::floor_div(ci, W) * W;
+        oy = cell_solver::floor_div(cj, H) * H;
+        li = int(ci - ox);
+        lj = int(cj - oy);
+        level = std::min(level + 1, top);
+    } else if (const unsigned diff = unsigned(oli ^ li) | unsigned(olj ^ lj); diff) {
+        level = std::max(level, std::min(std::min(31 - __builtin_clz(diff), level + 1), top));
+    }
+}
+
+}  // namespace
+
 TruthHit ExactTracer::walk_blocks(const WalkState& w) const {
     // The walk's state in locals (registers), not in `w`: stores to it would make the compiler
     // reload the tracer's sizes and tables after each (they could alias).
@@ -260,33 +294,10 @@ TruthHit ExactTracer::walk_blocks(const WalkState& w) const {
             }
             if (tau_out >= tau_max) return hit_at(r, tau_max, cells);
             // Skip the block: the DDA leaves it across the face it reaches first (x on a tie).
-            if (ex <= ey) {
-                const int64_t nci = sx > 0 ? gx1 : gx0 - 1;
-                if (ay.moves)
-                    cj = ay.last_entered(cj, int64_t(std::floor(r.Y0 + ex * r.dY)), ex, false);
-                ci = nci;
-            } else {
-                const int64_t ncj = sy > 0 ? gy1 : gy0 - 1;
-                if (ax.moves)
-                    ci = ax.last_entered(ci, int64_t(std::floor(r.X0 + ey * r.dX)), ey, true);
-                cj = ncj;
-            }
+            if (ex <= ey) skip_block(ay, r.Y0, r.dY, ex, sx > 0 ? gx1 : gx0 - 1, ci, cj);
+            else skip_block(ax, r.X0, r.dX, ey, sy > 0 ? gy1 : gy0 - 1, cj, ci, true);
         }
-        // The new cell's tile and local indices; climb one level at most, and only once the
-        // ray has left the current block's parent (inside it, the parent's test would fail
-        // again), as trace does.
-        const int oli = li, olj = lj;
-        li = int(ci - ox);
-        lj = int(cj - oy);
-        if (li >= W || li < 0 || lj >= H || lj < 0) {
-            ox = cell_solver::floor_div(ci, W) * W;
-            oy = cell_solver::floor_div(cj, H) * H;
-            li = int(ci - ox);
-            lj = int(cj - oy);
-            level = std::min(level + 1, top);
-        } else if (const unsigned diff = unsigned(oli ^ li) | unsigned(olj ^ lj); diff) {
-            level = std::max(level, std::min(std::min(31 - __builtin_clz(diff), level + 1), top));
-        }
+        move_to_cell(ci, cj, W, H, top, ox, oy, li, lj, level);
         // Near the surface, the cell's texels are read a step or two later: request them now.
         if (level <= 2) prefetch_cell(li, lj);
     }

@@ -421,9 +421,68 @@ PXH_AVX512_INLINE void dda_advance(__m512d& c, __m512d& l, __m512d& el, __m512d&
     e = _mm512_mask_mul_pd(e, m, _mm512_sub_pd(el, origin), inv);
 }
 
+// cell_solver::first_root(c0, c1, c2, len) for the lanes `roots` (dda_step's, where the patch
+// may cross the ray inside the cell): the first root in [0, len], or -1 where none is found.
+PXH_AVX512_INLINE __m512d dda_roots(__m512d c0, __m512d c1, __m512d c2, __m512d len, __m512d f_end,
+                                    __mmask8 roots) {
+    const __m512d zero = _mm512_setzero_pd();
+    const __m512d sign = _mm512_castsi512_pd(_mm512_set1_epi64(int64_t(0x8000000000000000ULL)));
+    const __m512d magnitude = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffffLL));
+    __m512d best = _mm512_set1_pd(-1);
+    const __m512d c2ll = _mm512_mul_pd(_mm512_mul_pd(_mm512_and_pd(c2, magnitude), len), len);
+    const __m512d scale =
+        _mm512_add_pd(_mm512_add_pd(_mm512_and_pd(c0, magnitude),
+                                    _mm512_mul_pd(_mm512_and_pd(c1, magnitude), len)),
+                      c2ll);
+    const __mmask8 linear =
+        roots & _mm512_cmp_pd_mask(c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale), _CMP_LE_OQ);
+    // consider(t): 0 <= t <= len and (best < 0 or t < best).
+    __m512d cand[3];
+    __mmask8 ok[3];
+    const __mmask8 lin_root = linear & _mm512_cmp_pd_mask(c1, zero, _CMP_LT_OQ);
+    cand[0] = _mm512_div_pd(_mm512_xor_pd(c0, sign), c1);
+    ok[0] = lin_root;
+    const __mmask8 quad = roots & __mmask8(~linear);
+    const __m512d disc = _mm512_sub_pd(_mm512_mul_pd(c1, c1),
+                                       _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
+    const __m512d root = _mm512_sqrt_pd(disc);
+    const __m512d q = _mm512_mul_pd(
+        _mm512_set1_pd(-0.5),
+        _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude), _mm512_and_pd(c1, sign))));
+    const __mmask8 two_roots = quad & _mm512_cmp_pd_mask(disc, zero, _CMP_GE_OQ) &
+                               _mm512_cmp_pd_mask(q, zero, _CMP_NEQ_OQ);
+    cand[1] = _mm512_div_pd(q, c2);
+    cand[2] = _mm512_div_pd(c0, q);
+    ok[1] = ok[2] = two_roots;
+    for (int r = 0; r < 3; ++r) {
+        const __mmask8 take = ok[r] & _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
+                              _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
+                              (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
+                               _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
+        best = _mm512_mask_mov_pd(best, take, cand[r]);
+    }
+    // No root found but the end value proves a crossing: first_root's bisection.
+    const __mmask8 bisect = roots & _mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) &
+                            _mm512_cmp_pd_mask(f_end, zero, _CMP_LE_OQ);
+    if (bisect) {
+        alignas(64) double bq[8], a0[8], a1[8], a2[8], al[8];
+        _mm512_store_pd(bq, best);
+        _mm512_store_pd(a0, c0);
+        _mm512_store_pd(a1, c1);
+        _mm512_store_pd(a2, c2);
+        _mm512_store_pd(al, len);
+        for (unsigned mm = bisect; mm; mm &= mm - 1) {
+            const int r = __builtin_ctz(mm);
+            bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
+        }
+        best = _mm512_load_pd(bq);
+    }
+    return best;
+}
+
 // One cell of the DDA for every active lane (walk_dda's, cell_below's test, solve_patch).
 PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
-    PXH_DDA_CONSTS(void) iW, (void)iH, (void)inf, (void)up;
+    PXH_DDA_CONSTS(void) iW, (void)iH, (void)inf, (void)up, (void)magnitude;
     const __m512d tau_out = std_min(std_min(G.ex, G.ey), G.tm);
     const __mmask8 fresh = G.active & _mm512_cmp_pd_mask(tau_out, G.counted, _CMP_GT_OQ);
     G.walked = _mm512_mask_add_epi64(G.walked, fresh, G.walked, _mm512_set1_epi64(1));
@@ -482,58 +541,7 @@ PXH_AVX512_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
              _mm512_cmp_pd_mask(slope_end, zero, _CMP_LE_OQ));
         const __mmask8 roots = solve & __mmask8(~at_entry) & __mmask8(~clears);
         __m512d best = mone;
-        if (roots) {
-            const __m512d c2ll =
-                _mm512_mul_pd(_mm512_mul_pd(_mm512_and_pd(c2, magnitude), len), len);
-            const __m512d scale =
-                _mm512_add_pd(_mm512_add_pd(_mm512_and_pd(c0, magnitude),
-                                            _mm512_mul_pd(_mm512_and_pd(c1, magnitude), len)),
-                              c2ll);
-            const __mmask8 linear =
-                roots &
-                _mm512_cmp_pd_mask(c2ll, _mm512_mul_pd(_mm512_set1_pd(1e-14), scale), _CMP_LE_OQ);
-            // consider(t): 0 <= t <= len and (best < 0 or t < best).
-            __m512d cand[3];
-            __mmask8 ok[3];
-            const __mmask8 lin_root = linear & _mm512_cmp_pd_mask(c1, zero, _CMP_LT_OQ);
-            cand[0] = _mm512_div_pd(_mm512_xor_pd(c0, sign), c1);
-            ok[0] = lin_root;
-            const __mmask8 quad = roots & __mmask8(~linear);
-            const __m512d disc = _mm512_sub_pd(
-                _mm512_mul_pd(c1, c1), _mm512_mul_pd(_mm512_mul_pd(_mm512_set1_pd(4), c2), c0));
-            const __m512d root = _mm512_sqrt_pd(disc);
-            const __m512d q = _mm512_mul_pd(
-                _mm512_set1_pd(-0.5), _mm512_add_pd(c1, _mm512_or_pd(_mm512_and_pd(root, magnitude),
-                                                                     _mm512_and_pd(c1, sign))));
-            const __mmask8 two_roots = quad & _mm512_cmp_pd_mask(disc, zero, _CMP_GE_OQ) &
-                                       _mm512_cmp_pd_mask(q, zero, _CMP_NEQ_OQ);
-            cand[1] = _mm512_div_pd(q, c2);
-            cand[2] = _mm512_div_pd(c0, q);
-            ok[1] = ok[2] = two_roots;
-            for (int r = 0; r < 3; ++r) {
-                const __mmask8 take = ok[r] & _mm512_cmp_pd_mask(cand[r], zero, _CMP_GE_OQ) &
-                                      _mm512_cmp_pd_mask(cand[r], len, _CMP_LE_OQ) &
-                                      (_mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) |
-                                       _mm512_cmp_pd_mask(cand[r], best, _CMP_LT_OQ));
-                best = _mm512_mask_mov_pd(best, take, cand[r]);
-            }
-            // No root found but the end value proves a crossing: first_root's bisection.
-            const __mmask8 bisect = roots & _mm512_cmp_pd_mask(best, zero, _CMP_LT_OQ) &
-                                    _mm512_cmp_pd_mask(f_end, zero, _CMP_LE_OQ);
-            if (bisect) {
-                alignas(64) double bq[8], a0[8], a1[8], a2[8], al[8];
-                _mm512_store_pd(bq, best);
-                _mm512_store_pd(a0, c0);
-                _mm512_store_pd(a1, c1);
-                _mm512_store_pd(a2, c2);
-                _mm512_store_pd(al, len);
-                for (unsigned mm = bisect; mm; mm &= mm - 1) {
-                    const int r = __builtin_ctz(mm);
-                    bq[r] = cell_solver::first_root(a0[r], a1[r], a2[r], al[r]);
-                }
-                best = _mm512_load_pd(bq);
-            }
-        }
+        if (roots) best = dda_roots(c0, c1, c2, len, f_end, roots);
         const __mmask8 found = roots & _mm512_cmp_pd_mask(best, zero, _CMP_GE_OQ);
         t_hit = _mm512_mask_mov_pd(t_hit, found, _mm512_add_pd(tin, best));
         t_hit = _mm512_mask_mov_pd(t_hit, at_entry, tin);
@@ -675,6 +683,40 @@ PXH_AVX512 void make_rays(const View& view, size_t k0, const int* where, int n,
         _mm512_mask_storeu_pd(c.tm.data() + p, m, _mm512_div_pd(s, Vz));
     }
 }
+
+// Passes A and B in turn over the first `count` rays of w.cols (from w.t0) until each is
+// resolved: w.answer and w.cells at each ray's id (trace_rays_simd's chunk).
+[[gnu::always_inline]] inline void run_passes(ChunkScratch& w, const SquareScene& sc, int count,
+                                              decltype(&square_pass) square_pass_of,
+                                              decltype(&dda_pass) dda_pass_of) {
+    while (count > 0) {
+        RayColumns& cur = w.cols;
+        square_pass_of(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
+        int nb = 0;
+        for (int q = 0; q < count; ++q) {
+            if (w.bottom[q]) {
+                w.answer[cur.id[q]] = cur.tm[q];
+                w.cells[cur.id[q]] = cur.cells[q];
+            } else {
+                w.list_b[nb] = q;
+                w.t_b[nb++] = w.t_safe[q];
+            }
+        }
+        dda_pass_of(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(), w.resolved.data());
+        count = 0;
+        for (int q = 0; q < nb; ++q) {
+            const int r = w.list_b[q];
+            if (w.resolved[q]) {
+                w.answer[cur.id[r]] = w.t_safe[q];
+                w.cells[cur.id[r]] = cur.cells[r];
+            } else {
+                w.next.copy(count, cur, r);
+                w.t0[count++] = w.t_safe[q];
+            }
+        }
+        std::swap(w.cols, w.next);
+    }
+}
 }  // namespace
 
 ExactTracer::RayPath ExactTracer::cpu_best_path() {
@@ -804,34 +846,7 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
             w.cols.counted[p] = -std::numeric_limits<double>::infinity();
             w.t0[p] = 0;
         }
-        while (count > 0) {
-            RayColumns& cur = w.cols;
-            square_pass_of(sc, cur, w.t0.data(), count, w.t_safe.data(), w.bottom.data());
-            int nb = 0;
-            for (int q = 0; q < count; ++q) {
-                if (w.bottom[q]) {
-                    w.answer[cur.id[q]] = cur.tm[q];
-                    w.cells[cur.id[q]] = cur.cells[q];
-                } else {
-                    w.list_b[nb] = q;
-                    w.t_b[nb++] = w.t_safe[q];
-                }
-            }
-            dda_pass_of(sc, cur, w.list_b.data(), w.t_b.data(), nb, w.t_safe.data(),
-                        w.resolved.data());
-            count = 0;
-            for (int q = 0; q < nb; ++q) {
-                const int r = w.list_b[q];
-                if (w.resolved[q]) {
-                    w.answer[cur.id[r]] = w.t_safe[q];
-                    w.cells[cur.id[r]] = cur.cells[r];
-                } else {
-                    w.next.copy(count, cur, r);
-                    w.t0[count++] = w.t_safe[q];
-                }
-            }
-            std::swap(w.cols, w.next);
-        }
+        run_passes(w, sc, count, square_pass_of, dda_pass_of);
         for (int p = 0; p < rays; ++p) {
             const size_t k = k0 + size_t(w.where[p]);
             out.set(k, hit_at_tau(w.ex[p], w.ey[p], sc.zt, view.dir(k), w.answer[p], w.cells[p]));
