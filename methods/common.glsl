@@ -17,6 +17,12 @@ uniform int u_light_on;
 uniform vec3 u_light;        // L, toward the light
 uniform float u_shadow_layers_min;
 uniform float u_shadow_layers_max;
+// The depth it writes (methods/depth.h, docs/conventions.md section 8): gl_FragDepth =
+// 0.5 + depth(X_w) / u_depth_span, depth(X) = (X - P) . u_depth_axis in tiles.
+uniform int u_depth_mode;    // 0 base (X_w = P), 1 hit (X_w = (uv, z_m)), 2 engine
+uniform int u_hit_height;    // z_m: 0 the surface at uv, 1 the search line's, 2 pxh_write_hit's
+uniform vec3 u_depth_axis;   // f: the perspective camera's forward vector, -V for parallel rays
+uniform float u_depth_span;
 // What a program has beyond the orthographic grid at level 0: the harness defines these in a
 // generated preamble only when the row needs them (none of them: the grid program as always).
 //   PXH_POINT_MAP     each sample's P and inside flag per pixel (a perspective view)
@@ -139,6 +145,47 @@ vec2 pxh_shadow(vec2 uv) {
     return below ? vec2(0.0, 1.0 - worst) : vec2(1.0, 1.0);
 }
 
+// ---- The written depth (methods/depth.h) ----
+// A `ray` method's search line uv = P + pxh_hit_dir z: main() sets V.xy / V.z (the eye ray); a
+// method whose search line differs sets its own in pxh_method (the marcher's march direction).
+vec2 pxh_hit_dir;
+// A plug-in shader's hit height (`depth = "hit"`): call pxh_write_hit(z) with the surface z
+// (z = s (h - b), the polygon at 0) where the shader places its hit; a plug-in that does not
+// writes the polygon's depth (X_w = P).
+float pxh_hit_z = 0.0;
+bool pxh_hit_written = false;
+void pxh_write_hit(float z) {
+    pxh_hit_z = z;
+    pxh_hit_written = true;
+}
+// The `engine` mode: a method whose engine writes a depth offset passes depth(X_w) here.
+float pxh_engine_depth = 0.0;
+void pxh_write_engine_depth(float depth) { pxh_engine_depth = depth; }
+
+// The height at uv as pxh_height samples it, not counted (what the harness reads, not the
+// method).
+float pxh_height_uncounted(vec2 uv) {
+    int before = pxh_fetches;
+    float h = pxh_height(uv);
+    pxh_fetches = before;
+    return h;
+}
+
+float pxh_written_depth(vec2 P, vec2 uv) {
+    if (u_depth_mode == 0) return 0.0;
+    if (u_depth_mode == 2) return pxh_engine_depth;
+    float z = 0.0;
+    if (u_hit_height == 2) {
+        if (!pxh_hit_written) return 0.0;
+        z = pxh_hit_z;
+    } else {
+        float dd = dot(pxh_hit_dir, pxh_hit_dir);
+        if (u_hit_height == 1 && dd >= 1e-12) z = dot(uv - P, pxh_hit_dir) / dd;
+        else z = u_scale * (pxh_height_uncounted(uv) - u_bias);
+    }
+    return dot(vec3(uv - P, z), u_depth_axis);
+}
+
 vec2 pxh_method(vec2 P);  // the method's file defines it
 
 void main() {
@@ -156,8 +203,10 @@ void main() {
 #if defined(PXH_LOD_GRAD)
     pxh_footprint = texelFetch(u_grad_map, ivec2(gl_FragCoord.xy), 0);
 #endif
+    pxh_hit_dir = pxh_V.xy / pxh_V.z;
     vec2 uv = pxh_method(P);
     float fetches = float(pxh_fetches);
+    gl_FragDepth = 0.5 + pxh_written_depth(P, uv) / u_depth_span;
     vec2 shadow = u_light_on != 0 ? pxh_shadow(uv) : vec2(1.0);
     pxh_out_uv = vec4(uv, fetches, 1.0);  // alpha 1: written (the targets clear to alpha 0)
     pxh_out_shadow = vec4(shadow, 0.0, 0.0);

@@ -108,6 +108,8 @@ struct LayeredMethod {
     }
     static GlUniforms gl_uniforms(const Config& c) { return layer_uniforms(c); }
     static void complete_params(ParamValues& p) { complete_layer_params(p); }
+    // Every layered search returns a point of the eye ray (a layer, or between two).
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }
 };
 
 template <typename T>

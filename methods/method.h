@@ -17,6 +17,10 @@
 //                                                       ParamSpec: ParamSpec::to_uniform)
 //   optionally static void complete_params(ParamValues&); writes in the values an unset
 //                                                       optional parameter stands for
+//   optionally static HitHeight hit_height(const Config&); where its hit's height z_m is
+//                                                       (methods/depth.h; default surface)
+//   optionally static Vec2d hit_direction(const Config&, Vec3d V, double s); a ray method's
+//                                                       search line (default V.xy / V.z)
 // and methods/NAME/NAME.frag.glsl defines vec2 pxh_method(vec2 P) (see methods/common.glsl).
 //
 // The shader interface (checked by the GLSL backend after linking, an error naming the method,
@@ -38,6 +42,7 @@
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
 #include "harness/scene/texture_levels.h"
+#include "methods/depth.h"
 #include "methods/resource.h"
 
 namespace pxh {
@@ -117,6 +122,21 @@ struct MethodInfo {
     // recorded, never the file read again; and its path as the user reaches it (messages).
     std::string plugin_source{};
     std::string plugin_display{};
+    // Where it places its hit's height (methods/depth.h; the `hit` depth mode), for a setting
+    // of its parameters; nullptr: surface (a plug-in shader: shader).
+    HitHeight (*hit_height)(const ParamValues&) = nullptr;
+    // A `ray` method's search line uv = P + d z (methods/depth.h) for a view direction V at
+    // scale s; nullptr: the eye ray's, d = V.xy / V.z.
+    Vec2d (*hit_direction)(const ParamValues&, Vec3d V, double scale) = nullptr;
+    // The `engine` depth mode: the point its engine writes the depth of, as depth(X_w)
+    // (methods/depth.h) from the sample's P, V, the depth axis f, the method's uv_m and hit
+    // height z_m, at scale s; nullptr: the engine writes none (engine = base).
+    double (*engine_depth)(const ParamValues&, Vec2d P, Vec3d V, Vec3d f, Vec2d uv, double z,
+                           double scale) = nullptr;
+    HitHeight hit_height_of(const ParamValues& p) const {
+        if (!plugin_shader.empty()) return HitHeight::shader;
+        return hit_height ? hit_height(p) : HitHeight::surface;
+    }
     // The shader's path relative to the source tree (shader_path or the default).
     std::string shader_file() const {
         return shader_path.empty() ? "methods/" + name + "/" + name + ".frag.glsl" : shader_path;
@@ -182,6 +202,12 @@ MethodInfo make_method_info() {
     info.run_double = &run_method_batch<M, double>;
     if constexpr (requires(ParamValues & p) { M::complete_params(p); })
         info.complete_params = [](ParamValues& p) { M::complete_params(p); };
+    if constexpr (requires(const typename M::Config& c) { M::hit_height(c); })
+        info.hit_height = [](const ParamValues& p) { return M::hit_height(M::configure(p, "")); };
+    if constexpr (requires(const typename M::Config& c) { M::hit_direction(c, Vec3d(), 1.0); })
+        info.hit_direction = [](const ParamValues& p, Vec3d V, double s) {
+            return M::hit_direction(M::configure(p, ""), V, s);
+        };
     return info;
 }
 
@@ -220,7 +246,8 @@ struct MethodSpec {
     // rows are compared with (the agreement columns); nullptr: none.
     const MethodInfo* reference = nullptr;
     ParamValues reference_params{};
-    LodMode lod = LodMode::base;  // the entry's `lod`
+    LodMode lod = LodMode::base;        // the entry's `lod`
+    DepthMode depth = DepthMode::base;  // the entry's `depth` (methods/depth.h)
     bool runs_on(const std::string& field) const {
         if (heightfields.empty()) return true;
         for (const auto& f : heightfields)

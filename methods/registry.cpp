@@ -120,6 +120,20 @@ const char* lod_name(LodMode mode) {
 
 std::vector<std::string> lod_names() { return {"base", "level", "grad", "implicit"}; }
 
+const char* depth_name(DepthMode mode) {
+    switch (mode) {
+        case DepthMode::base:
+            return "base";
+        case DepthMode::hit:
+            return "hit";
+        case DepthMode::engine:
+            return "engine";
+    }
+    return "base";
+}
+
+std::vector<std::string> depth_names() { return {"base", "hit", "engine"}; }
+
 const MethodInfo* find_method(const std::string& name) {
     for (const auto& m : registry())
         if (m.name == name) return &m;

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "harness/backends/written_depth.h"
 #include "harness/core/error.h"
 #include "harness/core/param_dict.h"
 #include "harness/truth/ground_truth.h"
@@ -142,6 +143,7 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
                 view.timed ? settings_.timing_repeats : 0, view.resources,
                 rays.parallel ? nullptr : &rays.V, levels ? view.levels : nullptr, view.lambda);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
+    out.depth = written_depths(m, view, out.uv);
     return out;
 }
 

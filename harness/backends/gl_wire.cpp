@@ -28,6 +28,7 @@ void write_draw(Out& o, const GlslDraw& d) {
     o(bool(d.inside));
     if (d.inside) o(*d.inside);
     o(d.lod);
+    o(d.depth);
     o(bool(d.levels));
     if (d.levels) o(d.levels->levels);
     o(bool(d.lambda));
@@ -76,6 +77,7 @@ void read_draw(In& in, DrawData& x) {
         d.inside = &x.inside;
     }
     in(d.lod);
+    in(d.depth);
     in(has);
     if (has) {
         in(x.levels.levels);

@@ -149,6 +149,10 @@ template <class A>
 void visit(A& a, Counter& c) {  // a counter travels whole: a new one needs no line here
     a(c.name), a(c.value);
 }
+template <class A>
+void visit(A& a, GlslDepth& d) {
+    a(d.mode), a(d.hit), a(d.axis), a(d.span);
+}
 // Every field of MethodOutput, in one place: adding a field to it is one line here.
 template <class A>
 void visit(A& a, MethodOutput& o) {
@@ -156,10 +160,11 @@ void visit(A& a, MethodOutput& o) {
     a(o.shadow_hard), a(o.shadow_soft);
     a(o.timing), a(o.counters);
     a(o.shader), a(o.shader_sha256), a(o.samples_discarded);
+    a(o.depth);
 }
 // A MethodOutput that grew without a line above would come back from the child without the
 // new field: update visit(MethodOutput) and then this size.
-static_assert(sizeof(MethodOutput) == 272, "MethodOutput changed: update visit(MethodOutput)");
+static_assert(sizeof(MethodOutput) == 296, "MethodOutput changed: update visit(MethodOutput)");
 
 // A draw as it travels: the request owns what GlslDraw points to.
 struct DrawData {

@@ -72,6 +72,7 @@ GlslBackend::GlslBackend(GlslOptions opt) : opt_(std::move(opt)) {
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
     glGenFramebuffers(1, &fbo_);
     glGenTextures(2, color_);
+    glGenTextures(1, &depth_);
 }
 
 GlslBackend::~GlslBackend() {
@@ -84,6 +85,7 @@ GlslBackend::~GlslBackend() {
     for (auto& [k, p] : programs_) glDeleteProgram(p.id);
     resource_textures_.release();
     glDeleteTextures(2, color_);
+    glDeleteTextures(1, &depth_);
     glDeleteTextures(1, &texture_);
     if (view_map_) glDeleteTextures(1, &view_map_);
     for (unsigned t : {point_map_, lod_map_, grad_map_})
@@ -109,6 +111,8 @@ void GlslBackend::draw_frames(int frames, MethodOutput& out) {
         static const float kNoOutput[4] = {0, 0, 0, 0};
         glClearBufferfv(GL_COLOR, 0, kNoOutput);
         glClearBufferfv(GL_COLOR, 1, kNoOutput);
+        static const float kFar = 1.0f;
+        glClearBufferfv(GL_DEPTH, 0, &kFar);
         const auto t0 = std::chrono::steady_clock::now();
         if (query && timed) glBeginQuery(GL_TIME_ELAPSED, query);
         glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -160,6 +164,16 @@ void GlslBackend::read_back(int samples, bool light, const std::vector<uint8_t>*
     }
 }
 
+// The depth target back into depth(X_w) (NaN where there is no uv).
+void GlslBackend::read_depth(int samples, double span, MethodOutput& out) {
+    const size_t n = size_t(samples) * samples;
+    std::vector<float> z(n);
+    glReadPixels(0, 0, samples, samples, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
+    out.depth.resize(n);
+    for (size_t k = 0; k < n; ++k)
+        out.depth[k] = std::isfinite(out.uv[k].x) ? (double(z[k]) - 0.5) * span : NAN;
+}
+
 MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
                               const HeightField& hf, int samples, const std::string& texture_format,
                               const LightSpec* light, int frames, const MethodResources* resources,
@@ -208,12 +222,17 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
     glViewport(0, 0, samples, samples);
     glBindVertexArray(vao_);
+    // Every fragment writes its gl_FragDepth (the test always passes: one triangle).
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glDepthMask(GL_TRUE);
     MethodOutput out;
     draw_frames(frames < 0 ? opt_.frames : frames, out);
     if (const GLenum err = glGetError(); err != GL_NO_ERROR)
         throw std::runtime_error("method '" + d.method.name + "': GL error " + std::to_string(err) +
                                  " while rendering");
     read_back(samples, light != nullptr, d.inside, out);
+    read_depth(samples, d.depth.span, out);
     out.shader = program.shader;
     out.shader_sha256 = program.sha256;
     return out;
@@ -228,6 +247,18 @@ const TimingSpec& glsl_timing() {
           "frame time by GL_TIME_ELAPSED timer query (the GPU's own clock; empty without timer "
           "queries)"}}};
     return t;
+}
+
+GlslDepth glsl_depth_of(const MethodSpec& m, const View& rays, double scale) {
+    GlslDepth g;
+    g.mode = int(m.depth);
+    g.hit = int(m.method->hit_height_of(m.params));
+    g.axis = rays.depth_axis();
+    double vz = 1;
+    for (size_t k = 0; k < rays.V.size(); ++k)
+        if (rays.parallel || rays.is_inside(k)) vz = std::min(vz, rays.V[k].z);
+    g.span = 4 * (1 + std::abs(scale) / std::max(vz, 1e-3));
+    return g;
 }
 
 GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v) {
@@ -261,6 +292,7 @@ GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant&
     d.levels = m.lod == LodMode::base ? nullptr : view.levels;
     d.lambda = view.lambda;
     d.J = rays.J.empty() ? nullptr : &rays.J;
+    d.depth = glsl_depth_of(m, rays, view.scene.scale);
     return d;
 }
 

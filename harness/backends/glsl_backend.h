@@ -39,6 +39,18 @@ struct GlslMethod {
 
 // One row's draw: the program, its uniforms, and what it draws with (pointers to the caller's
 // data, which must outlive the call).
+// The depth a draw writes (methods/depth.h, docs/conventions.md section 8): main() writes
+// gl_FragDepth = 0.5 + depth(X_w) / span into a 32-bit float depth target, read back as
+// MethodOutput::depth. mode: 0 base, 1 hit, 2 engine; hit: 0 surface, 1 ray, 2 shader.
+struct GlslDepth {
+    int mode = 0, hit = 0;
+    Vec3d axis{0, 0, -1};  // the view's depth axis f
+    double span = 4;       // written depths beyond +-span / 2 are clamped by the target
+};
+// The depth settings of a method setting on a view; span = 4 (1 + s / min V.z), which holds
+// every hit on the search lines of the slab and the offsets of the single-step methods.
+GlslDepth glsl_depth_of(const MethodSpec& m, const View& rays, double scale);
+
 struct GlslDraw {
     GlslMethod method;
     GlUniforms uniforms;  // method_uniforms(method, params)
@@ -63,6 +75,7 @@ struct GlslDraw {
     const std::vector<double>* lambda = nullptr;
     // The footprints: one shared or one per sample; nullptr or empty: the N x N grid's.
     const std::vector<Footprint>* J = nullptr;
+    GlslDepth depth{};
 };
 // The draw of one method setting on one view (the Backend interface's arguments).
 GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v);
@@ -170,12 +183,13 @@ class GlslBackend : public Backend {
     void set_uniforms(const Program& program, const GlslDraw& d);
     void draw_frames(int frames, MethodOutput& out);
     void read_back(int samples, bool light, const std::vector<uint8_t>* inside, MethodOutput& out);
+    void read_depth(int samples, double span, MethodOutput& out);
 
     GlslOptions opt_;
     std::unique_ptr<GlContext> ctx_;
     std::string renderer_, version_, vendor_;
     int timer_bits_ = 0;
-    unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, texture_ = 0, view_map_ = 0;
+    unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, depth_ = 0, texture_ = 0, view_map_ = 0;
     unsigned point_map_ = 0, lod_map_ = 0, grad_map_ = 0;
     int fb_size_ = 0;
     std::map<std::string, Program> programs_;

@@ -96,6 +96,13 @@ void GlslBackend::ensure_framebuffer(int n) {
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + i, GL_TEXTURE_2D, color_[i],
                                0);
     }
+    // The depth target: 32-bit float (what main() writes to gl_FragDepth: the written depth).
+    glBindTexture(GL_TEXTURE_2D, depth_);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, n, n, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                 nullptr);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth_, 0);
     const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glDrawBuffers(2, bufs);
     if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
@@ -224,6 +231,11 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     glUniform2i(loc("u_size"), f.hf->width, f.hf->height);
     glUniform1f(loc("u_samples"), float(f.samples));
     glUniform1i(loc("u_light_on"), f.light ? 1 : 0);
+    glUniform1i(loc("u_depth_mode"), f.depth.mode);
+    glUniform1i(loc("u_hit_height"), f.depth.hit);
+    glUniform3f(loc("u_depth_axis"), float(f.depth.axis.x), float(f.depth.axis.y),
+                float(f.depth.axis.z));
+    glUniform1f(loc("u_depth_span"), float(f.depth.span));
     if (f.light) {
         const Vec3<float> L(view_vector(f.light->theta_deg, f.light->phi_deg));
         glUniform3f(loc("u_light"), L.x, L.y, L.z);

@@ -22,7 +22,11 @@ const std::vector<std::string>& harness_uniforms() {
                                                    "u_light_on",
                                                    "u_light",
                                                    "u_shadow_layers_min",
-                                                   "u_shadow_layers_max"};
+                                                   "u_shadow_layers_max",
+                                                   "u_depth_mode",
+                                                   "u_hit_height",
+                                                   "u_depth_axis",
+                                                   "u_depth_span"};
     return names;
 }
 

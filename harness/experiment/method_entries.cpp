@@ -184,6 +184,27 @@ std::vector<LodMode> read_lods(const ParamDict& t, const MethodInfo& m, const Ex
     return out;
 }
 
+// `depth`: the depth modes (methods/depth.h; a value or a list, swept; default base). `engine`
+// on a method whose engine writes no depth offset is `base`, said in the docs (its rows exist:
+// a family's engine column stays comparable).
+std::vector<DepthMode> read_depths(const ParamDict& t) {
+    if (!t.has("depth")) return {DepthMode::base};
+    const std::string where = t.where("depth");
+    std::vector<DepthMode> out;
+    for (const std::string& name : t.strings("depth", {})) {
+        std::optional<DepthMode> mode;
+        for (DepthMode d : {DepthMode::base, DepthMode::hit, DepthMode::engine})
+            if (name == depth_name(d)) mode = d;
+        if (!mode)
+            throw InputError(
+                where, "unknown depth '" + name + "' (known: " + join_names(depth_names()) + ")");
+        if (std::find(out.begin(), out.end(), *mode) != out.end())
+            throw InputError(where, "depth '" + name + "' is given twice");
+        out.push_back(*mode);
+    }
+    return out;
+}
+
 // `heightfields`: the entries the method runs on (empty: all), each one known and, when the
 // method needs a bias, of that bias.
 std::vector<std::string> read_method_fields(const ParamDict& t, const std::string& name,
@@ -211,8 +232,8 @@ std::vector<std::string> read_method_fields(const ParamDict& t, const std::strin
 
 // The entry's rows from its factors, before the sweep is expanded, checked against the limits.
 void check_method_rows(const Sweeps& sweeps, const MethodSpec& proto,
-                       const std::vector<LodMode>& lods, const Experiment& ex, ParseState& state,
-                       const std::string& where) {
+                       const std::vector<LodMode>& lods, size_t depths, const Experiment& ex,
+                       ParseState& state, const std::string& where) {
     const MethodInfo* m = proto.method;
     RowProduct rows;
     for (const auto& [key, values] : sweeps)
@@ -228,6 +249,7 @@ void check_method_rows(const Sweeps& sweeps, const MethodSpec& proto,
         variants +=
             variants_per_setting(ex, state.limits, !m->plugin_shader.empty() || lod_glsl_only(lod));
     rows.times(variants, lods.size() > 1 ? "lod mode x backend variant(s)" : "backend variant(s)");
+    if (depths > 1) rows.times(depths, "depth modes");
     check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
 }
 
@@ -262,6 +284,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     }
     MethodSpec proto{m, {}, fields};
     const std::vector<LodMode> lods = read_lods(t, *m, ex);
+    const std::vector<DepthMode> depths = read_depths(t);
     if (plugin) {
         read_reference(t, where, proto);
         t.report_unused([](const std::string& key, const std::string& known) {
@@ -280,17 +303,20 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
                    name + "'" + (names.empty() ? " (it takes none)" : " (known: " + names + ")");
         });
     }
-    check_method_rows(sweeps, proto, lods, ex, state, where);
+    check_method_rows(sweeps, proto, lods, depths.size(), ex, state, where);
     // A setting given twice (a repeated value, or two entries) is measured once: its rows
     // would repeat, and pxh compare refuses repeated rows.
     size_t repeats = 0;
     std::string first_repeat;
     for (const auto& given : expand(sweeps))
-        for (LodMode lod : lods) {
+        for (size_t variant = 0; variant < lods.size() * depths.size(); ++variant) {
+            const LodMode lod = lods[variant / depths.size()];
             MethodSpec ms = proto;
             ms.params = resolve_method_params(*m, given, where);
             ms.lod = lod;
-            std::string key = m->name + "\x1f" + ms.params.canonical() + "\x1f" + lod_name(lod);
+            ms.depth = depths[variant % depths.size()];
+            std::string key = m->name + "\x1f" + ms.params.canonical() + "\x1f" + lod_name(lod) +
+                              "\x1f" + depth_name(ms.depth);
             if (ms.reference)
                 key += "\x1f" + ms.reference->name + "\x1f" + ms.reference_params.canonical();
             const auto [it, fresh] =
@@ -358,6 +384,7 @@ std::vector<std::string> skipped_settings(const Experiment& ex,
             std::string name = m.method->name;
             if (!m.params.canonical().empty()) name += " " + m.params.canonical();
             if (m.lod != LodMode::base) name += std::string(" lod=") + lod_name(m.lod);
+            if (m.depth != DepthMode::base) name += std::string(" depth=") + depth_name(m.depth);
             auto& v = by_reason[why];
             if (std::find(v.begin(), v.end(), name) == v.end()) v.push_back(name);
         }

@@ -84,6 +84,11 @@ const std::map<std::string, Selector>& selectors() {
                  ex.methods, [&](const MethodSpec& m) { return ok(lod_name(m.lod)); }, "lod",
                  [](const MethodSpec& m) { return std::string(lod_name(m.lod)); });
          }}},
+        {"depth", {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(
+                 ex.methods, [&](const MethodSpec& m) { return ok(depth_name(m.depth)); }, "depth",
+                 [](const MethodSpec& m) { return std::string(depth_name(m.depth)); });
+         }}},
         {"heightfield", {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
              keep(
                  ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.name); },

@@ -34,9 +34,26 @@ OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int wid
     return compare_uv(a.uv, a.fetches, b.uv, b.fetches, width, height, inside);
 }
 
+double depth_diff_p999(const std::vector<double>& a, const std::vector<double>& b,
+                       const std::vector<uint8_t>* inside) {
+    if (a.empty() || a.size() != b.size()) return NAN;
+    const bool masked = inside && inside->size() == a.size();
+    std::vector<double> d;
+    d.reserve(a.size());
+    for (size_t k = 0; k < a.size(); ++k) {
+        if (masked && !(*inside)[k]) continue;
+        if (!std::isfinite(a[k]) && !std::isfinite(b[k])) continue;  // no uv in either
+        d.push_back(std::isfinite(a[k] - b[k]) ? std::abs(a[k] - b[k]) : INFINITY);
+    }
+    if (d.empty()) return NAN;
+    std::sort(d.begin(), d.end());
+    return percentile_sorted(d, 0.999);
+}
+
 void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
                    int width, int height, const std::vector<uint8_t>* inside) {
     add_backend_agreement(compare_outputs(glsl, cpu_float, width, height, inside), row);
+    row.set("depth_cpu_diff_p999", depth_diff_p999(glsl.depth, cpu_float.depth, inside));
 }
 
 void add_backend_agreement(const OutputDiff& d, ResultRow& row) {

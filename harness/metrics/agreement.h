@@ -31,7 +31,12 @@ OutputDiff compare_outputs(const MethodOutput& a, const MethodOutput& b, int wid
 
 // cpu_diff_max, cpu_diff_p999, decision_mismatch from (GLSL, CPU float).
 void add_backend_agreement(const OutputDiff& glsl_vs_cpu_float, ResultRow& row);
-// The same from the two outputs (GLSL vs CPU float on the same samples).
+// p99.9 |a - b| of two written depths (MethodOutput::depth, tiles) over the samples with a
+// depth in either (one without: infinite); NaN when either has none.
+double depth_diff_p999(const std::vector<double>& a, const std::vector<double>& b,
+                       const std::vector<uint8_t>* inside = nullptr);
+// The same from the two outputs (GLSL vs CPU float on the same samples), and
+// depth_cpu_diff_p999.
 void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,
                    int width, int height, const std::vector<uint8_t>* inside = nullptr);
 // double_diff_max, double_diff_p999 from (CPU float, CPU double).

@@ -42,6 +42,8 @@ std::vector<ColumnSpec> run_columns() {
         {"camera", kText, kKey, "orthographic | perspective ([views] camera)", kQuiet},
         // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit", kNamed},
+        {"depth", kText, kKey, "depth mode: the point whose depth is written: base | hit | engine",
+         kNamed},
     };
 }
 
@@ -91,6 +93,9 @@ std::vector<ColumnSpec> timing_columns() {
         {"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"},
         {"cpu_diff_p999", kNum, kMeasured, "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"},
         {"decision_mismatch", kInt, kMeasured, "GLSL: samples whose fetch count differs from CPU"},
+        {"depth_cpu_diff_p999", kNum, kMeasured,
+         "GLSL: p99.9 |depth written - the CPU float twin's| (tiles, read back from the depth "
+         "target)"},
         {"double_diff_max", kNum, kMeasured, "CPU float: max |uv_float - uv_double| (texels)"},
         {"double_diff_p999", kNum, kMeasured, "CPU float: p99.9 |uv_float - uv_double| (texels)"},
         // Sweeps (harness/metrics/sweep.cpp).
@@ -259,9 +264,9 @@ std::string range_key(const ColumnSpec& axis, bool max) {
 
 std::string axes_name(const std::function<std::string(const std::string&)>& cell) {
     // What series_of and field_of name already.
-    static const char* const kInSeries[] = {"method",      "params",    "lod",
-                                            "backend",     "precision", "texture_format",
-                                            "heightfield", "scale",     "bias"};
+    static const char* const kInSeries[] = {
+        "method",    "params",         "lod",         "depth", "backend",
+        "precision", "texture_format", "heightfield", "scale", "bias"};
     std::string s;
     for (const ColumnSpec* c : row_axes()) {
         if (c->axis != ColumnAxis::named) continue;

@@ -11,7 +11,8 @@ namespace pxh {
     X(error_stats)            \
     X(fetches)                \
     X(timing)                 \
-    X(shadows)
+    X(shadows)                \
+    X(depth)
 
 #define PXH_DECLARE_METRIC(NAME) const Metric& NAME##_metric();
 PXH_OUTPUT_METRICS(PXH_DECLARE_METRIC)

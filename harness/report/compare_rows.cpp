@@ -51,7 +51,7 @@ std::string key_cell(const ResultRow& r, const std::string& c) {
     std::string v = r.cell(c);
     if (!v.empty()) return v;
     if (c == "camera") return "orthographic";
-    if (c == "lod") return "base";
+    if (c == "lod" || c == "depth") return "base";
     for (const CameraEntry& e : camera_registry())
         for (const CameraKey& k : e.keys)
             if (k.name == c && !k.default_column.empty() && r.text("camera") == e.name)

@@ -32,10 +32,12 @@ namespace {
 // A level mode other than base is part of the setting: the plotter sees it as one more
 // parameter (params "layers=32;lod=level"), so it names the series in legends.
 std::string params_field(const ResultRow& r) {
-    const std::string& lod = r.text("lod");
-    const std::string& p = r.text("params");
-    if (lod.empty() || lod == "base") return p;
-    return p + (p.empty() ? "" : ";") + "lod=" + lod;
+    std::string p = r.text("params");
+    for (const char* key : {"lod", "depth"}) {
+        const std::string& v = r.text(key);
+        if (!v.empty() && v != "base") p += (p.empty() ? "" : ";") + std::string(key) + "=" + v;
+    }
+    return p;
 }
 
 const char* const kKeyHeader = "method,params,backend,precision,texture_format";

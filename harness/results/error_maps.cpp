@@ -141,6 +141,8 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     std::string view = camera_name_part(r);
     const std::string& lod = r.text("lod");
     if (!lod.empty() && lod != "base") view += "_" + lod;
+    const std::string& depth = r.text("depth");
+    if (!depth.empty() && depth != "base") view += "_depth-" + depth;
     char stem[512];
     std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g%s_%s", index,
                   r.text("method").c_str(), ps.empty() ? "" : "_", ps.c_str(),

@@ -142,8 +142,10 @@ ResultsFile read_results(const std::string& path) {
 std::string setting_of(const ResultRow& r) {
     const std::string& params = r.text("params");
     const std::string& lod = r.text("lod");
+    const std::string& depth = r.text("depth");
     return r.text("method") + (params.empty() ? "" : " " + params) +
-           (lod.empty() || lod == "base" ? "" : " lod=" + lod);
+           (lod.empty() || lod == "base" ? "" : " lod=" + lod) +
+           (depth.empty() || depth == "base" ? "" : " depth=" + depth);
 }
 
 std::string group_of(const ResultRow& r) {
@@ -159,9 +161,11 @@ std::string field_of(const ResultRow& r) {
 
 std::string row_name(const std::function<std::string(const std::string&)>& cell) {
     const std::string params = cell("params"), lod = cell("lod"), fmt = cell("texture_format");
+    const std::string depth = cell("depth");
     return cell("method") + (params.empty() ? "" : " " + params) +
-           (lod.empty() || lod == "base" ? "" : " lod=" + lod) + " [" + cell("backend") + "/" +
-           (fmt.empty() ? cell("precision") : fmt) + "] on " + cell("heightfield") +
+           (lod.empty() || lod == "base" ? "" : " lod=" + lod) +
+           (depth.empty() || depth == "base" ? "" : " depth=" + depth) + " [" + cell("backend") +
+           "/" + (fmt.empty() ? cell("precision") : fmt) + "] on " + cell("heightfield") +
            " s=" + cell("scale") + " b=" + cell("bias") + axes_name(cell);
 }
 

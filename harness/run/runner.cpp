@@ -199,6 +199,7 @@ struct ViewJob {
         row.set_text("camera", c.ex.camera);
         for (const auto& [key, value] : c.ex.camera_settings[camera].values) row.set(key, value);
         row.set_text("lod", lod_name(m.lod));
+        row.set_text("depth", depth_name(m.depth));
         row.set("lod_mean", lod_mean);
         row.set("samples", c.ex.samples);
         row.set("width", c.hf.width);
@@ -311,6 +312,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 // same level mode; grad and implicit are compared with the level twin.
                 MethodSpec twin = m.reference ? MethodSpec{m.reference, m.reference_params} : m;
                 twin.lod = m.lod == LodMode::base ? LodMode::base : LodMode::level;
+                twin.depth = m.depth;
                 if (!cpu_float && twin.method->run_float) {
                     ViewInput tin{in.scene, in.hf, in.rays, nullptr, false, vin.resources};
                     tin.levels = in.levels;

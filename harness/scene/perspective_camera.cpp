@@ -123,6 +123,7 @@ View PerspectiveCamera::view() const {
     v.inside.resize(size_t(n) * n);
     v.parallel = false;
     v.grid = 0;
+    v.forward = f_;
     // The look-at pixel's footprint (the image centre), what an outside sample carries.
     const double c = 0.5 * (p_.image_size() - 1);
     const Footprint centre = footprint(c, c);

@@ -38,8 +38,17 @@ struct View {
     // the horizon; it carries a ray every stage can process, and its results are left out of
     // every statistic and counted); empty: every sample is inside.
     std::vector<uint8_t> inside;
+    // The view depth's axis f (docs/conventions.md section 8: view depth z_eye(X) = (X - E) . f):
+    // the perspective camera's forward vector; zero: -V (parallel rays, where the depth of a
+    // point is its distance along the rays).
+    Vec3d forward{0, 0, 0};
 
     size_t size() const { return P.size(); }
+    Vec3d depth_axis() const {
+        if (forward.x != 0 || forward.y != 0 || forward.z != 0) return forward;
+        const Vec3d v = V.empty() ? Vec3d{0, 0, 1} : V[0];
+        return {-v.x, -v.y, -v.z};
+    }
     Vec3d dir(size_t k) const { return V[parallel ? 0 : k]; }
     // Whether sample k's ray is exactly (bit for bit) the ray through `at` along `d`.
     bool has_ray(size_t k, Vec2d at, Vec3d d) const {

@@ -29,6 +29,7 @@ struct Binary {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("iterations")};
     }
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) { return c.iterations; }
     template <typename T>
     static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {

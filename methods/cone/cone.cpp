@@ -102,6 +102,7 @@ struct Cone {
                 index_of(p.get_name("refine"), {"none", "linear", "binary"}),
                 p.get_int("refine_steps")};
     }
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) {
         return c.steps + 1 + (c.refine == 1 ? 2 : (c.refine == 2 ? c.refine_steps : 0));
     }

@@ -160,6 +160,7 @@ struct Distance {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("iterations"), p.get_int("slices")};
     }
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) { return 8 * c.iterations; }
     static GlUniforms gl_uniforms(const Config& c) {
         return {GlUniform::integer("p_atlas_cols", atlas_cols(c.slices))};

@@ -121,6 +121,7 @@ vec2 pm_march_search(vec2 P) {
     if (pm_search == 0) return pm_offset(P, d);
     float s = u_scale, b = u_bias;
     d = pm_direction();
+    pxh_hit_dir = d;  // its hit lies on its own line (methods/march/preset.h: hit_direction)
     float texels = pm_count == 6 ? pm_texels(d, max(pxh_lod(), 0.0)) : 0.0;
     float n = pm_layer_count(texels);
     pm_n = n;

@@ -58,6 +58,18 @@ struct MarchPreset {
         return march_max_fetches(c, sc);
     }
     static GlUniforms gl_uniforms(const Config& c) { return march_uniforms(c); }
+    // The offset search is one fetch (its hit: the surface at uv); the layered search returns
+    // a point of its own line uv = P + d z (d: march_direction; the eye ray's only with
+    // step = tan, no max_slope, no mirror_v).
+    static HitHeight hit_height(const Config& c) {
+        return c.search == MarchConfig::Offset ? HitHeight::surface : HitHeight::ray;
+    }
+    static Vec2d hit_direction(const Config& c, Vec3d V, double scale) {
+        Scene<double> sc;
+        sc.V = V;
+        sc.scale = scale;
+        return march_direction(c, sc);
+    }
     template <typename T>
     static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         return march(c, sc, hs, P);

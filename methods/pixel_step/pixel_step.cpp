@@ -30,6 +30,7 @@ struct PixelStep {
         return {p.get_int("max_steps")};
     }
     // Steps needed to rise through the slab: s W tan(theta), plus one for rounding.
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         const double vxy = std::hypot(sc.V.x, sc.V.y);
         if (vxy == 0) return 0;

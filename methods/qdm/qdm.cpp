@@ -92,6 +92,7 @@ struct Qdm {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("max_iterations"), p.get_bool("refine")};
     }
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) {
         return c.max_iterations + (c.refine ? 2 : 0);
     }

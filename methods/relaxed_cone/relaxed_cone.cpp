@@ -79,6 +79,7 @@ struct RelaxedCone {
         return {p.get_int("cone_steps"), p.get_int("binary_steps"),
                 c == "book" ? 0 : (c == "ban" ? 1 : 2)};
     }
+    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) {
         return c.cone_steps + c.binary_steps;
     }

@@ -1,0 +1,70 @@
+// The depth a method setting writes against the truth's (docs/conventions.md section 8):
+// depth_err_mean / _p95 / _max (|depth(X_w) - depth(X_t)|), depth_bias_mean (signed: > 0 behind
+// the true surface) and depth_toward_frac (written nearer the eye than the polygon), in tiles
+// along the view's depth axis, over the inside samples with a finite uv and a finite truth.
+#include <algorithm>
+#include <cmath>
+
+#include "harness/metrics/metric.h"
+#include "harness/metrics/metrics.h"
+#include "methods/depth.h"
+
+namespace pxh {
+
+namespace {
+
+// How far nearer the eye than the polygon a written depth must be to count as toward it.
+constexpr double kTowardEps = 1e-9;
+
+void add_depth_errors(const MetricInput& in, ResultRow& row) {
+    const MethodOutput& o = in.out;
+    const size_t n = o.uv.size();
+    if (!in.view || o.depth.size() != n || n == 0) return;
+    const View& view = *in.view;
+    const Vec3d f = view.depth_axis();
+    std::vector<double> mag;
+    mag.reserve(n);
+    double bias = 0, toward = 0;
+    for (size_t k = 0; k < n; ++k) {
+        if (!in.inside(k) || (in.exclude && (*in.exclude)[k])) continue;
+        const Vec2d t = in.gt.uv[k];
+        const double zt = in.gt.z.size() == n ? in.gt.z[k] : NAN;
+        if (!std::isfinite(o.depth[k]) || !std::isfinite(t.x) || !std::isfinite(zt)) continue;
+        const double e = o.depth[k] - depth_offset(view.P[k], f, t, zt);
+        mag.push_back(std::abs(e));
+        bias += e;
+        toward += o.depth[k] < -kTowardEps ? 1 : 0;
+    }
+    if (mag.empty()) return;
+    const double count = double(mag.size());
+    double sum = 0;
+    for (double m : mag) sum += m;
+    std::sort(mag.begin(), mag.end());
+    row.set("depth_err_mean", sum / count);
+    row.set("depth_err_p95", percentile_sorted(mag, 0.95));
+    row.set("depth_err_max", mag.back());
+    row.set("depth_bias_mean", bias / count);
+    row.set("depth_toward_frac", toward / count);
+}
+
+constexpr ColumnType kNum = ColumnType::number;
+constexpr ColumnRole kMeasured = ColumnRole::measured;
+
+}  // namespace
+
+const Metric& depth_metric() {
+    static const Metric m{
+        "depth",
+        add_depth_errors,
+        {{"depth_err_mean", kNum, kMeasured,
+          "mean |depth written - true depth| along the view's depth axis (tiles)"},
+         {"depth_err_p95", kNum, kMeasured, "95th-percentile |depth written - true depth| (tiles)"},
+         {"depth_err_max", kNum, kMeasured, "largest |depth written - true depth| (tiles)"},
+         {"depth_bias_mean", kNum, kMeasured,
+          "mean signed depth written - true depth (tiles; > 0: behind the true surface)"},
+         {"depth_toward_frac", kNum, kMeasured,
+          "fraction of samples whose written depth lies nearer the eye than the polygon's"}}};
+    return m;
+}
+
+}  // namespace pxh

@@ -1,0 +1,57 @@
+// The depth a method setting writes (docs/conventions.md section 8): the point X_w whose view
+// depth goes into the depth buffer, chosen by the setting's `depth` mode, and the height z_m at
+// which a method places its hit (what `hit` writes).
+//
+// Depths here are offsets along the view's depth axis f (harness/scene/view.h: the perspective
+// camera's forward vector; -V for parallel rays) from the sample's point P on the polygon:
+// depth(X) = (X - P) . f, in tiles. Only differences of view depth within one pixel are used, so
+// the eye's own depth drops out.
+#pragma once
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "harness/core/vec.h"
+
+namespace pxh {
+
+// The [[methods]] key `depth` (a value or a list, swept like lod; default base).
+//   base    X_w = P, the polygon's point (engines without a depth offset: Bevy, Godot, three.js)
+//   hit     X_w = (uv_m, z_m): the method's own hit, reprojected
+//   engine  the preset's engine's own formula (MethodInfo::engine_depth); base for a method
+//           whose engine writes no depth offset
+enum class DepthMode { base, hit, engine };
+const char* depth_name(DepthMode mode);
+std::vector<std::string> depth_names();  // base, hit, engine
+
+// Where a method places its hit's height z_m (MethodInfo::hit_height):
+//   surface  z_m = s (h(uv_m) - b) at the level of detail it sampled (single-step methods)
+//   ray      the eye ray's height at uv_m: a search whose answer lies on the ray (the layer or
+//            refined height); checked by tests/methods/depth_test.cpp on every such method
+//   shader   a plug-in shader: what it passes to pxh_write_hit(z) (methods/common.glsl), else
+//            the polygon (X_w = P)
+enum class HitHeight { surface, ray, shader };
+
+// The height of a search line uv = P + d z at uv: the z whose uv is closest to uv. The eye ray
+// (through P along -V, V toward the eye) is the line d = V.xy / V.z. Where |d| < 1e-6 (a ray
+// within about 1e-6 rad of the normal) the height cannot be read from uv: NaN (the caller takes
+// the surface's).
+inline double line_height_at(Vec2d P, Vec2d d, Vec2d uv) {
+    const double dd = d.x * d.x + d.y * d.y;
+    if (!(dd >= 1e-12)) return NAN;
+    return ((uv.x - P.x) * d.x + (uv.y - P.y) * d.y) / dd;
+}
+inline Vec2d eye_ray_direction(Vec3d V) { return {V.x / V.z, V.y / V.z}; }
+
+// depth(X) of the point (xy, z): its offset from P along f.
+inline double depth_offset(Vec2d P, Vec3d f, Vec2d xy, double z) {
+    return (xy.x - P.x) * f.x + (xy.y - P.y) * f.y + z * f.z;
+}
+
+// depth() of the eye ray's point at height z (the ray through P along -V).
+inline double ray_depth_at_height(Vec3d V, Vec3d f, double z) {
+    const double t = -z / V.z;  // X = P - t V, X.z = z
+    return -t * (V.x * f.x + V.y * f.y + V.z * f.z);
+}
+
+}  // namespace pxh
