@@ -32,6 +32,17 @@ std::vector<std::string> depth_names();  // base, hit, engine
 //            the polygon (X_w = P)
 enum class HitHeight { surface, ray, shader };
 
+// What an engine's depth formula sees of one sample (MethodInfo::engine_depth).
+struct EngineDepthInput {
+    Vec2d P;           // the sample's point on the polygon
+    Vec3d V;           // toward the eye (unit)
+    Vec3d f;           // the view's depth axis
+    Vec2d uv;          // the method's uv_m
+    double z_line;     // the height of its search line at uv_m (a one-fetch method: the surface's)
+    double z_surface;  // s (h(uv_m) - b) at the level it sampled
+    double scale, bias;
+};
+
 // The height of a search line uv = P + d z at uv: the z whose uv is closest to uv. The eye ray
 // (through P along -V, V toward the eye) is the line d = V.xy / V.z. Where |d| < 1e-6 (a ray
 // within about 1e-6 rad of the normal) the height cannot be read from uv: NaN (the caller takes

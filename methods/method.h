@@ -128,11 +128,9 @@ struct MethodInfo {
     // A `ray` method's search line uv = P + d z (methods/depth.h) for a view direction V at
     // scale s; nullptr: the eye ray's, d = V.xy / V.z.
     Vec2d (*hit_direction)(const ParamValues&, Vec3d V, double scale) = nullptr;
-    // The `engine` depth mode: the point its engine writes the depth of, as depth(X_w)
-    // (methods/depth.h) from the sample's P, V, the depth axis f, the method's uv_m and hit
-    // height z_m, at scale s; nullptr: the engine writes none (engine = base).
-    double (*engine_depth)(const ParamValues&, Vec2d P, Vec3d V, Vec3d f, Vec2d uv, double z,
-                           double scale) = nullptr;
+    // The `engine` depth mode: depth(X_w) of the point its engine writes the depth of
+    // (methods/depth.h); nullptr: the engine writes none (engine = base).
+    double (*engine_depth)(const ParamValues&, const EngineDepthInput&) = nullptr;
     HitHeight hit_height_of(const ParamValues& p) const {
         if (!plugin_shader.empty()) return HitHeight::shader;
         return hit_height ? hit_height(p) : HitHeight::surface;
@@ -204,6 +202,10 @@ MethodInfo make_method_info() {
         info.complete_params = [](ParamValues& p) { M::complete_params(p); };
     if constexpr (requires(const typename M::Config& c) { M::hit_height(c); })
         info.hit_height = [](const ParamValues& p) { return M::hit_height(M::configure(p, "")); };
+    if constexpr (requires(const typename M::Config& c) { M::engine_depth(c, EngineDepthInput{}); })
+        info.engine_depth = [](const ParamValues& p, const EngineDepthInput& in) {
+            return M::engine_depth(M::configure(p, ""), in);
+        };
     if constexpr (requires(const typename M::Config& c) { M::hit_direction(c, Vec3d(), 1.0); })
         info.hit_direction = [](const ParamValues& p, Vec3d V, double s) {
             return M::hit_direction(M::configure(p, ""), V, s);

@@ -84,7 +84,12 @@
     BOOLEAN(clamp_depth, false,                                                                    \
             "layers: the answer's layer clamped to [0, n] (not lerp's, which blends two layers)")  \
     REAL(fade_texels_min, 1, 0, 1000, "lod_fade = texels: t where the offset is gone")             \
-    REAL(fade_texels_max, 3, 0, 1000, "lod_fade = texels: t where the offset is whole")
+    REAL(fade_texels_max, 3, 0, 1000, "lod_fade = texels: t where the offset is whole")          \
+    CHOICE(depth_offset, DepthOffset,                                                              \
+           (PdoNone, PdoHdrp, PdoO3de, PdoUnrealLegacy, PdoUnrealCamera),                          \
+           ("none", "hdrp", "o3de", "unreal_legacy", "unreal_camera"), PdoNone,                    \
+           "the depth the engine writes (depth = engine; methods/march/march.h): none (the "      \
+           "polygon's), hdrp, o3de, unreal_legacy, unreal_camera")
 
 #define PXH_KNOB_UNPAREN(...) __VA_ARGS__
 #define PXH_KNOB_NONE(...)

@@ -183,7 +183,7 @@ int pm_full_fetches(float L) {
 
 // march (methods/march/march.h): the search, pad_fetches and the level-of-detail rule on
 // L = max(lambda, 0).
-vec2 pxh_method(vec2 P) {
+vec2 pm_march(vec2 P) {
     float L = max(pxh_lod(), 0.0);
     float t = pm_lod_threshold;
     if (pm_lod_fade == 2 && L > t) return P;
@@ -207,5 +207,29 @@ vec2 pxh_method(vec2 P) {
         float frac = L - floor(L);
         uv = uv + (P - uv) * frac;
     }
+    return uv;
+}
+
+// march_engine_depth (methods/march/march.h): the depth the engine writes (depth = engine).
+float pm_engine_depth(vec2 P, vec2 uv) {
+    vec3 V = pxh_V, f = u_depth_axis;
+    float vf = dot(V, f);
+    float dd = dot(pxh_hit_dir, pxh_hit_dir);
+    float z_surface = u_scale * (pxh_height_uncounted(uv) - u_bias);
+    float z_line = pm_search == 0 || !(dd >= 1e-12) ? z_surface : dot(uv - P, pxh_hit_dir) / dd;
+    if (pm_depth_offset == 1) return -vf * (pxh_z_top() - z_surface) / max(V.z, 1e-4);
+    if (pm_depth_offset == 2) {
+        if (pm_search == 0) return dot(vec3(uv - P, 0.0), f);
+        if (z_line > 0.0) return 0.0;
+        return dot(vec3(uv - P, z_line), f);
+    }
+    if (pm_depth_offset == 3) return max(-z_line / V.z, 0.0);
+    if (pm_depth_offset == 4) return max(-z_line / V.z * -vf, 0.0);
+    return 0.0;
+}
+
+vec2 pxh_method(vec2 P) {
+    vec2 uv = pm_march(P);
+    if (u_depth_mode == 2) pxh_write_engine_depth(pm_engine_depth(P, uv));
     return uv;
 }

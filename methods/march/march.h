@@ -45,6 +45,7 @@
 #include <limits>
 #include <string>
 
+#include "methods/depth.h"
 #include "methods/march/knobs.h"
 #include "methods/method.h"
 
@@ -294,6 +295,46 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
         uv = uv + (P - uv) * frac;
     }
     return uv;
+}
+
+// The depth the engine writes (depth = engine; docs/conventions.md section 8), as depth(X_w)
+// along the view's depth axis f from P, by depth_offset:
+//   none: the polygon's (0).
+//   hdrp (Unity HDRP: ApplyPerPixelDisplacement returns depthOffset = (maxHeight - h maxHeight) /
+//     ClampNdotV(NdotV), h the last probe's height; ApplyDepthOffsetPositionInput moves the
+//     position by depthOffset (-V) and reprojects it): X_w = P - V (z_top - z_s) / max(V.z,
+//     1e-4), z_s = s (h(uv_m) - b) (pxh samples h at the faded uv where lod_fade moved it; HDRP
+//     at the unfaded one).
+//   o3de (O3DE CalcPixelDepthOffset: the tangent-space offset, its z the marched depth,
+//     reprojected through viewProj; an offset whose z ends above the polygon is zeroed): the
+//     layered search: X_w = (uv_m, z_line), P where z_line > 0; the offset search (Basic, whose
+//     offset has z = 0): X_w = (uv_m, 0).
+//   unreal_legacy, unreal_camera (Unreal's MaterialTemplate.ush, PIXEL_DEPTH_OFFSET_MODE legacy /
+//     camera vector; the material's pixel depth offset PDO taken as the ray's length from P to
+//     the search's hit, -z_line / V.z, as Epic's ParallaxOcclusionMapping function is described
+//     to output it: its graph is a binary asset, not read): legacy: view depth + max(PDO, 0)
+//     (along f); camera vector: view depth + max(PDO cos a, 0), cos a = -V . f (the point on the
+//     ray at length PDO).
+inline double march_engine_depth(const MarchConfig& c, const EngineDepthInput& in) {
+    const Vec3d V = in.V, f = in.f;
+    const double vf = V.x * f.x + V.y * f.y + V.z * f.z;  // V . f (< 0: V points back)
+    switch (c.depth_offset) {
+        case MarchConfig::PdoHdrp: {
+            const double z_top = in.scale * (1 - in.bias);
+            return -vf * (z_top - in.z_surface) / std::max(V.z, 1e-4);
+        }
+        case MarchConfig::PdoO3de: {
+            if (c.search == MarchConfig::Offset) return depth_offset(in.P, f, in.uv, 0.0);
+            if (in.z_line > 0) return 0;
+            return depth_offset(in.P, f, in.uv, in.z_line);
+        }
+        case MarchConfig::PdoUnrealLegacy:
+            return std::max(-in.z_line / V.z, 0.0);
+        case MarchConfig::PdoUnrealCamera:
+            return std::max(-in.z_line / V.z * -vf, 0.0);
+        default:
+            return 0;
+    }
 }
 
 // Declared bound on fetches per sample for this view, in float and double alike.

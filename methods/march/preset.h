@@ -64,6 +64,9 @@ struct MarchPreset {
     static HitHeight hit_height(const Config& c) {
         return c.search == MarchConfig::Offset ? HitHeight::surface : HitHeight::ray;
     }
+    static double engine_depth(const Config& c, const EngineDepthInput& in) {
+        return march_engine_depth(c, in);
+    }
     static Vec2d hit_direction(const Config& c, Vec3d V, double scale) {
         Scene<double> sc;
         sc.V = V;
