@@ -250,6 +250,8 @@ struct MethodSpec {
     ParamValues reference_params{};
     LodMode lod = LodMode::base;        // the entry's `lod`
     DepthMode depth = DepthMode::base;  // the entry's `depth` (methods/depth.h)
+    // [views] cut: the height c of the opaque plane its rows test against (NaN: none).
+    double cut = NAN;
     bool runs_on(const std::string& field) const {
         if (heightfields.empty()) return true;
         for (const auto& f : heightfields)

@@ -55,6 +55,10 @@ struct Experiment {
     bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the
                                   // reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
+    // [views] cut: the heights (height-map units) of opaque planes z = s (c - b) through the
+    // relief (docs/conventions.md section 8); each method setting gets rows per cut (key column
+    // cut, cut_flip_frac). Empty: no cut.
+    std::vector<double> cuts;
     std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)
     ParamDict camera_params;              // [views], where the camera reads its own keys
     // The camera's settings from its own keys (one per value of a swept key: the perspective

@@ -250,6 +250,7 @@ void check_method_rows(const Sweeps& sweeps, const MethodSpec& proto,
             variants_per_setting(ex, state.limits, !m->plugin_shader.empty() || lod_glsl_only(lod));
     rows.times(variants, lods.size() > 1 ? "lod mode x backend variant(s)" : "backend variant(s)");
     if (depths > 1) rows.times(depths, "depth modes");
+    if (ex.cuts.size() > 1) rows.times(ex.cuts.size(), "cut planes ([views] cut)");
     check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
 }
 
@@ -285,6 +286,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     MethodSpec proto{m, {}, fields};
     const std::vector<LodMode> lods = read_lods(t, *m, ex);
     const std::vector<DepthMode> depths = read_depths(t);
+    const std::vector<double> cuts = ex.cuts.empty() ? std::vector<double>{NAN} : ex.cuts;
     if (plugin) {
         read_reference(t, where, proto);
         t.report_unused([](const std::string& key, const std::string& known) {
@@ -309,14 +311,15 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     size_t repeats = 0;
     std::string first_repeat;
     for (const auto& given : expand(sweeps))
-        for (size_t variant = 0; variant < lods.size() * depths.size(); ++variant) {
-            const LodMode lod = lods[variant / depths.size()];
+        for (size_t variant = 0; variant < lods.size() * depths.size() * cuts.size(); ++variant) {
+            const LodMode lod = lods[variant / (depths.size() * cuts.size())];
             MethodSpec ms = proto;
             ms.params = resolve_method_params(*m, given, where);
             ms.lod = lod;
-            ms.depth = depths[variant % depths.size()];
+            ms.depth = depths[variant / cuts.size() % depths.size()];
+            ms.cut = cuts[variant % cuts.size()];
             std::string key = m->name + "\x1f" + ms.params.canonical() + "\x1f" + lod_name(lod) +
-                              "\x1f" + depth_name(ms.depth);
+                              "\x1f" + depth_name(ms.depth) + "\x1f" + format_number(ms.cut);
             if (ms.reference)
                 key += "\x1f" + ms.reference->name + "\x1f" + ms.reference_params.canonical();
             const auto [it, fresh] =

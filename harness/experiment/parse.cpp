@@ -256,6 +256,15 @@ void parse_views(const ParamDict& vt, Experiment& ex) {
     if (std::find(known.begin(), known.end(), ex.camera) == known.end())
         throw InputError(vt.where("camera"),
                          "unknown camera '" + ex.camera + "' (known: " + join_names(known) + ")");
+    ex.cuts = vt.numbers("cut", {});
+    for (size_t i = 0; i < ex.cuts.size(); ++i) {
+        if (!std::isfinite(ex.cuts[i]))
+            throw InputError(vt.where("cut"), "cut must be finite (a height in height-map units)");
+        for (size_t j = 0; j < i; ++j)
+            if (ex.cuts[j] == ex.cuts[i])
+                throw InputError(vt.where("cut"),
+                                 "cut " + format_number(ex.cuts[i]) + " is given twice");
+    }
     ex.camera_params = vt;
     const size_t before = vt.asked().size();
     ex.camera_settings = Camera::settings(ex.camera, vt, vt.where(), ex.samples);

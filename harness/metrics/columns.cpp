@@ -44,6 +44,8 @@ std::vector<ColumnSpec> run_columns() {
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit", kNamed},
         {"depth", kText, kKey, "depth mode: the point whose depth is written: base | hit | engine",
          kNamed},
+        {"cut", kNum, kKey, "[views] cut: height c of the opaque plane z = s (c - b) tested",
+         kNamed},
     };
 }
 
@@ -264,9 +266,9 @@ std::string range_key(const ColumnSpec& axis, bool max) {
 
 std::string axes_name(const std::function<std::string(const std::string&)>& cell) {
     // What series_of and field_of name already.
-    static const char* const kInSeries[] = {
-        "method",    "params",         "lod",         "depth", "backend",
-        "precision", "texture_format", "heightfield", "scale", "bias"};
+    static const char* const kInSeries[] = {"method",      "params",  "lod",       "depth",
+                                            "cut",         "backend", "precision", "texture_format",
+                                            "heightfield", "scale",   "bias"};
     std::string s;
     for (const ColumnSpec* c : row_axes()) {
         if (c->axis != ColumnAxis::named) continue;

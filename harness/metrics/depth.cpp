@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "harness/metrics/depth.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/metrics.h"
 
@@ -53,6 +54,24 @@ constexpr ColumnRole kMeasured = ColumnRole::measured;
 
 }  // namespace
 
+void add_cut_flips(const MethodOutput& out, const GroundTruth& gt, const View& view,
+                   const std::vector<uint8_t>* exclude, double z_cut, ResultRow& row) {
+    const size_t n = out.uv.size();
+    if (out.depth.size() != n || gt.uv.size() != n || gt.z.size() != n || view.size() != n) return;
+    const Vec3d f = view.depth_axis();
+    double flips = 0, counted = 0;
+    for (size_t k = 0; k < n; ++k) {
+        if (!view.is_inside(k) || (exclude && (*exclude)[k])) continue;
+        if (!std::isfinite(out.depth[k]) || !std::isfinite(gt.z[k])) continue;
+        const double plane = ray_depth_at_height(view.dir(k), f, z_cut);
+        const double truth = depth_offset(view.P[k], f, gt.uv[k], gt.z[k]);
+        const bool shown_true = plane < truth, shown = plane < out.depth[k];
+        flips += shown_true != shown ? 1 : 0;
+        ++counted;
+    }
+    if (counted > 0) row.set("cut_flip_frac", flips / counted);
+}
+
 const Metric& depth_metric() {
     static const Metric m{
         "depth",
@@ -64,7 +83,10 @@ const Metric& depth_metric() {
          {"depth_bias_mean", kNum, kMeasured,
           "mean signed depth written - true depth (tiles; > 0: behind the true surface)"},
          {"depth_toward_frac", kNum, kMeasured,
-          "fraction of samples whose written depth lies nearer the eye than the polygon's"}}};
+          "fraction of samples whose written depth lies nearer the eye than the polygon's"},
+         {"cut_flip_frac", kNum, kMeasured,
+          "[views] cut: fraction of samples where the depth test against the plane shows the "
+          "other of plane and surface than the truth"}}};
     return m;
 }
 

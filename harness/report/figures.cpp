@@ -33,8 +33,8 @@ namespace {
 // parameter (params "layers=32;lod=level"), so it names the series in legends.
 std::string params_field(const ResultRow& r) {
     std::string p = r.text("params");
-    for (const char* key : {"lod", "depth"}) {
-        const std::string& v = r.text(key);
+    for (const char* key : {"lod", "depth", "cut"}) {
+        const std::string v = r.cell(key);
         if (!v.empty() && v != "base") p += (p.empty() ? "" : ";") + std::string(key) + "=" + v;
     }
     return p;

@@ -143,6 +143,7 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     if (!lod.empty() && lod != "base") view += "_" + lod;
     const std::string& depth = r.text("depth");
     if (!depth.empty() && depth != "base") view += "_depth-" + depth;
+    if (!r.cell("cut").empty()) view += "_cut" + r.cell("cut");
     char stem[512];
     std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g%s_%s", index,
                   r.text("method").c_str(), ps.empty() ? "" : "_", ps.c_str(),

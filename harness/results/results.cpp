@@ -145,7 +145,8 @@ std::string setting_of(const ResultRow& r) {
     const std::string& depth = r.text("depth");
     return r.text("method") + (params.empty() ? "" : " " + params) +
            (lod.empty() || lod == "base" ? "" : " lod=" + lod) +
-           (depth.empty() || depth == "base" ? "" : " depth=" + depth);
+           (depth.empty() || depth == "base" ? "" : " depth=" + depth) +
+           (r.cell("cut").empty() ? "" : " cut=" + r.cell("cut"));
 }
 
 std::string group_of(const ResultRow& r) {
@@ -164,8 +165,9 @@ std::string row_name(const std::function<std::string(const std::string&)>& cell)
     const std::string depth = cell("depth");
     return cell("method") + (params.empty() ? "" : " " + params) +
            (lod.empty() || lod == "base" ? "" : " lod=" + lod) +
-           (depth.empty() || depth == "base" ? "" : " depth=" + depth) + " [" + cell("backend") +
-           "/" + (fmt.empty() ? cell("precision") : fmt) + "] on " + cell("heightfield") +
+           (depth.empty() || depth == "base" ? "" : " depth=" + depth) +
+           (cell("cut").empty() ? "" : " cut=" + cell("cut")) + " [" + cell("backend") + "/" +
+           (fmt.empty() ? cell("precision") : fmt) + "] on " + cell("heightfield") +
            " s=" + cell("scale") + " b=" + cell("bias") + axes_name(cell);
 }
 

@@ -16,6 +16,7 @@
 #include "harness/core/params.h"
 #include "harness/experiment/view_grid.h"
 #include "harness/metrics/agreement.h"
+#include "harness/metrics/depth.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
 #include "harness/metrics/sweep_pairs.h"
@@ -200,6 +201,7 @@ struct ViewJob {
         for (const auto& [key, value] : c.ex.camera_settings[camera].values) row.set(key, value);
         row.set_text("lod", lod_name(m.lod));
         row.set_text("depth", depth_name(m.depth));
+        row.set("cut", m.cut);
         row.set("lod_mean", lod_mean);
         row.set("samples", c.ex.samples);
         row.set("width", c.hf.width);
@@ -295,6 +297,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (v.precision == "float" && job.float_spacing >= kFloatSpacingNote)
                     notes += (notes.empty() ? "note: " : "; ") + float_spacing_note(job);
                 if (!notes.empty()) row.set_text("error", notes);
+                if (!std::isnan(m.cut))
+                    add_cut_flips(o, job.truth.gt, job.view, job.exclude,
+                                  job.scene.scale * (m.cut - job.scene.bias), row);
                 row.set("precompute_ms", res.precompute_ms());
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
