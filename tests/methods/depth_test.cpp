@@ -1,0 +1,220 @@
+// The depth a method setting writes (docs/conventions.md section 8; methods/depth.h,
+// harness/backends/written_depth.cpp, metrics/depth.cpp): closed forms on flat fields, the exact
+// method's hit at rounding level on measured fields, every `ray` method's answer on its declared
+// search line, the engines' formulas against literal transcriptions of their lines, and the GLSL
+// twin's depth target against the CPU's.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
+#include "harness/run/runner.h"
+#include "harness/scene/perspective_camera.h"
+#include "methods/march/march.h"
+#include "tests/test_util.h"
+
+namespace pxh {
+namespace {
+
+std::vector<ResultRow> run(const std::string& toml) {
+    return run_experiment(parse_experiment(toml, "e.toml"), {});
+}
+
+std::string parse_error(const std::string& toml) {
+    try {
+        (void)parse_experiment(toml, "e.toml");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+const std::string kFlat =
+    "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.25\nwidth = 32\n"
+    "height = 32\nscale = 0.08\nbias = 1.0\n";
+
+const char* const kSome[] = {"parallax", "parallax_limited", "steep",      "pom",
+                             "relief",   "qdm",              "godot_deep", "hdrp_pom",
+                             "o3de_pom", "o3de_basic",       "jme_steep"};
+
+std::string methods_with(const std::string& depth) {
+    std::string m;
+    for (const char* name : kSome)
+        m += std::string("[[methods]]\nname = \"") + name + "\"\ndepth = " + depth + "\n";
+    return m;
+}
+
+// On a flat field h = c every method writes, with depth = base, the polygon: its depth error
+// is minus the true hit's depth, the distance along the ray from P to z = s (c - b) (times
+// -V . f: 1 for parallel rays). A plane strictly above the relief always shows, one below the
+// bottom never, in truth and for the method.
+TEST(Depth, BaseOnAFlatFieldIsTheRaysDistanceToTheSurface) {
+    const double zc = 0.08 * (0.25 - 1.0);
+    const auto rows = run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\n"
+                          "theta_deg = [0, 40, 75]\nphi_deg = [30]\ncut = [0.2, 0.26, 1.5]\n" +
+                          kFlat + methods_with("\"base\""));
+    ASSERT_EQ(rows.size(), std::size(kSome) * 3 * 3);
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        const double t = -zc / std::cos(r.num("theta_deg") * M_PI / 180);
+        EXPECT_NEAR(r.num("depth_bias_mean"), -t, 1e-12) << r.text("method");
+        EXPECT_NEAR(r.num("depth_err_max"), t, 1e-12) << r.text("method");
+        EXPECT_EQ(r.num("depth_toward_frac"), 0) << r.text("method");
+        // Base writes the polygon, in front of all the relief: a plane below the surface (c =
+        // 0.2) shows in neither; one between the surface and the polygon (0.26) shows in truth
+        // and never for the method; one above the polygon (1.5) shows in both.
+        EXPECT_EQ(r.num("cut_flip_frac"), r.num("cut") > 0.25 && r.num("cut") < 1 ? 1.0 : 0.0)
+            << r.text("method") << " cut " << r.num("cut");
+    }
+}
+
+// The same through the perspective camera: per pixel t (-V . f), averaged over the inside.
+TEST(Depth, BaseOnAFlatFieldThroughThePerspectiveCamera) {
+    const double zc = 0.08 * (0.25 - 1.0);
+    const auto rows = run(
+        "samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [60]\n"
+        "phi_deg = [10]\ncamera = \"perspective\"\ndistance = 1.5\nfov_deg = 60\n" +
+        kFlat + "[[methods]]\nname = \"pom\"\n");
+    ASSERT_EQ(rows.size(), 1u);
+    ASSERT_TRUE(rows[0].ok()) << rows[0].text("error");
+    const ParamDict views = ParamDict::parse("distance = 1.5\nfov_deg = 60", "v", "v");
+    const auto settings = Camera::settings("perspective", views, "v", 16);
+    const View v = Camera::create("perspective", settings[0], {60, 10, 16})->view();
+    double sum = 0, n = 0;
+    for (size_t k = 0; k < v.size(); ++k) {
+        if (!v.is_inside(k)) continue;
+        const Vec3d V = v.dir(k), f = v.depth_axis();
+        sum += -zc / V.z * -(V.x * f.x + V.y * f.y + V.z * f.z);
+        ++n;
+    }
+    EXPECT_NEAR(rows[0].num("depth_bias_mean"), -sum / n, 1e-12);
+}
+
+// maxmip returns the exact hit: with depth = hit, in double, its written depth is the truth's to
+// rounding on measured and procedural fields, and the cut planes flip no sample.
+TEST(Depth, TheExactMethodsHitIsTheTruthsDepth) {
+    const auto rows = run(
+        "samples = 32\ntiming_repeats = 0\nbackends = [\"cpu\"]\nprecision = \"double\"\n"
+        "[views]\ntheta_deg = [20, 60, 80]\nphi_deg = [35]\ncut = [0.25, 0.5, 0.75]\n"
+        "[[heightfields]]\nscan = \"luxembourg\"\nscale = 0.05\nbias = 1.0\n"
+        "[[heightfields]]\ngenerator = \"bricks\"\nsize = 64\nscale = 0.05\nbias = 1.0\n"
+        "[[methods]]\nname = \"maxmip\"\ndepth = \"hit\"\n");
+    ASSERT_EQ(rows.size(), 2u * 3 * 3);
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        EXPECT_LT(r.num("depth_err_max"), 1e-9) << r.text("heightfield") << r.num("theta_deg");
+        EXPECT_EQ(r.num("cut_flip_frac"), 0) << r.text("heightfield") << r.num("theta_deg");
+    }
+}
+
+// Every method that declares its hit on a search line (HitHeight::ray) returns a point of that
+// line: uv = P + d z for its d (hit_direction, else V.xy / V.z), in double, on a random field.
+TEST(Depth, RayMethodsAnswerOnTheirDeclaredLine) {
+    const HeightField hf = test::random_field(32, 32, 7);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    int checked = 0;
+    for (const MethodInfo& m : all_methods()) {
+        if (!m.run_double) continue;
+        const ParamValues p = test::params_for(m);
+        if (m.hit_height_of(p) != HitHeight::ray) continue;
+        if (!m.resources.empty()) continue;  // built maps: covered by the GLSL test's qdm rows
+        for (double theta : {25.0, 55.0, 75.0}) {
+            const Scene<double> sc = test::make_scene(hf, 0.06, 1.0, theta, 360 * u(rng));
+            const std::vector<Vec2d> P = test::random_points(64, 5);
+            const std::vector<Vec2d> uv = test::run_method<double>(m, p, sc, hf, P);
+            const Vec2d d = m.hit_direction ? m.hit_direction(p, sc.V, sc.scale)
+                                            : eye_ray_direction(sc.V);
+            const double len = std::hypot(d.x, d.y);
+            for (size_t k = 0; k < P.size(); ++k) {
+                if (!std::isfinite(uv[k].x)) continue;
+                const Vec2d e{uv[k].x - P[k].x, uv[k].y - P[k].y};
+                EXPECT_LT(std::abs(e.x * d.y - e.y * d.x) / len, 1e-9)
+                    << m.name << " theta " << theta << " sample " << k;
+            }
+        }
+        ++checked;
+    }
+    EXPECT_GE(checked, 10);
+}
+
+// The engines' lines, transcribed: HDRP LitDataDisplacement.hlsl 193-194 and Common.hlsl
+// 1268 (needle-mirror/com.unity.render-pipelines.high-definition @ a645acdd,
+// com.unity.render-pipelines.core @ 0088895f); O3DE ParallaxMapping.azsli 171, 188, 284-286,
+// CalcPixelDepthOffset 445-450 (o3de/o3de @ 354a2acc), here with an orthographic viewProj
+// (depth along f).
+TEST(Depth, EngineFormulasMatchTheirLines) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 200; ++i) {
+        const double theta = 80 * u(rng), phi = 360 * u(rng), s = 0.02 + 0.1 * u(rng);
+        const Vec3d V = view_vector(theta, phi);
+        const Vec3d f = {-V.x + 0.1 * u(rng), -V.y, -V.z};  // any depth axis
+        const Vec2d P{u(rng), u(rng)};
+        const double h = u(rng);  // the last probe's height
+        EngineDepthInput in{P, V, f, {0, 0}, 0, s * (h - 1), s, 1.0};
+        // HDRP: verticalDisplacement = maxHeight - height * maxHeight; depthOffset =
+        // verticalDisplacement / max(NdotV, 0.0001); positionWS += depthOffset * (-V).
+        const double maxHeight = s, height = h;
+        const double verticalDisplacement = maxHeight - height * maxHeight;
+        const double depthOffset = verticalDisplacement / std::max(V.z, 0.0001);
+        const Vec3d pos{P.x - depthOffset * V.x, P.y - depthOffset * V.y, -depthOffset * V.z};
+        MarchConfig c;
+        c.depth_offset = MarchConfig::PdoHdrp;
+        const double hdrp = (pos.x - P.x) * f.x + (pos.y - P.y) * f.y + pos.z * f.z;
+        EXPECT_NEAR(march_engine_depth(c, in), hdrp, 1e-12);
+        // O3DE (POM): parallaxOffset = -dirToCameraTS.xyz * (1 / V.z) * depth at the marched
+        // depth; zeroed where its z > 0; worldOffsetPosition = posWS + offset.
+        const double marched = s * (2 * u(rng) - 0.2);  // some searches end above (< 0)
+        Vec3d off{-V.x / V.z * marched, -V.y / V.z * marched, -V.z / V.z * marched};
+        if (off.z > 0) off = {0, 0, 0};
+        in.uv = {P.x - V.x / V.z * marched, P.y - V.y / V.z * marched};
+        in.z_line = -marched;
+        c.depth_offset = MarchConfig::PdoO3de;
+        c.search = MarchConfig::Layers;
+        EXPECT_NEAR(march_engine_depth(c, in), off.x * f.x + off.y * f.y + off.z * f.z, 1e-12);
+    }
+}
+
+// The GLSL twin writes gl_FragDepth into a 32-bit float target; read back, it is the CPU float
+// twin's depth within 1e-4 tile, in every mode, through both cameras.
+TEST(Depth, GlslDepthTargetIsTheCpuTwinsDepth) {
+    for (const std::string& cam :
+         {std::string(""), std::string("camera = \"perspective\"\ndistance = 2\nfov_deg = 50\n")}) {
+        const auto rows = run(
+            "samples = 24\ntiming_repeats = 0\nbackends = [\"cpu\", \"glsl\"]\n"
+            "[views]\ntheta_deg = [0, 50, 80]\nphi_deg = [20]\n" +
+            cam + "[[heightfields]]\ngenerator = \"fbm\"\nsize = 64\nscale = 0.05\nbias = 1.0\n" +
+            methods_with("[\"base\", \"hit\", \"engine\"]") +
+            "[[methods]]\nname = \"march\"\ndepth_offset = [\"unreal_legacy\", "
+            "\"unreal_camera\"]\ndepth = \"engine\"\n");
+        int glsl = 0;
+        for (const ResultRow& r : rows) {
+            ASSERT_TRUE(r.ok()) << r.text("method") << ": " << r.text("error");
+            if (r.text("backend") != "glsl") continue;
+            ++glsl;
+            EXPECT_LE(r.num("depth_cpu_diff_p999"), 1e-4)
+                << r.text("method") << " " << r.text("depth") << " theta " << r.num("theta_deg");
+        }
+        EXPECT_EQ(glsl, int(std::size(kSome)) * 3 * 3 + 2 * 3);
+    }
+}
+
+TEST(Depth, BadDepthAndCutAreRefused) {
+    const std::string base =
+        "samples = 8\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [0]\n" + kFlat;
+    EXPECT_EQ(parse_error(base + "[[methods]]\nname = \"pom\"\ndepth = \"deep\"\n"),
+              "e.toml:15: unknown depth 'deep' (known: base, hit, engine)");
+    EXPECT_EQ(parse_error(base + "[[methods]]\nname = \"pom\"\ndepth = [\"hit\", \"hit\"]\n"),
+              "e.toml:15: depth 'hit' is given twice");
+    std::string twice = base;
+    twice.replace(twice.find("theta_deg = [0]"), 15, "theta_deg = [0]\ncut = [0.5, 0.5]");
+    EXPECT_EQ(parse_error(twice + "[[methods]]\nname = \"pom\"\n"),
+              "e.toml:5: cut 0.5 is given twice");
+}
+
+}  // namespace
+}  // namespace pxh
