@@ -78,7 +78,7 @@ TEST_F(ShaderGate, FlippedVyFailsBothGatesWithBothVerdicts) {
     EXPECT_NE(out.find("phi=30"), std::string::npos) << out;
 }
 
-// The README's camera recipe: the same shader through a perspective camera at texture levels,
+// docs/guide/plugin-shaders.md's camera recipe: the same shader through a perspective camera at texture levels,
 // gated in screen pixels; the full run and the quick one (--samples 32 of the same 64 x 64
 // image, against its own baseline) both pass as committed and both fail with V.y flipped, with
 // both verdicts, and the JUnit and JSON files a CI system reads.
