@@ -386,10 +386,11 @@ TEST_F(PluginRows, HugeUvScoresAsTheTileCornerNotPerfect) {
     }
 }
 
-// What holds on llvmpipe (docs/guide/plugin-shaders.md, "What holds on which driver"): every loop is cut after 65535
-// iterations per fragment, counted over all its entries; the shader goes on and its row is ok.
-// One sample at theta 0 on a 16-texel field: the truth is P = (0.5, 0.5), and a shader returning
-// (0.5 + n / 2^21, 0.5) has err_mean = 16 n / 2^21 texels, so each row reads back its count.
+// What holds on llvmpipe (docs/guide/plugin-shaders.md, "What holds on which driver"): every loop
+// is cut after 65535 iterations per fragment, counted over all its entries; the shader goes on and
+// its row is ok. One sample at theta 0 on a 16-texel field: the truth is P = (0.5, 0.5), and a
+// shader returning (0.5 + n / 2^21, 0.5) has err_mean = 16 n / 2^21 texels, so each row reads back
+// its count.
 TEST_F(PluginRows, LlvmpipeCutsEveryLoopAt65535Iterations) {
     write("one.frag.glsl",
           "uniform int p_n;\nvec2 pxh_method(vec2 P) {\n  int i = 0;\n  while (i < p_n) i++;\n"
