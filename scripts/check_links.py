@@ -6,6 +6,7 @@ punctuation but `-` and `_` dropped, spaces to `-`, repeats numbered -1, -2, ...
 may have at most 400 lines. Links to web addresses (http:, https:, mailto:) are not checked.
 
 Usage: check_links.py [REPOSITORY_ROOT]   (default: the folder above this script)
+       check_links.py --selftest          (the checker finds the problems of a broken tree)
 Prints one line per problem, FILE:LINE: problem, and exits 1 if there is any, else 0.
 """
 import os
@@ -107,7 +108,41 @@ def check(root):
     return problems
 
 
+def selftest():
+    """A tree with one problem of each kind, and the same links mended: the checker must name
+    exactly the problems planted."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as root:
+        os.makedirs(os.path.join(root, "docs", "guide"))
+        def write(rel, text):
+            with open(os.path.join(root, rel), "w", encoding="utf-8") as f:
+                f.write(text)
+        write("CONTRIBUTING.md", "# Contributing\n")
+        write("docs/guide/a.md", "# A\n\n## Two words: `code`\n\n## Two words: `code`\n\n"
+              "[up](../../README.md#pxh) [self](#two-words-code-1) [web](https://example.org/x)\n"
+              "```\n[in a fence](nowhere.md)\n```\n")
+        good = "# pxh\n\n[a](docs/guide/a.md#two-words-code) ![f](docs/guide/a.md)\n"
+        write("README.md", good)
+        if check(root):
+            print("selftest: a sound tree reported problems:", check(root))
+            return 1
+        write("README.md", good + "[b](docs/missing.md) [c](docs/guide/a.md#no-such)\n"
+              + "<img src=\"docs/none.png\">\n" + "x\n" * 400)
+        found = check(root)
+        expected = ["README.md:4: docs/missing.md: no such file",
+                    "README.md:4: docs/guide/a.md#no-such: no heading '#no-such' in docs/guide/a.md",
+                    "README.md:5: docs/none.png: no such file",
+                    "README.md:405: 405 lines, more than 400"]
+        if found != expected:
+            print("selftest: expected", expected, "found", found)
+            return 1
+    print("selftest: ok")
+    return 0
+
+
 def main():
+    if sys.argv[1:] == ["--selftest"]:
+        return selftest()
     root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(
         os.path.abspath(__file__)), os.pardir)
     root = os.path.abspath(root)
