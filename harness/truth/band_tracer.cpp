@@ -65,6 +65,59 @@ class BandRun {
     int64_t lb_ = 0;
 };
 
+// The same with the vector walks (band_walk::walk_avx2, walk_avx512): the band's rays are all
+// started first, in the same order (the same first candidates), then walked lanes at a time.
+class VectorBandRun {
+  public:
+    using Walk = void (*)(const ViewTracer&, ViewTracer::Band&, const ViewTracer::Start*,
+                          const size_t*, size_t, Hits&);
+    // The starts and places live in each thread's own buffers, kept from band to band (fresh
+    // ones per band cost page faults: bands are tasks of their own).
+    VectorBandRun(const ViewTracer& vt, ViewTracer::Band& band, Hits& out, Walk walk)
+        : vt_(vt), band_(band), out_(out), walk_(walk), st_(buffers().st), k_(buffers().k) {}
+    void begin(double eta_lo, double w) {
+        band_.eta_lo = eta_lo;
+        band_.w = w;
+        band_.chunks = 0;
+        band_.used = 0;
+        n_ = 0;
+    }
+    void add(Vec2d P, size_t k) {
+        if (n_ == 0) {
+            band_.base = vt_.scan(vt_.ray(P)).c_first & ~((int64_t(1) << vt_.level()) - 1);
+            lb_ = band_.base;
+        }
+        if (n_ == st_.size()) {
+            st_.resize(2 * n_ + 64);
+            k_.resize(2 * n_ + 64);
+        }
+        vt_.start(band_, P, lb_, st_[n_]);
+        k_[n_++] = k;
+    }
+    void end() {
+        walk_(vt_, band_, st_.data(), k_.data(), n_, out_);
+        n_ = 0;
+    }
+
+  private:
+    const ViewTracer& vt_;
+    ViewTracer::Band& band_;
+    Hits& out_;
+    Walk walk_;
+    struct Buffers {
+        std::vector<ViewTracer::Start> st;
+        std::vector<size_t> k;
+    };
+    static Buffers& buffers() {
+        thread_local Buffers b;
+        return b;
+    }
+    std::vector<ViewTracer::Start>& st_;
+    std::vector<size_t>& k_;
+    size_t n_ = 0;
+    int64_t lb_ = 0;
+};
+
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
 // that a band holds a row of rays; narrower bands bound more tightly but cost a bound per run.
 double band_width(double area, size_t rays) {
@@ -112,7 +165,8 @@ class BandLayout {
     int64_t bands() const { return bands_; }
 
     // Traces band bd's rays into `run`.
-    void trace_band(int64_t bd, BandRun& run) const {
+    template <class Run>
+    void trace_band(int64_t bd, Run& run) const {
         const int64_t n = n_;
         run.begin(eta_lo_ + double(bd) * w_, w_);
         int64_t b0 = -1;  // the band's first b at the current a
@@ -168,8 +222,17 @@ void ExactTracer::trace_grid(int n, Vec3d V, Hits& out) const {
         return;
     }
     const BandLayout layout(vt, n, hf_);
+    const RayPath path = band_path();
+    const VectorBandRun::Walk lanes = path == RayPath::avx512 ? band_walk::walk_avx512
+                                     : path == RayPath::avx2 ? band_walk::walk_avx2
+                                                             : nullptr;
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, layout.bands(), 1), [&](const auto& rg) {
         ViewTracer::Band mem;
+        if (lanes) {
+            VectorBandRun run(vt, mem, out, lanes);
+            for (int64_t bd = rg.begin(); bd < rg.end(); ++bd) layout.trace_band(bd, run);
+            return;
+        }
         BandRun run(vt, mem, out);
         for (int64_t bd = rg.begin(); bd < rg.end(); ++bd) layout.trace_band(bd, run);
     });

@@ -309,6 +309,8 @@ class ViewTracer {
     const ExactTracer& tracer() const { return t_; }
     const float* column_pairs() const { return t_.column_pairs_.data(); }
     double scale() const { return t_.s_; }
+    int64_t tracer_width() const { return t_.hf_.width; }
+    int64_t tracer_height() const { return t_.hf_.height; }
     double bias() const { return t_.b_; }
     TruthHit hit(const Ray& r, double tau, int cells) const { return t_.hit_at(r, tau, cells); }
     double solve(const Ray& r, int64_t ci, int64_t cj, int64_t wi, int64_t wj,
@@ -427,5 +429,14 @@ class ViewTracer {
     int64_t nmin_l_ = 0;   // its blocks along the minor axis
     const float* cmax_;  // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
+
+// The vector walks of a band's n started rays st[0 .. n) (hits into out at ks[i]): as the
+// scalar walk (ViewTracer::trace) would give them, bit for bit (band_walk_engine.h).
+namespace band_walk {
+void walk_avx2(const ViewTracer& vt, ViewTracer::Band& band, const ViewTracer::Start* st,
+               const size_t* ks, size_t n, Hits& out);
+void walk_avx512(const ViewTracer& vt, ViewTracer::Band& band, const ViewTracer::Start* st,
+                 const size_t* ks, size_t n, Hits& out);
+}  // namespace band_walk
 
 }  // namespace pxh
