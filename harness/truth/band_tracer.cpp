@@ -92,6 +92,7 @@ class VectorBandRun {
             k_.resize(2 * n_ + 64);
         }
         vt_.start(band_, P, lb_, st_[n_]);
+        vt_.prefetch(band_, st_[n_]);
         k_[n_++] = k;
     }
     void end() {

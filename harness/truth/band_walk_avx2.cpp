@@ -60,15 +60,22 @@ struct Avx2 {
     // A cell's corners h00, h10, h01, h11 per lane from column_pairs_ (read as 8-byte pairs
     // (h(i, j), h(i, j + 1))): pairs i0 (column wi) and i1 (column wi + 1, wrapped).
     static void corners(const double* pairs, D i0, D i1, D f[4]) {
+        // Loads, not gathers: a gather holds up what follows until every lane's read is in.
+        alignas(16) int32_t a[4], b[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(a), _mm256_cvttpd_epi32(i0));
+        _mm_store_si128(reinterpret_cast<__m128i*>(b), _mm256_cvttpd_epi32(i1));
+        auto pair = [pairs](int32_t k) { return _mm_load_sd(pairs + k); };
+        const __m256d g0 = _mm256_setr_m128d(_mm_unpacklo_pd(pair(a[0]), pair(a[1])),
+                                            _mm_unpacklo_pd(pair(a[2]), pair(a[3])));
+        const __m256d g1 = _mm256_setr_m128d(_mm_unpacklo_pd(pair(b[0]), pair(b[1])),
+                                            _mm_unpacklo_pd(pair(b[2]), pair(b[3])));
         const __m256i lo_hi = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
-        const __m256 a = _mm256_permutevar8x32_ps(
-            _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_cvttpd_epi32(i0), 8)), lo_hi);
-        const __m256 b = _mm256_permutevar8x32_ps(
-            _mm256_castpd_ps(_mm256_i32gather_pd(pairs, _mm256_cvttpd_epi32(i1), 8)), lo_hi);
-        f[0] = _mm256_cvtps_pd(_mm256_castps256_ps128(a));
-        f[1] = _mm256_cvtps_pd(_mm256_castps256_ps128(b));
-        f[2] = _mm256_cvtps_pd(_mm256_extractf128_ps(a, 1));
-        f[3] = _mm256_cvtps_pd(_mm256_extractf128_ps(b, 1));
+        const __m256 x = _mm256_permutevar8x32_ps(_mm256_castpd_ps(g0), lo_hi);
+        const __m256 y = _mm256_permutevar8x32_ps(_mm256_castpd_ps(g1), lo_hi);
+        f[0] = _mm256_cvtps_pd(_mm256_castps256_ps128(x));
+        f[1] = _mm256_cvtps_pd(_mm256_castps256_ps128(y));
+        f[2] = _mm256_cvtps_pd(_mm256_extractf128_ps(x, 1));
+        f[3] = _mm256_cvtps_pd(_mm256_extractf128_ps(y, 1));
     }
 };
 

@@ -15,6 +15,9 @@
 // the band's next ray. So every ray solves the cells the scalar walk solves, in its order, with
 // the same arithmetic: the same hits bit for bit (and the same cell counts).
 #pragma once
+#ifndef PXH_BAND_SETS
+#define PXH_BAND_SETS 3
+#endif
 
 namespace pxh::band_walk {
 
@@ -25,6 +28,18 @@ class Walker {
     using M = typename O::M;
     static constexpr int N = O::N;
     using Start = ViewTracer::Start;
+    // A set of lanes: their rays (st_ index), candidate run, column offset and cells solved,
+    // and the vectors' state, the current cell (global and wrapped) as doubles (exact integers).
+    struct Lanes {
+        size_t ray_[N] = {};
+        int64_t o_[N] = {}, q_[N] = {};
+        int cells_[N] = {};
+        alignas(64) double X0_[N], Y0_[N], ci_[N], cj_[N], wi_[N], wj_[N];
+        alignas(64) double old_ci_[N], old_cj_[N], old_wi_[N], old_wj_[N], t_[N], tau_out_[N];
+    };
+    // kSets sets stepped in turn: a set's lanes written by its events (scalar stores) are read
+    // as vectors only after the other sets' steps, when the stores have reached the cache (read
+    // at once, each vector load would wait for the stores to drain).
 
     Walker(const ViewTracer& vt, ViewTracer::Band& band, const Start* st, const size_t* ks,
            size_t n, Hits& out)
@@ -52,16 +67,24 @@ class Walker {
 
     template <bool MX>
     void run() {
-        int active = 0;
-        for (int s = 0; s < N; ++s)
-            if (fill(s)) active |= 1 << s;
-        while (active) active = step<MX>(active);
+        int active[kSets] = {};
+        for (int k = 0; k < kSets; ++k)
+            for (int s = 0; s < N; ++s)
+                if (fill(sets_[k], s)) active[k] |= 1 << s;
+        for (bool any = true; any;) {
+            any = false;
+            for (int k = 0; k < kSets; ++k)
+                if (active[k]) {
+                    active[k] = step<MX>(sets_[k], active[k]);
+                    any = true;
+                }
+        }
     }
 
   private:
     // Lane s takes the band's next ray that has a cell to walk (rays with none are done here);
     // false, the lane idle (on cell (0, 0), so that its reads stay in the field), when none is left.
-    bool fill(int s) {
+    bool fill(Lanes& L, int s) {
         while (next_ < n_) {
             const size_t i = next_++;
             const Start& a = st_[i];
@@ -70,24 +93,24 @@ class Walker {
                 out_.set(ks_[i], vt_.hit(a.r, a.r.tau_max, 0));
                 continue;
             }
-            ray_[s] = i;
-            o_[s] = a.o;
-            q_[s] = a.q;
-            cells_[s] = 0;
-            X0_[s] = a.r.X0;
-            Y0_[s] = a.r.Y0;
-            place(s, ci, cj);
+            L.ray_[s] = i;
+            L.o_[s] = a.o;
+            L.q_[s] = a.q;
+            L.cells_[s] = 0;
+            L.X0_[s] = a.r.X0;
+            L.Y0_[s] = a.r.Y0;
+            place(L, s, ci, cj);
             return true;
         }
-        X0_[s] = Y0_[s] = 0;
-        place(s, 0, 0);
+        L.X0_[s] = L.Y0_[s] = 0;
+        place(L, s, 0, 0);
         return false;
     }
-    void place(int s, int64_t ci, int64_t cj) {
-        ci_[s] = double(ci);
-        cj_[s] = double(cj);
-        wi_[s] = double(wrap_index(ci, W_));
-        wj_[s] = double(wrap_index(cj, H_));
+    void place(Lanes& L, int s, int64_t ci, int64_t cj) {
+        L.ci_[s] = double(ci);
+        L.cj_[s] = double(cj);
+        L.wi_[s] = double(wrap_index(ci, W_));
+        L.wj_[s] = double(wrap_index(cj, H_));
     }
 
     // The cells' solve where they pass the first test: solve_patch_inline, lane by lane the
@@ -149,11 +172,12 @@ class Walker {
     }
 
     template <bool MX>
-    int step(int active);
+    int step(Lanes& L, int active);
     // A lane's event after a step (hit, slab bottom, column left, bisection): false when its ray
     // is done (the lane then takes the next).
     template <bool MX>
-    bool event(int s, bool hit, bool hard, bool bottom, bool major, double t, double tau_out);
+    bool event(Lanes& L, int s, bool hit, bool hard, bool bottom, bool major, double t,
+               double tau_out);
 
     const ViewTracer& vt_;
     ViewTracer::Band& band_;
@@ -166,20 +190,15 @@ class Walker {
     double idx_, idy_, dX_, dY_, vz_, zt_, tmax_, s_, b_;
     int64_t W_, H_;
     const double* pairs_;  // column_pairs_: a cell column's two texels per 8 bytes
-    // The lanes: their rays (st_ index), candidate run, column offset and cells solved, and
-    // the vectors' state, the current cell (global and wrapped) as doubles (exact integers).
-    size_t ray_[N] = {};
-    int64_t o_[N] = {}, q_[N] = {};
-    int cells_[N] = {};
-    alignas(64) double X0_[N], Y0_[N], ci_[N], cj_[N], wi_[N], wj_[N];
-    alignas(64) double old_ci_[N], old_cj_[N], old_wi_[N], old_wj_[N], t_[N], tau_out_[N];
+    static constexpr int kSets = PXH_BAND_SETS;
+    Lanes sets_[kSets];
 };
 
 template <class O>
 template <bool MX>
-int Walker<O>::step(int active) {
-    const D X0 = O::load(X0_), Y0 = O::load(Y0_), ci = O::load(ci_), cj = O::load(cj_);
-    const D wi = O::load(wi_), wj = O::load(wj_);
+int Walker<O>::step(Lanes& L, int active) {
+    const D X0 = O::load(L.X0_), Y0 = O::load(L.Y0_), ci = O::load(L.ci_), cj = O::load(L.cj_);
+    const D wi = O::load(L.wi_), wj = O::load(L.wj_);
     const D inf = O::set1(std::numeric_limits<double>::infinity());
     const D Wd = O::set1(double(W_)), Hd = O::set1(double(H_)), one = O::set1(1);
     // trace_naive's exit_x / exit_y and the cell's exit.
@@ -207,27 +226,27 @@ int Walker<O>::step(int active) {
     const M sx = O::le(ex, ey);
     const int major = MX ? O::bits(sx) : O::bits(sx) ^ ((1 << N) - 1);
     // Every lane to its next cell (those whose ray ends here are refilled below).
-    O::store(old_ci_, ci);
-    O::store(old_cj_, cj);
-    O::store(old_wi_, wi);
-    O::store(old_wj_, wj);
-    O::store(t_, t);
-    O::store(tau_out_, tau_out);
+    O::store(L.old_ci_, ci);
+    O::store(L.old_cj_, cj);
+    O::store(L.old_wi_, wi);
+    O::store(L.old_wj_, wj);
+    O::store(L.t_, t);
+    O::store(L.tau_out_, tau_out);
     const D dx = O::set1(sx_), dy = O::set1(sy_);
     const D nwi = O::add(wi, dx), nwj = O::add(wj, dy);
     const D zero = O::set1(0);
     const D wwi = O::blend(O::lt(nwi, zero), O::blend(O::eq(nwi, Wd), nwi, zero), O::sub(Wd, one));
     const D wwj = O::blend(O::lt(nwj, zero), O::blend(O::eq(nwj, Hd), nwj, zero), O::sub(Hd, one));
-    O::store(ci_, O::blend(sx, ci, O::add(ci, dx)));
-    O::store(wi_, O::blend(sx, wi, wwi));
-    O::store(cj_, O::blend(sx, O::add(cj, dy), cj));
-    O::store(wj_, O::blend(sx, wwj, wj));
-    for (int m = active; m; m &= m - 1) ++cells_[__builtin_ctz(unsigned(m))];
+    O::store(L.ci_, O::blend(sx, ci, O::add(ci, dx)));
+    O::store(L.wi_, O::blend(sx, wi, wwi));
+    O::store(L.cj_, O::blend(sx, O::add(cj, dy), cj));
+    O::store(L.wj_, O::blend(sx, wwj, wj));
+    for (int m = active; m; m &= m - 1) ++L.cells_[__builtin_ctz(unsigned(m))];
     for (int m = active & (hit | hard | bottom | major); m; m &= m - 1) {
         const int s = __builtin_ctz(unsigned(m));
-        if (!event<MX>(s, (hit >> s) & 1, (hard >> s) & 1, (bottom >> s) & 1, (major >> s) & 1,
-                       t_[s], tau_out_[s]) &&
-            !fill(s))
+        if (!event<MX>(L, s, (hit >> s) & 1, (hard >> s) & 1, (bottom >> s) & 1, (major >> s) & 1,
+                       L.t_[s], L.tau_out_[s]) &&
+            !fill(L, s))
             active &= ~(1 << s);
     }
     return active;
@@ -235,34 +254,34 @@ int Walker<O>::step(int active) {
 
 template <class O>
 template <bool MX>
-bool Walker<O>::event(int s, bool hit, bool hard, bool bottom, bool major, double t,
+bool Walker<O>::event(Lanes& L, int s, bool hit, bool hard, bool bottom, bool major, double t,
                       double tau_out) {
-    const size_t i = ray_[s];
+    const size_t i = L.ray_[s];
     const Start& a = st_[i];
     if (hard) {  // the scalar solver on the cell just tested
-        t = vt_.solve(a.r, int64_t(old_ci_[s]), int64_t(old_cj_[s]), int64_t(old_wi_[s]),
-                      int64_t(old_wj_[s]), tau_out);
+        t = vt_.solve(a.r, int64_t(L.old_ci_[s]), int64_t(L.old_cj_[s]), int64_t(L.old_wi_[s]),
+                      int64_t(L.old_wj_[s]), tau_out);
         hit = t >= 0;
     }
     if (hit || bottom) {
-        out_.set(ks_[i], vt_.hit(a.r, hit ? t : tmax_, cells_[s]));
+        out_.set(ks_[i], vt_.hit(a.r, hit ? t : tmax_, L.cells_[s]));
         return false;
     }
     if (!major) return true;
     // Left through the major face: the next column of the scalar walk's scan.
-    const int64_t o_next = o_[s] + 1;
-    vt_.next_column(band_, a, o_[s], q_[s]);
-    if (o_[s] > vt_.last_offset(band_, a)) {
-        out_.set(ks_[i], vt_.hit(a.r, tmax_, cells_[s]));
+    const int64_t o_next = L.o_[s] + 1;
+    vt_.next_column(band_, a, L.o_[s], L.q_[s]);
+    if (L.o_[s] > vt_.last_offset(band_, a)) {
+        out_.set(ks_[i], vt_.hit(a.r, tmax_, L.cells_[s]));
         return false;
     }
-    if (o_[s] != o_next) {
+    if (L.o_[s] != o_next) {
         int64_t ci = 0, cj = 0;
-        if (!vt_.enter(band_, a, o_[s], ci, cj)) {
-            out_.set(ks_[i], vt_.hit(a.r, tmax_, cells_[s]));
+        if (!vt_.enter(band_, a, L.o_[s], ci, cj)) {
+            out_.set(ks_[i], vt_.hit(a.r, tmax_, L.cells_[s]));
             return false;
         }
-        place(s, ci, cj);
+        place(L, s, ci, cj);
     }
     return true;
 }
