@@ -304,6 +304,36 @@ class ViewTracer {
         return major_x_ ? walk<true>(band, st) : walk<false>(band, st);
     }
 
+    // The scalar walk (walk) in steps that stop at each cell the solver's first test lets
+    // through (a candidate), for the vector walks to solve candidates of several rays at once:
+    // begin walks a started ray to its first candidate, resume (after a candidate without a hit)
+    // to its next; both false when the ray ends at the slab bottom (hit at tau_max, `cells`),
+    // true with the candidate cell (ci, cj; wrapped wi, wj), its exit time and corners. The
+    // same cells in the same order as walk, so with the solver's result the same hits.
+    struct WalkState {
+        const Start* st;
+        int64_t o, q, ci, cj, wi, wj;
+        int cells;
+        bool step_x;     // the step after the candidate: along x (ex <= ey), else along y
+        double tau_out;  // the candidate's exit
+        float f[4];      // its corners h00, h10, h01, h11
+    };
+    bool begin(Band& band, WalkState& w) const {
+        const Start& st = *w.st;
+        w.o = st.o;
+        w.q = st.q;
+        w.cells = 0;
+        if (w.o > last_offset(band, st) || !enter(band, st, w.o, w.ci, w.cj)) return false;
+        w.wi = wrap_index(w.ci, t_.hf_.width);
+        w.wj = wrap_index(w.cj, t_.hf_.height);
+        return major_x_ ? advance<true>(band, w) : advance<false>(band, w);
+    }
+    bool resume(Band& band, WalkState& w) const {
+        if (w.tau_out >= w.st->r.tau_max) return false;
+        return major_x_ ? step<true>(band, w, w.step_x) && advance<true>(band, w)
+                        : step<false>(band, w, w.step_x) && advance<false>(band, w);
+    }
+
     // For the vector walks (band_walk_*.cpp): the tracer's pieces they read, each as the scalar
     // walk uses it.
     const ExactTracer& tracer() const { return t_; }
@@ -413,6 +443,63 @@ class ViewTracer {
             o_next = o + 1;  // left through the major face: (ci, cj) is column o + 1's entry cell
         }
         return t_.hit_at(r, r.tau_max, cells);
+    }
+
+    // From the cell (ci, cj), not tested yet, to the next candidate (see begin).
+    template <bool MX>
+    bool advance(Band& band, WalkState& w) const {
+        const Ray& r = w.st->r;
+        const double tmax = r.tau_max, inf = std::numeric_limits<double>::infinity();
+        const int64_t ox = r.sx > 0 ? 1 : 0, oy = r.sy > 0 ? 1 : 0, W = t_.hf_.width;
+        for (;;) {
+            ++w.cells;
+            const double ex = r.dX != 0 ? (double(w.ci + ox) - r.X0) * r.inv_dX : inf;
+            const double ey = r.dY != 0 ? (double(w.cj + oy) - r.Y0) * r.inv_dY : inf;
+            const double tau_out = std::min({ex, ey, tmax});
+            // solve_cell_pairs's corners and its solver's first test.
+            const int64_t wi1 = w.wi + 1 == W ? 0 : w.wi + 1;
+            const float* row = t_.column_pairs_.data() + 2 * w.wj * W;
+            const float f00 = row[2 * w.wi], f10 = row[2 * wi1];
+            const float f01 = row[2 * w.wi + 1], f11 = row[2 * wi1 + 1];
+            if (!t_.cell_below(r, f00, f10, f01, f11, tau_out)) {
+                w.tau_out = tau_out;
+                w.step_x = ex <= ey;
+                w.f[0] = f00;
+                w.f[1] = f10;
+                w.f[2] = f01;
+                w.f[3] = f11;
+                return true;
+            }
+            if (tau_out >= tmax) return false;
+            if (!step<MX>(band, w, ex <= ey)) return false;
+        }
+    }
+    // walk's step to the next cell (along x or y); through the major face, to the next
+    // candidate column's entry cell. False when the ray ends.
+    template <bool MX>
+    bool step(Band& band, WalkState& w, bool along_x) const {
+        const Ray& r = w.st->r;
+        if (along_x) {
+            w.ci += r.sx;
+            w.wi += r.sx;
+            if (w.wi == t_.hf_.width) w.wi = 0;
+            else if (w.wi < 0) w.wi = t_.hf_.width - 1;
+            if (!MX) return true;
+        } else {
+            w.cj += r.sy;
+            w.wj += r.sy;
+            if (w.wj == t_.hf_.height) w.wj = 0;
+            else if (w.wj < 0) w.wj = t_.hf_.height - 1;
+            if (MX) return true;
+        }
+        const int64_t o_next = w.o + 1;
+        next_column(band, *w.st, w.o, w.q);
+        if (w.o > last_offset(band, *w.st)) return false;
+        if (w.o == o_next) return true;  // (ci, cj) is that column's entry cell
+        if (!enter(band, *w.st, w.o, w.ci, w.cj)) return false;
+        w.wi = wrap_index(w.ci, t_.hf_.width);
+        w.wj = wrap_index(w.cj, t_.hf_.height);
+        return true;
     }
 
     double major(const Ray& r) const { return major_x_ ? r.X0 : r.Y0; }

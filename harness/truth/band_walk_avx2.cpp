@@ -89,9 +89,7 @@ namespace pxh::band_walk {
 void walk_avx2(const ViewTracer& vt, ViewTracer::Band& band, const ViewTracer::Start* st,
                const size_t* ks, size_t n, Hits& out) {
     if (n == 0) return;
-    Walker<Avx2> w(vt, band, st, ks, n, out);
-    if (vt.major_x()) w.run<true>();
-    else w.run<false>();
+    Batch<Avx2>(vt, band, st, ks, n, out).run();
 }
 
 }  // namespace pxh::band_walk

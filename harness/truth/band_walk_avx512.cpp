@@ -2,9 +2,11 @@
 // at run time: ExactTracer::band_path): band_walk_engine.h over 8 doubles, masks in mask
 // registers. No contraction: each product rounded, as in the scalar walk.
 // GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which its -Wmaybe-uninitialized
-// reports once they are inlined here (a known false positive, as in ray_walk_simd.cpp).
+// (and -Wuninitialized) report once they are inlined here (a known false positive, as in
+// ray_walk_simd.cpp).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 #include <immintrin.h>
 
@@ -84,9 +86,7 @@ namespace pxh::band_walk {
 void walk_avx512(const ViewTracer& vt, ViewTracer::Band& band, const ViewTracer::Start* st,
                  const size_t* ks, size_t n, Hits& out) {
     if (n == 0) return;
-    Walker<Avx512> w(vt, band, st, ks, n, out);
-    if (vt.major_x()) w.run<true>();
-    else w.run<false>();
+    Batch<Avx512>(vt, band, st, ks, n, out).run();
 }
 
 }  // namespace pxh::band_walk
