@@ -90,13 +90,6 @@ class ExactTracer final : public Tracer {
     static RayPath default_path();
     static bool cpu_has_simd_path() { return default_path() != RayPath::scalar; }
     RayPath ray_path() const { return square_levels_ > 0 ? path_ : RayPath::scalar; }
-    // trace_grid's walk: its bands' rays in vector lanes (band_walk_avx2.cpp, 4 to a vector;
-    // band_walk_avx512.cpp, 8) on the same path as ray_path's choice (path_), or the scalar
-    // walk (ViewTracer::trace) without one or on fields of 2^31 cells or more (the lanes index
-    // the texel pairs in 32-bit integers). All give trace_naive's hits bit for bit.
-    RayPath band_path() const {
-        return column_pairs_.size() / 2 < (size_t(1) << 31) ? path_ : RayPath::scalar;
-    }
     bool simd_path() const { return ray_path() != RayPath::scalar; }
     void set_path(RayPath p) { path_ = std::min(p, cpu_best_path()); }
     void set_simd(bool on) { set_path(on ? default_path() : RayPath::scalar); }
