@@ -450,14 +450,15 @@ class BandRun {
 };
 
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
-// that a band holds a row of rays; twice that where rays lie 2 cells apart or more. Narrower
+// that a band holds a row of rays; twice that where rays lie about 4 cells apart or more (the
+// case measured; closer rays keep bands one spacing wide, which solve fewer cells). Narrower
 // bands bound more tightly but cost a bound per run, and each band builds its own: measured at
 // 2048 x 2048 with 512 x 512 rays (spacing 4; pxh bench, one thread, fbm), bands 8 wide (twice
 // the cells per ray) 1.1-1.25 times as fast as bands 4 wide, bands 16 wide no faster; at
 // 512 x 512 (spacing 1) bands 2 or 4 wide no faster than 1 (within the machine's noise).
 double band_width(double area, size_t rays) {
     const double spacing = std::sqrt(area / double(std::max<size_t>(rays, 1)));
-    return std::clamp(std::round(spacing >= 2 ? 2 * spacing : spacing), 1.0, 8.0);
+    return std::clamp(std::round(spacing >= 3.5 ? 2 * spacing : spacing), 1.0, 8.0);
 }
 
 // The mipmap level the bounds come from: blocks about half the band's width (level 0, the
