@@ -389,10 +389,10 @@ class ViewTracer {
     int sa_;
     double dmaj_, m_, k_, inv_k_, z_max_;
     double off_x_, off_y_, width_, height_;  // ray's: make_ray's offsets and the field's size
-    int64_t nmaj_, nmin_;  // grid cells along the major / minor axis
-    int l_ = 0;            // the mipmap level the bounds are built from
-    int coarse_ = 0;       // the level of the chunks' coarse bounds
-    int64_t nmin_l_ = 0;   // its blocks along the minor axis
+    int64_t nmaj_, nmin_;                    // grid cells along the major / minor axis
+    int l_ = 0;                              // the mipmap level the bounds are built from
+    int coarse_ = 0;                         // the level of the chunks' coarse bounds
+    int64_t nmin_l_ = 0;                     // its blocks along the minor axis
     const float* cmax_;  // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
 };
 
