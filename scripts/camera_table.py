@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-# The README's "Seen through a camera" table from a run of results/experiments/camera.toml:
+# The table of docs/findings/camera.md from a run of results/experiments/camera.toml:
 #   /usr/bin/python3 scripts/camera_table.py RUN/results.csv
 # Per method group (the seed methods, the engine presets) and level mode: the median over the
 # group's settings of each setting's mean over its rows in a distance band (all theta) of

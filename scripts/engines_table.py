@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README table "How wrong is each engine's parallax" from a run of
+"""The table of docs/findings/engines.md from a run of
 results/experiments/engines.toml and its `pxh report` (report/data/cost_vs_error.csv).
 
     engines_table.py RUN_DIR [--backend cpu|glsl]

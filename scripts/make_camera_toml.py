@@ -14,7 +14,7 @@ groups = next(ast.literal_eval(n.value) for n in ast.parse(src).body
               if isinstance(n, ast.Assign) and getattr(n.targets[0], "id", "") == "groups")
 SEEDS = ["parallax", "parallax_limited", "steep", "pom", "relief"]  # at s = 0.05, b = 1
 have = set(sys.argv[1:])  # methods that exist
-out = ['''# Seen through a camera (README "Seen through a camera: distance and texture levels"): the
+out = ['''# Seen through a camera (docs/findings/camera.md): the
 # seed methods and every engine preset at its engine's defaults on the measured field jacksboro,
 # a perspective camera from 1 to 32 tiles away, theta 45/70/80, each setting with its height read
 # at level 0 (base), at the pixel's level (level) and, on GLSL, through textureGrad (grad) and

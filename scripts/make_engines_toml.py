@@ -20,13 +20,13 @@ groups = [  # (s, b, presets, how s follows from the engine's default)
 EXTRA = {
  "dxsdk_pom": ("# As shipped the sample never sets g_vTextureDims, so its mip level is always 0 and its LOD\n"
                "# blend never runs: g_nLODThreshold 16 keeps the preset there (at jacksboro's level 2.65 under\n"
-               "# this grid the default 3 would blend towards P; docs/engines.md, \"Texture levels\").\n",
+               "# this grid the default 3 would blend towards P; docs/guide/engines.md, \"Texture levels\").\n",
                "g_nLODThreshold = 16\n"),
 }
 import sys
 have = set(sys.argv[1:])  # presets that exist
 out = ['''# What engines ship: every engine preset at its engine's defaults (methods/march/presets/*.cpp;
-# README "How wrong is each engine's parallax"). Each preset runs on a procedural (bricks) and a
+# docs/findings/engines.md). Each preset runs on a procedural (bricks) and a
 # measured (jacksboro) field at its engine's default height scale s and reference plane b
 # ([[methods]] heightfields = [...] pairs them), theta 0-85, on the CPU reference and as GLSL.
 name = "engines"

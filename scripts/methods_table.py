@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README tables "Accelerated and exact methods" from a run of results/experiments/methods.toml
+"""The tables of docs/findings/methods.md from a run of results/experiments/methods.toml
 and one of results/experiments/precompute.toml.
 
     methods_table.py METHODS_RUN_DIR [PRECOMPUTE_RUN_DIR ...]
@@ -11,7 +11,7 @@ median over the setting's rows of each row's time), ms/frame (GLSL: the median o
 and, from the precompute runs, the median precompute_ms and the aux_bytes of its maps at 256^2
 and 1024^2 (fbm).
 
-The per-field tables of the README come from `pxh report` (report/fields.md: one table per
+The per-field tables of docs/findings/methods.md come from `pxh report` (report/fields.md: one table per
 height field), not from here.
 
 Table 2 (with precompute runs), per method with precomputed textures (and per slice count for

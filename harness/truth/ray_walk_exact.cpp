@@ -11,60 +11,15 @@
 // cell of the block, exiting no later (the same formulas, monotone in floating point) and
 // lying no higher, is one solve_cell would reject by the same test.
 //
-// Speed (single thread, pxh bench --camera perspective): the walk is a state machine
-// (walk_start, walk_blocks) whose state is kept in one place, short rays are walked at level 0
-// only (the DDA itself, its tile-local cell kept as it moves: no division per cell), the
-// descent goes two levels at a time above level 2, and in a view a run of identical rays (a
-// perspective view's outside pixels all carry the look-at ray) is traced once. Tried and
-// dropped: walking several rays at a time, one step of each in turn (twice as slow: the
-// branch predictor loses each ray's pattern), tracing the image in 8 x 8 pixel tiles (no
-// measurable change), descending without moving to the crossing (slower). Kept: requesting a
-// cell's texels (and the next block's maximum) a step or two before they are read, and on a
-// descent the blocks of every level below at the crossing at once (the descent's next tests
-// read them: 5-10% faster in most settings on a view traced again and again, caches warm
-// (noisy); within the spread in
-// pxh bench, whose Embree runs between the exact tracer's evict the field: three runs of each
-// alternated, exact / Embree 1.17-2.37 against 1.09-2.09 before, setting by setting alike).
-// Where the time goes (the 12 settings, caches warm): every ray walked twice in a row costs a
-// quarter to a half more than once, not twice; the packets and the rays' starts without the
-// walks 4-25%. Instructions (callgrind, per ray of a view): 1,550-1,850 at 512 x 512; at
-// 85 deg, D = 1.5 the DDA takes 38% of them, the block walks of the long rays (a fifth of the
-// rays, ~22 steps each, a third of them descents) 34%, packets 9%, starts 8%. Memory: at
-// 2048 x 2048 (texels and levels 37 MB) the tables in huge pages (harness/core/huge_pages.h:
-// Embree's BVH is in huge pages by default on Linux too) and the walk on row-major texels
-// (half the bytes of texel pairs) made the walk 1.2-1.8 times faster (pxh bench, alternated
-// with the build before); at 512 x 512, 1.0-1.2 times.
-// Tried again and dropped: one step of each of a packet's rays in turn, each step requesting
-// what its ray reads next (1.05 to 1.7 times slower), and tracing the rays of packets too wide
-// for a shared descent in the order of their start cells in the tile (Morton order; rays of
-// any tile starting at nearby cells walk nearby cells of the periodic field): gains at far
-// eyes on 2048 x 2048 within the machine's run-to-run spread, losses on near ones; the
-// levels in 16-bit upper bounds (half the bytes: 3-8% at most, within the spread); each
-// packet's starts first, then the first cells of every ray requested before any is walked
-// (slower everywhere). In the round after: a branch-free DDA step (both exits computed, one kept:
-// no measurable change), packet depth ranges capped at 16 to 64 cells of travel, for grazing
-// packets (1-3% fewer instructions, no change in time), DDA limits 32/64 and 128/256 cells
-// (slower). In the round after that: the texels padded to (W + 1) x (H + 1) (a cell's corners
-// at fixed offsets, no wrap per cell), walk_blocks one loop over local state, the DDA's texel
-// pointer and exit lines kept as it moves and the closed form out of line (solve_patch):
-// 110-125 fewer instructions per ray, 2-5% faster at 512 x 512, 2048 x 2048 alike (within the
-// spread); kept. Compiling this file for x86-64-v3 (AVX2, FMA off): 0-3% faster at 512 x 512,
-// 3-8% slower at 2048 x 2048; dropped. In the round after that (a driver timing this path
-// alone, and callgrind): a walk over bounds of the blocks dilated by a cell on each side, in
-// its own arithmetic (the DDA's exact cell found only where a bound stops the walk, then the
-// DDA from there): 14% fewer instructions in the block walk, 512 x 512 unchanged, 2048 x 2048
-// 14-35% slower; the same walk for four rays in turn, each step free of branches on the
-// ray's data: 13-30% slower (three times the block steps: dilated bounds of small blocks
-// are loose), stopped at 8 x 8 blocks too; a slab descent per ray (packet_floor of one ray)
-// where a packet's rays are too far apart: at 60 deg, D = 16, a fifth of the DDA's cells but
-// 1.1-2 times slower; walk_dda with its next 8 column and 8 row crossings tested at once
-// (AVX-512: the cells from the merge of the two time lists, their maxima gathered from level
-// 0, cell_below's test per event; bit for bit, the same cells counted): at 60 deg, D = 16,
-// three quarters of the DDA's cells passed in windows of about 11, yet 2-11% slower in every
-// setting (a window's gathers and counts are a long chain, and whether it passes is hard to
-// predict). A 128 x 128 field at the same s W (every table in L1/L2) is not faster per ray
-// than 512 x 512 (60 deg, D = 16: 3.3 against 4.2 Mr/s): the walk is bound by its chain of
-// dependent steps and branches, not by memory, and not by its instruction count alone.
+// Structure: the walk is a state machine (walk_start, walk_blocks) whose state is kept in one
+// place; short rays are walked at level 0 only (the DDA itself, walk_dda, its tile-local cell
+// kept as it moves: no division per cell); the descent goes two levels at a time above level 2;
+// a cell's texels (and the next block's maximum) are requested a step or two before they are
+// read, and on a descent the blocks of every level below at the crossing at once; the walk
+// reads row-major texels padded to (W + 1) x (H + 1) (a cell's corners at fixed offsets, no
+// wrap per cell), in tables on huge pages (harness/core/huge_pages.h); in a view a run of
+// identical rays (a perspective view's outside pixels all carry the look-at ray) is traced
+// once. Its measurements, and every variant tried and dropped: docs/internals/tracers.md.
 //
 // Packets (trace_rays): 4 x 4 neighbouring pixels of a view descend through the slab together
 // (packet_floor): over a depth range [zt - u_lo, zt - u_hi] every ray of the packet lies in
@@ -77,10 +32,8 @@
 // arithmetic; where it fails the ray starts at its first cell), so inside some passed range,
 // inside its box, below the ray: one solve_cell rejects by its own test. After the descent a
 // ray near its hit (128 cells of travel left at most) takes the DDA (walk_dda: cheaper per
-// cell than the walk's block steps). Measured and dropped: 2 x 2 and 8 x 8 packets, a second
-// descent per 2 x 2 quarter of the packet, a descent per ray after the packet's, a DDA limit
-// in cells done (8 to 64) rather than cells left, and boxes bounded by blocks as wide as the
-// box (twice as coarse) or a quarter as wide (more loads for no gain).
+// cell than the walk's block steps). What was measured and dropped (other packet sizes,
+// descents per quarter or per ray): docs/internals/tracers.md.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -97,22 +50,19 @@ namespace {
 using Axis = cell_solver::DdaAxis;
 
 // Rays shorter than this (horizontal travel through the slab, in cells) are walked at level 0
-// (the DDA, walk_dda): their cells cost no more than the block tests (measured with pxh bench
-// --camera perspective: 64 faster than 16 and 32 at 512 x 512 and D = 4 or 16, 128 slower at
-// 2048 x 2048).
+// (the DDA, walk_dda): their cells cost no more than the block tests (the value measured:
+// docs/internals/tracers.md).
 constexpr double kDdaTravelCells = 64;
 
 // Packets (trace_rays): kPacketSide x kPacketSide neighbouring pixels share one descent
 // through the slab (packet_floor) before each ray goes on alone from where the packet
 // stopped. A packet whose rays start more than kPacketMaxSpread cells apart (a far eye: its
-// box would be too wide to rule anything out; 16 and 32 measured alike) skips it. The descent's
+// box would be too wide to rule anything out) skips it. The descent's
 // first depth range spans kPacketStartCells cells of travel of its fastest ray; it tests at most
 // kPacketTests ranges, none shorter than kPacketStopCells cells. After it a ray with at most
 // kPacketDdaCells cells of travel left takes the DDA (cheaper per cell than the walk's
-// block steps), a longer one the walk from level kPacketResumeLevel at most (1 to 4 measured
-// alike). Measured with pxh bench --camera perspective (single thread; 2 x 2, 4 x 4 and 8 x 8
-// packets, a second descent per 2 x 2 quarter, a descent per ray, DDA limits 8 to 512 cells:
-// 64 to 256 alike at 512 x 512, 512 slower).
+// block steps), a longer one the walk from level kPacketResumeLevel at most. The values
+// measured against their alternatives: docs/internals/tracers.md.
 constexpr int kPacketSide = 4;
 constexpr double kPacketMaxSpread = 32;
 constexpr double kPacketStartCells = 8, kPacketStopCells = 1;

@@ -13,8 +13,8 @@
 //    upper bound M (one byte: one of 256 heights) of the cells' corner maxima over every
 //    n x n square of cells, n = 2^k, at every first cell (i, j) of the tile, wrapped; levels
 //    k >= 3 keep one entry per d x d first cells (d = 2^(k - 2): SquareLayout), the bound of
-//    their union, a square of n + d - 1 cells, and so of each (2.33 bytes per texel in all,
-//    not 5: at 2048 x 2048 the walk ran 17% faster, at 512 x 512 as fast). A step from
+//    their union, a square of n + d - 1 cells, and so of each (2.33 bytes per texel in all).
+//    A step from
 //    time t: g = floor(x(t) + sx/2) (and the same in y) is the ray's column, or the one behind it
 //    where the ray lies in the first half of its cell; the square's columns run from g - 1 (sx > 0:
 //    [g - 1, g - 1 + n)) or from g + 1 back (sx < 0: [g + 2 - n, g + 1]), so they hold the DDA's
@@ -45,8 +45,8 @@
 // each ray's data (ray_walk_exact.cpp's notes); here 4 independent vectors of 8 rays are
 // stepped in turn, without a branch on any ray's data, and a lane whose ray is done takes
 // the next ray of the chunk. The tables' and texels' reads are prefetched a half-step (pass A)
-// or a step (pass B) before the gathers that use them, so that misses overlap. Measured against
-// the scalar walk with pxh bench --camera perspective (README: the per-ray section).
+// or a step (pass B) before the gathers that use them, so that misses overlap. Measurements
+// against the scalar walk and Embree, and what was tried and dropped: docs/internals/tracers.md.
 // GCC 12's AVX-512 headers start some conversions from _mm512_undefined_*(), which its
 // -Wmaybe-uninitialized reports once they are inlined here (a known false positive).
 #if defined(__GNUC__) && !defined(__clang__)

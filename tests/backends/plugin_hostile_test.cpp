@@ -386,10 +386,11 @@ TEST_F(PluginRows, HugeUvScoresAsTheTileCornerNotPerfect) {
     }
 }
 
-// What holds on llvmpipe (README "What holds on which driver"): every loop is cut after 65535
-// iterations per fragment, counted over all its entries; the shader goes on and its row is ok.
-// One sample at theta 0 on a 16-texel field: the truth is P = (0.5, 0.5), and a shader returning
-// (0.5 + n / 2^21, 0.5) has err_mean = 16 n / 2^21 texels, so each row reads back its count.
+// What holds on llvmpipe (docs/guide/plugin-shaders.md, "What holds on which driver"): every loop
+// is cut after 65535 iterations per fragment, counted over all its entries; the shader goes on and
+// its row is ok. One sample at theta 0 on a 16-texel field: the truth is P = (0.5, 0.5), and a
+// shader returning (0.5 + n / 2^21, 0.5) has err_mean = 16 n / 2^21 texels, so each row reads back
+// its count.
 TEST_F(PluginRows, LlvmpipeCutsEveryLoopAt65535Iterations) {
     write("one.frag.glsl",
           "uniform int p_n;\nvec2 pxh_method(vec2 P) {\n  int i = 0;\n  while (i < p_n) i++;\n"
@@ -426,7 +427,7 @@ TEST_F(PluginRows, LlvmpipeCutsEveryLoopAt65535Iterations) {
                 << t.get(r, "error");
             continue;
         }
-        EXPECT_EQ(t.get(r, "status"), "ok") << key;  // cut, yet ok: what the README says
+        EXPECT_EQ(t.get(r, "status"), "ok") << key;  // cut, yet ok: what the guide says
         // err_mean has 10 digits: the count to within 1e-4, rounded.
         count[key] = std::round(std::stod(t.get(r, "err_mean")) * 2097152.0 / 16);
     }
@@ -437,8 +438,8 @@ TEST_F(PluginRows, LlvmpipeCutsEveryLoopAt65535Iterations) {
     // The inner loop over all its 60000 entries: about 65535 in all, not 3.6e9.
     EXPECT_GE(count["nest p_n=60000"], 65533);
     EXPECT_LE(count["nest p_n=60000"], 65535);
-    // README says what holds here, not the promise that such a row fails.
-    std::ifstream readme(std::string(PXH_SOURCE_DIR) + "/README.md");
+    // docs/guide/plugin-shaders.md says what holds here, not the promise that such a row fails.
+    std::ifstream readme(std::string(PXH_SOURCE_DIR) + "/docs/guide/plugin-shaders.md");
     const std::string text((std::istreambuf_iterator<char>(readme)), {});
     EXPECT_NE(text.find("every loop of the compiled shader after 65535 iterations per fragment"),
               std::string::npos);

@@ -78,10 +78,10 @@ TEST_F(ShaderGate, FlippedVyFailsBothGatesWithBothVerdicts) {
     EXPECT_NE(out.find("phi=30"), std::string::npos) << out;
 }
 
-// The README's camera recipe: the same shader through a perspective camera at texture levels,
-// gated in screen pixels; the full run and the quick one (--samples 32 of the same 64 x 64
-// image, against its own baseline) both pass as committed and both fail with V.y flipped, with
-// both verdicts, and the JUnit and JSON files a CI system reads.
+// docs/guide/plugin-shaders.md's camera recipe: the same shader through a perspective camera at
+// texture levels, gated in screen pixels; the full run and the quick one (--samples 32 of the same
+// 64 x 64 image, against its own baseline) both pass as committed and both fail with V.y flipped,
+// with both verdicts, and the JUnit and JSON files a CI system reads.
 TEST_F(ShaderGate, CameraGateFullAndQuickCatchAFlippedVy) {
     const fs::path same =
         copy_with("vec2 dir = pxh_V.xy / pxh_V.z;", "vec2 dir = pxh_V.xy / pxh_V.z;");

@@ -6,7 +6,8 @@
 // point). Each function converts them to what the engine's shader sees and returns the engine's
 // uv in pxh coordinates with its fetch count. Heights are fetched with
 // HeightSampler<float>(hf, 1, 0).height(uv) (bilinear, wrapping, LOD 0; the engines use implicit
-// or biased LOD, which pxh ignores). Research notes: /work/research/js_engines.md.
+// or biased LOD, which pxh ignores). Sources, file by file and commit by commit:
+// docs/guide/engines.md.
 #pragma once
 #include <algorithm>
 #include <cmath>

@@ -344,8 +344,8 @@ TEST(EngineLodGlsl, PresetsWithLevelRulesAgreeWithTheirCpuTwinOnPerspectiveViews
                                      std::to_string(row.given.size()) +
                                      (on_grid ? " on the grid" : " perspective");
             const bool babylon = std::string(row.name) == "babylon_pom";
-            // Babylon's interpolation weight is unclamped (docs/engines.md): float rounding of
-            // near-degenerate brackets is amplified, so its bound is on the worst sample.
+            // Babylon's interpolation weight is unclamped (docs/guide/engines.md): float rounding
+            // of near-degenerate brackets is amplified, so its bound is on the worst sample.
             if (babylon) {
                 EXPECT_LT(r.worst, 0.01) << what << ": worst " << r.worst << " texel";
             } else {

@@ -93,7 +93,7 @@ TEST(Sweep, RandomPerSampleOffsetsShimmerWithoutSliding) {
 // measured: single-step parallax shimmers more and more toward grazing views; the layered
 // searches (pom, relief) shimmer far less; offset limiting and halving flatten the relief
 // (larger error) and slide (coherent drift) where parallax does not. Whether limiting reduces
-// shimmer depends on scale and angle (README), so it is not asserted.
+// shimmer depends on scale and angle (docs/findings/sliding.md), so it is not asserted.
 TEST(Sweep, RealMethodsOrderAsThePapersSay) {
     Experiment ex;
     ex.samples = 96;

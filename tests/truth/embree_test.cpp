@@ -43,7 +43,7 @@ TEST(Embree, MatchesExactOnPlanarPatchesAcrossManyTiles) {
 
 // On smooth fields the references agree to a median well under 0.01 texel; on rough ones the
 // triangles and bilinear patches differ a little, and at grazing angles a few rays at
-// silhouettes disagree by more (documented in README).
+// silhouettes disagree by more (docs/internals/tracers.md, "Embree cross-check").
 TEST(Embree, AgreementDistributionOnSmoothAndRoughFields) {
     for (const char* name : {"bumps", "fbm"})
         for (double theta : {30.0, 60.0, 85.0}) {

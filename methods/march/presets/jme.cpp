@@ -1,7 +1,7 @@
 // jMonkeyEngine's Parallax.glsllib (classic and steep) as presets of the parametric marcher
 // (methods/march/preset.h). The engine's height scale is the experiment's scale s (conversions
-// in README); each fixes the reference plane, so each requires its bias. Literal transcriptions
-// and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
+// in docs/findings/engines.md); each fixes the reference plane, so each requires its bias. Literal
+// transcriptions and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
 // tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 //
 // Texture levels: both read texture2D(parallaxMap, ...), in steep's loop too (`lod =

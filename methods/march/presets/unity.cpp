@@ -1,8 +1,8 @@
 // Unity's parallax as presets of the parametric marcher (methods/march/preset.h): built-in/URP
 // ParallaxOffset and HDRP's PerPixelDisplacement. The engine's height scale is the experiment's
-// scale s (conversions in README); each fixes the reference plane, so each requires its bias.
-// Literal transcriptions and the comparison: tests/engines/literal_unity_jme_ogre_dx.h,
-// tests/methods/engines_unity_jme_ogre_dx_test.cpp.
+// scale s (conversions in docs/findings/engines.md); each fixes the reference plane, so each
+// requires its bias. Literal transcriptions and the comparison:
+// tests/engines/literal_unity_jme_ogre_dx.h, tests/methods/engines_unity_jme_ogre_dx_test.cpp.
 //
 // Texture levels. Built-in/URP ParallaxOffset reads tex2D (the hardware's derivatives: `lod =
 // "implicit"` on the GLSL backend). HDRP computes one level before the loop,
