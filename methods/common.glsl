@@ -17,7 +17,7 @@ uniform int u_light_on;
 uniform vec3 u_light;        // L, toward the light
 uniform float u_shadow_layers_min;
 uniform float u_shadow_layers_max;
-// The depth it writes (methods/depth.h, docs/conventions.md section 8): gl_FragDepth =
+// The depth it writes (methods/depth.h, docs/conventions.md section 11): gl_FragDepth =
 // 0.5 + depth(X_w) / u_depth_span, depth(X) = (X - P) . u_depth_axis in tiles.
 uniform int u_depth_mode;    // 0 base (X_w = P), 1 hit (X_w = (uv, z_m)), 2 engine
 uniform int u_hit_height;    // z_m: 0 the surface at uv, 1 the search line's, 2 pxh_write_hit's

@@ -1,4 +1,4 @@
-// The depth a method setting writes (docs/conventions.md section 8): the point X_w whose view
+// The depth a method setting writes (docs/conventions.md section 11): the point X_w whose view
 // depth goes into the depth buffer, chosen by the setting's `depth` mode, and the height z_m at
 // which a method places its hit (what `hit` writes).
 //

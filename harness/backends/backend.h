@@ -62,7 +62,7 @@ struct MethodOutput {
     std::vector<Vec2d> uv;  // per sample (unwrapped)
     std::vector<int> fetches;
     std::vector<float> shadow_hard, shadow_soft;  // light factors at uv, when a light is given
-    // The depth it writes (docs/conventions.md section 8; the setting's depth mode): per sample
+    // The depth it writes (docs/conventions.md section 11; the setting's depth mode): per sample
     // depth(X_w) = (X_w - P) . f along the view's depth axis (methods/depth.h), in tiles; NaN
     // where there is no uv.
     std::vector<double> depth;

@@ -39,7 +39,7 @@ struct GlslMethod {
 
 // One row's draw: the program, its uniforms, and what it draws with (pointers to the caller's
 // data, which must outlive the call).
-// The depth a draw writes (methods/depth.h, docs/conventions.md section 8): main() writes
+// The depth a draw writes (methods/depth.h, docs/conventions.md section 11): main() writes
 // gl_FragDepth = 0.5 + depth(X_w) / span into a 32-bit float depth target, read back as
 // MethodOutput::depth. mode: 0 base, 1 hit, 2 engine; hit: 0 surface, 1 ray, 2 shader.
 struct GlslDepth {

@@ -1,4 +1,4 @@
-// The point a method setting writes the depth of (docs/conventions.md section 8), as the C++
+// The point a method setting writes the depth of (docs/conventions.md section 11), as the C++
 // twin computes it from the method's uv: MethodOutput::depth. The GLSL twin computes the same in
 // methods/common.glsl's main() and writes it to gl_FragDepth.
 #pragma once

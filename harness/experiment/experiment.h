@@ -56,7 +56,7 @@ struct Experiment {
                                   // reference the errors are measured against
     std::vector<double> theta_deg, phi_deg{0.0};
     // [views] cut: the heights (height-map units) of opaque planes z = s (c - b) through the
-    // relief (docs/conventions.md section 8); each method setting gets rows per cut (key column
+    // relief (docs/conventions.md section 11); each method setting gets rows per cut (key column
     // cut, cut_flip_frac). Empty: no cut.
     std::vector<double> cuts;
     std::string camera = "orthographic";  // [views] camera: makes each view's rays (harness/scene)

@@ -1,4 +1,4 @@
-// The depth a method setting writes against the truth's (docs/conventions.md section 8):
+// The depth a method setting writes against the truth's (docs/conventions.md section 11):
 // depth_err_mean / _p95 / _max (|depth(X_w) - depth(X_t)|), depth_bias_mean (signed: > 0 behind
 // the true surface) and depth_toward_frac (written nearer the eye than the polygon), in tiles
 // along the view's depth axis, over the inside samples with a finite uv and a finite truth.

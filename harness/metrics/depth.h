@@ -1,6 +1,6 @@
 // The depth metrics beyond the per-output ones of depth.cpp (depth_err_*, depth_bias_mean,
 // depth_toward_frac): what a depth test against an opaque plane shows (docs/conventions.md
-// section 8).
+// section 11).
 #pragma once
 #include "harness/backends/backend.h"
 #include "harness/metrics/row.h"

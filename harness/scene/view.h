@@ -38,7 +38,7 @@ struct View {
     // the horizon; it carries a ray every stage can process, and its results are left out of
     // every statistic and counted); empty: every sample is inside.
     std::vector<uint8_t> inside;
-    // The view depth's axis f (docs/conventions.md section 8: view depth z_eye(X) = (X - E) . f):
+    // The view depth's axis f (docs/conventions.md section 11: view depth z_eye(X) = (X - E) . f):
     // the perspective camera's forward vector; zero: -V (parallel rays, where the depth of a
     // point is its distance along the rays).
     Vec3d forward{0, 0, 0};

@@ -297,7 +297,7 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
     return uv;
 }
 
-// The depth the engine writes (depth = engine; docs/conventions.md section 8), as depth(X_w)
+// The depth the engine writes (depth = engine; docs/conventions.md section 11), as depth(X_w)
 // along the view's depth axis f from P, by depth_offset:
 //   none: the polygon's (0).
 //   hdrp (Unity HDRP: ApplyPerPixelDisplacement returns depthOffset = (maxHeight - h maxHeight) /

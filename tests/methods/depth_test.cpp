@@ -1,4 +1,4 @@
-// The depth a method setting writes (docs/conventions.md section 8; methods/depth.h,
+// The depth a method setting writes (docs/conventions.md section 11; methods/depth.h,
 // harness/backends/written_depth.cpp, metrics/depth.cpp): closed forms on flat fields, the exact
 // method's hit at rounding level on measured fields, every `ray` method's answer on its declared
 // search line, the engines' formulas against literal transcriptions of their lines, and the GLSL
@@ -36,9 +36,9 @@ const std::string kFlat =
     "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.25\nwidth = 32\n"
     "height = 32\nscale = 0.08\nbias = 1.0\n";
 
-const char* const kSome[] = {"parallax", "parallax_limited", "steep",      "pom",
-                             "relief",   "qdm",              "godot_deep", "hdrp_pom",
-                             "o3de_pom", "o3de_basic",       "jme_steep"};
+const char* const kSome[] = {"parallax", "parallax_limited", "steep",    "pom",      "relief",
+                             "qdm",      "godot_deep",       "hdrp_pom", "o3de_pom", "o3de_basic",
+                             "jme_steep"};
 
 std::string methods_with(const std::string& depth) {
     std::string m;
@@ -53,9 +53,10 @@ std::string methods_with(const std::string& depth) {
 // bottom never, in truth and for the method.
 TEST(Depth, BaseOnAFlatFieldIsTheRaysDistanceToTheSurface) {
     const double zc = 0.08 * (0.25 - 1.0);
-    const auto rows = run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\n"
-                          "theta_deg = [0, 40, 75]\nphi_deg = [30]\ncut = [0.2, 0.26, 1.5]\n" +
-                          kFlat + methods_with("\"base\""));
+    const auto rows =
+        run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\n"
+            "theta_deg = [0, 40, 75]\nphi_deg = [30]\ncut = [0.2, 0.26, 1.5]\n" +
+            kFlat + methods_with("\"base\""));
     ASSERT_EQ(rows.size(), std::size(kSome) * 3 * 3);
     for (const ResultRow& r : rows) {
         ASSERT_TRUE(r.ok()) << r.text("error");
@@ -74,10 +75,10 @@ TEST(Depth, BaseOnAFlatFieldIsTheRaysDistanceToTheSurface) {
 // The same through the perspective camera: per pixel t (-V . f), averaged over the inside.
 TEST(Depth, BaseOnAFlatFieldThroughThePerspectiveCamera) {
     const double zc = 0.08 * (0.25 - 1.0);
-    const auto rows = run(
-        "samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [60]\n"
-        "phi_deg = [10]\ncamera = \"perspective\"\ndistance = 1.5\nfov_deg = 60\n" +
-        kFlat + "[[methods]]\nname = \"pom\"\n");
+    const auto rows =
+        run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [60]\n"
+            "phi_deg = [10]\ncamera = \"perspective\"\ndistance = 1.5\nfov_deg = 60\n" +
+            kFlat + "[[methods]]\nname = \"pom\"\n");
     ASSERT_EQ(rows.size(), 1u);
     ASSERT_TRUE(rows[0].ok()) << rows[0].text("error");
     const ParamDict views = ParamDict::parse("distance = 1.5\nfov_deg = 60", "v", "v");
@@ -96,12 +97,12 @@ TEST(Depth, BaseOnAFlatFieldThroughThePerspectiveCamera) {
 // maxmip returns the exact hit: with depth = hit, in double, its written depth is the truth's to
 // rounding on measured and procedural fields, and the cut planes flip no sample.
 TEST(Depth, TheExactMethodsHitIsTheTruthsDepth) {
-    const auto rows = run(
-        "samples = 32\ntiming_repeats = 0\nbackends = [\"cpu\"]\nprecision = \"double\"\n"
-        "[views]\ntheta_deg = [20, 60, 80]\nphi_deg = [35]\ncut = [0.25, 0.5, 0.75]\n"
-        "[[heightfields]]\nscan = \"luxembourg\"\nscale = 0.05\nbias = 1.0\n"
-        "[[heightfields]]\ngenerator = \"bricks\"\nsize = 64\nscale = 0.05\nbias = 1.0\n"
-        "[[methods]]\nname = \"maxmip\"\ndepth = \"hit\"\n");
+    const auto rows =
+        run("samples = 32\ntiming_repeats = 0\nbackends = [\"cpu\"]\nprecision = \"double\"\n"
+            "[views]\ntheta_deg = [20, 60, 80]\nphi_deg = [35]\ncut = [0.25, 0.5, 0.75]\n"
+            "[[heightfields]]\nscan = \"luxembourg\"\nscale = 0.05\nbias = 1.0\n"
+            "[[heightfields]]\ngenerator = \"bricks\"\nsize = 64\nscale = 0.05\nbias = 1.0\n"
+            "[[methods]]\nname = \"maxmip\"\ndepth = \"hit\"\n");
     ASSERT_EQ(rows.size(), 2u * 3 * 3);
     for (const ResultRow& r : rows) {
         ASSERT_TRUE(r.ok()) << r.text("error");
@@ -126,8 +127,8 @@ TEST(Depth, RayMethodsAnswerOnTheirDeclaredLine) {
             const Scene<double> sc = test::make_scene(hf, 0.06, 1.0, theta, 360 * u(rng));
             const std::vector<Vec2d> P = test::random_points(64, 5);
             const std::vector<Vec2d> uv = test::run_method<double>(m, p, sc, hf, P);
-            const Vec2d d = m.hit_direction ? m.hit_direction(p, sc.V, sc.scale)
-                                            : eye_ray_direction(sc.V);
+            const Vec2d d =
+                m.hit_direction ? m.hit_direction(p, sc.V, sc.scale) : eye_ray_direction(sc.V);
             const double len = std::hypot(d.x, d.y);
             for (size_t k = 0; k < P.size(); ++k) {
                 if (!std::isfinite(uv[k].x)) continue;
