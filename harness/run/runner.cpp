@@ -233,6 +233,20 @@ double float_gap(double u) {
     return double(std::nextafter(f, std::numeric_limits<float>::infinity())) - double(f);
 }
 
+// What an ok row says beside its numbers: samples the shader discarded (samples_discarded), and
+// float's spacing at far samples.
+std::string row_notes(const ViewJob& job, const MethodOutput& o, const Variant& v) {
+    std::string notes;
+    if (o.samples_discarded > 0)
+        notes = "note: " + std::to_string(o.samples_discarded) + " of " +
+                std::to_string(o.uv.size()) +
+                " samples discarded or unwritten by the shader (no uv: counted in "
+                "samples_discarded and nonfinite, left out of the errors)";
+    if (v.precision == "float" && job.float_spacing >= kFloatSpacingNote)
+        notes += (notes.empty() ? "note: " : "; ") + float_spacing_note(job);
+    return notes;
+}
+
 ResultRow failed_row(const std::exception& e) {
     ResultRow row;
     row.fail(e.what());
@@ -288,15 +302,8 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                         " exceeds the declared bound fetches_bound = " + std::to_string(bound) +
                         (m.method->plugin_shader.empty() ? " (the method's max_fetches)"
                                                          : " (the entry's max_fetches)"));
-                std::string notes;            // said in the row; the numbers stay
-                if (o.samples_discarded > 0)  // (samples_discarded)
-                    notes = "note: " + std::to_string(o.samples_discarded) + " of " +
-                            std::to_string(o.uv.size()) +
-                            " samples discarded or unwritten by the shader (no uv: counted in "
-                            "samples_discarded and nonfinite, left out of the errors)";
-                if (v.precision == "float" && job.float_spacing >= kFloatSpacingNote)
-                    notes += (notes.empty() ? "note: " : "; ") + float_spacing_note(job);
-                if (!notes.empty()) row.set_text("error", notes);
+                if (const std::string notes = row_notes(job, o, v); !notes.empty())
+                    row.set_text("error", notes);  // said in the row; the numbers stay
                 if (!std::isnan(m.cut))
                     add_cut_flips(o, job.truth.gt, job.view, job.exclude,
                                   job.scene.scale * (m.cut - job.scene.bias), row);
