@@ -4,8 +4,12 @@
 // search line, the engines' formulas against literal transcriptions of their lines, and the GLSL
 // twin's depth target against the CPU's.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <random>
 #include <string>
 
@@ -202,6 +206,35 @@ TEST(Depth, GlslDepthTargetIsTheCpuTwinsDepth) {
         }
         EXPECT_EQ(glsl, int(std::size(kSome)) * 3 * 3 + 2 * 3);
     }
+}
+
+// A plug-in writes its hit through pxh_write_hit(z) (methods/common.glsl): returning P and
+// writing z = -0.02, its depth along the ray (-V) is 0.02 V.z: its bias differs from the same
+// shader's without the call (which writes the polygon, as base) by exactly that, up to float.
+TEST(Depth, PluginWritesItsHitThroughPxhWriteHit) {
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("pxh_depth_plugin_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const char* const body = "vec2 pxh_method(vec2 P) {\n    pxh_height(P);\n%s    return P;\n}\n";
+    char with[256], without[256];
+    std::snprintf(with, sizeof with, body, "    pxh_write_hit(-0.02);\n");
+    std::snprintf(without, sizeof without, body, "");
+    std::ofstream(dir / "with.frag.glsl") << with;
+    std::ofstream(dir / "without.frag.glsl") << without;
+    const std::string toml =
+        "samples = 8\ntiming_repeats = 0\nbackends = [\"glsl\"]\n[views]\ntheta_deg = [50]\n"
+        "phi_deg = [15]\n" +
+        kFlat +
+        "[[methods]]\nname = \"with\"\nshader = \"with.frag.glsl\"\nmax_fetches = 1\n"
+        "depth = \"hit\"\n[[methods]]\nname = \"without\"\nshader = \"without.frag.glsl\"\n"
+        "max_fetches = 1\ndepth = \"hit\"\n";
+    const auto rows = run_experiment(parse_experiment(toml, (dir / "e.toml").string()), {});
+    std::filesystem::remove_all(dir);
+    ASSERT_EQ(rows.size(), 2u);
+    ASSERT_TRUE(rows[0].ok() && rows[1].ok()) << rows[0].text("error") << rows[1].text("error");
+    const double vz = std::cos(50 * M_PI / 180);
+    EXPECT_NEAR(rows[0].num("depth_bias_mean") - rows[1].num("depth_bias_mean"), 0.02 * vz, 1e-6);
+    EXPECT_NEAR(rows[1].num("depth_bias_mean"), -0.08 * 0.75 / vz, 1e-6);  // the polygon's
 }
 
 TEST(Depth, BadDepthAndCutAreRefused) {
