@@ -89,6 +89,11 @@ const std::map<std::string, Selector>& selectors() {
                  ex.methods, [&](const MethodSpec& m) { return ok(depth_name(m.depth)); }, "depth",
                  [](const MethodSpec& m) { return std::string(depth_name(m.depth)); });
          }}},
+        {"cut", {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
+             keep(
+                 ex.methods, [&](const MethodSpec& m) { return ok(m.cut); }, "cut",
+                 [](const MethodSpec& m) { return format_number(m.cut); });
+         }}},
         {"heightfield", {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
              keep(
                  ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.name); },

@@ -119,8 +119,8 @@ TEST(ParamsUnread, MethodEntryKeyAtItsLine) {
 
 TEST(ParamsUnread, ViewsKeyTheOrthographicCameraDoesNotRead) {
     EXPECT_EQ(experiment_error(with_line(kExperiment, "theta_deg = [0, 30]\n", "fov_deg = 60")),
-              "e.toml:6: unknown key 'fov_deg' in [views] (known: theta_deg, phi_deg, camera; "
-              "camera 'orthographic' reads no keys of its own)");
+              "e.toml:6: unknown key 'fov_deg' in [views] (known: theta_deg, phi_deg, camera, "
+              "cut; camera 'orthographic' reads no keys of its own)");
     // Its own keys go through the same reader: the camera is made from [views].
     const Experiment ex = parse_experiment(with_line(kExperiment, "theta_deg = [0, 30]\n",
                                                      "camera = "

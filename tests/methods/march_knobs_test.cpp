@@ -67,7 +67,7 @@ TEST(MarchKnobs, DeclarationsParametersAndUniformsNameTheSameKnobs) {
     // What the backend sets for the `march` method at its defaults, and for the default config.
     const GlUniforms set = method_uniforms(march, test::params_for(march));
     const GlUniforms of_defaults = march_uniforms(MarchConfig{});
-    ASSERT_EQ(glsl.size(), 31u);
+    ASSERT_EQ(glsl.size(), 32u);
     ASSERT_EQ(params.size(), glsl.size());
     ASSERT_EQ(set.size(), glsl.size());
     ASSERT_EQ(of_defaults.size(), glsl.size());

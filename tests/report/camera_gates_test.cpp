@@ -149,7 +149,9 @@ TEST_F(CameraGates, OnlyTakesEveryAxis) {
     EXPECT_EQ(bad.status, 2);
     EXPECT_NE(bad.err.find("unknown key 'distanse' (did you mean 'distance'?)"), std::string::npos)
         << bad.err;
-    EXPECT_NE(bad.err.find("resolution_max), lod\n"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("resolution_max), lod, depth, cut (and cut_min, cut_max)\n"),
+              std::string::npos)
+        << bad.err;
     EXPECT_EQ(bad.err.find("samples"), std::string::npos) << bad.err;  // set by --samples
     const auto none = pxh("run " + exp + " --quiet --out " + d("y") + " --only distance=7");
     EXPECT_EQ(none.status, 2);
