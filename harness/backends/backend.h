@@ -66,6 +66,10 @@ struct MethodOutput {
     // depth(X_w) = (X_w - P) . f along the view's depth axis (methods/depth.h), in tiles; NaN
     // where there is no uv.
     std::vector<double> depth;
+    // Per sample, how far rounding alone may move the written depth (tiles; empty: 1e-9 at
+    // every sample, the double twin's and the GPU's): a write nearer the eye than the polygon
+    // by no more than this is not counted in depth_toward_frac.
+    std::vector<double> depth_tol;
     // Its timing and its declared counters (empty when not timed).
     Timing timing;
     std::vector<Counter> counters;

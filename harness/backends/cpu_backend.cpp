@@ -143,7 +143,7 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
                 view.timed ? settings_.timing_repeats : 0, view.resources,
                 rays.parallel ? nullptr : &rays.V, levels ? view.levels : nullptr, view.lambda);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
-    out.depth = written_depths(m, view, out.uv);
+    add_written_depths(m, view, out, v.precision == "float");
     return out;
 }
 

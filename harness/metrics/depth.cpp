@@ -35,7 +35,9 @@ void add_depth_errors(const MetricInput& in, ResultRow& row) {
         const double e = o.depth[k] - depth_offset(view.P[k], f, t, zt);
         mag.push_back(std::abs(e));
         bias += e;
-        toward += o.depth[k] < -kTowardEps ? 1 : 0;
+        const double eps =
+            o.depth_tol.size() == n ? std::max(kTowardEps, o.depth_tol[k]) : kTowardEps;
+        toward += o.depth[k] < -eps ? 1 : 0;
     }
     if (mag.empty()) return;
     const double count = double(mag.size());
@@ -54,10 +56,13 @@ constexpr ColumnRole kMeasured = ColumnRole::measured;
 
 }  // namespace
 
-void add_cut_flips(const MethodOutput& out, const GroundTruth& gt, const View& view,
-                   const std::vector<uint8_t>* exclude, double z_cut, ResultRow& row) {
+std::vector<uint8_t> add_cut_flips(const MethodOutput& out, const GroundTruth& gt, const View& view,
+                                   const std::vector<uint8_t>* exclude, double z_cut,
+                                   ResultRow& row) {
     const size_t n = out.uv.size();
-    if (out.depth.size() != n || gt.uv.size() != n || gt.z.size() != n || view.size() != n) return;
+    if (out.depth.size() != n || gt.uv.size() != n || gt.z.size() != n || view.size() != n)
+        return {};
+    std::vector<uint8_t> shows(n, 0);
     const Vec3d f = view.depth_axis();
     double flips = 0, counted = 0;
     for (size_t k = 0; k < n; ++k) {
@@ -67,9 +72,11 @@ void add_cut_flips(const MethodOutput& out, const GroundTruth& gt, const View& v
         const double truth = depth_offset(view.P[k], f, gt.uv[k], gt.z[k]);
         const bool shown_true = plane < truth, shown = plane < out.depth[k];
         flips += shown_true != shown ? 1 : 0;
+        shows[k] = uint8_t((shown_true ? 1 : 0) | (shown ? 2 : 0));
         ++counted;
     }
     if (counted > 0) row.set("cut_flip_frac", flips / counted);
+    return shows;
 }
 
 const Metric& depth_metric() {

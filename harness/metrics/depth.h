@@ -11,7 +11,11 @@ namespace pxh {
 // cut_flip_frac: over the inside samples (not excluded) with a written depth and a true hit,
 // the fraction where the plane z = z_cut shows in truth (the ray meets it before the surface)
 // but not for the method (its depth is not nearer than the written one), or the other way.
-void add_cut_flips(const MethodOutput& out, const GroundTruth& gt, const View& view,
-                   const std::vector<uint8_t>* exclude, double z_cut, ResultRow& row);
+// Returns, per sample, what each shows (bit 0: the plane in truth, bit 1: the plane for the
+// method; 0 for the samples not counted), for pictures of the depth test; empty where the
+// row has no depths.
+std::vector<uint8_t> add_cut_flips(const MethodOutput& out, const GroundTruth& gt, const View& view,
+                                   const std::vector<uint8_t>* exclude, double z_cut,
+                                   ResultRow& row);
 
 }  // namespace pxh

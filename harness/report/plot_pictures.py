@@ -87,10 +87,13 @@ def picture_montage(F, st, results, rows):
     note = None if multi or len(groups) < 2 else (
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
     cam = view_title(r0)
+    cut = r0.get("cut") or ""
     title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
                 f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
                 ": a numbered checkerboard through each "
-                "method's uv; below it, |method − truth|" + (f"\n({note})" if note else ""),
+                "method's uv" + (f"; blue: the plane at height {num(cut):g} where the depth "
+                                 "test shows it" if cut else "") +
+                "; below it, |method − truth|" + (f"\n({note})" if note else ""),
                 F.width, 7, 4)
 
     def lines_in(k):  # the most title lines of block k
@@ -122,7 +125,7 @@ def picture_montage(F, st, results, rows):
                     ha="center", va="top", transform=bottom.transAxes)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
-                + (r0.get("camera_tag") or ""))
+                + (r0.get("camera_tag") or "") + (f"_cut{num(cut):g}" if cut else ""))
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
 
@@ -197,9 +200,9 @@ def pictures(F, st, rows):
     for r in rows:  # a montage per view (camera keys included: one truth each), a strip per
         # field, azimuth, camera view and setting (its level mode: one strip each)
         cam = r.get("camera_view", "")
-        if "montage" in r["picture_use"].split():
-            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam),
-                             []).append(r)
+        if "montage" in r["picture_use"].split():  # a cut plane's own montage (its truth)
+            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam,
+                              r.get("cut") or ""), []).append(r)
         if "strip" in r["picture_use"].split():
             strips.setdefault((r["heightfield"], r["phi_deg"], cam, setting(r)), []).append(r)
     for v in views.values():

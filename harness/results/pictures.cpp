@@ -79,6 +79,12 @@ std::vector<Vec2d> uv_from_errors(const std::vector<Vec2d>& truth_uv,
     return uv;
 }
 
+void paint_plane(std::vector<float>& rgb, const std::vector<uint8_t>& shows, uint8_t bit) {
+    for (size_t k = 0; k < shows.size() && 3 * k + 2 < rgb.size(); ++k)
+        if (shows[k] & bit)
+            for (size_t c = 0; c < 3; ++c) rgb[3 * k + c] = kPlaneRgb[c];
+}
+
 std::vector<float> difference(const std::vector<float>& a, const std::vector<float>& b) {
     std::vector<float> d(a.size());
     for (size_t i = 0; i < a.size(); ++i) d[i] = std::fabs(a[i] - b[i]);

@@ -30,6 +30,12 @@ std::vector<float> picture(const std::vector<Vec2d>& uv, int n,
 std::vector<Vec2d> uv_from_errors(const std::vector<Vec2d>& truth_uv,
                                   const std::vector<Vec2d>& errors, int width, int height);
 
+// The opaque plane of a depth test ([views] cut; docs/conventions.md section 11) painted over a
+// picture: a flat blue (kPlaneRgb, no colour the albedo uses) at the samples whose `shows`
+// has bit `bit` set (add_cut_flips: bit 1 the truth shows the plane, bit 2 the method).
+inline constexpr float kPlaneRgb[3] = {0.12f, 0.35f, 0.95f};
+void paint_plane(std::vector<float>& rgb, const std::vector<uint8_t>& shows, uint8_t bit);
+
 // |a - b| per channel: black where the pictures agree.
 std::vector<float> difference(const std::vector<float>& a, const std::vector<float>& b);
 

@@ -50,8 +50,9 @@ namespace {
 struct ViewRows {
     std::vector<ResultRow> rows;
     std::vector<std::vector<Vec2d>> errors;
-    std::vector<Vec2d> truth_uv;  // the view's true hits (per sample, unwrapped)
-    std::vector<uint8_t> inside;  // the view's inside mask (View::inside)
+    std::vector<Vec2d> truth_uv;                  // the view's true hits (per sample, unwrapped)
+    std::vector<uint8_t> inside;                  // the view's inside mask (View::inside)
+    std::vector<std::vector<uint8_t>> cut_shows;  // per row: ViewOutput::cut_shows
 };
 
 // One field (with its s, b) and what every view of it shares.
@@ -185,7 +186,7 @@ struct ViewJob {
 
     // The keys and the view-wide columns of a row; returns its index in the view.
     size_t emit(ResultRow row, std::vector<Vec2d> errs, const MethodSpec& m,
-                const std::string& backend, const Variant& v) {
+                const std::string& backend, const Variant& v, std::vector<uint8_t> cut_shows = {}) {
         row.set_text("method", m.method->name);
         row.set_text("params", m.params.canonical());
         row.set_text("heightfield", c.spec.name);
@@ -211,6 +212,7 @@ struct ViewJob {
                               row);
         out.rows.push_back(std::move(row));
         out.errors.push_back(std::move(errs));
+        out.cut_shows.push_back(std::move(cut_shows));
         return out.rows.size() - 1;
     }
 };
@@ -304,14 +306,15 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                                                          : " (the entry's max_fetches)"));
                 if (const std::string notes = row_notes(job, o, v); !notes.empty())
                     row.set_text("error", notes);  // said in the row; the numbers stay
+                std::vector<uint8_t> shows;
                 if (!std::isnan(m.cut))
-                    add_cut_flips(o, job.truth.gt, job.view, job.exclude,
-                                  job.scene.scale * (m.cut - job.scene.bias), row);
+                    shows = add_cut_flips(o, job.truth.gt, job.view, job.exclude,
+                                          job.scene.scale * (m.cut - job.scene.bias), row);
                 row.set("precompute_ms", res.precompute_ms());
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
-                    const size_t i =
-                        job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
+                    const size_t i = job.emit(std::move(row), job.errors_of(o), m, backend->name(),
+                                              v, std::move(shows));
                     if (v.precision == "float") {
                         float_row = i;
                         cpu_float = std::move(o);
@@ -334,7 +337,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (cpu_float)
                     add_agreement(row, o, *cpu_float, hf.width, hf.height,
                                   job.view.inside.empty() ? nullptr : &job.view.inside);
-                job.emit(std::move(row), job.errors_of(o), m, backend->name(), v);
+                job.emit(std::move(row), job.errors_of(o), m, backend->name(), v, std::move(shows));
             } catch (const std::exception& e) {
                 ResultRow row = failed_row(e);
                 row.set_text("shader", backend->shader_of(*m.method));
@@ -476,7 +479,11 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& 
                 c, view.errors, evaluate_view(ctx, theta, phi, next.next, false).errors, view.rows);
         check_view_place(view, sw, t, !opt.include, rows.size());
         const size_t first = sw.first_row + t * sw.rows_per_view;
-        if (opt.on_view) opt.on_view(view.rows, view.errors, view.truth_uv, view.inside, first);
+        if (opt.on_view) {
+            ViewOutput out{view.rows,   view.errors,    view.truth_uv,
+                           view.inside, view.cut_shows, first};
+            opt.on_view(out);
+        }
         if (info) info->views.push_back({{sw.at.field, p, c, t}, view.rows.size()});
         std::vector<size_t> index;
         for (auto& r : view.rows) {

@@ -24,6 +24,20 @@ namespace pxh {
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
                 const std::vector<uint8_t>* exclude = nullptr, const View* view = nullptr);
 
+// One view's rows and what they were scored on, as RunOptions::on_view gets them.
+struct ViewOutput {
+    std::vector<ResultRow>& rows;
+    const std::vector<std::vector<Vec2d>>& errors;  // per row (empty: a failed row)
+    const std::vector<Vec2d>& truth;                // the truth's uv per sample (unwrapped)
+    const std::vector<uint8_t>& inside;             // the view's inside mask (empty: all)
+    // Per row with a [views] cut, per sample: bit 0 the plane shows in truth, bit 1 it shows
+    // for the method (metrics/depth.h's add_cut_flips); empty for rows without a cut.
+    const std::vector<std::vector<uint8_t>>& cut_shows;
+    // The index the view's first row has in the whole run's results.csv (a slice's maps and
+    // pictures are named as the unsharded run names them).
+    size_t first;
+};
+
 struct RunOptions {
     std::vector<std::string> backends;  // overrides the experiment's list when non-empty
     std::string shader_dir;             // GLSL sources override (development)
@@ -33,14 +47,8 @@ struct RunOptions {
     // Called with a warning line (no "pxh: warning: " prefix), e.g. `--gl egl` that gave a
     // software renderer.
     std::function<void(const std::string&)> warning;
-    // Called once per view with its rows (before they join the run), their per-sample error
-    // vectors, the truth's uv (per sample, unwrapped) and the view's inside mask (empty: every
-    // sample inside; View::inside); first_index is the index the view's first row has in the
-    // whole run's results.csv (a slice's maps and pictures are named as the unsharded run
-    // names them).
-    using ViewHook =
-        std::function<void(std::vector<ResultRow>&, const std::vector<std::vector<Vec2d>>&,
-                           const std::vector<Vec2d>&, const std::vector<uint8_t>&, size_t)>;
+    // Called once per view with its rows before they join the run (ViewOutput).
+    using ViewHook = std::function<void(ViewOutput&)>;
     ViewHook on_view;
     // One call per view, as it starts: its number (from 1) of `steps`, and what it is.
     std::function<void(size_t step, size_t steps, const std::string& what)> progress;

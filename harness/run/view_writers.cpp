@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "harness/core/safe_files.h"
 #include "harness/metrics/image_metrics.h"
@@ -47,25 +48,38 @@ void write_pictures(const ViewWriteContext& c, ViewOutput& v) {
     const bool as_seen = !camera_entry(c.ex.camera, "camera").parallel;
     const std::vector<float> truth_pic = picture(v.truth, n, v.inside);
     const fs::path dir = c.dir / "pictures";
-    std::string truth_file;  // written once, when the first row of the view needs it
+    // The truth's picture per cut plane ("" without one), written once, when the first row of
+    // the view that needs it does.
+    std::map<std::string, std::string> truth_files;
     for (size_t i = 0; i < rows.size(); ++i) {
         if (v.errors[i].empty()) continue;  // a failed row: no picture, no numbers
         ResultRow& row = rows[i];
-        const auto pic = picture(
+        auto pic = picture(
             uv_from_errors(v.truth, v.errors[i], int(row.num("width")), int(row.num("height"))), n,
             v.inside);
-        apply_image_metrics({pic, truth_pic, n}, row);
+        // With a cut plane, what the depth test shows: the plane where it is in front.
+        const std::vector<uint8_t>* shows =
+            i < v.cut_shows.size() && !v.cut_shows[i].empty() ? &v.cut_shows[i] : nullptr;
+        std::vector<float> truth_cut;
+        if (shows) {
+            truth_cut = truth_pic;
+            paint_plane(truth_cut, *shows, 1);
+            paint_plane(pic, *shows, 2);
+        }
+        const std::vector<float>& truth_shown = shows ? truth_cut : truth_pic;
+        apply_image_metrics({pic, truth_shown, n}, row);
         const bool strip = !r.strip_method.empty() && row.text("method") == r.strip_method &&
                            row.text("params") == r.strip_params;
         if (!montage && !strip) continue;
         make_own_folder(dir);
+        std::string& truth_file = truth_files[shows ? row.cell("cut") : ""];
         if (truth_file.empty()) {
             truth_file = truth_picture_name(row);
-            write_picture(truth_pic, n, (dir / truth_file).string(), as_seen);
+            write_picture(truth_shown, n, (dir / truth_file).string(), as_seen);
         }
         const std::string stem = error_map_name(row, v.first + i).stem;
         write_picture(pic, n, (dir / (stem + ".png")).string(), as_seen);
-        write_picture(difference(pic, truth_pic), n, (dir / (stem + "_diff.png")).string(),
+        write_picture(difference(pic, truth_shown), n, (dir / (stem + "_diff.png")).string(),
                       as_seen);
         row.set_text("picture", "pictures/" + stem + ".png");
         row.set_text("picture_diff", "pictures/" + stem + "_diff.png");
@@ -83,6 +97,7 @@ std::string truth_picture_name(const ResultRow& r) {
     std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
                   r.num("theta_deg"), r.num("phi_deg"));
     std::string s = name + camera_name_part(r);
+    if (const std::string cut = r.cell("cut"); !cut.empty()) s += "_cut" + cut;
     for (char& ch : s)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';
     return s + ".png";
@@ -106,9 +121,7 @@ std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex) {
 RunOptions::ViewHook view_writers_into(const Experiment& ex, const fs::path& dir) {
     const std::vector<const ViewWriter*> writers = wanted_view_writers(ex);
     if (writers.empty()) return {};
-    return [&ex, dir, writers](std::vector<ResultRow>& rows, const auto& errors, const auto& truth,
-                               const auto& inside, size_t first) {
-        ViewOutput view{rows, errors, truth, inside, first};
+    return [&ex, dir, writers](ViewOutput& view) {
         for (const ViewWriter* w : writers) w->write({ex, dir}, view);
     };
 }

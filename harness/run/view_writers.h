@@ -25,15 +25,6 @@ struct ViewWriteContext {
     std::filesystem::path dir;
 };
 
-// One view's rows and what they were scored on (RunOptions::on_view's arguments).
-struct ViewOutput {
-    std::vector<ResultRow>& rows;
-    const std::vector<std::vector<Vec2d>>& errors;  // per row (empty: a failed row)
-    const std::vector<Vec2d>& truth;                // the truth's uv per sample (unwrapped)
-    const std::vector<uint8_t>& inside;             // the view's inside mask (empty: all)
-    size_t first;                                   // the view's first row in results.csv
-};
-
 struct ViewWriter {
     const char* name;
     bool (*wanted)(const Experiment&);  // whether the run writes it at all
@@ -49,7 +40,8 @@ std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex);
 // function when the experiment wants none). `ex` must outlive it.
 RunOptions::ViewHook view_writers_into(const Experiment& ex, const std::filesystem::path& dir);
 
-// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI[_dD_fF].png", safe characters.
+// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI[_dD_fF][_cutC].png" (C: the row's
+// [views] cut, whose plane the picture shows), safe characters.
 std::string truth_picture_name(const ResultRow& r);
 
 }  // namespace pxh

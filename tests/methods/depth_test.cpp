@@ -3,6 +3,7 @@
 // method's hit at rounding level on measured fields, every `ray` method's answer on its declared
 // search line, the engines' formulas against literal transcriptions of their lines, and the GLSL
 // twin's depth target against the CPU's.
+#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,7 +16,9 @@
 
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
+#include "harness/results/pictures.h"
 #include "harness/run/runner.h"
+#include "harness/run/view_writers.h"
 #include "harness/scene/perspective_camera.h"
 #include "methods/march/march.h"
 #include "tests/test_util.h"
@@ -235,6 +238,60 @@ TEST(Depth, PluginWritesItsHitThroughPxhWriteHit) {
     const double vz = std::cos(50 * M_PI / 180);
     EXPECT_NEAR(rows[0].num("depth_bias_mean") - rows[1].num("depth_bias_mean"), 0.02 * vz, 1e-6);
     EXPECT_NEAR(rows[1].num("depth_bias_mean"), -0.08 * 0.75 / vz, 1e-6);  // the polygon's
+}
+
+// [render] with a cut: the pictures pxh run writes show the plane (the flat kPlaneRgb) where the
+// depth test puts it in front. Counted from the PNG files, the pixels where the method's picture
+// and the truth's differ in showing the plane are exactly cut_flip_frac of the inside pixels.
+TEST(Depth, CutPicturesShowThePlaneWhereTheDepthTestDoes) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("pxh_depth_pictures_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const Experiment ex = parse_experiment(
+        "samples = 48\ntiming_repeats = 0\nbackends = [\"cpu\"]\nprecision = \"double\"\n"
+        "[views]\ntheta_deg = [70]\nphi_deg = [30]\ncamera = \"perspective\"\ndistance = 1.5\n"
+        "fov_deg = 40\ncut = [0.3, 0.6]\n[render]\nheightfields = [\"bricks\"]\n"
+        "theta_deg = [70]\n[[heightfields]]\ngenerator = \"bricks\"\nsize = 64\nscale = 0.08\n"
+        "bias = 1.0\n[[methods]]\nname = \"parallax\"\ndepth = [\"base\", \"hit\"]\n"
+        "[[methods]]\nname = \"pom\"\nlayers = 8\ndepth = \"hit\"\n",
+        "e.toml");
+    RunOptions opt;
+    opt.on_view = view_writers_into(ex, dir);
+    const auto rows = run_experiment(ex, opt);
+    ASSERT_EQ(rows.size(), 6u);  // 3 settings x 2 cuts
+    auto blue = [&](const std::string& rel) {
+        OIIO::ImageBuf img((dir / rel).string());
+        EXPECT_TRUE(img.read(0, 0, true, OIIO::TypeDesc::UINT8)) << rel;
+        std::vector<uint8_t> px(size_t(48) * 48 * 3), out(size_t(48) * 48);
+        img.get_pixels(img.roi(), OIIO::TypeDesc::UINT8, px.data());
+        for (size_t k = 0; k < out.size(); ++k) {
+            bool b = true;
+            for (size_t c = 0; c < 3; ++c)
+                b = b && px[3 * k + c] == uint8_t(std::lround(kPlaneRgb[c] * 255));
+            out[k] = b;
+        }
+        return out;
+    };
+    double flips_seen = 0;
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        ASSERT_FALSE(r.text("picture").empty());
+        EXPECT_NE(r.text("picture_truth").find("_cut"), std::string::npos);
+        const auto truth = blue(r.text("picture_truth")), method = blue(r.text("picture"));
+        double differ = 0, truth_blue = 0;
+        for (size_t k = 0; k < truth.size(); ++k) {
+            differ += truth[k] != method[k];
+            truth_blue += truth[k];
+        }
+        const double inside = 48.0 * 48.0 - r.num("samples_outside");
+        EXPECT_EQ(differ, std::round(r.num("cut_flip_frac") * inside))
+            << r.text("method") << " " << r.text("depth") << " cut " << r.num("cut");
+        EXPECT_GT(truth_blue, 0) << "cut " << r.num("cut");  // the plane shows somewhere
+        flips_seen += differ;
+    }
+    EXPECT_GT(flips_seen, 0);  // base hides the plane where the truth shows it
+    std::filesystem::remove_all(dir);
 }
 
 TEST(Depth, BadDepthAndCutAreRefused) {
