@@ -2,6 +2,7 @@
 // scale and bias), and building it: the height fields' side of the experiment's
 // [[heightfields]] entries (harness/experiment reads them).
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -20,6 +21,10 @@ struct HeightfieldSpec {
     int channel = 0;
     ParamValues gen_params;
     double scale = 0.05, bias = 1.0;
+    // The base surface it displaces (harness/scene/base_surface.h) and its radius (tiles; NaN
+    // on the plane).
+    std::string base = "plane";
+    double radius = NAN;
     std::string where;  // file:line of the entry, for errors
     // What identifies the field (results column heightfield_id), one line:
     //   generator:NAME WxH [canonical resolved parameters]

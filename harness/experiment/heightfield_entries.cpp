@@ -7,10 +7,12 @@
 #include <tuple>
 
 #include "harness/core/error.h"
+#include "harness/core/registry.h"
 #include "harness/core/sha256.h"
 #include "harness/experiment/entries.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
+#include "harness/scene/base_surface.h"
 
 namespace pxh {
 namespace {
@@ -115,6 +117,39 @@ void hash_heightfield_file(HeightfieldSpec& base) {
     }
 }
 
+// The entry's base surfaces (`base`, a name or a list; default plane) and radii (`radius`, a
+// value or a list, for the curved ones), as (base, radius) pairs: the plane once (radius NaN),
+// each curved base at each radius. A curved base needs a radius; the plane alone refuses one.
+std::vector<std::pair<std::string, double>> heightfield_bases(const ParamDict& t) {
+    const std::vector<std::string> bases = t.strings("base", {"plane"});
+    const bool has_radius = t.has("radius");
+    const std::vector<double> radii = has_radius ? t.numbers("radius", {}) : std::vector<double>{};
+    std::vector<std::pair<std::string, double>> out;
+    bool curved = false;
+    for (const std::string& b : bases) {
+        const BaseEntry* e = find_base(b);
+        if (!e)
+            throw InputError(t.where("base"), "unknown base '" + b +
+                                                  "' (known: " + join_names(base_names()) + ")");
+        if (!e->curved) {
+            out.push_back({b, NAN});
+            continue;
+        }
+        curved = true;
+        if (!has_radius)
+            throw InputError(t.where("base"), "base '" + b + "' needs a radius (tiles)");
+        for (double r : radii) out.push_back({b, r});
+    }
+    if (has_radius && !curved)
+        throw InputError(t.where("radius"), "radius applies to a curved base (base = \"cylinder\" "
+                                            "or \"sphere\"); this entry's base is the plane");
+    for (double r : radii)
+        if (!(r > 0) || !std::isfinite(r))
+            throw InputError(t.where("radius"),
+                             "radius must be a finite number > 0 (got " + format_number(r) + ")");
+    return out;
+}
+
 // The entry's scales and biases (a value or a sweep each), checked; scales whose errors
 // saturate within the views go into large_scales.
 std::pair<std::vector<double>, std::vector<double>> heightfield_scales(const ParamDict& t,
@@ -164,6 +199,15 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
     const GeneratorInfo* gen = heightfield_source(t, ex.path, base);
     heightfield_size(t, has_gen, base);
     const auto [scales, biases] = heightfield_scales(t, ex, large_scales);
+    const auto bases = heightfield_bases(t);
+    for (const auto& [name, r] : bases)
+        for (double s : scales)
+            for (double b : biases)
+                if (std::isfinite(r) && !(r > s * b))  // the relief's bottom shell has radius R - s b
+                    throw InputError(t.where("radius"),
+                                     "radius = " + format_number(r) + " on base '" + name +
+                                         "' must exceed scale * bias = " + format_number(s * b) +
+                                         " (the relief would reach the axis)");
     Sweeps sweeps;  // the generator's parameters, in its order
     if (gen)
         for (const auto& p : gen->params)
@@ -177,6 +221,7 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
         if (values.size() > 1) rows.times(values.size(), key);
     rows.times(scales.size(), "scale");
     rows.times(biases.size(), "bias");
+    rows.times(bases.size(), "base and radius");
     rows.times(ex.theta_deg.size(), "theta");
     rows.times(ex.phi_deg.size(), "phi");
     if (ex.camera_settings.size() > 1) rows.times(ex.camera_settings.size(), "camera settings");
@@ -197,12 +242,15 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
                           std::to_string(hs.height) + " [" + hs.gen_params.canonical() + "]";
         }
         if (combos.size() > 1) hs.name = base.name + "[" + hs.gen_params.canonical() + "]";
-        for (double s : scales)
-            for (double b : biases) {
-                hs.scale = s;
-                hs.bias = b;
-                ex.heightfields.push_back(hs);
-            }
+        for (const auto& [name, r] : bases)
+            for (double s : scales)
+                for (double b : biases) {
+                    hs.base = name;
+                    hs.radius = r;
+                    hs.scale = s;
+                    hs.bias = b;
+                    ex.heightfields.push_back(hs);
+                }
     }
 }
 
@@ -230,7 +278,7 @@ void warn_large_scales(const LargeScales& large_scales, Experiment& ex) {
 // repeat rows. One entry swept over scale/bias keeps its name (the columns tell rows apart).
 void check_heightfield_names(const Experiment& ex) {
     std::map<std::string, size_t> by_name;
-    std::map<std::tuple<std::string, double, double>, size_t> by_field;
+    std::map<std::tuple<std::string, double, double, std::string, double>, size_t> by_field;
     for (size_t k = 0; k < ex.heightfields.size(); ++k) {
         const HeightfieldSpec& h = ex.heightfields[k];
         const auto [named, fresh_name] = by_name.emplace(h.name, k);
@@ -241,11 +289,15 @@ void check_heightfield_names(const Experiment& ex) {
                              describe_field(a) + " (" + a.where + ") and " + describe_field(h) +
                              " (" + h.where + "); give one of them its own name = \"...\"");
         const auto [same, fresh_field] =
-            by_field.emplace(std::make_tuple(h.identity, h.scale, h.bias), k);
+            by_field.emplace(std::make_tuple(h.identity, h.scale, h.bias, h.base,
+                                             std::isfinite(h.radius) ? h.radius : 0.0),
+                             k);
         if (fresh_field) continue;
         const HeightfieldSpec& b = ex.heightfields[same->second];
-        const std::string what = describe_field(h) + " at scale " + format_number(h.scale) +
-                                 ", bias " + format_number(h.bias);
+        const std::string what =
+            describe_field(h) + " at scale " + format_number(h.scale) + ", bias " +
+            format_number(h.bias) +
+            (h.base == "plane" ? "" : ", base " + h.base + " radius " + format_number(h.radius));
         if (b.where == h.where)
             throw InputError(h.where, "this entry lists " + what + " twice (a repeated value)");
         throw InputError(h.where, "duplicate height field: " + what + " is also the entry at " +

@@ -32,6 +32,9 @@ std::vector<ColumnSpec> run_columns() {
         {"shader_sha256", kText, kKey, "GLSL rows: sha256 of the method's shader source compiled"},
         {"scale", kNum, kKey, "height scale s", kNamed, "s"},
         {"bias", kNum, kKey, "height bias b", kNamed, "b"},
+        {"base", kText, kKey, "the base surface the field displaces: plane | cylinder | sphere",
+         kNamed},
+        {"radius", kNum, kKey, "curved bases: the radius R (tiles)", kNamed, "R"},
         {"theta_deg", kNum, kKey, "view angle from the normal (degrees)", kNamed, "theta"},
         {"phi_deg", kNum, kKey, "view azimuth (degrees)", kNamed, "phi"},
         {"samples", kInt, kKey,
@@ -137,6 +140,9 @@ std::vector<ColumnSpec> output_columns() {
         {"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"},
         {"gt_agree_frac_gt_0_5", kNum, kMeasured,
          "fraction of samples where they differ > 0.5 texel"},
+        {"gt_residual_max", kNum, kMeasured,
+         "curved bases: max |height above the base - s (h - b)| at the true hits (tiles); the "
+         "gt_agree_* columns there compare the walk with itself at half the step"},
         // Here: the columns the per-output metrics declare (Metric::columns, in metric order:
         // shadows.cpp's shadow_err, shadow_soft_mae).
         // Method resources (harness/run/runner.cpp; methods/resource.h).

@@ -22,6 +22,7 @@ void add_error_stats(const MetricInput& in, ResultRow& row) {
             ++outside;
             continue;
         }
+        if (!in.truth_shows(k)) continue;  // curved bases: cover_extra_frac counts it
         if (in.exclude && (*in.exclude)[k]) {
             ++excluded;
             continue;

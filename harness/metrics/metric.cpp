@@ -12,7 +12,8 @@ namespace pxh {
     X(fetches)                \
     X(timing)                 \
     X(shadows)                \
-    X(depth)
+    X(depth)                  \
+    X(coverage)
 
 #define PXH_DECLARE_METRIC(NAME) const Metric& NAME##_metric();
 PXH_OUTPUT_METRICS(PXH_DECLARE_METRIC)

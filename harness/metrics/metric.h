@@ -26,6 +26,12 @@
 namespace pxh {
 
 // One backend's output on the view's samples, and the truth it is scored against.
+// On a curved base (docs/conventions.md section 12), per sample: whether the eye ray meets the
+// base and whether it meets the displaced surface (the truth covers it).
+struct Coverage {
+    std::vector<uint8_t> base_hit, truth_hit;
+};
+
 struct MetricInput {
     const MethodOutput& out;    // uv, fetches, timing, shadow factors (harness/backends/backend.h)
     const GroundTruth& gt;      // the reference's hit per sample (and true shadow state, if lit)
@@ -35,7 +41,11 @@ struct MetricInput {
     // left out of every statistic and counted in samples_outside); nullptr: every sample
     // inside, no footprints (no pixel error).
     const View* view = nullptr;
+    // A curved base's coverage (nullptr on the plane): the errors are over the samples the
+    // method and the truth both show.
+    const Coverage* cover = nullptr;
     bool inside(size_t k) const { return !view || view->is_inside(k); }
+    bool truth_shows(size_t k) const { return !cover || cover->truth_hit[k] != 0; }
 };
 
 using MetricFn = std::function<void(const MetricInput&, ResultRow&)>;

@@ -10,6 +10,7 @@ void add_reference_columns(const ReferenceInfo& ref, ResultRow& row) {
     row.set("gt_agree_max", ref.agreement.max);
     row.set("gt_agree_frac_gt_0_5", ref.agreement.frac_gt_0_5);
     row.set("gt_on_filled", ref.on_filled);
+    row.set("gt_residual_max", ref.residual_max);
 }
 
 }  // namespace pxh

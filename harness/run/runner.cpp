@@ -20,8 +20,11 @@
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
 #include "harness/metrics/sweep_pairs.h"
+#include "harness/scene/base_surface.h"
+#include "harness/scene/curved_view.h"
 #include "harness/scene/footprint.h"
 #include "harness/scene/texture_levels.h"
+#include "harness/truth/curved_tracer.h"
 
 namespace pxh {
 namespace {
@@ -35,9 +38,11 @@ std::string fmt_angle(double a) {
 }  // namespace
 
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
-                const std::vector<uint8_t>* exclude, const View* view) {
+                const std::vector<uint8_t>* exclude, const View* view, const Coverage* cover) {
     ResultRow row;
-    apply_output_metrics({out, gt, width, height, exclude, view}, row);
+    MetricInput in{out, gt, width, height, exclude, view};
+    in.cover = cover;
+    apply_output_metrics(in, row);
     row.set_text("shader", out.shader);
     row.set_text("shader_sha256", out.shader_sha256);
     return row;
@@ -66,17 +71,30 @@ struct FieldContext {
     const Tracer& other;          // the second reference, compared with it (gt_agree_*)
     ResourceCache& resources;     // the methods' precomputed textures for this field
     const TextureLevels* levels;  // the field's texture levels when a setting samples them
+    // A curved base (nullptr: the plane): its views are the base hits (curved_view), its truth
+    // the curved tracer's, checked against the same walk at half the step.
+    const BaseSurface* base = nullptr;
+    const CurvedTracer* curved = nullptr;
+    const CurvedTracer* curved_check = nullptr;
 };
 
 // The references of one field (and s, b), built once and shared by its views.
 struct References {
     std::unique_ptr<Tracer> exact, other;
+    std::unique_ptr<BaseSurface> base;  // a curved base's, with its two walks
+    std::unique_ptr<CurvedTracer> curved, curved_check;
 };
 
 References make_references(const HeightField& hf, const HeightfieldSpec& spec) {
     References r;
     r.other = make_tracer(TracerRole::cross_check, hf, spec.scale, spec.bias);
     r.exact = make_tracer(TracerRole::exact_reference, hf, spec.scale, spec.bias);
+    if (spec.base != "plane") {
+        r.base = make_base(spec.base, spec.radius);
+        r.curved = std::make_unique<CurvedTracer>(hf, spec.scale, spec.bias, *r.base);
+        r.curved_check = std::make_unique<CurvedTracer>(hf, spec.scale, spec.bias, *r.base,
+                                                        r.curved->step_texels() / 2);
+    }
     return r;
 }
 
@@ -84,7 +102,34 @@ References make_references(const HeightField& hf, const HeightfieldSpec& spec) {
 struct ViewTruth {
     GroundTruth gt;
     ErrorStats agree;  // |hit_other - hit_exact| in texels (NaN when the other did not run)
+    std::optional<Coverage> cover;  // a curved base's: base and true hits per sample
+    double residual_max = NAN;      // a curved base's: max |g| at the true hits (tiles)
 };
+
+// A curved base's truth stage: the walk's hits (uv NaN where the ray misses the displaced
+// surface), its residual, and (timed views) its agreement with the walk at half the step over
+// the rays both hit.
+ViewTruth curved_truth_stage(const FieldContext& c, const CurvedView& cv, bool timed) {
+    ViewTruth t;
+    CurvedHits h = c.curved->trace(cv.rays);
+    t.gt.uv = std::move(h.uv);
+    t.gt.z = std::move(h.z);
+    t.gt.cells_mean = NAN;
+    t.residual_max = h.residual_max;
+    t.cover = Coverage{cv.base_hit, std::move(h.hit)};
+    t.agree.p50 = t.agree.p99 = t.agree.max = t.agree.frac_gt_0_5 = NAN;
+    if (timed) {
+        const CurvedHits fine = c.curved_check->trace(cv.rays);
+        std::vector<Vec2d> a, b;
+        for (size_t k = 0; k < fine.uv.size(); ++k)
+            if (t.cover->truth_hit[k] && fine.hit[k]) {
+                a.push_back(fine.uv[k]);
+                b.push_back(t.gt.uv[k]);
+            }
+        t.agree = reference_agreement(a, b, c.hf.width, c.hf.height);
+    }
+    return t;
+}
 
 // The truth stage: a view's rays -> their ground truth (uv from the experiment's reference,
 // heights, true shadows and cost from the exact tracer) and the references' agreement on the
@@ -119,6 +164,7 @@ HoleMask hole_mask(const HeightField& hf, const GroundTruth& gt) {
     m.on_filled.resize(gt.uv.size());
     size_t count = 0;
     for (size_t k = 0; k < gt.uv.size(); ++k) {
+        if (!std::isfinite(gt.uv[k].x) || !std::isfinite(gt.uv[k].y)) continue;  // no true hit
         const double x = gt.uv[k].x * hf.width - 0.5, y = gt.uv[k].y * hf.height - 0.5;
         const int64_t i = int64_t(std::floor(x)), j = int64_t(std::floor(y));
         bool f = false;
@@ -196,6 +242,8 @@ struct ViewJob {
         row.set_text("texture_format", v.texture_format);
         row.set("scale", c.spec.scale);
         row.set("bias", c.spec.bias);
+        row.set_text("base", c.spec.base);
+        row.set("radius", c.spec.radius);
         row.set("theta_deg", theta);
         row.set("phi_deg", phi);
         row.set_text("camera", c.ex.camera);
@@ -208,7 +256,8 @@ struct ViewJob {
         row.set("width", c.hf.width);
         row.set("height", c.hf.height);
         row.set("fetches_bound", fetches_bound(m));
-        add_reference_columns({c.ex.ground_truth, truth.gt.cells_mean, truth.agree, holes.frac},
+        add_reference_columns({c.ex.ground_truth, truth.gt.cells_mean, truth.agree, holes.frac,
+                               truth.residual_max},
                               row);
         out.rows.push_back(std::move(row));
         out.errors.push_back(std::move(errs));
@@ -275,7 +324,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
-                ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view);
+                if (job.c.base) o.depth.clear();  // not measured on curved bases (yet)
+                ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view,
+                                      job.truth.cover ? &*job.truth.cover : nullptr);
                 // No inside sample (a perspective view at or beyond the horizon): nothing was
                 // measured, a failure with its reason, never an ok row of empty cells.
                 if (!o.uv.empty() && row.num("samples_outside") >= double(o.uv.size()))
@@ -356,16 +407,30 @@ void run_method(ViewJob& job, const MethodSpec& m) {
 // timed = false (a sweep's companion view, whose rows are not reported): no CPU timing passes,
 // no timed GLSL frames, no agreement statistics.
 ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t camera, bool timed) {
-    const View view =
-        Camera::create(c.ex.camera, c.ex.camera_settings[camera], {theta, phi, c.ex.samples})
-            ->view();
+    const auto cam =
+        Camera::create(c.ex.camera, c.ex.camera_settings[camera], {theta, phi, c.ex.samples});
+    // A curved base: the methods see the base hits (P, V in the tangent frame, J).
+    std::optional<CurvedView> curved;
+    if (c.base) curved = curved_view(*cam, *c.base, c.spec.scale * (1 - c.spec.bias));
+    const View view = curved ? curved->view : cam->view();
     if (const std::string why = view_problem(view); !why.empty())
         throw std::logic_error("camera '" + c.ex.camera + "': " + why);
     // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
     const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
                               c.hf.height};
-    ViewJob job{c,  theta,   phi, camera, timed, view, scene, truth_stage(c, view, timed),
-                {}, nullptr, {},  {},     NAN};
+    ViewJob job{c,
+                theta,
+                phi,
+                camera,
+                timed,
+                view,
+                scene,
+                curved ? curved_truth_stage(c, *curved, timed) : truth_stage(c, view, timed),
+                {},
+                nullptr,
+                {},
+                {},
+                NAN};
     // Each sample's lambda from its footprint (section 10), and their mean over the inside.
     job.lambda.resize(view.size());
     double lod_sum = 0;
@@ -608,9 +673,18 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         }
         // Both references built once per field (and s, b), shared by all its views.
         const References refs = make_references(*field, spec);
-        const FieldContext ctx{ex,          backends,   reference,
-                               *field,      spec,       *refs.exact,
-                               *refs.other, *resources, levels ? &*levels : nullptr};
+        const FieldContext ctx{ex,
+                               backends,
+                               reference,
+                               *field,
+                               spec,
+                               *refs.exact,
+                               *refs.other,
+                               *resources,
+                               levels ? &*levels : nullptr,
+                               refs.base.get(),
+                               refs.curved.get(),
+                               refs.curved_check.get()};
         pairs.start_field();
         for (auto sw = sweeps; sw != sweeps + long(grid.sweeps_per_field()); ++sw)
             if (std::count(sw->runs.begin(), sw->runs.end(), true))

@@ -11,6 +11,7 @@
 #include "harness/experiment/experiment.h"
 #include "harness/experiment/view_grid.h"
 #include "harness/metrics/agreement.h"
+#include "harness/metrics/metric.h"
 #include "harness/results/results.h"
 #include "harness/truth/ground_truth.h"
 
@@ -21,8 +22,11 @@ namespace pxh {
 // are left out of the error statistics and counted in `excluded`.
 // `view` (when given): its outside samples are left out and counted, its footprints give the
 // pixel error.
+// `cover` (a curved base's): the errors are over the samples both show, and the coverage
+// columns are filled.
 ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
-                const std::vector<uint8_t>* exclude = nullptr, const View* view = nullptr);
+                const std::vector<uint8_t>* exclude = nullptr, const View* view = nullptr,
+                const Coverage* cover = nullptr);
 
 // One view's rows and what they were scored on, as RunOptions::on_view gets them.
 struct ViewOutput {

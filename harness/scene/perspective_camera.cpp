@@ -140,6 +140,12 @@ View PerspectiveCamera::view() const {
     return v;
 }
 
+WorldRay PerspectiveCamera::world_ray(size_t k, double di, double dj, double) const {
+    const size_t n = size_t(p_.samples);
+    const PerspectivePixel px = pixel(pixel_of(int(k % n)) + di, pixel_of(int(k / n)) + dj);
+    return {E_, {-px.V.x, -px.V.y, -px.V.z}};
+}
+
 std::vector<uint8_t> PerspectiveCamera::inside() const {
     const int n = p_.samples;
     std::vector<uint8_t> in(size_t(n) * n);

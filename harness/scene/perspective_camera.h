@@ -70,6 +70,8 @@ class PerspectiveCamera final : public Camera {
     // (P = C, V = V0) and the look-at pixel's footprint so that every stage can process it; its
     // results must be left out by the mask (View::inside).
     View view() const override;
+    // From the eye through image pixel (pixel_of(a) + di, pixel_of(b) + dj), k = b N + a.
+    WorldRay world_ray(size_t k, double di, double dj, double top) const override;
     std::vector<uint8_t> inside() const;  // 1 per inside sample, in sample order
     // The image pixel of sample a of N along one axis (subset_pixel at this N and R).
     int pixel_of(int a) const;

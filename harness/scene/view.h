@@ -91,11 +91,22 @@ struct CameraSetting {
     std::string label() const;                 // "distance=1.5 fov_deg=45"; "" for none
 };
 
+// A ray in space: origin and unit direction (into the scene).
+struct WorldRay {
+    Vec3d o, d;
+};
+
 class Camera {
   public:
     virtual ~Camera() = default;
     virtual std::string name() const = 0;
     virtual View view() const = 0;
+    // The ray of sample k (in view()'s order) moved (di, dj) pixels from its pixel's centre
+    // along the image's columns and rows, for a scene whose every point lies at or below
+    // z = top: its origin is the eye (a pinhole) or a point above z = top. The curved bases
+    // (harness/scene/curved_view.h) intersect these rays themselves, also where view() calls a
+    // sample outside (the polygon's horizon is not theirs).
+    virtual WorldRay world_ray(size_t k, double di, double dj, double top) const = 0;
     // The settings camera NAME reads from its own keys in `params` ([views]; the orthographic
     // camera reads none and has one empty setting), in sweep order; `loc` (FILE:LINE of
     // [views]) names the view in its errors; `samples` is the experiment file's (a camera's
@@ -114,6 +125,8 @@ class OrthographicCamera final : public Camera {
     OrthographicCamera(double theta_deg, double phi_deg, int n);
     std::string name() const override { return "orthographic"; }
     View view() const override { return orthographic_view(V_, n_); }
+    // Parallel to -V through the grid point of sample k moved (di, dj) / N, starting above top.
+    WorldRay world_ray(size_t k, double di, double dj, double top) const override;
     Vec3d direction() const { return V_; }
 
   private:
