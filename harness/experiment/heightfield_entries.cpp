@@ -221,7 +221,7 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
         if (values.size() > 1) rows.times(values.size(), key);
     rows.times(scales.size(), "scale");
     rows.times(biases.size(), "bias");
-    rows.times(bases.size(), "base and radius");
+    if (bases.size() > 1) rows.times(bases.size(), "base and radius");
     rows.times(ex.theta_deg.size(), "theta");
     rows.times(ex.phi_deg.size(), "phi");
     if (ex.camera_settings.size() > 1) rows.times(ex.camera_settings.size(), "camera settings");

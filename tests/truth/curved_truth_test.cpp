@@ -1,0 +1,285 @@
+// Curved base surfaces (docs/conventions.md section 12): the bases' frames against finite
+// differences of B, their coordinates against B + h N, the curved truth against the exact tracer
+// on the plane base and against a brute-force march with tiny steps on a cylinder and a sphere,
+// and the run: base = "plane" given explicitly is today's rows, a radius of 10^4 converges to
+// the plane's rows, a vanishing relief is exact on every base, and bad input is refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
+#include "harness/run/runner.h"
+#include "harness/scene/base_surface.h"
+#include "harness/scene/curved_view.h"
+#include "harness/scene/perspective_camera.h"
+#include "harness/truth/curved_tracer.h"
+#include "harness/truth/ground_truth.h"
+#include "tests/test_util.h"
+
+namespace pxh {
+namespace {
+
+using test::generated_field;
+using test::random_field;
+
+double dist(Vec3d a, Vec3d b) { return std::sqrt(v3_dot(v3_sub(a, b), v3_sub(a, b))); }
+
+TEST(CurvedBase, FramesAreFiniteDifferencesOfB) {
+    for (const char* name : {"cylinder", "sphere"})
+        for (double R : {0.3, 1.0, 7.0}) {
+            const auto base = make_base(name, R);
+            std::mt19937 rng(7);
+            std::uniform_real_distribution<double> U(0.5 - 0.7 * R, 0.5 + 0.7 * R);
+            for (int i = 0; i < 50; ++i) {
+                const Vec2d uv{U(rng), U(rng)};
+                const BaseFrame f = base->frame(uv);
+                const double h = 1e-6;
+                const Vec3d du = v3_scale(v3_sub(base->frame({uv.x + h, uv.y}).B,
+                                                 base->frame({uv.x - h, uv.y}).B),
+                                          0.5 / h);
+                const Vec3d dv = v3_scale(v3_sub(base->frame({uv.x, uv.y + h}).B,
+                                                 base->frame({uv.x, uv.y - h}).B),
+                                          0.5 / h);
+                EXPECT_LT(dist(v3_unit(du), f.T), 1e-8) << name << " R " << R;
+                EXPECT_LT(dist(v3_unit(dv), f.Bt), 1e-8) << name << " R " << R;
+                EXPECT_NEAR(v3_dot(f.N, f.N), 1, 1e-12);
+                EXPECT_NEAR(v3_dot(f.N, f.T), 0, 1e-12);
+                EXPECT_NEAR(v3_dot(f.N, f.Bt), 0, 1e-12);
+                EXPECT_NEAR(v3_dot(f.T, f.Bt), 0, 1e-12);  // orthonormal for these bases
+                // the cylinder keeps arc length along u; the sphere along its equator only
+                if (std::string(name) == "cylinder") {
+                    EXPECT_NEAR(std::sqrt(v3_dot(du, du)), 1, 1e-8);
+                }
+                // coords inverts B + height N
+                const BaseCoord c = base->coords(v3_add(f.B, v3_scale(f.N, 0.03)));
+                EXPECT_NEAR(c.uv.x, uv.x, 1e-12);
+                EXPECT_NEAR(c.uv.y, uv.y, 1e-12);
+                EXPECT_NEAR(c.height, 0.03, 1e-12);
+            }
+            // through the look-at point with normal +z
+            const BaseFrame c = base->frame({0.5, 0.5});
+            EXPECT_LT(dist(c.B, {0.5, 0.5, 0}), 1e-15);
+            EXPECT_LT(dist(c.N, {0, 0, 1}), 1e-15);
+        }
+}
+
+// Brute force: march the world ray in steps of `step` from the outer shell, bisect the first
+// step that ends at or below X. Its own g, from the base's coordinates and HeightSampler.
+Vec2d brute_hit(const BaseSurface& base, const HeightField& hf, double s, double b, WorldRay r,
+                double step) {
+    HeightSampler<double> hs(hf, s, b);
+    auto g = [&](double t) {
+        const BaseCoord c = base.coords(v3_add(r.o, v3_scale(r.d, t)));
+        return c.height - hs.z(c.uv);
+    };
+    const double t0 = base.hit(r.o, r.d, s * (1 - b), 0, false);
+    if (!std::isfinite(t0)) return {NAN, NAN};
+    double t_end = base.hit(r.o, r.d, s * (1 - b), t0, true);
+    const double floor = base.hit(r.o, r.d, -s * b, t0, false);
+    if (std::isfinite(floor)) t_end = std::isfinite(t_end) ? std::min(t_end, floor) : floor;
+    for (double t = t0; t < t_end; t += step) {
+        const double t2 = std::min(t + step, t_end);
+        if (g(t2) <= 0) {
+            double lo = t, hi = t2;
+            for (int i = 0; i < 100; ++i) (g(0.5 * (lo + hi)) <= 0 ? hi : lo) = 0.5 * (lo + hi);
+            return base.coords(v3_add(r.o, v3_scale(r.d, hi))).uv;
+        }
+    }
+    return {NAN, NAN};
+}
+
+TEST(CurvedBase, TruthIsTheBruteForceMarch) {
+    const HeightField hf = random_field(12, 12, 3);
+    const double s = 0.06;
+    for (const char* name : {"cylinder", "sphere"})
+        for (double b : {1.0, 0.5}) {
+            const auto base = make_base(name, 0.4);
+            PerspectiveParams p;
+            p.theta_deg = 55;
+            p.phi_deg = 20;
+            p.distance = 2;
+            p.fov_deg = 35;
+            p.samples = 24;
+            const PerspectiveCamera cam(p);
+            const CurvedView cv = curved_view(cam, *base, s * (1 - b));
+            const CurvedHits h = CurvedTracer(hf, s, b, *base).trace(cv.rays);
+            int hits = 0, misses = 0;
+            for (size_t k = 0; k < cv.rays.size(); ++k) {
+                const Vec2d bf = brute_hit(*base, hf, s, b, cv.rays[k], 2e-5);
+                ASSERT_EQ(std::isfinite(bf.x), h.hit[k] != 0) << name << " b " << b << " k " << k;
+                if (!h.hit[k]) {
+                    ++misses;
+                    continue;
+                }
+                ++hits;
+                EXPECT_NEAR(h.uv[k].x, bf.x, 1e-7) << name << " b " << b << " k " << k;
+                EXPECT_NEAR(h.uv[k].y, bf.y, 1e-7) << name << " b " << b << " k " << k;
+            }
+            EXPECT_GT(hits, 100);
+            EXPECT_GT(misses, 20);  // the silhouette is in the image
+            EXPECT_LT(h.residual_max, 1e-12);
+        }
+}
+
+// On the plane base the walk finds section 4's exact hits (the exact tracer's), through the
+// perspective camera, on a measured-like random field and bricks.
+TEST(CurvedBase, OnThePlaneTheWalkIsTheExactTracer) {
+    const HeightField fields[] = {random_field(32, 32, 11), generated_field("bricks", 64)};
+    for (const HeightField& hf : fields) {
+        const double s = 0.05, b = 1.0;
+        PerspectiveParams p;
+        p.theta_deg = 65;
+        p.phi_deg = 30;
+        p.distance = 1.5;
+        p.fov_deg = 45;
+        p.samples = 40;
+        const PerspectiveCamera cam(p);
+        const View view = cam.view();
+        const GroundTruth gt =
+            trace_ground_truth(*make_tracer("exact", hf, s, b), view);
+        const auto plane = make_base("plane", NAN);
+        const CurvedView cv = curved_view(cam, *plane, 0);
+        const CurvedHits h = CurvedTracer(hf, s, b, *plane).trace(cv.rays);
+        int compared = 0;
+        for (size_t k = 0; k < view.size(); ++k) {
+            if (!view.is_inside(k)) continue;
+            ASSERT_TRUE(h.hit[k]);
+            // the methods' view is the camera's own on the plane
+            EXPECT_NEAR(cv.view.P[k].x, view.P[k].x, 1e-12);
+            EXPECT_NEAR(cv.view.V[k].z, view.V[k].z, 1e-12);
+            EXPECT_NEAR(h.uv[k].x * hf.width, gt.uv[k].x * hf.width, 1e-8) << k;
+            EXPECT_NEAR(h.uv[k].y * hf.height, gt.uv[k].y * hf.height, 1e-8) << k;
+            ++compared;
+        }
+        EXPECT_GT(compared, 1000);
+    }
+}
+
+std::vector<ResultRow> run(const std::string& toml) {
+    return run_experiment(parse_experiment(toml, "e.toml"), {});
+}
+
+std::string parse_error(const std::string& toml) {
+    try {
+        (void)parse_experiment(toml, "e.toml");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
+}
+
+const std::string kHead =
+    "samples = 32\ntiming_repeats = 0\nbackends = [\"cpu\"]\nprecision = \"double\"\n"
+    "[views]\ntheta_deg = [0, 40, 70]\nphi_deg = [25]\ncamera = \"perspective\"\n"
+    "distance = 2\nfov_deg = 40\n";
+const std::string kMethods =
+    "[[methods]]\nname = \"pom\"\nlayers = 16\n[[methods]]\nname = \"parallax\"\n"
+    "[[methods]]\nname = \"maxmip\"\n";
+
+std::string field(const std::string& extra, double scale = 0.05) {
+    return "[[heightfields]]\nname = \"f\"\ngenerator = \"bricks\"\nsize = 64\nscale = " +
+           std::to_string(scale) + "\nbias = 1.0\n" + extra;
+}
+
+TEST(CurvedBase, ExplicitPlaneIsTodaysRows) {
+    const auto a = run(kHead + field("") + kMethods);
+    const auto b = run(kHead + field("base = \"plane\"\n") + kMethods);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i)
+        for (const char* c : {"err_mean", "err_max", "err_px_mean", "fetches_mean",
+                              "samples_outside", "gt_cells_mean", "gt_agree_max"})
+            EXPECT_EQ(a[i].cell(c), b[i].cell(c)) << i << " " << c;
+}
+
+TEST(CurvedBase, LargeRadiusConvergesToThePlane) {
+    // up to 40 degrees: at 70 the image's far pixels lie tens of tiles away, where even a
+    // 10^4-tile radius sags by a good part of the relief
+    std::string head = kHead;
+    head.replace(head.find("[0, 40, 70]"), 11, "[0, 20, 40]");
+    const auto plane = run(head + field("") + kMethods);
+    for (const char* name : {"cylinder", "sphere"}) {
+        const auto curved = run(head + field(std::string("base = \"") + name +
+                                              "\"\nradius = 10000\n") +
+                                kMethods);
+        ASSERT_EQ(plane.size(), curved.size());
+        for (size_t i = 0; i < plane.size(); ++i) {
+            const ResultRow &p = plane[i], &c = curved[i];
+            ASSERT_TRUE(c.ok()) << c.text("error");
+            EXPECT_EQ(c.text("base"), name);
+            EXPECT_EQ(c.num("samples_outside"), p.num("samples_outside"));
+            EXPECT_EQ(c.num("cover_extra_frac"), 0);
+            EXPECT_EQ(c.num("cover_missing_frac"), 0);
+            // a 10^4-tile radius sags 10^-4 tiles 1.4 tiles away: errors within a hundredth
+            // of a texel of the plane's
+            EXPECT_NEAR(c.num("err_mean"), p.num("err_mean"), 0.01)
+                << name << " " << c.text("method") << " theta " << c.num("theta_deg");
+            EXPECT_LT(c.num("gt_agree_max"), 1e-6);
+        }
+    }
+}
+
+TEST(CurvedBase, AVanishingReliefIsExactEverywhere) {
+    for (const char* name : {"cylinder", "sphere"}) {
+        const auto rows = run(kHead + field(std::string("base = \"") + name + "\"\nradius = 0.5\n",
+                                            1e-5) +
+                              kMethods);
+        for (const ResultRow& r : rows) {
+            ASSERT_TRUE(r.ok()) << r.text("error");
+            EXPECT_LT(r.num("err_max"), 0.01) << name << " " << r.text("method");
+            EXPECT_LT(r.num("cover_extra_frac") + r.num("cover_missing_frac"), 0.002)
+                << name << " " << r.text("method") << " theta " << r.num("theta_deg");
+        }
+    }
+}
+
+// Relief below the base (b = 1): a ray that meets X has crossed the base first, so the truth
+// never shows what the method cannot (cover_missing_frac = 0 exactly), while past the base's
+// outline some rays cross the base and leave again above the relief (cover_extra_frac > 0).
+// Relief around the base (b = 0.5): the relief standing out past the outline is missing.
+TEST(CurvedBase, SilhouettesOnASmallSphere) {
+    for (double b : {1.0, 0.5}) {
+        const auto rows = run(kHead +
+                              "[[heightfields]]\nname = \"f\"\ngenerator = \"bricks\"\nsize = 64\n"
+                              "scale = 0.08\nbias = " +
+                              std::to_string(b) + "\nbase = \"sphere\"\nradius = 0.3\n" + kMethods);
+        for (const ResultRow& r : rows) {
+            ASSERT_TRUE(r.ok()) << r.text("error");
+            if (b == 1.0) {
+                EXPECT_EQ(r.num("cover_missing_frac"), 0) << r.text("method");
+                EXPECT_GT(r.num("cover_extra_frac"), 0.005) << r.text("method");
+            } else {
+                EXPECT_GT(r.num("cover_missing_frac"), 0.005) << r.text("method");
+            }
+            EXPECT_GT(r.num("err_mean"), 0.05) << r.text("method");  // flat methods on a curve
+        }
+    }
+}
+
+TEST(CurvedBase, BadBasesAreRefused) {
+    EXPECT_NE(parse_error(kHead + field("base = \"torus\"\nradius = 1\n") + kMethods)
+                  .find("e.toml:"),
+              std::string::npos);
+    EXPECT_NE(parse_error(kHead + field("base = \"torus\"\nradius = 1\n") + kMethods)
+                  .find("unknown base 'torus' (known: plane, cylinder, sphere)"),
+              std::string::npos);
+    EXPECT_NE(parse_error(kHead + field("base = \"cylinder\"\n") + kMethods).find("needs a radius"),
+              std::string::npos);
+    EXPECT_NE(parse_error(kHead + field("radius = 2\n") + kMethods).find("applies to a curved base"),
+              std::string::npos);
+    EXPECT_NE(parse_error(kHead + field("base = \"sphere\"\nradius = 0.04\n") + kMethods)
+                  .find("must exceed scale * bias"),
+              std::string::npos);
+    EXPECT_NE(parse_error(kHead + field("base = \"sphere\"\nradius = -1\n") + kMethods)
+                  .find("radius must be a finite number > 0"),
+              std::string::npos);
+    EXPECT_NE(parse_error(kHead + field("base = \"sphere\"\nradius = 1\n") +
+                          "[[methods]]\nname = \"pom\"\ndepth = \"hit\"\n")
+                  .find("not measured on a curved base"),
+              std::string::npos);
+}
+
+}  // namespace
+}  // namespace pxh
