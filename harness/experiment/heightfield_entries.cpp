@@ -10,9 +10,9 @@
 #include "harness/core/registry.h"
 #include "harness/core/sha256.h"
 #include "harness/experiment/entries.h"
+#include "harness/scene/base_surface.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scanned.h"
-#include "harness/scene/base_surface.h"
 
 namespace pxh {
 namespace {
@@ -129,8 +129,8 @@ std::vector<std::pair<std::string, double>> heightfield_bases(const ParamDict& t
     for (const std::string& b : bases) {
         const BaseEntry* e = find_base(b);
         if (!e)
-            throw InputError(t.where("base"), "unknown base '" + b +
-                                                  "' (known: " + join_names(base_names()) + ")");
+            throw InputError(t.where("base"),
+                             "unknown base '" + b + "' (known: " + join_names(base_names()) + ")");
         if (!e->curved) {
             out.push_back({b, NAN});
             continue;
@@ -141,8 +141,9 @@ std::vector<std::pair<std::string, double>> heightfield_bases(const ParamDict& t
         for (double r : radii) out.push_back({b, r});
     }
     if (has_radius && !curved)
-        throw InputError(t.where("radius"), "radius applies to a curved base (base = \"cylinder\" "
-                                            "or \"sphere\"); this entry's base is the plane");
+        throw InputError(t.where("radius"),
+                         "radius applies to a curved base (base = \"cylinder\" "
+                         "or \"sphere\"); this entry's base is the plane");
     for (double r : radii)
         if (!(r > 0) || !std::isfinite(r))
             throw InputError(t.where("radius"),
@@ -203,7 +204,8 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
     for (const auto& [name, r] : bases)
         for (double s : scales)
             for (double b : biases)
-                if (std::isfinite(r) && !(r > s * b))  // the relief's bottom shell has radius R - s b
+                if (std::isfinite(r) &&
+                    !(r > s * b))  // the relief's bottom shell has radius R - s b
                     throw InputError(t.where("radius"),
                                      "radius = " + format_number(r) + " on base '" + name +
                                          "' must exceed scale * bias = " + format_number(s * b) +

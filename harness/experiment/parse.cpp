@@ -454,12 +454,16 @@ void check_curved_bases(const Experiment& ex) {
         if (ex.light)
             throw InputError(h.where, "[light] (true shadows) is not traced " + on + " yet");
         if (!ex.cuts.empty())
-            throw InputError(h.where, "[views] cut (the depth test) is not measured " + on + " yet");
+            throw InputError(h.where,
+                             "[views] cut (the depth test) is not measured " + on + " yet");
         for (const MethodSpec& m : ex.methods)
             if (m.runs_on(h.name) && m.depth != DepthMode::base)
-                throw InputError(h.where, std::string("method '") + m.method->name + "' with depth = \"" +
-                                              depth_name(m.depth) + "\": written depths are not "
-                                              "measured " + on + " yet (give it heightfields = [...] "
+                throw InputError(h.where, std::string("method '") + m.method->name +
+                                              "' with depth = \"" + depth_name(m.depth) +
+                                              "\": written depths are not "
+                                              "measured " +
+                                              on +
+                                              " yet (give it heightfields = [...] "
                                               "without this entry)");
     }
 }

@@ -5,10 +5,9 @@
 // shows plus those whose base hit is too grazing to measure (V_ts.z <= cos 89 degrees, the
 // plane's outside rule). Empty on the plane base, where
 // both always cover the inside pixels.
-#include "harness/metrics/metric.h"
-
 #include <cmath>
 
+#include "harness/metrics/metric.h"
 #include "harness/metrics/metrics.h"
 
 namespace pxh {

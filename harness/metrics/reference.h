@@ -11,12 +11,12 @@
 namespace pxh {
 
 struct ReferenceInfo {
-    std::string ground_truth;  // exact | embree
-    double cells_mean = NAN;   // exact tracer: cells per ray
-    ErrorStats agreement;      // |hit_exact - hit_embree| over the samples (texels; NaN
-                               //   when Embree did not run)
-    double on_filled = NAN;    // fraction of true hits on a filled hole
-    double residual_max = NAN; // curved bases: the walk's max |g| at its hits (tiles)
+    std::string ground_truth;   // exact | embree
+    double cells_mean = NAN;    // exact tracer: cells per ray
+    ErrorStats agreement;       // |hit_exact - hit_embree| over the samples (texels; NaN
+                                //   when Embree did not run)
+    double on_filled = NAN;     // fraction of true hits on a filled hole
+    double residual_max = NAN;  // curved bases: the walk's max |g| at its hits (tiles)
 };
 
 // ground_truth, gt_cells_mean, gt_agree_p50/p99/max/frac_gt_0_5, gt_on_filled.

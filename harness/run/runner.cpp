@@ -256,9 +256,9 @@ struct ViewJob {
         row.set("width", c.hf.width);
         row.set("height", c.hf.height);
         row.set("fetches_bound", fetches_bound(m));
-        add_reference_columns({c.ex.ground_truth, truth.gt.cells_mean, truth.agree, holes.frac,
-                               truth.residual_max},
-                              row);
+        add_reference_columns(
+            {c.ex.ground_truth, truth.gt.cells_mean, truth.agree, holes.frac, truth.residual_max},
+            row);
         out.rows.push_back(std::move(row));
         out.errors.push_back(std::move(errs));
         out.cut_shows.push_back(std::move(cut_shows));
@@ -418,18 +418,12 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
     const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
                               c.hf.height};
-    ViewJob job{c,
-                theta,
-                phi,
-                camera,
-                timed,
-                view,
-                scene,
-                curved ? curved_truth_stage(c, *curved, timed) : truth_stage(c, view, timed),
-                {},
-                nullptr,
-                {},
-                {},
+    ViewJob job{c,     theta,
+                phi,   camera,
+                timed, view,
+                scene, curved ? curved_truth_stage(c, *curved, timed) : truth_stage(c, view, timed),
+                {},    nullptr,
+                {},    {},
                 NAN};
     // Each sample's lambda from its footprint (section 10), and their mean over the inside.
     job.lambda.resize(view.size());

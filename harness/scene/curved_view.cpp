@@ -58,7 +58,8 @@ CurvedView curved_view(const Camera& camera, const BaseSurface& base, double top
         v.P[k] = uv;
         v.V[k] = V;
         v.inside[k] = V.z > outside_cos() ? 1 : 0;
-        v.J[k] = {uv_step(camera, base, k, true, uv, top), uv_step(camera, base, k, false, uv, top)};
+        v.J[k] = {uv_step(camera, base, k, true, uv, top),
+                  uv_step(camera, base, k, false, uv, top)};
     }
     return cv;
 }

@@ -37,7 +37,8 @@ View orthographic_view(Vec3d V, int n) {
 
 WorldRay OrthographicCamera::world_ray(size_t k, double di, double dj, double top) const {
     const size_t n = size_t(std::max(n_, 1));
-    const double x = (double(k % n) + 0.5 + di) / double(n), y = (double(k / n) + 0.5 + dj) / double(n);
+    const double x = (double(k % n) + 0.5 + di) / double(n),
+                 y = (double(k / n) + 0.5 + dj) / double(n);
     const double L = (std::max(top, 0.0) + 1) / V_.z;  // theta < 90: V.z > 0
     return {{x + L * V_.x, y + L * V_.y, L * V_.z}, {-V_.x, -V_.y, -V_.z}};
 }

@@ -27,7 +27,11 @@ double gradient_bound(const HeightField& hf) {
 
 CurvedTracer::CurvedTracer(const HeightField& hf, double scale, double bias,
                            const BaseSurface& base, double step_texels)
-    : hf_(hf), s_(scale), b_(bias), base_(base), step_(step_texels),
+    : hf_(hf),
+      s_(scale),
+      b_(bias),
+      base_(base),
+      step_(step_texels),
       slope_(scale * gradient_bound(hf)) {}
 
 double CurvedTracer::g(Vec3d p) const {

@@ -37,12 +37,12 @@ TEST(CurvedBase, FramesAreFiniteDifferencesOfB) {
                 const Vec2d uv{U(rng), U(rng)};
                 const BaseFrame f = base->frame(uv);
                 const double h = 1e-6;
-                const Vec3d du = v3_scale(v3_sub(base->frame({uv.x + h, uv.y}).B,
-                                                 base->frame({uv.x - h, uv.y}).B),
-                                          0.5 / h);
-                const Vec3d dv = v3_scale(v3_sub(base->frame({uv.x, uv.y + h}).B,
-                                                 base->frame({uv.x, uv.y - h}).B),
-                                          0.5 / h);
+                const Vec3d du = v3_scale(
+                    v3_sub(base->frame({uv.x + h, uv.y}).B, base->frame({uv.x - h, uv.y}).B),
+                    0.5 / h);
+                const Vec3d dv = v3_scale(
+                    v3_sub(base->frame({uv.x, uv.y + h}).B, base->frame({uv.x, uv.y - h}).B),
+                    0.5 / h);
                 EXPECT_LT(dist(v3_unit(du), f.T), 1e-8) << name << " R " << R;
                 EXPECT_LT(dist(v3_unit(dv), f.Bt), 1e-8) << name << " R " << R;
                 EXPECT_NEAR(v3_dot(f.N, f.N), 1, 1e-12);
@@ -138,8 +138,7 @@ TEST(CurvedBase, OnThePlaneTheWalkIsTheExactTracer) {
         p.samples = 40;
         const PerspectiveCamera cam(p);
         const View view = cam.view();
-        const GroundTruth gt =
-            trace_ground_truth(*make_tracer("exact", hf, s, b), view);
+        const GroundTruth gt = trace_ground_truth(*make_tracer("exact", hf, s, b), view);
         const auto plane = make_base("plane", NAN);
         const CurvedView cv = curved_view(cam, *plane, 0);
         const CurvedHits h = CurvedTracer(hf, s, b, *plane).trace(cv.rays);
@@ -201,9 +200,8 @@ TEST(CurvedBase, LargeRadiusConvergesToThePlane) {
     head.replace(head.find("[0, 40, 70]"), 11, "[0, 20, 40]");
     const auto plane = run(head + field("") + kMethods);
     for (const char* name : {"cylinder", "sphere"}) {
-        const auto curved = run(head + field(std::string("base = \"") + name +
-                                              "\"\nradius = 10000\n") +
-                                kMethods);
+        const auto curved =
+            run(head + field(std::string("base = \"") + name + "\"\nradius = 10000\n") + kMethods);
         ASSERT_EQ(plane.size(), curved.size());
         for (size_t i = 0; i < plane.size(); ++i) {
             const ResultRow &p = plane[i], &c = curved[i];
@@ -223,9 +221,8 @@ TEST(CurvedBase, LargeRadiusConvergesToThePlane) {
 
 TEST(CurvedBase, AVanishingReliefIsExactEverywhere) {
     for (const char* name : {"cylinder", "sphere"}) {
-        const auto rows = run(kHead + field(std::string("base = \"") + name + "\"\nradius = 0.5\n",
-                                            1e-5) +
-                              kMethods);
+        const auto rows = run(
+            kHead + field(std::string("base = \"") + name + "\"\nradius = 0.5\n", 1e-5) + kMethods);
         for (const ResultRow& r : rows) {
             ASSERT_TRUE(r.ok()) << r.text("error");
             EXPECT_LT(r.num("err_max"), 0.01) << name << " " << r.text("method");
@@ -259,16 +256,17 @@ TEST(CurvedBase, SilhouettesOnASmallSphere) {
 }
 
 TEST(CurvedBase, BadBasesAreRefused) {
-    EXPECT_NE(parse_error(kHead + field("base = \"torus\"\nradius = 1\n") + kMethods)
-                  .find("e.toml:"),
-              std::string::npos);
+    EXPECT_NE(
+        parse_error(kHead + field("base = \"torus\"\nradius = 1\n") + kMethods).find("e.toml:"),
+        std::string::npos);
     EXPECT_NE(parse_error(kHead + field("base = \"torus\"\nradius = 1\n") + kMethods)
                   .find("unknown base 'torus' (known: plane, cylinder, sphere)"),
               std::string::npos);
     EXPECT_NE(parse_error(kHead + field("base = \"cylinder\"\n") + kMethods).find("needs a radius"),
               std::string::npos);
-    EXPECT_NE(parse_error(kHead + field("radius = 2\n") + kMethods).find("applies to a curved base"),
-              std::string::npos);
+    EXPECT_NE(
+        parse_error(kHead + field("radius = 2\n") + kMethods).find("applies to a curved base"),
+        std::string::npos);
     EXPECT_NE(parse_error(kHead + field("base = \"sphere\"\nradius = 0.04\n") + kMethods)
                   .find("must exceed scale * bias"),
               std::string::npos);

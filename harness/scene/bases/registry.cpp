@@ -1,7 +1,8 @@
 // The base surfaces' registry: one line per base (docs/conventions.md section 12).
+#include "harness/core/registry.h"
+
 #include <stdexcept>
 
-#include "harness/core/registry.h"
 #include "harness/scene/bases/bases.h"
 
 namespace pxh {

@@ -2,9 +2,9 @@
 // B = (0.5, 0.5, -R) + R n, n = (cos(v'/R) sin(u'/R), sin(v'/R), cos(v'/R) cos(u'/R)), N = n,
 // u' = u - 0.5, v' = v - 0.5. Along the equator v' = 0 arc length equals u; away from it u is
 // compressed by cos(v'/R).
-#include "harness/scene/bases/bases.h"
-
 #include <algorithm>
+
+#include "harness/scene/bases/bases.h"
 
 namespace pxh {
 
