@@ -9,6 +9,7 @@ uniform sampler2D u_height;  // GL_LINEAR + GL_REPEAT
 uniform float u_scale;       // s
 uniform float u_bias;        // b
 uniform vec3 u_view;         // V, toward the eye, of a view whose rays are parallel
+uniform vec2 u_curvature;    // the base's normal curvatures along T, Bt (conventions section 12)
 uniform bool u_view_per_sample;  // true: each sample's own V, from u_view_map
 uniform sampler2D u_view_map;    // per-sample V (xyz); texel (i, j) is sample j N + i
 uniform ivec2 u_size;        // W, H

@@ -9,7 +9,9 @@ from collections import defaultdict
 
 FAMILY = {"parallax": "single step", "parallax_limited": "single step", "steep": "layered search",
           "pom": "layered search", "relief": "layered search", "hdrp_pom": "engine presets",
-          "o3de_pom": "engine presets", "maxmip": "exact on flat (maxmip)"}
+          "o3de_pom": "engine presets", "maxmip": "exact on flat (maxmip)",
+          "curved_relief": "curved relief (Oliveira, Policarpo)",
+          "silhouette_pom": "silhouette POM (three.js PR 33953)"}
 
 
 def main():
@@ -20,11 +22,12 @@ def main():
             continue
         t = float(r["theta_deg"])
         band = "≤ 40°" if t <= 40 else "60–80°"
-        s_over_r = 0.0 if r["base"] == "plane" else float(r["scale"]) / float(r["radius"])
-        cells[(FAMILY[r["method"]], r["base"], s_over_r, band)].append(r)
+        base = r["base"] or "plane"  # empty on the plane
+        s_over_r = 0.0 if base == "plane" else float(r["scale"]) / float(r["radius"])
+        cells[(FAMILY.get(r["method"], r["method"]), base, s_over_r, band)].append(r)
     print("| family | base | s / R | θ | err_mean | err_p95 | cover_extra | cover_missing |")
     print("|---|---|---|---|---|---|---|---|")
-    order = list(dict.fromkeys(FAMILY.values()))
+    order = list(dict.fromkeys(list(FAMILY.values()) + [k[0] for k in cells]))
     for key in sorted(cells, key=lambda k: (order.index(k[0]), k[1] != "plane", k[1], k[2], k[3] != "≤ 40°")):
         rs = cells[key]
 

@@ -109,7 +109,7 @@ void visit(A& a, Vec3d& v) {
 }
 template <class A>
 void visit(A& a, Scene<double>& s) {
-    a(s.scale), a(s.bias), a(s.V), a(s.width), a(s.height);
+    a(s.scale), a(s.bias), a(s.V), a(s.width), a(s.height), a(s.curvature.x), a(s.curvature.y);
 }
 template <class A>
 void visit(A& a, LightSpec& l) {

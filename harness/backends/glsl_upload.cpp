@@ -223,6 +223,7 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     glUniform1f(loc("u_scale"), sc.scale);
     glUniform1f(loc("u_bias"), sc.bias);
     glUniform3f(loc("u_view"), sc.V.x, sc.V.y, sc.V.z);
+    glUniform2f(loc("u_curvature"), float(sc.curvature.x), float(sc.curvature.y));
     glUniform1i(loc("u_view_per_sample"), f.V ? 1 : 0);
     glUniform1i(loc("u_view_map"), 1);
     glUniform1i(loc("u_point_map"), kPointUnit);

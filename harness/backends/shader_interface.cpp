@@ -12,6 +12,7 @@ const std::vector<std::string>& harness_uniforms() {
                                                    "u_scale",
                                                    "u_bias",
                                                    "u_view",
+                                                   "u_curvature",
                                                    "u_view_per_sample",
                                                    "u_view_map",
                                                    "u_point_map",

@@ -58,6 +58,8 @@ struct ViewRows {
     std::vector<Vec2d> truth_uv;                  // the view's true hits (per sample, unwrapped)
     std::vector<uint8_t> inside;                  // the view's inside mask (View::inside)
     std::vector<std::vector<uint8_t>> cut_shows;  // per row: ViewOutput::cut_shows
+    std::vector<std::vector<Vec2d>> shown_uv;     // per row, curved bases: ViewOutput::shown_uv
+    std::vector<uint8_t> truth_hit;               // curved bases: ViewOutput::truth_hit
 };
 
 // One field (with its s, b) and what every view of it shares.
@@ -232,7 +234,8 @@ struct ViewJob {
 
     // The keys and the view-wide columns of a row; returns its index in the view.
     size_t emit(ResultRow row, std::vector<Vec2d> errs, const MethodSpec& m,
-                const std::string& backend, const Variant& v, std::vector<uint8_t> cut_shows = {}) {
+                const std::string& backend, const Variant& v, std::vector<uint8_t> cut_shows = {},
+                const MethodOutput* o = nullptr) {
         row.set_text("method", m.method->name);
         row.set_text("params", m.params.canonical());
         row.set_text("heightfield", c.spec.name);
@@ -242,7 +245,8 @@ struct ViewJob {
         row.set_text("texture_format", v.texture_format);
         row.set("scale", c.spec.scale);
         row.set("bias", c.spec.bias);
-        row.set_text("base", c.spec.base);
+        // empty on the plane: rows, names and keys as before bases existed
+        row.set_text("base", c.spec.base == "plane" ? "" : c.spec.base);
         row.set("radius", c.spec.radius);
         row.set("theta_deg", theta);
         row.set("phi_deg", phi);
@@ -262,6 +266,13 @@ struct ViewJob {
         out.rows.push_back(std::move(row));
         out.errors.push_back(std::move(errs));
         out.cut_shows.push_back(std::move(cut_shows));
+        std::vector<Vec2d> shown;  // a curved base's pictures: what the method shows
+        if (c.base && o) {
+            shown = o->uv;
+            for (size_t k = 0; k < shown.size(); ++k)
+                if (!view.is_inside(k)) shown[k] = {NAN, NAN};
+        }
+        out.shown_uv.push_back(std::move(shown));
         return out.rows.size() - 1;
     }
 };
@@ -365,7 +376,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 row.set("aux_bytes", double(res.aux_bytes()));
                 if (is_cpu) {
                     const size_t i = job.emit(std::move(row), job.errors_of(o), m, backend->name(),
-                                              v, std::move(shows));
+                                              v, std::move(shows), &o);
                     if (v.precision == "float") {
                         float_row = i;
                         cpu_float = std::move(o);
@@ -388,7 +399,8 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 if (cpu_float)
                     add_agreement(row, o, *cpu_float, hf.width, hf.height,
                                   job.view.inside.empty() ? nullptr : &job.view.inside);
-                job.emit(std::move(row), job.errors_of(o), m, backend->name(), v, std::move(shows));
+                job.emit(std::move(row), job.errors_of(o), m, backend->name(), v, std::move(shows),
+                         &o);
             } catch (const std::exception& e) {
                 ResultRow row = failed_row(e);
                 row.set_text("shader", backend->shader_of(*m.method));
@@ -416,8 +428,9 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     if (const std::string why = view_problem(view); !why.empty())
         throw std::logic_error("camera '" + c.ex.camera + "': " + why);
     // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
-    const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi), c.hf.width,
-                              c.hf.height};
+    const Scene<double> scene{
+        c.spec.scale, c.spec.bias, view_vector(theta, phi),
+        c.hf.width,   c.hf.height, c.base ? c.base->curvature() : Vec2d{0, 0}};
     ViewJob job{c,     theta,
                 phi,   camera,
                 timed, view,
@@ -451,6 +464,7 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     for (const auto& m : c.ex.methods)
         if (m.runs_on(c.spec.name)) run_method(job, m);
     job.out.truth_uv = std::move(job.truth.gt.uv);
+    if (job.truth.cover) job.out.truth_hit = job.truth.cover->truth_hit;
     job.out.inside = view.inside;
     return std::move(job.out);
 }
@@ -539,8 +553,8 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& 
         check_view_place(view, sw, t, !opt.include, rows.size());
         const size_t first = sw.first_row + t * sw.rows_per_view;
         if (opt.on_view) {
-            ViewOutput out{view.rows,   view.errors,    view.truth_uv,
-                           view.inside, view.cut_shows, first};
+            ViewOutput out{view.rows,      view.errors,   view.truth_uv,  view.inside,
+                           view.cut_shows, view.shown_uv, view.truth_hit, first};
             opt.on_view(out);
         }
         if (info) info->views.push_back({{sw.at.field, p, c, t}, view.rows.size()});

@@ -37,6 +37,11 @@ struct ViewOutput {
     // Per row with a [views] cut, per sample: bit 0 the plane shows in truth, bit 1 it shows
     // for the method (metrics/depth.h's add_cut_flips); empty for rows without a cut.
     const std::vector<std::vector<uint8_t>>& cut_shows;
+    // A curved base's (empty on the plane): per row the method's own uv per sample (NaN where it
+    // shows nothing), and per sample whether the truth shows surface (docs/conventions.md
+    // section 12): its pictures are drawn from these, background where a side shows nothing.
+    const std::vector<std::vector<Vec2d>>& shown_uv;
+    const std::vector<uint8_t>& truth_hit;
     // The index the view's first row has in the whole run's results.csv (a slice's maps and
     // pictures are named as the unsharded run names them).
     size_t first;

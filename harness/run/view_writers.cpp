@@ -33,6 +33,13 @@ void write_maps(const ViewWriteContext& c, ViewOutput& v) {
     }
 }
 
+// The samples whose uv is finite (what a method shows on a curved base).
+std::vector<uint8_t> shown_mask(const std::vector<Vec2d>& uv) {
+    std::vector<uint8_t> m(uv.size());
+    for (size_t k = 0; k < uv.size(); ++k) m[k] = std::isfinite(uv[k].x) && std::isfinite(uv[k].y);
+    return m;
+}
+
 // [render]: for every row of a render view, its picture against the truth's (the image
 // metrics); for the montage views and the strip's setting, the pictures under DIR/pictures.
 bool pictures_wanted(const Experiment& ex) { return ex.render.has_value(); }
@@ -46,7 +53,9 @@ void write_pictures(const ViewWriteContext& c, ViewOutput& v) {
     const int n = c.ex.samples;
     // A camera's image as the viewer sees it (outside pixels grey); the grid in texture space.
     const bool as_seen = !camera_entry(c.ex.camera, "camera").parallel;
-    const std::vector<float> truth_pic = picture(v.truth, n, v.inside);
+    // On a curved base each side shows surface only where it is hit: background elsewhere.
+    const bool curved = !v.truth_hit.empty();
+    const std::vector<float> truth_pic = picture(v.truth, n, curved ? v.truth_hit : v.inside);
     const fs::path dir = c.dir / "pictures";
     // The truth's picture per cut plane ("" without one), written once, when the first row of
     // the view that needs it does.
@@ -54,9 +63,11 @@ void write_pictures(const ViewWriteContext& c, ViewOutput& v) {
     for (size_t i = 0; i < rows.size(); ++i) {
         if (v.errors[i].empty()) continue;  // a failed row: no picture, no numbers
         ResultRow& row = rows[i];
-        auto pic = picture(
-            uv_from_errors(v.truth, v.errors[i], int(row.num("width")), int(row.num("height"))), n,
-            v.inside);
+        auto pic = curved && i < v.shown_uv.size() && !v.shown_uv[i].empty()
+                       ? picture(v.shown_uv[i], n, shown_mask(v.shown_uv[i]))
+                       : picture(uv_from_errors(v.truth, v.errors[i], int(row.num("width")),
+                                                int(row.num("height"))),
+                                 n, v.inside);
         // With a cut plane, what the depth test shows: the plane where it is in front.
         const std::vector<uint8_t>* shows =
             i < v.cut_shows.size() && !v.cut_shows[i].empty() ? &v.cut_shows[i] : nullptr;

@@ -49,6 +49,9 @@ class BaseSurface {
     // An upper bound of |d(u, v)/dt| at p along any unit direction: how fast texture coordinates
     // change per unit of distance travelled there (1 on the plane).
     virtual double uv_speed(Vec3d p) const = 0;
+    // The normal curvatures along T and Bt (1/tile, > 0 where the base bends away from the
+    // normal's side): (0, 0), (1/R, 0), (1/R, 1/R). Uniform over these bases.
+    virtual Vec2d curvature() const = 0;
 };
 
 // The first and second roots of a t^2 + 2 h t + c = 0 (a > 0), NaN when there are none;

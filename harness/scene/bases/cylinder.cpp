@@ -28,6 +28,7 @@ class CylinderBase final : public BaseSurface {
         const double t = leaving ? q.t1 : q.t0;
         return t > t_min ? t : NAN;
     }
+    Vec2d curvature() const override { return {1 / R_, 0}; }
     double uv_speed(Vec3d p) const override {
         const double rho = std::hypot(p.x - 0.5, p.z + R_);
         return std::max(1.0, R_ / std::max(rho, 1e-12 * R_));

@@ -21,6 +21,7 @@ class PlaneBase final : public BaseSurface {
         return (d.z < 0) != leaving ? t : NAN;
     }
     double uv_speed(Vec3d) const override { return 1; }
+    Vec2d curvature() const override { return {0, 0}; }
 };
 
 }  // namespace

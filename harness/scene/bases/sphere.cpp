@@ -37,6 +37,7 @@ class SphereBase final : public BaseSurface {
         const double t = leaving ? roots.t1 : roots.t0;
         return t > t_min ? t : NAN;
     }
+    Vec2d curvature() const override { return {1 / R_, 1 / R_}; }
     double uv_speed(Vec3d p) const override {
         // |d(lat)/dt| <= 1/r, |d(azimuth)/dt| <= 1/(r cos(lat)): u and v move R times that
         const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
