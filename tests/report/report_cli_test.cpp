@@ -502,11 +502,12 @@ TEST_F(ReportFolder, CheckFilterErrorsNameTheKeyLine) {
         {"heightfield = 1", "limits.toml:4: 'heightfield' must be a string or a list of strings"},
         {"phi = 0",
          "limits.toml:4: unknown key 'phi' in [[limit]] (keys: column, min, max, scale_min, "
-         "scale_max, bias_min, bias_max, theta_min, theta_max, phi_min, phi_max, samples_min, "
-         "samples_max, distance_min, distance_max, fov_deg_min, fov_deg_max, resolution_min, "
-         "resolution_max, cut_min, cut_max, note, ratio_to, method, params, heightfield, "
-         "backend, precision, texture_format, scale, bias, theta_deg, phi_deg, samples, camera, "
-         "distance, fov_deg, resolution, lod, depth, cut, ground_truth)"},
+         "scale_max, bias_min, bias_max, radius_min, radius_max, theta_min, theta_max, phi_min, "
+         "phi_max, samples_min, samples_max, distance_min, distance_max, fov_deg_min, "
+         "fov_deg_max, resolution_min, resolution_max, cut_min, cut_max, note, ratio_to, method, "
+         "params, heightfield, backend, precision, texture_format, scale, bias, base, radius, "
+         "theta_deg, phi_deg, samples, camera, distance, fov_deg, resolution, lod, depth, cut, "
+         "ground_truth)"},
     };
     for (const auto& c : cases) {
         const std::string e = input_error([&] {
