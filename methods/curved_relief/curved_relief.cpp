@@ -71,7 +71,8 @@ struct CurvedRelief {
             if (above(l)) l += size;
             else l -= size;
         }
-        if (l > l_end) return {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
+        if (l > l_end)
+            return {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
         return uv_at(l);
     }
 };

@@ -32,25 +32,25 @@ struct SilhouettePom {
         double miss_tol;
     };
     static MethodInfo describe() {
-        return {"silhouette_pom",
-                "three.js PR 33953 (SkyeShark 2026, closed unmerged): silhouette parallax "
-                "occlusion mapping, curvedSilhouette mode, ParallaxOcclusion.js @ bd5a73c8b9f4",
-                "POM against the relief bent by the base's curvature, a 4x horizon chase; "
-                "discards when the ray ends above the relief",
-                {ParamSpec::integer("layers_min", 16, 1, 256, "layers head-on (source: 16)")
-                     .to_uniform("p_min_layers"),
-                 ParamSpec::integer("layers_max", 48, 1, 256,
-                                    "layers at grazing views, and the loop's bound (source: 48)")
-                     .to_uniform("p_max_layers"),
-                 ParamSpec::integer("chase", 24, 0, 256,
-                                    "4-layer steps after the budget (source: 24)")
-                     .to_uniform("p_chase"),
-                 ParamSpec::real("miss_tol", 0.025, 0, 1,
-                                 "discard when the ray ends this far above the relief, in units "
-                                 "of s (source: 0.025)")
-                     .to_uniform("p_miss_tol")},
-                false,
-                151};
+        return {
+            "silhouette_pom",
+            "three.js PR 33953 (SkyeShark 2026, closed unmerged): silhouette parallax "
+            "occlusion mapping, curvedSilhouette mode, ParallaxOcclusion.js @ bd5a73c8b9f4",
+            "POM against the relief bent by the base's curvature, a 4x horizon chase; "
+            "discards when the ray ends above the relief",
+            {ParamSpec::integer("layers_min", 16, 1, 256, "layers head-on (source: 16)")
+                 .to_uniform("p_min_layers"),
+             ParamSpec::integer("layers_max", 48, 1, 256,
+                                "layers at grazing views, and the loop's bound (source: 48)")
+                 .to_uniform("p_max_layers"),
+             ParamSpec::integer("chase", 24, 0, 256, "4-layer steps after the budget (source: 24)")
+                 .to_uniform("p_chase"),
+             ParamSpec::real("miss_tol", 0.025, 0, 1,
+                             "discard when the ray ends this far above the relief, in units "
+                             "of s (source: 0.025)")
+                 .to_uniform("p_miss_tol")},
+            false,
+            151};
     }
     static Config configure(const ParamValues& p, const std::string&) {
         return {double(p.get_int("layers_min")), double(p.get_int("layers_max")),

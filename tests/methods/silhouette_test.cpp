@@ -8,9 +8,9 @@
 
 #include <cmath>
 #include <map>
-#include <tuple>
 #include <random>
 #include <string>
+#include <tuple>
 
 #include "harness/experiment/experiment.h"
 #include "harness/run/runner.h"
@@ -27,8 +27,8 @@ using test::run_method;
 // three.js PR 33953, ParallaxOcclusion.js lines 205-350 and 376-426 (silhouette_sources.md
 // section 1), transcribed with its names; depth = 1 - h, the polygon at the top (b = 1).
 // Returns NaN uv where it discards.
-Vec2d threejs_silhouette_pom(const HeightField& hf, double s, Vec3d Vt, Vec2d startUV,
-                             double ku, double kv) {
+Vec2d threejs_silhouette_pom(const HeightField& hf, double s, Vec3d Vt, Vec2d startUV, double ku,
+                             double kv) {
     HeightSampler<double> hs(hf, s, 1.0);
     const double minLayers = 16, maxLayers = 48, minViewZ = 0.05;
     auto mix = [](double a, double b, double t) { return a * (1 - t) + b * t; };
