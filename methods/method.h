@@ -91,6 +91,10 @@ struct MethodInfo {
     std::vector<ParamSpec> params;
     bool exact_on_flat = false;  // returns the true point on any flat field
     int order = 100;             // listing order
+    // May discard a sample (a NaN uv from the C++ twin, `discard` in the shader): the
+    // silhouette-aware methods (docs/conventions.md section 12). The registry's tests then
+    // allow non-finite answers and compare the twins' discards instead of their uv there.
+    bool may_discard = false;
     void (*check)(const ParamValues&, const std::string& where) = nullptr;
     int (*max_fetches)(const ParamValues&, const Scene<double>&) = nullptr;
     // The uniforms the method computes (M::gl_uniforms); nullptr: none. The backend sets

@@ -1,10 +1,12 @@
 #!/usr/bin/python3
-"""The table of docs/findings/curved.md from a run of results/experiments/curved.toml: per method
-family, base and s / R, the mean over both fields and the θ band of err_mean, err_p95 (texels),
-cover_extra_frac and cover_missing_frac (CPU float rows).
-    /usr/bin/python3 scripts/curved_table.py RESULTS_DIR"""
+"""The table and figure of docs/findings/curved.md from a run of results/experiments/curved.toml:
+per method family, base and s / R, the mean over both fields and the θ band of err_mean, err_p95
+(texels), cover_extra_frac and cover_missing_frac (CPU float rows); the figure plots err_mean and
+cover_extra_frac against s / R at θ <= 40°, cylinder solid, sphere dashed.
+    /usr/bin/python3 scripts/curved_table.py RESULTS_DIR [--figure OUT_STEM --width single|double]"""
+import argparse
 import csv
-import sys
+import statistics
 from collections import defaultdict
 
 FAMILY = {"parallax": "single step", "parallax_limited": "single step", "steep": "layered search",
@@ -14,8 +16,7 @@ FAMILY = {"parallax": "single step", "parallax_limited": "single step", "steep":
           "silhouette_pom": "silhouette POM (three.js PR 33953)"}
 
 
-def main():
-    rows = list(csv.DictReader(open(sys.argv[1] + "/results.csv")))
+def table(rows):
     cells = defaultdict(list)
     for r in rows:
         if r["backend"] != "cpu" or r["status"] != "ok":
@@ -39,6 +40,62 @@ def main():
                if base != "plane" else "– | –")
         print(f"| {fam} | {base} | {sr:g} | {band} | {mean('err_mean'):.3f} | "
               f"{mean('err_p95'):.2f} | {cov} |")
+
+
+
+def figure(rows, stem, width):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    plt.rcParams.update({"font.size": 8, "pdf.fonttype": 42})
+    double = width == "double"
+    fig, axes = plt.subplots(1 if double else 2, 2 if double else 1,
+                             figsize=(7.0, 3.1) if double else (3.5, 5.6))
+    shown = ["maxmip", "pom", "parallax", "curved_relief", "silhouette_pom"]
+    colours = dict(zip(shown, ("C4", "C1", "C0", "C3", "C2")))
+    data = defaultdict(lambda: defaultdict(list))
+    for r in rows:
+        if r["backend"] != "cpu" or r["status"] != "ok" or float(r["theta_deg"]) > 40:
+            continue
+        if r["method"] not in shown:
+            continue
+        base = r["base"] or "plane"
+        sr = 0.0 if base == "plane" else float(r["scale"]) / float(r["radius"])
+        for b in ((base,) if base != "plane" else ("cylinder", "sphere")):
+            data[(r["method"], b)][sr].append(r)
+    for (m, b), by in sorted(data.items()):
+        xs = sorted(by)
+        style = "-" if b == "cylinder" else "--"
+        for ax, col in ((axes[0], "err_mean"), (axes[1], "cover_extra_frac")):
+            ys = [statistics.fmean(float(r[col]) if r[col] != "" else 0.0 for r in by[x])
+                  for x in xs]
+            ax.plot(xs, ys, style, marker="o", ms=2.5, lw=1, color=colours[m],
+                    label=(f"{m}" if b == "cylinder" else None) if ax is axes[0] else None)
+    axes[0].set_xlabel("s / R")
+    axes[0].set_ylabel("err_mean (texels)")
+    axes[1].set_xlabel("s / R")
+    axes[1].set_ylabel("cover_extra_frac")
+    axes[0].plot([], [], "k-", lw=1, label="cylinder")
+    axes[0].plot([], [], "k--", lw=1, label="sphere")
+    fig.legend(fontsize=6.5, ncol=4 if double else 2, loc="lower center", frameon=False)
+    sep = " " if double else "\n"
+    fig.suptitle(f"Flat and silhouette-aware methods on curved bases, θ ≤ 40°{sep}"
+                 "(bricks, luxembourg; s = 0.05, b = 1; s / R = 0: the plane)", fontsize=8)
+    fig.tight_layout(rect=(0, 0.15 if double else 0.11, 1, 0.92 if double else 0.94))
+    for ext in ("png", "pdf"):
+        fig.savefig(f"{stem}.{ext}", dpi=200)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("results")
+    ap.add_argument("--figure", help="write OUT_STEM.png and OUT_STEM.pdf")
+    ap.add_argument("--width", choices=["single", "double"], default="double")
+    a = ap.parse_args()
+    rows = list(csv.DictReader(open(a.results + "/results.csv")))
+    table(rows)
+    if a.figure:
+        figure(rows, a.figure, a.width)
 
 
 if __name__ == "__main__":

@@ -41,7 +41,6 @@ void add_written_depths(const MethodSpec& m, const ViewInput& view, MethodOutput
     std::vector<double>& out = o.depth;
     std::vector<double>& tol = o.depth_tol;
     const View& rays = view.rays;
-    const Vec3d f = rays.depth_axis();
     const bool engine = m.depth == DepthMode::engine && m.method->engine_depth;
     out.assign(uv.size(), 0.0);
     tol.clear();
@@ -52,6 +51,7 @@ void add_written_depths(const MethodSpec& m, const ViewInput& view, MethodOutput
             continue;
         }
         if (m.depth == DepthMode::base || (m.depth == DepthMode::engine && !engine)) continue;
+        const Vec3d f = rays.depth_axis(k);
         const Vec2d P =
             as_float ? Vec2d{double(float(rays.P[k].x)), double(float(rays.P[k].y))} : rays.P[k];
         // four float steps of the sample's coordinates (2^-21 |P|: float's epsilon is 2^-23)

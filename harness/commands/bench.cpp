@@ -22,7 +22,10 @@
 #include "harness/core/safe_files.h"
 #include "harness/metrics/agreement.h"
 #include "harness/results/provenance.h"
+#include "harness/scene/base_surface.h"
+#include "harness/scene/curved_view.h"
 #include "harness/scene/perspective_camera.h"
+#include "harness/truth/curved_tracer.h"
 #include "harness/truth/embree_truth.h"
 #include "harness/truth/ground_truth.h"
 #include "harness/truth/travel_limit.h"
@@ -306,6 +309,39 @@ void check_bench_out(const std::string& out, bool force) {
                          "choose another --out");
 }
 
+// --base: the curved truth's walk over the same camera's rays on the base (docs/conventions.md
+// section 12), timed as the exact tracer is (one warm-up, then the repeats), its line under the
+// view's and its fields in the view's JSON entry: throughput and its ratio to the exact tracer on
+// the plane over the same camera in the same run, walk steps per ray, rays that hit, residual.
+void time_curved(const BenchOptions& opt, const HeightField& hf, const BaseSurface& base,
+                 const Camera& camera, double exact_mrays, nlohmann::json& row) {
+    const CurvedView cv = curved_view(camera, base, opt.scale * (1 - opt.bias));
+    const CurvedTracer walk(hf, opt.scale, opt.bias, base);
+    CurvedHits h = walk.trace(cv.rays);  // warm-up
+    std::vector<double> secs;
+    for (int r = 0; r < opt.repeats; ++r) secs.push_back(seconds([&] { h = walk.trace(cv.rays); }));
+    size_t hits = 0;
+    for (uint8_t x : h.hit) hits += x;
+    const double mrays = double(cv.rays.size()) / median(secs) / 1e6;
+    const auto [lo, hi] = std::minmax_element(secs.begin(), secs.end());
+    const double sprd = (*hi - *lo) / median(secs);  // as the view's sprdX
+    std::printf(
+        "       on %s R=%g: curved walk %.2f Mr/s (%.3f x exact on the plane), %.1f "
+        "steps/ray, %zu of %zu rays hit, residual %.2g, spread %.2f\n",
+        base.name().c_str(), base.radius(), mrays, mrays / exact_mrays, h.steps_mean, hits,
+        cv.rays.size(), h.residual_max, sprd);
+    std::fflush(stdout);
+    row["base"] = base.name();
+    row["radius"] = base.radius();
+    row["curved_mrays_per_s"] = mrays;
+    row["ratio_curved_over_exact"] = mrays / exact_mrays;
+    row["curved_seconds"] = secs;
+    row["curved_spread"] = sprd;
+    row["curved_steps_per_ray"] = h.steps_mean;
+    row["curved_rays_hit"] = hits;
+    row["curved_residual_max"] = h.residual_max;
+}
+
 int run_bench(const BenchOptions& options) {
     BenchOptions opt = options;
     if (opt.out.empty()) opt.out = "results/runs/bench-" + utc_timestamp("%Y%m%d-%H%M%S") + ".json";
@@ -363,6 +399,8 @@ int run_bench(const BenchOptions& options) {
     if (opt.naive) std::printf(" %12s %12s %12s", "per-ray Mr/s", "ray Mr/s", "naive Mr/s");
     std::printf(" %10s %10s %10s %10s %5s %5s\n", "agree p50", "agree p99", "agree max", "frac>0.5",
                 "sprdX", "sprdE");
+    const std::unique_ptr<BaseSurface> base =
+        opt.base == "plane" ? nullptr : make_base(opt.base, opt.radius);
     for (int size : sizes) {
         const HeightField hf =
             scan ? scanned
@@ -378,9 +416,13 @@ int run_bench(const BenchOptions& options) {
             seconds([&] { embree = std::make_unique<EmbreeTracer>(hf, opt.scale, opt.bias); });
         for (double theta : opt.thetas) {
             if (!persp) {
-                const View view = OrthographicCamera(theta, opt.phi, opt.samples).view();
+                const OrthographicCamera camera(theta, opt.phi, opt.samples);
+                const View view = camera.view();
                 const ViewTimings t = time_view(*exact, *embree, view, opt);
                 results.push_back(report_view(opt, size, {theta}, t, exact_build, embree_build));
+                if (base)
+                    time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
+                                results.back());
                 continue;
             }
             for (double d : opt.distances) {
@@ -393,6 +435,9 @@ int run_bench(const BenchOptions& options) {
                 results.push_back(report_view(opt, size,
                                               {theta, d, &inside, camera.outside_count()}, t,
                                               exact_build, embree_build));
+                if (base)
+                    time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
+                                results.back());
             }
         }
     }

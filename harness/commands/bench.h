@@ -1,5 +1,6 @@
 // `pxh bench`: ground-truth throughput, the exact tracer against Embree on the same rays.
 #pragma once
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,11 @@ struct BenchOptions {
     std::string camera = "orthographic";
     std::vector<double> distances{1.5, 4, 16};  // perspective: eye distances in tiles
     double fov = 45;                            // perspective: full field of view, degrees
-    std::string out;                            // JSON file (default: results/runs/bench-DATE.json)
+    // A curved base (docs/conventions.md section 12): also time the curved truth's walk over the
+    // same camera's rays on it ("plane": not timed).
+    std::string base = "plane";
+    double radius = NAN;
+    std::string out;     // JSON file (default: results/runs/bench-DATE.json)
     bool force = false;  // replace `out` when it is an earlier pxh bench file (only then)
 };
 

@@ -7,6 +7,7 @@
 #include "harness/core/error.h"
 #include "harness/core/params.h"
 #include "harness/core/registry.h"
+#include "harness/scene/base_surface.h"
 #include "harness/scene/view.h"
 
 namespace pxh {
@@ -41,34 +42,48 @@ Command add_bench_command(CLI::App& app) {
                                        "perspective: eye distances in tiles (default 1.5 4 16)");
     auto* fov = bench->add_option("--fov", bo->fov, "perspective: field of view, deg (default 45)");
     fov->check(CLI::Range(0.001, 179.999));
+    bench
+        ->add_option("--base", bo->base,
+                     "a base surface (" + join_names(base_names()) +
+                         "; default plane): a curved one also times the curved truth's walk "
+                         "over the same rays, as a ratio to the exact tracer on the plane")
+        ->check(CLI::IsMember(base_names()));
+    auto* radius = bench->add_option("--radius", bo->radius, "a curved base's radius in tiles");
     auto* out = bench->add_option("--out", bo->out,
                                   "JSON output, a new file (default results/runs/bench-DATE.json)");
     bench->add_flag("--force", bo->force,
                     "replace --out when it is an earlier pxh bench file (never anything else)");
-    return {bench, [bo, out, distance, fov] {
-                if (out->count() && bo->out.empty())
-                    throw InputError("--out", "is empty: name the JSON file");
-                // An eye distance and field of view: a camera whose rays are not parallel.
-                if (camera_entry(bo->camera, "--camera").parallel &&
-                    (distance->count() || fov->count()))
-                    throw InputError(distance->count() ? "--distance" : "--fov",
-                                     "applies to a camera with an eye, not --camera " + bo->camera);
-                // Checked here, in pxh's words (CLI11's ranges let NaN through and print the
-                // largest double in full).
-                for (double t : bo->thetas)
-                    if (!(t >= 0 && t <= 89.999))
-                        throw InputError("--theta", format_number(t) + " is not in [0, 89.999]");
-                if (!std::isfinite(bo->phi))
-                    throw InputError("--phi", format_number(bo->phi) + " is not a finite angle");
-                if (!(bo->fov >= 0.001 && bo->fov <= 179.999))
-                    throw InputError("--fov",
-                                     format_number(bo->fov) + " is not in [0.001, 179.999]");
-                for (double d : bo->distances)
-                    if (!(d > 0 && std::isfinite(d)))
-                        throw InputError("--distance",
-                                         format_number(d) + " is not a positive number of tiles");
-                return run_bench(*bo);
-            }};
+    return {
+        bench, [bo, out, distance, fov, radius] {
+            if (out->count() && bo->out.empty())
+                throw InputError("--out", "is empty: name the JSON file");
+            const bool curved = find_base(bo->base) && find_base(bo->base)->curved;
+            if (curved && !(std::isfinite(bo->radius) && bo->radius > bo->scale * bo->bias))
+                throw InputError(
+                    radius->count() ? "--radius" : "--base",
+                    "--base " + bo->base + " needs --radius R, a finite number above scale * bias");
+            if (!curved && radius->count())
+                throw InputError("--radius", "applies to a curved --base (cylinder, sphere)");
+            // An eye distance and field of view: a camera whose rays are not parallel.
+            if (camera_entry(bo->camera, "--camera").parallel &&
+                (distance->count() || fov->count()))
+                throw InputError(distance->count() ? "--distance" : "--fov",
+                                 "applies to a camera with an eye, not --camera " + bo->camera);
+            // Checked here, in pxh's words (CLI11's ranges let NaN through and print the
+            // largest double in full).
+            for (double t : bo->thetas)
+                if (!(t >= 0 && t <= 89.999))
+                    throw InputError("--theta", format_number(t) + " is not in [0, 89.999]");
+            if (!std::isfinite(bo->phi))
+                throw InputError("--phi", format_number(bo->phi) + " is not a finite angle");
+            if (!(bo->fov >= 0.001 && bo->fov <= 179.999))
+                throw InputError("--fov", format_number(bo->fov) + " is not in [0.001, 179.999]");
+            for (double d : bo->distances)
+                if (!(d > 0 && std::isfinite(d)))
+                    throw InputError("--distance",
+                                     format_number(d) + " is not a positive number of tiles");
+            return run_bench(*bo);
+        }};
 }
 
 }  // namespace pxh

@@ -63,8 +63,17 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     // A camera whose rays are not parallel: per sample V (24), J (32), inside (1); every
     // view: lambda (8).
     const size_t camera_bytes = (camera_entry(ex.camera, "camera").parallel ? 0 : 24 + 32 + 1) + 8;
+    // A curved base (docs/conventions.md section 12): its view is per sample whatever the camera
+    // (P 16, V 24, J 32, inside 1, the world ray 48, base hit 1), its truth's walk twice (uv 16,
+    // z 8, point 24, hit 1, and the per-ray record 32), the coverage (2) and per row the method's
+    // shown uv for pictures (16).
+    bool curved = false;
+    for (const HeightfieldSpec& h : ex.heightfields) curved = curved || h.base != "plane";
+    const size_t curved_bytes =
+        curved ? 16 + 24 + 32 + 1 + 48 + 1 + 2 * (16 + 8 + 24 + 1 + 32) + 2 + rows_per_view * 16
+               : 0;
     const size_t view =
-        n2 * (kViewBytesPerSample + camera_bytes + rows_per_view * 16 * views_alive +
+        n2 * (kViewBytesPerSample + camera_bytes + curved_bytes + rows_per_view * 16 * views_alive +
               3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
     const size_t results = est.rows * kBytesPerRow;
     est.peak_bytes = kBaseBytes + field + view + results;

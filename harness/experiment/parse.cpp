@@ -446,25 +446,13 @@ void check_camera_reach(Experiment& ex) {
 }  // namespace
 
 // What is not measured on a curved base yet (docs/conventions.md section 12): true shadows
-// ([light]), written depths (depth other than base) and cut planes. Refused, naming the entry.
+// ([light]). Refused, naming the entry.
 void check_curved_bases(const Experiment& ex) {
     for (const HeightfieldSpec& h : ex.heightfields) {
         if (h.base == "plane") continue;
         const std::string on = "on a curved base (base = \"" + h.base + "\")";
         if (ex.light)
             throw InputError(h.where, "[light] (true shadows) is not traced " + on + " yet");
-        if (!ex.cuts.empty())
-            throw InputError(h.where,
-                             "[views] cut (the depth test) is not measured " + on + " yet");
-        for (const MethodSpec& m : ex.methods)
-            if (m.runs_on(h.name) && m.depth != DepthMode::base)
-                throw InputError(h.where, std::string("method '") + m.method->name +
-                                              "' with depth = \"" + depth_name(m.depth) +
-                                              "\": written depths are not "
-                                              "measured " +
-                                              on +
-                                              " yet (give it heightfields = [...] "
-                                              "without this entry)");
     }
 }
 

@@ -23,7 +23,6 @@ void add_depth_errors(const MetricInput& in, ResultRow& row) {
     const size_t n = o.uv.size();
     if (!in.view || o.depth.size() != n || n == 0) return;
     const View& view = *in.view;
-    const Vec3d f = view.depth_axis();
     std::vector<double> mag;
     mag.reserve(n);
     double bias = 0, toward = 0;
@@ -32,7 +31,11 @@ void add_depth_errors(const MetricInput& in, ResultRow& row) {
         const Vec2d t = in.gt.uv[k];
         const double zt = in.gt.z.size() == n ? in.gt.z[k] : NAN;
         if (!std::isfinite(o.depth[k]) || !std::isfinite(t.x) || !std::isfinite(zt)) continue;
-        const double e = o.depth[k] - depth_offset(view.P[k], f, t, zt);
+        const double truth = in.gt.depth.size() == n
+                                 ? in.gt.depth[k]
+                                 : depth_offset(view.P[k], view.depth_axis(k), t, zt);
+        if (!std::isfinite(truth)) continue;
+        const double e = o.depth[k] - truth;
         mag.push_back(std::abs(e));
         bias += e;
         const double eps =
@@ -63,13 +66,18 @@ std::vector<uint8_t> add_cut_flips(const MethodOutput& out, const GroundTruth& g
     if (out.depth.size() != n || gt.uv.size() != n || gt.z.size() != n || view.size() != n)
         return {};
     std::vector<uint8_t> shows(n, 0);
-    const Vec3d f = view.depth_axis();
     double flips = 0, counted = 0;
     for (size_t k = 0; k < n; ++k) {
         if (!view.is_inside(k) || (exclude && (*exclude)[k])) continue;
         if (!std::isfinite(out.depth[k]) || !std::isfinite(gt.z[k])) continue;
-        const double plane = ray_depth_at_height(view.dir(k), f, z_cut);
-        const double truth = depth_offset(view.P[k], f, gt.uv[k], gt.z[k]);
+        // a curved base: the shell at height z_cut (NaN: the ray never meets it, never shown)
+        const double plane = gt.shell_depth
+                                 ? gt.shell_depth(k, z_cut)
+                                 : ray_depth_at_height(view.dir(k), view.depth_axis(k), z_cut);
+        const double truth = gt.depth.size() == n
+                                 ? gt.depth[k]
+                                 : depth_offset(view.P[k], view.depth_axis(k), gt.uv[k], gt.z[k]);
+        if (!std::isfinite(truth)) continue;
         const bool shown_true = plane < truth, shown = plane < out.depth[k];
         flips += shown_true != shown ? 1 : 0;
         shows[k] = uint8_t((shown_true ? 1 : 0) | (shown ? 2 : 0));

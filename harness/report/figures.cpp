@@ -351,7 +351,8 @@ void pictures(const ReportData& d) {
       << ",img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use," << kViewHeader;
     // the camera's keys as numbers too (empty on a row without them)
     for (const CameraKey& k : camera_key_columns()) o << "," << csv_quote(k.name);
-    o << ",cut\n";  // the [views] cut whose plane the pictures show (empty: none)
+    // the [views] cut whose plane the pictures show (empty: none), the curved base and radius
+    o << ",cut,base,radius\n";
     int n = 0;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
@@ -364,7 +365,8 @@ void pictures(const ReportData& d) {
             o << "," << csv_quote(r.text(c));
         o << "," << view_fields(r);
         for (const CameraKey& k : camera_key_columns()) o << "," << csv_num(r.num(k.name));
-        o << "," << csv_num(r.num("cut")) << "\n";
+        o << "," << csv_num(r.num("cut")) << "," << csv_quote(r.text("base")) << ","
+          << csv_num(r.num("radius")) << "\n";
         ++n;
     }
     if (n) d.write("data/pictures.csv", o.str());

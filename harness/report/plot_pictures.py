@@ -88,7 +88,9 @@ def picture_montage(F, st, results, rows):
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
     cam = view_title(r0)
     cut = r0.get("cut") or ""
-    title = fit(f"{r0['heightfield']}, θ = {num(r0['theta_deg']):g}°, "
+    base = (f" on a {r0['base']} of radius {num(r0['radius']):g}"
+            if r0.get("base") else "")
+    title = fit(f"{r0['heightfield']}{base}, θ = {num(r0['theta_deg']):g}°, "
                 f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
                 ": a numbered checkerboard through each "
                 "method's uv" + (f"; blue: the plane at height {num(cut):g} where the depth "
@@ -125,7 +127,9 @@ def picture_montage(F, st, results, rows):
                     ha="center", va="top", transform=bottom.transAxes)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
-                + (r0.get("camera_tag") or "") + (f"_cut{num(cut):g}" if cut else ""))
+                + (r0.get("camera_tag") or "")
+                + (f"_{r0['base']}R{num(r0['radius']):g}" if r0.get("base") else "")
+                + (f"_cut{num(cut):g}" if cut else ""))
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
 
@@ -160,7 +164,8 @@ def strip(F, st, results, rows):
         axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
                               fontsize=5 if small else 6, labelpad=2)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
-    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}")
+    name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}"
+                + (f"_{r0['base']}R{num(r0['radius']):g}" if r0.get("base") else ""))
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
 
@@ -202,9 +207,11 @@ def pictures(F, st, rows):
         cam = r.get("camera_view", "")
         if "montage" in r["picture_use"].split():  # a cut plane's own montage (its truth)
             views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam,
-                              r.get("cut") or ""), []).append(r)
+                              r.get("cut") or "", r.get("base") or "", r.get("radius") or ""),
+                             []).append(r)
         if "strip" in r["picture_use"].split():
-            strips.setdefault((r["heightfield"], r["phi_deg"], cam, setting(r)), []).append(r)
+            strips.setdefault((r["heightfield"], r["phi_deg"], cam, r.get("base") or "",
+                               r.get("radius") or "", setting(r)), []).append(r)
     for v in views.values():
         picture_montage(F, st, results, v)
     for v in strips.values():

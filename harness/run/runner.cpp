@@ -114,6 +114,19 @@ struct ViewTruth {
 ViewTruth curved_truth_stage(const FieldContext& c, const CurvedView& cv, bool timed) {
     ViewTruth t;
     CurvedHits h = c.curved->trace(cv.rays);
+    // depths from the base hit along the camera's axis (docs/conventions.md sections 11, 12)
+    t.gt.depth.assign(h.uv.size(), NAN);
+    for (size_t k = 0; k < h.uv.size(); ++k)
+        if (h.hit[k] && cv.base_hit[k])
+            t.gt.depth[k] = v3_dot(v3_sub(h.point[k], cv.base_point[k]), cv.forward);
+    const BaseSurface* base = c.base;
+    t.gt.shell_depth = [base, &cv](size_t k, double z) {
+        if (!cv.base_hit[k]) return double(NAN);
+        const WorldRay& r = cv.rays[k];
+        const double tc = base->hit(r.o, r.d, z, 0, false);
+        if (!std::isfinite(tc)) return double(NAN);
+        return v3_dot(v3_sub(v3_add(r.o, v3_scale(r.d, tc)), cv.base_point[k]), cv.forward);
+    };
     t.gt.uv = std::move(h.uv);
     t.gt.z = std::move(h.z);
     t.gt.cells_mean = NAN;
@@ -335,7 +348,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
-                if (job.c.base) o.depth.clear();  // not measured on curved bases (yet)
+                // curved bases: the depth test is the C++ twin's (the GLSL twin's depth target
+                // takes one depth axis per view; a curved view has one per pixel)
+                if (job.c.base && !is_cpu) o.depth.clear();
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view,
                                       job.truth.cover ? &*job.truth.cover : nullptr);
                 // No inside sample (a perspective view at or beyond the horizon): nothing was

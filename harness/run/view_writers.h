@@ -40,8 +40,9 @@ std::vector<const ViewWriter*> wanted_view_writers(const Experiment& ex);
 // function when the experiment wants none). `ex` must outlive it.
 RunOptions::ViewHook view_writers_into(const Experiment& ex, const std::filesystem::path& dir);
 
-// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI[_dD_fF][_cutC].png" (C: the row's
-// [views] cut, whose plane the picture shows), safe characters.
+// The truth's picture of a row's view: "truth_FIELD_tTHETA_pPHI[_dD_fF][_BASERr][_cutC].png"
+// (a curved base and its radius; C: the row's [views] cut, whose plane the picture shows), safe
+// characters.
 std::string truth_picture_name(const ResultRow& r);
 
 }  // namespace pxh

@@ -44,8 +44,11 @@ CurvedView curved_view(const Camera& camera, const BaseSurface& base, double top
     v.parallel = false;
     v.grid = 0;
     v.forward = flat.depth_axis();
+    cv.forward = v.forward;
+    v.axes.assign(n, cv.forward);
     cv.rays.resize(n);
     cv.base_hit.assign(n, 0);
+    cv.base_point.assign(n, {NAN, NAN, NAN});
     for (size_t k = 0; k < n; ++k) {
         const WorldRay r = camera.world_ray(k, 0, 0, top);
         cv.rays[k] = r;
@@ -55,6 +58,8 @@ CurvedView curved_view(const Camera& camera, const BaseSurface& base, double top
         const BaseFrame f = base.frame(uv);
         const Vec3d V{-v3_dot(r.d, f.T), -v3_dot(r.d, f.Bt), -v3_dot(r.d, f.N)};
         cv.base_hit[k] = 1;
+        cv.base_point[k] = v3_add(r.o, v3_scale(r.d, t));
+        v.axes[k] = {v3_dot(cv.forward, f.T), v3_dot(cv.forward, f.Bt), v3_dot(cv.forward, f.N)};
         v.P[k] = uv;
         v.V[k] = V;
         v.inside[k] = V.z > outside_cos() ? 1 : 0;

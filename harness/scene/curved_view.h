@@ -21,6 +21,8 @@ struct CurvedView {
     View view;
     std::vector<WorldRay> rays;     // per sample, from the camera
     std::vector<uint8_t> base_hit;  // 1 where the ray meets the base (inside or not)
+    std::vector<Vec3d> base_point;  // the base hit in space (NaN where it misses)
+    Vec3d forward;                  // the camera's depth axis in space
 };
 
 // `top`: the highest z of anything in the scene (s (1 - b): the displaced surface's top).

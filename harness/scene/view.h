@@ -42,6 +42,10 @@ struct View {
     // the perspective camera's forward vector; zero: -V (parallel rays, where the depth of a
     // point is its distance along the rays).
     Vec3d forward{0, 0, 0};
+    // A curved base's view (harness/scene/curved_view.h): per sample the depth axis in that
+    // sample's tangent frame (f . T, f . Bt, f . N), so that depth(X_w) = (X_w - P) . f holds in
+    // the frame the method answers in; empty: depth_axis() for every sample.
+    std::vector<Vec3d> axes;
 
     size_t size() const { return P.size(); }
     Vec3d depth_axis() const {
@@ -49,6 +53,7 @@ struct View {
         const Vec3d v = V.empty() ? Vec3d{0, 0, 1} : V[0];
         return {-v.x, -v.y, -v.z};
     }
+    Vec3d depth_axis(size_t k) const { return axes.empty() ? depth_axis() : axes[k]; }
     Vec3d dir(size_t k) const { return V[parallel ? 0 : k]; }
     // Whether sample k's ray is exactly (bit for bit) the ray through `at` along `d`.
     bool has_ray(size_t k, Vec2d at, Vec3d d) const {

@@ -3,6 +3,7 @@
 // reference; Embree (embree_truth.h) a second, independent one behind the same Tracer interface.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "harness/core/vec.h"
@@ -18,6 +19,11 @@ struct GroundTruth {
     std::vector<Vec2d> uv;  // per sample, unwrapped
     std::vector<double> z;
     std::vector<uint8_t> lit;  // per sample, when a light was given: true hard shadow state
+    // A curved base's (empty on the plane): per sample depth(X_t) = (X_t - B_P) . f, the true
+    // hit's depth from the base hit along the camera's depth axis (NaN where the ray misses X);
+    // and per sample the depth of the ray's crossing of the shell at height z, for cut planes.
+    std::vector<double> depth;
+    std::function<double(size_t, double)> shell_depth;
     double cells_mean = 0;
 };
 

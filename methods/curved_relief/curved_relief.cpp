@@ -29,18 +29,21 @@ struct CurvedRelief {
         int steps, binary_steps;
     };
     static MethodInfo describe() {
-        return {"curved_relief",
-                "Oliveira, Policarpo: An Efficient Representation for Surface Details, UFRGS "
-                "Technical Report RP-351, 2005 (curved relief mapping; the loop of Policarpo's "
-                "shader as its ports carry it)",
-                "linear + binary search of the ray bent by the base's quadric; discards when it "
-                "leaves the relief (steps + binary_steps fetches)",
-                {ParamSpec::integer("steps", 64, 1, 512, "uniform linear steps (source: 64)")
-                     .to_uniform("p_steps"),
-                 ParamSpec::integer("binary_steps", 5, 0, 64, "halvings (source: 5)")
-                     .to_uniform("p_binary_steps")},
-                false,
-                150};
+        MethodInfo info{
+            "curved_relief",
+            "Oliveira, Policarpo: An Efficient Representation for Surface Details, UFRGS "
+            "Technical Report RP-351, 2005 (curved relief mapping; the loop of Policarpo's "
+            "shader as its ports carry it)",
+            "linear + binary search of the ray bent by the base's quadric; discards when it "
+            "leaves the relief (steps + binary_steps fetches)",
+            {ParamSpec::integer("steps", 64, 1, 512, "uniform linear steps (source: 64)")
+                 .to_uniform("p_steps"),
+             ParamSpec::integer("binary_steps", 5, 0, 64, "halvings (source: 5)")
+                 .to_uniform("p_binary_steps")},
+            false,
+            150};
+        info.may_discard = true;
+        return info;
     }
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("steps"), p.get_int("binary_steps")};

@@ -32,7 +32,7 @@ struct SilhouettePom {
         double miss_tol;
     };
     static MethodInfo describe() {
-        return {
+        MethodInfo info{
             "silhouette_pom",
             "three.js PR 33953 (SkyeShark 2026, closed unmerged): silhouette parallax "
             "occlusion mapping, curvedSilhouette mode, ParallaxOcclusion.js @ bd5a73c8b9f4",
@@ -51,6 +51,8 @@ struct SilhouettePom {
                  .to_uniform("p_miss_tol")},
             false,
             151};
+        info.may_discard = true;
+        return info;
     }
     static Config configure(const ParamValues& p, const std::string&) {
         return {double(p.get_int("layers_min")), double(p.get_int("layers_max")),

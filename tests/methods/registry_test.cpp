@@ -33,6 +33,8 @@ void check_finite_and_bounded(const MethodInfo& m, const HeightField& hf, double
     const auto uv = test::run_method<T>(m, p, sc, hf, P, &fetches);
     const int bound = m.max_fetches(p, sc);
     for (size_t i = 0; i < P.size(); ++i) {
+        // a method that may discard answers NaN there (a NaN in both components)
+        if (m.may_discard && std::isnan(uv[i].x) && std::isnan(uv[i].y)) continue;
         ASSERT_TRUE(std::isfinite(uv[i].x) && std::isfinite(uv[i].y))
             << m.name << " " << what << " theta=" << theta << " s=" << s << " b=" << b;
         ASSERT_LE(fetches[i], bound) << m.name << " " << what << " theta=" << theta;

@@ -623,6 +623,39 @@ TEST_F(TruthLimitsCli, FarEyesAreRefusedByRunAndBench) {
     EXPECT_FALSE(std::filesystem::exists(json));
 }
 
+// --base: the curved truth's walk timed over the same rays, beside the exact tracer on the plane;
+// a curved base without a radius, or a radius on the plane, is refused before any work.
+TEST_F(TruthLimitsCli, BenchTimesTheCurvedWalk) {
+    const std::string json = (dir / "c.json").string();
+    test::CliResult r =
+        pxh("bench --samples 16 --sizes 32 --repeats 2 --theta 30 70 --base cylinder "
+            "--radius 0.5 --out " +
+            json);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("on cylinder R=0.5: curved walk"), std::string::npos) << r.out;
+    const auto doc = nlohmann::json::parse(slurp(json));
+    ASSERT_EQ(doc["results"].size(), 2u);
+    for (const auto& row : doc["results"]) {
+        EXPECT_EQ(row["base"], "cylinder");
+        EXPECT_EQ(row["radius"].get<double>(), 0.5);
+        EXPECT_GT(row["curved_mrays_per_s"].get<double>(), 0);
+        EXPECT_NEAR(
+            row["ratio_curved_over_exact"].get<double>(),
+            row["curved_mrays_per_s"].get<double>() / row["exact_mrays_per_s"].get<double>(), 1e-9);
+        EXPECT_EQ(row["curved_seconds"].size(), 2u);
+        EXPECT_GT(row["curved_rays_hit"].get<size_t>(), 0u);
+        EXPECT_LT(row["curved_residual_max"].get<double>(), 1e-9);
+    }
+    for (const char* args : {"--base sphere", "--radius 2", "--base cylinder --radius 0.01"}) {
+        r = pxh_timeout(std::string("bench --sizes 16 --samples 4 --repeats 1 ") + args +
+                            " --out " + (dir / "d.json").string(),
+                        60);
+        EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+        EXPECT_NE(r.err.find("radius"), std::string::npos) << args << ": " << r.err;
+        EXPECT_FALSE(std::filesystem::exists(dir / "d.json")) << args;
+    }
+}
+
 // pxh bench's numbers, refused in pxh's words with exit 2: NaN (CLI11's ranges let it through,
 // exit 1 later) and 0 (CLI11 printed the whole range of doubles, 309 digits).
 TEST_F(TruthLimitsCli, BenchRefusesNanAndZeroInOneShortLine) {
