@@ -144,6 +144,8 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     const std::string& depth = r.text("depth");
     if (!depth.empty() && depth != "base") view += "_depth-" + depth;
     if (!r.cell("cut").empty()) view += "_cut" + r.cell("cut");
+    const std::string& base = r.text("base");  // a curved base (empty on the plane)
+    if (!base.empty()) view += "_" + base + "R" + r.cell("radius");
     char stem[512];
     std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g%s_%s", index,
                   r.text("method").c_str(), ps.empty() ? "" : "_", ps.c_str(),
@@ -156,7 +158,9 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
               r.text("heightfield") + " | theta " + format_number(r.num("theta_deg")) + " phi " +
               format_number(r.num("phi_deg")) +
               (std::isnan(r.num("distance")) ? "" : " D " + format_number(r.num("distance"))) +
-              (lod.empty() || lod == "base" ? "" : " | lod " + lod) + " | " + r.text("backend");
+              (lod.empty() || lod == "base" ? "" : " | lod " + lod) +
+              (base.empty() ? "" : " | " + base + " R " + r.cell("radius")) + " | " +
+              r.text("backend");
     return n;
 }
 

@@ -24,12 +24,20 @@ bool maps_wanted(const Experiment& ex) { return ex.maps; }
 // A camera's map as its pictures are: outside pixels grey, rows as the viewer sees them.
 void write_maps(const ViewWriteContext& c, ViewOutput& v) {
     const bool as_seen = !camera_entry(c.ex.camera, "camera").parallel;
+    // A curved base: grey also where the truth shows no surface (no error there); magenta stays
+    // for the method's discards where the truth shows surface.
+    std::vector<uint8_t> both;
+    if (!v.truth_hit.empty()) {
+        both = v.truth_hit;
+        for (size_t k = 0; k < both.size() && k < v.inside.size(); ++k) both[k] &= v.inside[k];
+    }
+    const std::vector<uint8_t>& mask = both.empty() ? v.inside : both;
     for (size_t i = 0; i < v.rows.size(); ++i) {
         if (v.errors[i].empty()) continue;
         const ErrorMapName name = error_map_name(v.rows[i], v.first + i);
         v.rows[i].set_text(
             "map", "maps/" + write_error_map(v.errors[i], c.ex.samples, (c.dir / "maps").string(),
-                                             name.stem, name.title, v.inside, as_seen));
+                                             name.stem, name.title, mask, as_seen));
     }
 }
 

@@ -5,8 +5,11 @@
 // flat methods show background (cover_extra_frac drops) and never where the truth shows surface
 // head-on.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <string>
@@ -199,6 +202,29 @@ TEST(Silhouette, OnASphereTheyCutTheFalseOutline) {
         EXPECT_LT(extra.at({"curved_relief", th}), 0.6 * pom) << "theta " << th;
         EXPECT_LT(extra.at({"silhouette_pom", th}), pom) << "theta " << th;
     }
+}
+
+// A plug-in shader runs on a curved base as the built-ins do (P, V_ts and the footprint per
+// pixel): Welsh's offset limiting written as a plug-in matches parallax_limited's rows.
+TEST(Silhouette, APluginRunsOnACurvedBase) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("pxh_curved_plugin_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "limited.frag.glsl")
+        << "vec2 pxh_method(vec2 P) { return P + pxh_V.xy * pxh_z(P); }\n";
+    const std::string toml =
+        "samples = 32\ntiming_repeats = 0\nbackends = [\"glsl\"]\n[views]\ntheta_deg = [50]\n"
+        "phi_deg = [25]\ncamera = \"perspective\"\ndistance = 2\nfov_deg = 40\n" +
+        field("base = \"cylinder\"\nradius = 0.3\n") +
+        "[[methods]]\nname = \"limited\"\nshader = \"limited.frag.glsl\"\nmax_fetches = 1\n"
+        "[[methods]]\nname = \"parallax_limited\"\n";
+    const auto rows = run_experiment(parse_experiment(toml, (dir / "e.toml").string()), {});
+    std::filesystem::remove_all(dir);
+    ASSERT_EQ(rows.size(), 2u);
+    for (const ResultRow& r : rows) ASSERT_TRUE(r.ok()) << r.text("error");
+    EXPECT_GT(rows[0].num("cover_extra_frac"), 0);
+    for (const char* c : {"err_mean", "err_max", "cover_extra_frac", "cover_missing_frac"})
+        EXPECT_NEAR(rows[0].num(c), rows[1].num(c), 1e-4) << c;
 }
 
 }  // namespace
