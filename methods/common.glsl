@@ -24,6 +24,9 @@ uniform int u_depth_mode;    // 0 base (X_w = P), 1 hit (X_w = (uv, z_m)), 2 eng
 uniform int u_hit_height;    // z_m: 0 the surface at uv, 1 the search line's, 2 pxh_write_hit's
 uniform vec3 u_depth_axis;   // f: the perspective camera's forward vector, -V for parallel rays
 uniform float u_depth_span;
+// A curved base's view (docs/conventions.md section 12): f per sample in its tangent frame.
+uniform bool u_depth_axis_per_sample;  // true: the axis from u_axis_map
+uniform sampler2D u_axis_map;          // (f . T, f . Bt, f . N); texel (i, j) is sample j N + i
 // What a program has beyond the orthographic grid at level 0: the harness defines these in a
 // generated preamble only when the row needs them (none of them: the grid program as always).
 //   PXH_POINT_MAP     each sample's P and inside flag per pixel (a perspective view)
@@ -43,6 +46,7 @@ uniform sampler2D u_grad_map;  // the footprint: dP/di (xy), dP/dj (zw), texel (
 
 int pxh_fetches = 0;
 vec3 pxh_V;  // this sample's V (unit, toward the eye): what a method reads; set by main()
+vec3 pxh_depth_axis;  // this sample's depth axis (u_depth_axis or its u_axis_map texel)
 #if defined(PXH_LOD_MAP)
 float pxh_lambda;  // this sample's lambda; set by main()
 // The sample's level of detail: log2 of its footprint's texels per pixel (may be negative).
@@ -184,7 +188,7 @@ float pxh_written_depth(vec2 P, vec2 uv) {
         if (u_hit_height == 1 && dd >= 1e-12) z = dot(uv - P, pxh_hit_dir) / dd;
         else z = u_scale * (pxh_height_uncounted(uv) - u_bias);
     }
-    return dot(vec3(uv - P, z), u_depth_axis);
+    return dot(vec3(uv - P, z), pxh_depth_axis);
 }
 
 vec2 pxh_method(vec2 P);  // the method's file defines it
@@ -198,6 +202,9 @@ void main() {
     vec2 P = gl_FragCoord.xy / u_samples;
 #endif
     pxh_V = u_view_per_sample ? texelFetch(u_view_map, ivec2(gl_FragCoord.xy), 0).xyz : u_view;
+    pxh_depth_axis = u_depth_axis_per_sample
+                         ? texelFetch(u_axis_map, ivec2(gl_FragCoord.xy), 0).xyz
+                         : u_depth_axis;
 #if defined(PXH_LOD_MAP)
     pxh_lambda = texelFetch(u_lod_map, ivec2(gl_FragCoord.xy), 0).r;
 #endif

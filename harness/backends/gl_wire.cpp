@@ -35,6 +35,8 @@ void write_draw(Out& o, const GlslDraw& d) {
     if (d.lambda) o(*d.lambda);
     o(bool(d.J));
     if (d.J) o(*d.J);
+    o(bool(d.axes));
+    if (d.axes) o(*d.axes);
 }
 
 void read_draw(In& in, DrawData& x) {
@@ -92,6 +94,11 @@ void read_draw(In& in, DrawData& x) {
     if (has) {
         in(x.J);
         d.J = &x.J;
+    }
+    in(has);
+    if (has) {
+        in(x.axes);
+        d.axes = &x.axes;
     }
 }
 

@@ -178,6 +178,7 @@ struct DrawData {
     TextureLevels levels;
     std::vector<double> lambda;
     std::vector<Footprint> J;
+    std::vector<Vec3d> axes;
 };
 
 enum : uint8_t { kDraw = 1, kCheck = 2 };

@@ -88,7 +88,7 @@ GlslBackend::~GlslBackend() {
     glDeleteTextures(1, &depth_);
     glDeleteTextures(1, &texture_);
     if (view_map_) glDeleteTextures(1, &view_map_);
-    for (unsigned t : {point_map_, lod_map_, grad_map_})
+    for (unsigned t : {point_map_, lod_map_, grad_map_, axis_map_})
         if (t) glDeleteTextures(1, &t);
     glDeleteFramebuffers(1, &fbo_);
     glDeleteVertexArrays(1, &vao_);
@@ -293,6 +293,7 @@ GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant&
     d.lambda = view.lambda;
     d.J = rays.J.empty() ? nullptr : &rays.J;
     d.depth = glsl_depth_of(m, rays, view.scene.scale);
+    d.axes = rays.axes.empty() ? nullptr : &rays.axes;
     return d;
 }
 

@@ -76,6 +76,8 @@ struct GlslDraw {
     // The footprints: one shared or one per sample; nullptr or empty: the N x N grid's.
     const std::vector<Footprint>* J = nullptr;
     GlslDepth depth{};
+    // A curved base's per-sample depth axes (View::axes); nullptr: depth.axis for every sample.
+    const std::vector<Vec3d>* axes = nullptr;
 };
 // The draw of one method setting on one view (the Backend interface's arguments).
 GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v);
@@ -190,7 +192,7 @@ class GlslBackend : public Backend {
     std::string renderer_, version_, vendor_;
     int timer_bits_ = 0;
     unsigned vao_ = 0, fbo_ = 0, color_[2] = {0, 0}, depth_ = 0, texture_ = 0, view_map_ = 0;
-    unsigned point_map_ = 0, lod_map_ = 0, grad_map_ = 0;
+    unsigned point_map_ = 0, lod_map_ = 0, grad_map_ = 0, axis_map_ = 0;
     int fb_size_ = 0;
     std::map<std::string, Program> programs_;
     std::map<std::string, std::string> compiled_sources_;

@@ -36,6 +36,6 @@ unsigned compile(unsigned type, const std::string& src, const std::string& what,
                  const std::map<int, std::string>& files = {}, const BodyLines& body = {});
 
 // Texture units: 0 the heights, 1 the view map, 2 - 4 the per-sample maps, then resources.
-constexpr int kPointUnit = 2, kLodUnit = 3, kGradUnit = 4, kFirstResourceUnit = 5;
+constexpr int kPointUnit = 2, kLodUnit = 3, kGradUnit = 4, kAxisUnit = 5, kFirstResourceUnit = 6;
 
 }  // namespace pxh::glsl_detail

@@ -210,6 +210,22 @@ void GlslBackend::upload_sample_maps(const GlslDraw& d, const Program& program) 
         }
         upload_sample_map(grad_map_, kGradUnit, n, 4, t, "footprints");
     }
+    // u_axis_map is always declared: the axes, or any texture bound to its unit
+    if (d.axes) {
+        if (d.axes->size() != count)
+            throw std::logic_error("glsl: " + std::to_string(d.axes->size()) + " depth axes for " +
+                                   std::to_string(count) + " samples");
+        std::vector<float> t(count * 4);
+        for (size_t k = 0; k < count; ++k) {
+            t[4 * k] = float((*d.axes)[k].x);
+            t[4 * k + 1] = float((*d.axes)[k].y);
+            t[4 * k + 2] = float((*d.axes)[k].z);
+        }
+        upload_sample_map(axis_map_, kAxisUnit, n, 4, t, "depth axes");
+    } else {
+        glActiveTexture(GLenum(GL_TEXTURE0 + kAxisUnit));
+        glBindTexture(GL_TEXTURE_2D, texture_);
+    }
     glActiveTexture(GL_TEXTURE0);
 }
 
@@ -237,6 +253,8 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     glUniform3f(loc("u_depth_axis"), float(f.depth.axis.x), float(f.depth.axis.y),
                 float(f.depth.axis.z));
     glUniform1f(loc("u_depth_span"), float(f.depth.span));
+    glUniform1i(loc("u_depth_axis_per_sample"), f.axes ? 1 : 0);
+    glUniform1i(loc("u_axis_map"), kAxisUnit);
     if (f.light) {
         const Vec3<float> L(view_vector(f.light->theta_deg, f.light->phi_deg));
         glUniform3f(loc("u_light"), L.x, L.y, L.z);

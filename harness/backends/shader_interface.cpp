@@ -27,6 +27,8 @@ const std::vector<std::string>& harness_uniforms() {
                                                    "u_depth_mode",
                                                    "u_hit_height",
                                                    "u_depth_axis",
+                                                   "u_depth_axis_per_sample",
+                                                   "u_axis_map",
                                                    "u_depth_span"};
     return names;
 }

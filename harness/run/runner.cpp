@@ -348,9 +348,6 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = backend->run(m, vin, v);
-                // curved bases: the depth test is the C++ twin's (the GLSL twin's depth target
-                // takes one depth axis per view; a curved view has one per pixel)
-                if (job.c.base && !is_cpu) o.depth.clear();
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view,
                                       job.truth.cover ? &*job.truth.cover : nullptr);
                 // No inside sample (a perspective view at or beyond the horizon): nothing was

@@ -212,7 +212,7 @@ vec2 pm_march(vec2 P) {
 
 // march_engine_depth (methods/march/march.h): the depth the engine writes (depth = engine).
 float pm_engine_depth(vec2 P, vec2 uv) {
-    vec3 V = pxh_V, f = u_depth_axis;
+    vec3 V = pxh_V, f = pxh_depth_axis;
     float vf = dot(V, f);
     float dd = dot(pxh_hit_dir, pxh_hit_dir);
     float z_surface = u_scale * (pxh_height_uncounted(uv) - u_bias);

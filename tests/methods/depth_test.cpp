@@ -211,6 +211,28 @@ TEST(Depth, GlslDepthTargetIsTheCpuTwinsDepth) {
     }
 }
 
+// On a curved base each pixel has its own depth axis in its tangent frame (View::axes): the GLSL
+// twin reads it from a per-pixel map and writes the C++ twin's depth.
+TEST(Depth, GlslDepthOnACurvedBaseIsTheCpuTwins) {
+    const auto rows = run(
+        "samples = 24\ntiming_repeats = 0\nbackends = [\"cpu\", \"glsl\"]\n"
+        "[views]\ntheta_deg = [30, 70]\nphi_deg = [20]\ncamera = \"perspective\"\ndistance = 2\n"
+        "fov_deg = 40\ncut = 0.5\n[[heightfields]]\ngenerator = \"fbm\"\nsize = 64\nscale = 0.05\n"
+        "bias = 1.0\nbase = \"sphere\"\nradius = 0.4\n" +
+        methods_with("[\"base\", \"hit\", \"engine\"]"));
+    int glsl = 0;
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("method") << ": " << r.text("error");
+        EXPECT_FALSE(std::isnan(r.num("depth_err_mean"))) << r.text("method");
+        EXPECT_FALSE(std::isnan(r.num("cut_flip_frac"))) << r.text("method");
+        if (r.text("backend") != "glsl") continue;
+        ++glsl;
+        EXPECT_LE(r.num("depth_cpu_diff_p999"), 1e-4)
+            << r.text("method") << " " << r.text("depth") << " theta " << r.num("theta_deg");
+    }
+    EXPECT_EQ(glsl, int(std::size(kSome)) * 3 * 2);
+}
+
 // A plug-in writes its hit through pxh_write_hit(z) (methods/common.glsl): returning P and
 // writing z = -0.02, its depth along the ray (-V) is 0.02 V.z: its bias differs from the same
 // shader's without the call (which writes the polygon, as base) by exactly that, up to float.
