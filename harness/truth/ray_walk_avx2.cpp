@@ -214,8 +214,8 @@ PXH_AVX2_INLINE void take(V& x, V m, __m256i perm, const double* col) {
 
 }  // namespace
 
-PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const double* t0, int n,
-                          double* t_safe, uint8_t* bottom) {
+PXH_AVX2 void square_pass_f64(const SquareScene& sc, const RayColumns& rays, const double* t0,
+                              int n, double* t_safe, uint8_t* bottom) {
     SquareConsts c;
     c.W = set1(sc.W);
     c.H = set1(sc.H);

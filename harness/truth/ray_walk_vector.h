@@ -79,6 +79,10 @@ void make_rays(const View& view, size_t k0, const int* where, int n, const Squar
                RayColumns& c, double* ex_out, double* ey_out);
 void square_pass(const SquareScene& sc, const RayColumns& rays, const double* t0, int n,
                  double* t_safe, uint8_t* bottom);
+// square_pass in double, 4 rays to a vector (ray_walk_avx2.cpp): square_pass's rays beyond the
+// float walk's bounds (ray_walk_avx2_f32.cpp) take it.
+void square_pass_f64(const SquareScene& sc, const RayColumns& rays, const double* t0, int n,
+                     double* t_safe, uint8_t* bottom);
 void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list, const double* t_safe, int n,
               double* out_t, uint8_t* resolved);
 }  // namespace avx2

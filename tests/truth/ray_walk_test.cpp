@@ -478,5 +478,37 @@ TEST(RayWalk, TheVectorAndScalarPathsHitWhatTheDdaHits) {
     }
 }
 
+TEST(RayWalk, RaysAtAndBeyondTheFloatSquareWalksBoundsHitWhatTheDdaHits) {
+    // The AVX2 path's square walk computes in float for rays whose start lies within 2^20 cells
+    // of the origin and whose travel is below 2^15 cells along each axis, and in double beyond
+    // (ray_walk_avx2_f32.cpp): rays just inside those bounds (the float walk's largest rounding
+    // errors) and just beyond them (the double walk), on a field of 8 x 8 cells (a tile is 8
+    // cells: grazing rays travel thousands of tiles), every hit trace_naive's, on every path. The
+    // field is flat ground with a few low bumps, so that rays travel far before they hit.
+    HeightField hf = test::random_field(8, 8, 31);
+    for (float& v : hf.texels) v = v > 0.9f ? 0.3f : 0.25f;
+    const double s = 0.05, zt = s * (1 - 1.0);
+    ExactTracer t(hf, s, 1.0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0, 1);
+    size_t differ = 0, excess = 0, rays = 0;
+    // Travel along the ray's major axis: tan(theta) s W cells (about 30000 and 40000 here).
+    for (double travel : {30000.0, 40000.0})
+        for (double start : {0.0, 131070.5, 131072.5, -131072.5}) {  // tiles: X0 = 8 P.x - 0.5
+            View view;
+            const double theta = std::atan(travel / (s * hf.width)) * 180 / M_PI;
+            for (int k = 0; k < 48; ++k) {
+                const Vec3d V = view_vector(theta, 360 * unit(rng));
+                ASSERT_EQ(ray_travel_problem(s, V), "");
+                view.P.push_back({start + unit(rng) - V.x / V.z * zt, start + unit(rng)});
+                view.V.push_back(V);
+            }
+            differ += all_paths_differences(t, view, excess);
+            rays += view.size();
+        }
+    EXPECT_EQ(differ, 0u) << "of " << rays << " rays, every path the CPU has";
+    EXPECT_EQ(excess, 0u) << "cells solved beyond the DDA's";
+}
+
 }  // namespace
 }  // namespace pxh
