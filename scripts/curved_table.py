@@ -7,7 +7,13 @@ cover_extra_frac against s / R at θ <= 40°, cylinder solid, sphere dashed.
 import argparse
 import csv
 import statistics
+import sys
 from collections import defaultdict
+
+# figure_style.py, beside this file (on sys.path as the script's folder), never compiled
+# into a __pycache__ in the source tree.
+sys.dont_write_bytecode = True
+import figure_style  # noqa: E402
 
 FAMILY = {"parallax": "single step", "parallax_limited": "single step", "steep": "layered search",
           "pom": "layered search", "relief": "layered search", "hdrp_pom": "engine presets",
@@ -44,13 +50,7 @@ def table(rows):
 
 
 def figure(rows, stem, width):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    plt.rcParams.update({"font.size": 8, "pdf.fonttype": 42})
-    double = width == "double"
-    fig, axes = plt.subplots(1 if double else 2, 2 if double else 1,
-                             figsize=(7.0, 3.1) if double else (3.5, 5.6))
+    fig, axes = figure_style.two_panels(width, {"double": 3.1, "single": 5.6})
     shown = ["maxmip", "pom", "parallax", "curved_relief", "silhouette_pom"]
     colours = dict(zip(shown, ("C4", "C1", "C0", "C3", "C2")))
     data = defaultdict(lambda: defaultdict(list))
@@ -77,20 +77,17 @@ def figure(rows, stem, width):
     axes[1].set_ylabel("cover_extra_frac")
     axes[0].plot([], [], "k-", lw=1, label="cylinder")
     axes[0].plot([], [], "k--", lw=1, label="sphere")
-    fig.legend(fontsize=6.5, ncol=4 if double else 2, loc="lower center", frameon=False)
-    sep = " " if double else "\n"
-    fig.suptitle(f"Flat and silhouette-aware methods on curved bases, θ ≤ 40°{sep}"
-                 "(bricks, luxembourg; s = 0.05, b = 1; s / R = 0: the plane)", fontsize=8)
-    fig.tight_layout(rect=(0, 0.15 if double else 0.11, 1, 0.92 if double else 0.94))
-    for ext in ("png", "pdf"):
-        fig.savefig(f"{stem}.{ext}", dpi=200)
+    figure_style.finish(fig, stem, width,
+                        ("Flat and silhouette-aware methods on curved bases, θ ≤ 40°",
+                         "(bricks, luxembourg; s = 0.05, b = 1; s / R = 0: the plane)"),
+                        bottom={"double": 0.15, "single": 0.11},
+                        top={"double": 0.92, "single": 0.94})
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results")
-    ap.add_argument("--figure", help="write OUT_STEM.png and OUT_STEM.pdf")
-    ap.add_argument("--width", choices=["single", "double"], default="double")
+    figure_style.add_options(ap)
     a = ap.parse_args()
     rows = list(csv.DictReader(open(a.results + "/results.csv")))
     table(rows)

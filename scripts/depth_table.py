@@ -13,6 +13,11 @@ import statistics
 import sys
 from collections import defaultdict
 
+# figure_style.py, beside this file (on sys.path as the script's folder), never compiled
+# into a __pycache__ in the source tree.
+sys.dont_write_bytecode = True
+import figure_style  # noqa: E402
+
 
 def load(folder):
     with open(f"{folder}/results.csv", newline="") as f:
@@ -48,14 +53,7 @@ def table(rows):
 
 
 def figure(rows, stem, width):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    plt.rcParams.update({"font.size": 8, "pdf.fonttype": 42})
-    w = 3.5 if width == "single" else 7.0
-    fig, axes = plt.subplots(1 if width == "double" else 2, 2 if width == "double" else 1,
-                             figsize=(w, 3.0 if width == "double" else 5.4),
-                             )
+    fig, axes = figure_style.two_panels(width, {"double": 3.0, "single": 5.4})
     series = defaultdict(lambda: defaultdict(list))
     flips = defaultdict(lambda: defaultdict(list))
     for r in rows:
@@ -85,21 +83,17 @@ def figure(rows, stem, width):
     axes[0].set_ylabel("depth_err_mean (tiles)")
     axes[1].set_xlabel("θ (degrees)")
     axes[1].set_ylabel("cut_flip_frac at c = 0.5")
-    fig.legend(fontsize=6.5, ncol=4 if width == "double" else 2, loc="lower center",
-               frameon=False)
-    sep = " " if width == "double" else "\n"
-    fig.suptitle(f"Written depth vs the true surface{sep}(bricks, luxembourg; distance 1.5 and 3)",
-                 fontsize=8)
-    fig.tight_layout(rect=(0, 0.17 if width == "double" else 0.12, 1, 0.95 if width == "double" else 0.93))
-    for ext in ("png", "pdf"):
-        fig.savefig(f"{stem}.{ext}", dpi=200)
+    figure_style.finish(fig, stem, width,
+                        ("Written depth vs the true surface",
+                         "(bricks, luxembourg; distance 1.5 and 3)"),
+                        bottom={"double": 0.17, "single": 0.12},
+                        top={"double": 0.95, "single": 0.93})
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("results")
-    ap.add_argument("--figure", help="write OUT_STEM.png and OUT_STEM.pdf")
-    ap.add_argument("--width", choices=["single", "double"], default="double")
+    figure_style.add_options(ap)
     a = ap.parse_args()
     rows = load(a.results)
     table(rows)

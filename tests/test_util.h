@@ -1,5 +1,6 @@
 // Helpers shared by the tests: random fields, a brute-force ray march, method evaluation, the
-// registered methods by name and as the values of a registry-wide suite.
+// registered methods by name and as the values of a registry-wide suite, and an inline experiment
+// run or its parse error.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -11,7 +12,9 @@
 #include <vector>
 
 #include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
 #include "harness/metrics/columns.h"
+#include "harness/run/runner.h"
 #include "harness/scene/heightfield.h"
 #include "harness/truth/ground_truth.h"
 #include "heightfields/heightfields.h"
@@ -28,6 +31,22 @@ std::string input_error(F f) {
         return e.what();
     }
     return "";
+}
+
+// The rows of running the experiment TOML text (parsed as the file "e.toml") with default options.
+inline std::vector<ResultRow> run(const std::string& toml) {
+    return run_experiment(parse_experiment(toml, "e.toml"), {});
+}
+
+// The message of the InputError parsing the experiment TOML text (as the file "e.toml") throws,
+// or "(no error)" when it parses.
+inline std::string parse_error(const std::string& toml) {
+    try {
+        (void)parse_experiment(toml, "e.toml");
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "(no error)";
 }
 
 inline HeightField random_field(int w, int h, uint32_t seed, float lo = 0.0f, float hi = 1.0f) {

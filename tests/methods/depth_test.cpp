@@ -26,18 +26,8 @@
 namespace pxh {
 namespace {
 
-std::vector<ResultRow> run(const std::string& toml) {
-    return run_experiment(parse_experiment(toml, "e.toml"), {});
-}
-
-std::string parse_error(const std::string& toml) {
-    try {
-        (void)parse_experiment(toml, "e.toml");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
-}
+using test::parse_error;
+using test::run;
 
 const std::string kFlat =
     "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.25\nwidth = 32\n"

@@ -25,6 +25,7 @@ namespace {
 using test::method;
 using test::params_for;
 using test::random_field;
+using test::run;
 using test::run_method;
 
 // three.js PR 33953, ParallaxOcclusion.js lines 205-350 and 376-426 (silhouette_sources.md
@@ -136,10 +137,6 @@ TEST(Silhouette, MethodsAreTheirSourcesLoops) {
     EXPECT_GT(kept[0], 100);
     EXPECT_GT(discards[1], 10);
     EXPECT_GT(kept[1], 100);
-}
-
-std::vector<ResultRow> run(const std::string& toml) {
-    return run_experiment(parse_experiment(toml, "e.toml"), {});
 }
 
 const std::string kHead =

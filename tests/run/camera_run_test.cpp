@@ -19,6 +19,9 @@
 namespace pxh {
 namespace {
 
+using test::parse_error;
+using test::run;
+
 std::string experiment(const std::string& views, const std::string& methods,
                        const std::string& field = "fbm", double scale = 0.05, int size = 64,
                        int samples = 32) {
@@ -27,20 +30,6 @@ std::string experiment(const std::string& views, const std::string& methods,
            "\n[[heightfields]]\nname = \"f\"\ngenerator = \"" + field +
            "\"\nwidth = " + std::to_string(size) + "\nheight = " + std::to_string(size) +
            "\nscale = " + format_number(scale) + "\n" + methods;
-}
-
-std::vector<ResultRow> run(const std::string& toml) {
-    const Experiment ex = parse_experiment(toml, "e.toml");
-    return run_experiment(ex, {});
-}
-
-std::string parse_error(const std::string& toml) {
-    try {
-        (void)parse_experiment(toml, "e.toml");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 const std::string kPom = "[[methods]]\nname = \"pom\"\nlayers = 16\n";

@@ -23,7 +23,9 @@ namespace pxh {
 namespace {
 
 using test::generated_field;
+using test::parse_error;
 using test::random_field;
+using test::run;
 
 double dist(Vec3d a, Vec3d b) { return std::sqrt(v3_dot(v3_sub(a, b), v3_sub(a, b))); }
 
@@ -165,19 +167,6 @@ TEST(CurvedBase, OnThePlaneTheWalkIsTheExactTracer) {
         }
         EXPECT_GT(compared, 1000);
     }
-}
-
-std::vector<ResultRow> run(const std::string& toml) {
-    return run_experiment(parse_experiment(toml, "e.toml"), {});
-}
-
-std::string parse_error(const std::string& toml) {
-    try {
-        (void)parse_experiment(toml, "e.toml");
-    } catch (const InputError& e) {
-        return e.what();
-    }
-    return "(no error)";
 }
 
 const std::string kHead =
