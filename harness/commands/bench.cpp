@@ -236,10 +236,11 @@ nlohmann::json paths_taken() {
         if (f == "sse4_2" || f == "avx" || f == "fma" || f.rfind("avx2", 0) == 0 ||
             f.rfind("avx512", 0) == 0)
             vector_flags += (vector_flags.empty() ? "" : " ") + f;
-    const char* per_ray =
-        path == ExactTracer::RayPath::avx512 ? "avx512: square walk and DDA, 8 rays to a vector"
-        : path == ExactTracer::RayPath::avx2 ? "avx2: square walk and DDA, 4 rays to a vector"
-                                             : "scalar: packets, then the max-mipmap walk per ray";
+    const char* per_ray = path == ExactTracer::RayPath::avx512
+                              ? "avx512: square walk and DDA, 8 rays to a vector"
+                          : path == ExactTracer::RayPath::avx2
+                              ? "avx2: square walk 8 rays to a vector (float), DDA 4 (double)"
+                              : "scalar: packets, then the max-mipmap walk per ray";
     return {{"exact_per_ray_path", per_ray},
             {"exact_band_path", "scalar: the band tracer (the same code on every CPU)"},
             {"embree_isa", EmbreeTracer::isa()},
@@ -383,14 +384,19 @@ int run_bench(const BenchOptions& options) {
         const nlohmann::json p = paths_taken();
         std::printf("cpu: %s; vector flags: %s\n", cpu_model().c_str(),
                     p["cpu_vector_flags"].get<std::string>().c_str());
-        std::printf(
-            "exact: %s; Embree: %s kernels%s\n",
-            (persp ? p["exact_per_ray_path"] : p["exact_band_path"]).get<std::string>().c_str(),
-            p["embree_isa"].get<std::string>().c_str(),
-            p["pxh_tracer_path_env"].get<std::string>().empty()
-                ? ""
-                : (" (PXH_TRACER_PATH=" + p["pxh_tracer_path_env"].get<std::string>() + ")")
-                      .c_str());
+        const std::string ortho =
+            ExactTracer::cpu_has_simd_path()
+                ? p["exact_per_ray_path"].get<std::string>() + " up to theta " +
+                      format_number(ExactTracer::kGridRaysMaxThetaDeg) + " deg, above it " +
+                      p["exact_band_path"].get<std::string>()
+                : p["exact_band_path"].get<std::string>();
+        std::printf("exact: %s; Embree: %s kernels%s\n",
+                    persp ? p["exact_per_ray_path"].get<std::string>().c_str() : ortho.c_str(),
+                    p["embree_isa"].get<std::string>().c_str(),
+                    p["pxh_tracer_path_env"].get<std::string>().empty()
+                        ? ""
+                        : (" (PXH_TRACER_PATH=" + p["pxh_tracer_path_env"].get<std::string>() + ")")
+                              .c_str());
     }
     // Only the columns measured: the per-ray tracers' throughput with --naive alone.
     std::printf("%-6s %-6s", "size", "theta");
@@ -409,7 +415,7 @@ int run_bench(const BenchOptions& options) {
         std::unique_ptr<ExactTracer> exact;
         const double exact_build = seconds([&] {
             exact = std::make_unique<ExactTracer>(hf, opt.scale, opt.bias);
-            if (persp) exact->prepare_rays();  // the per-ray path's tables: part of its build
+            exact->prepare_rays();  // the per-ray path's tables (any view may take it): its build
         });
         std::unique_ptr<EmbreeTracer> embree;
         const double embree_build =
@@ -420,6 +426,9 @@ int run_bench(const BenchOptions& options) {
                 const View view = camera.view();
                 const ViewTimings t = time_view(*exact, *embree, view, opt);
                 results.push_back(report_view(opt, size, {theta}, t, exact_build, embree_build));
+                results.back()["exact_path"] = exact->grid_takes_rays(view.V[0])
+                                                   ? ExactTracer::path_name(exact->ray_path())
+                                                   : "band";
                 if (base)
                     time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
                                 results.back());

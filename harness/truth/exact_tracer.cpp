@@ -123,8 +123,14 @@ void ExactTracer::prepare_rays() const {
 void ExactTracer::trace(const View& view, Hits& out) const {
     throw_if_problem(view_travel_problem(s_, view));  // every ray, before any work
     throw_if_problem(view_reach_problem(view, hf_.width, hf_.height));
-    if (view.orthographic_grid()) trace_grid(view.grid, view.V[0], out);
+    if (view.orthographic_grid() && !grid_takes_rays(view.V[0]))
+        trace_grid(view.grid, view.V[0], out);
     else trace_rays(view, out);
+}
+
+bool ExactTracer::grid_takes_rays(Vec3d V) const {
+    const double tan_max = std::tan(kGridRaysMaxThetaDeg * M_PI / 180);
+    return simd_path() && std::hypot(V.x, V.y) <= tan_max * V.z;
 }
 
 std::unique_ptr<Tracer> make_exact_tracer(const HeightField& hf, double scale, double bias) {

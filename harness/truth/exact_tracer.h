@@ -7,6 +7,7 @@
 //   ray_walk_exact.cpp  one ray at a time, fast and bit for bit trace_naive: trace_ray
 //   ray_walk_simd.cpp   a view's rays 8 to a vector (AVX-512), bit for bit trace_naive
 //   ray_walk_avx2.cpp   the same at 4 to a vector (AVX2 and FMA)
+//   ray_walk_avx2_f32.cpp  the AVX2 path's square walk in float, 8 to a vector
 //   band_tracer.cpp   every ray of an orthographic grid view at once: trace_grid
 //   true_shadow.cpp   the true hard shadow query: occluded
 #pragma once
@@ -34,12 +35,21 @@ class ExactTracer final : public Tracer {
     ExactTracer& operator=(const ExactTracer&) = delete;
 
     // The Tracer interface ("exact"): an orthographic view on the sample grid takes
-    // trace_grid; any other view (a perspective one) is traced ray by ray with trace_ray's
-    // walk, in packets of neighbouring pixels that first descend through the slab together
-    // (trace_rays, ray_walk_exact.cpp). Both equal trace_naive bit for bit, so a view's hits
-    // do not depend on the path that traced them.
+    // trace_grid unless grid_takes_rays; any other view (a perspective one) is traced ray by ray
+    // with trace_ray's walk, in packets of neighbouring pixels that first descend through the slab
+    // together (trace_rays, ray_walk_exact.cpp). Both equal trace_naive bit for bit, so a view's
+    // hits do not depend on the path that traced them.
     std::string name() const override { return "exact"; }
     void trace(const View& view, Hits& out) const override;
+    // Whether an orthographic grid view along V takes the per-ray vector path (trace_rays) rather
+    // than the band tracer (trace_grid): on a vector path (ray_path()) for theta up to
+    // kGridRaysMaxThetaDeg. Both give trace_naive's hits bit for bit; the choice is speed alone.
+    // Measured (thread CPU time, one thread, 512 x 512 rays at phi 20 on fbm, bricks and bumps
+    // fields of 512 and 2048 texels; docs/internals/tracers.md): the per-ray walk 1.0-1.75 times
+    // as fast as the band tracer up to 75 degrees on the AVX2 path, about even at 80, 0.74-1.09
+    // at 85 (grazing rays cross many squares; a band's bounds follow the ray).
+    static constexpr double kGridRaysMaxThetaDeg = 78;
+    bool grid_takes_rays(Vec3d V) const;
     bool has_shadow_query() const override { return true; }
 
     // First hit from the eye, accelerated by a maximum mipmap over cell corners (Tevs, Ihrke
@@ -76,14 +86,14 @@ class ExactTracer final : public Tracer {
     bool occluded(Vec2d uv, double z, Vec3d L) const override;
     // The per-ray path's kernels (ray_path): the square walk and DDA 8 rays to a vector
     // (avx512, ray_walk_simd.cpp) where the CPU has avx512f and avx512dq, 4 to a vector (avx2,
-    // ray_walk_avx2.cpp) where it has avx2 and fma, else the scalar walk (scalar,
-    // ray_walk_exact.cpp); the vector paths need a field of at least 2 x 2 cells. All give
-    // trace_naive's hits bit for bit. The default is the CPU's best (cpu_best_path) capped by
-    // the environment's PXH_TRACER_PATH (scalar, avx2 or avx512: to take a path as a CPU without
-    // the wider ones would; default_path throws std::invalid_argument for another value).
-    // set_path picks this tracer's (tests, benchmarks), capped by what the CPU has; set_simd(on)
-    // is set_path(on ? default_path() : scalar). Not to be called while another thread traces
-    // with this tracer.
+    // ray_walk_avx2.cpp; its square walk 8 to a vector in float, ray_walk_avx2_f32.cpp) where it
+    // has avx2 and fma, else the scalar walk (scalar, ray_walk_exact.cpp); the vector paths need a
+    // field of at least 2 x 2 cells. All give trace_naive's hits bit for bit. The default is the
+    // CPU's best (cpu_best_path) capped by the environment's PXH_TRACER_PATH (scalar, avx2 or
+    // avx512: to take a path as a CPU without the wider ones would; default_path throws
+    // std::invalid_argument for another value). set_path picks this tracer's (tests, benchmarks),
+    // capped by what the CPU has; set_simd(on) is set_path(on ? default_path() : scalar). Not to be
+    // called while another thread traces with this tracer.
     enum class RayPath { scalar, avx2, avx512 };
     static const char* path_name(RayPath p);
     static RayPath cpu_best_path();

@@ -55,7 +55,7 @@ PXH_AVX2_INLINE F sub(F a, F b) { return _mm256_sub_ps(a, b); }
 PXH_AVX2_INLINE F mul(F a, F b) { return _mm256_mul_ps(a, b); }
 PXH_AVX2_INLINE F and_(F a, F b) { return _mm256_and_ps(a, b); }
 PXH_AVX2_INLINE F or_(F a, F b) { return _mm256_or_ps(a, b); }
-PXH_AVX2_INLINE F andnot(F m, F a) { return _mm256_andnot_ps(m, a); }  // ~m & a
+PXH_AVX2_INLINE F andnot(F m, F a) { return _mm256_andnot_ps(m, a); }         // ~m & a
 PXH_AVX2_INLINE F blend(F m, F a, F b) { return _mm256_blendv_ps(a, b, m); }  // m ? b : a
 PXH_AVX2_INLINE F lt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_LT_OQ); }
 PXH_AVX2_INLINE F gt(F a, F b) { return _mm256_cmp_ps(a, b, _CMP_GT_OQ); }
@@ -130,8 +130,8 @@ PXH_AVX2_INLINE I square_read(const Consts& c, Lanes& L) {
     // The first cell, global (integers below 2^22: exact in float), wrapped into the tile.
     const F gax = _mm256_cvtepi32_ps(_mm256_add_epi32(L.Xi, _mm256_cvttps_epi32(ax)));
     const F gay = _mm256_cvtepi32_ps(_mm256_add_epi32(L.Yi, _mm256_cvttps_epi32(ay)));
-    const I shift = _mm256_max_epi32(_mm256_sub_epi32(level, _mm256_set1_epi32(2)),
-                                     _mm256_setzero_si256());
+    const I shift =
+        _mm256_max_epi32(_mm256_sub_epi32(level, _mm256_set1_epi32(2)), _mm256_setzero_si256());
     const I Ix = _mm256_srlv_epi32(_mm256_cvttps_epi32(wrap_ps(gax, c.W, c.iW)), shift);
     const I Jy = _mm256_srlv_epi32(_mm256_cvttps_epi32(wrap_ps(gay, c.H, c.iH)), shift);
     const I at = _mm256_min_epu32(
@@ -150,9 +150,9 @@ PXH_AVX2_INLINE I square_read(const Consts& c, Lanes& L) {
 PXH_AVX2_INLINE F square_step(const Consts& c, Lanes& L, I at) {
     const F zero = _mm256_setzero_ps(), one = set1(1);
     const F t = L.t, te = L.te;
-    const I code = _mm256_and_si256(
-        _mm256_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1),
-        _mm256_set1_epi32(0xff));
+    const I code =
+        _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1),
+                         _mm256_set1_epi32(0xff));
     const F M = add(c.lo, mul(_mm256_cvtepi32_ps(code), c.step));
     const F zM = add(mul(c.s, sub(M, c.b)), c.zmargin);  // above s (M - b) by the margin
     const F clear = and_(L.active, gt(sub(c.zt, mul(te, L.vz)), zM));
@@ -182,8 +182,8 @@ PXH_AVX2_INLINE void take(F& x, F m, I perm, const float* col) {
     x = blend(m, x, _mm256_permutevar8x32_ps(_mm256_loadu_ps(col), perm));
 }
 PXH_AVX2_INLINE void take(I& x, F m, I perm, const int32_t* col) {
-    const I loaded = _mm256_permutevar8x32_epi32(
-        _mm256_loadu_si256(reinterpret_cast<const I*>(col)), perm);
+    const I loaded =
+        _mm256_permutevar8x32_epi32(_mm256_loadu_si256(reinterpret_cast<const I*>(col)), perm);
     x = _mm256_castps_si256(blend(m, _mm256_castsi256_ps(x), _mm256_castsi256_ps(loaded)));
 }
 
@@ -246,7 +246,8 @@ PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const d
     c.lo = set1(float(sc.lo));
     c.step = set1(float(sc.step));
     // The heights' scale: |zt|, |z_bot| and the bounds' s |M - b| are at most this.
-    const double scale = std::abs(sc.zt) + sc.s * (std::abs(sc.lo) + 255 * sc.step + std::abs(sc.b) + 1);
+    const double scale =
+        std::abs(sc.zt) + sc.s * (std::abs(sc.lo) + 255 * sc.step + std::abs(sc.b) + 1);
     c.zmargin = set1(float(scale * 0x1p-16));
     c.squares = sc.squares;
     const float k0 = float(std::min(kSquareStart, sc.levels));

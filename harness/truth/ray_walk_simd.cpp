@@ -1,9 +1,10 @@
 // The per-ray vector paths (ExactTracer::ray_path, chosen at run time; the tables need a field
 // of at least 2 x 2 cells): every ray of a view traced 8 to a vector where the CPU has AVX-512
 // (avx512f and avx512dq: the kernels here), 4 to a vector where it has AVX2 and FMA (the same
-// passes in ray_walk_avx2.cpp), trace_naive's hits bit for bit, as the scalar walk
-// (ray_walk_exact.cpp), which every other CPU takes. This file also holds what both vector paths
-// share: the square tables (build_squares) and the driver (trace_rays_simd).
+// passes in ray_walk_avx2.cpp; the square walk there in float, 8 to a vector), trace_naive's hits
+// bit for bit, as the scalar walk (ray_walk_exact.cpp), which every other CPU takes. This file also
+// holds what both vector paths share: the square tables (build_squares) and the driver
+// (trace_rays_simd).
 //
 // Two passes, in turn, until every ray of a chunk is resolved:
 //

@@ -1,7 +1,8 @@
 // The vector per-ray paths' shared pieces (internal to harness/truth): the rays' columns, the
 // square tables' layout, the scene the passes read, and the AVX2 kernels' entry points. The
 // passes themselves are described in ray_walk_simd.cpp (AVX-512, 8 rays to a vector, and the
-// driver, trace_rays_simd); ray_walk_avx2.cpp is the same two passes at 4 rays to a vector.
+// driver, trace_rays_simd); ray_walk_avx2.cpp is the same two passes at 4 rays to a vector
+// (its square walk in float at 8 rays to a vector: ray_walk_avx2_f32.cpp).
 #pragma once
 #include <algorithm>
 #include <cstddef>

@@ -510,5 +510,32 @@ TEST(RayWalk, RaysAtAndBeyondTheFloatSquareWalksBoundsHitWhatTheDdaHits) {
     EXPECT_EQ(excess, 0u) << "cells solved beyond the DDA's";
 }
 
+TEST(RayWalk, OrthographicGridViewsTakeTheVectorPathUpTo78Degrees) {
+    // An orthographic grid view takes the per-ray vector path up to kGridRaysMaxThetaDeg where
+    // the tracer has one, the band tracer otherwise; the two give the same hits bit for bit.
+    const HeightField hf = generated("fbm", 128);
+    ExactTracer t(hf, 0.05, 1.0);
+    for (ExactTracer::RayPath path : cpu_paths()) {
+        t.set_path(path);
+        const bool vec = path != ExactTracer::RayPath::scalar;
+        EXPECT_EQ(t.grid_takes_rays(view_vector(0, 0)), vec);
+        EXPECT_EQ(t.grid_takes_rays(view_vector(77.9, 200)), vec);
+        EXPECT_FALSE(t.grid_takes_rays(view_vector(78.1, 20)));
+        for (double theta : {30.0, 77.0, 85.0}) {
+            const View view = OrthographicCamera(theta, 20, 96).view();
+            Hits through;
+            t.trace(view, through);
+            std::vector<TruthHit> band;
+            t.trace_grid(96, view.V[0], band);
+            size_t differ = 0;
+            for (size_t k = 0; k < view.size(); ++k)
+                differ += !(through.uv[k].x == band[k].uv.x && through.uv[k].y == band[k].uv.y &&
+                            through.z[k] == band[k].z);
+            EXPECT_EQ(differ, 0u) << ExactTracer::path_name(path) << ", theta " << theta;
+        }
+    }
+    t.set_simd(true);
+}
+
 }  // namespace
 }  // namespace pxh
