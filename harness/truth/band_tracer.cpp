@@ -4,10 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
 #include <utility>
 
 #include "harness/truth/cell_solver.h"
+#include "harness/truth/ray_walk_vector.h"
 
 namespace pxh {
 
@@ -29,6 +32,15 @@ namespace pxh {
 // skipped hold no cell trace_naive would solve (a margin of 1e-9 relative absorbs rounding, and
 // the band's cells are widened by 1e-6 grid units), so the hits are trace_naive's own.
 namespace {
+// The smallest double above x (x finite): std::nextafter(x, infinity) without the library call.
+inline double next_up(double x) {
+    if (x == 0) return std::numeric_limits<double>::denorm_min();
+    uint64_t u;
+    std::memcpy(&u, &x, sizeof u);
+    u += x > 0 ? 1 : uint64_t(-1);
+    std::memcpy(&x, &u, sizeof u);
+    return x;
+}
 // Maximum of p[0 .. n), n >= 1.
 inline float range_max(const float* p, int64_t n) {
     if (n < 4) return std::max(std::max(p[0], p[n / 2]), p[n - 1]);  // covers n = 1, 2, 3
@@ -282,18 +294,48 @@ class ViewTracer {
         st.q = find(band, o_start >> l_, (st.sc.c_last - band.base) >> l_, st.sc.Cm);
         st.o = std::max(st.q << l_, o_start);
         lb = band.base + st.o;
-        const int64_t c = band.base + st.o, i = sa_ > 0 ? c : -c - 1;
-        const Ray& r = st.r;
-        const double T = major_x_ ? r.tx(r.sx > 0 ? i : i + 1) : r.ty(r.sy > 0 ? i : i + 1);
-        const double g = std::floor((major_x_ ? r.Y0 : r.X0) + T * (major_x_ ? r.dY : r.dX));
+    }
+    // start, then a request for the texels (column_pairs_) of the cell the ray will most
+    // likely solve first: its entry cell in the column found (the scalar walk's).
+    void start_walk(Band& band, Vec2d P, int64_t& lb, Start& st) const {
+        start(band, P, lb, st);
+        const int64_t c = band.base + st.o;
+        const double g = std::floor(minor(st.r) + column_time(st.r, c) * minor_step(st.r));
         if (std::abs(g) < 1e15) {
-            const int64_t W = t_.hf_.width, H = t_.hf_.height;
-            const int64_t ci = wrap_index(major_x_ ? i : int64_t(g), W);
-            const int64_t cj = wrap_index(major_x_ ? int64_t(g) : i, H);
+            const int64_t W = t_.hf_.width;
+            const auto [ci, cj] = tile_cell(c, int64_t(g));
             _mm_prefetch(reinterpret_cast<const char*>(t_.column_pairs_.data() + 2 * (cj * W + ci)),
                          _MM_HINT_T0);
         }
     }
+    // The time the ray enters column c along the major axis: trace_naive's own exit time of
+    // the line between columns c - 1 and c (entry_cell's T).
+    double column_time(const Ray& r, int64_t c) const {
+        const int64_t i = sa_ > 0 ? c : -c - 1;
+        return major_x_ ? r.tx(r.sx > 0 ? i : i + 1) : r.ty(r.sy > 0 ? i : i + 1);
+    }
+    // A time from which the vector DDA may walk on, the ray having left every cell of the
+    // columns before c that trace_naive solves (c after the ray's start column, the cells
+    // before it ruled out by the bounds): just after column_time(c), the DDA's cell then being
+    // column c's entry cell, or column_time(c) itself where the ray crosses a minor line at
+    // that very time (trace_naive then steps through a cell of column c it enters and leaves
+    // at that time, which the bounds do not rule out).
+    double column_start(const Ray& r, int64_t c) const {
+        const double T = column_time(r, c);
+        const double q0 = minor(r), dq = minor_step(r);
+        // The line crossed at T, if any, is g or g + 1 (the ray lies within rounding of it).
+        const double g = std::floor(q0 + T * dq);
+        if (dq != 0) {
+            const double inv = major_x_ ? r.inv_dY : r.inv_dX;
+            if ((g - q0) * inv == T || (g + 1 - q0) * inv == T) return T;
+        }
+        return next_up(T);
+    }
+    // A column no later than the ray's at time t (one behind floor: rounding either way).
+    int64_t column_at(const Ray& r, double t) const {
+        return int64_t(std::floor(sa_ * (major(r) + t * (major_x_ ? r.dX : r.dY)))) - 1;
+    }
+    TruthHit hit(const Ray& r, double tau, int cells) const { return t_.hit_at(r, tau, cells); }
     TruthHit trace(Band& band, const Start& st) const {
         return major_x_ ? walk<true>(band, st) : walk<false>(band, st);
     }
@@ -382,6 +424,14 @@ class ViewTracer {
     }
 
     double major(const Ray& r) const { return major_x_ ? r.X0 : r.Y0; }
+    double minor(const Ray& r) const { return major_x_ ? r.Y0 : r.X0; }
+    double minor_step(const Ray& r) const { return major_x_ ? r.dY : r.dX; }
+    // The tile's cell at column c and minor index g.
+    std::pair<int64_t, int64_t> tile_cell(int64_t c, int64_t g) const {
+        const int64_t i = sa_ > 0 ? c : -c - 1;
+        return {wrap_index(major_x_ ? i : g, t_.hf_.width),
+                wrap_index(major_x_ ? g : i, t_.hf_.height)};
+    }
 
     const ExactTracer& t_;
     Ray like_;  // the direction-dependent part of every ray
@@ -424,7 +474,7 @@ class BandRun {
         }
         // Started in place (the slot after the held ones), then the oldest walks.
         const int at = (head_ + held_) % kSlots;
-        vt_.start(band_, P, lb_, cur_[at]);
+        vt_.start_walk(band_, P, lb_, cur_[at]);
         k_[at] = k;
         if (held_ == kAhead) {
             out_.set(k_[head_], vt_.trace(band_, cur_[head_]));
@@ -449,16 +499,158 @@ class BandRun {
     int64_t lb_ = 0;
 };
 
+// A band's rays with the band's bounds as the first pass and the vector DDA (pass B of the
+// per-ray vector paths, ray_walk_simd.cpp) as the second: each ray's first candidate run is
+// found as BandRun finds it (ViewTracer::start), the DDA walks from the time the ray enters
+// that run's first column (every cell left before it lies in runs the bounds rule out: cells
+// cell_below rejects), a ray the DDA leaves open finds its next candidate from the column it
+// has reached, and so on until every ray of the band is resolved. The same cells trace_naive
+// walks from there, its exit times and solver: its hits bit for bit.
+using DdaPass = void (*)(const vector_walk::SquareScene&, vector_walk::RayColumns&, const int*,
+                         const double*, int, double*, uint8_t*);
+class BandDdaRun {
+  public:
+    using Start = ViewTracer::Start;
+    struct Buffers {
+        std::vector<Start> st;
+        std::vector<size_t> key;
+        vector_walk::RayColumns cols;
+        std::vector<int> list;
+        std::vector<double> t, out_t;
+        std::vector<uint8_t> resolved;
+    };
+    BandDdaRun(const ViewTracer& vt, ViewTracer::Band& band, Hits& out,
+               const vector_walk::SquareScene& sc, DdaPass dda, Buffers& buf)
+        : vt_(vt),
+          band_(band),
+          out_(out),
+          sc_(sc),
+          dda_(dda),
+          st_(buf.st),
+          key_(buf.key),
+          cols_(buf.cols),
+          list_(buf.list),
+          t_(buf.t),
+          out_t_(buf.out_t),
+          resolved_(buf.resolved) {}
+    void begin(double eta_lo, double w) {
+        band_.eta_lo = eta_lo;
+        band_.w = w;
+        band_.chunks = 0;
+        band_.used = 0;
+        n_ = 0;
+    }
+    void add(Vec2d P, size_t k) {
+        if (n_ == 0) {
+            band_.base = vt_.scan(vt_.ray(P)).c_first & ~((int64_t(1) << vt_.level()) - 1);
+            lb_ = band_.base;
+        }
+        if (st_.size() <= size_t(n_)) {
+            st_.resize(size_t(n_) * 2 + 64);
+            key_.resize(st_.size());
+        }
+        vt_.start(band_, P, lb_, st_[size_t(n_)]);
+        key_[size_t(n_++)] = k;
+    }
+    void end() {
+        const int l = vt_.level();
+        cols_.resize(size_t(n_));
+        for (auto* v : {&t_, &out_t_}) v->resize(size_t(n_));
+        list_.resize(size_t(n_));
+        resolved_.resize(size_t(n_));
+        int nb = 0;
+        for (int q = 0; q < n_; ++q) {
+            const Start& st = st_[size_t(q)];
+            const auto& r = st.r;
+            if (st.q > (st.sc.c_last - band_.base) >> l) {  // no candidate: every cell rejected
+                out_.set(key_[size_t(q)], vt_.hit(r, r.tau_max, 0));
+                continue;
+            }
+            const int64_t c = band_.base + st.o;
+            const double t = c == st.sc.c0 ? 0 : vt_.column_start(r, c);
+            if (t >= r.tau_max) {
+                out_.set(key_[size_t(q)], vt_.hit(r, r.tau_max, 0));
+                continue;
+            }
+            cols_.X0[size_t(nb)] = r.X0;
+            cols_.Y0[size_t(nb)] = r.Y0;
+            cols_.dX[size_t(nb)] = r.dX;
+            cols_.dY[size_t(nb)] = r.dY;
+            cols_.iX[size_t(nb)] = r.inv_dX;
+            cols_.iY[size_t(nb)] = r.inv_dY;
+            cols_.vz[size_t(nb)] = r.vz;
+            cols_.ivz[size_t(nb)] = 1 / r.vz;
+            cols_.tm[size_t(nb)] = r.tau_max;
+            cols_.counted[size_t(nb)] = -std::numeric_limits<double>::infinity();
+            cols_.cells[size_t(nb)] = 0;
+            cols_.id[size_t(nb)] = q;
+            list_[size_t(nb)] = nb;
+            t_[size_t(nb++)] = t;
+        }
+        while (nb > 0) {
+            dda_(sc_, cols_, list_.data(), t_.data(), nb, out_t_.data(), resolved_.data());
+            int m = 0;
+            for (int p = 0; p < nb; ++p) {
+                const int at = list_[size_t(p)];
+                const int q = cols_.id[size_t(at)];
+                const Start& st = st_[size_t(q)];
+                const auto& r = st.r;
+                const double t0 = out_t_[size_t(p)];
+                if (resolved_[size_t(p)]) {
+                    out_.set(key_[size_t(q)], vt_.hit(r, t0, cols_.cells[size_t(at)]));
+                    continue;
+                }
+                // On from the column the ray has reached to its next candidate run (the DDA
+                // walks on past a candidate run for up to kDdaCells cells: cheaper than a scan
+                // and a new start after each run, measured).
+                const int64_t q_last = (st.sc.c_last - band_.base) >> l;
+                const int64_t o_start = std::max(vt_.column_at(r, t0), st.sc.c_first) - band_.base;
+                const int64_t qn = vt_.find(band_, o_start >> l, q_last, st.sc.Cm);
+                double t = r.tau_max;
+                if (qn <= q_last) {
+                    const int64_t c = band_.base + std::max(qn << l, o_start);
+                    t = vt_.column_time(r, c) > t0 ? vt_.column_start(r, c) : t0;
+                }
+                if (t >= r.tau_max) {
+                    out_.set(key_[size_t(q)], vt_.hit(r, r.tau_max, cols_.cells[size_t(at)]));
+                    continue;
+                }
+                list_[size_t(m)] = at;
+                t_[size_t(m++)] = t;
+            }
+            nb = m;
+        }
+    }
+
+  private:
+    const ViewTracer& vt_;
+    ViewTracer::Band& band_;
+    Hits& out_;
+    const vector_walk::SquareScene& sc_;
+    DdaPass dda_;
+    int n_ = 0;
+    int64_t lb_ = 0;
+    std::vector<Start>& st_;
+    std::vector<size_t>& key_;
+    vector_walk::RayColumns& cols_;
+    std::vector<int>& list_;
+    std::vector<double>&t_, &out_t_;  // by place in the DDA's list
+    std::vector<uint8_t>& resolved_;
+};
+
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
-// that a band holds a row of rays; twice that where rays lie about 4 cells apart or more (the
-// case measured; closer rays keep bands one spacing wide, which solve fewer cells). Narrower
-// bands bound more tightly but cost a bound per run, and each band builds its own: measured at
-// 2048 x 2048 with 512 x 512 rays (spacing 4; pxh bench, one thread, fbm), bands 8 wide (twice
-// the cells per ray) 1.1-1.25 times as fast as bands 4 wide, bands 16 wide no faster; at
-// 512 x 512 (spacing 1) bands 2 or 4 wide no faster than 1 (within the machine's noise).
-double band_width(double area, size_t rays) {
+// that a band holds a row of rays; for the scalar walk twice that where rays lie about 4 cells
+// apart or more (the case measured; closer rays keep bands one spacing wide, which solve fewer
+// cells). Narrower bands bound more tightly but cost a bound per run, and each band builds its
+// own: measured at 2048 x 2048 with 512 x 512 rays (spacing 4; pxh bench, one thread, fbm),
+// the scalar walk with bands 8 wide (twice the cells per ray) 1.1-1.25 times as fast as with
+// bands 4 wide, bands 16 wide no faster; at 512 x 512 (spacing 1) bands 2 or 4 wide no faster
+// than 1 (within the machine's noise). The vector DDA walks cells faster, so the tighter bounds
+// pay: at 2048 x 2048, 85 deg, bands 4 wide 1.08-1.10 times as fast as bands 8 wide (medians of
+// 7 rounds, three runs; bands 2 wide slower).
+double band_width(double area, size_t rays, bool vector_dda) {
     const double spacing = std::sqrt(area / double(std::max<size_t>(rays, 1)));
-    return std::clamp(std::round(spacing >= 3.5 ? 2 * spacing : spacing), 1.0, 8.0);
+    return std::clamp(std::round(spacing >= 3.5 && !vector_dda ? 2 * spacing : spacing), 1.0, 8.0);
 }
 
 // The mipmap level the bounds come from: blocks about half the band's width (level 0, the
@@ -477,7 +669,7 @@ Vec2d grid_sample(int n, int64_t i, int64_t j) {
 class BandLayout {
   public:
     // Chooses the band width and the mipmap level vt's bounds come from.
-    BandLayout(ViewTracer& vt, int n, const HeightField& hf) : vt_(vt), n_(n) {
+    BandLayout(ViewTracer& vt, int n, const HeightField& hf, bool vector_dda) : vt_(vt), n_(n) {
         const bool mx = vt.major_x();
         maj_.resize(size_t(n));  // X0 or Y0 by index
         mnr_.resize(size_t(n));
@@ -494,7 +686,7 @@ class BandLayout {
                 eta_lo_ = std::min(eta_lo_, eta(a, b)), eta_hi = std::max(eta_hi, eta(a, b));
         const double spacing = double(n - 1) / n;  // the samples' extent, in tiles
         const double area = std::max(1.0, spacing * hf.width) * std::max(1.0, spacing * hf.height);
-        w_ = band_width(area, size_t(n) * size_t(n));
+        w_ = band_width(area, size_t(n) * size_t(n), vector_dda);
         vt.use_level(band_level(w_));
         inv_w_ = 1 / w_;
         bands_ = int64_t(std::floor((eta_hi - eta_lo_) * inv_w_)) + 1;
@@ -502,7 +694,8 @@ class BandLayout {
     int64_t bands() const { return bands_; }
 
     // Traces band bd's rays into `run`.
-    void trace_band(int64_t bd, BandRun& run) const {
+    template <class Run>
+    void trace_band(int64_t bd, Run& run) const {
         const int64_t n = n_;
         run.begin(eta_lo_ + double(bd) * w_, w_);
         int64_t b0 = -1;  // the band's first b at the current a
@@ -557,9 +750,27 @@ void ExactTracer::trace_grid(int n, Vec3d V, Hits& out) const {
         });
         return;
     }
-    const BandLayout layout(vt, n, hf_);
+    // On a vector path the candidates' cells take the path's DDA (BandDdaRun), else the
+    // scalar walk (BandRun). Each thread keeps its band's memory from band to band and from
+    // view to view (fresh allocations cost page faults: 2048 x 2048, 85 deg, a third of the
+    // time).
+    const bool vector_dda = ray_path() != RayPath::scalar;
+    const BandLayout layout(vt, n, hf_, vector_dda);
+    if (vector_dda) {
+        vector_walk::SquareScene sc{};
+        fill_scene(sc);
+        const DdaPass pass_b = ray_path() == RayPath::avx512 ? vector_walk::avx512::dda_pass
+                                                             : vector_walk::avx2::dda_pass;
+        tbb::parallel_for(tbb::blocked_range<int64_t>(0, layout.bands(), 1), [&](const auto& rg) {
+            thread_local ViewTracer::Band mem;
+            thread_local BandDdaRun::Buffers buf;
+            BandDdaRun run(vt, mem, out, sc, pass_b, buf);
+            for (int64_t bd = rg.begin(); bd < rg.end(); ++bd) layout.trace_band(bd, run);
+        });
+        return;
+    }
     tbb::parallel_for(tbb::blocked_range<int64_t>(0, layout.bands(), 1), [&](const auto& rg) {
-        ViewTracer::Band mem;
+        thread_local ViewTracer::Band mem;
         BandRun run(vt, mem, out);
         for (int64_t bd = rg.begin(); bd < rg.end(); ++bd) layout.trace_band(bd, run);
     });

@@ -24,6 +24,10 @@
 
 namespace pxh {
 
+namespace vector_walk {
+struct SquareScene;
+}
+
 class ExactTracer final : public Tracer {
   public:
     // Throws std::invalid_argument unless the scale is finite and positive. Every entry point
@@ -168,6 +172,9 @@ class ExactTracer final : public Tracer {
     // packets (packet_floor), then each ray's walk.
     void trace_rays(const View& view, Hits& out) const;
     void trace_rays_simd(const View& view, Hits& out) const;  // ray_walk_simd.cpp
+    // What the vector kernels read of the tracer (ray_walk_simd.cpp; the square tables' fields
+    // are valid once prepare_rays has built them, which the band tracer's DDA never reads).
+    void fill_scene(vector_walk::SquareScene& sc) const;
     // The square walk's tables (square_code_), once (prepare_rays).
     void build_squares() const;
     // The maximum mipmap's levels (construction).

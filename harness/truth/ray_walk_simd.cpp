@@ -720,6 +720,13 @@ PXH_AVX512 void make_rays(const View& view, size_t k0, const int* where, int n,
 }
 }  // namespace
 
+namespace vector_walk::avx512 {
+PXH_AVX512 void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list,
+                         const double* t_safe, int n, double* out_t, uint8_t* resolved) {
+    pxh::dda_pass(sc, rays, list, t_safe, n, out_t, resolved);
+}
+}  // namespace vector_walk::avx512
+
 ExactTracer::RayPath ExactTracer::cpu_best_path() {
     static const RayPath best =
         __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") ? RayPath::avx512
@@ -779,11 +786,7 @@ void ExactTracer::build_squares() const {
     }
 }
 
-void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
-    const size_t n = view.size();
-    out.resize_all(n);
-    prepare_rays();
-    SquareScene sc{};
+void ExactTracer::fill_scene(vector_walk::SquareScene& sc) const {
     sc.texels = texels_.data();
     sc.up = int(texel_stride());
     sc.squares = square_code_.data();
@@ -802,6 +805,14 @@ void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
     sc.s = s_;
     sc.b = b_;
     sc.zt = z_top();
+}
+
+void ExactTracer::trace_rays_simd(const View& view, Hits& out) const {
+    const size_t n = view.size();
+    out.resize_all(n);
+    prepare_rays();
+    SquareScene sc{};
+    fill_scene(sc);
     // The path's kernels.
     auto* const make_rays_of =
         ray_path() == RayPath::avx512 ? make_rays : vector_walk::avx2::make_rays;

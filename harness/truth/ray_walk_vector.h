@@ -73,6 +73,12 @@ struct SquareScene {
     double s, b, zt;
 };
 
+// The AVX-512 path's pass B (ray_walk_simd.cpp), for the band tracer's vector DDA.
+namespace avx512 {
+void dda_pass(const SquareScene& sc, RayColumns& rays, const int* list, const double* t_safe, int n,
+              double* out_t, uint8_t* resolved);
+}  // namespace avx512
+
 // The AVX2 (+FMA) kernels (ray_walk_avx2.cpp), the AVX-512 ones' contracts
 // (ray_walk_simd.cpp): make_rays, square_pass (pass A) and dda_pass (pass B).
 namespace avx2 {

@@ -510,6 +510,61 @@ TEST(RayWalk, RaysAtAndBeyondTheFloatSquareWalksBoundsHitWhatTheDdaHits) {
     EXPECT_EQ(excess, 0u) << "cells solved beyond the DDA's";
 }
 
+// The band tracer on every path the CPU has (the scalar walk; on a vector path its candidates'
+// cells walked by that path's DDA, BandDdaRun): trace_naive's hits bit for bit, with dense
+// samples (bands one cell wide, bounds from the cells), sparse ones (wider bands, coarser
+// bounds, odd sizes) and rays through cell corners: with zt = 0 (b = 1) every ray of a grid
+// of one sample per cell starts on a corner, and with |V.x| == |V.y| exactly on a square field
+// it crosses a column line and a row line at the very same time wherever it enters a column
+// (ViewTracer::column_start's tie, where the DDA must start before the column).
+TEST(RayWalk, GridViewsOnEveryPathHitWhatTheDdaHits) {
+    struct Case {
+        const char* what;
+        HeightField hf;
+        double s, b;
+        int n;
+    };
+    const Case cases[] = {
+        {"random 64, a sample per cell, zt = 0", test::random_field(64, 64, 21), 0.05, 1.0, 64},
+        {"random 64, a sample per cell", test::random_field(64, 64, 22), 0.1, 0.5, 64},
+        {"fbm 128, sparse samples", generated("fbm", 128), 0.05, 1.0, 32},
+        {"random 129 x 67, sparse", test::random_field(129, 67, 23), 0.3, 0.5, 20}};
+    std::vector<Vec3d> views;
+    for (double theta : {45.0, 80.0, 85.0, 89.0})
+        for (double phi : {17.0, 163.0, 200.0, 290.0}) views.push_back(view_vector(theta, phi));
+    for (double theta : {60.0, 84.0}) {  // |V.x| == |V.y| exactly
+        const double a = std::sin(theta * M_PI / 180) / std::sqrt(2.0),
+                     z = std::cos(theta * M_PI / 180);
+        for (const Vec3d V : {Vec3d{a, a, z}, Vec3d{-a, a, z}, Vec3d{-a, -a, z}, Vec3d{a, -a, z}})
+            views.push_back(V);
+    }
+    for (const Case& c : cases) {
+        ExactTracer t(c.hf, c.s, c.b);
+        const std::vector<Vec2d> P = sample_grid(c.n);
+        for (ExactTracer::RayPath path : cpu_paths()) {
+            t.set_path(path);
+            long long rays = 0, differ = 0;
+            for (const Vec3d& V : views) {
+                std::vector<TruthHit> g;
+                t.trace_grid(c.n, V, g);
+                ASSERT_EQ(g.size(), P.size());
+                for (size_t k = 0; k < P.size(); ++k) {
+                    const TruthHit ref = t.trace_naive(P[k], V);
+                    const bool same =
+                        g[k].uv.x == ref.uv.x && g[k].uv.y == ref.uv.y && g[k].z == ref.z;
+                    if (!same && differ < 3)
+                        ADD_FAILURE() << c.what << ", " << ExactTracer::path_name(path) << ", V = ("
+                                      << V.x << ", " << V.y << ", " << V.z << "), sample " << k;
+                    differ += !same;
+                    ++rays;
+                }
+            }
+            EXPECT_EQ(differ, 0) << c.what << ", " << ExactTracer::path_name(path) << ": of "
+                                 << rays << " rays";
+        }
+    }
+}
+
 TEST(RayWalk, OrthographicGridViewsTakeTheVectorPathUpTo78Degrees) {
     // An orthographic grid view takes the per-ray vector path up to kGridRaysMaxThetaDeg where
     // the tracer has one, the band tracer otherwise; the two give the same hits bit for bit.
