@@ -241,8 +241,14 @@ nlohmann::json paths_taken() {
                           : path == ExactTracer::RayPath::avx2
                               ? "avx2: square walk 8 rays to a vector (float), DDA 4 (double)"
                               : "scalar: packets, then the max-mipmap walk per ray";
+    const char* band =
+        path == ExactTracer::RayPath::avx512
+            ? "avx512: the band tracer's bounds, its cells by the DDA 8 rays to a vector"
+        : path == ExactTracer::RayPath::avx2
+            ? "avx2: the band tracer's bounds, its cells by the DDA 4 rays to a vector"
+            : "scalar: the band tracer's bounds and walk";
     return {{"exact_per_ray_path", per_ray},
-            {"exact_band_path", "scalar: the band tracer (the same code on every CPU)"},
+            {"exact_band_path", band},
             {"embree_isa", EmbreeTracer::isa()},
             {"embree_device_config", EmbreeTracer::device_config()},
             {"pxh_tracer_path_env", env ? env : ""},
@@ -426,9 +432,10 @@ int run_bench(const BenchOptions& options) {
                 const View view = camera.view();
                 const ViewTimings t = time_view(*exact, *embree, view, opt);
                 results.push_back(report_view(opt, size, {theta}, t, exact_build, embree_build));
-                results.back()["exact_path"] = exact->grid_takes_rays(view.V[0])
-                                                   ? ExactTracer::path_name(exact->ray_path())
-                                                   : "band";
+                const std::string path = ExactTracer::path_name(exact->ray_path());
+                results.back()["exact_path"] = exact->grid_takes_rays(view.V[0]) ? path
+                                               : exact->simd_path()              ? "band+" + path
+                                                                    : std::string("band");
                 if (base)
                     time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
                                 results.back());
