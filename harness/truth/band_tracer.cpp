@@ -639,18 +639,20 @@ class BandDdaRun {
 };
 
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
-// that a band holds a row of rays; for the scalar walk twice that where rays lie about 4 cells
+// that a band holds a row of rays. For the scalar walk, twice that where rays lie about 4 cells
 // apart or more (the case measured; closer rays keep bands one spacing wide, which solve fewer
 // cells). Narrower bands bound more tightly but cost a bound per run, and each band builds its
-// own: measured at 2048 x 2048 with 512 x 512 rays (spacing 4; pxh bench, one thread, fbm),
-// the scalar walk with bands 8 wide (twice the cells per ray) 1.1-1.25 times as fast as with
-// bands 4 wide, bands 16 wide no faster; at 512 x 512 (spacing 1) bands 2 or 4 wide no faster
-// than 1 (within the machine's noise). The vector DDA walks cells faster, so the tighter bounds
-// pay: at 2048 x 2048, 85 deg, bands 4 wide 1.08-1.10 times as fast as bands 8 wide (medians of
-// 7 rounds, three runs; bands 2 wide slower).
+// own: measured at 2048 x 2048 with 512 x 512 rays (spacing 4; pxh bench, one thread, fbm), the
+// scalar walk with bands 8 wide (twice the cells per ray) 1.1-1.25 times as fast as with bands
+// 4 wide, bands 16 wide no faster; at 512 x 512 (spacing 1) bands 2 or 4 wide no faster than 1
+// (within the machine's noise). The vector DDA walks cells for less, so its balance differs
+// (fbm, 85 deg, AVX2 path, exact / Embree, best of 7 repeats, two rounds): at 512 x 512 bands 2
+// wide 2.33-2.35 against 2.12-2.15 for 1 wide and 2.11 for 3 wide; at 2048 x 2048 bands 4 wide
+// (one spacing) 2.02-2.03 against 1.85-1.89 for 6 or 8 wide. So: one spacing, at least 2.
 double band_width(double area, size_t rays, bool vector_dda) {
     const double spacing = std::sqrt(area / double(std::max<size_t>(rays, 1)));
-    return std::clamp(std::round(spacing >= 3.5 && !vector_dda ? 2 * spacing : spacing), 1.0, 8.0);
+    if (vector_dda) return std::clamp(std::round(spacing), 2.0, 8.0);
+    return std::clamp(std::round(spacing >= 3.5 ? 2 * spacing : spacing), 1.0, 8.0);
 }
 
 // The mipmap level the bounds come from: blocks about half the band's width (level 0, the

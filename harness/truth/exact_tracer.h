@@ -50,8 +50,9 @@ class ExactTracer final : public Tracer {
     // kGridRaysMaxThetaDeg. Both give trace_naive's hits bit for bit; the choice is speed alone.
     // Measured (thread CPU time, one thread, 512 x 512 rays at phi 20 on fbm, bricks and bumps
     // fields of 512 and 2048 texels; docs/internals/tracers.md): the per-ray walk 1.0-1.75 times
-    // as fast as the band tracer up to 75 degrees on the AVX2 path, about even at 80, 0.74-1.09
-    // at 85 (grazing rays cross many squares; a band's bounds follow the ray).
+    // as fast as the scalar band tracer up to 75 degrees on the AVX2 path, about even at 80,
+    // 0.74-1.09 at 85 (grazing rays cross many squares; a band's bounds follow the ray); against
+    // the band tracer with the vector DDA (fbm, AVX2): ahead up to 70 degrees, behind from 78.
     static constexpr double kGridRaysMaxThetaDeg = 78;
     bool grid_takes_rays(Vec3d V) const;
     bool has_shadow_query() const override { return true; }
@@ -81,7 +82,9 @@ class ExactTracer final : public Tracer {
     // a coarser bound does not already rule the rays out, so grazing rays that skim low ground
     // cost little), so a ray skips to the first run where it could hit and solves there only
     // the cells trace_naive would solve: the same cells, the same closed forms, hence the same
-    // hits (tested bit for bit). Runs in parallel
+    // hits (tested bit for bit). On a vector path (ray_path()) the candidates' cells are walked
+    // by that path's DDA, rays of a band side by side in vector lanes (band_tracer.cpp's
+    // BandDdaRun), the same hits again. Runs in parallel
     // (TBB); the result does not depend on the thread count. `out` is resized and reused.
     void trace_grid(int n, Vec3d V, Hits& out) const;
     void trace_grid(int n, Vec3d V, std::vector<TruthHit>& out) const;
