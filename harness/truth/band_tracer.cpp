@@ -521,18 +521,7 @@ class BandDdaRun {
     };
     BandDdaRun(const ViewTracer& vt, ViewTracer::Band& band, Hits& out,
                const vector_walk::SquareScene& sc, DdaPass dda, Buffers& buf)
-        : vt_(vt),
-          band_(band),
-          out_(out),
-          sc_(sc),
-          dda_(dda),
-          st_(buf.st),
-          key_(buf.key),
-          cols_(buf.cols),
-          list_(buf.list),
-          t_(buf.t),
-          out_t_(buf.out_t),
-          resolved_(buf.resolved) {}
+        : vt_(vt), band_(band), out_(out), sc_(sc), dda_(dda), buf_(buf) {}
     void begin(double eta_lo, double w) {
         band_.eta_lo = eta_lo;
         band_.w = w;
@@ -545,59 +534,63 @@ class BandDdaRun {
             band_.base = vt_.scan(vt_.ray(P)).c_first & ~((int64_t(1) << vt_.level()) - 1);
             lb_ = band_.base;
         }
-        if (st_.size() <= size_t(n_)) {
-            st_.resize(size_t(n_) * 2 + 64);
-            key_.resize(st_.size());
+        if (buf_.st.size() <= size_t(n_)) {
+            buf_.st.resize(size_t(n_) * 2 + 64);
+            buf_.key.resize(buf_.st.size());
         }
-        vt_.start(band_, P, lb_, st_[size_t(n_)]);
-        key_[size_t(n_++)] = k;
+        vt_.start(band_, P, lb_, buf_.st[size_t(n_)]);
+        buf_.key[size_t(n_++)] = k;
     }
     void end() {
         const int l = vt_.level();
-        cols_.resize(size_t(n_));
-        for (auto* v : {&t_, &out_t_}) v->resize(size_t(n_));
-        list_.resize(size_t(n_));
-        resolved_.resize(size_t(n_));
+        Buffers& b = buf_;
+        vector_walk::RayColumns& cols = b.cols;
+        cols.resize(size_t(n_));
+        for (auto* v : {&b.t, &b.out_t}) v->resize(size_t(n_));
+        b.list.resize(size_t(n_));
+        b.resolved.resize(size_t(n_));
+        // The rays with a candidate run before the slab bottom into cols, from the time they
+        // enter it; the others' answer is tau_max (every cell rejected).
         int nb = 0;
         for (int q = 0; q < n_; ++q) {
-            const Start& st = st_[size_t(q)];
-            const auto& r = st.r;
-            if (st.q > (st.sc.c_last - band_.base) >> l) {  // no candidate: every cell rejected
-                out_.set(key_[size_t(q)], vt_.hit(r, r.tau_max, 0));
-                continue;
-            }
+            const Start& st = b.st[size_t(q)];
+            const ViewTracer::Ray& r = st.r;
             const int64_t c = band_.base + st.o;
-            const double t = c == st.sc.c0 ? 0 : vt_.column_start(r, c);
+            const double t = st.q > (st.sc.c_last - band_.base) >> l ? r.tau_max
+                             : c == st.sc.c0                         ? 0
+                                                                     : vt_.column_start(r, c);
             if (t >= r.tau_max) {
-                out_.set(key_[size_t(q)], vt_.hit(r, r.tau_max, 0));
+                out_.set(b.key[size_t(q)], vt_.hit(r, r.tau_max, 0));
                 continue;
             }
-            cols_.X0[size_t(nb)] = r.X0;
-            cols_.Y0[size_t(nb)] = r.Y0;
-            cols_.dX[size_t(nb)] = r.dX;
-            cols_.dY[size_t(nb)] = r.dY;
-            cols_.iX[size_t(nb)] = r.inv_dX;
-            cols_.iY[size_t(nb)] = r.inv_dY;
-            cols_.vz[size_t(nb)] = r.vz;
-            cols_.ivz[size_t(nb)] = 1 / r.vz;
-            cols_.tm[size_t(nb)] = r.tau_max;
-            cols_.counted[size_t(nb)] = -std::numeric_limits<double>::infinity();
-            cols_.cells[size_t(nb)] = 0;
-            cols_.id[size_t(nb)] = q;
-            list_[size_t(nb)] = nb;
-            t_[size_t(nb++)] = t;
+            const size_t at = size_t(nb);
+            cols.X0[at] = r.X0;
+            cols.Y0[at] = r.Y0;
+            cols.dX[at] = r.dX;
+            cols.dY[at] = r.dY;
+            cols.iX[at] = r.inv_dX;
+            cols.iY[at] = r.inv_dY;
+            cols.vz[at] = r.vz;
+            cols.ivz[at] = 1 / r.vz;
+            cols.tm[at] = r.tau_max;
+            cols.counted[at] = -std::numeric_limits<double>::infinity();
+            cols.cells[at] = 0;
+            cols.id[at] = q;
+            b.list[at] = nb;
+            b.t[at] = t;
+            ++nb;
         }
         while (nb > 0) {
-            dda_(sc_, cols_, list_.data(), t_.data(), nb, out_t_.data(), resolved_.data());
-            int m = 0;
+            dda_(sc_, cols, b.list.data(), b.t.data(), nb, b.out_t.data(), b.resolved.data());
+            int m = 0;  // the rays left open, to the front of the list
             for (int p = 0; p < nb; ++p) {
-                const int at = list_[size_t(p)];
-                const int q = cols_.id[size_t(at)];
-                const Start& st = st_[size_t(q)];
-                const auto& r = st.r;
-                const double t0 = out_t_[size_t(p)];
-                if (resolved_[size_t(p)]) {
-                    out_.set(key_[size_t(q)], vt_.hit(r, t0, cols_.cells[size_t(at)]));
+                const int at = b.list[size_t(p)];
+                const int q = cols.id[size_t(at)];
+                const Start& st = b.st[size_t(q)];
+                const ViewTracer::Ray& r = st.r;
+                const double t0 = b.out_t[size_t(p)];
+                if (b.resolved[size_t(p)]) {
+                    out_.set(b.key[size_t(q)], vt_.hit(r, t0, cols.cells[size_t(at)]));
                     continue;
                 }
                 // On from the column the ray has reached to its next candidate run (the DDA
@@ -612,11 +605,11 @@ class BandDdaRun {
                     t = vt_.column_time(r, c) > t0 ? vt_.column_start(r, c) : t0;
                 }
                 if (t >= r.tau_max) {
-                    out_.set(key_[size_t(q)], vt_.hit(r, r.tau_max, cols_.cells[size_t(at)]));
+                    out_.set(b.key[size_t(q)], vt_.hit(r, r.tau_max, cols.cells[size_t(at)]));
                     continue;
                 }
-                list_[size_t(m)] = at;
-                t_[size_t(m++)] = t;
+                b.list[size_t(m)] = at;
+                b.t[size_t(m++)] = t;
             }
             nb = m;
         }
@@ -630,12 +623,7 @@ class BandDdaRun {
     DdaPass dda_;
     int n_ = 0;
     int64_t lb_ = 0;
-    std::vector<Start>& st_;
-    std::vector<size_t>& key_;
-    vector_walk::RayColumns& cols_;
-    std::vector<int>& list_;
-    std::vector<double>&t_, &out_t_;  // by place in the DDA's list
-    std::vector<uint8_t>& resolved_;
+    Buffers& buf_;  // kept by the thread from band to band
 };
 
 // Band width in grid units: about the rays' spacing (the side of the grid area per ray), so
