@@ -139,7 +139,17 @@ class ViewTracer {
         int32_t used = 0;           // chunks held in U and blk
         std::vector<double> U;      // bound per run, chunk by chunk (slot k: U[256 k ..])
         std::vector<double> blk;    // max of U over blocks of 16 runs (slot k: blk[16 k ..])
+        // A new band (its memory kept): no chunk bounded or built yet.
+        void reset(double eta_lo_, double w_) {
+            eta_lo = eta_lo_;
+            w = w_;
+            chunks = 0;
+            used = 0;
+        }
     };
+    // Where a band's run 0 starts, given its first ray (the earliest first column), in whole
+    // runs.
+    int64_t first_column(Vec2d P) const { return scan(ray(P)).c_first & ~((int64_t(1) << l_) - 1); }
 
     // The band's cells over p in [ca, cb]: minor index in [lo0 + m p, hi0 + m p] (widened by
     // 1e-6 grid units, so that cells touched only by rounding are included too); the first
@@ -459,17 +469,14 @@ class BandRun {
     BandRun(const ViewTracer& vt, ViewTracer::Band& band, Hits& out)
         : vt_(vt), band_(band), out_(out) {}
     void begin(double eta_lo, double w) {
-        band_.eta_lo = eta_lo;
-        band_.w = w;
-        band_.chunks = 0;
-        band_.used = 0;
+        band_.reset(eta_lo, w);
         held_ = 0;
         head_ = 0;
     }
     void add(Vec2d P, size_t k) {
         if (held_ == 0) {
             // Run 0 starts at the earliest first column (the first ray's), in whole runs.
-            band_.base = vt_.scan(vt_.ray(P)).c_first & ~((int64_t(1) << vt_.level()) - 1);
+            band_.base = vt_.first_column(P);
             lb_ = band_.base;
         }
         // Started in place (the slot after the held ones), then the oldest walks.
@@ -523,15 +530,12 @@ class BandDdaRun {
                const vector_walk::SquareScene& sc, DdaPass dda, Buffers& buf)
         : vt_(vt), band_(band), out_(out), sc_(sc), dda_(dda), buf_(buf) {}
     void begin(double eta_lo, double w) {
-        band_.eta_lo = eta_lo;
-        band_.w = w;
-        band_.chunks = 0;
-        band_.used = 0;
+        band_.reset(eta_lo, w);
         n_ = 0;
     }
     void add(Vec2d P, size_t k) {
         if (n_ == 0) {
-            band_.base = vt_.scan(vt_.ray(P)).c_first & ~((int64_t(1) << vt_.level()) - 1);
+            band_.base = vt_.first_column(P);
             lb_ = band_.base;
         }
         if (buf_.st.size() <= size_t(n_)) {
