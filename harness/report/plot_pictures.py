@@ -81,7 +81,9 @@ def picture_montage(F, st, results, rows):
     nc = min(len(cells), 6 if F.width >= 6 else 3)
     blocks = math.ceil(len(cells) / nc)
     cell = F.width / nc - 0.06
-    names = ["truth (ray traced)"] + [fit(st.full[s], cell, 6, 2 if multi else 3) + (
+    # a setting's name and every parameter's value: up to 4 lines (a method with many
+    # parameters, e.g. silhouette_pom, would lose one in the middle at 3)
+    names = ["truth (ray traced)"] + [fit(st.full[s], cell, 6, 2 if multi else 4) + (
         "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
