@@ -394,7 +394,8 @@ int run_bench(const BenchOptions& options) {
             ExactTracer::cpu_has_simd_path()
                 ? p["exact_per_ray_path"].get<std::string>() + " up to theta " +
                       format_number(ExactTracer::kGridRaysMaxThetaDeg) + " deg, above it " +
-                      p["exact_band_path"].get<std::string>()
+                      p["exact_band_path"].get<std::string>() +
+                      " (fields of 2 x 2 cells or more; each view's path: exact_path)"
                 : p["exact_band_path"].get<std::string>();
         std::printf("exact: %s; Embree: %s kernels%s\n",
                     persp ? p["exact_per_ray_path"].get<std::string>().c_str() : ortho.c_str(),
