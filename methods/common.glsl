@@ -3,7 +3,8 @@
 // Every function mirrors the CPU reference's operation order (methods/*.h, methods/*/*.cpp).
 
 layout(location = 0) out vec4 pxh_out_uv;      // uv.x, uv.y, fetches, 1 (written)
-layout(location = 1) out vec4 pxh_out_shadow;  // hard, soft light factor (1 lit, 0 shadowed)
+layout(location = 1) out vec4 pxh_out_shadow;  // hard, soft light factor (1 lit, 0 shadowed),
+                                               // the written depth as computed (tiles)
 
 uniform sampler2D u_height;  // GL_LINEAR + GL_REPEAT
 uniform float u_scale;       // s
@@ -21,7 +22,7 @@ uniform float u_shadow_layers_max;
 // The depth it writes (methods/depth.h, docs/conventions.md section 11): gl_FragDepth =
 // 0.5 + depth(X_w) / u_depth_span, depth(X) = (X - P) . u_depth_axis in tiles.
 uniform int u_depth_mode;    // 0 base (X_w = P), 1 hit (X_w = (uv, z_m)), 2 engine
-uniform int u_hit_height;    // z_m: 0 the surface at uv, 1 the search line's, 2 pxh_write_hit's
+uniform int u_hit_height;    // z_m where pxh_write_hit was not called: 0, 1 the surface at uv, 2 P
 uniform vec3 u_depth_axis;   // f: the perspective camera's forward vector, -V for parallel rays
 uniform float u_depth_span;
 // A curved base's view (docs/conventions.md section 12): f per sample in its tangent frame.
@@ -151,12 +152,10 @@ vec2 pxh_shadow(vec2 uv) {
 }
 
 // ---- The written depth (methods/depth.h) ----
-// A `ray` method's search line uv = P + pxh_hit_dir z: main() sets V.xy / V.z (the eye ray); a
-// method whose search line differs sets its own in pxh_method (the marcher's march direction).
-vec2 pxh_hit_dir;
-// A plug-in shader's hit height (`depth = "hit"`): call pxh_write_hit(z) with the surface z
-// (z = s (h - b), the polygon at 0) where the shader places its hit; a plug-in that does not
-// writes the polygon's depth (X_w = P).
+// The hit's height z_m (`depth = "hit"`): a search calls pxh_write_hit(z) with the height of its
+// answer (z = s (h - b) units, the polygon at 0), the value it computed itself (every built-in
+// search, as its C++ twin returns MethodHit::z); a single-step method does not, and z_m is the
+// surface's at uv (not counted); a plug-in that does not writes the polygon's depth (X_w = P).
 float pxh_hit_z = 0.0;
 bool pxh_hit_written = false;
 void pxh_write_hit(float z) {
@@ -179,14 +178,10 @@ float pxh_height_uncounted(vec2 uv) {
 float pxh_written_depth(vec2 P, vec2 uv) {
     if (u_depth_mode == 0) return 0.0;
     if (u_depth_mode == 2) return pxh_engine_depth;
-    float z = 0.0;
-    if (u_hit_height == 2) {
-        if (!pxh_hit_written) return 0.0;
-        z = pxh_hit_z;
-    } else {
-        float dd = dot(pxh_hit_dir, pxh_hit_dir);
-        if (u_hit_height == 1 && dd >= 1e-12) z = dot(uv - P, pxh_hit_dir) / dd;
-        else z = u_scale * (pxh_height_uncounted(uv) - u_bias);
+    float z = pxh_hit_z;
+    if (!pxh_hit_written) {
+        if (u_hit_height == 2) return 0.0;
+        z = u_scale * (pxh_height_uncounted(uv) - u_bias);
     }
     return dot(vec3(uv - P, z), pxh_depth_axis);
 }
@@ -211,11 +206,11 @@ void main() {
 #if defined(PXH_LOD_GRAD)
     pxh_footprint = texelFetch(u_grad_map, ivec2(gl_FragCoord.xy), 0);
 #endif
-    pxh_hit_dir = pxh_V.xy / pxh_V.z;
     vec2 uv = pxh_method(P);
     float fetches = float(pxh_fetches);
-    gl_FragDepth = 0.5 + pxh_written_depth(P, uv) / u_depth_span;
+    float depth = pxh_written_depth(P, uv);
+    gl_FragDepth = 0.5 + depth / u_depth_span;  // GL clamps it to [0, 1]
     vec2 shadow = u_light_on != 0 ? pxh_shadow(uv) : vec2(1.0);
     pxh_out_uv = vec4(uv, fetches, 1.0);  // alpha 1: written (the targets clear to alpha 0)
-    pxh_out_shadow = vec4(shadow, 0.0, 0.0);
+    pxh_out_shadow = vec4(shadow, depth, 0.0);  // z: the depth as computed (not clamped)
 }

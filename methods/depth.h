@@ -8,6 +8,7 @@
 // the eye's own depth drops out.
 #pragma once
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,20 +27,37 @@ std::vector<std::string> depth_names();  // base, hit, engine
 
 // Where a method places its hit's height z_m (MethodInfo::hit_height):
 //   surface  z_m = s (h(uv_m) - b) at the level of detail it sampled (single-step methods)
-//   ray      the eye ray's height at uv_m: a search whose answer lies on the ray (the layer or
-//            refined height); checked by tests/methods/depth_test.cpp on every such method
+//   ray      the height a search hands back with its answer (MethodHit::z): the layer or
+//            refined height of its line; checked by tests/methods/depth_test.cpp on every method
 //   shader   a plug-in shader: what it passes to pxh_write_hit(z) (methods/common.glsl), else
 //            the polygon (X_w = P)
 enum class HitHeight { surface, ray, shader };
 
+// What a search hands back (eval's return type for every method whose answer is a point of a
+// line it searched): uv_m and the height z_m of its answer (NaN where uv is NaN, and for a
+// single-step answer: then z_m is the surface's at uv_m at the level it sampled), and, for an
+// engine preset whose depth formula reads a height its engine fetched elsewhere, that surface
+// height (engine_z; NaN: the surface's at uv_m).
+template <typename T>
+struct MethodHit {
+    Vec2<T> uv;
+    T z = std::numeric_limits<T>::quiet_NaN();
+    T engine_z = std::numeric_limits<T>::quiet_NaN();
+    static MethodHit none() {
+        const T nan = std::numeric_limits<T>::quiet_NaN();
+        return {{nan, nan}, nan, nan};
+    }
+};
+
 // What an engine's depth formula sees of one sample (MethodInfo::engine_depth).
 struct EngineDepthInput {
-    Vec2d P;           // the sample's point on the polygon
-    Vec3d V;           // toward the eye (unit)
-    Vec3d f;           // the view's depth axis
-    Vec2d uv;          // the method's uv_m
-    double z_line;     // the height of its search line at uv_m (a one-fetch method: the surface's)
-    double z_surface;  // s (h(uv_m) - b) at the level it sampled
+    Vec2d P;          // the sample's point on the polygon
+    Vec3d V;          // toward the eye (unit)
+    Vec3d f;          // the view's depth axis
+    Vec2d uv;         // the method's uv_m
+    double z_line;    // z_m: the height it handed back (a one-fetch method: the surface's)
+    double z_engine;  // the surface height its engine's formula reads (MethodHit::engine_z;
+                      // s (h(uv_m) - b) at the level it sampled where not given)
     double scale, bias;
 };
 

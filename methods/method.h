@@ -7,6 +7,8 @@
 //   static int max_fetches(const Config&, const Scene<double>&);   declared bound per sample
 //   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
 //                                             HeightSampler<T>&, Vec2<T> P);
+//     (a search returns MethodHit<T> instead: its uv and the height z_m of its answer, the
+//     value it computed itself, in its own precision; docs/conventions.md section 8)
 //     or, for a method with resources (MethodInfo::resources, methods/resource.h),
 //   template <typename T> static Vec2<T> eval(const Config&, const Scene<T>&,
 //                                             HeightSampler<T>&, ResourceSamplers<T>&, Vec2<T> P);
@@ -18,7 +20,8 @@
 //   optionally static void complete_params(ParamValues&); writes in the values an unset
 //                                                       optional parameter stands for
 //   optionally static HitHeight hit_height(const Config&); where its hit's height z_m is
-//                                                       (methods/depth.h; default surface)
+//                                                       (methods/depth.h; default: ray when
+//                                                       eval returns MethodHit, else surface)
 //   optionally static Vec2d hit_direction(const Config&, Vec3d V, double s); a ray method's
 //                                                       search line (default V.xy / V.z)
 // and methods/NAME/NAME.frag.glsl defines vec2 pxh_method(vec2 P) (see methods/common.glsl).
@@ -32,8 +35,10 @@
 #pragma once
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -78,11 +83,13 @@ struct MethodInputs {
 // Runs the method on n points. V: nullptr (every sample looks along sc.V, a parallel view) or
 // n directions, sample i's toward its eye (the method sees it as sc.V). fetches[i]: all texture
 // fetches of sample i (height and resources). texture_fetches: nullptr, or n x (1 + R) counts, per
-// sample the height's then each resource's in declaration order.
+// sample the height's then each resource's in declaration order. z: nullptr, or n heights z_m
+// (MethodHit::z, the surface's at uv for a single-step method, not counted as a fetch);
+// engine_z: nullptr, or n heights (MethodHit::engine_z, the surface's at uv where not given).
 template <typename T>
 using BatchFn = void (*)(const ParamValues&, const Scene<T>&, const MethodInputs&, const Vec2<T>* P,
                          const Vec3<T>* V, size_t n, Vec2<T>* uv, int* fetches,
-                         int* texture_fetches);
+                         int* texture_fetches, T* z, T* engine_z);
 
 struct MethodInfo {
     std::string name;      // registry key = folder name = what users type
@@ -152,10 +159,36 @@ HeightSampler<T> height_sampler(const MethodInputs& in, const Scene<T>& sc, size
     return HeightSampler<T>(*in.hf, sc.scale, sc.bias);
 }
 
+// What eval returned, as uv and heights: z_m and engine_z (not counted as fetches).
+template <typename T, typename R>
+void store_answer(const R& r, HeightSampler<T>& hs, size_t i, Vec2<T>* uv, T* z, T* engine_z) {
+    Vec2<T> u;
+    T zm = std::numeric_limits<T>::quiet_NaN(), ze = zm;
+    if constexpr (std::is_same_v<R, MethodHit<T>>) {
+        u = r.uv;
+        zm = r.z;
+        ze = r.engine_z;
+    } else {
+        u = r;
+    }
+    uv[i] = u;
+    if (!z && !engine_z) return;
+    const bool finite = std::isfinite(u.x) && std::isfinite(u.y);
+    T surface = std::numeric_limits<T>::quiet_NaN();
+    if (finite && ((z && std::isnan(zm)) || (engine_z && std::isnan(ze)))) {
+        const int before = hs.fetches;
+        surface = hs.z(u);
+        hs.fetches = before;
+    }
+    if (z) z[i] = !finite ? std::numeric_limits<T>::quiet_NaN() : std::isnan(zm) ? surface : zm;
+    if (engine_z)
+        engine_z[i] = !finite ? std::numeric_limits<T>::quiet_NaN() : std::isnan(ze) ? surface : ze;
+}
+
 template <class M, typename T>
 void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodInputs& in,
                       const Vec2<T>* P, const Vec3<T>* V, size_t n, Vec2<T>* uv, int* fetches,
-                      int* texture_fetches) {
+                      int* texture_fetches, T* z, T* engine_z) {
     const typename M::Config cfg = M::configure(p, "");
     Scene<T> sc = scene;  // per sample: its own V when the view's rays are not parallel
     if constexpr (requires(HeightSampler<T> & hs, ResourceSamplers<T> & rs) {
@@ -172,22 +205,45 @@ void run_method_batch(const ParamValues& p, const Scene<T>& scene, const MethodI
             HeightSampler<T> sampler = height_sampler(in, sc, i);
             if (V) sc.V = V[i];
             for (auto& t : rs.tex) t.fetches = 0;
-            uv[i] = M::template eval<T>(cfg, sc, sampler, rs, P[i]);
+            const auto r = M::template eval<T>(cfg, sc, sampler, rs, P[i]);
             fetches[i] = sampler.fetches + rs.fetches();
             if (texture_fetches) {
                 texture_fetches[i * stride] = sampler.fetches;
                 for (size_t k = 0; k < rs.tex.size(); ++k)
                     texture_fetches[i * stride + 1 + k] = rs.tex[k].fetches;
             }
+            store_answer<T>(r, sampler, i, uv, z, engine_z);
         }
     } else {
         for (size_t i = 0; i < n; ++i) {
             HeightSampler<T> sampler = height_sampler(in, sc, i);
             if (V) sc.V = V[i];
-            uv[i] = M::template eval<T>(cfg, sc, sampler, P[i]);
+            const auto r = M::template eval<T>(cfg, sc, sampler, P[i]);
             fetches[i] = sampler.fetches;
             if (texture_fetches) texture_fetches[i] = sampler.fetches;
+            store_answer<T>(r, sampler, i, uv, z, engine_z);
         }
+    }
+}
+
+// Whether M's eval returns MethodHit (a search handing back its z_m).
+template <class M>
+constexpr bool returns_hit() {
+    using C = typename M::Config;
+    if constexpr (requires(const C& c, const Scene<double>& sc, HeightSampler<double>& hs,
+                           ResourceSamplers<double>& rs) {
+                      M::template eval<double>(c, sc, hs, rs, Vec2d());
+                  }) {
+        using R = decltype(M::template eval<double>(
+            std::declval<const C&>(), std::declval<const Scene<double>&>(),
+            std::declval<HeightSampler<double>&>(), std::declval<ResourceSamplers<double>&>(),
+            Vec2d()));
+        return std::is_same_v<R, MethodHit<double>>;
+    } else {
+        using R = decltype(M::template eval<double>(
+            std::declval<const C&>(), std::declval<const Scene<double>&>(),
+            std::declval<HeightSampler<double>&>(), Vec2d()));
+        return std::is_same_v<R, MethodHit<double>>;
     }
 }
 
@@ -206,6 +262,8 @@ MethodInfo make_method_info() {
         info.complete_params = [](ParamValues& p) { M::complete_params(p); };
     if constexpr (requires(const typename M::Config& c) { M::hit_height(c); })
         info.hit_height = [](const ParamValues& p) { return M::hit_height(M::configure(p, "")); };
+    else if constexpr (returns_hit<M>())
+        info.hit_height = [](const ParamValues&) { return HitHeight::ray; };
     if constexpr (requires(const typename M::Config& c) { M::engine_depth(c, EngineDepthInput{}); })
         info.engine_depth = [](const ParamValues& p, const EngineDepthInput& in) {
             return M::engine_depth(M::configure(p, ""), in);

@@ -112,13 +112,17 @@ inline Scene<double> make_scene(const HeightField& hf, double s, double b, doubl
     return {s, b, view_vector(theta, phi), hf.width, hf.height};
 }
 
-// Runs a registered method on given points in precision T; returns uv (as double) and fetches.
+// Runs a registered method on given points in precision T; returns uv (as double), fetches and
+// the height z_m it handed back (MethodHit::z, or the surface's at uv for a single-step method).
 template <typename T>
 std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const Scene<double>& sc,
                               const HeightField& hf, const std::vector<Vec2d>& P,
                               std::vector<int>* fetches = nullptr,
-                              std::vector<int>* per_texture = nullptr) {
+                              std::vector<int>* per_texture = nullptr,
+                              std::vector<double>* z_m = nullptr) {
     std::vector<Vec2<T>> pts(P.size()), uv(P.size());
+    std::vector<T> zs(z_m ? P.size() : 0);
+    T* z = z_m ? zs.data() : nullptr;
     std::vector<int> f(P.size());
     ResourceCache cache(hf);  // the method's resources, if it declares any
     const MethodResources res = cache.get(m.name, m.resources, sc.scale, sc.bias, &p);
@@ -128,12 +132,13 @@ std::vector<Vec2d> run_method(const MethodInfo& m, const ParamValues& p, const S
     const Scene<T> st = scene_cast<T>(sc);
     if constexpr (std::is_same_v<T, float>)
         m.run_float(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(),
-                    per_texture ? split.data() : nullptr);
+                    per_texture ? split.data() : nullptr, z, nullptr);
     else
         m.run_double(p, st, in, pts.data(), nullptr, pts.size(), uv.data(), f.data(),
-                     per_texture ? split.data() : nullptr);
+                     per_texture ? split.data() : nullptr, z, nullptr);
     if (fetches) *fetches = f;
     if (per_texture) *per_texture = split;
+    if (z_m) z_m->assign(zs.begin(), zs.end());
     std::vector<Vec2d> out(P.size());
     for (size_t i = 0; i < P.size(); ++i) out[i] = Vec2d(uv[i]);
     return out;

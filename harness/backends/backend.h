@@ -66,10 +66,17 @@ struct MethodOutput {
     // depth(X_w) = (X_w - P) . f along the view's depth axis (methods/depth.h), in tiles; NaN
     // where there is no uv.
     std::vector<double> depth;
+    // CPU: per sample the height z_m the method handed back with its uv (methods/depth.h
+    // MethodHit::z; the surface's at uv for a single-step method), in its own precision, and the
+    // height its engine's depth formula reads (MethodHit::engine_z); NaN where there is no uv.
+    std::vector<double> hit_z, engine_z;
     // Per sample, how far rounding alone may move the written depth (tiles; empty: 1e-9 at
     // every sample, the double twin's and the GPU's): a write nearer the eye than the polygon
     // by no more than this is not counted in depth_toward_frac.
     std::vector<double> depth_tol;
+    // The span of depth the GL twin's depth target holds, [-span / 2, span / 2] tiles
+    // (depth_target_span); 0: unknown. Both twins set it, so both count depth_clamped alike.
+    double depth_span = 0;
     // Its timing and its declared counters (empty when not timed).
     Timing timing;
     std::vector<Counter> counters;
@@ -78,6 +85,10 @@ struct MethodOutput {
     // GLSL: samples the shader discarded or left unwritten (their uv is NaN, fetches 0); 0 on
     // the CPU.
     long long samples_discarded = 0;
+    // Per sample, 1 where the method discarded it (both twins alike: the GLSL fragment wrote
+    // nothing; the C++ twin of a may_discard method answered NaN); empty: none. Its fetches are
+    // 0 and not counted (fetches_mean is over the answered samples); it is not in nonfinite.
+    std::vector<uint8_t> discarded;
 };
 
 // What a run asks of its backends (the experiment's keys and the command line's overrides).

@@ -29,6 +29,7 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     const Scene<T> sc = scene_cast<T>(scene);
     const size_t n = P.size();
     std::vector<Vec2<T>> pts(n), uv(n);
+    std::vector<T> z(n), ze(n);
     for (size_t k = 0; k < n; ++k) pts[k] = Vec2<T>(P[k]);
     std::vector<Vec3<T>> dirs(V ? n : 0);  // per-sample directions, in the method's precision
     for (size_t k = 0; k < dirs.size(); ++k) dirs[k] = Vec3<T>((*V)[k]);
@@ -37,17 +38,25 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     out.fetches.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         fn(params, sc, at(r.begin()), pts.data() + r.begin(), D ? D + r.begin() : nullptr, r.size(),
-           uv.data() + r.begin(), out.fetches.data() + r.begin(), nullptr);
+           uv.data() + r.begin(), out.fetches.data() + r.begin(), nullptr, z.data() + r.begin(),
+           ze.data() + r.begin());
     });
     out.uv.resize(n);
-    for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
+    out.hit_z.resize(n);
+    out.engine_z.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+        out.uv[k] = Vec2d(uv[k]);
+        out.hit_z[k] = double(z[k]);
+        out.engine_z[k] = double(ze[k]);
+    }
     if (repeats > 0 && n > 0) {
         std::vector<Vec2<T>> scratch(n);
         std::vector<int> fscratch(n);
         std::vector<double> times;
         for (int rep = 0; rep <= repeats; ++rep) {  // rep 0 is the warm-up
             const auto t0 = std::chrono::steady_clock::now();
-            fn(params, sc, in, pts.data(), D, n, scratch.data(), fscratch.data(), nullptr);
+            fn(params, sc, in, pts.data(), D, n, scratch.data(), fscratch.data(), nullptr, nullptr,
+               nullptr);
             const auto t1 = std::chrono::steady_clock::now();
             if (rep > 0) times.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
         }
@@ -144,6 +153,18 @@ MethodOutput CpuBackend::run(const MethodSpec& m, const ViewInput& view, const V
                 rays.parallel ? nullptr : &rays.V, levels ? view.levels : nullptr, view.lambda);
     if (view.light) add_shadows(out, *view.light, v.precision, view.scene, view.hf);
     add_written_depths(m, view, out, v.precision == "float");
+    // A silhouette method's NaN answer is its discard (the GLSL twin's `discard`): counted as
+    // the GL side counts it, its fetches not (a discarded fragment writes none back).
+    if (m.method->may_discard) {
+        out.discarded.assign(out.uv.size(), 0);
+        for (size_t k = 0; k < out.uv.size(); ++k) {
+            if (std::isfinite(out.uv[k].x) && std::isfinite(out.uv[k].y)) continue;
+            if (!rays.is_inside(k)) continue;
+            out.discarded[k] = 1;
+            out.fetches[k] = 0;
+            ++out.samples_discarded;
+        }
+    }
     return out;
 }
 

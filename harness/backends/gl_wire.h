@@ -161,10 +161,11 @@ void visit(A& a, MethodOutput& o) {
     a(o.timing), a(o.counters);
     a(o.shader), a(o.shader_sha256), a(o.samples_discarded);
     a(o.depth), a(o.depth_tol);
+    a(o.hit_z), a(o.engine_z), a(o.depth_span), a(o.discarded);
 }
 // A MethodOutput that grew without a line above would come back from the child without the
 // new field: update visit(MethodOutput) and then this size.
-static_assert(sizeof(MethodOutput) == 320, "MethodOutput changed: update visit(MethodOutput)");
+static_assert(sizeof(MethodOutput) == 400, "MethodOutput changed: update visit(MethodOutput)");
 
 // A draw as it travels: the request owns what GlslDraw points to.
 struct DrawData {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "harness/backends/gl_wire.h"
+#include "harness/backends/written_depth.h"
 #include "harness/core/error.h"
 
 namespace pxh {
@@ -61,7 +62,9 @@ MethodOutput GlslChildBackend::draw(const GlslDraw& d) {
 }
 
 MethodOutput GlslChildBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
-    return draw(glsl_draw_of(m, view, v));
+    MethodOutput out = draw(glsl_draw_of(m, view, v));
+    out.depth_tol = float_depth_tol(view.rays);  // the shader computes its depth in float
+    return out;
 }
 
 std::vector<std::string> GlslChildBackend::check(const GlslMethod& m, const GlUniforms& uniforms,

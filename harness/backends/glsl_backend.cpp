@@ -14,6 +14,7 @@
 
 #include "harness/backends/glsl_parts.h"
 #include "harness/backends/shaders.h"
+#include "harness/backends/written_depth.h"
 #include "harness/core/error.h"
 #include "harness/gl/context.h"
 #include "harness/scene/perspective_camera.h"
@@ -133,8 +134,8 @@ void GlslBackend::draw_frames(int frames, MethodOutput& out) {
 }
 
 // The two render targets back into uv, fetches and (with a light) the shadow factors.
-void GlslBackend::read_back(int samples, bool light, const std::vector<uint8_t>* inside,
-                            MethodOutput& out) {
+std::vector<float> GlslBackend::read_back(int samples, bool light,
+                                          const std::vector<uint8_t>* inside, MethodOutput& out) {
     const size_t n = size_t(samples) * samples;
     std::vector<float> px(n * 4), sh(n * 4);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -144,34 +145,53 @@ void GlslBackend::read_back(int samples, bool light, const std::vector<uint8_t>*
     out.uv.resize(n);
     out.fetches.resize(n);
     out.samples_discarded = 0;
+    out.discarded.assign(n, 0);
     for (size_t k = 0; k < n; ++k) {  // row 0 of the read-back is gl_FragCoord.y = 0.5: j = 0
         if (px[4 * k + 3] != 1.0f) {  // discarded or unwritten: no uv (counted, never scored)
             out.uv[k] = {NAN, NAN};
             out.fetches[k] = 0;
             // An outside sample is masked by main() (counted as outside by the metrics).
-            if (!inside || inside->empty() || (*inside)[k]) ++out.samples_discarded;
+            if (!inside || inside->empty() || (*inside)[k]) {
+                ++out.samples_discarded;
+                out.discarded[k] = 1;
+            }
             continue;
         }
         out.uv[k] = {px[4 * k], px[4 * k + 1]};
         out.fetches[k] = int(px[4 * k + 2]);
     }
-    if (!light) return;
-    out.shadow_hard.resize(n);
-    out.shadow_soft.resize(n);
-    for (size_t k = 0; k < n; ++k) {
-        out.shadow_hard[k] = sh[4 * k];
-        out.shadow_soft[k] = sh[4 * k + 1];
+    if (light) {
+        out.shadow_hard.resize(n);
+        out.shadow_soft.resize(n);
+        for (size_t k = 0; k < n; ++k) {
+            out.shadow_hard[k] = sh[4 * k];
+            out.shadow_soft[k] = sh[4 * k + 1];
+        }
     }
+    return sh;  // its z: the written depth as computed (read_depth)
 }
 
-// The depth target back into depth(X_w) (NaN where there is no uv).
-void GlslBackend::read_depth(int samples, double span, MethodOutput& out) {
+// The depth target back into depth(X_w) (NaN where there is no uv). GL clamps gl_FragDepth to
+// the target's [0, 1] and makes a number of a NaN, so main() also writes the depth it computed
+// to the second target's z (a float colour target, not clamped): where that is not finite the
+// depth is NaN (counted in depth_nonfinite), and where it lies beyond the span the target holds
+// it is that value (counted in depth_clamped), not the clamped one.
+void GlslBackend::read_depth(int samples, double span, const std::vector<float>& written,
+                             MethodOutput& out) {
     const size_t n = size_t(samples) * samples;
     std::vector<float> z(n);
     glReadPixels(0, 0, samples, samples, GL_DEPTH_COMPONENT, GL_FLOAT, z.data());
     out.depth.resize(n);
-    for (size_t k = 0; k < n; ++k)
-        out.depth[k] = std::isfinite(out.uv[k].x) ? (double(z[k]) - 0.5) * span : NAN;
+    out.depth_span = span;
+    for (size_t k = 0; k < n; ++k) {
+        if (!std::isfinite(out.uv[k].x)) {
+            out.depth[k] = NAN;
+            continue;
+        }
+        const double raw = written.size() == 4 * n ? double(written[4 * k + 2]) : 0.0;
+        if (!std::isfinite(raw) || std::abs(raw) > 0.5 * span) out.depth[k] = raw;
+        else out.depth[k] = (double(z[k]) - 0.5) * span;
+    }
 }
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
@@ -231,8 +251,8 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
     if (const GLenum err = glGetError(); err != GL_NO_ERROR)
         throw std::runtime_error("method '" + d.method.name + "': GL error " + std::to_string(err) +
                                  " while rendering");
-    read_back(samples, light != nullptr, d.inside, out);
-    read_depth(samples, d.depth.span, out);
+    const std::vector<float> written = read_back(samples, light != nullptr, d.inside, out);
+    read_depth(samples, d.depth.span, written, out);
     out.shader = program.shader;
     out.shader_sha256 = program.sha256;
     return out;
@@ -254,10 +274,7 @@ GlslDepth glsl_depth_of(const MethodSpec& m, const View& rays, double scale) {
     g.mode = int(m.depth);
     g.hit = int(m.method->hit_height_of(m.params));
     g.axis = rays.depth_axis();
-    double vz = 1;
-    for (size_t k = 0; k < rays.V.size(); ++k)
-        if (rays.parallel || rays.is_inside(k)) vz = std::min(vz, rays.V[k].z);
-    g.span = 4 * (1 + std::abs(scale) / std::max(vz, 1e-3));
+    g.span = depth_target_span(rays, scale);
     return g;
 }
 
@@ -298,7 +315,9 @@ GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant&
 }
 
 MethodOutput GlslBackend::run(const MethodSpec& m, const ViewInput& view, const Variant& v) {
-    return draw(glsl_draw_of(m, view, v));
+    MethodOutput out = draw(glsl_draw_of(m, view, v));
+    out.depth_tol = float_depth_tol(view.rays);  // the shader computes its depth in float
+    return out;
 }
 
 std::map<std::string, std::string> GlslBackend::facts() const {

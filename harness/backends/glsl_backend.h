@@ -184,8 +184,10 @@ class GlslBackend : public Backend {
     void ensure_framebuffer(int n);
     void set_uniforms(const Program& program, const GlslDraw& d);
     void draw_frames(int frames, MethodOutput& out);
-    void read_back(int samples, bool light, const std::vector<uint8_t>* inside, MethodOutput& out);
-    void read_depth(int samples, double span, MethodOutput& out);
+    // Returns the second target's texels (shadow factors in x, y; the written depth in z).
+    std::vector<float> read_back(int samples, bool light, const std::vector<uint8_t>* inside,
+                                 MethodOutput& out);
+    void read_depth(int samples, double span, const std::vector<float>& written, MethodOutput& out);
 
     GlslOptions opt_;
     std::unique_ptr<GlContext> ctx_;

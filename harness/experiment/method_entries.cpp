@@ -185,9 +185,10 @@ std::vector<LodMode> read_lods(const ParamDict& t, const MethodInfo& m, const Ex
 }
 
 // `depth`: the depth modes (methods/depth.h; a value or a list, swept; default base). `engine`
-// on a method whose engine writes no depth offset is `base`, said in the docs (its rows exist:
-// a family's engine column stays comparable).
-std::vector<DepthMode> read_depths(const ParamDict& t) {
+// on a preset whose engine writes no depth offset is `base`, said in the docs (its rows exist:
+// a family's engine column stays comparable); on a method that is no engine preset (no engine
+// formula at all: the seed and literature methods, plug-ins) it is refused.
+std::vector<DepthMode> read_depths(const ParamDict& t, const MethodInfo& m) {
     if (!t.has("depth")) return {DepthMode::base};
     const std::string where = t.where("depth");
     std::vector<DepthMode> out;
@@ -200,6 +201,9 @@ std::vector<DepthMode> read_depths(const ParamDict& t) {
                 where, "unknown depth '" + name + "' (known: " + join_names(depth_names()) + ")");
         if (std::find(out.begin(), out.end(), *mode) != out.end())
             throw InputError(where, "depth '" + name + "' is given twice");
+        if (*mode == DepthMode::engine && !m.engine_depth)
+            throw InputError(where, "depth 'engine' needs an engine preset: method '" + m.name +
+                                        "' has no engine formula (use base or hit)");
         out.push_back(*mode);
     }
     return out;
@@ -285,7 +289,7 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     }
     MethodSpec proto{m, {}, fields};
     const std::vector<LodMode> lods = read_lods(t, *m, ex);
-    const std::vector<DepthMode> depths = read_depths(t);
+    const std::vector<DepthMode> depths = read_depths(t, *m);
     const std::vector<double> cuts = ex.cuts.empty() ? std::vector<double>{NAN} : ex.cuts;
     if (plugin) {
         read_reference(t, where, proto);

@@ -18,6 +18,12 @@ OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fe
     const bool masked = inside && inside->size() == n;
     for (size_t k = 0; k < n; ++k) {
         if (masked && !(*inside)[k]) continue;
+        const bool a_none = !std::isfinite(uv_a[k].x) || !std::isfinite(uv_a[k].y);
+        const bool b_none = !std::isfinite(uv_b[k].x) || !std::isfinite(uv_b[k].y);
+        if (a_none && b_none) {  // both discarded (or both non-finite): they agree; counted
+            ++r.skipped;
+            continue;
+        }
         const Vec2d e = texel_error(uv_a[k], uv_b[k], width, height);
         d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
         r.decision_mismatch += fetches_a[k] != fetches_b[k];
@@ -60,11 +66,13 @@ void add_backend_agreement(const OutputDiff& d, ResultRow& row) {
     row.set("cpu_diff_max", d.max);
     row.set("cpu_diff_p999", d.p999);
     row.set("decision_mismatch", double(d.decision_mismatch));
+    row.set("cpu_diff_skipped", double(d.skipped));
 }
 
 void add_precision_agreement(const OutputDiff& d, ResultRow& row) {
     row.set("double_diff_max", d.max);
     row.set("double_diff_p999", d.p999);
+    row.set("double_diff_skipped", double(d.skipped));
 }
 
 ErrorStats reference_agreement(const std::vector<Vec2d>& a, const std::vector<Vec2d>& b, int width,

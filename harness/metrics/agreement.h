@@ -21,6 +21,7 @@ namespace pxh {
 struct OutputDiff {
     double max = NAN, p999 = NAN;
     long long decision_mismatch = 0;
+    long long skipped = 0;  // samples neither side answered (no uv on both): not compared
 };
 OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
                       const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b, int width,

@@ -65,9 +65,12 @@ std::vector<ColumnSpec> error_columns() {
         {"err_max", kNum, kMeasured, "largest texel error"},
         {"frac_gt_0_5", kNum, kMeasured, "fraction of finite samples more than 0.5 texel off"},
         {"frac_gt_1", kNum, kMeasured, "fraction of finite samples more than 1 texel off"},
-        {"nonfinite", kInt, kMeasured, "samples whose output is NaN/Inf (left out above)"},
+        {"nonfinite", kInt, kMeasured,
+         "samples whose output is NaN/Inf, discards not included (left out above)"},
         {"samples_discarded", kInt, kMeasured,
-         "GLSL: samples the shader discarded or left unwritten (no uv: also in nonfinite); CPU 0"},
+         "samples the method discarded (a silhouette method's miss: GLSL `discard`, the C++ "
+         "twin's NaN answer; a GLSL fragment left unwritten too); not in nonfinite, fetches "
+         "not counted"},
         {"samples_outside", kInt, kMeasured,
          "pixels outside the view (V.z <= cos 89 deg), left out of every statistic"},
         {"lod_mean", kNum, kMeasured, "mean of max(lambda, 0) over the inside pixels"},
@@ -99,11 +102,16 @@ std::vector<ColumnSpec> timing_columns() {
         {"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"},
         {"cpu_diff_p999", kNum, kMeasured, "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"},
         {"decision_mismatch", kInt, kMeasured, "GLSL: samples whose fetch count differs from CPU"},
+        {"cpu_diff_skipped", kInt, kMeasured,
+         "GLSL: samples neither twin answered (both discarded or non-finite): left out of "
+         "cpu_diff_* and decision_mismatch"},
         {"depth_cpu_diff_p999", kNum, kMeasured,
          "GLSL: p99.9 |depth written - the CPU float twin's| (tiles, read back from the depth "
          "target)"},
         {"double_diff_max", kNum, kMeasured, "CPU float: max |uv_float - uv_double| (texels)"},
         {"double_diff_p999", kNum, kMeasured, "CPU float: p99.9 |uv_float - uv_double| (texels)"},
+        {"double_diff_skipped", kInt, kMeasured,
+         "CPU float: samples neither precision answered: left out of double_diff_*"},
         // Sweeps (harness/metrics/sweep.cpp).
         {"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"},
         {"shimmering", kNum, kMeasured, "mean |change of e - mean change| / dt (texels/degree)"},

@@ -17,6 +17,9 @@ namespace {
 
 // How far nearer the eye than the polygon a written depth must be to count as toward it.
 constexpr double kTowardEps = 1e-9;
+// A written depth within this of the cut plane's (or the sample's own float rounding, depth_tol,
+// where larger) decides nothing: a tie (docs/conventions.md section 8).
+constexpr double kCutTieTau = 1e-7;
 
 void add_depth_errors(const MetricInput& in, ResultRow& row) {
     const MethodOutput& o = in.out;
@@ -25,12 +28,21 @@ void add_depth_errors(const MetricInput& in, ResultRow& row) {
     const View& view = *in.view;
     std::vector<double> mag;
     mag.reserve(n);
-    double bias = 0, toward = 0;
+    double bias = 0, toward = 0, nonfinite = 0, clamped = 0, answered = 0;
     for (size_t k = 0; k < n; ++k) {
         if (!in.inside(k) || (in.exclude && (*in.exclude)[k])) continue;
+        if (!std::isfinite(o.uv[k].x) || !std::isfinite(o.uv[k].y)) continue;
+        ++answered;
+        // a uv with a non-finite written depth: counted, never scored; beyond what the GL depth
+        // target holds (|depth| > span / 2): counted, and scored with the value written
+        if (!std::isfinite(o.depth[k])) {
+            ++nonfinite;
+            continue;
+        }
+        if (o.depth_span > 0 && std::abs(o.depth[k]) > 0.5 * o.depth_span) ++clamped;
         const Vec2d t = in.gt.uv[k];
         const double zt = in.gt.z.size() == n ? in.gt.z[k] : NAN;
-        if (!std::isfinite(o.depth[k]) || !std::isfinite(t.x) || !std::isfinite(zt)) continue;
+        if (!std::isfinite(t.x) || !std::isfinite(zt)) continue;
         const double truth = in.gt.depth.size() == n
                                  ? in.gt.depth[k]
                                  : depth_offset(view.P[k], view.depth_axis(k), t, zt);
@@ -41,6 +53,10 @@ void add_depth_errors(const MetricInput& in, ResultRow& row) {
         const double eps =
             o.depth_tol.size() == n ? std::max(kTowardEps, o.depth_tol[k]) : kTowardEps;
         toward += o.depth[k] < -eps ? 1 : 0;
+    }
+    if (answered > 0) {
+        row.set("depth_nonfinite", nonfinite);
+        row.set("depth_clamped", clamped);
     }
     if (mag.empty()) return;
     const double count = double(mag.size());
@@ -66,7 +82,7 @@ std::vector<uint8_t> add_cut_flips(const MethodOutput& out, const GroundTruth& g
     if (out.depth.size() != n || gt.uv.size() != n || gt.z.size() != n || view.size() != n)
         return {};
     std::vector<uint8_t> shows(n, 0);
-    double flips = 0, counted = 0;
+    double flips = 0, counted = 0, ties = 0;
     for (size_t k = 0; k < n; ++k) {
         if (!view.is_inside(k) || (exclude && (*exclude)[k])) continue;
         if (!std::isfinite(out.depth[k]) || !std::isfinite(gt.z[k])) continue;
@@ -79,11 +95,18 @@ std::vector<uint8_t> add_cut_flips(const MethodOutput& out, const GroundTruth& g
                                  : depth_offset(view.P[k], view.depth_axis(k), gt.uv[k], gt.z[k]);
         if (!std::isfinite(truth)) continue;
         const bool shown_true = plane < truth, shown = plane < out.depth[k];
-        flips += shown_true != shown ? 1 : 0;
         shows[k] = uint8_t((shown_true ? 1 : 0) | (shown ? 2 : 0));
         ++counted;
+        const double tau =
+            out.depth_tol.size() == n ? std::max(kCutTieTau, out.depth_tol[k]) : kCutTieTau;
+        if (std::isfinite(plane) && std::abs(out.depth[k] - plane) <= tau) {
+            ++ties;  // decided by rounding: out of cut_flip_frac
+            continue;
+        }
+        flips += shown_true != shown ? 1 : 0;
     }
-    if (counted > 0) row.set("cut_flip_frac", flips / counted);
+    if (counted > 0) row.set("cut_tie_frac", ties / counted);
+    if (counted > ties) row.set("cut_flip_frac", flips / (counted - ties));
     return shows;
 }
 
@@ -99,9 +122,17 @@ const Metric& depth_metric() {
           "mean signed depth written - true depth (tiles; > 0: behind the true surface)"},
          {"depth_toward_frac", kNum, kMeasured,
           "fraction of samples whose written depth lies nearer the eye than the polygon's"},
+         {"depth_nonfinite", kNum, kMeasured,
+          "samples with a uv whose written depth is not finite (NaN or infinite: not scored)"},
+         {"depth_clamped", kNum, kMeasured,
+          "samples whose written depth lies beyond what the GL depth target holds (|depth| > "
+          "span / 2: a depth buffer clamps it; scored with the value written)"},
          {"cut_flip_frac", kNum, kMeasured,
           "[views] cut: fraction of samples where the depth test against the plane shows the "
-          "other of plane and surface than the truth"}}};
+          "other of plane and surface than the truth (ties left out)"},
+         {"cut_tie_frac", kNum, kMeasured,
+          "[views] cut: fraction of samples whose written depth is within rounding of the "
+          "plane's (1e-7 tiles, or four float steps in float): left out of cut_flip_frac"}}};
     return m;
 }
 

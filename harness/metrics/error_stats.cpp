@@ -23,6 +23,8 @@ void add_error_stats(const MetricInput& in, ResultRow& row) {
             continue;
         }
         if (!in.truth_shows(k)) continue;  // curved bases: cover_extra_frac counts it
+        if (in.out.discarded.size() == uv.size() && in.out.discarded[k])
+            continue;  // samples_discarded (and on curved bases cover_missing_frac) count it
         if (in.exclude && (*in.exclude)[k]) {
             ++excluded;
             continue;

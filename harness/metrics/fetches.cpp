@@ -16,6 +16,8 @@ void add_fetches(const MetricInput& in, ResultRow& row) {
     int most = 0;
     for (size_t k = 0; k < in.out.fetches.size(); ++k) {
         if (!in.inside(k)) continue;
+        // a discarded sample's fetches are not known on the GL side: not counted on either
+        if (in.out.discarded.size() == in.out.fetches.size() && in.out.discarded[k]) continue;
         const int f = in.out.fetches[k];
         ++n;
         sum += f;

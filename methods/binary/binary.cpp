@@ -29,10 +29,9 @@ struct Binary {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("iterations")};
     }
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) { return c.iterations; }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const Vec2<T> dir = sc.V.xy() * (T(1) / sc.V.z);
         const T z0 = sc.z_top();
         const Vec2<T> uv0 = P + dir * z0;
@@ -44,7 +43,8 @@ struct Binary {
             if (g > T(0)) lo = mid;
             else hi = mid;
         }
-        return uv0 + duv * ((lo + hi) * T(0.5));
+        const T t = (lo + hi) * T(0.5);
+        return {uv0 + duv * t, z0 - sc.scale * t};
     }
 };
 PXH_REGISTER_METHOD(Binary);

@@ -11,5 +11,7 @@ vec2 pxh_method(vec2 P) {
         float g = (z0 - u_scale * mid) - pxh_z(uv0 + duv * mid);
         if (g > 0.0) lo = mid; else hi = mid;
     }
-    return uv0 + duv * ((lo + hi) * 0.5);
+    float t = (lo + hi) * 0.5;
+    pxh_write_hit(z0 - u_scale * t);
+    return uv0 + duv * t;
 }

@@ -102,7 +102,6 @@ struct Cone {
                 index_of(p.get_name("refine"), {"none", "linear", "binary"}),
                 p.get_int("refine_steps")};
     }
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) {
         return c.steps + 1 + (c.refine == 1 ? 2 : (c.refine == 2 ? c.refine_steps : 0));
     }
@@ -158,8 +157,8 @@ struct Cone {
 
     // The ray at depth t (units of h below the slab top) is at uv0 + m t, height 1 - t.
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
-                        ResourceSamplers<T>& res, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
+                             ResourceSamplers<T>& res, Vec2<T> P) {
         const Vec2<T> D = sc.V.xy() * (T(1) / sc.V.z);
         const Vec2<T> uv0 = P + D * sc.z_top();
         const Vec2<T> m = D * (-sc.scale);
@@ -185,9 +184,10 @@ struct Cone {
             q = uv0 + m * t;
             tex = res[0].fetch(q, 0);
         }
-        if (c.refine == 1) return uv0 + m * refine_linear(res, uv0, m, t_last, t);
-        if (c.refine == 2) return uv0 + m * refine_binary(res, uv0, m, t_last, t, c.refine_steps);
-        return q;
+        if (c.refine == 1) t = refine_linear(res, uv0, m, t_last, t);
+        else if (c.refine == 2) t = refine_binary(res, uv0, m, t_last, t, c.refine_steps);
+        else return {q, sc.z_top() - sc.scale * t};
+        return {uv0 + m * t, sc.z_top() - sc.scale * t};
     }
 };
 PXH_REGISTER_METHOD(Cone);

@@ -76,7 +76,9 @@ vec2 pxh_method(vec2 P) {
         q = uv0 + m * t;
         tex = pxh_texture(r_cone, q, 0);
     }
-    if (p_refine == 1) return uv0 + m * pxh_cone_refine_linear(uv0, m, t_last, t);
-    if (p_refine == 2) return uv0 + m * pxh_cone_refine_binary(uv0, m, t_last, t);
+    if (p_refine == 1) t = pxh_cone_refine_linear(uv0, m, t_last, t);
+    else if (p_refine == 2) t = pxh_cone_refine_binary(uv0, m, t_last, t);
+    pxh_write_hit(pxh_z_top() - u_scale * t);
+    if (p_refine == 1 || p_refine == 2) return uv0 + m * t;
     return q;
 }

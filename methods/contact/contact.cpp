@@ -48,9 +48,9 @@ struct Contact {
         return kmax + 1 + std::max(kmax - 1, 0);
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const LayerSearch<T> r = layer_search(c.layers, sc, hs, P);
-        if (r.k == 0 || !r.crossed) return r.uv_at(T(r.k));
+        if (r.k == 0 || !r.crossed) return {r.uv_at(T(r.k)), r.z_at(T(r.k))};
         const T base = T(r.k - 1), sub = T(1) / r.n;
         const int jmax = int(std::ceil(r.n)) - 1;
         T xa = base, ga = r.g_prev, xb = T(r.k), gb = r.g_k;
@@ -65,11 +65,12 @@ struct Contact {
             xa = x;
             ga = g;
         }
-        if (!c.lerp) return r.uv_at(xb);
+        if (!c.lerp) return {r.uv_at(xb), r.z_at(xb)};
         const T denom = gb - ga;  // < 0 since ga > 0 >= gb
-        if (!(denom < T(0))) return r.uv_at(xb);
+        if (!(denom < T(0))) return {r.uv_at(xb), r.z_at(xb)};
         const T w = std::clamp(gb / denom, T(0), T(1));
-        return r.uv_at(xa) * w + r.uv_at(xb) * (T(1) - w);
+        return {r.uv_at(xa) * w + r.uv_at(xb) * (T(1) - w),
+                r.z_at(xa) * w + r.z_at(xb) * (T(1) - w)};
     }
 };
 PXH_REGISTER_METHOD(Contact);

@@ -52,7 +52,7 @@ struct CurvedRelief {
         return c.steps + c.binary_steps;
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const Vec3<T> V = sc.V;
         const T q = T(0.5) * (sc.curvature.x * V.x * V.x + sc.curvature.y * V.y * V.y);
         const T zt = sc.z_top(), zb = sc.z_bot();  // s (1 - b), -s b
@@ -74,9 +74,10 @@ struct CurvedRelief {
             if (above(l)) l += size;
             else l -= size;
         }
-        if (l > l_end)
-            return {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-        return uv_at(l);
+        if (l > l_end) return MethodHit<T>::none();
+        // the eye ray's point at l in the tangent frame (P - V l): its height -V.z l (the
+        // method's curved comparison is against the base bending away below it)
+        return {uv_at(l), -V.z * l};
     }
 };
 PXH_REGISTER_METHOD(CurvedRelief);

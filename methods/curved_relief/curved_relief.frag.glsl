@@ -27,5 +27,6 @@ vec2 pxh_method(vec2 P) {
         else l -= size;
     }
     if (l > l_end) discard;
+    pxh_write_hit(-V.z * l);  // the eye ray's point at l (curved_relief.cpp)
     return pxh_cr_uv(P, l);
 }

@@ -160,7 +160,6 @@ struct Distance {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("iterations"), p.get_int("slices")};
     }
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) { return 8 * c.iterations; }
     static GlUniforms gl_uniforms(const Config& c) {
         return {GlUniform::integer("p_atlas_cols", atlas_cols(c.slices))};
@@ -203,8 +202,8 @@ struct Distance {
         return s[0] + (s[1] - s[0]) * fz;
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
-                        ResourceSamplers<T>& res, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
+                             ResourceSamplers<T>& res, Vec2<T> P) {
         const T D = T(c.slices);
         const Vec2<T> E = P + sc.V.xy() * (sc.z_top() / sc.V.z);
         const T kz = sc.V.z * D / sc.scale;  // dZ / dtau
@@ -216,7 +215,8 @@ struct Distance {
             const T Z = D - tau * kz;
             tau = tau + sample(res[0], sc, c.slices, uv, Z) / L;
         }
-        return E - sc.V.xy() * tau;
+        // uv = P + V.xy / V.z (z_top - V.z tau): the eye ray's point at z_top - V.z tau
+        return {E - sc.V.xy() * tau, sc.z_top() - sc.V.z * tau};
     }
 };
 PXH_REGISTER_METHOD(Distance);

@@ -51,5 +51,6 @@ vec2 pxh_method(vec2 P) {
         float Z = D - tau * kz;
         tau = tau + pxh_distance(uv, Z) / L;
     }
+    pxh_write_hit(pxh_z_top() - pxh_V.z * tau);
     return E - pxh_V.xy * tau;
 }

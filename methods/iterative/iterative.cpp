@@ -76,8 +76,8 @@ struct Iterative {
         return c.iterations * (c.slope ? 2 : 1);
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs,
-                        ResourceSamplers<T>& res, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs,
+                             ResourceSamplers<T>& res, Vec2<T> P) {
         Vec2<T> uv = P;
         T zeta = T(0);
         for (int i = 0; i < c.iterations; ++i) {
@@ -92,7 +92,7 @@ struct Iterative {
             uv = uv + sc.V.xy() * d;
             zeta = zeta + sc.V.z * d;
         }
-        return uv;
+        return {uv, zeta};  // uv - P = V.xy t, zeta = V.z t: the eye ray's point
     }
 };
 PXH_REGISTER_METHOD(Iterative);

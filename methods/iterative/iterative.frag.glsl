@@ -18,5 +18,6 @@ vec2 pxh_method(vec2 P) {
         uv = uv + pxh_V.xy * d;
         zeta = zeta + pxh_V.z * d;
     }
+    pxh_write_hit(zeta);
     return uv;
 }

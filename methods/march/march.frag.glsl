@@ -53,9 +53,17 @@ int pm_kmax(float n, int extra, int max_steps, int first) {
 // The march's state, shared by the search and its refinements.
 vec2 pm_uv0, pm_duv;
 float pm_z0, pm_dz, pm_lag_k, pm_n;
+// The layered search's answer height z_m on its own line (march.h: MethodHit::z), and the
+// surface height HDRP's depth offset reads (the last probe's, at the unfaded uv: engine_z).
+float pm_zm = 0.0, pm_engine_z = 0.0;
+bool pm_engine_z_set = false;
 vec2 pm_uv_at(float x) { return pm_uv0 + pm_duv * x; }
-vec2 pm_answer(float x) { return pm_uv_at(pm_clamp_depth ? clamp(x, 0.0, pm_n) : x); }
 float pm_ray_z(float x) { return pm_z0 - pm_dz * x; }
+vec2 pm_answer(float x) {
+    float xc = pm_clamp_depth ? clamp(x, 0.0, pm_n) : x;
+    pm_zm = pm_ray_z(xc);
+    return pm_uv_at(xc);
+}
 float pm_g(float x, float zs) { return pm_ray_z(x - pm_lag_k) - zs; }
 bool pm_hit(float g) { return pm_compare == 1 ? g < 0.0 : g <= 0.0; }
 
@@ -121,7 +129,6 @@ vec2 pm_march_search(vec2 P) {
     if (pm_search == 0) return pm_offset(P, d);
     float s = u_scale, b = u_bias;
     d = pm_direction();
-    pxh_hit_dir = d;  // its hit lies on its own line (methods/march/preset.h: hit_direction)
     float texels = pm_count == 6 ? pm_texels(d, max(pxh_lod(), 0.0)) : 0.0;
     float n = pm_layer_count(texels);
     pm_n = n;
@@ -163,9 +170,13 @@ vec2 pm_march_search(vec2 P) {
         float denom = gk - gp;
         float w = gk / denom;
         if (pm_clamp_weight) {
-            if (!(denom < 0.0)) return pm_uv_at(float(k));
+            if (!(denom < 0.0)) {
+                pm_zm = pm_ray_z(float(k));
+                return pm_uv_at(float(k));
+            }
             w = clamp(w, 0.0, 1.0);
         }
+        pm_zm = pm_ray_z(float(k - 1)) * w + pm_ray_z(float(k)) * (1.0 - w);
         return pm_uv_at(float(k - 1)) * w + pm_uv_at(float(k)) * (1.0 - w);
     }
     if (pm_refine == 2) return pm_bisect(k, gk);
@@ -186,6 +197,7 @@ int pm_full_fetches(float L) {
 vec2 pm_march(vec2 P) {
     float L = max(pxh_lod(), 0.0);
     float t = pm_lod_threshold;
+    pm_zm = 0.0;  // P itself (the search not run)
     if (pm_lod_fade == 2 && L > t) return P;
     float f = 1.0;
     if (pm_lod_fade == 3) {
@@ -201,11 +213,20 @@ vec2 pm_march(vec2 P) {
         while (pxh_fetches - fetched_before < full) pxh_height(uv);
     }
     if (pm_lod_fade == 1) f = 1.0 - clamp(L - t, 0.0, 1.0);
+    bool layered = pm_search != 0;
     if (pm_lod_fade == 1 || pm_lod_fade == 3) {
-        if (f < 1.0) uv = P + (uv - P) * f;
+        if (f < 1.0) {
+            if (pm_depth_offset == 1) {
+                pm_engine_z = u_scale * (pxh_height_uncounted(uv) - u_bias);
+                pm_engine_z_set = true;
+            }
+            uv = P + (uv - P) * f;
+            if (layered) pm_zm = pm_zm * f;
+        }
     } else if (pm_lod_fade == 2 && L > t - 1.0) {
         float frac = L - floor(L);
         uv = uv + (P - uv) * frac;
+        if (layered) pm_zm = pm_zm - pm_zm * frac;
     }
     return uv;
 }
@@ -214,10 +235,10 @@ vec2 pm_march(vec2 P) {
 float pm_engine_depth(vec2 P, vec2 uv) {
     vec3 V = pxh_V, f = pxh_depth_axis;
     float vf = dot(V, f);
-    float dd = dot(pxh_hit_dir, pxh_hit_dir);
     float z_surface = u_scale * (pxh_height_uncounted(uv) - u_bias);
-    float z_line = pm_search == 0 || !(dd >= 1e-12) ? z_surface : dot(uv - P, pxh_hit_dir) / dd;
-    if (pm_depth_offset == 1) return -vf * (pxh_z_top() - z_surface) / max(V.z, 1e-4);
+    float z_line = pm_search == 0 ? z_surface : pm_zm;
+    float z_engine = pm_engine_z_set ? pm_engine_z : z_surface;
+    if (pm_depth_offset == 1) return -vf * (pxh_z_top() - z_engine) / max(V.z, 1e-4);
     if (pm_depth_offset == 2) {
         if (pm_search == 0) return dot(vec3(uv - P, 0.0), f);
         if (z_line > 0.0) return 0.0;
@@ -230,6 +251,7 @@ float pm_engine_depth(vec2 P, vec2 uv) {
 
 vec2 pxh_method(vec2 P) {
     vec2 uv = pm_march(P);
+    if (pm_search != 0) pxh_write_hit(pm_zm);
     if (u_depth_mode == 2) pxh_write_engine_depth(pm_engine_depth(P, uv));
     return uv;
 }

@@ -121,22 +121,25 @@ int march_kmax(const MarchConfig& c, T n) {
 }
 
 // The search and its refinement (the knobs up to tolerance); march() below adds what the
-// engines do around it.
+// engines do around it. The layered search hands back its answer's height on its own line
+// (z = z0 - dz x at the answer's layer position x: the layer's, or the refined one's); the
+// offset search is one fetch (z_m: the surface at uv, MethodHit::z NaN).
 template <typename T>
-Vec2<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+MethodHit<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs,
+                          Vec2<T> P) {
     Vec2<T> d = sc.V.xy();
     if (c.mirror_v) d.y = -d.y;
     if (c.search == MarchConfig::Offset) {
         const T z = hs.z(P);
         switch (c.offset_form) {
             case MarchConfig::OffSin:
-                return P + d * z;
+                return {P + d * z};
             case MarchConfig::OffSoft:
-                return P + d * (z / (sc.V.z + T(c.offset_soften)));
+                return {P + d * (z / (sc.V.z + T(c.offset_soften)))};
             case MarchConfig::OffSinCos:
-                return P + d * (z * sc.V.z);
+                return {P + d * (z * sc.V.z)};
             default:
-                return P + d * (z / sc.V.z);
+                return {P + d * (z / sc.V.z)};
         }
     }
     const T s = sc.scale, b = sc.bias;
@@ -152,8 +155,11 @@ Vec2<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>&
     const Vec2<T> uv0 = P + d * z0;
     auto uv_at = [&](T x) { return uv0 + duv * x; };
     // The uv of an answer that is a layer (clamp_depth: inside the slab).
-    auto answer = [&](T x) { return uv_at(c.clamp_depth ? std::clamp(x, T(0), n) : x); };
     auto ray_z = [&](T x) { return z0 - dz * x; };
+    auto answer = [&](T x) {
+        const T xc = c.clamp_depth ? std::clamp(x, T(0), n) : x;
+        return MethodHit<T>{uv_at(xc), ray_z(xc)};
+    };
     T lag = c.lag ? T(1) : T(0);
     auto g_of = [&](T x, T zs) { return ray_z(x - lag) - zs; };
     auto hit = [&](T g) { return c.compare == MarchConfig::Lt ? g < T(0) : g <= T(0); };
@@ -191,10 +197,11 @@ Vec2<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>&
             const T denom = gk - gp;
             T w = gk / denom;
             if (c.clamp_weight) {
-                if (!(denom < T(0))) return uv_at(T(k));
+                if (!(denom < T(0))) return {uv_at(T(k)), ray_z(T(k))};
                 w = std::clamp(w, T(0), T(1));
             }
-            return uv_at(T(k - 1)) * w + uv_at(T(k)) * (T(1) - w);
+            return {uv_at(T(k - 1)) * w + uv_at(T(k)) * (T(1) - w),
+                    ray_z(T(k - 1)) * w + ray_z(T(k)) * (T(1) - w)};
         }
         case MarchConfig::Bisect: {
             T x = T(k), step = T(1), g = gk;
@@ -264,21 +271,30 @@ int march_full_fetches(const MarchConfig& c, const Scene<T>& sc, T texels) {
 //   texels (PlayCanvas' occlusion mode): f = clamp((m - fade_texels_min) / (fade_texels_max -
 //     fade_texels_min), 0, 1), m = march_texels at L; f = 0: P, the search not run; else
 //     uv = P + (uv - P) f, applied only when f < 1.
+//
+// The hit's height z_m moves with the uv (the faded point on its own line: z_m f, z_m (1 - frac);
+// P itself: 0); the offset search's stays the surface's at the final uv. engine_z (HDRP's depth
+// offset reads it): the last probe's surface height at the unfaded uv, as HDRP's
+// ParallaxOcclusionMapping sets outHeight = currHeight before its fade scales the offset.
 template <typename T>
-Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+MethodHit<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
     const T L = std::max(hs.lod(), T(0));
     const T t = T(c.lod_threshold);
-    if (c.lod_fade == MarchConfig::FadeDxsdk && L > t) return P;
+    const bool layered = c.search != MarchConfig::Offset;
+    // P itself, the search not run: a layered search's line is at 0 there
+    const MethodHit<T> at_P{P, layered ? T(0) : std::numeric_limits<T>::quiet_NaN()};
+    if (c.lod_fade == MarchConfig::FadeDxsdk && L > t) return at_P;
     T f = T(1);
     if (c.lod_fade == MarchConfig::FadeTexels) {
         const T m =
             march_texels(sc, march_direction(c, sc), hs.field().width, hs.field().height, L);
         const T lo = T(c.fade_texels_min), hi = T(c.fade_texels_max);
         f = std::clamp((m - lo) / (hi - lo), T(0), T(1));
-        if (!(f > T(0))) return P;
+        if (!(f > T(0))) return at_P;
     }
     const int fetched_before = hs.fetches;
-    Vec2<T> uv = march_search(c, sc, hs, P);
+    MethodHit<T> r = march_search(c, sc, hs, P);
+    Vec2<T>& uv = r.uv;
     if (c.pad_fetches) {
         const T texels =
             c.count == MarchConfig::Texels
@@ -289,12 +305,21 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
     }
     if (c.lod_fade == MarchConfig::FadeHdrp) f = T(1) - std::clamp(L - t, T(0), T(1));
     if (c.lod_fade == MarchConfig::FadeHdrp || c.lod_fade == MarchConfig::FadeTexels) {
-        if (f < T(1)) uv = P + (uv - P) * f;
+        if (f < T(1)) {
+            if (c.depth_offset == MarchConfig::PdoHdrp) {
+                const int before = hs.fetches;  // the engine's last probe (already counted)
+                r.engine_z = hs.z(uv);
+                hs.fetches = before;
+            }
+            uv = P + (uv - P) * f;
+            if (layered) r.z = r.z * f;
+        }
     } else if (c.lod_fade == MarchConfig::FadeDxsdk && L > t - T(1)) {
         const T frac = L - std::floor(L);
         uv = uv + (P - uv) * frac;
+        if (layered) r.z = r.z - r.z * frac;
     }
-    return uv;
+    return r;
 }
 
 // The depth the engine writes (depth = engine; docs/conventions.md section 11), as depth(X_w)
@@ -303,8 +328,9 @@ Vec2<T> march(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Ve
 //   hdrp (Unity HDRP: ApplyPerPixelDisplacement returns depthOffset = (maxHeight - h maxHeight) /
 //     ClampNdotV(NdotV), h the last probe's height; ApplyDepthOffsetPositionInput moves the
 //     position by depthOffset (-V) and reprojects it): X_w = P - V (z_top - z_s) / max(V.z,
-//     1e-4), z_s = s (h(uv_m) - b) (pxh samples h at the faded uv where lod_fade moved it; HDRP
-//     at the unfaded one).
+//     1e-4), z_s = s (h - b) with h the last probe's, at the unfaded uv
+//     (PerPixelDisplacement.hlsl @ c8df1d81db96, ParallaxOcclusionMapping: outHeight =
+//     currHeight, then offset *= 1 - saturate(lod - lodThreshold); MethodHit::engine_z).
 //   o3de (O3DE CalcPixelDepthOffset: the tangent-space offset, its z the marched depth,
 //     reprojected through viewProj; an offset whose z ends above the polygon is zeroed): the
 //     layered search: X_w = (uv_m, z_line), P where z_line > 0; the offset search (Basic, whose
@@ -321,7 +347,7 @@ inline double march_engine_depth(const MarchConfig& c, const EngineDepthInput& i
     switch (c.depth_offset) {
         case MarchConfig::PdoHdrp: {
             const double z_top = in.scale * (1 - in.bias);
-            return -vf * (z_top - in.z_surface) / std::max(V.z, 1e-4);
+            return -vf * (z_top - in.z_engine) / std::max(V.z, 1e-4);
         }
         case MarchConfig::PdoO3de: {
             if (c.search == MarchConfig::Offset) return depth_offset(in.P, f, in.uv, 0.0);

@@ -74,7 +74,7 @@ struct MarchPreset {
         return march_direction(c, sc);
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         return march(c, sc, hs, P);
     }
 };

@@ -94,11 +94,10 @@ struct MaxMip {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("max_iterations")};
     }
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) { return c.max_iterations; }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
-                        ResourceSamplers<T>& res, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
+                             ResourceSamplers<T>& res, Vec2<T> P) {
         return maxmip::traverse<T>(sc, res[0], P, c.max_iterations, nullptr);
     }
 };

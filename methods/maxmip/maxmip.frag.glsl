@@ -107,7 +107,7 @@ vec2 pxh_method(vec2 P) {
     int L = clamp(findMSB(max(int(min(travel, 1e9)), 1)), 0, top);
     int ci = int(floor(r.X0)), cj = int(floor(r.Y0));
     float tau_cur = 0.0;
-    vec2 out_uv = mm_at(r, r.tau_max);
+    float t_out = r.tau_max;
     bool done = false;
     for (int it = 0; !done && it < p_max_iterations; ++it) {
         int ti = mm_floor_div(ci, W), tj = mm_floor_div(cj, H);
@@ -134,7 +134,7 @@ vec2 pxh_method(vec2 P) {
             }
             float t = mm_solve_cell(r, f, ci, cj, tau_out);
             if (t >= 0.0) {
-                out_uv = mm_at(r, t);
+                t_out = t;
                 done = true;
                 continue;
             }
@@ -156,6 +156,7 @@ vec2 pxh_method(vec2 P) {
         ci = nci;
         cj = ncj;
     }
-    if (!done) out_uv = mm_at(r, tau_cur);
-    return out_uv;
+    if (!done) t_out = tau_cur;
+    pxh_write_hit(r.zt - t_out * r.vz);
+    return mm_at(r, t_out);
 }

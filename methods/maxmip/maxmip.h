@@ -15,6 +15,7 @@
 
 #include "harness/core/vec.h"
 #include "harness/scene/scene.h"
+#include "methods/depth.h"
 #include "methods/resource.h"
 
 namespace pxh::maxmip {
@@ -155,12 +156,12 @@ inline std::array<int, 2> parent_of(int ci, int cj, int L, int W, int H) {
     return {ti * nodes_at(W, L + 1) + px, tj * nodes_at(H, L + 1) + py};
 }
 
-// The traversal. tex: r_maxmip. Returns the hit's uv (unwrapped); at the slab bottom R(tau_max)
-// when no cell is hit; after max_iterations the ray point where it stood. *iterations (if given):
-// the iterations (= fetches) it took.
+// The traversal. tex: r_maxmip. Returns the hit's uv (unwrapped) and the ray's height there; at
+// the slab bottom R(tau_max) when no cell is hit; after max_iterations the ray point where it
+// stood. *iterations (if given): the iterations (= fetches) it took.
 template <typename T>
-Vec2<T> traverse(const Scene<T>& sc, TextureSampler<T>& tex, Vec2<T> P, int max_iterations,
-                 int* iterations) {
+MethodHit<T> traverse(const Scene<T>& sc, TextureSampler<T>& tex, Vec2<T> P, int max_iterations,
+                      int* iterations) {
     const Ray<T> r = make_ray(sc, P);
     const int W = sc.width, H = sc.height, top = top_level(W, H);
     const T inf = std::numeric_limits<T>::infinity();
@@ -168,7 +169,7 @@ Vec2<T> traverse(const Scene<T>& sc, TextureSampler<T>& tex, Vec2<T> P, int max_
     int ci = int(std::floor(r.X0)), cj = int(std::floor(r.Y0));
     T tau_cur = T(0);
     int it = 0;
-    Vec2<T> out = r.at(r.tau_max);
+    T t_out = r.tau_max;
     bool done = false;
     while (!done && it < max_iterations) {
         ++it;
@@ -196,13 +197,13 @@ Vec2<T> traverse(const Scene<T>& sc, TextureSampler<T>& tex, Vec2<T> P, int max_
             }
             const T t = solve_cell(r, sc, f, ci, cj, tau_out);
             if (t >= T(0)) {
-                out = r.at(t);
+                t_out = t;
                 done = true;
                 continue;
             }
         }
         if (tau_out >= r.tau_max) {
-            done = true;  // out = R(tau_max): at the slab bottom the ray is on or below
+            done = true;  // R(tau_max): at the slab bottom the ray is on or below
             continue;
         }
         tau_cur = tau_out;
@@ -221,9 +222,9 @@ Vec2<T> traverse(const Scene<T>& sc, TextureSampler<T>& tex, Vec2<T> P, int max_
         ci = nci;
         cj = ncj;
     }
-    if (!done) out = r.at(tau_cur);
+    if (!done) t_out = tau_cur;
     if (iterations) *iterations = it;
-    return out;
+    return {r.at(t_out), r.zt - t_out * r.vz};
 }
 
 }  // namespace pxh::maxmip

@@ -30,7 +30,6 @@ struct PixelStep {
         return {p.get_int("max_steps")};
     }
     // Steps needed to rise through the slab: s W tan(theta), plus one for rounding.
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>& sc) {
         const double vxy = std::hypot(sc.V.x, sc.V.y);
         if (vxy == 0) return 0;
@@ -38,9 +37,9 @@ struct PixelStep {
         return int(std::min<double>(need, c.max_steps)) + 1;
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const T vxy = std::sqrt(sc.V.x * sc.V.x + sc.V.y * sc.V.y);
-        if (vxy == T(0)) return P;
+        if (vxy == T(0)) return {P};  // no step to take: the surface at P (not fetched)
         const T texel = T(1) / T(sc.width);
         const Vec2<T> q0 = P + sc.V.xy() * (sc.z_bot() / sc.V.z);
         const Vec2<T> step = sc.V.xy() * (texel / vxy);
@@ -53,7 +52,7 @@ struct PixelStep {
             ++k;
             q = q0 + step * T(k);
         }
-        return q;
+        return {q, zb + T(k) * rise};  // the ray's height at q
     }
     template <typename T>
     static Scene<double> scene_cast_back(const Scene<T>& s) {

@@ -16,5 +16,6 @@ vec2 pxh_method(vec2 P) {
         k += 1;
         q = q0 + stp * float(k);
     }
+    pxh_write_hit(zb + float(k) * rise);
     return q;
 }

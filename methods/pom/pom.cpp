@@ -18,15 +18,17 @@ struct Pom : LayeredMethod {
             70};
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const LayerSearch<T> r = layer_search(c, sc, hs, P);
-        const Vec2<T> uv_k = r.uv_at(T(r.k));
+        const MethodHit<T> at_k{r.uv_at(T(r.k)), r.z_at(T(r.k))};
         // k = 0, or stopped by the bound without crossing: no bracket to interpolate in.
-        if (r.k == 0 || !r.crossed) return uv_k;
+        if (r.k == 0 || !r.crossed) return at_k;
         const T denom = r.g_k - r.g_prev;  // < 0 since g_{k-1} > 0 >= g_k
-        if (!(denom < T(0))) return uv_k;
+        if (!(denom < T(0))) return at_k;
         const T w = std::clamp(r.g_k / denom, T(0), T(1));
-        return r.uv_at(T(r.k - 1)) * w + uv_k * (T(1) - w);
+        // z_m = w z_{k-1} + (1 - w) z_k: the ray's height at the interpolated point
+        return {r.uv_at(T(r.k - 1)) * w + at_k.uv * (T(1) - w),
+                r.z_at(T(r.k - 1)) * w + at_k.z * (T(1) - w)};
     }
 };
 PXH_REGISTER_METHOD(Pom);

@@ -92,13 +92,12 @@ struct Qdm {
     static Config configure(const ParamValues& p, const std::string&) {
         return {p.get_int("max_iterations"), p.get_bool("refine")};
     }
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) {
         return c.max_iterations + (c.refine ? 2 : 0);
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs,
-                        ResourceSamplers<T>& res, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs,
+                             ResourceSamplers<T>& res, Vec2<T> P) {
         return qdm::trace<T>(sc, hs, res[0], P, c.max_iterations, c.refine, nullptr);
     }
 };

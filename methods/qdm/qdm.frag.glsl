@@ -35,6 +35,7 @@ vec2 pxh_method(vec2 P) {
         level -= 1;
         it += 1;
     }
+    pxh_write_hit(pxh_z_top() - u_scale * z2);
     if (!p_refine) return p2;
     float half_texel = 1.0 / float(2 * W);
     vec2 a = p2 - p;
@@ -46,5 +47,6 @@ vec2 pxh_method(vec2 P) {
     float eb = abs(dB - (1.0 - pxh_height(pb)));
     if (!(ea + eb > 0.0)) return p2;
     float w = ea / (ea + eb);
+    pxh_write_hit(pxh_z_top() - u_scale * (dA * (1.0 - w) + dB * w));
     return pa * (1.0 - w) + pb * w;
 }

@@ -13,6 +13,7 @@
 #include "harness/core/vec.h"
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
+#include "methods/depth.h"
 #include "methods/resource.h"
 
 namespace pxh::qdm {
@@ -65,8 +66,9 @@ Stop<T> traverse(const Scene<T>& sc, TextureSampler<T>& tex, Vec2<T> p, Vec2<T> 
 
 // The source's refinement ("manual bilinear filtering"): the ray points one texel (of uv length)
 // before and after the stop, their distances to the bilinear surface as weights. Two fetches.
+// Returns the refined uv and the ray's height there (z = z_top - s depth on the line p + v depth).
 template <typename T>
-Vec2<T> refine(const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> p, Vec2<T> v, Stop<T> st) {
+MethodHit<T> refine(const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> p, Vec2<T> v, Stop<T> st) {
     const T half = T(1) / T(2 * sc.width);  // TEXEL_SPAN_HALF
     const T delta = half * sc.scale;        // fDeltaNC, added to the length as in the source
     const Vec2<T> a = st.uv - p;
@@ -77,20 +79,21 @@ Vec2<T> refine(const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> p, Vec2<T> v, S
     const T ea = std::abs(dA - (T(1) - hs.height(pa)));
     const T eb = std::abs(dB - (T(1) - hs.height(pb)));
     // Both on the surface (the source divides 0 by 0 here): the stop itself.
-    if (!(ea + eb > T(0))) return st.uv;
+    if (!(ea + eb > T(0))) return {st.uv, sc.z_top() - sc.scale * st.depth};
     const T w = ea / (ea + eb);
-    return pa * (T(1) - w) + pb * w;
+    return {pa * (T(1) - w) + pb * w, sc.z_top() - sc.scale * (dA * (T(1) - w) + dB * w)};
 }
 
 template <typename T>
-Vec2<T> trace(const Scene<T>& sc, HeightSampler<T>& hs, TextureSampler<T>& tex, Vec2<T> P, int cap,
-              bool with_refinement, int* iterations) {
+MethodHit<T> trace(const Scene<T>& sc, HeightSampler<T>& hs, TextureSampler<T>& tex, Vec2<T> P,
+                   int cap, bool with_refinement, int* iterations) {
     const Vec2<T> dir = sc.V.xy() * (T(1) / sc.V.z);
     const Vec2<T> p = P + dir * sc.z_top();
     const Vec2<T> v = dir * (-sc.scale);
     const Stop<T> st = traverse(sc, tex, p, v, cap);
     if (iterations) *iterations = st.iterations;
-    return with_refinement ? refine(sc, hs, p, v, st) : st.uv;
+    if (with_refinement) return refine(sc, hs, p, v, st);
+    return {st.uv, sc.z_top() - sc.scale * st.depth};
 }
 
 }  // namespace pxh::qdm

@@ -79,14 +79,13 @@ struct RelaxedCone {
         return {p.get_int("cone_steps"), p.get_int("binary_steps"),
                 c == "book" ? 0 : (c == "ban" ? 1 : 2)};
     }
-    static HitHeight hit_height(const Config&) { return HitHeight::ray; }  // on the ray
     static int max_fetches(const Config& c, const Scene<double>&) {
         return c.cone_steps + c.binary_steps;
     }
     // Depth t in units of h below the slab top: the ray is at uv0 + m t, height 1 - t.
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
-                        ResourceSamplers<T>& res, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>&,
+                             ResourceSamplers<T>& res, Vec2<T> P) {
         const Vec2<T> D = sc.V.xy() * (T(1) / sc.V.z);
         const Vec2<T> uv0 = P + D * sc.z_top();
         const Vec2<T> m = D * (-sc.scale);
@@ -106,7 +105,7 @@ struct RelaxedCone {
             if (tb < T(1) - tex[0]) tb = tb + range;  // above the surface: forward
             else tb = tb - range;
         }
-        return uv0 + m * tb;
+        return {uv0 + m * tb, sc.z_top() - sc.scale * tb};
     }
 };
 PXH_REGISTER_METHOD(RelaxedCone);

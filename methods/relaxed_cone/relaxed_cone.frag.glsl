@@ -23,5 +23,6 @@ vec2 pxh_method(vec2 P) {
         range = range * 0.5;
         if (tb < 1.0 - tex.r) tb = tb + range; else tb = tb - range;
     }
+    pxh_write_hit(pxh_z_top() - u_scale * tb);
     return uv0 + m * tb;
 }

@@ -32,9 +32,9 @@ struct Relief {
         return max_layer_index(c.layers, sc) + 1 + c.binary_steps;
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const LayerSearch<T> r = layer_search(c.layers, sc, hs, P);
-        if (r.k == 0) return r.uv0;
+        if (r.k == 0) return {r.uv0, r.z0};
         T lo = T(r.k - 1), hi = T(r.k);
         for (int i = 0; i < c.binary_steps; ++i) {
             const T mid = (lo + hi) * T(0.5);
@@ -42,7 +42,8 @@ struct Relief {
             if (g > T(0)) lo = mid;
             else hi = mid;
         }
-        return r.uv_at((lo + hi) * T(0.5));
+        const T x = (lo + hi) * T(0.5);  // the bisection's answer: the ray's point there
+        return {r.uv_at(x), r.z_at(x)};
     }
 };
 PXH_REGISTER_METHOD(Relief);

@@ -53,9 +53,9 @@ struct Secant {
         return max_layer_index(c.layers, sc) + 1 + (c.iterations - 1);
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const LayerSearch<T> r = layer_search(c.layers, sc, hs, P);
-        if (r.k == 0 || !r.crossed) return r.uv_at(T(r.k));
+        if (r.k == 0 || !r.crossed) return {r.uv_at(T(r.k)), r.z_at(T(r.k))};
         T xa = T(r.k - 1), ga = r.g_prev, xb = T(r.k), gb = r.g_k;
         for (int i = 1; i < c.iterations; ++i) {
             const T x = secant_point(xa, ga, xb, gb);
@@ -68,7 +68,8 @@ struct Secant {
                 gb = g;
             }
         }
-        return r.uv_at(secant_point(xa, ga, xb, gb));
+        const T x = secant_point(xa, ga, xb, gb);  // the secant's answer: the ray's point there
+        return {r.uv_at(x), r.z_at(x)};
     }
 };
 PXH_REGISTER_METHOD(Secant);

@@ -9,6 +9,7 @@ float pxh_secant_point(float xa, float ga, float xb, float gb) {
 }
 vec2 pxh_method(vec2 P) {
     PxhLayers r = pxh_layer_search(P);
+    pxh_write_hit(pxh_z_at(r, float(r.k)));
     if (r.k == 0 || !r.crossed) return pxh_uv_at(r, float(r.k));
     float xa = float(r.k - 1), ga = r.g_prev, xb = float(r.k), gb = r.g_k;
     for (int i = 1; i < p_iterations; ++i) {
@@ -22,5 +23,7 @@ vec2 pxh_method(vec2 P) {
             gb = g;
         }
     }
-    return pxh_uv_at(r, pxh_secant_point(xa, ga, xb, gb));
+    float x = pxh_secant_point(xa, ga, xb, gb);
+    pxh_write_hit(pxh_z_at(r, x));
+    return pxh_uv_at(r, x);
 }

@@ -61,8 +61,14 @@ struct SilhouettePom {
     static int max_fetches(const Config& c, const Scene<double>&) {
         return 1 + int(c.layers_max) + c.chase + 1;
     }
+    // Its search line: uv = P + (V.xy / vz) z, vz = max(|V.z|, 0.05) (the eye ray's where
+    // |V.z| >= 0.05).
+    static Vec2d hit_direction(const Config&, Vec3d V, double) {
+        const double vz = std::max(std::abs(V.z), 0.05);
+        return {V.x / vz, V.y / vz};
+    }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const Vec3<T> V = sc.V;
         const T s = sc.scale;
         const T a = std::clamp(std::abs(V.z), T(0), T(1));
@@ -93,9 +99,9 @@ struct SilhouettePom {
         const Vec2<T> prev = uv + duv;
         const T after = L - d, before = D(prev) - (L - dL);
         const T w = std::clamp(after / std::max(after + before, T(1e-4)), T(0), T(1));
-        if (d - L > T(c.miss_tol))
-            return {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-        return uv + (prev - uv) * w;
+        if (d - L > T(c.miss_tol)) return MethodHit<T>::none();
+        // its line uv = P + (V.xy / vz) z, z = s (1 - b - layer): the answer at layer L - w dL
+        return {uv + (prev - uv) * w, s * (T(1) - sc.bias - (L - w * dL))};
     }
 };
 PXH_REGISTER_METHOD(SilhouettePom);

@@ -38,5 +38,6 @@ vec2 pxh_method(vec2 P) {
     float after = L - d, before = pxh_sp_D(prev) - (L - dL);
     float w = clamp(after / max(after + before, 1e-4), 0.0, 1.0);
     if (d - L > p_miss_tol) discard;
+    pxh_write_hit(s * (1.0 - u_bias - (L - w * dL)));  // its line's height (silhouette_pom.cpp)
     return uv + (prev - uv) * w;
 }

@@ -15,9 +15,9 @@ struct Steep : LayeredMethod {
                 60};
     }
     template <typename T>
-    static Vec2<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
+    static MethodHit<T> eval(const Config& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P) {
         const LayerSearch<T> r = layer_search(c, sc, hs, P);
-        return r.uv_at(T(r.k));
+        return {r.uv_at(T(r.k)), r.z_at(T(r.k))};
     }
 };
 PXH_REGISTER_METHOD(Steep);

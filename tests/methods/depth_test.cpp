@@ -37,10 +37,24 @@ const char* const kSome[] = {"parallax", "parallax_limited", "steep",    "pom", 
                              "qdm",      "godot_deep",       "hdrp_pom", "o3de_pom", "o3de_basic",
                              "jme_steep"};
 
+// `engine` only on the engine presets (a method with no engine formula refuses it).
+// The rows methods_with("[\"base\", \"hit\", \"engine\"]") gives per view.
+int settings_with_engine() {
+    int n = 0;
+    for (const char* name : kSome) n += find_method(name)->engine_depth ? 3 : 2;
+    return n;
+}
+
 std::string methods_with(const std::string& depth) {
     std::string m;
-    for (const char* name : kSome)
-        m += std::string("[[methods]]\nname = \"") + name + "\"\ndepth = " + depth + "\n";
+    for (const char* name : kSome) {
+        std::string d = depth;
+        if (!find_method(name)->engine_depth) {
+            const size_t at = d.find(", \"engine\"");
+            if (at != std::string::npos) d.erase(at, 10);
+        }
+        m += std::string("[[methods]]\nname = \"") + name + "\"\ndepth = " + d + "\n";
+    }
     return m;
 }
 
@@ -108,35 +122,104 @@ TEST(Depth, TheExactMethodsHitIsTheTruthsDepth) {
     }
 }
 
-// Every method that declares its hit on a search line (HitHeight::ray) returns a point of that
-// line: uv = P + d z for its d (hit_direction, else V.xy / V.z), in double, on a random field.
-TEST(Depth, RayMethodsAnswerOnTheirDeclaredLine) {
+// Every registered method with a C++ twin (no skip list: resources built, every engine preset)
+// hands back the height z_m of its own answer (docs/conventions.md section 8): a search's point
+// (uv_m, z_m) lies on its own line uv = P + d z (hit_direction, else V.xy / V.z), checked in uv
+// so that nothing is divided by tan(theta) (at theta = 0 uv_m = P whatever z_m); a single-step
+// method's z_m is the surface's at uv_m. Float and double, theta 0, 1e-4, 30 and 80 degrees.
+TEST(Depth, EveryMethodWritesAPointOfItsOwnRay) {
     const HeightField hf = test::random_field(32, 32, 7);
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(0, 1);
-    int checked = 0;
+    int searches = 0, single = 0;
     for (const MethodInfo& m : all_methods()) {
-        if (!m.run_double) continue;
+        if (!m.run_double) continue;  // a plug-in: pxh_write_hit, tested on the GL side
         const ParamValues p = test::params_for(m);
-        if (m.hit_height_of(p) != HitHeight::ray) continue;
-        if (!m.resources.empty()) continue;  // built maps: covered by the GLSL test's qdm rows
-        for (double theta : {25.0, 55.0, 75.0}) {
-            const Scene<double> sc = test::make_scene(hf, 0.06, 1.0, theta, 360 * u(rng));
-            const std::vector<Vec2d> P = test::random_points(64, 5);
-            const std::vector<Vec2d> uv = test::run_method<double>(m, p, sc, hf, P);
-            const Vec2d d =
-                m.hit_direction ? m.hit_direction(p, sc.V, sc.scale) : eye_ray_direction(sc.V);
-            const double len = std::hypot(d.x, d.y);
-            for (size_t k = 0; k < P.size(); ++k) {
-                if (!std::isfinite(uv[k].x)) continue;
-                const Vec2d e{uv[k].x - P[k].x, uv[k].y - P[k].y};
-                EXPECT_LT(std::abs(e.x * d.y - e.y * d.x) / len, 1e-9)
-                    << m.name << " theta " << theta << " sample " << k;
+        const double b = std::isnan(m.required_bias) ? 1.0 : m.required_bias;
+        const bool ray = m.hit_height_of(p) == HitHeight::ray;
+        for (double theta : {0.0, 1e-4, 30.0, 80.0}) {
+            const Scene<double> sc = test::make_scene(hf, 0.06, b, theta, 360 * u(rng));
+            const std::vector<Vec2d> P = test::random_points(48, 5);
+            for (int prec = 0; prec < 2; ++prec) {
+                std::vector<double> z;
+                const std::vector<Vec2d> uv =
+                    prec ? test::run_method<double>(m, p, sc, hf, P, nullptr, nullptr, &z)
+                         : test::run_method<float>(m, p, sc, hf, P, nullptr, nullptr, &z);
+                const Vec2d d =
+                    m.hit_direction ? m.hit_direction(p, sc.V, sc.scale) : eye_ray_direction(sc.V);
+                // float: P is rounded to float, the line followed in float (a few steps of |uv|)
+                const double tol = prec ? 1e-9 : 2e-5;
+                for (size_t k = 0; k < P.size(); ++k) {
+                    const std::string at = m.name + (prec ? " double" : " float") + " theta " +
+                                           std::to_string(theta) + " sample " + std::to_string(k);
+                    if (!std::isfinite(uv[k].x)) {
+                        EXPECT_TRUE(m.may_discard) << at;
+                        EXPECT_TRUE(std::isnan(z[k])) << at;
+                        continue;
+                    }
+                    ASSERT_TRUE(std::isfinite(z[k])) << at;
+                    if (ray) {
+                        const Vec2d Pk = prec ? P[k] : Vec2d(Vec2<float>(P[k]));
+                        const double scale = 1 + std::abs(z[k]) * std::hypot(d.x, d.y);
+                        EXPECT_NEAR(uv[k].x, Pk.x + d.x * z[k], tol * scale) << at;
+                        EXPECT_NEAR(uv[k].y, Pk.y + d.y * z[k], tol * scale) << at;
+                    } else {
+                        HeightSampler<double> hs(hf, sc.scale, sc.bias);
+                        EXPECT_NEAR(z[k], hs.z(uv[k]), prec ? 1e-12 : 1e-6) << at;
+                    }
+                }
             }
         }
-        ++checked;
+        ++(ray ? searches : single);
     }
-    EXPECT_GE(checked, 10);
+    EXPECT_GE(searches, 30);
+    EXPECT_GE(single, 5);
+}
+
+// Steep at theta = 0 writes its layer height (not the surface's): on a flat field at h = 0.3,
+// s 0.08, b 1 the surface is at -0.056 and 32 layers of 0.0025 stop at layer 23, -0.0575, so
+// every sample's depth is 0.0015 tiles behind the truth; pom interpolates to the surface itself.
+TEST(Depth, SteepAtTheNormalWritesItsLayer) {
+    const std::vector<ResultRow> rows =
+        run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n"
+            "precision = [\"float\", \"double\"]\n[views]\ntheta_deg = [0]\nphi_deg = [0]\n"
+            "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.3\nwidth = 32\n"
+            "height = 32\nscale = 0.08\nbias = 1.0\n"
+            "[[methods]]\nname = \"steep\"\ndepth = \"hit\"\n"
+            "[[methods]]\nname = \"pom\"\ndepth = \"hit\"\n");
+    ASSERT_EQ(rows.size(), 4u);
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        const double want = r.text("method") == "steep" ? 0.0015 : 0.0;
+        EXPECT_NEAR(r.num("depth_err_mean"), want, 2e-8) << r.text("method") << r.text("precision");
+        EXPECT_NEAR(r.num("depth_bias_mean"), want, 2e-8) << r.text("method");
+    }
+}
+
+// Cut ties (docs/conventions.md section 8): steep at theta = 0 on the flat field above writes
+// layer 23, h = 1 - 23 / 32 = 0.28125 in height-map units; a cut there is its layer height, so
+// every sample ties (cut_tie_frac 1, no flip fraction: nothing decides); a cut at 0.29 lies
+// between the truth (h 0.3) and the layer: the plane shows for the method only, every sample
+// flips, none ties.
+TEST(Depth, CutAtALayerHeightTies) {
+    const std::vector<ResultRow> rows =
+        run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n"
+            "precision = [\"float\", \"double\"]\n[views]\ntheta_deg = [0]\nphi_deg = [0]\n"
+            "cut = [0.28125, 0.29]\n"
+            "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.3\nwidth = 32\n"
+            "height = 32\nscale = 0.08\nbias = 1.0\n"
+            "[[methods]]\nname = \"steep\"\nlayers = 32\ndepth = \"hit\"\n");
+    ASSERT_EQ(rows.size(), 4u);
+    for (const ResultRow& r : rows) {
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        if (r.num("cut") < 0.285) {
+            EXPECT_EQ(r.num("cut_tie_frac"), 1.0) << r.text("precision");
+            EXPECT_TRUE(std::isnan(r.num("cut_flip_frac"))) << r.text("precision");
+        } else {
+            EXPECT_EQ(r.num("cut_tie_frac"), 0.0) << r.text("precision");
+            EXPECT_EQ(r.num("cut_flip_frac"), 1.0) << r.text("precision");
+        }
+    }
 }
 
 // The engines' lines, transcribed: HDRP LitDataDisplacement.hlsl 193-194 and Common.hlsl
@@ -197,7 +280,7 @@ TEST(Depth, GlslDepthTargetIsTheCpuTwinsDepth) {
             EXPECT_LE(r.num("depth_cpu_diff_p999"), 1e-4)
                 << r.text("method") << " " << r.text("depth") << " theta " << r.num("theta_deg");
         }
-        EXPECT_EQ(glsl, int(std::size(kSome)) * 3 * 3 + 2 * 3);
+        EXPECT_EQ(glsl, settings_with_engine() * 3 + 2 * 3);
     }
 }
 
@@ -220,7 +303,7 @@ TEST(Depth, GlslDepthOnACurvedBaseIsTheCpuTwins) {
         EXPECT_LE(r.num("depth_cpu_diff_p999"), 1e-4)
             << r.text("method") << " " << r.text("depth") << " theta " << r.num("theta_deg");
     }
-    EXPECT_EQ(glsl, int(std::size(kSome)) * 3 * 2);
+    EXPECT_EQ(glsl, settings_with_engine() * 2);
 }
 
 // A plug-in writes its hit through pxh_write_hit(z) (methods/common.glsl): returning P and
@@ -311,6 +394,9 @@ TEST(Depth, BadDepthAndCutAreRefused) {
         "samples = 8\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [0]\n" + kFlat;
     EXPECT_EQ(parse_error(base + "[[methods]]\nname = \"pom\"\ndepth = \"deep\"\n"),
               "e.toml:15: unknown depth 'deep' (known: base, hit, engine)");
+    EXPECT_EQ(parse_error(base + "[[methods]]\nname = \"pom\"\ndepth = [\"hit\", \"engine\"]\n"),
+              "e.toml:15: depth 'engine' needs an engine preset: method 'pom' has no engine "
+              "formula (use base or hit)");
     EXPECT_EQ(parse_error(base + "[[methods]]\nname = \"pom\"\ndepth = [\"hit\", \"hit\"]\n"),
               "e.toml:15: depth 'hit' is given twice");
     std::string twice = base;

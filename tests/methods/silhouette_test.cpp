@@ -156,28 +156,60 @@ std::string field(const std::string& base) {
 // On the plane silhouette_pom never discards; curved_relief only where its search ends at the
 // relief's floor (the source's "t > tmax" with bricks' mortar at exactly h = 0: the halvings
 // end a rounding step past tmax on about half of them). Both land as near the truth as POM, and
-// the GLSL twins discard the same pixels as the CPU's.
+// the GLSL twins discard the same pixels as the CPU's: counted in samples_discarded on both
+// (docs/conventions.md section 9), never in nonfinite.
 TEST(Silhouette, OnThePlaneTheyDiscardNothing) {
     const auto rows = run(kHead + field("") + kMethods);
-    std::map<std::tuple<std::string, double, std::string>, double> nonfinite;
+    std::map<std::tuple<std::string, double, std::string>, double> discarded;
     for (const ResultRow& r : rows) {
         ASSERT_TRUE(r.ok()) << r.text("method") << ": " << r.text("error");
         const std::string m = r.text("method");
-        nonfinite[{m, r.num("theta_deg"), r.text("backend")}] = r.num("nonfinite");
+        discarded[{m, r.num("theta_deg"), r.text("backend")}] = r.num("samples_discarded");
+        EXPECT_EQ(r.num("nonfinite"), 0) << m << " " << r.text("backend");
         if (m == "silhouette_pom" || m == "pom") {
-            EXPECT_EQ(r.num("nonfinite"), 0) << m << " " << r.text("backend");
+            EXPECT_EQ(r.num("samples_discarded"), 0) << m << " " << r.text("backend");
         }
         const double inside = 40.0 * 40.0 - r.num("samples_outside");
-        EXPECT_LT(r.num("nonfinite"), 0.05 * inside) << m;
+        EXPECT_LT(r.num("samples_discarded"), 0.05 * inside) << m;
         if (r.num("theta_deg") <= 40) {
             EXPECT_LT(r.num("err_mean"), 0.3) << m << " " << r.text("backend");
         }
     }
-    for (const auto& [key, n] : nonfinite) {
+    for (const auto& [key, n] : discarded) {
         if (std::get<2>(key) != "glsl") continue;
-        EXPECT_EQ(n, nonfinite.at({std::get<0>(key), std::get<1>(key), "cpu"}))
+        EXPECT_EQ(n, discarded.at({std::get<0>(key), std::get<1>(key), "cpu"}))
             << std::get<0>(key) << " theta " << std::get<1>(key);
     }
+}
+
+// Discards on a sphere, where both silhouette methods discard many pixels: both twins count
+// them alike (samples_discarded equal, nonfinite 0), average their fetches over the same
+// answered samples (fetches_mean equal: a discarded fragment's fetches are not known on the GL
+// side) and leave the pixels neither answered out of the comparison (cpu_diff_skipped counts
+// them; cpu_diff_max finite: no "inf" from two agreeing discards).
+TEST(Silhouette, BothTwinsCountDiscardsAlike) {
+    const auto rows = run(kHead + field("base = \"sphere\"\nradius = 0.25\n") + kMethods);
+    std::map<std::pair<std::string, double>, const ResultRow*> cpu;
+    for (const ResultRow& r : rows)
+        if (r.text("backend") == "cpu") cpu[{r.text("method"), r.num("theta_deg")}] = &r;
+    int compared = 0;
+    for (const ResultRow& g : rows) {
+        ASSERT_TRUE(g.ok()) << g.text("method") << ": " << g.text("error");
+        const std::string m = g.text("method");
+        if (g.text("backend") != "glsl" || m == "pom") continue;
+        const ResultRow& c = *cpu.at({m, g.num("theta_deg")});
+        const std::string at = m + " theta " + std::to_string(g.num("theta_deg"));
+        EXPECT_GT(c.num("samples_discarded"), 0) << at;
+        EXPECT_EQ(g.num("samples_discarded"), c.num("samples_discarded")) << at;
+        EXPECT_EQ(g.num("nonfinite"), 0) << at;
+        EXPECT_EQ(c.num("nonfinite"), 0) << at;
+        EXPECT_NEAR(g.num("fetches_mean"), c.num("fetches_mean"), 1e-12) << at;
+        EXPECT_EQ(g.num("cpu_diff_skipped"), c.num("samples_discarded")) << at;
+        EXPECT_TRUE(std::isfinite(g.num("cpu_diff_max"))) << at;
+        EXPECT_EQ(g.num("decision_mismatch"), 0) << at;
+        ++compared;
+    }
+    EXPECT_EQ(compared, 6);
 }
 
 // On a small sphere with the relief under the base (b = 1): the flat POM shows the base's whole
