@@ -102,6 +102,8 @@ struct MethodInfo {
     // silhouette-aware methods (docs/conventions.md section 12). The registry's tests then
     // allow non-finite answers and compare the twins' discards instead of their uv there.
     bool may_discard = false;
+    // A may_discard method's own discard test, in a phrase (the row's note names it).
+    std::string discard_test{};
     void (*check)(const ParamValues&, const std::string& where) = nullptr;
     int (*max_fetches)(const ParamValues&, const Scene<double>&) = nullptr;
     // The uniforms the method computes (M::gl_uniforms); nullptr: none. The backend sets

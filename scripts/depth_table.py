@@ -2,7 +2,7 @@
 """The depth findings' table and figure (docs/findings/depth.md) from a run of
 results/experiments/depth.toml: per method and depth mode, over both fields and distances, the
 mean of depth_err_mean and depth_bias_mean (tiles), depth_toward_frac, and cut_flip_frac per cut,
-for theta <= 60 and theta >= 70; and a figure of depth_err_mean and cut_flip_frac (cut 0.5)
+for theta <= 60 and theta >= 70; and a figure of depth_err_mean and cut_flip_frac (the cut nearest 0.5)
 against theta (CPU float rows).
 
     /usr/bin/python3 scripts/depth_table.py RESULTS_DIR [--figure OUT_STEM --width single|double]
@@ -56,12 +56,15 @@ def figure(rows, stem, width):
     fig, axes = figure_style.two_panels(width, {"double": 3.0, "single": 5.4})
     series = defaultdict(lambda: defaultdict(list))
     flips = defaultdict(lambda: defaultdict(list))
+    cuts = sorted({r["cut"] for r in rows}, key=float)
+    first_cut = cuts[0]  # depth errors do not depend on the cut: one cut's rows
+    mid_cut = min(cuts, key=lambda c: abs(float(c) - 0.5))  # the flips of the cut nearest 0.5
     for r in rows:
         key = f"{r['method']} {r['depth']}"
         t = float(r["theta_deg"])
-        if r["cut"] == "0.25":
+        if r["cut"] == first_cut:
             series[key][t].append(float(r["depth_err_mean"]))
-        if r["cut"] == "0.5":
+        if r["cut"] == mid_cut and r["cut_flip_frac"] != "":
             flips[key][t].append(float(r["cut_flip_frac"]))
     # base writes the polygon whatever the method: one curve for all of them.
     shown = ["pom base"] + [f"{m} hit" for m in ("parallax", "pom", "hdrp_pom", "o3de_pom",
@@ -82,7 +85,7 @@ def figure(rows, stem, width):
     axes[0].set_xlabel("θ (degrees)")
     axes[0].set_ylabel("depth_err_mean (tiles)")
     axes[1].set_xlabel("θ (degrees)")
-    axes[1].set_ylabel("cut_flip_frac at c = 0.5")
+    axes[1].set_ylabel(f"cut_flip_frac at c = {mid_cut}")
     figure_style.finish(fig, stem, width,
                         ("Written depth vs the true surface",
                          "(bricks, luxembourg; distance 1.5 and 3)"),

@@ -310,13 +310,17 @@ double float_gap(double u) {
 
 // What an ok row says beside its numbers: samples the shader discarded (samples_discarded), and
 // float's spacing at far samples.
-std::string row_notes(const ViewJob& job, const MethodOutput& o, const Variant& v) {
+std::string row_notes(const ViewJob& job, const MethodSpec& m, const MethodOutput& o,
+                      const Variant& v) {
     std::string notes;
     if (o.samples_discarded > 0)
-        notes = "note: " + std::to_string(o.samples_discarded) + " of " +
-                std::to_string(o.uv.size()) +
-                " samples discarded or unwritten by the shader (no uv: counted in "
-                "samples_discarded and nonfinite, left out of the errors)";
+        notes =
+            "note: " + std::to_string(o.samples_discarded) + " of " + std::to_string(o.uv.size()) +
+            (m.method->discard_test.empty() ? " samples discarded or unwritten by the shader"
+                                            : " samples discarded by " + m.method->name +
+                                                  "'s own test (" + m.method->discard_test + ")") +
+            " (no uv: counted in samples_discarded, not in nonfinite; left out of the "
+            "errors and of fetches_mean)";
     if (v.precision == "float" && job.float_spacing >= kFloatSpacingNote)
         notes += (notes.empty() ? "note: " : "; ") + float_spacing_note(job);
     return notes;
@@ -361,11 +365,12 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 // Every sample non-finite (a parameter combination that gives no answer at
                 // this view, e.g. a layer count of 0, or a shader that discards every sample):
                 // a failure, never a row of NaN "ok".
-                if (row.num("nonfinite") > 0 && !std::isfinite(row.num("err_mean")))
+                const double no_uv = row.num("nonfinite") + double(o.samples_discarded);
+                const double inside_n = double(o.uv.size()) - row.num("samples_outside");
+                if (no_uv > 0 && no_uv >= inside_n && !std::isfinite(row.num("err_mean")))
                     throw std::runtime_error(
-                        "every sample (" + format_number(row.num("nonfinite")) + ") " +
-                        (o.samples_discarded > 0 &&
-                                 double(o.samples_discarded) >= row.num("nonfinite")
+                        "every sample (" + format_number(no_uv) + ") " +
+                        (o.samples_discarded > 0 && row.num("nonfinite") == 0
                              ? std::string("was discarded or left unwritten by the shader "
                                            "(samples_discarded)")
                              : std::string("gave a non-finite uv: the method's parameters give no "
@@ -378,7 +383,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                         " exceeds the declared bound fetches_bound = " + std::to_string(bound) +
                         (m.method->plugin_shader.empty() ? " (the method's max_fetches)"
                                                          : " (the entry's max_fetches)"));
-                if (const std::string notes = row_notes(job, o, v); !notes.empty())
+                if (const std::string notes = row_notes(job, m, o, v); !notes.empty())
                     row.set_text("error", notes);  // said in the row; the numbers stay
                 std::vector<uint8_t> shows;
                 if (!std::isnan(m.cut))

@@ -43,6 +43,10 @@ struct CurvedRelief {
             false,
             150};
         info.may_discard = true;
+        info.discard_test =
+            "its search ended past t_max, where the ray leaves the relief through its floor or "
+            "back out through the top: the source's discard; on the plane only where texels lie "
+            "at exactly h = 0 and the halvings end a rounding step past t_max";
         return info;
     }
     static Config configure(const ParamValues& p, const std::string&) {

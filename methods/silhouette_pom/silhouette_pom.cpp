@@ -52,6 +52,9 @@ struct SilhouettePom {
             false,
             151};
         info.may_discard = true;
+        info.discard_test =
+            "the ray still above the bent relief by more than miss_tol after its layers and the "
+            "chase: three.js PR 33953's discard";
         return info;
     }
     static Config configure(const ParamValues& p, const std::string&) {

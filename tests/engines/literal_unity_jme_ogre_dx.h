@@ -78,9 +78,13 @@ inline EngineResult unity_parallax_offset(const HeightField& hf, float s, Vec3<f
 // _PPDMaxSamples 15, _HeightPoMAmplitude 2 cm. uvSpaceScale = _InvPrimScale * _BaseColorMap_ST.xy *
 // (worldScale * maxHeight) with maxHeight = _HeightPoMAmplitude * 0.01 (BaseLitAPI.cs) for a 1 m
 // primitive, tiling 1 and UV mapping: that is pxh s (0.02 by default), passed here directly.
-// Height map, 1 = top: b = 1. The LOD fade (offset *= 1 - saturate(lod - lodThreshold)) is off.
+// Height map, 1 = top: b = 1. The LOD fade (offset *= 1 - saturate(lod - lodThreshold)) acts
+// where lod > lodThreshold (default lod 0: off; the fetches stay at level 0 here); outHeight:
+// what ParallaxOcclusionMapping hands back (outHeight = currHeight, the last probe's height at the
+// unfaded offset, set before the fade), what ApplyPerPixelDisplacement's depth offset reads.
 inline EngineResult hdrp_pom(const HeightField& hf, float s, Vec3<float> V, Vec2<float> P,
-                             int _PPDMinSamples = 5, int _PPDMaxSamples = 15) {
+                             int _PPDMinSamples = 5, int _PPDMaxSamples = 15, float lod = 0.0f,
+                             float lodThreshold = 5.0f, float* outHeight = nullptr) {
     HeightSampler<float> tex(hf, 1.0f, 0.0f);
     const Vec2<float> param_uv = P;
     auto ComputePerPixelHeightDisplacement = [&](Vec2<float> texOffsetCurrent) {
@@ -145,8 +149,20 @@ inline EngineResult hdrp_pom(const HeightField& hf, float s, Vec3<float> V, Vec2
             pt0 = intersectionHeight;
         }
     }
+    if (outHeight) *outHeight = currHeight;  // outHeight = currHeight;
+    offset = offset * (1.0f - detail::saturate(lod - lodThreshold));
     // layerTexCoord.base.uv += offset
     return {param_uv + offset, tex.fetches};
+}
+
+// ApplyPerPixelDisplacement's depth offset (LitDataDisplacement.hlsl @ d679af29c7a2,
+// _DEPTHOFFSET): verticalDisplacement = maxHeight - height * maxHeight; return
+// verticalDisplacement / ClampNdotV(NdotV), ClampNdotV = max(NdotV, 0.0001); then
+// ApplyDepthOffsetPositionInput moves positionWS by depthOffset * -V. Here: that offset along f.
+inline double hdrp_depth_offset(float maxHeight, float height, Vec3d V, Vec3d f) {
+    const float verticalDisplacement = maxHeight - height * maxHeight;
+    const double depthOffset = verticalDisplacement / std::max(V.z, 0.0001);
+    return -depthOffset * (V.x * f.x + V.y * f.y + V.z * f.z);
 }
 
 // ---- jme_parallax ----------------------------------------------------------------------------

@@ -335,6 +335,52 @@ TEST(Depth, PluginWritesItsHitThroughPxhWriteHit) {
     EXPECT_NEAR(rows[1].num("depth_bias_mean"), -0.08 * 0.75 / vz, 1e-6);  // the polygon's
 }
 
+// A written depth the GL target cannot hold is counted, never clamped into a number
+// (docs/conventions.md section 8): z = 10 or 1e30 lies far beyond the span (depth_clamped, scored
+// with the value written: depth_err_mean about z cos 50 deg); 1 / 0 and 0 / 0 are not finite
+// (depth_nonfinite, not scored, no depth statistics at all). Before, the target's clamp made 2.13
+// of the first three and a finite number of NaN.
+TEST(Depth, HostileWrittenDepthsAreCountedNotClamped) {
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("pxh_depth_hostile_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    // zero at run time (not folded by the compiler)
+    const char* const writes[] = {"10.0", "1e30", "1.0 / zero", "zero / zero"};
+    for (int i = 0; i < 4; ++i) {
+        const std::string name = "w" + std::to_string(i);
+        std::ofstream(dir / (name + ".frag.glsl"))
+            << "vec2 pxh_method(vec2 P) {\n    float zero = pxh_height(P) * 0.0;\n"
+            << "    pxh_write_hit(" << writes[i] << ");\n    return P;\n}\n";
+    }
+    std::string toml =
+        "samples = 8\ntiming_repeats = 0\nbackends = [\"glsl\"]\n[views]\ntheta_deg = [50]\n"
+        "phi_deg = [15]\n" +
+        kFlat;
+    for (int i = 0; i < 4; ++i) {
+        const std::string name = "w" + std::to_string(i);
+        toml += "[[methods]]\nname = \"" + name + "\"\nshader = \"" + name +
+                ".frag.glsl\"\nmax_fetches = 1\ndepth = \"hit\"\n";
+    }
+    const auto rows = run_experiment(parse_experiment(toml, (dir / "e.toml").string()), {});
+    std::filesystem::remove_all(dir);
+    ASSERT_EQ(rows.size(), 4u);
+    const double vz = std::cos(50 * M_PI / 180);
+    for (int i = 0; i < 4; ++i) {
+        const ResultRow& r = rows[size_t(i)];
+        ASSERT_TRUE(r.ok()) << r.text("error");
+        if (i < 2) {
+            EXPECT_EQ(r.num("depth_clamped"), 64) << writes[i];
+            EXPECT_EQ(r.num("depth_nonfinite"), 0) << writes[i];
+            const double z = i == 0 ? 10.0 : 1e30;
+            EXPECT_NEAR(r.num("depth_err_mean") / (z * vz), 1.0, 0.03) << writes[i];
+        } else {
+            EXPECT_EQ(r.num("depth_nonfinite"), 64) << writes[i];
+            EXPECT_EQ(r.num("depth_clamped"), 0) << writes[i];
+            EXPECT_TRUE(std::isnan(r.num("depth_err_mean"))) << writes[i];
+        }
+    }
+}
+
 // [render] with a cut: the pictures pxh run writes show the plane (the flat kPlaneRgb) where the
 // depth test puts it in front. Counted from the PNG files, the pixels where the method's picture
 // and the truth's differ in showing the plane are exactly cut_flip_frac of the inside pixels.

@@ -10,7 +10,9 @@
 #include <utility>
 #include <vector>
 
+#include "harness/backends/cpu_backend.h"
 #include "harness/scene/view.h"
+#include "methods/march/march.h"
 #include "tests/engines/literal_unity_jme_ogre_dx.h"
 #include "tests/methods/engine_checks.h"
 #include "tests/test_util.h"
@@ -83,6 +85,51 @@ TEST(EngineHdrp, FlatFieldIsExactWithFetchCount) {
                 const int kstar = int(std::floor(5 * (1 - c))) + 1;
                 EXPECT_EQ(r.fetches, 1 + kstar + 1) << c << " " << theta;
             }
+}
+
+// The depth HDRP writes where its LOD fade acts (docs/conventions.md section 8, `engine`):
+// ParallaxOcclusionMapping sets outHeight = currHeight (the last probe, at the unfaded offset)
+// before offset *= 1 - saturate(lod - lodThreshold), and ApplyPerPixelDisplacement's depth
+// offset reads that height. pxh's hdrp_pom hands the same height back (MethodHit::engine_z) and
+// its engine formula gives the transcription's depth; the height at the faded uv (what pxh read
+// before) differs on most samples.
+TEST(EngineHdrp, EngineDepthReadsTheUnfadedProbeWhereTheFadeActs) {
+    const HeightField hf = test::random_field(64, 64, 17);
+    const float s = 0.05f;
+    const auto P = test::random_points(300, 6);
+    const MethodInfo& m = test::method("hdrp_pom");
+    const MethodSpec spec{&m, test::params_for(m)};
+    MarchConfig c;
+    c.depth_offset = MarchConfig::PdoHdrp;
+    int moved = 0, checked = 0;
+    for (const double theta : {35.0, 60.0, 80.0})
+        for (const double phi : kPhis)
+            for (const double lambda : {5.25, 5.5, 5.875}) {
+                const auto sc = test::make_scene(hf, s, 1.0, theta, phi);
+                const std::vector<double> lam(P.size(), lambda);
+                const MethodOutput out =
+                    run_cpu(spec, "float", sc, hf, P, 0, nullptr, nullptr, nullptr, &lam);
+                const Vec3<float> V = Vf(theta, phi);
+                const Vec3d Vd(V), f{-Vd.x, -Vd.y, -Vd.z};
+                for (size_t i = 0; i < P.size(); ++i) {
+                    float outHeight = NAN;
+                    const EngineResult r = literal::hdrp_pom(hf, s, V, Vec2<float>(P[i]), 5, 15,
+                                                             float(lambda), 5.0f, &outHeight);
+                    EXPECT_NEAR(out.uv[i].x, r.uv.x, 1e-6) << i;
+                    EXPECT_NEAR(out.uv[i].y, r.uv.y, 1e-6) << i;
+                    EXPECT_NEAR(out.engine_z[i], s * (outHeight - 1.0), 1e-6) << theta << " " << i;
+                    const EngineDepthInput in{
+                        Vec2d(Vec2<float>(P[i])), Vd, f,  out.uv[i], out.hit_z[i],
+                        out.engine_z[i],          s,  1.0};
+                    EXPECT_NEAR(march_engine_depth(c, in),
+                                literal::hdrp_depth_offset(s, outHeight, Vd, f), 1e-5)
+                        << theta << " " << i;
+                    HeightSampler<double> at_faded(hf, s, 1.0);
+                    moved += std::abs(at_faded.z(out.uv[i]) - out.engine_z[i]) > 1e-5;
+                    ++checked;
+                }
+            }
+    EXPECT_GT(moved, checked / 4);  // the faded uv's height is another number
 }
 
 // The "angle-based" count uses the angle of (s V.xy, V.z), not theta: at s = 0.02 it stays at
