@@ -30,6 +30,9 @@ struct CompareOptions {
     std::vector<CompareTolerance> fail_on;  // empty: report only, exit 0
     std::vector<double> band_edges;         // theta bands (empty: the report's default)
     std::string junit, json;  // --junit FILE, --json FILE: the verdict for CI (report/verdict.h)
+    // --only KEY=V,...: only the rows of both runs that match (pxh run --only's keys and
+    // syntax, harness/experiment/only_rows.h); the others are left out of everything, counted.
+    std::string only;
 };
 
 // Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and
