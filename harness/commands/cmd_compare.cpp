@@ -30,7 +30,9 @@ Command add_compare_command(CLI::App& app) {
         "tolerances, e.g. err_p95=+5%,err_mean=+0.01,fetches_mean=+0: exit 1 when a "
         "matched row grows beyond one (relative with %, else absolute), a row that "
         "was ok failed, or a BASE row is missing from NEW; time (in the row's "
-        "time_unit) only when its repeats show it slower (Mann-Whitney U)");
+        "time_unit) only when its repeats show it slower (Mann-Whitney U, Holm-corrected over "
+        "the comparison: 5% false alarms per comparison) and its median grew beyond the "
+        "margin; a gated column a run lacks fails the gate");
     cmp->add_flag("--markdown", a->markdown,
                   "Markdown output for a pull-request comment (the verdict first, the tables in a "
                   "collapsible <details> block)");

@@ -2,8 +2,10 @@
 // error metrics, fetches and timings per row and per method setting and theta band, rows found
 // in one run only, and an optional gate (--fail-on) for CI. The verdict comes first; timings
 // change only when a two-sided Mann-Whitney U test over the rows' timed repeats says so
-// (harness/metrics/timing_stats.h) over time_repeats. BASE is kept as compact records by key and
-// NEW streamed past it: memory grows with BASE's keys, not with what the rows hold.
+// (harness/metrics/timing_stats.h) over time_repeats, Holm-corrected over every tested row of
+// the comparison (the false-alarm rate is the comparison's, 5%, not each row's). BASE is kept as
+// compact records by key and NEW streamed past it: memory grows with BASE's keys, not with what the
+// rows hold.
 #pragma once
 #include <ostream>
 #include <string>

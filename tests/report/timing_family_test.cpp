@@ -2,7 +2,8 @@
 // Holm-corrected, so unchanged code timed twice (noise alone) gives no time regression where
 // per-row tests at p < 0.05 gave several, while a 1.5x slowdown is still caught; a row counts
 // only when its median also grew beyond the --fail-on margin. TimingUnderLoad runs the same
-// GLSL experiment twice beside a busy loop, and once with a shader that does 1.5x the work.
+// CPU experiment twice beside a busy loop (no time regression), and its second run's repeats
+// made 1.5x slower are caught.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -160,67 +161,71 @@ TEST_F(TimingFamily, UnchangedCodeIsNoRegressionAndASlowdownIsCaught) {
         << few.out;
 }
 
-// A plug-in shader whose frame time is a loop of STEPS iterations per pixel (kept: its result is
-// added scaled to nothing), so 3000 steps are about 1.5x the work of 2000.
-std::string loop_shader(int steps) {
-    return "uniform float p_k;\n"
-           "vec2 pxh_method(vec2 P) {\n"
-           "    float acc = P.x;\n"
-           "    for (int i = 0; i < " +
-           std::to_string(steps) +
-           "; ++i) acc = sin(acc + float(i) * 1e-3);\n"
-           "    return P + pxh_V.xy * (p_k * pxh_z(P) / pxh_V.z) + vec2(acc * 1e-30);\n"
-           "}\n";
-}
-
 class TimingUnderLoad : public TimingFamily {
   protected:
-    // A busy loop on one core for as long as it lives (its process group killed after).
+    // A busy loop on one core for as long as it lives (killed by its process id).
     struct BusyLoop {
         explicit BusyLoop(const fs::path& pid_file) : pid_file_(pid_file) {
-            std::system(
+            const int rc = std::system(
                 ("sh -c 'while :; do :; done' >/dev/null 2>&1 & echo $! > " + pid_file.string())
                     .c_str());
+            EXPECT_EQ(rc, 0);
         }
         ~BusyLoop() {
-            const std::string pid = pxh::test::slurp(pid_file_);
-            if (!pid.empty()) std::system(("kill " + pid + " 2>/dev/null").c_str());
+            std::string pid = pxh::test::slurp(pid_file_);
+            pid.erase(std::remove(pid.begin(), pid.end(), '\n'), pid.end());
+            if (!pid.empty()) (void)std::system(("kill " + pid + " 2>/dev/null").c_str());
         }
         fs::path pid_file_;
     };
+    // Every row's timed repeats, in file order.
+    std::vector<std::vector<double>> repeats_of(const std::string& folder) {
+        const pxh::CsvTable t = pxh::read_csv(d(folder) + "/results.csv");
+        std::vector<std::vector<double>> r;
+        for (size_t i = 0; i < t.rows.size(); ++i)
+            r.push_back(pxh::parse_repeats(t.get(i, "time_repeats")).value());
+        return r;
+    }
 };
 
-// Two GLSL rows (5 frames each, within Holm's first level for 2 rows), run twice unchanged
-// beside a busy loop: no time regression at a 20% margin; the shader doing 1.5x the work: slower,
-// a time regression on each row whose median grew beyond 20%.
-TEST_F(TimingUnderLoad, UnchangedRunsPassAndASlowerShaderIsCaught) {
-    for (const char* v : {"fast", "fast2", "slow"}) fs::create_directories(dir / v);
-    write("fast/my.frag.glsl", loop_shader(2000));
-    write("fast2/my.frag.glsl", loop_shader(2000));
-    write("slow/my.frag.glsl", loop_shader(3000));
-    const std::string exp =
-        "name = \"load\"\nsamples = 64\nbackends = [\"glsl\"]\n"
-        "[views]\ntheta_deg = [30, 60]\n[[heightfields]]\ngenerator = \"fbm\"\n"
-        "size = 64\nscale = 0.05\nbias = 1.0\n[[methods]]\nname = \"my\"\n"
-        "shader = \"my.frag.glsl\"\nmax_fetches = 1\nuniforms = { p_k = 1.0 }\n";
+// The same CPU experiment (90 rows, 10 single-thread repeats each) run twice while a busy loop
+// loads the machine: no time regression at a 20% margin (this machine's busy loop moved the
+// rows' medians by -3% to +3%; Holm may still call a few rows' shifts significant, the margin
+// absorbs them). The second run's repeats 1.5x (a method made 1.5x slower, timed under the same
+// load): caught on most rows. GLSL frames are no use here: llvmpipe's frame times under the same
+// loop moved by up to 2.4x between two runs (docs/guide/gates.md).
+TEST_F(TimingUnderLoad, UnchangedRunsPassAndASlowerMethodIsCaught) {
+    const std::string e =
+        write("t.toml",
+              "name = \"t\"\nsamples = 16\ntiming_repeats = 10\n"
+              "[views]\ntheta_deg = [0, 10, 20, 30, 40, 50, 60, 70, 80]\n"
+              "phi_deg = [0, 45, 90, 135, 180]\n"
+              "[[heightfields]]\ngenerator = \"sine\"\nsize = 16\n"
+              "[[methods]]\nname = \"parallax\"\n[[methods]]\nname = \"pom\"\nlayers = 8\n");
     {
         BusyLoop busy(dir / "busy.pid");
-        for (const char* v : {"fast", "fast2", "slow"}) {
-            const auto r = pxh("run " + write(std::string(v) + "/exp.toml", exp) +
-                               " --quiet --out " + d(std::string(v) + "/out"));
-            ASSERT_EQ(r.status, 0) << v << "\n" << r.out << r.err;
+        for (const char* v : {"one", "two"}) {
+            const auto r = pxh("run " + e + " --quiet --out " + d(v));
+            ASSERT_EQ(r.status, 0) << r.out << r.err;
         }
     }
     const auto same =
-        pxh("compare " + d("fast/out") + " " + d("fast2/out") + " --fail-on err_p95=+0,time=+20%");
+        pxh("compare " + d("one") + " " + d("two") + " --fail-on err_p95=+0,time=+20%");
     EXPECT_EQ(same.status, 0) << same.out << same.err;
     EXPECT_NE(same.out.find("PASS: 0 regression(s)"), std::string::npos) << same.out;
-    const auto slow =
-        pxh("compare " + d("fast/out") + " " + d("slow/out") + " --fail-on err_p95=+0,time=+20%");
-    EXPECT_EQ(slow.status, 1) << slow.out << slow.err;
-    EXPECT_NE(slow.out.find("FAIL: 2 regression(s)"), std::string::npos) << slow.out;
-    EXPECT_NE(slow.out.find(": 2 slower, 0 faster, 0 no significant change"), std::string::npos)
-        << slow.out;
+    EXPECT_NE(same.out.find("Holm over the 90 rows tested"), std::string::npos) << same.out;
+    std::vector<std::vector<double>> slow = repeats_of("two");
+    for (auto& row : slow)
+        for (double& t : row) t *= 1.5;
+    timed_copy("two", "slow", slow);
+    const auto caught = pxh("compare " + d("one") + " " + d("slow") +
+                            " --accept-edited --fail-on err_p95=+0,time=+20%");
+    EXPECT_EQ(caught.status, 1) << caught.out << caught.err;
+    const size_t at = caught.out.find(" slower, ");
+    ASSERT_NE(at, std::string::npos) << caught.out;
+    const size_t from = caught.out.rfind(' ', at - 1) + 1;
+    EXPECT_GE(std::stoi(caught.out.substr(from, at - from)), 80) << caught.out;
+    EXPECT_NE(caught.out.find("FAIL: "), std::string::npos) << caught.out;
 }
 
 }  // namespace
