@@ -56,9 +56,11 @@ class RowStream {
         row = parse_result_row(specs_, fields_, in_.where());
         return true;
     }
+    // Whether the file has the column (under an older name too: results.cpp's renames).
     bool has(const std::string& column) const {
-        const auto& c = in_.columns();
-        return std::find(c.begin(), c.end(), column) != c.end();
+        ResultsFile header;
+        header.header = in_.columns();
+        return header.has(column);
     }
     std::string where() const { return in_.where(); }
     size_t line() const { return in_.line(); }
