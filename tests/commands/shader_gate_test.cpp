@@ -172,6 +172,8 @@ TEST_F(ShaderGate, ShaderThatDoesNotCompileFailsInJUnitWithItsLine) {
     EXPECT_NE(json.find("\"passed\": false"), std::string::npos) << json;
     EXPECT_NE(json.find("\"exit_code\": 2"), std::string::npos) << json;
     EXPECT_NE(json.find("my_pom.frag.glsl:9"), std::string::npos) << json;
+    // Both files parse as what they claim to be (JSON by Python's reader).
+    EXPECT_EQ(sh("python3 -m json.tool " + (dir / "run.run.json").string()).status, 0) << json;
     // No gate ran: no verdict of theirs is left to mislead.
     EXPECT_FALSE(fs::exists(dir / "run.check.xml"));
     EXPECT_FALSE(fs::exists(dir / "run.compare.xml"));
