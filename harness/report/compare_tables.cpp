@@ -79,7 +79,8 @@ TextTable row_table(Tally& tally) {
     t.align = "lrrrrrrr";
     for (const Changed& c : tally.rows) t.rows.push_back(c.cells);
     if (tally.rows_changed == 0)
-        t.notes.push_back("No row's errors, fetches, status or time (p < 0.05) changed.");
+        t.notes.push_back(
+            "No row's errors, fetches, status or time (Holm-corrected U test) changed.");
     else if (tally.rows.size() < tally.rows_changed)
         t.notes.push_back(
             "... and " + std::to_string(tally.rows_changed - tally.rows.size()) +
