@@ -4,6 +4,7 @@
 
 #include "harness/commands/commands.h"
 #include "harness/report/report.h"
+#include "harness/report/verdict.h"
 #include "harness/results/run_folder.h"
 
 namespace pxh {
@@ -26,6 +27,7 @@ Command add_check_command(CLI::App& app) {
                       "failure names the worst row and its value)");
     check->add_option("--json", a->json, "also write the verdict as JSON to FILE");
     return {check, [a] {
+                check_verdict_paths(a->junit, a->json);
                 // A CI gate passes only on the results a run wrote (run.json's sha256 and rows).
                 const std::string verified = verify_results_folder(a->dir, a->accept_edited);
                 std::cout << verified << "\n";

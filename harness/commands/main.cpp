@@ -1,6 +1,8 @@
 // pxh: measures how wrong parallax-mapping methods are against exact ground truth.
+#include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -9,6 +11,7 @@
 #include "harness/core/error.h"
 #include "harness/core/safe_files.h"
 #include "harness/results/provenance.h"
+#include "harness/truth/exact_tracer.h"
 
 using namespace pxh;
 
@@ -49,6 +52,17 @@ int main(int argc, char** argv) {
         // One line in pxh's own format, like every other error.
         std::cerr << "pxh: error: " << one_line(e.what()) << " (see pxh --help)\n";
         return 2;
+    }
+    // The environment's tracer path is input like the command line: a value that names no
+    // path is refused before any work (exit 2), whichever command would trace.
+    if (const char* env = std::getenv("PXH_TRACER_PATH"); env && *env) {
+        try {
+            ExactTracer::default_path();
+        } catch (const std::invalid_argument& e) {
+            std::cerr << "pxh: error: " << one_line(e.what())
+                      << " (unset it for the CPU's best path)\n";
+            return 2;
+        }
     }
     try {
         for (const auto& c : commands)

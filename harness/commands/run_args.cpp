@@ -39,10 +39,12 @@ void add_run_flags(CLI::App& run, RunArgs& a) {
     run.add_flag("--maps", a.o.maps, "write an error map (EXR + false-colour PNG) per row");
     std::string axes;  // the rows' axes, from the column registry
     for (const std::string& k : only_keys()) axes += (axes.empty() ? "" : ", ") + k;
-    run.add_option("--only", a.o.only,
-                   "run a subset: KEY=VALUE[|VALUE],... with KEY one of the rows' axes (" + axes +
-                       "), a numeric one also as a range KEY_min=V, KEY_max=V (theta_min for "
-                       "theta_deg) (e.g. method=pom,heightfield=bricks,distance_max=4)");
+    run.add_option(
+        "--only", a.o.only,
+        "run a subset: KEY=VALUE[|VALUE],... with KEY one of the rows' axes (" + axes +
+            "), a numeric one also as a range KEY=LO..HI or KEY_min=V, KEY_max=V (theta_min "
+            "for theta_deg) (e.g. method=pom,base=cylinder,radius=1.5..4,"
+            "distance_max=4)");
     run.add_option("--samples", a.o.samples,
                    "samples per side N, overriding the file (1.." + std::to_string(kMaxSamples) +
                        "; a perspective camera's image keeps its resolution: N x N of its "

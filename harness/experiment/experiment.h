@@ -130,6 +130,8 @@ ParamValues resolve_method_params(const MethodInfo& m, const GivenParams& given,
 // range KEY_min=V, KEY_max=V (inclusive; theta_min, theta_max for theta_deg); a repeated key or
 // V|V is "any of". An unknown key is an InputError("--only", ...) listing the keys (and the
 // nearest one); a key that matches nothing names what there is.
+// A numeric axis also takes KEY=LO..HI (either end may be left out). base selects the height
+// fields by their base surface (plane, cylinder, sphere), radius by their radius.
 void apply_only(Experiment& ex, const std::string& spec);
 // The axes --only selects by (row_axes() less those a run sets otherwise, such as samples).
 std::vector<std::string> only_keys();

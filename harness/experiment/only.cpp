@@ -14,7 +14,9 @@
 #include "harness/core/error.h"
 #include "harness/core/registry.h"
 #include "harness/experiment/experiment.h"
+#include "harness/experiment/only_rows.h"
 #include "harness/metrics/columns.h"
+#include "harness/metrics/row.h"
 
 namespace pxh {
 namespace {
@@ -24,6 +26,10 @@ struct Want {
     std::vector<std::string> values;
     std::optional<double> lo, hi;
     std::string given;  // as typed, for messages
+    bool text_ok(const std::string& v) const {
+        return values.empty() || std::find(values.begin(), values.end(), v) != values.end();
+    }
+    bool num_ok(double v) const;
 };
 
 // A --only value as a number: the whole text, not nan.
@@ -35,6 +41,15 @@ std::optional<double> only_number(const std::string& w) {
 
 bool same_number(double a, double b) {
     return std::abs(a - b) <= 1e-9 * std::max(1.0, std::abs(b));
+}
+
+bool Want::num_ok(double v) const {
+    if (std::isnan(v)) return false;
+    if ((lo && v < *lo) || (hi && v > *hi)) return false;
+    if (values.empty()) return true;
+    for (const auto& s : values)
+        if (same_number(v, *only_number(s))) return true;
+    return false;
 }
 
 // The axes --only selects by, each with how to narrow the experiment (nullptr: an axis a run
@@ -62,7 +77,8 @@ void keep(List& list, Pred pred, const std::string& what, Name name_of) {
 
 // A field entry as --only lists them: "bricks (s=0.05 b=1)".
 std::string field_entry_name(const HeightfieldSpec& h) {
-    return h.name + " (s=" + format_number(h.scale) + " b=" + format_number(h.bias) + ")";
+    return h.name + " (s=" + format_number(h.scale) + " b=" + format_number(h.bias) +
+           (h.base == "plane" ? "" : " " + h.base + " R=" + format_number(h.radius)) + ")";
 }
 
 const std::map<std::string, Selector>& selectors() {
@@ -107,6 +123,17 @@ const std::map<std::string, Selector>& selectors() {
         {"bias", {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
              keep(
                  ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.bias); }, "bias",
+                 field_entry_name);
+         }}},
+        // The base surface (the plane's rows leave the column empty: "plane" selects them).
+        {"base", {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
+             keep(
+                 ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.base); }, "base",
+                 [](const HeightfieldSpec& h) { return h.base; });
+         }}},
+        {"radius", {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
+             keep(
+                 ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.radius); }, "radius",
                  field_entry_name);
          }}},
         {"theta_deg", {[](Experiment& ex, const Want&, const Text&, const Num& ok) {
@@ -162,7 +189,11 @@ std::vector<std::string> only_keys() {
     return keys;
 }
 
-void apply_only(Experiment& ex, const std::string& spec) {
+namespace {
+
+// --only's text, KEY=V[|V...] or KEY=LO..HI (numeric keys; either end may be left out) or
+// KEY_min=V / KEY_max=V, comma-separated: what each axis asks for, by axis name.
+std::map<std::string, Want> parse_only(const std::string& spec) {
     // Every key --only knows, from the registry's axes, and the camera's own keys.
     std::vector<std::string> known;
     std::map<std::string, const ColumnSpec*> axis_of;  // KEY and KEY_min / KEY_max -> the axis
@@ -209,6 +240,19 @@ void apply_only(Experiment& ex, const std::string& spec) {
         const ColumnSpec& axis = *a->second;
         Want& w = want[axis.name];
         w.given += (w.given.empty() ? "" : ",") + item;
+        if (const size_t dots = value.find(".."); dots != std::string::npos && axis.numeric()) {
+            // KEY=LO..HI: both ends inclusive, either may be left out (not both).
+            const std::string lo = value.substr(0, dots), hi = value.substr(dots + 2);
+            const auto l = only_number(lo), h = only_number(hi);
+            if ((lo.empty() && hi.empty()) || (!lo.empty() && !l) || (!hi.empty() && !h))
+                throw InputError("--only", "'" + item + "': a range is " + key +
+                                               "=LO..HI with numbers (either end may be left "
+                                               "out, e.g. " +
+                                               key + "=1.5..4)");
+            if (l) w.lo = *l;
+            if (h) w.hi = *h;
+            continue;
+        }
         if (const auto r = range_end.find(key); r != range_end.end()) {
             const auto v = only_number(value);
             if (!v) throw InputError("--only", "'" + item + "': " + key + " must be a number");
@@ -224,20 +268,17 @@ void apply_only(Experiment& ex, const std::string& spec) {
             w.values.push_back(v);
         }
     }
+    return want;
+}
+
+}  // namespace
+
+void apply_only(Experiment& ex, const std::string& spec) {
+    const std::map<std::string, Want> want = parse_only(spec);
     for (const auto& [name, w] : want) {
         const ColumnSpec& axis = *find_column(name);
-        const auto text_ok = [&](const std::string& v) {
-            return w.values.empty() ||
-                   std::find(w.values.begin(), w.values.end(), v) != w.values.end();
-        };
-        const auto num_ok = [&](double v) {
-            if (std::isnan(v)) return false;
-            if ((w.lo && v < *w.lo) || (w.hi && v > *w.hi)) return false;
-            if (w.values.empty()) return true;
-            for (const auto& s : w.values)
-                if (same_number(v, *only_number(s))) return true;
-            return false;
-        };
+        const auto text_ok = [&w](const std::string& v) { return w.text_ok(v); };
+        const auto num_ok = [&w](double v) { return w.num_ok(v); };
         const auto sel = selectors().find(name);
         if (sel != selectors().end()) {
             if (!sel->second.apply)
@@ -259,6 +300,31 @@ void apply_only(Experiment& ex, const std::string& spec) {
             throw InputError("--only", "'" + w.given + "': " + name + " cannot be selected");
         keep_camera_settings(ex, name, num_ok);
     }
+}
+
+std::string empty_axis_means(const std::string& axis) {
+    if (axis == "base") return "plane";
+    if (axis == "lod" || axis == "depth") return "base";
+    if (axis == "camera") return "orthographic";
+    return "";
+}
+
+OnlyRows::OnlyRows(const std::string& spec) {
+    if (spec.empty()) return;
+    for (auto& [name, w] : parse_only(spec)) {
+        const ColumnSpec& axis = *find_column(name);
+        if (axis.numeric())
+            tests_.push_back([name, w](const ResultRow& r) { return w.num_ok(r.num(name)); });
+        else
+            tests_.push_back([name, w](const ResultRow& r) {
+                const std::string& v = r.text(name);
+                return w.text_ok(v.empty() ? empty_axis_means(name) : v);
+            });
+    }
+}
+
+bool OnlyRows::matches(const ResultRow& row) const {
+    return std::all_of(tests_.begin(), tests_.end(), [&](const auto& t) { return t(row); });
 }
 
 }  // namespace pxh

@@ -13,6 +13,7 @@
 #include "harness/core/error.h"
 #include "harness/core/param_dict.h"
 #include "harness/core/params.h"
+#include "harness/experiment/only_rows.h"
 #include "harness/metrics/columns.h"
 #include "harness/report/report.h"
 #include "harness/report/verdict.h"
@@ -86,7 +87,9 @@ struct Filter {
     std::string shown(size_t k) const { return numeric ? format_number(numbers[k]) : texts[k]; }
     bool matches(const ResultRow& row, size_t k) const {
         if (numeric) return same_number(row.num(key), numbers[k]);
-        return (key == "params" ? canonical_params(row.text(key)) : row.text(key)) == texts[k];
+        if (key == "params") return canonical_params(row.text(key)) == texts[k];
+        const std::string& v = row.text(key);  // an empty base is the plane, and so on
+        return (v.empty() ? empty_axis_means(key) : v) == texts[k];
     }
     bool matches(const ResultRow& row) const {
         for (size_t k = 0; k < size(); ++k)

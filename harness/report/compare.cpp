@@ -61,6 +61,9 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
     read_base(base_dir, opt, base);
     Bands bands(opt.band_edges);
     Tally tally;
+    // The timing tests' family first (NEW read once more): each row's verdict is Holm's.
+    timing_family(new_dir, opt, base, tally);
+    tally.base_left_out = base.left_out;
     const KeyValues new_values = stream_new(new_dir, opt, base, bands, tally);
     const Capped only_base = missing_from_new(base);
     const bool gate_missing = !opt.fail_on.empty() && !opt.common;
@@ -69,6 +72,19 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
             tally.regressions.add(INFINITY, r + ": missing from NEW");
         tally.regressions.total += only_base.total - only_base.items.size();
     }
+    // A gated column one run lacks: nothing to compare it with, so the gate fails, saying so
+    // (a NaN base would otherwise let any value through).
+    const auto unjudged = [&](const std::string& column, const std::string& csv) {
+        const std::string why = "--fail-on " + column + ": " + csv + " has no column " + column +
+                                ", so the gate cannot compare it (it fails rather than pass "
+                                "unseen)";
+        tally.unjudged.push_back(why);
+        tally.regressions.add(INFINITY, why);
+    };
+    for (const std::string& c : base.lacks) unjudged(c, base.csv);
+    for (const std::string& c : tally.new_lacks)
+        if (std::find(base.lacks.begin(), base.lacks.end(), c) == base.lacks.end())
+            unjudged(c, new_dir + "/results.csv");
     tally.regressions.trim();
     if (tally.matched == 0) no_match(base_dir, new_dir, opt, base, new_values, tally);
 

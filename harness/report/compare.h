@@ -2,8 +2,10 @@
 // error metrics, fetches and timings per row and per method setting and theta band, rows found
 // in one run only, and an optional gate (--fail-on) for CI. The verdict comes first; timings
 // change only when a two-sided Mann-Whitney U test over the rows' timed repeats says so
-// (harness/metrics/timing_stats.h) over time_repeats. BASE is kept as compact records by key and
-// NEW streamed past it: memory grows with BASE's keys, not with what the rows hold.
+// (harness/metrics/timing_stats.h) over time_repeats, Holm-corrected over every tested row of
+// the comparison (the false-alarm rate is the comparison's, 5%, not each row's). BASE is kept as
+// compact records by key and NEW streamed past it: memory grows with BASE's keys, not with what the
+// rows hold.
 #pragma once
 #include <ostream>
 #include <string>
@@ -30,6 +32,9 @@ struct CompareOptions {
     std::vector<CompareTolerance> fail_on;  // empty: report only, exit 0
     std::vector<double> band_edges;         // theta bands (empty: the report's default)
     std::string junit, json;  // --junit FILE, --json FILE: the verdict for CI (report/verdict.h)
+    // --only KEY=V,...: only the rows of both runs that match (pxh run --only's keys and
+    // syntax, harness/experiment/only_rows.h); the others are left out of everything, counted.
+    std::string only;
 };
 
 // Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and

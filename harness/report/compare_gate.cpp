@@ -2,9 +2,11 @@
 // repeats), the --fail-on gate (parsed here, applied per pair), and what the pair adds to the
 // tallies: per row group, per method setting and theta band, per changed row.
 #include <algorithm>
+#include <optional>
 #include <sstream>
 
 #include "harness/core/error.h"
+#include "harness/core/params.h"
 #include "harness/metrics/columns.h"
 #include "harness/metrics/timing_stats.h"
 #include "harness/report/compare_parts.h"
@@ -14,8 +16,11 @@ namespace pxh::compare_detail {
 namespace {
 
 // The change of a matched row's time: the ratio of medians, and whether the repeats tell it
-// from noise (a two-sided Mann-Whitney U test at kTimingAlpha), or too few repeats to say.
-Timing timing_change(const Rec& b, const Rec& n) {
+// from noise: a two-sided Mann-Whitney U test whose p is at or below Holm's cut over every
+// tested row of the comparison (the family-wise false-alarm rate is kTimingAlpha, not each
+// row's), or too few repeats to say (for any level below kTimingAlpha, or for Holm's first
+// level kTimingAlpha / m).
+Timing timing_change(const Rec& b, const Rec& n, const Holm& family) {
     Timing t;
     if (!(b.t_median > 0) || !std::isfinite(n.t_median)) return t;
     t.ratio = n.t_median / b.t_median;
@@ -25,15 +30,26 @@ Timing timing_change(const Rec& b, const Rec& n) {
         t.kind = Timing::no_repeats;
         return t;
     }
-    if (min_p_value(t.n_base, t.n_new) >= kTimingAlpha) {
+    if (!timing_tested(b, n)) {
         t.kind = Timing::too_few;
         return t;
     }
     const UTest u = mann_whitney_u(n.repeats, b.repeats);
     t.p = u.p;
-    if (u.p >= kTimingAlpha) t.kind = Timing::noise;
-    else t.kind = u.u > double(t.n_base * t.n_new) / 2 ? Timing::slower : Timing::faster;
+    if (u.p <= family.cut)
+        t.kind = u.u > double(t.n_base * t.n_new) / 2 ? Timing::slower : Timing::faster;
+    else if (min_p_value(t.n_base, t.n_new) > family.alpha_m()) {
+        t.kind = Timing::too_few;
+        t.for_family = true;
+    } else t.kind = Timing::noise;
     return t;
+}
+
+// Why a row's repeats are too few: for Holm's first level, when that is the reason.
+std::string too_few_why(const Timing& t, const Holm& family) {
+    if (!t.for_family) return "";
+    return " (at best p=" + sig(min_p_value(t.n_base, t.n_new)) + "; Holm over " +
+           std::to_string(family.m) + " timed rows needs p <= " + sig(family.alpha_m()) + ")";
 }
 
 // How far a value may grow under a tolerance; NaN base: any finite value is fine.
@@ -59,6 +75,7 @@ void count_timing(const Timing& timing, Tally& tally) {
             break;
         case Timing::too_few:
             ++tally.t_too_few;
+            tally.t_too_few_family += timing.for_family;
             break;
         case Timing::no_repeats:
             ++tally.t_no_repeats;
@@ -71,7 +88,7 @@ void count_timing(const Timing& timing, Tally& tally) {
 // The gate: the pair's regressions beyond --fail-on, each handed to `regression`.
 template <class Regression>
 void gate_pair(const Rec& b, const Rec& n, const std::string& name, const CompareOptions& opt,
-               const Timing& timing, const Regression& regression) {
+               const Timing& timing, const Holm& opt_family, const Regression& regression) {
     if (b.ok && !n.ok) {
         regression(INFINITY, name + ": failed (" + one_line(n.error) + ")");
         return;
@@ -87,7 +104,7 @@ void gate_pair(const Rec& b, const Rec& n, const std::string& name, const Compar
             if (timing.kind == Timing::slower) why = "; slower, p=" + sig(timing.p);
             else if (timing.kind == Timing::too_few)
                 why = "; no verdict: too few repeats, " + std::to_string(timing.n_base) + " and " +
-                      std::to_string(timing.n_new);
+                      std::to_string(timing.n_new) + too_few_why(timing, opt_family);
             else if (timing.kind == Timing::no_repeats) why = "; no verdict: no repeats recorded";
         }
         // The size of the change, relative to the base (absolute from a base of 0).
@@ -120,6 +137,26 @@ void add_to_band(const Rec& b, const Rec& n, const ResultRow& now, const Timing&
 
 }  // namespace
 
+bool timing_tested(const Rec& b, const Rec& n) {
+    return b.ok && n.ok && b.t_median > 0 && std::isfinite(n.t_median) && !b.repeats.empty() &&
+           !n.repeats.empty() && min_p_value(b.repeats.size(), n.repeats.size()) < kTimingAlpha;
+}
+
+double timing_p(const Rec& b, const Rec& n) { return mann_whitney_u(n.repeats, b.repeats).p; }
+
+Holm holm(std::vector<double> p) {
+    // Holm (1979): the i-th smallest of m p-values (from 0) is significant when it and every
+    // smaller one is at most kTimingAlpha / (m - i). The rows rejected are those at or below
+    // the last p that passed: the family-wise error rate is at most kTimingAlpha whatever the
+    // dependence between the rows' tests.
+    std::sort(p.begin(), p.end());
+    Holm h;
+    h.m = p.size();
+    for (size_t i = 0; i < p.size() && p[i] <= kTimingAlpha / double(p.size() - i); ++i)
+        h.cut = p[i];
+    return h;
+}
+
 std::string ratio_fmt(const Timing& t) {
     if (!std::isfinite(t.ratio)) return "-";
     const std::string r = sig(t.ratio) + "x";
@@ -132,7 +169,7 @@ std::string ratio_fmt(const Timing& t) {
             return r + " (noise, p=" + sig(t.p) + ")";
         case Timing::too_few:
             return r + " (too few repeats for a verdict: " + std::to_string(t.n_base) + " and " +
-                   std::to_string(t.n_new) + ")";
+                   std::to_string(t.n_new) + (t.for_family ? " for Holm's first level" : "") + ")";
         case Timing::no_repeats:
             return r + " (no repeats recorded: no verdict)";
         case Timing::none:
@@ -174,9 +211,9 @@ void add_pair(const Rec& b, const Rec& n, const ResultRow& now, const std::strin
         tally.shader_changes.insert(setting_of(now) + ": " + short_sha(*b.shader_sha256) + " -> " +
                                     short_sha(*n.shader_sha256) +
                                     (n.shader->empty() ? "" : " (" + *n.shader + ")"));
-    const Timing timing = b.ok && n.ok ? timing_change(b, n) : Timing{};
+    const Timing timing = b.ok && n.ok ? timing_change(b, n, tally.family) : Timing{};
     count_timing(timing, tally);
-    if (!opt.fail_on.empty()) gate_pair(b, n, name, opt, timing, regression);
+    if (!opt.fail_on.empty()) gate_pair(b, n, name, opt, timing, tally.family, regression);
     if (b.ok && n.ok) add_to_band(b, n, now, timing, bands, tally);
     // Per row: errors, fetches or status changed, or a time that significantly did.
     if (!any && timing.kind != Timing::slower && timing.kind != Timing::faster) return;
@@ -222,13 +259,12 @@ std::vector<CompareTolerance> parse_fail_on(const std::string& spec) {
             t.relative = true;
             v.pop_back();
         }
-        size_t used = 0;
-        try {
-            t.amount = std::stod(v, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (v.empty() || used != v.size() || !std::isfinite(t.amount) || t.amount < 0)
+        // A decimal number, an optional '+' before it: no hexadecimal ("+0x10" is not 16),
+        // no spaces, nothing after it (parse_number is std::from_chars' general format).
+        const std::optional<double> amount =
+            parse_number(!v.empty() && v[0] == '+' ? v.substr(1) : v);
+        t.amount = amount ? *amount : NAN;
+        if (!amount || !std::isfinite(t.amount) || t.amount < 0)
             throw InputError("--fail-on", "'" + item +
                                               "': the allowance must be a number >= 0, e.g. "
                                               "err_p95=+5% or err_mean=+0.01");

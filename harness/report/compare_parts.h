@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "harness/metrics/row.h"
+#include "harness/metrics/timing_stats.h"
 #include "harness/report/bands.h"
 #include "harness/report/compare.h"
 #include "harness/report/text_table.h"
@@ -91,10 +92,17 @@ struct Base {
     std::unordered_map<std::string, size_t> by_key;
     std::string csv;  // its results.csv
     KeyValues values;
+    std::vector<std::string> lacks;  // the --fail-on columns its results.csv has no column for
+    size_t left_out = 0;             // rows --only left out
 };
 void read_base(const std::string& base_dir, const CompareOptions& opt, Base& base);
 
 struct Tally;
+// The timing tests' family, before any pair is judged: NEW's rows streamed past BASE's once,
+// the U test's p of every matched pair with a timing test (both ok, repeats on both sides that
+// can reach p < kTimingAlpha), and Holm's step-down over them (holm).
+void timing_family(const std::string& new_dir, const CompareOptions& opt, const Base& base,
+                   Tally& tally);
 // Streams NEW's rows past BASE's: each matched pair goes to add_pair (rows that only look
 // alike are refused), the others are counted as only in NEW. Returns the values of NEW's keys.
 KeyValues stream_new(const std::string& new_dir, const CompareOptions& opt, Base& base,
@@ -108,7 +116,22 @@ struct Timing {
     double ratio = NAN;  // new / base median
     double p = NAN;      // Mann-Whitney U, two-sided
     size_t n_base = 0, n_new = 0;
+    // too_few because the smallest p these repeats allow is above Holm's first level
+    // kTimingAlpha / m (not because it is above kTimingAlpha itself)
+    bool for_family = false;
 };
+// Whether a matched pair's repeats get a U test (both ok, repeats on both sides that can reach
+// p < kTimingAlpha), and its p (two-sided).
+bool timing_tested(const Rec& b, const Rec& n);
+double timing_p(const Rec& b, const Rec& n);
+// Holm's step-down at kTimingAlpha over the family's p-values: the p at or below which a row's
+// change is significant (-1: none), and m (the family's size).
+struct Holm {
+    size_t m = 0;
+    double cut = -1;
+    double alpha_m() const { return m ? kTimingAlpha / double(m) : kTimingAlpha; }
+};
+Holm holm(std::vector<double> p);
 std::string ratio_fmt(const Timing& t);
 std::string allowance(const CompareTolerance& t);
 
@@ -163,7 +186,13 @@ struct Tally {
     std::vector<Changed> rows;  // kept to the kShown largest (trimmed as it grows)
     size_t rows_changed = 0;
     int t_slower = 0, t_faster = 0, t_noise = 0, t_too_few = 0, t_no_repeats = 0;
+    Holm family;               // the timing tests' (timing_family)
+    int t_too_few_family = 0;  // of t_too_few: its repeats cannot reach Holm's first level
     std::set<std::string> shader_changes;
+    std::vector<std::string> new_lacks;          // the --fail-on columns NEW's results.csv lacks
+    size_t new_left_out = 0, base_left_out = 0;  // the rows --only left out
+    // "--fail-on COL: FILE has no column COL ...": gated columns a run lacks, each a failure
+    std::vector<std::string> unjudged;
 };
 
 void trim(std::vector<Changed>& rows);

@@ -1,10 +1,12 @@
 // pxh compare's reading of the two runs: BASE's results.csv kept as compact records by key,
 // NEW's streamed past them one row at a time, matched pairs checked (field size, ground truth,
 // time unit) and handed to the tallies.
+#include <algorithm>
 #include <filesystem>
 #include <unordered_set>
 
 #include "harness/core/error.h"
+#include "harness/experiment/only_rows.h"
 #include "harness/metrics/columns.h"
 #include "harness/metrics/timing_stats.h"
 #include "harness/report/compare_parts.h"
@@ -54,6 +56,12 @@ class RowStream {
         row = parse_result_row(specs_, fields_, in_.where());
         return true;
     }
+    // Whether the file has the column (under an older name too: results.cpp's renames).
+    bool has(const std::string& column) const {
+        ResultsFile header;
+        header.header = in_.columns();
+        return header.has(column);
+    }
     std::string where() const { return in_.where(); }
     size_t line() const { return in_.line(); }
     const std::string& path() const { return in_.path(); }
@@ -96,8 +104,15 @@ void check_alike(const Rec& b, const Rec& n, const std::string& name, const std:
 void read_base(const std::string& base_dir, const CompareOptions& opt, Base& base) {
     RowStream in(base_dir);
     base.csv = in.path();
+    for (const CompareTolerance& t : opt.fail_on)
+        if (!in.has(t.column)) base.lacks.push_back(t.column);
     ResultRow row;
+    const OnlyRows only(opt.only);
     while (in.next(row)) {
+        if (!only.matches(row)) {
+            ++base.left_out;
+            continue;
+        }
         base.values.add(row);
         if (!base.by_key.emplace(key_of(row), base.rows.size()).second)
             throw InputError(in.where(), "two rows with the same keys (" + row_name(row) + ")");
@@ -105,13 +120,42 @@ void read_base(const std::string& base_dir, const CompareOptions& opt, Base& bas
     }
 }
 
+void timing_family(const std::string& new_dir, const CompareOptions& opt, const Base& base,
+                   Tally& tally) {
+    // Only when something is timed: BASE has repeats (else nothing is tested, NEW not read).
+    if (std::none_of(base.rows.begin(), base.rows.end(),
+                     [](const Rec& r) { return !r.repeats.empty(); }))
+        return;
+    RowStream in(new_dir);
+    Pool pool;
+    std::vector<double> p;
+    ResultRow row;
+    const OnlyRows only(opt.only);
+    while (in.next(row)) {
+        if (!only.matches(row)) continue;
+        const auto it = base.by_key.find(key_of(row));
+        if (it == base.by_key.end()) continue;
+        const Rec n = rec_of(row, in.line(), in.where(), opt, pool);
+        const Rec& b = base.rows[it->second];
+        if (timing_tested(b, n)) p.push_back(timing_p(b, n));
+    }
+    tally.family = holm(std::move(p));
+}
+
 KeyValues stream_new(const std::string& new_dir, const CompareOptions& opt, Base& base,
                      Bands& bands, Tally& tally) {
     KeyValues new_values;
     RowStream in(new_dir);
+    for (const CompareTolerance& t : opt.fail_on)
+        if (!in.has(t.column)) tally.new_lacks.push_back(t.column);
     std::unordered_set<std::string> only_new;  // the keys of NEW's rows that BASE lacks
     ResultRow row;
+    const OnlyRows only(opt.only);
     while (in.next(row)) {
+        if (!only.matches(row)) {
+            ++tally.new_left_out;
+            continue;
+        }
         new_values.add(row);
         const Rec n = rec_of(row, in.line(), in.where(), opt, base.pool);
         const std::string key = key_of(row), name = row_name(row);

@@ -131,4 +131,19 @@ void write_verdict_file(const std::string& path, const std::string& text, const 
     }
 }
 
+void check_verdict_paths(const std::string& junit, const std::string& json) {
+    namespace fs = std::filesystem;
+    if (junit.empty() || json.empty()) return;
+    std::error_code e1, e2;
+    const fs::path a = fs::weakly_canonical(fs::absolute(junit), e1);
+    const fs::path b = fs::weakly_canonical(fs::absolute(json), e2);
+    const bool same =
+        junit == json || (!e1 && !e2 && a == b) ||
+        (fs::exists(junit, e1) && fs::exists(json, e2) && fs::equivalent(junit, json, e1));
+    if (same)
+        throw InputError("--json", "'" + json +
+                                       "' is also the --junit file: the JSON verdict "
+                                       "would replace the JUnit one (give two files)");
+}
+
 }  // namespace pxh

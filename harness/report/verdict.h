@@ -40,4 +40,8 @@ std::string verdict_json(const Verdict& v);
 // and a rename, so the path holds the old verdict or the new one, never half of one.
 void write_verdict_file(const std::string& path, const std::string& text, const char* option);
 
+// --junit FILE and --json FILE naming the same file (as given, or through links and "..") is an
+// InputError("--json", ...): the second verdict would replace the first. Called before any work.
+void check_verdict_paths(const std::string& junit, const std::string& json);
+
 }  // namespace pxh

@@ -37,8 +37,8 @@ class ShaderGate : public pxh::test::CliTest {
     // `sh gate.sh PXH DIR OUT` of the example itself: exit status, stdout + stderr in out.
     int gate(const fs::path& d, std::string& out, const std::string& mode = "") {
         fs::remove_all(dir / "run");
-        for (const char* f :
-             {"run.check.xml", "run.check.json", "run.compare.xml", "run.compare.json"})
+        for (const char* f : {"run.check.xml", "run.check.json", "run.compare.xml",
+                              "run.compare.json", "run.run.xml", "run.run.json"})
             fs::remove(dir / f);
         const int rc = pxh::test::shell("sh " + (ex / "gate.sh").string() + " " + PXH_BINARY + " " +
                                             d.string() + " " + (dir / "run").string() + " " + mode,
@@ -126,6 +126,57 @@ TEST_F(ShaderGate, NanOnMissFailsTheNonfiniteLimit) {
     EXPECT_TRUE(nonfinite_fails) << out;
     EXPECT_NE(out.find(": nonfinite 0 -> "), std::string::npos) << "compare names it too: " << out;
     EXPECT_NE(out.find("gate: pxh check FAIL, pxh compare FAIL"), std::string::npos) << out;
+}
+
+// A one-line bug's log is short and says each verdict once; the details are in the files.
+size_t count(const std::string& s, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+    return n;
+}
+
+TEST_F(ShaderGate, OneLineBugLogIsShortAndSaysTheVerdictOnce) {
+    const fs::path d = copy_with("vec2 dir = pxh_V.xy / pxh_V.z;",
+                                 "vec2 dir = vec2(pxh_V.x, -pxh_V.y) / pxh_V.z;");
+    std::string out;
+    EXPECT_EQ(gate(d, out), 1) << out;
+    EXPECT_LT(count(out, "\n"), 30u) << out;
+    EXPECT_EQ(count(out, "regression(s) beyond --fail-on"), 1u) << out;
+    EXPECT_EQ(count(out, "gate: pxh check FAIL, pxh compare FAIL"), 1u) << out;
+    // The whole outputs are in the files the log names.
+    EXPECT_NE(slurp(dir / "run.compare.txt").find("Regressions beyond --fail-on"),
+              std::string::npos);
+    EXPECT_NE(slurp(dir / "run.check.txt").find("FAIL"), std::string::npos);
+    EXPECT_NE(slurp(dir / "run.run.xml").find("failures=\"0\""), std::string::npos);
+}
+
+// A plug-in shader with a syntax error: the run stops (exit 2), and the CI page still gets
+// JUnit and JSON, one failure naming the shader's file and line as the compiler gave them.
+TEST_F(ShaderGate, ShaderThatDoesNotCompileFailsInJUnitWithItsLine) {
+    const fs::path d =
+        copy_with("float dz = u_scale / p_steps;", "float dz = u_scale / / p_steps;");
+    std::string out;
+    EXPECT_EQ(gate(d, out), 2) << out;
+    EXPECT_LT(count(out, "\n"), 30u) << out;
+    EXPECT_NE(out.find("gate: pxh run exited 2: "), std::string::npos) << out;
+    EXPECT_NE(out.find("my_pom.frag.glsl:9"), std::string::npos) << out;
+    const std::string xml = slurp(dir / "run.run.xml");
+    EXPECT_EQ(count(xml, "<failure "), 1u) << xml;
+    EXPECT_NE(xml.find("failures=\"1\""), std::string::npos) << xml;
+    const size_t msg = xml.find("<failure message=\"");
+    ASSERT_NE(msg, std::string::npos) << xml;
+    EXPECT_NE(xml.substr(msg, xml.find('"', msg + 18) - msg).find("my_pom.frag.glsl:9"),
+              std::string::npos)
+        << xml;
+    const std::string json = slurp(dir / "run.run.json");
+    EXPECT_NE(json.find("\"passed\": false"), std::string::npos) << json;
+    EXPECT_NE(json.find("\"exit_code\": 2"), std::string::npos) << json;
+    EXPECT_NE(json.find("my_pom.frag.glsl:9"), std::string::npos) << json;
+    // Both files parse as what they claim to be (JSON by Python's reader).
+    EXPECT_EQ(sh("python3 -m json.tool " + (dir / "run.run.json").string()).status, 0) << json;
+    // No gate ran: no verdict of theirs is left to mislead.
+    EXPECT_FALSE(fs::exists(dir / "run.check.xml"));
+    EXPECT_FALSE(fs::exists(dir / "run.compare.xml"));
 }
 
 TEST_F(ShaderGate, BadInputIsExit2) {
