@@ -366,6 +366,12 @@ int run_bench(const BenchOptions& options) {
     for (double theta : opt.thetas)
         if (const std::string why = ray_travel_problem(opt.scale, theta); !why.empty())
             throw InputError("--theta", why);
+    if (opt.base != "plane")  // the radius's precision bound (kMaxBaseRadiusCells)
+        for (int size : sizes)
+            if (const std::string why =
+                    base_radius_problem(opt.base, opt.radius, size, scan ? scanned.height : size);
+                !why.empty())
+                throw InputError("--radius", why);
     const bool persp = opt.camera == "perspective";
     if (persp)  // eyes below the slab top, before any work
         for (double theta : opt.thetas)

@@ -358,6 +358,19 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                         ") lies outside the view (V.z <= cos 89 degrees: at or beyond the "
                         "horizon, samples_outside): nothing to measure; lower theta or widen "
                         "fov_deg");
+                // A curved base where no pixel is covered by both the method and the truth:
+                // every error column would be empty, so the row fails and says why, with the
+                // coverage in its message.
+                if (job.truth.cover && !o.uv.empty() && row.num("nonfinite") == 0 &&
+                    !std::isfinite(row.num("err_mean")))
+                    throw std::runtime_error(
+                        "no pixel is covered by both the method and the truth (cover_extra_frac " +
+                        format_number(row.num("cover_extra_frac")) + ", cover_missing_frac " +
+                        format_number(row.num("cover_missing_frac")) + ", samples_outside " +
+                        format_number(row.num("samples_outside")) + " of " +
+                        std::to_string(o.uv.size()) +
+                        "): no error to measure; a larger radius or scale, or a camera that "
+                        "sees more of the base");
                 // Every sample non-finite (a parameter combination that gives no answer at
                 // this view, e.g. a layer count of 0, or a shader that discards every sample):
                 // a failure, never a row of NaN "ok".
@@ -443,13 +456,21 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     const Scene<double> scene{
         c.spec.scale, c.spec.bias, view_vector(theta, phi),
         c.hf.width,   c.hf.height, c.base ? c.base->curvature() : Vec2d{0, 0}};
-    ViewJob job{c,     theta,
-                phi,   camera,
-                timed, view,
-                scene, curved ? curved_truth_stage(c, *curved, timed) : truth_stage(c, view, timed),
-                {},    nullptr,
-                {},    {},
-                NAN};
+    // A curved walk over its step budget (kMaxCurvedWalkSteps; views the estimate lets through
+    // whose rays skim the relief) refuses the run at the field's entry, naming the view.
+    auto truth = [&]() {
+        if (!curved) return truth_stage(c, view, timed);
+        try {
+            return curved_truth_stage(c, *curved, timed);
+        } catch (const CurvedWalkTooLong& e) {
+            throw InputError(c.spec.where, "heightfield '" + c.spec.name + "' (base " +
+                                               c.spec.base + " radius " +
+                                               format_number(c.spec.radius) + ") at theta " +
+                                               format_number(theta) + " phi " + format_number(phi) +
+                                               ": " + e.what());
+        }
+    };
+    ViewJob job{c, theta, phi, camera, timed, view, scene, truth(), {}, nullptr, {}, {}, NAN};
     // Each sample's lambda from its footprint (section 10), and their mean over the inside.
     job.lambda.resize(view.size());
     double lod_sum = 0;

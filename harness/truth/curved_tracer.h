@@ -17,6 +17,8 @@
 // curved_truth_test.cpp); the runner uses the exact tracers there.
 #pragma once
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "harness/scene/base_surface.h"
@@ -24,6 +26,55 @@
 #include "harness/scene/view.h"
 
 namespace pxh {
+
+// The precision bound on a curved base's radius (docs/conventions.md section 9, "Bounds"). The
+// base's points, coordinates and shell hits are computed about its centre R tiles from the
+// look-at point (B = (0.5, *, -R) + R n; coords from p.z + R; the shells' quadratic holds
+// |o - centre|^2 ~ R^2), so every position the walk and the methods' inputs see carries a
+// rounding error of a few ulp of R: eps R tiles, eps = 2^-52. A height error d moves a hit by
+// d tan(theta) along the surface, and a measured pixel meets the base at most 89 degrees off its
+// normal (section 9's outside rule: tan 89 deg = 57.3 < 2^6). Keeping that under 2^-16 of a
+// texel of a W x H field (the resolution the exact tracer keeps at its reach, kMaxSampleCells)
+// needs eps R 2^6 max(W, H) <= 2^-16, i.e.
+//   R max(W, H) <= 2^30 cells (kMaxBaseRadiusCells),
+// R <= 3.4e7 tiles on a 32 x 32 field, 65536 on a 16384 x 16384 one. At the bound the base sags
+// max(W, H) / (2 R) <= 2^-31 max(W, H)^2 texels over a tile from its tangent plane. Measured on
+// fbm 32 x 32, s 0.05 (errors against the plane's): within 1e-4 at R = 1e7, +35% at 1e11, 70 x at
+// 1e13, wrong by whole texels at 1e15 (all with status ok before this bound). The only base
+// parameter is the radius; its lower bound is R > s b (the relief's bottom shell).
+inline constexpr double kMaxBaseRadiusCells = 1073741824.0;  // 2^30
+// "" when a curved base of radius R over a W x H field lies within kMaxBaseRadiusCells, else a
+// one-line reason naming the radius, the field, the bound in tiles and what to do.
+std::string base_radius_problem(const std::string& base, double radius, int width, int height);
+
+// The curved walk's work, bounded before a run (docs/guide/heightfields.md, "Curved bases"): a
+// view's truth walks each ray through the relief's shell in steps of at most `step_texels`
+// texels (and shorter near the surface), plus the check walk at half the step on timed views.
+// curved_walk_estimate is the steps the longest allowed steps take through each ray's whole
+// chord in the shell (from entering it to meeting its bottom or leaving it), summed over the
+// view's rays (a strided sample of at most 4096 of them, scaled up), times 3 for the check walk:
+// the work of a view whose rays cross the shell before they hit. A view over
+// kMaxCurvedWalkSteps is refused when the experiment is read; the walk itself stops a view that
+// takes more (its steps can be shorter than the longest near the surface) and the run is refused
+// with the count. Measured: about 40 ns a step on this project's machine (2 cores: 2^32 steps
+// are about 90 s of one view).
+inline constexpr double kMaxCurvedWalkSteps = 4294967296.0;  // 2^32
+struct CurvedWalkEstimate {
+    double steps = 0;      // the view's estimated walk steps (both walks)
+    double chord_max = 0;  // the longest chord through the shell (tiles)
+    size_t rays = 0;       // the view's rays
+};
+CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, double bias,
+                                        int width, int height, const Camera& camera, size_t rays,
+                                        double step_texels = 0.25);
+// "" when the estimate is within kMaxCurvedWalkSteps, else the reason: the estimate, the
+// limit and the knobs that lower it.
+std::string curved_walk_problem(const CurvedWalkEstimate& e);
+
+// Thrown by CurvedTracer::trace when a walk exceeds its step budget.
+struct CurvedWalkTooLong : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
 
 struct CurvedHits {
     std::vector<Vec2d> uv;     // unwrapped (u, v) of the hit; NaN where the ray misses X
@@ -38,17 +89,21 @@ class CurvedTracer {
   public:
     CurvedTracer(const HeightField& hf, double scale, double bias, const BaseSurface& base,
                  double step_texels = 0.25);
-    // Every ray (in parallel; the result does not depend on the thread count).
-    CurvedHits trace(const std::vector<WorldRay>& rays) const;
+    // Every ray (in parallel; the result does not depend on the thread count). Throws
+    // CurvedWalkTooLong (naming the steps taken and the budget) once the rays' steps together
+    // exceed max_steps.
+    CurvedHits trace(const std::vector<WorldRay>& rays,
+                     double max_steps = kMaxCurvedWalkSteps) const;
     double step_texels() const { return step_; }
 
   private:
     struct One {
         bool hit = false;
         double t = 0, residual = 0;
-        int steps = 0;
+        long long steps = 0;
     };
-    One trace_one(const WorldRay& r) const;
+    struct Budget;
+    One trace_one(const WorldRay& r, Budget& budget) const;
     double g(Vec3d p) const;
 
     const HeightField& hf_;
