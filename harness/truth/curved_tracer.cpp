@@ -54,9 +54,10 @@ std::string base_radius_problem(const std::string& base, double radius, int widt
 
 CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, double bias,
                                         int width, int height, const Camera& camera, size_t rays,
-                                        double step_texels) {
+                                        double step_texels, double walks) {
     CurvedWalkEstimate e;
     e.rays = rays;
+    e.walks = walks;
     if (rays == 0) return e;
     const double top = scale * (1 - bias), bottom = -scale * bias;
     const double step = step_texels / double(std::max(width, height));  // tiles
@@ -78,19 +79,19 @@ CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, d
         e.chord_max = std::max(e.chord_max, t_end - t0);
         sum += std::ceil((t_end - t0) / step);  // the walk's speed of (u, v) is at least 1
     }
-    e.steps = 3 * sum * double(rays) / double(sampled);  // the walk and its check at half the step
+    e.walk_steps = sum * double(rays) / double(sampled);
+    e.steps = walks * e.walk_steps;  // e.g. the walk and its check at half the step: 3
     return e;
 }
 
-std::string curved_walk_problem(const CurvedWalkEstimate& e) {
+std::string curved_walk_problem(const CurvedWalkEstimate& e, const std::string& walks_said,
+                                const std::string& knobs) {
     if (e.steps <= kMaxCurvedWalkSteps) return "";
     return "the curved truth's walk would take about " + number(e.steps) + " steps for the " +
            std::to_string(e.rays) + " rays of this view (rays cross up to " + number(e.chord_max) +
-           " tiles of the relief's shell in steps of a quarter texel, and the check walk at "
-           "half the step), over the limit of 2^32 = " +
-           number(kMaxCurvedWalkSteps) +
-           " steps (kMaxCurvedWalkSteps, about 90 s a view): lower theta, the scale, the field's "
-           "size or samples";
+           " tiles of the relief's shell in steps of a quarter texel, " + walks_said +
+           "), over the limit of 2^28 = " + number(kMaxCurvedWalkSteps) +
+           " steps a view (kMaxCurvedWalkSteps, 10 to 25 s of one core): " + knobs;
 }
 
 struct CurvedTracer::Budget {
@@ -183,7 +184,10 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
     const size_t n = rays.size();
     std::vector<One> one(n);
     Budget budget{max_steps};
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& rg) {
+    // chunks of up to 64 rays, finer for small views (a handful of long rays still spread over
+    // the threads); each ray's walk is its own, so the hits do not depend on the chunks
+    const size_t grain = std::clamp<size_t>(n / 256, 1, 64);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const auto& rg) {
         for (size_t k = rg.begin(); k != rg.end(); ++k) {
             if (budget.over.load(std::memory_order_relaxed)) return;
             one[k] = trace_one(rays[k], budget);
@@ -191,12 +195,11 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
         }
     });
     if (budget.over)
-        throw CurvedWalkTooLong(
-            "the curved truth's walk took over " + number(max_steps) + " steps (" +
-            number(double(budget.used.load())) + " when it stopped) for the " + std::to_string(n) +
-            " rays of this view, over the limit kMaxCurvedWalkSteps (rays that skim the relief "
-            "step shorter than a quarter texel near it): lower theta, the scale, the field's size "
-            "or samples");
+        throw CurvedWalkTooLong("the curved truth's walk stopped after " +
+                                    number(double(budget.used.load())) + " steps for the " +
+                                    std::to_string(n) + " rays of this view, over its budget of " +
+                                    number(max_steps) + " steps",
+                                double(budget.used.load()), max_steps);
     CurvedHits h;
     h.uv.assign(n, {NAN, NAN});
     h.z.assign(n, NAN);
@@ -214,6 +217,7 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
         h.hit[k] = 1;
         h.residual_max = std::max(h.residual_max, one[k].residual);
     }
+    h.steps = steps;
     h.steps_mean = n ? steps / double(n) : 0;
     return h;
 }

@@ -47,33 +47,46 @@ inline constexpr double kMaxBaseRadiusCells = 1073741824.0;  // 2^30
 // one-line reason naming the radius, the field, the bound in tiles and what to do.
 std::string base_radius_problem(const std::string& base, double radius, int width, int height);
 
-// The curved walk's work, bounded before a run (docs/guide/heightfields.md, "Curved bases"): a
-// view's truth walks each ray through the relief's shell in steps of at most `step_texels`
-// texels (and shorter near the surface), plus the check walk at half the step on timed views.
-// curved_walk_estimate is the steps the longest allowed steps take through each ray's whole
-// chord in the shell (from entering it to meeting its bottom or leaving it), summed over the
-// view's rays (a strided sample of at most 4096 of them, scaled up), times 3 for the check walk:
-// the work of a view whose rays cross the shell before they hit. A view over
-// kMaxCurvedWalkSteps is refused when the experiment is read; the walk itself stops a view that
-// takes more (its steps can be shorter than the longest near the surface) and the run is refused
-// with the count. Measured: about 40 ns a step on this project's machine (2 cores: 2^32 steps
-// are about 90 s of one view).
-inline constexpr double kMaxCurvedWalkSteps = 4294967296.0;  // 2^32
+// The curved walk's work, bounded before a run and during it (docs/guide/heightfields.md,
+// "Curved bases"): a view's truth walks each ray through the relief's shell in steps of at most
+// `step_texels` texels (and shorter near the surface), plus the check walk at half the step on
+// timed views. curved_walk_estimate is the steps the longest allowed steps take through each
+// ray's whole chord in the shell (from entering it to meeting its bottom or leaving it), summed
+// over the view's rays (a strided sample of at most 4096 of them, scaled up): `walk_steps` for
+// one walk at `step_texels`, `steps` = walks x walk_steps for the view's work (3: the walk and
+// the check walk at half the step; pxh bench: its warm-up and repeats). A view over
+// kMaxCurvedWalkSteps is refused before any work (an experiment when it is read, at the field's
+// entry; pxh bench at --theta). The walks count their steps the same way (every step of every
+// ray, both walks of a view together) and stop a view at the same limit, since near the surface
+// they step shorter than the estimate assumes: the run is then refused at the field's entry with
+// the count. So no view takes more than kMaxCurvedWalkSteps steps (plus at most 4096 a thread).
+// Measured: 40 to 90 ns a step on this project's 2 shared cores (idle to loaded), so 2^28 steps
+// are 10 to 25 s of one core, half that on 2 (the rays of a view are walked in parallel, even 4
+// of them). Lower theta, the scale, the field's size or the samples to lower a view's estimate.
+inline constexpr double kMaxCurvedWalkSteps = 268435456.0;  // 2^28
 struct CurvedWalkEstimate {
-    double steps = 0;      // the view's estimated walk steps (both walks)
-    double chord_max = 0;  // the longest chord through the shell (tiles)
-    size_t rays = 0;       // the view's rays
+    double steps = 0;       // the view's estimated walk steps (all its walks)
+    double walk_steps = 0;  // one walk's at step_texels
+    double walks = 3;       // steps / walk_steps
+    double chord_max = 0;   // the longest chord through the shell (tiles)
+    size_t rays = 0;        // the view's rays
 };
 CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, double bias,
                                         int width, int height, const Camera& camera, size_t rays,
-                                        double step_texels = 0.25);
-// "" when the estimate is within kMaxCurvedWalkSteps, else the reason: the estimate, the
-// limit and the knobs that lower it.
-std::string curved_walk_problem(const CurvedWalkEstimate& e);
+                                        double step_texels = 0.25, double walks = 3);
+// "" when the estimate is within kMaxCurvedWalkSteps, else the one-line reason: the estimate,
+// the limit and the knobs that lower it (`walks_said` says what the walks are).
+std::string curved_walk_problem(
+    const CurvedWalkEstimate& e,
+    const std::string& walks_said = "and the check walk at half the step: 3 walks",
+    const std::string& knobs = "lower theta, the scale, the field's size or samples");
 
-// Thrown by CurvedTracer::trace when a walk exceeds its step budget.
+// Thrown by CurvedTracer::trace when a view's walk exceeds its step budget: the steps it had
+// taken when it stopped (over the budget by at most 4096 a thread) and the budget.
 struct CurvedWalkTooLong : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    CurvedWalkTooLong(const std::string& what, double steps_taken, double budget_steps)
+        : std::runtime_error(what), steps(steps_taken), budget(budget_steps) {}
+    double steps, budget;
 };
 
 struct CurvedHits {
@@ -83,15 +96,16 @@ struct CurvedHits {
     std::vector<uint8_t> hit;  // 1 where the ray meets X
     double residual_max = 0;   // max |g| at the hits (tiles)
     double steps_mean = 0;     // walk steps per ray (cost)
+    double steps = 0;          // walk steps of all the rays (counted against the budget)
 };
 
 class CurvedTracer {
   public:
     CurvedTracer(const HeightField& hf, double scale, double bias, const BaseSurface& base,
                  double step_texels = 0.25);
-    // Every ray (in parallel; the result does not depend on the thread count). Throws
-    // CurvedWalkTooLong (naming the steps taken and the budget) once the rays' steps together
-    // exceed max_steps.
+    // Every ray (in parallel, even a handful of rays; the result does not depend on the thread
+    // count). Throws CurvedWalkTooLong (naming the steps taken and the budget) once the rays'
+    // steps together exceed max_steps (a view's second walk gets what its first left).
     CurvedHits trace(const std::vector<WorldRay>& rays,
                      double max_steps = kMaxCurvedWalkSteps) const;
     double step_texels() const { return step_; }

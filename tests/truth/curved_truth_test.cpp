@@ -422,7 +422,93 @@ TEST(CurvedBase, CurvedWalkIsEstimatedAndBounded) {
         (void)CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays, 5000);
         ADD_FAILURE() << "the walk did not stop at its budget";
     } catch (const CurvedWalkTooLong& x) {
-        EXPECT_NE(std::string(x.what()).find("over 5e+03 steps"), std::string::npos) << x.what();
+        EXPECT_NE(std::string(x.what()).find("over its budget of 5e+03 steps"), std::string::npos)
+            << x.what();
+        EXPECT_GT(x.steps, 5000);
+        EXPECT_LE(x.steps, 5000 + 4096.0 * 64);  // 4096 steps a thread at most
+        EXPECT_EQ(x.budget, 5000);
+    }
+    // the walk counts every step of every ray: its total is what the budget is charged
+    EXPECT_EQ(h.steps, h.steps_mean * double(cv.rays.size()));
+    EXPECT_NO_THROW((void)CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays, h.steps));
+    EXPECT_THROW((void)CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays, h.steps - 1),
+                 CurvedWalkTooLong);
+}
+
+// Issue 59, item 3, the 4-ray case: the same grazing cylinder with 2 x 2 samples passed the
+// estimate under the old limit (2^32; about 1e9 steps) and then walked for minutes on one
+// thread. Under kMaxCurvedWalkSteps = 2^28 (a view's work, both walks) it is refused when the
+// experiment is read, at the field's entry, naming the estimate, the limit and the knobs; a
+// quarter of the scale passes (about 2.6e8 steps).
+TEST(CurvedBase, GrazingCylinderWithFourRaysIsRefusedBeforeTheRun) {
+    auto toml = [](const std::string& samples, const std::string& scale) {
+        return "samples = " + samples +
+               "\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [88.9]\n"
+               "phi_deg = [90]\n[[heightfields]]\nname = \"f\"\ngenerator = \"fbm\"\n"
+               "size = 4096\nscale = " +
+               scale + "\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n" + kMethods;
+    };
+    const std::string err = parse_error(toml("2", "100"));
+    EXPECT_EQ(err.rfind("e.toml:7: heightfield 'f' (base cylinder radius 1000, s = 100) at theta "
+                        "88.9 phi 90: the curved truth's walk would take about 1.0",
+                        0),
+              0u)
+        << err;
+    EXPECT_NE(err.find("e+09 steps for the 4 rays of this view"), std::string::npos) << err;
+    EXPECT_NE(err.find("over the limit of 2^28 = 2.68e+08 steps a view (kMaxCurvedWalkSteps"),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find("lower theta, the scale, the field's size or samples"), std::string::npos)
+        << err;
+    EXPECT_EQ(err.find('\n'), std::string::npos) << err;  // one line
+    // the estimate for these 4 rays, and for a quarter of the scale (under the limit)
+    const auto base = make_base("cylinder", 1000);
+    const OrthographicCamera cam(88.9, 90, 2);
+    const CurvedWalkEstimate e = curved_walk_estimate(*base, 100, 1, 4096, 4096, cam, 4);
+    EXPECT_GT(e.steps, kMaxCurvedWalkSteps);
+    EXPECT_NEAR(e.chord_max, 100 / std::cos(88.9 * M_PI / 180), 100);  // about 5200 tiles
+    EXPECT_EQ(e.steps, 3 * e.walk_steps);
+    EXPECT_LT(curved_walk_estimate(*base, 25, 1, 4096, 4096, cam, 4).steps, kMaxCurvedWalkSteps);
+}
+
+// Issue 59, item 3, during the run: a view the estimate lets through whose walks take far more
+// steps than it (a cliff one texel wide over a floor: the steps shrink as g / L all the way down
+// to the floor, L = 1 + 2 s |grad h| = 1 + 2 s 1024 per tile; 6755 steps a ray against the
+// estimate's 1180) stops once both walks together pass 2^28 steps, and the run is refused at the
+// field's entry with the count, the limit and the knobs, never a walk of unbounded length (the
+// old budget, 2^32 for each walk, let it run to its end). About 2^28 steps of work: 10 to 25 s
+// on 2 cores, hence a suite of its own labelled slow.
+TEST(CurvedBudget, WalkOverItsBudgetStopsTheRun) {
+    const std::string toml =
+        "samples = 192\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [80]\n"
+        "phi_deg = [90]\n[[heightfields]]\nname = \"f\"\ngenerator = \"step\"\nsize = 1024\n"
+        "scale = 0.05\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n[[methods]]\n"
+        "name = \"parallax\"\n";
+    const Experiment ex = parse_experiment(toml, "e.toml");  // within the estimate
+    const auto base = make_base("cylinder", 1000);
+    const CurvedWalkEstimate e = curved_walk_estimate(*base, 0.05, 1, 1024, 1024,
+                                                      OrthographicCamera(80, 90, 192), 192 * 192);
+    EXPECT_LT(e.steps, 0.5 * kMaxCurvedWalkSteps);
+    try {
+        (void)run_experiment(ex, {});
+        ADD_FAILURE() << "the walks did not stop at the view's budget";
+    } catch (const InputError& x) {
+        const std::string err = x.what();
+        const std::string head =
+            "e.toml:7: heightfield 'f' (base cylinder radius 1000) at theta 80 phi 90: the curved "
+            "truth's walk stopped after ";
+        ASSERT_EQ(err.rfind(head, 0), 0u) << err;
+        const double steps = std::stod(err.substr(head.size()));
+        EXPECT_GT(steps, kMaxCurvedWalkSteps) << err;
+        EXPECT_LE(steps, kMaxCurvedWalkSteps + 4096.0 * 256) << err;  // 4096 a thread at most
+        EXPECT_NE(err.find("steps for the 36864 rays of this view (the walk and its check "
+                           "together), over the limit of 2^28 steps a view (kMaxCurvedWalkSteps"),
+                  std::string::npos)
+            << err;
+        EXPECT_NE(err.find("lower theta, the scale, the field's size or samples"),
+                  std::string::npos)
+            << err;
+        EXPECT_EQ(err.find('\n'), std::string::npos) << err;
     }
 }
 
