@@ -324,7 +324,8 @@ double bench_walks(const BenchOptions& opt) { return 1.0 + std::max(opt.repeats,
 // view's and its fields in the view's JSON entry: throughput and its ratio to the exact tracer on
 // the plane over the same camera in the same run, walk steps per ray, rays that hit, residual.
 void time_curved(const BenchOptions& opt, const HeightField& hf, const BaseSurface& base,
-                 const Camera& camera, double exact_mrays, nlohmann::json& row) {
+                 const Camera& camera, const std::string& at, double exact_mrays,
+                 nlohmann::json& row) {
     const CurvedView cv = curved_view(camera, base, opt.scale * (1 - opt.bias));
     const CurvedTracer walk(hf, opt.scale, opt.bias, base);
     // Each walk's budget: the view's (kMaxCurvedWalkSteps, checked before any work with
@@ -337,14 +338,14 @@ void time_curved(const BenchOptions& opt, const HeightField& hf, const BaseSurfa
         for (int r = 0; r < opt.repeats; ++r)
             secs.push_back(seconds([&] { h = walk.trace(cv.rays, budget); }));
     } catch (const CurvedWalkTooLong& e) {
-        throw InputError("--base", "base " + base.name() + " radius " +
-                                       format_number(base.radius()) + " on the " +
-                                       std::to_string(hf.width) + " x " +
-                                       std::to_string(hf.height) + " field: " + e.what() +
-                                       " (kMaxCurvedWalkSteps shared by the warm-up and "
-                                       "--repeats; rays that skim the relief step shorter than "
-                                       "the quarter texel the estimate before the run assumes): "
-                                       "lower --theta, --sizes, --samples or --repeats");
+        throw InputError("--base",
+                         "base " + base.name() + " radius " + format_number(base.radius()) +
+                             " on the " + std::to_string(hf.width) + " x " +
+                             std::to_string(hf.height) + " field at " + at + ": " + e.what() +
+                             " (kMaxCurvedWalkSteps shared by the warm-up and "
+                             "--repeats; rays that skim the relief step shorter than "
+                             "the quarter texel the estimate before the run assumes): "
+                             "lower --theta, --sizes, --samples or --repeats");
     }
     size_t hits = 0;
     for (uint8_t x : h.hit) hits += x;
@@ -494,8 +495,8 @@ int run_bench(const BenchOptions& options) {
                                                : exact->simd_path()              ? "band+" + path
                                                                     : std::string("band");
                 if (base)
-                    time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
-                                results.back());
+                    time_curved(opt, hf, *base, camera, "theta " + format_number(theta),
+                                results.back()["exact_mrays_per_s"], results.back());
                 continue;
             }
             for (double d : opt.distances) {
@@ -509,8 +510,9 @@ int run_bench(const BenchOptions& options) {
                                               {theta, d, &inside, camera.outside_count()}, t,
                                               exact_build, embree_build));
                 if (base)
-                    time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
-                                results.back());
+                    time_curved(opt, hf, *base, camera,
+                                "theta " + format_number(theta) + " distance " + format_number(d),
+                                results.back()["exact_mrays_per_s"], results.back());
             }
         }
     }

@@ -662,7 +662,7 @@ TEST_F(TruthLimitsCli, BenchTimesTheCurvedWalk) {
 // --base, both before any work (no field is generated). The wall bound is generous: the old
 // limit let the 4 rays through to a walk over 400 s. pxh bench keeps s = 0.05, so its case is
 // the steepest view it takes, 89.999 degrees (a chord of 2865 tiles; 2 walks of 4 rays: 3.8e8
-// steps).
+// steps). And pxh bench's walks stop at their budget during the run too.
 TEST_F(TruthLimitsCli, GrazingCylinderIsRefusedByRunAndBench) {
     for (const char* samples : {"2", "256"}) {
         const std::string e = write(
@@ -709,6 +709,26 @@ TEST_F(TruthLimitsCli, GrazingCylinderIsRefusedByRunAndBench) {
     EXPECT_NE(r.err.find("(kMaxCurvedWalkSteps"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("lower --theta, --sizes, --samples or --repeats"), std::string::npos)
         << r.err;
+    EXPECT_FALSE(std::filesystem::exists(json));
+    // A view within the estimate whose walk steps shorter than it (a one-texel cliff over a
+    // floor: about 6 times the estimate): each of the 1001 walks gets 2^28 / 1001 steps, and the
+    // warm-up stops there, refused at --base with the count.
+    const test::CliResult s = pxh_timeout(
+        "bench --field step --sizes 1024 --theta 80 --phi 90 --samples 8 --repeats 1000 "
+        "--base cylinder --radius 1000 --out " +
+            json,
+        300);
+    EXPECT_EQ(s.status, 2) << s.err;
+    EXPECT_EQ(std::count(s.err.begin(), s.err.end(), '\n'), 1) << s.err;
+    EXPECT_EQ(s.err.rfind("pxh: error: --base: base cylinder radius 1000 on the 1024 x 1024 field "
+                          "at theta 80: the curved truth's walk stopped after ",
+                          0),
+              0u)
+        << s.err;
+    EXPECT_NE(s.err.find("steps for the 64 rays of this view, over its budget of 2.68e+05 steps "
+                         "(kMaxCurvedWalkSteps shared by the warm-up and --repeats"),
+              std::string::npos)
+        << s.err;
     EXPECT_FALSE(std::filesystem::exists(json));
 }
 
