@@ -316,17 +316,37 @@ void check_bench_out(const std::string& out, bool force) {
                          "choose another --out");
 }
 
+// The walks pxh bench times on each view of a curved base: the warm-up and the repeats.
+double bench_walks(const BenchOptions& opt) { return 1.0 + std::max(opt.repeats, 0); }
+
 // --base: the curved truth's walk over the same camera's rays on the base (docs/conventions.md
 // section 12), timed as the exact tracer is (one warm-up, then the repeats), its line under the
 // view's and its fields in the view's JSON entry: throughput and its ratio to the exact tracer on
 // the plane over the same camera in the same run, walk steps per ray, rays that hit, residual.
 void time_curved(const BenchOptions& opt, const HeightField& hf, const BaseSurface& base,
-                 const Camera& camera, double exact_mrays, nlohmann::json& row) {
+                 const Camera& camera, const std::string& at, double exact_mrays,
+                 nlohmann::json& row) {
     const CurvedView cv = curved_view(camera, base, opt.scale * (1 - opt.bias));
     const CurvedTracer walk(hf, opt.scale, opt.bias, base);
-    CurvedHits h = walk.trace(cv.rays);  // warm-up
+    // Each walk's budget: the view's (kMaxCurvedWalkSteps, checked before any work with
+    // bench_walks() walks) shared by the warm-up and the repeats.
+    const double budget = kMaxCurvedWalkSteps / bench_walks(opt);
+    CurvedHits h;
     std::vector<double> secs;
-    for (int r = 0; r < opt.repeats; ++r) secs.push_back(seconds([&] { h = walk.trace(cv.rays); }));
+    try {
+        h = walk.trace(cv.rays, budget);  // warm-up
+        for (int r = 0; r < opt.repeats; ++r)
+            secs.push_back(seconds([&] { h = walk.trace(cv.rays, budget); }));
+    } catch (const CurvedWalkTooLong& e) {
+        throw InputError("--base",
+                         "base " + base.name() + " radius " + format_number(base.radius()) +
+                             " on the " + std::to_string(hf.width) + " x " +
+                             std::to_string(hf.height) + " field at " + at + ": " + e.what() +
+                             " (kMaxCurvedWalkSteps shared by the warm-up and "
+                             "--repeats; rays that skim the relief step shorter than "
+                             "the quarter texel the estimate before the run assumes): "
+                             "lower --theta, --sizes, --samples or --repeats");
+    }
     size_t hits = 0;
     for (uint8_t x : h.hit) hits += x;
     const double mrays = double(cv.rays.size()) / median(secs) / 1e6;
@@ -366,6 +386,12 @@ int run_bench(const BenchOptions& options) {
     for (double theta : opt.thetas)
         if (const std::string why = ray_travel_problem(opt.scale, theta); !why.empty())
             throw InputError("--theta", why);
+    if (opt.base != "plane")  // the radius's precision bound (kMaxBaseRadiusCells)
+        for (int size : sizes)
+            if (const std::string why =
+                    base_radius_problem(opt.base, opt.radius, size, scan ? scanned.height : size);
+                !why.empty())
+                throw InputError("--radius", why);
     const bool persp = opt.camera == "perspective";
     if (persp)  // eyes below the slab top, before any work
         for (double theta : opt.thetas)
@@ -382,6 +408,37 @@ int run_bench(const BenchOptions& options) {
                                                            " at theta " + format_number(theta) +
                                                            " " + why);
             }
+    // The curved walk's work on each view (curved_walk_estimate over the warm-up and the
+    // repeats), within kMaxCurvedWalkSteps, before any work.
+    if (opt.base != "plane") {
+        const std::unique_ptr<BaseSurface> b = make_base(opt.base, opt.radius);
+        const size_t n = size_t(opt.samples) * size_t(opt.samples);
+        auto check = [&](const Camera& camera, int size, double theta, const std::string& d) {
+            const int h = scan ? scanned.height : size;
+            const CurvedWalkEstimate e = curved_walk_estimate(*b, opt.scale, opt.bias, size, h,
+                                                              camera, n, 0.25, bench_walks(opt));
+            if (const std::string why = curved_walk_problem(
+                    e,
+                    "timed " + format_number(bench_walks(opt)) +
+                        " times (a warm-up and --repeats " + std::to_string(opt.repeats) + ")",
+                    "lower --theta, --sizes, --samples or --repeats");
+                !why.empty())
+                throw InputError("--base",
+                                 "base " + opt.base + " radius " + format_number(opt.radius) +
+                                     " on the " + std::to_string(size) + " x " + std::to_string(h) +
+                                     " field at theta " + format_number(theta) + d + ": " + why);
+        };
+        for (int size : sizes)
+            for (double theta : opt.thetas) {
+                if (!persp) {
+                    check(OrthographicCamera(theta, opt.phi, opt.samples), size, theta, "");
+                    continue;
+                }
+                for (double d : opt.distances)
+                    check(PerspectiveCamera(perspective_params(opt, theta, d)), size, theta,
+                          " distance " + format_number(d));
+            }
+    }
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
     const size_t rays = size_t(opt.samples) * size_t(opt.samples);
     nlohmann::json results = nlohmann::json::array();
@@ -438,8 +495,8 @@ int run_bench(const BenchOptions& options) {
                                                : exact->simd_path()              ? "band+" + path
                                                                     : std::string("band");
                 if (base)
-                    time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
-                                results.back());
+                    time_curved(opt, hf, *base, camera, "theta " + format_number(theta),
+                                results.back()["exact_mrays_per_s"], results.back());
                 continue;
             }
             for (double d : opt.distances) {
@@ -453,8 +510,9 @@ int run_bench(const BenchOptions& options) {
                                               {theta, d, &inside, camera.outside_count()}, t,
                                               exact_build, embree_build));
                 if (base)
-                    time_curved(opt, hf, *base, camera, results.back()["exact_mrays_per_s"],
-                                results.back());
+                    time_curved(opt, hf, *base, camera,
+                                "theta " + format_number(theta) + " distance " + format_number(d),
+                                results.back()["exact_mrays_per_s"], results.back());
             }
         }
     }

@@ -1,9 +1,10 @@
 // `pxh merge OUT DIR...`: the slices of a sharded run (pxh run --shard I/N) joined into the
 // whole run's results folder. Every slice is verified as `check` verifies a folder; slices of
-// another experiment, selection, pxh version or build, slices that overlap and a missing slice
-// are refused (exit 2, one line naming the slice); OUT is written as `run` writes a folder (a
-// partial folder renamed into place when complete) and its results.csv holds the rows in the
-// unsharded run's order.
+// another experiment, selection, pxh version or build, inputs (height-field files, plug-in and
+// compiled shaders by sha256) or tracer path, slices that overlap and a missing slice are refused
+// (exit 2, one line naming the slice); OUT is written as `run` writes a folder (a partial folder
+// renamed into place when complete) and its results.csv holds the rows in the unsharded run's
+// order.
 #include <tbb/info.h>
 
 #include <chrono>
@@ -122,6 +123,53 @@ void check_same_run(const SliceIn& a, const SliceIn& b) {
             throw InputError(b.dir, "ran its " + name +
                                         " rows on another setup: " + short_text(facts(b, name)) +
                                         " where " + a.dir + " has " + short_text(facts(a, name)));
+    // The inputs: the experiment and every height-field file with its sha256 (an edited file
+    // between slices, the TOML unchanged), each plug-in shader's sha256 and the tracers' paths
+    // (PXH_TRACER_PATH, Embree's ISA: the numbers depend on them).
+    const nlohmann::json none = "none";
+    const auto inputs = [&](const SliceIn& s) {
+        std::map<std::string, nlohmann::json> m;  // what -> its record
+        if (s.run.contains("inputs") && s.run["inputs"].is_array())
+            for (const auto& i : s.run["inputs"])
+                if (i.is_object())
+                    m[i.contains("heightfield")
+                          ? "height-field file " + short_text(i.value("path", nlohmann::json("")))
+                          : "experiment"] = i.value("sha256", none);
+        if (s.run.contains("plugin_shaders") && s.run["plugin_shaders"].is_array())
+            for (const auto& p : s.run["plugin_shaders"])
+                if (p.is_object())
+                    m["plug-in shader " + short_text(p.value("path", nlohmann::json(""))) +
+                      " (method " + short_text(p.value("method", nlohmann::json(""))) + ")"] =
+                        p.value("sha256", none);
+        return m;
+    };
+    const auto ia = inputs(a), ib = inputs(b);
+    for (const auto* m : {&ia, &ib})
+        for (const auto& [what, v] : *m) {
+            const auto x = ia.find(what), y = ib.find(what);
+            const nlohmann::json va = x == ia.end() ? none : x->second;
+            const nlohmann::json vb = y == ib.end() ? none : y->second;
+            if (va != vb)
+                throw InputError(b.dir, "ran with another " + what + ": sha256 " +
+                                            short_text(vb).substr(0, 12) + " where " + a.dir +
+                                            " has " + short_text(va).substr(0, 12) +
+                                            " (an input changed between the slices: run every "
+                                            "slice again with the same inputs)");
+        }
+    const nlohmann::json ta = a.run.value("tracers", none), tb = b.run.value("tracers", none);
+    if (ta != tb) {
+        std::string what = "tracers " + short_text(tb);
+        if (ta.is_object() && tb.is_object())
+            for (const auto& [k, v] : ta.items())
+                if (!tb.contains(k) || tb[k] != v) {
+                    what = k + " " + short_text(tb.value(k, none)) + " where " + a.dir + " has " +
+                           short_text(v);
+                    break;
+                }
+        throw InputError(b.dir, "ran its ground truths on another tracer path: " + what +
+                                    " (the numbers depend on it: run every slice with the same "
+                                    "PXH_TRACER_PATH on CPUs with the same vector units)");
+    }
     for (const auto& [k, v] : sa["selection"].items())
         if (!sb["selection"].contains(k) || sb["selection"][k] != v)
             throw InputError(b.dir, "is a slice of another selection of the experiment: " + k +
@@ -135,6 +183,30 @@ void check_same_run(const SliceIn& a, const SliceIn& b) {
                                     short_text(sb["partition"]) + ") where " + a.dir +
                                     " is shard " + shard_text(a) + " of " +
                                     short_text(sa["units_total"]) + " units");
+}
+
+// Each backend's compiled shader sources (name -> sha256; a slice compiles only what its rows
+// ran): one source under two hashes (a shader file under --shader-dir edited between slices) is
+// refused, naming both slices.
+void check_same_sources(const std::vector<SliceIn>& slices) {
+    std::map<std::pair<std::string, std::string>, std::pair<nlohmann::json, std::string>> seen;
+    for (const SliceIn& s : slices) {
+        if (!s.run.contains("backends") || !s.run["backends"].is_object()) continue;
+        for (const auto& [name, b] : s.run["backends"].items()) {
+            if (!b.is_object() || !b.contains("sources") || !b["sources"].is_object()) continue;
+            for (const auto& [src, sha] : b["sources"].items()) {
+                const auto [it, fresh] =
+                    seen.emplace(std::make_pair(name, src), std::make_pair(sha, s.dir));
+                if (!fresh && it->second.first != sha)
+                    throw InputError(s.dir, "compiled another " + name + " source " + src +
+                                                ": sha256 " + short_text(sha).substr(0, 12) +
+                                                " where " + it->second.second + " has " +
+                                                short_text(it->second.first).substr(0, 12) +
+                                                " (a shader changed between the slices: run "
+                                                "every slice again with the same shaders)");
+            }
+        }
+    }
 }
 
 bool same_number(double a, double b) {
@@ -303,7 +375,7 @@ nlohmann::json merged_record(const SliceIn& first, const ByIndex& by_index, cons
     nlohmann::json run = provenance(int(tbb::info::default_concurrency()));
     run["command_line"] = command_line;
     for (const char* k : {"experiment_file", "experiment", "experiment_name", "inputs", "warnings",
-                          "plugin_shaders", "backends"})
+                          "plugin_shaders", "backends", "tracers"})
         if (first.run.contains(k)) run[k] = first.run[k];
     double seconds = 0;
     nlohmann::json from = nlohmann::json::array();
@@ -361,6 +433,7 @@ int cmd_merge(const MergeArgs& a, const std::string& command_line) {
     for (const auto& d : a.dirs) slices.push_back(read_slice(d));
     const SliceIn& first = slices[0];
     for (size_t i = 1; i < slices.size(); ++i) check_same_run(first, slices[i]);
+    check_same_sources(slices);
     const ByIndex by_index = check_complete(slices);
     const Gathered g = gather_rows(by_index, first.shard["units_total"].get<size_t>());
 

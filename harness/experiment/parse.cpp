@@ -16,7 +16,9 @@
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
 #include "harness/metrics/row.h"
+#include "harness/scene/base_surface.h"
 #include "harness/scene/view.h"
+#include "harness/truth/curved_tracer.h"
 #include "harness/truth/tracer.h"
 #include "harness/truth/travel_limit.h"
 
@@ -443,18 +445,62 @@ void check_camera_reach(Experiment& ex) {
     }
 }
 
-}  // namespace
-
 // What is not measured on a curved base yet (docs/conventions.md section 12): true shadows
-// ([light]). Refused, naming the entry.
-void check_curved_bases(const Experiment& ex) {
+// ([light]); the Embree reference (ground_truth = "embree": a curved base's truth is the curved
+// walk whatever the file names, so a row labelled embree would carry the walk's numbers). And
+// the precision bound on the radius (kMaxBaseRadiusCells, harness/truth/curved_tracer.h).
+// Refused, naming the entry (the ground_truth key for Embree).
+void check_curved_bases(const Experiment& ex, const std::string& ground_truth_where) {
     for (const HeightfieldSpec& h : ex.heightfields) {
         if (h.base == "plane") continue;
         const std::string on = "on a curved base (base = \"" + h.base + "\")";
         if (ex.light)
             throw InputError(h.where, "[light] (true shadows) is not traced " + on + " yet");
+        if (ex.ground_truth == "embree")
+            throw InputError(ground_truth_where.empty() ? h.where : ground_truth_where,
+                             "ground_truth = \"embree\" does not apply to heightfield '" + h.name +
+                                 "' " + on +
+                                 ": its truth is the curved walk (Embree traces the "
+                                 "plane's relief only), whose rows say ground_truth = exact; "
+                                 "remove ground_truth or set it to \"exact\"");
+        const FieldSize size = field_size(h);
+        if (const std::string why =
+                base_radius_problem(h.base, h.radius, int(size.width), int(size.height));
+            !why.empty())
+            throw InputError(h.where, "heightfield '" + h.name + "': " + why);
     }
 }
+
+// The curved truth's work of every view of a curved base (curved_walk_estimate, the walk's
+// steps through each ray's chord of the relief's shell), within kMaxCurvedWalkSteps: an
+// InputError at the field's entry naming the view and the estimate otherwise. Run after
+// --samples too (the estimate grows with the rays).
+void check_curved_walk(const Experiment& ex) {
+    for (const HeightfieldSpec& h : ex.heightfields) {
+        if (h.base == "plane") continue;
+        const auto base = make_base(h.base, h.radius);
+        const FieldSize size = field_size(h);
+        for (const CameraSetting& c : ex.camera_settings)
+            for (double th : measured_thetas(ex))
+                for (double phi : ex.phi_deg) {
+                    const auto cam = Camera::create(ex.camera, c, {th, phi, ex.samples});
+                    const CurvedWalkEstimate e =
+                        curved_walk_estimate(*base, h.scale, h.bias, int(size.width),
+                                             int(size.height), *cam, cam->view().size());
+                    if (const std::string why = curved_walk_problem(e); !why.empty()) {
+                        std::string view = c.label();
+                        view += (view.empty() ? "" : " ") + std::string("theta ") +
+                                format_number(th) + " phi " + format_number(phi);
+                        throw InputError(h.where, "heightfield '" + h.name + "' (base " + h.base +
+                                                      " radius " + format_number(h.radius) +
+                                                      ", s = " + format_number(h.scale) + ") at " +
+                                                      view + ": " + why);
+                    }
+                }
+    }
+}
+
+}  // namespace
 
 Experiment parse_experiment(const std::string& text, const std::string& path,
                             const ParseLimits& limits) {
@@ -489,11 +535,12 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     check_heightfield_names(ex);
     for (const auto& e : methods) parse_method(e, ex, state);
     if (render) parse_render(*render, ex);
-    check_curved_bases(ex);
+    check_curved_bases(ex, root.has("ground_truth") ? root.where("ground_truth") : "");
     check_ray_travel(ex);
     check_camera_scenes(ex);
     check_camera_samples(ex, "");
     check_camera_reach(ex);
+    check_curved_walk(ex);
     return ex;
 }
 
@@ -523,6 +570,7 @@ Experiment load_run_experiment(const std::string& path, const RunOverrides& o) {
     if (o.samples) ex.samples = *o.samples;
     check_plugin_backends(ex, o.backends);
     check_camera_samples(ex, o.samples ? "--samples" : "");
+    if (o.samples) check_curved_walk(ex);
     for (const std::string& w : skipped_settings(ex, o.backends)) {  // said, never silent
         std::cerr << "pxh: warning: " << w << "\n";
         ex.warnings.push_back(w);

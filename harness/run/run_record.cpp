@@ -8,6 +8,8 @@
 #include "harness/core/sha256.h"
 #include "harness/results/provenance.h"
 #include "harness/results/run_folder.h"
+#include "harness/truth/embree_truth.h"
+#include "harness/truth/exact_tracer.h"
 
 namespace pxh {
 
@@ -28,6 +30,15 @@ nlohmann::json input_records(const Experiment& ex) {
 
 }  // namespace
 
+nlohmann::json tracer_record() {
+    const char* env = std::getenv("PXH_TRACER_PATH");
+    return {{"exact_path", ExactTracer::path_name(ExactTracer::default_path())},
+            {"exact_cpu_best_path", ExactTracer::path_name(ExactTracer::cpu_best_path())},
+            {"embree_isa", EmbreeTracer::isa()},
+            {"embree_device_config", EmbreeTracer::device_config()},
+            {"pxh_tracer_path_env", env ? env : ""}};
+}
+
 nlohmann::json run_record(const Experiment& ex, const RunCall& call, const RunInfo& info) {
     nlohmann::json run = provenance(call.threads);
     run["command_line"] = call.command_line;
@@ -46,6 +57,9 @@ nlohmann::json run_record(const Experiment& ex, const RunCall& call, const RunIn
                            {"source", p->plugin_source}});
     if (!plugins.empty()) run["plugin_shaders"] = plugins;
     run["backends"] = info.backends;
+    // The tracers' paths (results depend on them: Embree's hits differ between ISAs, the
+    // exact tracer's cost columns between paths); merge refuses slices of other paths.
+    run["tracers"] = tracer_record();
     return run;
 }
 

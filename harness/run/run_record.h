@@ -27,6 +27,11 @@ struct RunCall {
 // (file, text, name), its inputs, warnings, plug-in shaders and each backend's block (RunInfo).
 nlohmann::json run_record(const Experiment& ex, const RunCall& call, const RunInfo& info);
 
+// run.json's "tracers": the exact tracer's per-ray path as taken (PXH_TRACER_PATH capped by the
+// CPU) and the CPU's best, Embree's ISA (by Embree's own CPU tests under the device's max_isa)
+// and device configuration, and PXH_TRACER_PATH as set ("" when not).
+nlohmann::json tracer_record();
+
 // What a slice was cut from, as pxh merge checks that every slice is of the same run: the
 // command line's selection of the experiment.
 struct ShardSelection {

@@ -113,7 +113,10 @@ struct ViewTruth {
 // the rays both hit.
 ViewTruth curved_truth_stage(const FieldContext& c, const CurvedView& cv, bool timed) {
     ViewTruth t;
-    CurvedHits h = c.curved->trace(cv.rays);
+    // Both walks count against one budget per view, kMaxCurvedWalkSteps: the same limit, and
+    // the same steps, as the estimate the experiment was checked with when it was read.
+    CurvedHits h = c.curved->trace(cv.rays, kMaxCurvedWalkSteps);
+    const double check_budget = kMaxCurvedWalkSteps - h.steps;
     // depths from the base hit along the camera's axis (docs/conventions.md sections 11, 12)
     t.gt.depth.assign(h.uv.size(), NAN);
     for (size_t k = 0; k < h.uv.size(); ++k)
@@ -134,7 +137,12 @@ ViewTruth curved_truth_stage(const FieldContext& c, const CurvedView& cv, bool t
     t.cover = Coverage{cv.base_hit, std::move(h.hit)};
     t.agree.p50 = t.agree.p99 = t.agree.max = t.agree.frac_gt_0_5 = NAN;
     if (timed) {
-        const CurvedHits fine = c.curved_check->trace(cv.rays);
+        CurvedHits fine;
+        try {
+            fine = c.curved_check->trace(cv.rays, check_budget);
+        } catch (const CurvedWalkTooLong& e) {  // the view's steps: both walks'
+            throw CurvedWalkTooLong(e.what(), h.steps + e.steps, kMaxCurvedWalkSteps);
+        }
         std::vector<Vec2d> a, b;
         for (size_t k = 0; k < fine.uv.size(); ++k)
             if (t.cover->truth_hit[k] && fine.hit[k]) {
@@ -362,6 +370,19 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                         ") lies outside the view (V.z <= cos 89 degrees: at or beyond the "
                         "horizon, samples_outside): nothing to measure; lower theta or widen "
                         "fov_deg");
+                // A curved base where no pixel is covered by both the method and the truth:
+                // every error column would be empty, so the row fails and says why, with the
+                // coverage in its message.
+                if (job.truth.cover && !o.uv.empty() && row.num("nonfinite") == 0 &&
+                    !std::isfinite(row.num("err_mean")))
+                    throw std::runtime_error(
+                        "no pixel is covered by both the method and the truth (cover_extra_frac " +
+                        format_number(row.num("cover_extra_frac")) + ", cover_missing_frac " +
+                        format_number(row.num("cover_missing_frac")) + ", samples_outside " +
+                        format_number(row.num("samples_outside")) + " of " +
+                        std::to_string(o.uv.size()) +
+                        "): no error to measure; a larger radius or scale, or a camera that "
+                        "sees more of the base");
                 // Every sample non-finite (a parameter combination that gives no answer at
                 // this view, e.g. a layer count of 0, or a shader that discards every sample):
                 // a failure, never a row of NaN "ok".
@@ -448,13 +469,30 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     const Scene<double> scene{
         c.spec.scale, c.spec.bias, view_vector(theta, phi),
         c.hf.width,   c.hf.height, c.base ? c.base->curvature() : Vec2d{0, 0}};
-    ViewJob job{c,     theta,
-                phi,   camera,
-                timed, view,
-                scene, curved ? curved_truth_stage(c, *curved, timed) : truth_stage(c, view, timed),
-                {},    nullptr,
-                {},    {},
-                NAN};
+    // A view's curved walks over their step budget (kMaxCurvedWalkSteps; views the estimate
+    // lets through whose rays skim the relief) refuse the run at the field's entry, naming the
+    // view, the steps, the limit and the knobs.
+    auto truth = [&]() {
+        if (!curved) return truth_stage(c, view, timed);
+        try {
+            return curved_truth_stage(c, *curved, timed);
+        } catch (const CurvedWalkTooLong& e) {
+            throw InputError(c.spec.where, "heightfield '" + c.spec.name + "' (base " +
+                                               c.spec.base + " radius " +
+                                               format_number(c.spec.radius) + ") at theta " +
+                                               format_number(theta) + " phi " + format_number(phi) +
+                                               ": the curved truth's walk stopped after " +
+                                               format_number(e.steps) + " steps for the " +
+                                               std::to_string(curved->rays.size()) +
+                                               " rays of this view (the walk and its check "
+                                               "together), over the limit of 2^28 steps a view "
+                                               "(kMaxCurvedWalkSteps; rays that skim the relief "
+                                               "step shorter than the quarter texel the estimate "
+                                               "before the run assumes): lower theta, the scale, "
+                                               "the field's size or samples");
+        }
+    };
+    ViewJob job{c, theta, phi, camera, timed, view, scene, truth(), {}, nullptr, {}, {}, NAN};
     // Each sample's lambda from its footprint (section 10), and their mean over the inside.
     job.lambda.resize(view.size());
     double lod_sum = 0;

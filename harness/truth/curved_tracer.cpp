@@ -3,7 +3,10 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdio>
+#include <stdexcept>
 
 namespace pxh {
 
@@ -23,7 +26,85 @@ double gradient_bound(const HeightField& hf) {
     return std::hypot(gx * w, gy * h);
 }
 
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+
 }  // namespace
+
+std::string base_radius_problem(const std::string& base, double radius, int width, int height) {
+    const double n = double(std::max(width, height));
+    const double bound = kMaxBaseRadiusCells / n;
+    if (!(radius > bound)) return "";  // NaN: the plane (a curved base refuses it in make_base)
+    return "radius = " + number(radius) + " on base '" + base + "' of the " +
+           std::to_string(width) + " x " + std::to_string(height) +
+           " field is over the precision bound R max(W, H) <= 2^30 cells (kMaxBaseRadiusCells): "
+           "radius <= " +
+           number(bound) +
+           " tiles here. The base is computed about its centre R tiles away, where doubles "
+           "resolve only about " +
+           number(std::ldexp(radius, -52) * n) +
+           " texels (eps R), which grazing views magnify up to 57 times (the numbers would be "
+           "wrong with status ok); over a tile the base sags only " +
+           number(n / (2 * radius)) +
+           " texels from its tangent plane: use base = \"plane\" or a radius within the bound";
+}
+
+CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, double bias,
+                                        int width, int height, const Camera& camera, size_t rays,
+                                        double step_texels, double walks) {
+    CurvedWalkEstimate e;
+    e.rays = rays;
+    e.walks = walks;
+    if (rays == 0) return e;
+    const double top = scale * (1 - bias), bottom = -scale * bias;
+    const double step = step_texels / double(std::max(width, height));  // tiles
+    const size_t stride = std::max<size_t>(1, rays / 4096);
+    double sum = 0;
+    size_t sampled = 0;
+    for (size_t k = 0; k < rays; k += stride, ++sampled) {
+        const WorldRay r = camera.world_ray(k, 0, 0, top);
+        double t0 = 0;
+        if (base.coords(r.o).height > top) {
+            t0 = base.hit(r.o, r.d, top, 0, false);
+            if (!std::isfinite(t0)) continue;
+        }
+        const double t_leave = base.hit(r.o, r.d, top, t0, true);
+        const double t_floor = base.hit(r.o, r.d, bottom, t0, false);
+        double t_end = std::isfinite(t_floor) ? t_floor : t_leave;
+        if (std::isfinite(t_floor) && std::isfinite(t_leave)) t_end = std::min(t_floor, t_leave);
+        if (!std::isfinite(t_end)) continue;
+        e.chord_max = std::max(e.chord_max, t_end - t0);
+        sum += std::ceil((t_end - t0) / step);  // the walk's speed of (u, v) is at least 1
+    }
+    e.walk_steps = sum * double(rays) / double(sampled);
+    e.steps = walks * e.walk_steps;  // e.g. the walk and its check at half the step: 3
+    return e;
+}
+
+std::string curved_walk_problem(const CurvedWalkEstimate& e, const std::string& walks_said,
+                                const std::string& knobs) {
+    if (e.steps <= kMaxCurvedWalkSteps) return "";
+    return "the curved truth's walk would take about " + number(e.steps) + " steps for the " +
+           std::to_string(e.rays) + " rays of this view (rays cross up to " + number(e.chord_max) +
+           " tiles of the relief's shell in steps of a quarter texel, " + walks_said +
+           "), over the limit of 2^28 = " + number(kMaxCurvedWalkSteps) +
+           " steps a view (kMaxCurvedWalkSteps, 10 to 25 s of one core): " + knobs;
+}
+
+struct CurvedTracer::Budget {
+    double max_steps;
+    std::atomic<long long> used{0};
+    std::atomic<bool> over{false};
+    // Adds n steps; false once the budget is spent (every walk then stops).
+    bool spend(long long n) {
+        if (over.load(std::memory_order_relaxed)) return false;
+        if (double(used.fetch_add(n, std::memory_order_relaxed) + n) > max_steps) over = true;
+        return !over.load(std::memory_order_relaxed);
+    }
+};
 
 CurvedTracer::CurvedTracer(const HeightField& hf, double scale, double bias,
                            const BaseSurface& base, double step_texels)
@@ -32,7 +113,13 @@ CurvedTracer::CurvedTracer(const HeightField& hf, double scale, double bias,
       b_(bias),
       base_(base),
       step_(step_texels),
-      slope_(scale * gradient_bound(hf)) {}
+      slope_(scale * gradient_bound(hf)) {
+    // the last line of defence: experiments and pxh bench refuse it first
+    if (const std::string why =
+            base_radius_problem(base.name(), base.radius(), hf.width, hf.height);
+        !why.empty())
+        throw std::invalid_argument(why);
+}
 
 double CurvedTracer::g(Vec3d p) const {
     const BaseCoord c = base_.coords(p);
@@ -40,7 +127,7 @@ double CurvedTracer::g(Vec3d p) const {
     return c.height - hs.z(c.uv);
 }
 
-CurvedTracer::One CurvedTracer::trace_one(const WorldRay& r) const {
+CurvedTracer::One CurvedTracer::trace_one(const WorldRay& r, Budget& budget) const {
     One out;
     const double top = s_ * (1 - b_), bottom = -s_ * b_;
     auto at = [&](double t) { return v3_add(r.o, v3_scale(r.d, t)); };
@@ -70,7 +157,8 @@ CurvedTracer::One CurvedTracer::trace_one(const WorldRay& r) const {
         const double dt_max = step_ * texel / speed;
         const double dt = std::clamp(g1 / lip, dt_max * 1e-9, dt_max);
         const double t2 = std::min(t + dt, t_end);
-        ++out.steps;
+        // the budget is checked every 4096 steps (and at the end of the ray)
+        if ((++out.steps & 4095) == 0 && !budget.spend(4096)) return out;
         const bool last = t2 >= t_end;
         const double g2 = g(at(t2));
         g1 = g2;
@@ -92,12 +180,26 @@ CurvedTracer::One CurvedTracer::trace_one(const WorldRay& r) const {
     }
 }
 
-CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays) const {
+CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_steps) const {
     const size_t n = rays.size();
     std::vector<One> one(n);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 64), [&](const auto& rg) {
-        for (size_t k = rg.begin(); k != rg.end(); ++k) one[k] = trace_one(rays[k]);
+    Budget budget{max_steps};
+    // chunks of up to 64 rays, finer for small views (a handful of long rays still spread over
+    // the threads); each ray's walk is its own, so the hits do not depend on the chunks
+    const size_t grain = std::clamp<size_t>(n / 256, 1, 64);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const auto& rg) {
+        for (size_t k = rg.begin(); k != rg.end(); ++k) {
+            if (budget.over.load(std::memory_order_relaxed)) return;
+            one[k] = trace_one(rays[k], budget);
+            budget.spend(one[k].steps & 4095);
+        }
     });
+    if (budget.over)
+        throw CurvedWalkTooLong("the curved truth's walk stopped after " +
+                                    number(double(budget.used.load())) + " steps for the " +
+                                    std::to_string(n) + " rays of this view, over its budget of " +
+                                    number(max_steps) + " steps",
+                                double(budget.used.load()), max_steps);
     CurvedHits h;
     h.uv.assign(n, {NAN, NAN});
     h.z.assign(n, NAN);
@@ -115,6 +217,7 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays) const {
         h.hit[k] = 1;
         h.residual_max = std::max(h.residual_max, one[k].residual);
     }
+    h.steps = steps;
     h.steps_mean = n ? steps / double(n) : 0;
     return h;
 }

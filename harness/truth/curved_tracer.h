@@ -17,6 +17,8 @@
 // curved_truth_test.cpp); the runner uses the exact tracers there.
 #pragma once
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "harness/scene/base_surface.h"
@@ -25,6 +27,68 @@
 
 namespace pxh {
 
+// The precision bound on a curved base's radius (docs/conventions.md section 9, "Bounds"). The
+// base's points, coordinates and shell hits are computed about its centre R tiles from the
+// look-at point (B = (0.5, *, -R) + R n; coords from p.z + R; the shells' quadratic holds
+// |o - centre|^2 ~ R^2), so every position the walk and the methods' inputs see carries a
+// rounding error of a few ulp of R: eps R tiles, eps = 2^-52. A height error d moves a hit by
+// d tan(theta) along the surface, and a measured pixel meets the base at most 89 degrees off its
+// normal (section 9's outside rule: tan 89 deg = 57.3 < 2^6). Keeping that under 2^-16 of a
+// texel of a W x H field (the resolution the exact tracer keeps at its reach, kMaxSampleCells)
+// needs eps R 2^6 max(W, H) <= 2^-16, i.e.
+//   R max(W, H) <= 2^30 cells (kMaxBaseRadiusCells),
+// R <= 3.4e7 tiles on a 32 x 32 field, 65536 on a 16384 x 16384 one. At the bound the base sags
+// max(W, H) / (2 R) <= 2^-31 max(W, H)^2 texels over a tile from its tangent plane. Measured on
+// fbm 32 x 32, s 0.05 (errors against the plane's): within 1e-4 at R = 1e7, +35% at 1e11, 70 x at
+// 1e13, wrong by whole texels at 1e15 (all with status ok before this bound). The only base
+// parameter is the radius; its lower bound is R > s b (the relief's bottom shell).
+inline constexpr double kMaxBaseRadiusCells = 1073741824.0;  // 2^30
+// "" when a curved base of radius R over a W x H field lies within kMaxBaseRadiusCells, else a
+// one-line reason naming the radius, the field, the bound in tiles and what to do.
+std::string base_radius_problem(const std::string& base, double radius, int width, int height);
+
+// The curved walk's work, bounded before a run and during it (docs/guide/heightfields.md,
+// "Curved bases"): a view's truth walks each ray through the relief's shell in steps of at most
+// `step_texels` texels (and shorter near the surface), plus the check walk at half the step on
+// timed views. curved_walk_estimate is the steps the longest allowed steps take through each
+// ray's whole chord in the shell (from entering it to meeting its bottom or leaving it), summed
+// over the view's rays (a strided sample of at most 4096 of them, scaled up): `walk_steps` for
+// one walk at `step_texels`, `steps` = walks x walk_steps for the view's work (3: the walk and
+// the check walk at half the step; pxh bench: its warm-up and repeats). A view over
+// kMaxCurvedWalkSteps is refused before any work (an experiment when it is read, at the field's
+// entry; pxh bench at --theta). The walks count their steps the same way (every step of every
+// ray, both walks of a view together) and stop a view at the same limit, since near the surface
+// they step shorter than the estimate assumes: the run is then refused at the field's entry with
+// the count. So no view takes more than kMaxCurvedWalkSteps steps (plus at most 4096 a thread).
+// Measured: 40 to 90 ns a step on this project's 2 shared cores (idle to loaded), so 2^28 steps
+// are 10 to 25 s of one core, half that on 2 (the rays of a view are walked in parallel, even 4
+// of them). Lower theta, the scale, the field's size or the samples to lower a view's estimate.
+inline constexpr double kMaxCurvedWalkSteps = 268435456.0;  // 2^28
+struct CurvedWalkEstimate {
+    double steps = 0;       // the view's estimated walk steps (all its walks)
+    double walk_steps = 0;  // one walk's at step_texels
+    double walks = 3;       // steps / walk_steps
+    double chord_max = 0;   // the longest chord through the shell (tiles)
+    size_t rays = 0;        // the view's rays
+};
+CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, double bias,
+                                        int width, int height, const Camera& camera, size_t rays,
+                                        double step_texels = 0.25, double walks = 3);
+// "" when the estimate is within kMaxCurvedWalkSteps, else the one-line reason: the estimate,
+// the limit and the knobs that lower it (`walks_said` says what the walks are).
+std::string curved_walk_problem(
+    const CurvedWalkEstimate& e,
+    const std::string& walks_said = "and the check walk at half the step: 3 walks",
+    const std::string& knobs = "lower theta, the scale, the field's size or samples");
+
+// Thrown by CurvedTracer::trace when a view's walk exceeds its step budget: the steps it had
+// taken when it stopped (over the budget by at most 4096 a thread) and the budget.
+struct CurvedWalkTooLong : std::runtime_error {
+    CurvedWalkTooLong(const std::string& what, double steps_taken, double budget_steps)
+        : std::runtime_error(what), steps(steps_taken), budget(budget_steps) {}
+    double steps, budget;
+};
+
 struct CurvedHits {
     std::vector<Vec2d> uv;     // unwrapped (u, v) of the hit; NaN where the ray misses X
     std::vector<double> z;     // s (h(uv) - b) there; NaN on a miss
@@ -32,23 +96,28 @@ struct CurvedHits {
     std::vector<uint8_t> hit;  // 1 where the ray meets X
     double residual_max = 0;   // max |g| at the hits (tiles)
     double steps_mean = 0;     // walk steps per ray (cost)
+    double steps = 0;          // walk steps of all the rays (counted against the budget)
 };
 
 class CurvedTracer {
   public:
     CurvedTracer(const HeightField& hf, double scale, double bias, const BaseSurface& base,
                  double step_texels = 0.25);
-    // Every ray (in parallel; the result does not depend on the thread count).
-    CurvedHits trace(const std::vector<WorldRay>& rays) const;
+    // Every ray (in parallel, even a handful of rays; the result does not depend on the thread
+    // count). Throws CurvedWalkTooLong (naming the steps taken and the budget) once the rays'
+    // steps together exceed max_steps (a view's second walk gets what its first left).
+    CurvedHits trace(const std::vector<WorldRay>& rays,
+                     double max_steps = kMaxCurvedWalkSteps) const;
     double step_texels() const { return step_; }
 
   private:
     struct One {
         bool hit = false;
         double t = 0, residual = 0;
-        int steps = 0;
+        long long steps = 0;
     };
-    One trace_one(const WorldRay& r) const;
+    struct Budget;
+    One trace_one(const WorldRay& r, Budget& budget) const;
     double g(Vec3d p) const;
 
     const HeightField& hf_;

@@ -482,4 +482,64 @@ TEST_F(ShardRefusals, EmptyShardIsRefusedNotRunUnsharded) {
     EXPECT_FALSE(fs::exists(mine(3)));
 }
 
+// Slices whose inputs changed between them, the TOML unchanged (issue 59, item 4): a height-field
+// file edited, a plug-in shader or a compiled shader under another sha256; and slices traced on
+// another tracer path (item 7): run.json records the path, merge refuses a mix.
+TEST_F(ShardRefusals, ChangedInputsAndTracerPathsAreRefused) {
+    // a 4 x 4 plain PGM height field, then the same file edited (one texel)
+    const auto pgm = [&](int corner) {
+        std::ofstream(dir / "h.pgm")
+            << "P2\n4 4\n255\n"
+            << corner << " 10 20 30\n40 50 60 70\n80 90 100 110\n120 130 140 150\n";
+    };
+    pgm(0);
+    const std::string e = write("file.toml",
+                                "name = \"file\"\nsamples = 4\ntiming_repeats = 0\nbackends = "
+                                "[\"cpu\"]\n[views]\ntheta_deg = [0, 40]\nphi_deg = [0, 45]\n"
+                                "[[heightfields]]\nname = \"h\"\nfile = \"h.pgm\"\n"
+                                "[[methods]]\nname = \"parallax\"\n");
+    const auto slice = [&](int i, const std::string& env, int name) {
+        const std::string d = mine(name);
+        const auto r =
+            test::shell_in(dir, env + std::string(PXH_BINARY) + " run " + e + " --quiet --out " +
+                                    d + " --shard " + std::to_string(i) + "/2");
+        EXPECT_EQ(r.status, 0) << r.err;
+        return d;
+    };
+    const std::string a = slice(0, "", 20);
+    // run.json records the tracers' paths
+    const auto rec = nlohmann::json::parse(slurp(fs::path(a) / "run.json"));
+    ASSERT_TRUE(rec.contains("tracers")) << rec.dump();
+    for (const char* k : {"exact_path", "embree_isa", "pxh_tracer_path_env"})
+        EXPECT_TRUE(rec["tracers"].contains(k)) << k;
+    EXPECT_EQ(rec["tracers"]["pxh_tracer_path_env"], "");
+    const std::string b = slice(1, "", 21);
+    pgm(255);  // the field's file edited, the TOML unchanged
+    const std::string b2 = slice(1, "", 22);
+    const auto ok = pxh("merge " + (dir / "ok").string() + " " + a + " " + b);
+    EXPECT_EQ(ok.status, 0) << ok.err;
+    expect_refused(a + " " + b2, b2 + ": ran with another height-field file ");
+    pgm(0);
+    // the exact tracer's path capped to scalar: another path, refused
+    const std::string scalar = slice(1, "PXH_TRACER_PATH=scalar ", 23);
+    EXPECT_EQ(nlohmann::json::parse(slurp(fs::path(scalar) / "run.json"))["tracers"]["exact_path"],
+              "scalar");
+    expect_refused(a + " " + scalar, scalar + ": ran its ground truths on another tracer path: ");
+    // a plug-in shader edited between slices (its sha256 in run.json), and a compiled source
+    const std::string plug = (dir / "plug").string(), plug2 = (dir / "plug2").string();
+    for (const auto& [d, sha] : {std::pair{plug, "aa11"}, std::pair{plug2, "bb22"}}) {
+        fs::copy(d == plug ? a : b, d, fs::copy_options::recursive);
+        auto j = nlohmann::json::parse(slurp(fs::path(d) / "run.json"));
+        j["plugin_shaders"] = nlohmann::json::array(
+            {{{"method", "mine"}, {"path", "mine.glsl"}, {"sha256", sha}, {"source", ""}}});
+        j["backends"]["cpu"]["sources"]["mine.glsl"] = sha;
+        std::ofstream(fs::path(d) / "run.json") << j.dump(2);
+    }
+    expect_refused(plug + " " + plug2, plug2 + ": ran with another plug-in shader mine.glsl");
+    auto j = nlohmann::json::parse(slurp(fs::path(plug2) / "run.json"));
+    j["plugin_shaders"][0]["sha256"] = "aa11";
+    std::ofstream(fs::path(plug2) / "run.json") << j.dump(2);
+    expect_refused(plug + " " + plug2, plug2 + ": compiled another cpu source mine.glsl");
+}
+
 }  // namespace

@@ -344,5 +344,211 @@ TEST(CurvedBase, BadBasesAreRefused) {
               std::string::npos);
 }
 
+// Issue 59, item 1: a radius over the precision bound R max(W, H) <= 2^30 cells is refused at
+// the entry with the bound (it gave whole-texel errors with status ok at 1e15, and "lower theta
+// or widen fov" at 1e300); just under the bound the rows are the plane's (the base is flat to
+// 2^-31 texels there). The tracer refuses it too.
+TEST(CurvedBase, RadiusOverThePrecisionBoundIsRefused) {
+    for (const char* r : {"1e15", "1e300", "2e7"})
+        for (const char* name : {"cylinder", "sphere"}) {
+            const std::string err = parse_error(
+                kHead + field(std::string("base = \"") + name + "\"\nradius = " + r + "\n") +
+                kMethods);
+            EXPECT_EQ(err.rfind("e.toml:11", 0), 0u) << err;  // the [[heightfields]] entry
+            EXPECT_NE(err.find("precision bound R max(W, H) <= 2^30 cells"), std::string::npos)
+                << err;
+            EXPECT_NE(err.find("radius <= 1.68e+07 tiles here"), std::string::npos)
+                << err;  // 2^30/64
+        }
+    const HeightField hf = generated_field("bricks", 64);
+    const auto huge = make_base("sphere", 1e15);
+    EXPECT_THROW(CurvedTracer(hf, 0.05, 1, *huge), std::invalid_argument);
+    // a 32 x 32 field's bound is twice a 64 x 64 one's
+    EXPECT_EQ(base_radius_problem("cylinder", 3.3e7, 32, 32), "");
+    EXPECT_NE(base_radius_problem("cylinder", 3.4e7, 32, 32), "");
+    EXPECT_EQ(base_radius_problem("plane", NAN, 1 << 14, 1 << 14), "");
+    // just under the bound: the plane's rows (up to 40 degrees: at 70 the image's far pixels lie
+    // tens of tiles away, where even this radius sags 10^-5 tiles)
+    std::string head = kHead;
+    head.replace(head.find("[0, 40, 70]"), 11, "[0, 20, 40]");
+    const auto plane = run(head + field("") + kMethods);
+    for (const char* name : {"cylinder", "sphere"}) {
+        const auto curved =
+            run(head + field(std::string("base = \"") + name + "\"\nradius = 1.6e7\n") + kMethods);
+        ASSERT_EQ(plane.size(), curved.size());
+        for (size_t i = 0; i < plane.size(); ++i) {
+            ASSERT_TRUE(curved[i].ok()) << curved[i].text("error");
+            EXPECT_NEAR(curved[i].num("err_mean"), plane[i].num("err_mean"),
+                        1e-3 * plane[i].num("err_mean") + 1e-6)
+                << name << " " << plane[i].text("method") << " theta " << plane[i].num("theta_deg");
+            EXPECT_EQ(curved[i].num("samples_outside"), plane[i].num("samples_outside"));
+        }
+    }
+}
+
+// Issue 59, item 3: the curved walk's work is estimated before the run and bounded. A cylinder
+// seen along its axis near grazing (4096^2, s 100, R 1000, theta 88.9, phi 90: hours a row) is
+// refused at the entry with the estimate and the knobs; the estimate is the chord through the
+// shell in quarter-texel steps (s / cos(theta) tiles on a nearly flat base), a lower bound of the
+// walk's own steps; the walk stops at its budget.
+TEST(CurvedBase, CurvedWalkIsEstimatedAndBounded) {
+    const std::string err = parse_error(
+        "samples = 256\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [88.9]\n"
+        "phi_deg = [90]\n[[heightfields]]\nname = \"f\"\ngenerator = \"fbm\"\nsize = 4096\n"
+        "scale = 100\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n" +
+        kMethods);
+    EXPECT_EQ(err.rfind("e.toml:7", 0), 0u) << err;
+    EXPECT_NE(err.find("theta 88.9 phi 90: the curved truth's walk would take about 1.68e+13 steps "
+                       "for the 65536 rays"),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find("kMaxCurvedWalkSteps"), std::string::npos) << err;
+    EXPECT_NE(err.find("lower theta, the scale, the field's size or samples"), std::string::npos);
+
+    // the estimate in closed form: 0.05 / cos 60 = 0.1 tiles in steps of 0.25 / 64 tiles
+    const auto base = make_base("cylinder", 1e4);
+    const OrthographicCamera cam(60, 0, 32);
+    const CurvedWalkEstimate e = curved_walk_estimate(*base, 0.05, 1, 64, 64, cam, 32 * 32);
+    EXPECT_NEAR(e.chord_max, 0.1, 1e-4);              // the cylinder bends 1e-5 over it
+    EXPECT_NEAR(e.steps / (3.0 * 32 * 32), 26, 0.5);  // ceil(25.6) per ray, the check walk twice
+    // the walk on a flat field takes at least as many steps (more as it nears the floor)
+    const HeightField flat = generated_field("flat", 64);
+    const CurvedView cv = curved_view(cam, *base, 0);
+    const CurvedHits h = CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays);
+    EXPECT_GE(h.steps_mean, 25);
+    EXPECT_LE(h.steps_mean, 26 + 64);
+    // over its budget the walk stops and says so
+    try {
+        (void)CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays, 5000);
+        ADD_FAILURE() << "the walk did not stop at its budget";
+    } catch (const CurvedWalkTooLong& x) {
+        EXPECT_NE(std::string(x.what()).find("over its budget of 5e+03 steps"), std::string::npos)
+            << x.what();
+        EXPECT_GT(x.steps, 5000);
+        EXPECT_LE(x.steps, 5000 + 4096.0 * 64);  // 4096 steps a thread at most
+        EXPECT_EQ(x.budget, 5000);
+    }
+    // the walk counts every step of every ray: its total is what the budget is charged
+    EXPECT_EQ(h.steps, h.steps_mean * double(cv.rays.size()));
+    EXPECT_NO_THROW((void)CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays, h.steps));
+    EXPECT_THROW((void)CurvedTracer(flat, 0.05, 1, *base).trace(cv.rays, h.steps - 1),
+                 CurvedWalkTooLong);
+}
+
+// Issue 59, item 3, the 4-ray case: the same grazing cylinder with 2 x 2 samples passed the
+// estimate under the old limit (2^32; about 1e9 steps) and then walked for minutes on one
+// thread. Under kMaxCurvedWalkSteps = 2^28 (a view's work, both walks) it is refused when the
+// experiment is read, at the field's entry, naming the estimate, the limit and the knobs; a
+// quarter of the scale passes (about 2.6e8 steps).
+TEST(CurvedBase, GrazingCylinderWithFourRaysIsRefusedBeforeTheRun) {
+    auto toml = [](const std::string& samples, const std::string& scale) {
+        return "samples = " + samples +
+               "\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [88.9]\n"
+               "phi_deg = [90]\n[[heightfields]]\nname = \"f\"\ngenerator = \"fbm\"\n"
+               "size = 4096\nscale = " +
+               scale + "\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n" + kMethods;
+    };
+    const std::string err = parse_error(toml("2", "100"));
+    EXPECT_EQ(err.rfind("e.toml:7: heightfield 'f' (base cylinder radius 1000, s = 100) at theta "
+                        "88.9 phi 90: the curved truth's walk would take about 1.0",
+                        0),
+              0u)
+        << err;
+    EXPECT_NE(err.find("e+09 steps for the 4 rays of this view"), std::string::npos) << err;
+    EXPECT_NE(err.find("over the limit of 2^28 = 2.68e+08 steps a view (kMaxCurvedWalkSteps"),
+              std::string::npos)
+        << err;
+    EXPECT_NE(err.find("lower theta, the scale, the field's size or samples"), std::string::npos)
+        << err;
+    EXPECT_EQ(err.find('\n'), std::string::npos) << err;  // one line
+    // the estimate for these 4 rays, and for a quarter of the scale (under the limit)
+    const auto base = make_base("cylinder", 1000);
+    const OrthographicCamera cam(88.9, 90, 2);
+    const CurvedWalkEstimate e = curved_walk_estimate(*base, 100, 1, 4096, 4096, cam, 4);
+    EXPECT_GT(e.steps, kMaxCurvedWalkSteps);
+    EXPECT_NEAR(e.chord_max, 100 / std::cos(88.9 * M_PI / 180), 100);  // about 5200 tiles
+    EXPECT_EQ(e.steps, 3 * e.walk_steps);
+    EXPECT_LT(curved_walk_estimate(*base, 25, 1, 4096, 4096, cam, 4).steps, kMaxCurvedWalkSteps);
+}
+
+// Issue 59, item 3, during the run: a view the estimate lets through whose walks take far more
+// steps than it (a cliff one texel wide over a floor: the steps shrink as g / L all the way down
+// to the floor, L = 1 + 2 s |grad h| = 1 + 2 s 1024 per tile; 6755 steps a ray against the
+// estimate's 1180) stops once both walks together pass 2^28 steps, and the run is refused at the
+// field's entry with the count, the limit and the knobs, never a walk of unbounded length (the
+// old budget, 2^32 for each walk, let it run to its end). About 2^28 steps of work: 10 to 25 s
+// on 2 cores, hence a suite of its own labelled slow.
+TEST(CurvedBudget, WalkOverItsBudgetStopsTheRun) {
+    const std::string toml =
+        "samples = 192\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [80]\n"
+        "phi_deg = [90]\n[[heightfields]]\nname = \"f\"\ngenerator = \"step\"\nsize = 1024\n"
+        "scale = 0.05\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n[[methods]]\n"
+        "name = \"parallax\"\n";
+    const Experiment ex = parse_experiment(toml, "e.toml");  // within the estimate
+    const auto base = make_base("cylinder", 1000);
+    const CurvedWalkEstimate e = curved_walk_estimate(*base, 0.05, 1, 1024, 1024,
+                                                      OrthographicCamera(80, 90, 192), 192 * 192);
+    EXPECT_LT(e.steps, 0.5 * kMaxCurvedWalkSteps);
+    try {
+        (void)run_experiment(ex, {});
+        ADD_FAILURE() << "the walks did not stop at the view's budget";
+    } catch (const InputError& x) {
+        const std::string err = x.what();
+        const std::string head =
+            "e.toml:7: heightfield 'f' (base cylinder radius 1000) at theta 80 phi 90: the curved "
+            "truth's walk stopped after ";
+        ASSERT_EQ(err.rfind(head, 0), 0u) << err;
+        const double steps = std::stod(err.substr(head.size()));
+        EXPECT_GT(steps, kMaxCurvedWalkSteps) << err;
+        EXPECT_LE(steps, kMaxCurvedWalkSteps + 4096.0 * 256) << err;  // 4096 a thread at most
+        EXPECT_NE(err.find("steps for the 36864 rays of this view (the walk and its check "
+                           "together), over the limit of 2^28 steps a view (kMaxCurvedWalkSteps"),
+                  std::string::npos)
+            << err;
+        EXPECT_NE(err.find("lower theta, the scale, the field's size or samples"),
+                  std::string::npos)
+            << err;
+        EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+    }
+}
+
+// Issue 59, item 8: a curved view where no pixel is covered by both the method and the truth
+// fails its rows with the reason, never an ok row of empty error columns. A sphere of radius
+// 0.01 between the rays of a 64^2 grid at theta 0 (the nearest pass 0.011 from its axis) under a
+// flat relief standing 0.002 above it (b = 0): 4 rays meet the relief and none the base, so the
+// truth shows surface at 4 pixels and the method at none (cover_missing_frac 1).
+TEST(CurvedBase, NothingCoveredByBothFailsTheRow) {
+    const auto rows =
+        run("samples = 64\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [0]\n"
+            "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 1.0\nsize = 64\n"
+            "scale = 0.002\nbias = 0.0\nbase = \"sphere\"\nradius = 0.01\n" +
+            kMethods);
+    ASSERT_EQ(rows.size(), 3u);
+    for (const ResultRow& r : rows) {
+        EXPECT_FALSE(r.ok()) << r.text("method");
+        EXPECT_NE(r.text("error").find("no pixel is covered by both the method and the truth "
+                                       "(cover_extra_frac 0, cover_missing_frac 1, "
+                                       "samples_outside 4092 of 4096)"),
+                  std::string::npos)
+            << r.text("error");
+    }
+}
+
+// Issue 59, item 9: ground_truth = "embree" on a curved base is refused at its key (the rows
+// would say embree while their numbers are the curved walk's); "exact" stays.
+TEST(CurvedBase, EmbreeGroundTruthOnACurvedBaseIsRefused) {
+    const std::string err = parse_error("ground_truth = \"embree\"\n" + kHead +
+                                        field("base = \"sphere\"\nradius = 1\n") + kMethods);
+    EXPECT_EQ(err.rfind("e.toml:1", 0), 0u) << err;
+    EXPECT_NE(err.find("ground_truth = \"embree\" does not apply to heightfield 'f'"),
+              std::string::npos)
+        << err;
+    EXPECT_EQ(parse_error("ground_truth = \"exact\"\n" + kHead +
+                          field("base = \"sphere\"\nradius = 1\n") + kMethods),
+              "(no error)");
+    EXPECT_EQ(parse_error("ground_truth = \"embree\"\n" + kHead + field("") + kMethods),
+              "(no error)");  // the plane keeps Embree
+}
+
 }  // namespace
 }  // namespace pxh

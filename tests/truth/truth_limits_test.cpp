@@ -656,6 +656,82 @@ TEST_F(TruthLimitsCli, BenchTimesTheCurvedWalk) {
     }
 }
 
+// Issue 59, item 3: the grazing cylinder (4096^2, s 100, R 1000, theta 88.9, phi 90), which
+// walked for minutes with 4 rays (hours with 256^2), ends at once with exit 2 and one line
+// naming the estimate, the limit and the knobs: pxh run at the field's entry, pxh bench at
+// --base, both before any work (no field is generated). The wall bound is generous: the old
+// limit let the 4 rays through to a walk over 400 s. pxh bench keeps s = 0.05, so its case is
+// the steepest view it takes, 89.999 degrees (a chord of 2865 tiles; 2 walks of 4 rays: 3.8e8
+// steps). And pxh bench's walks stop at their budget during the run too.
+TEST_F(TruthLimitsCli, GrazingCylinderIsRefusedByRunAndBench) {
+    for (const char* samples : {"2", "256"}) {
+        const std::string e = write(
+            "g.toml", std::string("name = \"g\"\nsamples = ") + samples +
+                          "\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\n"
+                          "theta_deg = [88.9]\nphi_deg = [90]\n\n[[heightfields]]\n"
+                          "generator = \"fbm\"\nsize = 4096\nscale = 100\nbias = 1.0\n"
+                          "base = \"cylinder\"\nradius = 1000\n\n[[methods]]\nname = \"pom\"\n");
+        const auto out = dir / "g";
+        const test::CliResult r = pxh_timeout("run " + e + " --quiet --out " + out.string(), 300);
+        EXPECT_EQ(r.status, 2) << samples << ": " << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_EQ(r.err.rfind("pxh: error: " + e +
+                                  ":9: heightfield 'fbm' (base cylinder radius "
+                                  "1000, s = 100) at theta 88.9 phi 90: the "
+                                  "curved truth's walk would take about ",
+                              0),
+                  0u)
+            << r.err;
+        EXPECT_NE(r.err.find("over the limit of 2^28 = 2.68e+08 steps a view "
+                             "(kMaxCurvedWalkSteps"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_NE(r.err.find("lower theta, the scale, the field's size or samples"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_FALSE(std::filesystem::exists(out));
+    }
+    const std::string json = (dir / "g.json").string();
+    const test::CliResult r = pxh_timeout(
+        "bench --field fbm --sizes 4096 --theta 89.999 --phi 90 --samples 2 --repeats 1 "
+        "--base cylinder --radius 1000 --out " +
+            json,
+        300);
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("pxh: error: --base: base cylinder radius 1000 on the 4096 x 4096 field "
+                          "at theta 89.999: the curved truth's walk would take about ",
+                          0),
+              0u)
+        << r.err;
+    EXPECT_NE(r.err.find("steps for the 4 rays of this view"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("timed 2 times (a warm-up and --repeats 1)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("(kMaxCurvedWalkSteps"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("lower --theta, --sizes, --samples or --repeats"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(std::filesystem::exists(json));
+    // A view within the estimate whose walk steps shorter than it (a one-texel cliff over a
+    // floor: about 6 times the estimate): each of the 1001 walks gets 2^28 / 1001 steps, and the
+    // warm-up stops there, refused at --base with the count.
+    const test::CliResult s = pxh_timeout(
+        "bench --field step --sizes 1024 --theta 80 --phi 90 --samples 8 --repeats 1000 "
+        "--base cylinder --radius 1000 --out " +
+            json,
+        300);
+    EXPECT_EQ(s.status, 2) << s.err;
+    EXPECT_EQ(std::count(s.err.begin(), s.err.end(), '\n'), 1) << s.err;
+    EXPECT_EQ(s.err.rfind("pxh: error: --base: base cylinder radius 1000 on the 1024 x 1024 field "
+                          "at theta 80: the curved truth's walk stopped after ",
+                          0),
+              0u)
+        << s.err;
+    EXPECT_NE(s.err.find("steps for the 64 rays of this view, over its budget of 2.68e+05 steps "
+                         "(kMaxCurvedWalkSteps shared by the warm-up and --repeats"),
+              std::string::npos)
+        << s.err;
+    EXPECT_FALSE(std::filesystem::exists(json));
+}
+
 // pxh bench's numbers, refused in pxh's words with exit 2: NaN (CLI11's ranges let it through,
 // exit 1 later) and 0 (CLI11 printed the whole range of doubles, 309 digits).
 TEST_F(TruthLimitsCli, BenchRefusesNanAndZeroInOneShortLine) {
