@@ -179,14 +179,23 @@ TEST(Depth, EveryMethodWritesAPointOfItsOwnRay) {
 // Steep at theta = 0 writes its layer height (not the surface's): on a flat field at h = 0.3,
 // s 0.08, b 1 the surface is at -0.056 and 32 layers of 0.0025 stop at layer 23, -0.0575, so
 // every sample's depth is 0.0015 tiles behind the truth; pom interpolates to the surface itself.
+// A flat field at h = 0.3 (s 0.08, b 1) seen head-on, CPU float and double; `views` adds to
+// [views], `methods` are the entries.
+std::vector<ResultRow> run_flat_head_on(const std::string& views, const std::string& methods) {
+    return run(
+        "samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n"
+        "precision = [\"float\", \"double\"]\n[views]\ntheta_deg = [0]\nphi_deg = [0]\n" +
+        views +
+        "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.3\n"
+        "width = 32\nheight = 32\nscale = 0.08\nbias = 1.0\n" +
+        methods);
+}
+
 TEST(Depth, SteepAtTheNormalWritesItsLayer) {
     const std::vector<ResultRow> rows =
-        run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n"
-            "precision = [\"float\", \"double\"]\n[views]\ntheta_deg = [0]\nphi_deg = [0]\n"
-            "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.3\nwidth = 32\n"
-            "height = 32\nscale = 0.08\nbias = 1.0\n"
-            "[[methods]]\nname = \"steep\"\ndepth = \"hit\"\n"
-            "[[methods]]\nname = \"pom\"\ndepth = \"hit\"\n");
+        run_flat_head_on("",
+                         "[[methods]]\nname = \"steep\"\ndepth = \"hit\"\n"
+                         "[[methods]]\nname = \"pom\"\ndepth = \"hit\"\n");
     ASSERT_EQ(rows.size(), 4u);
     for (const ResultRow& r : rows) {
         ASSERT_TRUE(r.ok()) << r.text("error");
@@ -202,13 +211,8 @@ TEST(Depth, SteepAtTheNormalWritesItsLayer) {
 // between the truth (h 0.3) and the layer: the plane shows for the method only, every sample
 // flips, none ties.
 TEST(Depth, CutAtALayerHeightTies) {
-    const std::vector<ResultRow> rows =
-        run("samples = 16\ntiming_repeats = 0\nbackends = [\"cpu\"]\n"
-            "precision = [\"float\", \"double\"]\n[views]\ntheta_deg = [0]\nphi_deg = [0]\n"
-            "cut = [0.28125, 0.29]\n"
-            "[[heightfields]]\nname = \"flat\"\ngenerator = \"flat\"\nlevel = 0.3\nwidth = 32\n"
-            "height = 32\nscale = 0.08\nbias = 1.0\n"
-            "[[methods]]\nname = \"steep\"\nlayers = 32\ndepth = \"hit\"\n");
+    const std::vector<ResultRow> rows = run_flat_head_on(
+        "cut = [0.28125, 0.29]\n", "[[methods]]\nname = \"steep\"\nlayers = 32\ndepth = \"hit\"\n");
     ASSERT_EQ(rows.size(), 4u);
     for (const ResultRow& r : rows) {
         ASSERT_TRUE(r.ok()) << r.text("error");

@@ -115,17 +115,19 @@ TEST(EngineHdrp, EngineDepthReadsTheUnfadedProbeWhereTheFadeActs) {
                     float outHeight = NAN;
                     const EngineResult r = literal::hdrp_pom(hf, s, V, Vec2<float>(P[i]), 5, 15,
                                                              float(lambda), 5.0f, &outHeight);
-                    EXPECT_NEAR(out.uv[i].x, r.uv.x, 1e-6) << i;
-                    EXPECT_NEAR(out.uv[i].y, r.uv.y, 1e-6) << i;
-                    EXPECT_NEAR(out.engine_z[i], s * (outHeight - 1.0), 1e-6) << theta << " " << i;
+                    // float, in another operation order: a few ulps of uv (|uv| < 2), which the
+                    // field's slopes turn into up to 10^-5 of height at 80 degrees
+                    EXPECT_NEAR(out.uv[i].x, r.uv.x, 4e-6) << i;
+                    EXPECT_NEAR(out.uv[i].y, r.uv.y, 4e-6) << i;
+                    EXPECT_NEAR(out.engine_z[i], s * (outHeight - 1.0), 1e-5) << theta << " " << i;
                     const EngineDepthInput in{
                         Vec2d(Vec2<float>(P[i])), Vd, f,  out.uv[i], out.hit_z[i],
                         out.engine_z[i],          s,  1.0};
                     EXPECT_NEAR(march_engine_depth(c, in),
-                                literal::hdrp_depth_offset(s, outHeight, Vd, f), 1e-5)
+                                literal::hdrp_depth_offset(s, outHeight, Vd, f), 1e-4)
                         << theta << " " << i;
                     HeightSampler<double> at_faded(hf, s, 1.0);
-                    moved += std::abs(at_faded.z(out.uv[i]) - out.engine_z[i]) > 1e-5;
+                    moved += std::abs(at_faded.z(out.uv[i]) - out.engine_z[i]) > 1e-4;
                     ++checked;
                 }
             }
