@@ -2,6 +2,7 @@
 // repeats), the --fail-on gate (parsed here, applied per pair), and what the pair adds to the
 // tallies: per row group, per method setting and theta band, per changed row.
 #include <algorithm>
+#include <cmath>
 #include <optional>
 #include <sstream>
 
@@ -101,7 +102,15 @@ void gate_pair(const Rec& b, const Rec& n, const std::string& name, const Compar
         if (t.column == "time") {
             // A time regresses only when its repeats show it is slower, not noise.
             if (timing.kind == Timing::noise || timing.kind == Timing::faster) continue;
+            const bool pooled = opt_family.pooled_n >= kPooledMin;
+            if (timing.kind == Timing::too_few && pooled && !opt_family.pooled_slower)
+                continue;  // too few for its own verdict; the rows together are not slower
             if (timing.kind == Timing::slower) why = "; slower, p=" + sig(timing.p);
+            else if (timing.kind == Timing::too_few && pooled)
+                why = "; too few repeats for a verdict of its own, but the " +
+                      std::to_string(opt_family.pooled_n) + " such rows together are slower: x" +
+                      sig(opt_family.pooled_ratio) + ", signed-rank p=" + sig(opt_family.pooled_p) +
+                      " (Holm)";
             else if (timing.kind == Timing::too_few)
                 why = "; no verdict: too few repeats, " + std::to_string(timing.n_base) + " and " +
                       std::to_string(timing.n_new) + too_few_why(timing, opt_family);
@@ -143,6 +152,34 @@ bool timing_tested(const Rec& b, const Rec& n) {
 }
 
 double timing_p(const Rec& b, const Rec& n) { return mann_whitney_u(n.repeats, b.repeats).p; }
+
+double signed_rank_p_slower(const std::vector<double>& d) {
+    std::vector<double> a;
+    for (double v : d)
+        if (v != 0 && std::isfinite(v)) a.push_back(v);
+    const size_t n = a.size();
+    if (n < kPooledMin) return NAN;
+    std::vector<size_t> idx(n);
+    for (size_t i = 0; i < n; ++i) idx[i] = i;
+    std::sort(idx.begin(), idx.end(),
+              [&](size_t x, size_t y) { return std::abs(a[x]) < std::abs(a[y]); });
+    double w_plus = 0, ties = 0;
+    for (size_t i = 0; i < n;) {  // average ranks over runs of equal |d|
+        size_t j = i;
+        while (j + 1 < n && std::abs(a[idx[j + 1]]) == std::abs(a[idx[i]])) ++j;
+        const double rank = 0.5 * double(i + j) + 1, t = double(j - i + 1);
+        ties += t * t * t - t;
+        for (size_t k = i; k <= j; ++k)
+            if (a[idx[k]] > 0) w_plus += rank;
+        i = j + 1;
+    }
+    const double nn = double(n);
+    const double mean = nn * (nn + 1) / 4;
+    const double var = nn * (nn + 1) * (2 * nn + 1) / 24 - ties / 48;
+    if (!(var > 0)) return 1.0;
+    const double z = (w_plus - mean - 0.5) / std::sqrt(var);
+    return std::min(1.0, 0.5 * std::erfc(z / std::sqrt(2.0)));
+}
 
 Holm holm(std::vector<double> p) {
     // Holm (1979): the i-th smallest of m p-values (from 0) is significant when it and every

@@ -130,8 +130,23 @@ struct Holm {
     size_t m = 0;
     double cut = -1;
     double alpha_m() const { return m ? kTimingAlpha / double(m) : kTimingAlpha; }
+    // The rows whose repeats are too few for a verdict of their own (5 + 5 repeats reach
+    // p = 0.008, above Holm's first level once m > 6), judged together: a one-sided Wilcoxon
+    // signed-rank test over their log(median ratio)s (one pair a row), its p one more member of
+    // the Holm family above, and their geometric-mean ratio. `pooled_slower`: that test is
+    // significant and the geometric mean exceeds the time margin; only then does such a row past
+    // the margin count as a regression (with fewer than kPooledMin such rows, each row past the
+    // margin counts, as there is nothing to pool).
+    size_t pooled_n = 0;
+    double pooled_p = NAN, pooled_ratio = NAN;
+    bool pooled_slower = false;
 };
+// The fewest too-few rows the pooled test judges (its normal approximation's floor).
+constexpr size_t kPooledMin = 8;
 Holm holm(std::vector<double> p);
+// One-sided (slower: d > 0) Wilcoxon signed-rank p over d, normal approximation with ties and
+// continuity; zeros dropped. NaN with fewer than kPooledMin non-zero values.
+double signed_rank_p_slower(const std::vector<double>& d);
 std::string ratio_fmt(const Timing& t);
 std::string allowance(const CompareTolerance& t);
 

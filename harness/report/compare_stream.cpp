@@ -2,6 +2,7 @@
 // NEW's streamed past them one row at a time, matched pairs checked (field size, ground truth,
 // time unit) and handed to the tallies.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <unordered_set>
 
@@ -129,6 +130,8 @@ void timing_family(const std::string& new_dir, const CompareOptions& opt, const 
     RowStream in(new_dir);
     Pool pool;
     std::vector<double> p;
+    // Every timed pair: its smallest reachable p and log(median ratio), for the pooled test.
+    std::vector<std::pair<double, double>> timed;
     ResultRow row;
     const OnlyRows only(opt.only);
     while (in.next(row)) {
@@ -138,8 +141,32 @@ void timing_family(const std::string& new_dir, const CompareOptions& opt, const 
         const Rec n = rec_of(row, in.line(), in.where(), opt, pool);
         const Rec& b = base.rows[it->second];
         if (timing_tested(b, n)) p.push_back(timing_p(b, n));
+        if (b.ok && n.ok && b.t_median > 0 && n.t_median > 0 && std::isfinite(n.t_median) &&
+            !b.repeats.empty() && !n.repeats.empty())
+            timed.emplace_back(min_p_value(b.repeats.size(), n.repeats.size()),
+                               std::log(n.t_median / b.t_median));
     }
-    tally.family = holm(std::move(p));
+    // The rows too few to reach Holm's first level over the row tests plus the pooled one.
+    const double alpha_first = kTimingAlpha / double(p.size() + 1);
+    std::vector<double> d;
+    for (const auto& [min_p, log_ratio] : timed)
+        if (min_p > alpha_first) d.push_back(log_ratio);
+    const double pooled_p = signed_rank_p_slower(d);
+    if (std::isfinite(pooled_p)) p.push_back(pooled_p);
+    tally.family = holm(p);
+    Holm& h = tally.family;
+    h.pooled_n = d.size();
+    h.pooled_p = pooled_p;
+    if (!d.empty()) {
+        double sum = 0;
+        for (double v : d) sum += v;
+        h.pooled_ratio = std::exp(sum / double(d.size()));
+    }
+    // The margin the family must exceed: --fail-on time's relative allowance (0 without one).
+    double margin = 0;
+    for (const CompareTolerance& t : opt.fail_on)
+        if (t.column == "time" && t.relative) margin = t.amount;
+    h.pooled_slower = std::isfinite(pooled_p) && pooled_p <= h.cut && h.pooled_ratio > 1 + margin;
 }
 
 KeyValues stream_new(const std::string& new_dir, const CompareOptions& opt, Base& base,

@@ -2,6 +2,7 @@
 // method setting and theta band and per changed row, rows found in one run only) and the
 // machine-readable verdict (--junit, --json).
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -130,10 +131,21 @@ void write_summary(const std::string& base_dir, const std::string& new_dir,
             << " only in NEW left out" << br;
     const Holm& h = tally.family;
     out << "timing (two-sided Mann-Whitney U over the timed repeats, Holm over the " << h.m
-        << " rows tested: at most a 5% chance of any false slower/faster): " << tally.t_slower
-        << " slower, " << tally.t_faster << " faster, " << tally.t_noise
-        << " no significant change, " << tally.t_too_few << " too few repeats for a verdict, "
-        << tally.t_no_repeats << " without repeats" << br;
+        << (std::isfinite(h.pooled_p) ? " tests (rows, and the pooled one below)" : " rows tested")
+        << ": at most a 5% chance of any false slower/faster): " << tally.t_slower << " slower, "
+        << tally.t_faster << " faster, " << tally.t_noise << " no significant change, "
+        << tally.t_too_few << " too few repeats for a verdict, " << tally.t_no_repeats
+        << " without repeats" << br;
+    if (std::isfinite(h.pooled_p))
+        out << "timing, pooled: the " << h.pooled_n
+            << " rows with too few repeats for a verdict of their own, together: x"
+            << sig(h.pooled_ratio) << " (geometric mean of the median ratios), one-sided "
+            << "Wilcoxon signed-rank p=" << sig(h.pooled_p)
+            << (h.pooled_slower
+                    ? ": slower beyond the margin (their rows past it are regressions)"
+                    : ": not slower beyond the margin (their rows are not judged one by "
+                      "one)")
+            << br;
     if (tally.t_too_few_family)
         out << "timing: " << tally.t_too_few_family
             << " row(s) have too few repeats for Holm's first level p <= " << sig(h.alpha_m())
