@@ -14,7 +14,7 @@
 #
 #   cmake -DTEST_EXE=... -DOUT=... -DTIMEOUT=600 -DLABELS=... -P gtest_suites.cmake
 cmake_policy(VERSION 3.20)  # IN_LIST and the like in script mode
-set(known_labels unit gl cli slow network)
+set(known_labels unit gl cli slow network serial)
 set(default_labels unit unlabeled)
 
 file(STRINGS "${LABELS}" label_lines)
@@ -74,9 +74,15 @@ foreach(line IN LISTS lines)
       set(labels "${default_labels}")
       list(APPEND unlabeled "${suite}")
     endif()
+    # `serial`: the suite runs alone (ctest's RUN_SERIAL), e.g. a timing test that loads the
+    # machine itself and must not share it with other tests
+    set(serial "")
+    if("serial" IN_LIST labels)
+      set(serial " RUN_SERIAL TRUE")
+    endif()
     string(APPEND content
            "add_test([=[${suite}]=] [=[${TEST_EXE}]=] [=[--gtest_filter=${suite}.*]=])\n"
-           "set_tests_properties([=[${suite}]=] PROPERTIES TIMEOUT ${TIMEOUT} "
+           "set_tests_properties([=[${suite}]=] PROPERTIES TIMEOUT ${TIMEOUT}${serial} "
            "LABELS [=[${labels}]=])\n")
     math(EXPR count "${count} + 1")
   endif()
