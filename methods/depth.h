@@ -61,15 +61,7 @@ struct EngineDepthInput {
     double scale, bias;
 };
 
-// The height of a search line uv = P + d z at uv: the z whose uv is closest to uv. The eye ray
-// (through P along -V, V toward the eye) is the line d = V.xy / V.z. Where |d| < 1e-6 (a ray
-// within about 1e-6 rad of the normal) the height cannot be read from uv: NaN (the caller takes
-// the surface's).
-inline double line_height_at(Vec2d P, Vec2d d, Vec2d uv) {
-    const double dd = d.x * d.x + d.y * d.y;
-    if (!(dd >= 1e-12)) return NAN;
-    return ((uv.x - P.x) * d.x + (uv.y - P.y) * d.y) / dd;
-}
+// The eye ray's search line uv = P + d z (through P along -V, V toward the eye): d = V.xy / V.z.
 inline Vec2d eye_ray_direction(Vec3d V) { return {V.x / V.z, V.y / V.z}; }
 
 // depth(X) of the point (xy, z): its offset from P along f.

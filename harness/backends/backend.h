@@ -68,7 +68,8 @@ struct MethodOutput {
     std::vector<double> depth;
     // CPU: per sample the height z_m the method handed back with its uv (methods/depth.h
     // MethodHit::z; the surface's at uv for a single-step method), in its own precision, and the
-    // height its engine's depth formula reads (MethodHit::engine_z); NaN where there is no uv.
+    // height its engine's depth formula reads (MethodHit::engine_z); NaN where there is no uv;
+    // empty where the setting's depth mode does not read them (base; engine_z: all but engine).
     std::vector<double> hit_z, engine_z;
     // Per sample, how far rounding alone may move the written depth (tiles; empty: 1e-9 at
     // every sample, the double twin's and the GPU's): a write nearer the eye than the polygon

@@ -18,7 +18,8 @@ template <typename T>
 MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene<double>& scene,
                            const HeightField& hf, const std::vector<Vec2d>& P, int repeats,
                            const MethodResources* resources, const std::vector<Vec3d>* V,
-                           const TextureLevels* levels, const std::vector<double>* lambda) {
+                           const TextureLevels* levels, const std::vector<double>* lambda,
+                           DepthMode depth) {
     const MethodInputs in{&hf, resources, levels, lambda ? lambda->data() : nullptr};
     // A sub-batch's inputs: lambda from its first sample on.
     const auto at = [&in](size_t first) {
@@ -29,7 +30,9 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     const Scene<T> sc = scene_cast<T>(scene);
     const size_t n = P.size();
     std::vector<Vec2<T>> pts(n), uv(n);
-    std::vector<T> z(n), ze(n);
+    // z_m only where a depth mode reads it, the engine's height only for `engine` (single-step
+    // methods would sample the surface once more per sample for nothing)
+    std::vector<T> z(depth != DepthMode::base ? n : 0), ze(depth == DepthMode::engine ? n : 0);
     for (size_t k = 0; k < n; ++k) pts[k] = Vec2<T>(P[k]);
     std::vector<Vec3<T>> dirs(V ? n : 0);  // per-sample directions, in the method's precision
     for (size_t k = 0; k < dirs.size(); ++k) dirs[k] = Vec3<T>((*V)[k]);
@@ -38,17 +41,14 @@ MethodOutput run_cpu_typed(BatchFn<T> fn, const ParamValues& params, const Scene
     out.fetches.resize(n);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
         fn(params, sc, at(r.begin()), pts.data() + r.begin(), D ? D + r.begin() : nullptr, r.size(),
-           uv.data() + r.begin(), out.fetches.data() + r.begin(), nullptr, z.data() + r.begin(),
-           ze.data() + r.begin());
+           uv.data() + r.begin(), out.fetches.data() + r.begin(), nullptr,
+           z.empty() ? nullptr : z.data() + r.begin(),
+           ze.empty() ? nullptr : ze.data() + r.begin());
     });
     out.uv.resize(n);
-    out.hit_z.resize(n);
-    out.engine_z.resize(n);
-    for (size_t k = 0; k < n; ++k) {
-        out.uv[k] = Vec2d(uv[k]);
-        out.hit_z[k] = double(z[k]);
-        out.engine_z[k] = double(ze[k]);
-    }
+    for (size_t k = 0; k < n; ++k) out.uv[k] = Vec2d(uv[k]);
+    out.hit_z.assign(z.begin(), z.end());
+    out.engine_z.assign(ze.begin(), ze.end());
     if (repeats > 0 && n > 0) {
         std::vector<Vec2<T>> scratch(n);
         std::vector<int> fscratch(n);
@@ -101,9 +101,9 @@ MethodOutput run_cpu(const MethodSpec& m, const std::string& precision, const Sc
                                std::to_string(P.size()) + " samples");
     if (precision == "double")
         return run_cpu_typed<double>(m.method->run_double, m.params, scene, hf, P, repeats,
-                                     resources, V, levels, lambda);
+                                     resources, V, levels, lambda, m.depth);
     return run_cpu_typed<float>(m.method->run_float, m.params, scene, hf, P, repeats, resources, V,
-                                levels, lambda);
+                                levels, lambda, m.depth);
 }
 
 void add_shadows(MethodOutput& out, const LightSpec& light, const std::string& precision,

@@ -15,7 +15,8 @@ void add_written_depths(const MethodSpec& m, const ViewInput& view, MethodOutput
     const bool engine = m.depth == DepthMode::engine && m.method->engine_depth;
     if (m.method->hit_height_of(m.params) == HitHeight::shader)
         throw std::logic_error("method '" + m.method->name + "': a plug-in has no C++ twin");
-    if (o.hit_z.size() != uv.size() || o.engine_z.size() != uv.size())
+    if ((m.depth != DepthMode::base && o.hit_z.size() != uv.size()) ||
+        (engine && o.engine_z.size() != uv.size()))
         throw std::logic_error("method '" + m.method->name + "': no z_m beside its uv");
     out.assign(uv.size(), 0.0);
     tol.clear();

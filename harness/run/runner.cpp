@@ -17,6 +17,7 @@
 #include "harness/experiment/view_grid.h"
 #include "harness/metrics/agreement.h"
 #include "harness/metrics/depth.h"
+#include "harness/metrics/measured.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/reference.h"
 #include "harness/metrics/sweep_pairs.h"
@@ -362,40 +363,10 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                 MethodOutput o = backend->run(m, vin, v);
                 ResultRow row = score(o, job.truth.gt, hf.width, hf.height, job.exclude, &job.view,
                                       job.truth.cover ? &*job.truth.cover : nullptr);
-                // No inside sample (a perspective view at or beyond the horizon): nothing was
-                // measured, a failure with its reason, never an ok row of empty cells.
-                if (!o.uv.empty() && row.num("samples_outside") >= double(o.uv.size()))
-                    throw std::runtime_error(
-                        "every sample (" + std::to_string(o.uv.size()) +
-                        ") lies outside the view (V.z <= cos 89 degrees: at or beyond the "
-                        "horizon, samples_outside): nothing to measure; lower theta or widen "
-                        "fov_deg");
-                // A curved base where no pixel is covered by both the method and the truth:
-                // every error column would be empty, so the row fails and says why, with the
-                // coverage in its message.
-                if (job.truth.cover && !o.uv.empty() && row.num("nonfinite") == 0 &&
-                    !std::isfinite(row.num("err_mean")))
-                    throw std::runtime_error(
-                        "no pixel is covered by both the method and the truth (cover_extra_frac " +
-                        format_number(row.num("cover_extra_frac")) + ", cover_missing_frac " +
-                        format_number(row.num("cover_missing_frac")) + ", samples_outside " +
-                        format_number(row.num("samples_outside")) + " of " +
-                        std::to_string(o.uv.size()) +
-                        "): no error to measure; a larger radius or scale, or a camera that "
-                        "sees more of the base");
-                // Every sample non-finite (a parameter combination that gives no answer at
-                // this view, e.g. a layer count of 0, or a shader that discards every sample):
-                // a failure, never a row of NaN "ok".
-                const double no_uv = row.num("nonfinite") + double(o.samples_discarded);
-                const double inside_n = double(o.uv.size()) - row.num("samples_outside");
-                if (no_uv > 0 && no_uv >= inside_n && !std::isfinite(row.num("err_mean")))
-                    throw std::runtime_error(
-                        "every sample (" + format_number(no_uv) + ") " +
-                        (o.samples_discarded > 0 && row.num("nonfinite") == 0
-                             ? std::string("was discarded or left unwritten by the shader "
-                                           "(samples_discarded)")
-                             : std::string("gave a non-finite uv: the method's parameters give no "
-                                           "answer at this view")));
+                // Nothing measured: a failure with its reason, never an ok row of empty cells.
+                if (const std::string why = nothing_measured(row, o, job.truth.cover.has_value());
+                    !why.empty())
+                    throw std::runtime_error(why);
                 // The declared bound is enforced: a row over it fails, naming both numbers.
                 if (const int bound = job.fetches_bound(m);
                     bound >= 0 && row.num("fetches_max") > bound)

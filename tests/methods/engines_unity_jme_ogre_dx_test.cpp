@@ -98,7 +98,8 @@ TEST(EngineHdrp, EngineDepthReadsTheUnfadedProbeWhereTheFadeActs) {
     const float s = 0.05f;
     const auto P = test::random_points(300, 6);
     const MethodInfo& m = test::method("hdrp_pom");
-    const MethodSpec spec{&m, test::params_for(m)};
+    MethodSpec spec{&m, test::params_for(m)};
+    spec.depth = DepthMode::engine;  // the heights are handed back where a depth mode reads them
     MarchConfig c;
     c.depth_offset = MarchConfig::PdoHdrp;
     int moved = 0, checked = 0;
