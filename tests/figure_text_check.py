@@ -106,6 +106,8 @@ def main():
     if "--save" not in argv[4:]:
         # the strips' animated GIFs are Pillow frames, no matplotlib text: nothing to check
         pictures.animate = lambda *args, **kwargs: None
+    # every figure drawn in this process, where the checks run (not in drawing processes)
+    os.environ["PXH_PLOT_JOBS"] = "1"
     sys.argv = [script, report, "--width", str(width), "--formats", "png"]
     pr.main()
     for line in findings:

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "harness/backends/gl_wire.h"
+#include "harness/backends/glsl_entry.h"
 #include "harness/backends/written_depth.h"
 #include "harness/core/error.h"
 
@@ -14,6 +15,7 @@ namespace pxh {
 using namespace gl_wire;
 
 GlslChildBackend::GlslChildBackend(const BackendSettings& settings) : settings_(settings) {
+    settings_.gl_frames = glsl_repeats(settings_);  // timing_repeats = 0 times no frame either
     if (!settings_.shader_dir.empty()) {
         // A typo must not silently give the built-in shaders' numbers.
         std::error_code ec;

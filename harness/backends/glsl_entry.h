@@ -26,6 +26,10 @@ std::vector<std::string> glsl_warnings(const Backend& b, const BackendSettings& 
 // rasteriser threads, "" when unset).
 void glsl_record(const Backend& b, const BackendSettings& settings, nlohmann::json& block);
 
+// The timed frames per GLSL row: gl_frames, or none when the experiment times nothing
+// (timing_repeats = 0: one untimed frame draws the answers, no time column is filled).
+int glsl_repeats(const BackendSettings& s);
+
 // Whether a GL renderer is software (llvmpipe, softpipe, SwiftShader, an EGL software device),
 // from a GLSL backend's facts (gl_renderer, gl_driver.platform).
 bool software_renderer(const std::map<std::string, std::string>& backend_facts);

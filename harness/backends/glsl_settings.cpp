@@ -28,7 +28,7 @@ void read_glsl_settings(const ParamDict& ex, BackendSettings& s) {
                              "unknown texture_format '" + f + "' (known: r32f, r16, r8)");
 }
 
-int glsl_repeats(const BackendSettings& s) { return s.gl_frames; }
+int glsl_repeats(const BackendSettings& s) { return s.timing_repeats == 0 ? 0 : s.gl_frames; }
 
 std::vector<Variant> glsl_variants(const BackendSettings& settings) {
     std::vector<Variant> out;

@@ -14,6 +14,7 @@
 
 #include "harness/core/error.h"
 #include "harness/core/params.h"
+#include "harness/metrics/columns.h"
 
 namespace pxh {
 namespace {
@@ -28,16 +29,30 @@ std::string time_cell(double v) {
 }  // namespace
 
 void print_summary(const std::vector<ResultRow>& rows) {
+    // A line per series and context (the keys that vary between the rows and are neither a
+    // series, field nor sweep key: a base, a radius, a camera distance): never a mean across
+    // them.
+    const std::vector<std::string> context = varying_context_keys(
+        rows.size(), [&](size_t r, const std::string& c) { return rows[r].cell(c); });
     struct Acc {
-        double sum_mean = 0, worst_p95 = 0, fetches = 0, time = 0, shadow = 0;
-        int n = 0, n_time = 0, n_shadow = 0, failed = 0;
-        std::string unit;  // the series' time_unit (one backend: one unit)
+        double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0;
+        int n = 0, n_shadow = 0, failed = 0;
+        std::map<std::string, std::pair<double, int>> time;  // time_unit -> sum, n
+        std::vector<std::string> context;
     };
-    std::vector<std::string> order;
+    std::vector<std::string> order, units;
     std::map<std::string, Acc> acc;
     for (const auto& r : rows) {
-        const std::string key = series_of(r);
-        if (!acc.count(key)) order.push_back(key);
+        std::string key = series_of(r);
+        std::vector<std::string> ctx;
+        for (const std::string& c : context) {
+            ctx.push_back(r.cell(c).empty() ? "-" : r.cell(c));
+            key += "\t" + ctx.back();
+        }
+        if (!acc.count(key)) {
+            order.push_back(key);
+            acc[key].context = ctx;
+        }
         Acc& a = acc[key];
         if (!r.ok()) {
             ++a.failed;
@@ -47,10 +62,11 @@ void print_summary(const std::vector<ResultRow>& rows) {
         a.worst_p95 = std::max(a.worst_p95, r.num("err_p95"));
         a.fetches += r.num("fetches_mean");
         ++a.n;
-        if (!std::isnan(r.num("time")) && (a.unit.empty() || a.unit == r.text("time_unit"))) {
-            a.time += r.num("time");
-            a.unit = r.text("time_unit");
-            ++a.n_time;
+        const std::string& unit = r.text("time_unit");
+        if (!std::isnan(r.num("time")) && !unit.empty()) {
+            if (std::find(units.begin(), units.end(), unit) == units.end()) units.push_back(unit);
+            a.time[unit].first += r.num("time");
+            ++a.time[unit].second;
         }
         if (!std::isnan(r.num("shadow_err"))) {
             a.shadow += r.num("shadow_err");
@@ -63,24 +79,57 @@ void print_summary(const std::vector<ResultRow>& rows) {
         else os << std::fixed << std::setprecision(prec) << sum / n;
         return os.str();
     };
-    std::cout << std::left << std::setw(46) << "method [backend/precision or texture]" << std::right
-              << std::setw(10) << "mean err" << std::setw(11) << "worst p95" << std::setw(9)
-              << "fetches" << std::setw(20) << "time" << std::setw(8) << "shadow" << std::setw(8)
-              << "failed"
-              << "\n";
+    bool shadows = false;
+    for (const auto& [k, a] : acc) shadows = shadows || a.n_shadow > 0;
+    std::vector<std::string> header = {"method [backend/precision or texture]"};
+    for (const std::string& c : context) {
+        const ColumnSpec* spec = find_column(c);
+        header.push_back(spec ? spec->shown_as() : c);
+    }
+    const size_t first_number = header.size();
+    for (const char* h : {"mean err", "worst p95", "fetches"}) header.push_back(h);
+    for (const std::string& u : units) header.push_back("time " + u);
+    if (shadows) header.push_back("shadow");
+    header.push_back("failed");
+    std::vector<std::vector<std::string>> table = {header};
     for (const auto& k : order) {
         const Acc& a = acc[k];
-        std::cout << std::left << std::setw(46) << k << std::right << std::setw(10)
-                  << cell(a.sum_mean, a.n, 3) << std::setw(11) << cell(a.worst_p95, a.n ? 1 : 0, 3)
-                  << std::setw(9) << cell(a.fetches, a.n, 1) << std::setw(20)
-                  << (a.n_time ? time_cell(a.time / a.n_time) + " " + a.unit : "-") << std::setw(8)
-                  << cell(a.shadow, a.n_shadow, 3) << std::setw(8) << a.failed << "\n";
+        std::vector<std::string> line = {k.substr(0, k.find('\t'))};
+        line.insert(line.end(), a.context.begin(), a.context.end());
+        line.push_back(cell(a.sum_mean, a.n, 3));
+        line.push_back(cell(a.worst_p95, a.n ? 1 : 0, 3));
+        line.push_back(cell(a.fetches, a.n, 1));
+        for (const std::string& u : units) {
+            auto it = a.time.find(u);
+            line.push_back(it == a.time.end() ? "-"
+                                              : time_cell(it->second.first / it->second.second));
+        }
+        if (shadows) line.push_back(cell(a.shadow, a.n_shadow, 3));
+        line.push_back(std::to_string(a.failed));
+        table.push_back(line);
+    }
+    // Every column as wide as its widest cell: aligned whatever the parameters' lengths.
+    std::vector<size_t> width(header.size(), 0);
+    for (const auto& line : table)
+        for (size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
+    for (const auto& line : table) {
+        std::string out;
+        for (size_t i = 0; i < line.size(); ++i) {
+            const std::string pad(width[i] - line[i].size(), ' ');
+            out += (i ? "  " : "") + (i < first_number ? line[i] + pad : pad + line[i]);
+        }
+        while (!out.empty() && out.back() == ' ') out.pop_back();
+        std::cout << out << "\n";
     }
     std::cout << "mean err: texel distance between the sampled and the truly visible point, "
                  "averaged over rows; worst p95: largest per-row 95th percentile;\n"
-                 "time: mean over rows of the median timed repeat, in the backend's unit (cpu: "
-                 "single-thread ns/sample; glsl: ms/frame); shadow: fraction of samples with a "
-                 "wrong hard shadow\n";
+                 "time UNIT: mean over rows of the median timed repeat (cpu: single-thread "
+                 "ns/sample; glsl: ms/frame)"
+              << (shadows ? "; shadow: fraction of samples with a wrong hard shadow" : "")
+              << (context.empty() ? ""
+                                  : ";\nrows that differ in a base, radius or camera setting "
+                                    "are apart (never averaged together)")
+              << "\n";
 }
 
 }  // namespace pxh

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "harness/metrics/column_groups.h"
 #include "harness/metrics/metrics.h"
 
 namespace pxh {
@@ -84,6 +85,49 @@ ErrorStats reference_agreement(const std::vector<Vec2d>& a, const std::vector<Ve
         gap[k] = std::hypot(e.x, e.y);
     }
     return error_stats(gap);
+}
+
+// Agreement between backends and precisions.
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> agreement_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    return {
+        ColumnSpec{"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"}
+            .in("agreement", "texels"),
+        ColumnSpec{"cpu_diff_p999", kNum, kMeasured,
+                   "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"}
+            .in("agreement", "texels")
+            .lead(),
+        ColumnSpec{"decision_mismatch", kInt, kMeasured,
+                   "GLSL: samples whose fetch count differs from CPU"}
+            .in("agreement", "samples"),
+        ColumnSpec{
+            "cpu_diff_skipped", kInt, kMeasured,
+            "GLSL: samples neither twin answered (both discarded or non-finite): left out of "
+            "cpu_diff_* and decision_mismatch"}
+            .in("agreement", "samples", Better::none),
+        ColumnSpec{
+            "depth_cpu_diff_p999", kNum, kMeasured,
+            "GLSL: p99.9 |depth written - the CPU float twin's| (tiles, read back from the depth "
+            "target)"}
+            .in("agreement", "tiles"),
+        ColumnSpec{"double_diff_max", kNum, kMeasured,
+                   "CPU float: max |uv_float - uv_double| (texels)"}
+            .in("agreement", "texels"),
+        ColumnSpec{"double_diff_p999", kNum, kMeasured,
+                   "CPU float: p99.9 |uv_float - uv_double| (texels)"}
+            .in("agreement", "texels")
+            .lead(),
+        ColumnSpec{"double_diff_skipped", kInt, kMeasured,
+                   "CPU float: samples neither precision answered: left out of double_diff_*"}
+            .in("agreement", "samples", Better::none),
+    };
 }
 
 }  // namespace pxh

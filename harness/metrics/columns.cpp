@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "harness/backends/backend.h"
+#include "harness/metrics/column_groups.h"
 #include "harness/metrics/metric.h"
 #include "harness/scene/view.h"
 
@@ -46,123 +47,77 @@ std::vector<ColumnSpec> run_columns() {
         {"camera", kText, kKey, "orthographic | perspective ([views] camera)", kQuiet},
         // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit", kNamed},
-        {"depth", kText, kKey, "depth mode: the point whose depth is written: base | hit | engine",
-         kNamed},
-        {"cut", kNum, kKey, "[views] cut: height c of the opaque plane z = s (c - b) tested",
-         kNamed},
+        {"depth",
+         kText,
+         kKey,
+         "depth mode: the point whose depth is written: base | hit | engine",
+         kNamed,
+         "",
+         "",
+         "",
+         Better::none,
+         false,
+         {"depth", "cut", "timing", "agreement"}},
+        {"cut",
+         kNum,
+         kKey,
+         "[views] cut: height c of the opaque plane z = s (c - b) tested",
+         kNamed,
+         "",
+         "",
+         "",
+         Better::none,
+         false,
+         {"cut"}},
     };
 }
 
 // The error statistics and the height fetches.
 std::vector<ColumnSpec> error_columns() {
-    return {
-        // Error statistics (harness/metrics/error_stats.cpp).
-        {"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"},
-        {"err_rms", kNum, kMeasured, "root mean square texel error"},
-        {"err_p50", kNum, kMeasured, "median texel error"},
-        {"err_p95", kNum, kMeasured, "95th-percentile texel error"},
-        {"err_p99", kNum, kMeasured, "99th-percentile texel error"},
-        {"err_max", kNum, kMeasured, "largest texel error"},
-        {"frac_gt_0_5", kNum, kMeasured, "fraction of finite samples more than 0.5 texel off"},
-        {"frac_gt_1", kNum, kMeasured, "fraction of finite samples more than 1 texel off"},
-        {"nonfinite", kInt, kMeasured,
-         "samples whose output is NaN/Inf, discards not included (left out above)"},
-        {"samples_discarded", kInt, kMeasured,
-         "samples the method discarded (a silhouette method's miss: GLSL `discard`, the C++ "
-         "twin's NaN answer; a GLSL fragment left unwritten too); not in nonfinite, fetches "
-         "not counted"},
-        {"samples_outside", kInt, kMeasured,
-         "pixels outside the view (V.z <= cos 89 deg), left out of every statistic"},
-        {"lod_mean", kNum, kMeasured, "mean of max(lambda, 0) over the inside pixels"},
-        {"err_px_mean", kNum, kMeasured, "mean pixel error |J^-1 e_uv| (screen pixels)"},
-        {"err_px_p50", kNum, kMeasured, "median pixel error"},
-        {"err_px_p95", kNum, kMeasured, "95th-percentile pixel error"},
-        {"err_px_max", kNum, kMeasured, "largest pixel error"},
-        // Height fetches (harness/metrics/fetches.cpp).
-        {"fetches_mean", kNum, kMeasured,
-         "filtered lookups (height map or precomputed map) per sample, mean"},
-        {"fetches_max", kNum, kMeasured,
-         "filtered lookups (height map or precomputed map) per sample, max"},
-        {"fetches_bound", kInt, kKey, "the method's declared fetch bound for this view"},
-    };
+    std::vector<ColumnSpec> out = error_stats_columns();
+    for (ColumnSpec& c : fetches_columns()) out.push_back(std::move(c));
+    return out;
 }
 
 // Timing, agreement between backends and precisions, sweeps.
-std::vector<ColumnSpec> timing_columns() {
-    return {
-        // Timing (harness/metrics/timing.cpp), in the unit the row's backend names; each
-        // backend's counters follow time_repeats (from the backends' registry entries).
-        {"time", kNum, kMeasured, "median time of the timed repeats, in time_unit"},
-        {"time_unit", kText, kMeasured, "the backend's unit: ns/sample (cpu), ms/frame (glsl)"},
-        {"time_min", kNum, kMeasured, "fastest repeat (time_unit)"},
-        {"time_max", kNum, kMeasured, "slowest repeat (time_unit)"},
-        {"time_repeats", kText, kMeasured,
-         "every timed repeat (time_unit), ';'-separated, in the order measured"},
-        // Agreement between backends and precisions (harness/metrics/agreement.cpp).
-        {"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"},
-        {"cpu_diff_p999", kNum, kMeasured, "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"},
-        {"decision_mismatch", kInt, kMeasured, "GLSL: samples whose fetch count differs from CPU"},
-        {"cpu_diff_skipped", kInt, kMeasured,
-         "GLSL: samples neither twin answered (both discarded or non-finite): left out of "
-         "cpu_diff_* and decision_mismatch"},
-        {"depth_cpu_diff_p999", kNum, kMeasured,
-         "GLSL: p99.9 |depth written - the CPU float twin's| (tiles, read back from the depth "
-         "target)"},
-        {"double_diff_max", kNum, kMeasured, "CPU float: max |uv_float - uv_double| (texels)"},
-        {"double_diff_p999", kNum, kMeasured, "CPU float: p99.9 |uv_float - uv_double| (texels)"},
-        {"double_diff_skipped", kInt, kMeasured,
-         "CPU float: samples neither precision answered: left out of double_diff_*"},
-        // Sweeps (harness/metrics/sweep.cpp).
-        {"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"},
-        {"shimmering", kNum, kMeasured, "mean |change of e - mean change| / dt (texels/degree)"},
-        {"sweep_dt_deg", kNum, kMeasured, "the dt the two above were measured over (degrees)"},
-        {"sliding_dist", kNum, kMeasured,
-         "perspective: |mean change of e| / dd to the next distance (texels per tile)"},
-        {"shimmering_dist", kNum, kMeasured,
-         "perspective: mean |change of e - mean change| / dd (texels per tile)"},
-        {"sweep_dd", kNum, kMeasured,
-         "the distance step dd the two above were measured over (tiles)"},
-    };
+std::vector<ColumnSpec> timing_group_columns() {
+    std::vector<ColumnSpec> out = timing_columns();
+    for (auto group : {agreement_columns, sweep_columns})
+        for (ColumnSpec& c : group()) out.push_back(std::move(c));
+    return out;
 }
 
 // Error maps, pictures, ground truth, method resources, outcome.
 std::vector<ColumnSpec> output_columns() {
-    return {
-        // Error map (harness/results/error_maps.cpp).
-        {"map", kText, kMeasured, "error map PNG, relative to the results folder"},
-        // Pictures of the [render] views (harness/results/pictures.cpp, metrics/image_metrics).
-        {"img_psnr_db", kNum, kMeasured,
-         "[render]: PSNR of its picture vs the truth's (dB; inf: =)"},
-        {"img_ssim", kNum, kMeasured, "[render]: mean SSIM (Wang et al. 2004) of the pictures"},
-        {"picture", kText, kMeasured, "[render]: its picture (PNG, relative to the folder)"},
-        {"picture_diff", kText, kMeasured, "[render]: |its picture - the truth's| (PNG)"},
-        {"picture_truth", kText, kMeasured, "[render]: the truth's picture of the view (PNG)"},
-        {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"},
-        // Ground truth (harness/metrics/ground_truth_metrics.cpp).
-        {"gt_on_filled", kNum, kMeasured,
-         "measured fields: fraction of true hits on a filled hole"},
-        {"excluded", kInt, kMeasured, "samples left out of err_* (exclude_filled = true)"},
-        {"gt_cells_mean", kNum, kMeasured, "exact tracer: cells per ray given to the solver"},
-        {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns", kQuiet},
-        {"gt_agree_p50", kNum, kMeasured, "|hit_exact - hit_embree| median (texels)"},
-        {"gt_agree_p99", kNum, kMeasured, "|hit_exact - hit_embree| 99th percentile (texels)"},
-        {"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"},
-        {"gt_agree_frac_gt_0_5", kNum, kMeasured,
-         "fraction of samples where they differ > 0.5 texel"},
-        {"gt_residual_max", kNum, kMeasured,
-         "curved bases: max |height above the base - s (h - b)| at the true hits (tiles); the "
-         "gt_agree_* columns there compare the walk with itself at half the step"},
-        // Here: the columns the per-output metrics declare (Metric::columns, in metric order:
-        // shadows.cpp's shadow_err, shadow_soft_mae).
-        // Method resources (harness/run/runner.cpp; methods/resource.h).
-        {"precompute_ms", kNum, kMeasured,
-         "ms to build the method's resources (this field; 0: none)"},
-        {"aux_bytes", kInt, kMeasured, "bytes of the method's resources as uploaded (0: none)"},
-        // Added columns go here, before status and error.
-        // Outcome (always last).
-        {"status", kText, kKey, "ok | failed"},
-        {"error", kText, kKey, "the message when failed"},
-    };
+    std::vector<ColumnSpec> out = {
+        // Error map (harness/run/view_writers.cpp writes it: harness/results/error_maps.cpp).
+        {"map", kText, kMeasured, "error map PNG, relative to the results folder"}};
+    for (ColumnSpec& c : image_columns()) out.push_back(std::move(c));  // metrics/image_metrics
+    for (ColumnSpec c : std::vector<ColumnSpec>{
+             // The [render] pictures' files (harness/results/pictures.cpp writes them).
+             {"picture", kText, kMeasured, "[render]: its picture (PNG, relative to the folder)"},
+             {"picture_diff", kText, kMeasured, "[render]: |its picture - the truth's| (PNG)"},
+             {"picture_truth", kText, kMeasured, "[render]: the truth's picture of the view (PNG)"},
+             {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"}})
+        out.push_back(std::move(c));
+    for (ColumnSpec& c : reference_columns()) out.push_back(std::move(c));  // metrics/reference
+    // Here: the columns the per-output metrics declare (Metric::columns, in metric order:
+    // shadows.cpp's shadow_err, shadow_soft_mae, depth.cpp's, coverage.cpp's).
+    for (ColumnSpec c : std::vector<ColumnSpec>{
+             // Method resources (harness/run/runner.cpp; methods/resource.h).
+             ColumnSpec{"precompute_ms", kNum, kMeasured,
+                        "ms to build the method's resources (this field; 0: none)"}
+                 .in("resources", "ms")
+                 .lead(),
+             ColumnSpec{"aux_bytes", kInt, kMeasured,
+                        "bytes of the method's resources as uploaded (0: none)"}
+                 .in("resources", "bytes"),
+             // Added columns go here, before status and error.
+             // Outcome (always last).
+             {"status", kText, kKey, "ok | failed"},
+             {"error", kText, kKey, "the message when failed"}})
+        out.push_back(std::move(c));
+    return out;
 }
 
 // THE table: every column of results.csv, in file order, grouped by the metric that fills it.
@@ -172,7 +127,7 @@ std::vector<ColumnSpec> output_columns() {
 const std::vector<ColumnSpec>& builtin_columns() {
     static const std::vector<ColumnSpec> cols = [] {
         std::vector<ColumnSpec> all;
-        for (auto group : {run_columns, error_columns, timing_columns, output_columns})
+        for (auto group : {run_columns, error_columns, timing_group_columns, output_columns})
             for (ColumnSpec& c : group()) all.push_back(std::move(c));
         return all;
     }();
@@ -189,9 +144,14 @@ std::vector<ColumnSpec> counter_columns() {
                             [&](const ColumnSpec& s) { return s.name == c.name; }))
                 continue;
             const std::string about = std::string(e.name) + ": " + c.meaning + " (" + c.unit + ")";
-            out.push_back({c.name, kNum, kMeasured, "median " + about});
-            out.push_back({c.name + "_min", kNum, kMeasured, "fastest repeat, " + about});
-            out.push_back({c.name + "_max", kNum, kMeasured, "slowest repeat, " + about});
+            out.push_back(
+                ColumnSpec{c.name, kNum, kMeasured, "median " + about}.in("timing", c.unit));
+            out.push_back(
+                ColumnSpec{c.name + "_min", kNum, kMeasured, "fastest repeat, " + about}.in(
+                    "timing", c.unit));
+            out.push_back(
+                ColumnSpec{c.name + "_max", kNum, kMeasured, "slowest repeat, " + about}.in(
+                    "timing", c.unit));
         }
     return out;
 }
@@ -239,6 +199,27 @@ Registry& registry() {
 
 }  // namespace
 
+std::string family_title(const std::string& family) {
+    static const std::pair<const char*, const char*> kTitles[] = {
+        {"texel", "Texel error: |uv_method - uv_true| in texels"},
+        {"pixel", "Pixel error: the texel error seen on screen (camera views)"},
+        {"depth", "Depth error: |depth written - true depth| (tiles)"},
+        {"cut", "Cut flips: the depth test against an opaque plane decided wrongly"},
+        {"coverage", "Coverage: surface shown where the truth shows none, or missing"},
+        {"sliding", "Sliding and shimmering: the error's change with the view"},
+        {"image", "Image quality of the [render] pictures"},
+        {"fetches", "Height fetches per sample"},
+        {"timing", "Time"},
+        {"agreement", "Agreement between backends and precisions"},
+        {"truth", "Ground truth: the two references' agreement"},
+        {"resources", "Method resources"},
+        {"shadow", "Self-shadowing error"},
+    };
+    for (const auto& [name, title] : kTitles)
+        if (family == name) return title;
+    return family;
+}
+
 std::vector<const ColumnSpec*> result_column_specs() {
     const Registry& r = registry();
     std::vector<const ColumnSpec*> out;
@@ -279,16 +260,39 @@ std::string range_key(const ColumnSpec& axis, bool max) {
     return base + (max ? "_max" : "_min");
 }
 
+bool series_key(std::string_view c) {
+    for (const char* k :
+         {"method", "params", "lod", "depth", "cut", "backend", "precision", "texture_format"})
+        if (c == k) return true;
+    return false;
+}
+bool field_key(std::string_view c) { return c == "heightfield" || c == "scale" || c == "bias"; }
+bool sweep_key(std::string_view c) { return c == "theta_deg" || c == "phi_deg"; }
+bool context_key(const ColumnSpec& c) {
+    return c.axis != ColumnAxis::none && !series_key(c.name) && !field_key(c.name) &&
+           !sweep_key(c.name);
+}
+
+std::vector<std::string> varying_context_keys(
+    size_t rows, const std::function<std::string(size_t, const std::string&)>& cell) {
+    std::vector<std::string> keys;
+    for (const ColumnSpec* c : row_axes()) {
+        if (!context_key(*c) || rows == 0) continue;
+        const std::string first = cell(0, c->name);
+        for (size_t r = 1; r < rows; ++r)
+            if (cell(r, c->name) != first) {
+                keys.push_back(c->name);
+                break;
+            }
+    }
+    return keys;
+}
+
 std::string axes_name(const std::function<std::string(const std::string&)>& cell) {
-    // What series_of and field_of name already.
-    static const char* const kInSeries[] = {"method",      "params",  "lod",       "depth",
-                                            "cut",         "backend", "precision", "texture_format",
-                                            "heightfield", "scale",   "bias"};
     std::string s;
     for (const ColumnSpec* c : row_axes()) {
         if (c->axis != ColumnAxis::named) continue;
-        if (std::find(std::begin(kInSeries), std::end(kInSeries), c->name) != std::end(kInSeries))
-            continue;
+        if (series_key(c->name) || field_key(c->name)) continue;
         const std::string v = cell(c->name);
         if (!v.empty()) s += " " + c->shown_as() + "=" + v;
     }

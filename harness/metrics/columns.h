@@ -8,6 +8,7 @@
 // row.set("name", value) (harness/metrics/row.h). A metric outside that table (a test's) is
 // registered at run time with ColumnRegistration.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -27,6 +28,10 @@ enum class ColumnRole { key, measured };
 // file names all take the axes from here (row_axes()).
 enum class ColumnAxis { none, named, quiet };
 
+// Which way a measured column is better: smaller (an error, a cost), larger (PSNR, SSIM), or
+// neither (a count that describes the view, a unit).
+enum class Better { none, smaller, larger };
+
 struct ColumnSpec {
     std::string name;
     ColumnType type = ColumnType::number;
@@ -35,9 +40,43 @@ struct ColumnSpec {
     ColumnAxis axis = ColumnAxis::none;
     // The axis' short label in row names ("theta" for theta_deg); empty: its name.
     std::string label = {};
+    // What the report needs of a measured column (pxh report reads nothing else): its family
+    // (texel, pixel, depth, cut, coverage, sliding, image, fetches, timing, agreement, or a new
+    // one a component brings: the report gives every family present in a run its table and
+    // figure), its unit, which way is better, and whether it is one of the family's headline
+    // columns (tabled per angle band and drawn against the run's axes; the others are in
+    // results.csv and the family's data file). Empty family: bookkeeping (paths, units, lists).
+    std::string family = {};
+    std::string unit = {};
+    Better better = Better::none;
+    bool headline = false;
+    // Keys only: the families whose values the key can change (empty: every family). A key
+    // that cannot change a family (the depth mode cannot move a method's uv) is left out of
+    // that family's tables, which show its first value's rows and say so, instead of
+    // repeating equal numbers once per value.
+    std::vector<std::string> affects = {};
+
     bool numeric() const { return type != ColumnType::text; }
     const std::string& shown_as() const { return label.empty() ? name : label; }
+    // Declaration helpers: ColumnSpec{...}.in("texel", "texels").lead().
+    ColumnSpec& in(std::string fam, std::string u, Better b = Better::smaller) {
+        family = std::move(fam);
+        unit = std::move(u);
+        better = b;
+        return *this;
+    }
+    ColumnSpec& lead() {
+        headline = true;
+        return *this;
+    }
+    bool can_change(const std::string& fam) const {
+        return affects.empty() || std::find(affects.begin(), affects.end(), fam) != affects.end();
+    }
 };
+
+// A family's title and one line on what it measures (known families; a new family's title is
+// its name).
+std::string family_title(const std::string& family);
 
 // Every registered column, in results.csv order.
 std::vector<const ColumnSpec*> result_column_specs();
@@ -49,6 +88,20 @@ const ColumnSpec* find_column(std::string_view name);
 // registered is a programming error (std::logic_error naming it).
 size_t column_id(std::string_view name);
 const ColumnSpec& column_spec(size_t id);
+
+// The axis keys that name a row's series (its setting and group: method params lod depth cut
+// backend precision texture_format), its field (heightfield scale bias), and the sweep axes
+// (theta_deg phi_deg) the report's bands and figures run over. Every other axis key is a
+// context key (base, radius, samples, camera, ground_truth, the cameras' keys, a component's
+// own): the outputs keep rows that differ in one apart, never averaging across it.
+bool series_key(std::string_view column);
+bool field_key(std::string_view column);
+bool sweep_key(std::string_view column);
+bool context_key(const ColumnSpec& c);  // an axis that is none of the three
+
+// The context keys whose value varies between the rows (`cell(row, column)`), in column order.
+std::vector<std::string> varying_context_keys(
+    size_t rows, const std::function<std::string(size_t, const std::string&)>& cell);
 
 // Every axis column (ColumnSpec::axis != none), in results.csv order.
 std::vector<const ColumnSpec*> row_axes();

@@ -47,12 +47,18 @@ const Metric& coverage_metric() {
     static const Metric m{
         "coverage",
         add_coverage,
-        {{"cover_extra_frac", kNum, kMeasured,
-          "curved bases: fraction of the covered pixels where the method shows surface and the "
-          "truth none"},
-         {"cover_missing_frac", kNum, kMeasured,
-          "curved bases: fraction of the covered pixels where the truth shows surface and the "
-          "method none"}}};
+        {ColumnSpec{
+             "cover_extra_frac", kNum, kMeasured,
+             "curved bases: fraction of the covered pixels where the method shows surface and the "
+             "truth none"}
+             .in("coverage", "fraction")
+             .lead(),
+         ColumnSpec{
+             "cover_missing_frac", kNum, kMeasured,
+             "curved bases: fraction of the covered pixels where the truth shows surface and the "
+             "method none"}
+             .in("coverage", "fraction")
+             .lead()}};
     return m;
 }
 

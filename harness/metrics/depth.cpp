@@ -114,25 +114,44 @@ const Metric& depth_metric() {
     static const Metric m{
         "depth",
         add_depth_errors,
-        {{"depth_err_mean", kNum, kMeasured,
-          "mean |depth written - true depth| along the view's depth axis (tiles)"},
-         {"depth_err_p95", kNum, kMeasured, "95th-percentile |depth written - true depth| (tiles)"},
-         {"depth_err_max", kNum, kMeasured, "largest |depth written - true depth| (tiles)"},
-         {"depth_bias_mean", kNum, kMeasured,
-          "mean signed depth written - true depth (tiles; > 0: behind the true surface)"},
-         {"depth_toward_frac", kNum, kMeasured,
-          "fraction of samples whose written depth lies nearer the eye than the polygon's"},
-         {"depth_nonfinite", kNum, kMeasured,
-          "samples with a uv whose written depth is not finite (NaN or infinite: not scored)"},
-         {"depth_clamped", kNum, kMeasured,
-          "samples whose written depth lies beyond what the GL depth target holds (|depth| > "
-          "span / 2: a depth buffer clamps it; scored with the value written)"},
-         {"cut_flip_frac", kNum, kMeasured,
-          "[views] cut: fraction of samples where the depth test against the plane shows the "
-          "other of plane and surface than the truth (ties left out)"},
-         {"cut_tie_frac", kNum, kMeasured,
-          "[views] cut: fraction of samples whose written depth is within rounding of the "
-          "plane's (1e-7 tiles, or four float steps in float): left out of cut_flip_frac"}}};
+        {ColumnSpec{"depth_err_mean", kNum, kMeasured,
+                    "mean |depth written - true depth| along the view's depth axis (tiles)"}
+             .in("depth", "tiles")
+             .lead(),
+         ColumnSpec{"depth_err_p95", kNum, kMeasured,
+                    "95th-percentile |depth written - true depth| (tiles)"}
+             .in("depth", "tiles")
+             .lead(),
+         ColumnSpec{"depth_err_max", kNum, kMeasured,
+                    "largest |depth written - true depth| (tiles)"}
+             .in("depth", "tiles"),
+         ColumnSpec{"depth_bias_mean", kNum, kMeasured,
+                    "mean signed depth written - true depth (tiles; > 0: behind the true surface)"}
+             .in("depth", "tiles", Better::none),
+         ColumnSpec{
+             "depth_toward_frac", kNum, kMeasured,
+             "fraction of samples whose written depth lies nearer the eye than the polygon's"}
+             .in("depth", "fraction", Better::none),
+         ColumnSpec{
+             "depth_nonfinite", kNum, kMeasured,
+             "samples with a uv whose written depth is not finite (NaN or infinite: not scored)"}
+             .in("depth", "samples"),
+         ColumnSpec{
+             "depth_clamped", kNum, kMeasured,
+             "samples whose written depth lies beyond what the GL depth target holds (|depth| > "
+             "span / 2: a depth buffer clamps it; scored with the value written)"}
+             .in("depth", "samples"),
+         ColumnSpec{
+             "cut_flip_frac", kNum, kMeasured,
+             "[views] cut: fraction of samples where the depth test against the plane shows the "
+             "other of plane and surface than the truth (ties left out)"}
+             .in("cut", "fraction")
+             .lead(),
+         ColumnSpec{
+             "cut_tie_frac", kNum, kMeasured,
+             "[views] cut: fraction of samples whose written depth is within rounding of the "
+             "plane's (1e-7 tiles, or four float steps in float): left out of cut_flip_frac"}
+             .in("cut", "fraction", Better::none)}};
     return m;
 }
 

@@ -2,6 +2,7 @@
 // and the pixel error err_px_* (section 10: |J^-1 e_uv| with the sample's footprint J).
 #include <cmath>
 
+#include "harness/metrics/column_groups.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/metrics.h"
 #include "harness/scene/footprint.h"
@@ -63,6 +64,57 @@ void add_error_stats(const MetricInput& in, ResultRow& row) {
 const Metric& error_stats_metric() {
     static const Metric m{"error_stats", add_error_stats};
     return m;
+}
+
+// The error statistics (texel and pixel error) this file computes.
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> error_stats_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    return {
+        ColumnSpec{"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"}
+            .in("texel", "texels")
+            .lead(),
+        ColumnSpec{"err_rms", kNum, kMeasured, "root mean square texel error"}.in("texel",
+                                                                                  "texels"),
+        ColumnSpec{"err_p50", kNum, kMeasured, "median texel error"}.in("texel", "texels"),
+        ColumnSpec{"err_p95", kNum, kMeasured, "95th-percentile texel error"}
+            .in("texel", "texels")
+            .lead(),
+        ColumnSpec{"err_p99", kNum, kMeasured, "99th-percentile texel error"}.in("texel", "texels"),
+        ColumnSpec{"err_max", kNum, kMeasured, "largest texel error"}.in("texel", "texels"),
+        ColumnSpec{"frac_gt_0_5", kNum, kMeasured,
+                   "fraction of finite samples more than 0.5 texel off"}
+            .in("texel", "fraction"),
+        ColumnSpec{"frac_gt_1", kNum, kMeasured, "fraction of finite samples more than 1 texel off"}
+            .in("texel", "fraction"),
+        ColumnSpec{"nonfinite", kInt, kMeasured,
+                   "samples whose output is NaN/Inf, discards not included (left out above)"}
+            .in("texel", "samples"),
+        ColumnSpec{
+            "samples_discarded", kInt, kMeasured,
+            "samples the method discarded (a silhouette method's miss: GLSL `discard`, the C++ "
+            "twin's NaN answer; a GLSL fragment left unwritten too); not in nonfinite, fetches "
+            "not counted"}
+            .in("coverage", "samples", Better::none),
+        {"samples_outside", kInt, kMeasured,
+         "pixels outside the view (V.z <= cos 89 deg), left out of every statistic"},
+        ColumnSpec{"lod_mean", kNum, kMeasured, "mean of max(lambda, 0) over the inside pixels"}.in(
+            "pixel", "level", Better::none),
+        ColumnSpec{"err_px_mean", kNum, kMeasured, "mean pixel error |J^-1 e_uv| (screen pixels)"}
+            .in("pixel", "pixels")
+            .lead(),
+        ColumnSpec{"err_px_p50", kNum, kMeasured, "median pixel error"}.in("pixel", "pixels"),
+        ColumnSpec{"err_px_p95", kNum, kMeasured, "95th-percentile pixel error"}
+            .in("pixel", "pixels")
+            .lead(),
+        ColumnSpec{"err_px_max", kNum, kMeasured, "largest pixel error"}.in("pixel", "pixels"),
+    };
 }
 
 }  // namespace pxh

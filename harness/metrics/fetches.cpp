@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "harness/metrics/column_groups.h"
 #include "harness/metrics/metric.h"
 
 namespace pxh {
@@ -33,6 +34,28 @@ void add_fetches(const MetricInput& in, ResultRow& row) {
 const Metric& fetches_metric() {
     static const Metric m{"fetches", add_fetches};
     return m;
+}
+
+// The height fetches this file counts, and the method's declared bound.
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> fetches_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    return {
+        ColumnSpec{"fetches_mean", kNum, kMeasured,
+                   "filtered lookups (height map or precomputed map) per sample, mean"}
+            .in("fetches", "fetches/sample")
+            .lead(),
+        ColumnSpec{"fetches_max", kNum, kMeasured,
+                   "filtered lookups (height map or precomputed map) per sample, max"}
+            .in("fetches", "fetches/sample"),
+        {"fetches_bound", kInt, kKey, "the method's declared fetch bound for this view"},
+    };
 }
 
 }  // namespace pxh

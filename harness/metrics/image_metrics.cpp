@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "harness/metrics/column_groups.h"
+
 namespace pxh {
 
 double psnr_db(const std::vector<float>& a, const std::vector<float>& b) {
@@ -103,6 +105,28 @@ const std::vector<ImageMetric>& image_metrics() {
 
 void apply_image_metrics(const ImageMetricInput& in, ResultRow& row) {
     for (const ImageMetric& m : image_metrics()) m.add(in, row);
+}
+
+// The [render] pictures' image quality.
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> image_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    return {
+        ColumnSpec{"img_psnr_db", kNum, kMeasured,
+                   "[render]: PSNR of its picture vs the truth's (dB; inf: =)"}
+            .in("image", "dB", Better::larger)
+            .lead(),
+        ColumnSpec{"img_ssim", kNum, kMeasured,
+                   "[render]: mean SSIM (Wang et al. 2004) of the pictures"}
+            .in("image", "", Better::larger)
+            .lead(),
+    };
 }
 
 }  // namespace pxh

@@ -1,5 +1,7 @@
 #include "harness/metrics/reference.h"
 
+#include "harness/metrics/column_groups.h"
+
 namespace pxh {
 
 void add_reference_columns(const ReferenceInfo& ref, ResultRow& row) {
@@ -11,6 +13,47 @@ void add_reference_columns(const ReferenceInfo& ref, ResultRow& row) {
     row.set("gt_agree_frac_gt_0_5", ref.agreement.frac_gt_0_5);
     row.set("gt_on_filled", ref.on_filled);
     row.set("gt_residual_max", ref.residual_max);
+}
+
+// The view's references (excluded: counted by error_stats, from the truth's filled holes).
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> reference_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    constexpr ColumnAxis kQuiet = ColumnAxis::quiet;
+    return {
+        ColumnSpec{"gt_on_filled", kNum, kMeasured,
+                   "measured fields: fraction of true hits on a filled hole"}
+            .in("truth", "fraction", Better::none),
+        ColumnSpec{"excluded", kInt, kMeasured, "samples left out of err_* (exclude_filled = true)"}
+            .in("truth", "samples", Better::none),
+        ColumnSpec{"gt_cells_mean", kNum, kMeasured,
+                   "exact tracer: cells per ray given to the solver"}
+            .in("truth", "cells/ray", Better::none),
+        {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns", kQuiet},
+        ColumnSpec{"gt_agree_p50", kNum, kMeasured, "|hit_exact - hit_embree| median (texels)"}.in(
+            "truth", "texels"),
+        ColumnSpec{"gt_agree_p99", kNum, kMeasured,
+                   "|hit_exact - hit_embree| 99th percentile (texels)"}
+            .in("truth", "texels")
+            .lead(),
+        ColumnSpec{"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"}.in(
+            "truth", "texels"),
+        ColumnSpec{"gt_agree_frac_gt_0_5", kNum, kMeasured,
+                   "fraction of samples where they differ > 0.5 texel"}
+            .in("truth", "fraction"),
+        ColumnSpec{
+            "gt_residual_max", kNum, kMeasured,
+            "curved bases: max |height above the base - s (h - b)| at the true hits (tiles); the "
+            "gt_agree_* columns there compare the walk with itself at half the step"}
+            .in("truth", "tiles")
+            .lead(),
+    };
 }
 
 }  // namespace pxh

@@ -29,10 +29,14 @@ void add_shadow_errors(const MetricInput& in, ResultRow& row) {
 const Metric& shadows_metric() {
     static const Metric m{"shadows",
                           add_shadow_errors,
-                          {{"shadow_err", ColumnType::number, ColumnRole::measured,
-                            "fraction of samples whose hard shadow state is wrong"},
-                           {"shadow_soft_mae", ColumnType::number, ColumnRole::measured,
-                            "mean |soft factor - true hard factor|"}}};
+                          {ColumnSpec{"shadow_err", ColumnType::number, ColumnRole::measured,
+                                      "fraction of samples whose hard shadow state is wrong"}
+                               .in("shadow", "fraction")
+                               .lead(),
+                           ColumnSpec{"shadow_soft_mae", ColumnType::number, ColumnRole::measured,
+                                      "mean |soft factor - true hard factor|"}
+                               .in("shadow", "")
+                               .lead()}};
     return m;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "harness/metrics/column_groups.h"
 #include "harness/metrics/metrics.h"
 
 namespace pxh {
@@ -54,6 +55,38 @@ std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& setti
             }
     }
     return steps;
+}
+
+// Sliding and shimmering: the error's change between neighbouring views.
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> sweep_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    return {
+        ColumnSpec{"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"}
+            .in("sliding", "texels/degree")
+            .lead(),
+        ColumnSpec{"shimmering", kNum, kMeasured,
+                   "mean |change of e - mean change| / dt (texels/degree)"}
+            .in("sliding", "texels/degree")
+            .lead(),
+        {"sweep_dt_deg", kNum, kMeasured, "the dt the two above were measured over (degrees)"},
+        ColumnSpec{"sliding_dist", kNum, kMeasured,
+                   "perspective: |mean change of e| / dd to the next distance (texels per tile)"}
+            .in("sliding", "texels/tile")
+            .lead(),
+        ColumnSpec{"shimmering_dist", kNum, kMeasured,
+                   "perspective: mean |change of e - mean change| / dd (texels per tile)"}
+            .in("sliding", "texels/tile")
+            .lead(),
+        {"sweep_dd", kNum, kMeasured,
+         "the distance step dd the two above were measured over (tiles)"},
+    };
 }
 
 }  // namespace pxh

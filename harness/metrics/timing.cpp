@@ -1,6 +1,7 @@
 // The uniform timing columns (time, time_unit, time_min, time_max, time_repeats: the backend's
 // own unit, every repeat ';'-separated in order) and each counter's NAME, NAME_min, NAME_max
 // (the counters a backend declares in its registry entry): empty when not timed.
+#include "harness/metrics/column_groups.h"
 #include "harness/metrics/metric.h"
 #include "harness/metrics/timing_stats.h"
 
@@ -28,6 +29,31 @@ void add_timing(const MetricInput& in, ResultRow& row) {
 const Metric& timing_metric() {
     static const Metric m{"timing", add_timing};
     return m;
+}
+
+// The time in the unit the row's backend names; each backend's counters follow time_repeats
+// (columns.cpp adds them from the backends' registry entries).
+// Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
+// results.csv's order.
+std::vector<ColumnSpec> timing_columns() {
+    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                         kNum = ColumnType::number;
+    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+    (void)kText;
+    (void)kInt;
+    (void)kKey;
+    return {
+        ColumnSpec{"time", kNum, kMeasured, "median time of the timed repeats, in time_unit"}
+            .in("timing", "time_unit")
+            .lead(),
+        {"time_unit", kText, kMeasured, "the backend's unit: ns/sample (cpu), ms/frame (glsl)"},
+        ColumnSpec{"time_min", kNum, kMeasured, "fastest repeat (time_unit)"}.in("timing",
+                                                                                 "time_unit"),
+        ColumnSpec{"time_max", kNum, kMeasured, "slowest repeat (time_unit)"}.in("timing",
+                                                                                 "time_unit"),
+        {"time_repeats", kText, kMeasured,
+         "every timed repeat (time_unit), ';'-separated, in the order measured"},
+    };
 }
 
 }  // namespace pxh

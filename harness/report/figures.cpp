@@ -53,9 +53,8 @@ std::string key_fields(const ResultRow& r) {
 // (camera_name_part: "_d4_f45_r256") and its level mode; the plotter groups pictures and maps
 // by the view, names its files by the tag and titles their panels with both.
 const char* const kViewHeader = "camera_view,camera_tag,lod";
-std::string view_fields(const ResultRow& r) {
-    return csv_quote(view_of(r)) + "," + csv_quote(camera_name_part(r)) + "," +
-           csv_quote(r.text("lod"));
+std::string view_fields(const ReportData& d, const ResultRow& r) {
+    return csv_quote(d.view_of(r)) + "," + csv_quote(d.tag_of(r)) + "," + csv_quote(r.text("lod"));
 }
 
 // A picture or map path of row i (column c): relative to the results folder and inside it, no
@@ -93,7 +92,7 @@ void vs_theta(const ReportData& d) {
     std::vector<Key> order;
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
-        const Key key{field_of(r), series_of(r), r.num("theta_deg"), view_of(r)};
+        const Key key{field_of(r), series_of(r), r.num("theta_deg"), d.view_of(r)};
         if (!acc.count(key)) {
             order.push_back(key);
             first[key] = i;
@@ -106,7 +105,7 @@ void vs_theta(const ReportData& d) {
         a[1].add(r.num("err_p95"));
         a[2].add(r.num("sliding"));
         a[3].add(r.num("shimmering"));
-        if (!std::get<3>(key).empty()) {  // orthographic rows: a fixed multiple of the texels
+        if (!camera_name_part(r).empty()) {  // orthographic rows: a fixed multiple of texels
             a[4].add(r.num("err_px_p50"));
             a[5].add(r.num("err_px_p95"));
         }
@@ -124,7 +123,7 @@ void vs_theta(const ReportData& d) {
         std::string pl;
         for (const auto& p : phis[k]) pl += (pl.empty() ? "" : ";") + p;
         o << "," << csv_quote(pl) << "," << csv_quote(std::get<3>(k)) << ","
-          << csv_quote(camera_name_part(d.row(first[k]))) << "," << csv_num(a[4].get()) << ","
+          << csv_quote(d.tag_of(d.row(first[k]))) << "," << csv_num(a[4].get()) << ","
           << csv_num(a[5].get()) << "\n";
     }
     d.write("data/vs_theta.csv", o.str());
@@ -193,7 +192,7 @@ void maps(const ReportData& d) {
         o << csv_quote(field_of(r)) << "," << csv_quote(r.cell("phi_deg")) << ","
           << csv_quote(series_of(r)) << "," << key_fields(r) << ","
           << csv_quote(r.cell("theta_deg")) << "," << csv_quote(map) << "," << box.x0 << ","
-          << box.y0 << "," << box.side << "," << view_fields(r) << "\n";
+          << box.y0 << "," << box.side << "," << view_fields(d, r) << "\n";
         ++n;
     }
     if (!n) return;
@@ -334,8 +333,7 @@ void cost_vs_error_bands(const ReportData& d) {
                       << csv_num(t ? t->max.get() : NAN);
                 }
                 if (d.has_views())
-                    o << "," << csv_quote(view) << ","
-                      << csv_quote(camera_name_part(d.row(s.first_row)));
+                    o << "," << csv_quote(view) << "," << csv_quote(d.tag_of(d.row(s.first_row)));
                 o << "\n";
             }
         }
@@ -363,7 +361,7 @@ void pictures(const ReportData& d) {
           << "," << csv_num(r.num("img_psnr_db")) << "," << csv_num(r.num("img_ssim"));
         for (const char* c : {"picture", "picture_diff", "picture_truth", "picture_use"})
             o << "," << csv_quote(r.text(c));
-        o << "," << view_fields(r);
+        o << "," << view_fields(d, r);
         for (const CameraKey& k : camera_key_columns()) o << "," << csv_num(r.num(k.name));
         o << "," << csv_num(r.num("cut")) << "," << csv_quote(r.text("base")) << ","
           << csv_num(r.num("radius")) << "\n";
@@ -379,7 +377,7 @@ void images_table(const ReportData& d) {
     for (size_t i : d.ok) {
         const ResultRow& r = d.row(i);
         if (r.text("picture_use").find("montage") == std::string::npos) continue;
-        const std::string cam = view_of(r);
+        const std::string cam = d.view_of(r);
         const std::string v = r.text("heightfield") + " θ=" + r.cell("theta_deg") +
                               " φ=" + r.cell("phi_deg") + (cam.empty() ? "" : " " + cam);
         if (std::find(views.begin(), views.end(), v) == views.end()) views.push_back(v);

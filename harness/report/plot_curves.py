@@ -109,11 +109,13 @@ def log_ticks(lo, hi, max_n):
 
 
 def error_axis(ax, linthresh, top, height_in):
-    """A symlog error axis from 0 to top: ticks 0 and decades (none crowding the 0)."""
-    ax.set_yscale("symlog", linthresh=linthresh, linscale=0.4)
+    """A symlog error axis from 0 to top: ticks at 0 and at the decades from linthresh up (a
+    labelled tick down at the smallest errors' decade, below 0.1 where the good methods sit),
+    the linear part [0, linthresh] one decade tall so the 0 and linthresh labels never crowd."""
+    ax.set_yscale("symlog", linthresh=linthresh, linscale=1.0)
     ax.set_ylim(0, top)
     max_n = max(2, int(height_in * 72 / 16))
-    ticks = [0.0] + decade_ticks(linthresh, top, max_n - 1, first_step=1)
+    ticks = [0.0] + decade_ticks(linthresh, top, max_n - 1)  # linthresh's decade labelled
     ax.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
     ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: tick_text(v)))
     ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())

@@ -25,9 +25,11 @@ saving), plot_curves (against θ and distance), plot_fronts (cost against error)
 (error-map montages) and plot_pictures (picture montages, strips, GIFs).
 """
 import argparse
+import json
 import math
 import os
 import sys
+import traceback
 
 # The modules beside this file (plot_*.py, shipped with it): found wherever it is run from,
 # and never compiled into a __pycache__ there (an installed tree may be read-only).
@@ -38,6 +40,7 @@ from plot_files import fail, read  # noqa: E402
 from plot_figures import Figures, Styles, setting  # noqa: E402
 from plot_curves import by_view, sweep_vs_theta, vs_distance, vs_theta  # noqa: E402
 from plot_fronts import cost_figure, time_costs  # noqa: E402
+from plot_families import family_jobs  # noqa: E402
 from plot_maps import montage  # noqa: E402
 from plot_pictures import pictures  # noqa: E402
 
@@ -56,6 +59,69 @@ def parse_args(argv):
     return a.report, a.width, formats
 
 
+def fail_os(e):
+    print(f"pxh: error: {e.filename or ''}: {e.strerror or e}", file=sys.stderr)
+    return 1
+
+
+def _draw_share(F, jobs, w, workers, wfd):
+    """In a drawing process: jobs w, w + workers, ...; what each drew goes back through wfd
+    as JSON (figures.json keeps the jobs' order); exits with the first failure's status."""
+    status, out = 0, []
+    try:
+        for i in range(w, len(jobs), workers):
+            F.drawn = []
+            jobs[i]()
+            out.append([i, F.drawn])
+    except SystemExit as e:  # fail(): the message is printed already
+        status = e.code if isinstance(e.code, int) else 2
+    except OSError as e:
+        status = fail_os(e)
+    except BaseException:  # noqa: B902 - a bug: its traceback, and a failed report
+        traceback.print_exc()
+        status = 1
+    with os.fdopen(wfd, "wb") as f:
+        f.write(json.dumps(out).encode("utf-8"))
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
+
+
+def run_jobs(F, jobs):
+    """The figures are independent: drawn by as many processes as there are cores (at most
+    PXH_PLOT_JOBS when set; 1 draws them here), figures.json in the jobs' order whatever the
+    process count."""
+    limit = int(os.environ.get("PXH_PLOT_JOBS", "0") or 0)
+    workers = min(len(jobs), os.cpu_count() or 1, limit or len(jobs))
+    if workers <= 1:
+        for job in jobs:
+            job()
+        return
+    sys.stdout.flush()
+    sys.stderr.flush()
+    children = []
+    for w in range(workers):
+        r, wfd = os.pipe()
+        pid = os.fork()
+        if pid == 0:
+            os.close(r)
+            _draw_share(F, jobs, w, workers, wfd)
+        os.close(wfd)
+        children.append((pid, r))
+    drawn, status = {}, 0
+    for pid, r in children:
+        with os.fdopen(r, "rb") as f:
+            data = f.read()
+        code = os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1])
+        status = status or (code if code > 0 else (1 if code else 0))
+        for i, d in json.loads(data.decode("utf-8") or "[]"):
+            drawn[i] = d
+    if status:
+        sys.exit(status)
+    for i in sorted(drawn):
+        F.drawn.extend(drawn[i])
+
+
 def main():
     out, width, formats = parse_args(sys.argv)
     data = os.path.join(out, "data")
@@ -67,19 +133,24 @@ def main():
     pics = os.path.join(data, "pictures.csv")
     extra = [read(p) for p in (maps, pics) if os.path.exists(p)]
     st = Styles([setting(r) for r in cost + vt + bands + [r for e in extra for r in e]], width)
+    jobs = []
     for rows, tag, cam in by_view(vt):  # a camera run: a figure per camera view
-        vs_theta(F, st, rows, tag, cam)
-        sweep_vs_theta(F, st, rows, tag, cam)
+        jobs.append(lambda rows=rows, tag=tag, cam=cam: vs_theta(F, st, rows, tag, cam))
+        jobs.append(lambda rows=rows, tag=tag, cam=cam: sweep_vs_theta(F, st, rows, tag, cam))
     vd_path = os.path.join(data, "vs_distance.csv")
     if os.path.exists(vd_path):
-        vs_distance(F, st, read(vd_path))
+        jobs.append(lambda: vs_distance(F, st, read(vd_path)))
     for rows, tag, cam in by_view(bands):  # a camera run: a figure per camera view
-        cost_figure(F, st, rows, "cost_vs_error" + tag, ["fetches_mean"], cam)
-        cost_figure(F, st, rows, "time_vs_error" + tag, time_costs(rows), cam)
+        jobs.append(lambda rows=rows, tag=tag, cam=cam: cost_figure(
+            F, st, rows, "cost_vs_error" + tag, ["fetches_mean"], cam))
+        jobs.append(lambda rows=rows, tag=tag, cam=cam: cost_figure(
+            F, st, rows, "time_vs_error" + tag, time_costs(rows), cam))
     if os.path.exists(maps):
-        montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv")))
+        jobs.append(lambda: montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv"))))
     if os.path.exists(pics):
-        pictures(F, st, read(pics))
+        jobs.append(lambda: pictures(F, st, read(pics)))
+    jobs += family_jobs(F, data)
+    run_jobs(F, jobs)
     F.manifest()
 
 

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "harness/core/error.h"
+#include "harness/report/families.h"
 #include "harness/report/report_data.h"
 
 namespace pxh {
@@ -23,6 +24,7 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     write_precision(d);
     write_budget(d);
     write_plot_data(d);
+    write_families(d);
     if (options.plots) run_plotter(d.out, options.figure_width);
     return 0;
 }

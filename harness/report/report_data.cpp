@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include "harness/core/error.h"
 #include "harness/core/params.h"
 #include "harness/metrics/columns.h"
+#include "harness/results/error_maps.h"
 #include "harness/scene/view.h"
 
 namespace pxh {
@@ -84,22 +86,40 @@ double Acc::time_in(const std::string& unit) const {
     return t ? t->time.get() : NAN;
 }
 
-std::string view_of(const ResultRow& r) {
+std::string ReportData::view_of(const ResultRow& r) const {
     std::string v;
-    for (const CameraKey& k : camera_key_columns()) {
-        const double x = r.num(k.name);
-        if (std::isfinite(x)) v += (v.empty() ? "" : " ") + k.name + "=" + format_number(x);
+    for (const std::string& k : context_keys) {
+        const std::string c = r.cell(k);
+        if (!c.empty()) v += (v.empty() ? "" : " ") + k + "=" + c;
     }
     return v;
 }
 
+std::string ReportData::tag_of(const ResultRow& r) const {
+    std::string t = camera_name_part(r);
+    for (const std::string& k : context_keys) {
+        if (std::any_of(camera_key_columns().begin(), camera_key_columns().end(),
+                        [&](const CameraKey& c) { return c.name == k; }))
+            continue;
+        std::string c = r.cell(k);
+        if (c.empty()) continue;
+        for (char& ch : c)
+            if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '.' && ch != '-') ch = '-';
+        const ColumnSpec* spec = find_column(k);
+        t += "_" + (spec ? spec->shown_as() : k) + "-" + c;
+    }
+    return t;
+}
+
 std::string ReportData::view_title(const std::string& view) {
-    if (view.empty()) return "no camera keys (orthographic)";
+    if (view.empty()) return "no context keys (orthographic)";
     std::string t;
     std::stringstream ss(view);
     for (std::string kv; ss >> kv;) {
         const size_t eq = kv.find('=');
-        t += (t.empty() ? "" : ", ") + kv.substr(0, eq) + " = " + kv.substr(eq + 1);
+        const ColumnSpec* spec = find_column(kv.substr(0, eq));
+        t += (t.empty() ? "" : ", ") + (spec ? spec->shown_as() : kv.substr(0, eq)) + " = " +
+             kv.substr(eq + 1);
     }
     return t;
 }
@@ -114,11 +134,41 @@ ReportData::ReportData(const std::string& d, const ReportOptions& o)
         if (!file.has(c))
             throw InputError(file.path,
                              std::string("no column '") + c + "' (not a pxh results file?)");
-    for (size_t r = 0; r < file.rows.size(); ++r) (file.rows[r].ok() ? ok : failed).push_back(r);
-    if (ok.empty()) throw InputError(file.path, "has no ok rows to report");
+    for (size_t r = 0; r < file.rows.size(); ++r)
+        (file.rows[r].ok() ? all_ok : failed).push_back(r);
+    if (all_ok.empty()) throw InputError(file.path, "has no ok rows to report");
+    find_context();
+    filter_rows();
     assign_bands();
     collect();
     name_settings();
+}
+
+void ReportData::find_context() {
+    for (const ColumnSpec* c : row_axes()) {
+        if (!context_key(*c)) continue;
+        const bool camera_key =
+            std::any_of(camera_key_columns().begin(), camera_key_columns().end(),
+                        [&](const CameraKey& k) { return k.name == c->name; });
+        std::set<std::string> values;
+        for (size_t r : all_ok) values.insert(row(r).cell(c->name));
+        const bool some = values.size() > 1 || !values.begin()->empty();
+        if (camera_key ? some : values.size() > 1) context_keys.push_back(c->name);
+    }
+}
+
+void ReportData::filter_rows() {
+    std::vector<size_t> keep = all_ok;
+    for (const ColumnSpec* c : row_axes()) {
+        if (c->can_change("texel")) continue;
+        std::vector<size_t> kept;
+        const std::string first = keep.empty() ? "" : row(keep.front()).cell(c->name);
+        for (size_t r : keep)
+            if (row(r).cell(c->name) == first) kept.push_back(r);
+        if (kept.size() != keep.size()) filtered.emplace_back(c->name, first);
+        keep = std::move(kept);
+    }
+    ok = std::move(keep);
 }
 
 void ReportData::assign_bands() {
@@ -162,7 +212,8 @@ void ReportData::collect() {
         fser.all.add(rr, metric.column);
         // the view's parts: all fields, and this field
         const std::string v = view_of(rr);
-        pixel_error = pixel_error || (!v.empty() && std::isfinite(rr.num("err_px_mean")));
+        pixel_error =
+            pixel_error || (!camera_name_part(rr).empty() && std::isfinite(rr.num("err_px_mean")));
         if (std::find(view_order.begin(), view_order.end(), v) == view_order.end())
             view_order.push_back(v);
         Part* parts[] = {&views[v], &field_views[field][v]};
@@ -193,14 +244,31 @@ void ReportData::collect() {
     }
     // views in ascending order of their keys' values (distance 1, 4, 16; not 1, 16, 4)
     const auto values = [](const std::string& v) {
-        std::vector<double> x;
+        std::vector<std::pair<double, std::string>> x;  // numbers as numbers, then text
         std::stringstream ss(v);
-        for (std::string kv; ss >> kv;) x.push_back(std::stod(kv.substr(kv.find('=') + 1)));
+        for (std::string kv; ss >> kv;) {
+            const std::string value = kv.substr(kv.find('=') + 1);
+            char* end = nullptr;
+            const double d = std::strtod(value.c_str(), &end);
+            const bool number = !value.empty() && end && *end == '\0';
+            x.emplace_back(number ? d : NAN, number ? "" : value);
+        }
         return x;
+    };
+    const auto less = [](const std::vector<std::pair<double, std::string>>& a,
+                         const std::vector<std::pair<double, std::string>>& b) {
+        for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
+            if (a[i].second != b[i].second) return a[i].second < b[i].second;
+            if (a[i].first != b[i].first && !(std::isnan(a[i].first) && std::isnan(b[i].first)))
+                return std::isnan(a[i].first)   ? false
+                       : std::isnan(b[i].first) ? true
+                                                : a[i].first < b[i].first;
+        }
+        return a.size() < b.size();
     };
     std::stable_sort(
         view_order.begin(), view_order.end(),
-        [&](const std::string& a, const std::string& b) { return values(a) < values(b); });
+        [&](const std::string& a, const std::string& b) { return less(values(a), values(b)); });
 }
 
 namespace {

@@ -63,18 +63,31 @@ struct Part {
     std::map<std::string, Setting> settings;
 };
 
-// A row's camera view: its camera's own keys (camera_key_columns(): distance, fov_deg,
-// resolution of a perspective camera) that it has, as "distance=4 fov_deg=45 resolution=256";
-// "" for a camera without keys (orthographic).
-std::string view_of(const ResultRow& r);
-
 struct ReportData {
     std::string dir;            // the results folder
     std::filesystem::path out;  // DIR/report
     Bands bands;
     const BudgetMetric& metric;
     ResultsFile file;
-    std::vector<size_t> ok, failed;  // row indices by status
+    // Row indices by status. all_ok: every ok row (the metric families' tables and figures);
+    // ok: those the texel tables and figures (summary, fields, budget, sweep, precision,
+    // vs_theta, ...) draw on: where a key that cannot change the texel error varies (the depth
+    // mode, the cut: ColumnSpec::affects), the rows at its first value only, so the same
+    // texel numbers are not repeated once per value (`filtered` names those keys and values).
+    std::vector<size_t> all_ok, ok, failed;
+    std::vector<std::pair<std::string, std::string>> filtered;
+    // The context keys of the run: every camera key some row has (distance, fov_deg, ...), and
+    // every other axis key that is neither a series, field nor sweep key (base, radius, samples,
+    // camera, ground_truth, a component's own keys) whose value varies between the rows. A
+    // row's view (view_of) is its values of them; the tables and figures are one per view,
+    // never a mean across views (a mean over bases or distances mixes errors that differ by
+    // orders of magnitude).
+    std::vector<std::string> context_keys;
+    // "base=cylinder radius=2 distance=4": the row's context key values ("" for none).
+    std::string view_of(const ResultRow& r) const;
+    // The part of a file name that tells the row's view apart: pxh run's camera part
+    // (camera_name_part: "_d4_f45_r256") and "_KEY-VALUE" for the other context keys.
+    std::string tag_of(const ResultRow& r) const;
     std::vector<std::string> series_order, setting_order;
     std::map<std::string, Series> series;
     std::map<std::string, Setting> settings;
@@ -82,10 +95,8 @@ struct ReportData {
     // field -> series -> its rows on that field.
     std::vector<std::string> field_order;
     std::map<std::string, std::map<std::string, Series>> field_series;
-    // The camera views of the ok rows (view_of), ascending by their keys' values; one ""
-    // when no row has a camera key (an orthographic run: its tables are as they always were).
-    // The tables of a run with views are one per view: a mean over distances mixes errors
-    // that differ by orders of magnitude.
+    // The views of the ok rows (view_of), ascending by their keys' values (numbers as
+    // numbers); one "" when the run has no context key (its tables are as they always were).
     std::vector<std::string> view_order;
     std::map<std::string, Part> views;                               // view -> its rows
     std::map<std::string, std::map<std::string, Part>> field_views;  // field -> view -> rows
@@ -95,7 +106,8 @@ struct ReportData {
     // one too, err * N / W, but a fixed multiple of the texel error says nothing new: their
     // tables stay as they were.)
     bool pixel_error = false;
-    // "distance = 4, fov_deg = 45, resolution = 256": a view as a table's heading.
+    // "distance = 4, fov_deg = 45, resolution = 256": a view as a table's heading (the key's
+    // short label: "R = 2" for radius).
     static std::string view_title(const std::string& view);
     // Every backend/precision or format of the report, in order of appearance.
     std::vector<std::string> group_order;
@@ -121,6 +133,8 @@ struct ReportData {
     std::string short_group(const std::string& group) const;
 
   private:
+    void find_context();
+    void filter_rows();
     void assign_bands();
     void collect();
     void name_settings();

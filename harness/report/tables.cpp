@@ -39,15 +39,7 @@ void summary_csv_line(std::ostream& csv, const ReportData& d, const std::string&
 
 // A camera run's view as the leading CSV fields: a value per camera key column of the run.
 std::vector<std::string> view_keys(const ReportData& d) {
-    std::vector<std::string> keys;
-    if (!d.has_views()) return keys;
-    for (const CameraKey& k : camera_key_columns())
-        for (const auto& v : d.view_order)
-            if ((" " + v).find(" " + k.name + "=") != std::string::npos) {
-                keys.push_back(k.name);
-                break;
-            }
-    return keys;
+    return d.has_views() ? d.context_keys : std::vector<std::string>{};
 }
 std::string view_key_list(const ReportData& d) {
     std::string out;
@@ -338,7 +330,7 @@ void write_fields(const ReportData& d) {
             else md << "\n## " << one_line(field) << "\n\n" << m.markdown();
             const std::string stem =
                 file_name_of(field) +
-                (view.empty() ? "" : camera_name_part(d.row(sers.begin()->second.first_row)));
+                (view.empty() ? "" : d.tag_of(d.row(sers.begin()->second.first_row)));
             std::string name = stem;
             for (int k = 2; names.count(name); ++k) name = stem + "_" + std::to_string(k);
             names.insert(name);

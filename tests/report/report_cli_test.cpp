@@ -688,8 +688,12 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
         }
     }
     // summary x3, fields x3 (one field), legend x2, failed, sweep, precision, budget x2,
-    // data x5 (maps: with the colour scale), manifest
-    EXPECT_EQ(files, 19u);
+    // data x5 (maps: with the colour scale), manifest; the families present (texel, fetches,
+    // timing, sliding): families/F.md and .csv each, data/families/F_vs_theta_deg.csv but for
+    // timing (two units: no figure), and data/families/index.csv
+    EXPECT_EQ(files, 19u + 4 * 2 + 3 + 1);
+    for (const char* f : {"texel", "fetches", "timing", "sliding"})
+        EXPECT_TRUE(fs::exists(rep / "families" / (std::string(f) + ".md"))) << f;
     EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "time[ns/sample]")));
     EXPECT_EQ(summary(rep, "pom layers=8 [glsl/r8]", "all", "time[ms/frame]"), 0.5);
     const pxh::CsvTable maps = pxh::read_csv((rep / "data" / "maps.csv").string());

@@ -1,0 +1,109 @@
+"""pxh report's plot script (plot_report.py): a figure per metric family and x axis, from
+data/families/index.csv (harness/report/families.cpp): a panel per headline column and view
+(base, radius, distance, ...: whatever key of the run tells rows apart besides the series), a
+line per series, the same statistic named on every axis: the mean over the rows at each x of
+the per-row column. Families, columns, units and views come from the data alone: a family a
+component brings is drawn without a line here."""
+import os
+
+import matplotlib.ticker
+
+import matplotlib.lines as mlines
+
+from plot_files import num, read
+from plot_figures import MARKERS, PALETTE, plt
+from plot_curves import error_axis, linthresh_of, log_ticks, theta_axis, top_of
+from plot_text import chars_for, ellipsize, fit, tick_text
+
+X_LABELS = {"theta_deg": "θ (degrees)"}
+
+
+def x_label(x, thetas):
+    if x in X_LABELS:
+        return X_LABELS[x]
+    return x + (" (mean over θ)" if thetas > 1 else "")
+
+
+def family_figure(F, entry, data_dir):
+    rows = read(os.path.join(os.path.dirname(data_dir), entry["file"]))
+    if not rows:
+        return
+    cols = entry["columns"].split(";")
+    units = entry["units"].split(";")
+    better = entry["better"].split(";")
+    x = entry["x"]
+    panels = list(dict.fromkeys(r["panel"] for r in rows))
+    lines = list(dict.fromkeys(r["line"] for r in rows))
+    cells = [(c, u, b, p) for c, u, b in zip(cols, units, better) for p in panels]
+    cells = [cell for cell in cells
+             if any(num(r[cell[0]]) is not None for r in rows if r["panel"] == cell[3])]
+    if not cells:
+        return
+    nc = max(1, min(len(panels), F.columns(len(cells))))
+    fig, axes = F.grid(len(cells), aspect=0.72, ncols=nc)
+    pw = F.width / nc
+    thetas = max(int(num(r["thetas"]) or 1) for r in rows)
+    n_chars = chars_for(0.7 * pw - 0.25, 8)  # the axes: the panel less its tick labels
+    axis_in = pw * 0.72 - 0.4  # the panel's height less its title lines
+    for i, (ax, (col, unit, bt, panel)) in enumerate(zip(axes, cells)):
+        values = []
+        for k, line in enumerate(lines):
+            pts = sorted((num(r["x"]), num(r[col])) for r in rows
+                         if r["panel"] == panel and r["line"] == line
+                         and num(r["x"]) is not None and num(r[col]) is not None)
+            if not pts:
+                continue
+            values += [v for _, v in pts]
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], color=PALETTE[k % len(PALETTE)],
+                    marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)], lw=1.0, ms=3,
+                    alpha=0.9, zorder=3 + (len(lines) - k) * 0.01)
+        title = ellipsize(col, n_chars)
+        if panel:
+            title = fit(panel, 0.7 * pw - 0.25, 8, 2) + "\n" + title
+        ax.set_title(title, fontsize=8)
+        if unit:
+            ax.set_ylabel(ellipsize(unit, chars_for(pw * 0.6, 7)), fontsize=7)
+        if values and min(values) > 0 and max(values) >= 10 * min(values):
+            ax.set_yscale("log")  # no zero to show: a log axis, ticks in 1-2-5 steps
+            lo, hi = min(values) / 1.3, max(values) * 1.3
+            ax.set_ylim(lo, hi)
+            ticks = log_ticks(lo, hi, max(2, int(axis_in * 72 / 20)))
+            ax.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
+            ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
+                lambda v, _: tick_text(v)))
+            ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+            ax.grid(True, alpha=0.3, lw=0.4)
+        elif bt == "smaller" and values and min(values) == 0:
+            lin = linthresh_of(values, 0.01)
+            error_axis(ax, lin, top_of(values, lin), axis_in)
+        else:
+            ax.grid(True, alpha=0.3, lw=0.4)
+        xs = [num(r["x"]) for r in rows if r["panel"] == panel and num(r["x"]) is not None]
+        if x == "theta_deg":
+            theta_axis(ax, True)
+        elif xs and min(xs) > 0 and max(xs) >= 10 * min(xs):  # radii, distances: decades
+            ax.set_xscale("log")
+            ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
+                lambda v, _: tick_text(v)))
+        last_row = i + nc >= len(cells)
+        if last_row:
+            ax.set_xlabel(x_label(x, thetas))
+    handles = [mlines.Line2D([], [], color=PALETTE[k % len(PALETTE)],
+                             marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)],
+                             label=ellipsize(line or "(one series)", chars_for(F.width - 0.6, 7)))
+               for k, line in enumerate(lines)]
+    legend = F.legend(fig, handles)
+    # the statistic, named as in every family figure: the mean over the rows at each x
+    fig.suptitle(fit(entry["title"] + "; each point: the mean over its rows", F.width - 0.2, 8,
+                     2), fontsize=8)
+    name = entry["family"] + "_vs_" + (x[:-4] if x.endswith("_deg") else x)
+    F.save(fig, name, panels=[c[3] + " " + c[0] for c in cells], series=lines, legend=legend,
+           family=entry["family"], x=x)
+
+
+def family_jobs(F, data_dir):
+    """A drawing job per entry of data/families/index.csv."""
+    index = os.path.join(data_dir, "families", "index.csv")
+    if not os.path.exists(index):
+        return []
+    return [lambda entry=entry: family_figure(F, entry, data_dir) for entry in read(index)]
