@@ -91,6 +91,7 @@ struct FamilyData {
     std::vector<Key> order;               // series in order of appearance
     // series -> band (or SIZE_MAX: all) -> column -> mean
     std::map<Key, std::map<size_t, std::vector<Mean>>> means;
+    std::map<Key, size_t> first;  // a row of each series
     std::set<std::string> units;  // time_unit values of a timing family's rows
 };
 
@@ -110,7 +111,10 @@ FamilyData collect(const ReportData& d, const std::string& family,
     for (size_t r : f.rows) {
         const ResultRow& row = d.row(r);
         const Key k = key_of(f, row);
-        if (!f.means.count(k)) f.order.push_back(k);
+        if (!f.means.count(k)) {
+            f.order.push_back(k);
+            f.first[k] = r;
+        }
         auto& per_band = f.means[k];
         const int b = d.bands.of(row.num("theta_deg"));
         for (size_t band : {size_t(-1), size_t(b)}) {
@@ -161,8 +165,21 @@ void write_family(const ReportData& d, const FamilyData& f) {
         md << "## " << c.name << (unit.empty() ? "" : " (" + unit + ")") << "\n\n"
            << c.meaning << (c.better == Better::none ? "" : "; ") << better_text(c.better)
            << ".\n\n";
+        // The backend, precision and texture format as one "backend" cell; a setting's
+        // backends whose printed numbers agree are one line ("cpu/float = glsl/r32f").
+        const auto is_group = [](const ColumnSpec* k) {
+            return k->name == "backend" || k->name == "precision" ||
+                   k->name == "texture_format";
+        };
         TextTable t;
+        bool group_cell = false;
         for (const ColumnSpec* k : f.keys) {
+            if (is_group(k)) {
+                if (!group_cell) t.header.push_back("backend");
+                if (!group_cell) t.align += 'l';
+                group_cell = true;
+                continue;
+            }
             t.header.push_back(key_header(k));
             t.align += 'l';
         }
@@ -172,22 +189,49 @@ void write_family(const ReportData& d, const FamilyData& f) {
         }
         t.header.push_back("all");
         t.align += 'r';
+        struct Line {
+            std::vector<std::string> head, numbers;
+            std::string groups;
+        };
+        std::vector<Line> lines;
         for (const Key& k : f.order) {
             const auto& per_band = f.means.at(k);
-            std::vector<std::string> cells = k.values;
-            for (std::string& v : cells)
-                if (v.empty()) v = "-";
+            Line l;
+            for (size_t i = 0; i < f.keys.size(); ++i)
+                if (!is_group(f.keys[i]))
+                    l.head.push_back(k.values[i].empty() ? "-" : k.values[i]);
+            l.groups = group_of(d.row(f.first.at(k)));
             bool any = false;
             for (size_t b : bands) {
                 auto it = per_band.find(b);
                 const double v = it == per_band.end() ? NAN : it->second[ci].get();
                 any = any || std::isfinite(v);
-                cells.push_back(sig(v));
+                l.numbers.push_back(sig(v));
             }
             const double all = per_band.at(size_t(-1))[ci].get();
             any = any || std::isfinite(all);
-            cells.push_back(sig(all));
-            if (any) t.rows.push_back(cells);
+            l.numbers.push_back(sig(all));
+            if (!any) continue;
+            auto same = std::find_if(lines.begin(), lines.end(), [&](const Line& o) {
+                return o.head == l.head && o.numbers == l.numbers;
+            });
+            if (group_cell && same != lines.end()) same->groups += " = " + l.groups;
+            else lines.push_back(l);
+        }
+        for (const Line& l : lines) {
+            std::vector<std::string> cells;
+            size_t h = 0;
+            bool grouped = false;
+            for (const ColumnSpec* k : f.keys) {
+                if (is_group(k)) {
+                    if (!grouped) cells.push_back(l.groups);
+                    grouped = true;
+                } else {
+                    cells.push_back(l.head[h++]);
+                }
+            }
+            cells.insert(cells.end(), l.numbers.begin(), l.numbers.end());
+            t.rows.push_back(cells);
         }
         if (t.rows.empty()) continue;
         md << t.markdown() << "\n";
@@ -240,18 +284,20 @@ std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f) 
         std::vector<PKey> order;
         for (size_t r : f.rows) {
             const ResultRow& row = d.row(r);
-            std::string line, panel;
+            // line: the setting (method, params) and its backend group; panel: every other
+            // key that varies (lod, depth, cut too: a figure keeps one line per setting and
+            // backend, so its legend stays readable)
+            std::string line = row.text("method"), panel;
+            if (!row.text("params").empty()) line += " " + row.text("params");
+            line += " [" + group_of(row) + "]";
             for (const ColumnSpec* c : f.keys) {
-                if (c->name == x) continue;
+                if (c->name == x || c->name == "method" || c->name == "params" ||
+                    c->name == "backend" || c->name == "precision" ||
+                    c->name == "texture_format")
+                    continue;
                 const std::string v = row.cell(c->name);
                 if (v.empty()) continue;  // a key the row has no value of (a plane's radius)
-                if (series_key(c->name))
-                    line += (line.empty() ? "" : " ") + (c->name == "method" ? v
-                                                         : c->name == "params"
-                                                             ? (v.empty() ? "" : v)
-                                                             : c->shown_as() + "=" + v);
-                else
-                    panel += (panel.empty() ? "" : ", ") + c->shown_as() + " = " + v;
+                panel += (panel.empty() ? "" : ", ") + c->shown_as() + " = " + v;
             }
             const PKey k{panel, line, row.num(x)};
             if (!acc.count(k)) order.push_back(k);

@@ -12,8 +12,8 @@ import matplotlib.lines as mlines
 
 from plot_files import num, read
 from plot_figures import MARKERS, PALETTE, plt
-from plot_curves import error_axis, linthresh_of, log_ticks, theta_axis, top_of
-from plot_text import chars_for, ellipsize, fit, tick_text
+from plot_curves import close, error_axis, linthresh_of, log_ticks, theta_axis, top_of
+from plot_text import chars_for, ellipsize, fit, short_params, tick_text
 
 X_LABELS = {"theta_deg": "θ (degrees)"}
 
@@ -22,6 +22,50 @@ def x_label(x, thetas):
     if x in X_LABELS:
         return X_LABELS[x]
     return x + (" (mean over θ)" if thetas > 1 else "")
+
+
+def wrap_keys(panel, n):
+    """"distance = 1.5, depth = hit, cut = 0.27" on lines of at most n characters, broken only
+    between keys: a key and its value are never cut (a key longer than a line is a line)."""
+    out = []
+    for part in panel.split(", "):
+        if out and len(out[-1]) + 2 + len(part) <= n:
+            out[-1] += ", " + part
+        else:
+            out.append(part)
+    return "\n".join(out)
+
+
+def split_line(line):
+    """"pom layers=32;layers_min=off [cpu/float]" -> ("pom layers=32;layers_min=off",
+    "cpu/float")."""
+    head, _, group = line.rpartition(" [")
+    return (head, group[:-1]) if head else (line, "")
+
+
+def fold_groups(rows, cols):
+    """[(label, line)]: one drawn line per setting, its backend groups named together where all
+    their points agree within 0.1% (the others drawn apart); labels with "off" parameters left
+    out."""
+    points = {}
+    for r in rows:
+        points.setdefault(r["line"], {})[(r["panel"], r["x"])] = tuple(num(r[c]) for c in cols)
+    drawn = []  # [setting, [groups], line]
+    for line, pts in points.items():
+        setting, group = split_line(line)
+        for d in drawn:
+            if d[0] == setting and points[d[2]].keys() == pts.keys() and all(
+                    close(a, b) for k in pts for a, b in zip(pts[k], points[d[2]][k])):
+                d[1].append(group)
+                break
+        else:
+            drawn.append([setting, [group], line])
+    out = []
+    for setting, groups, line in drawn:
+        method, _, params = setting.partition(" ")
+        label = (method + " " + short_params(params)).strip()
+        out.append((label + " [" + " = ".join(groups) + "]", line))
+    return out
 
 
 def family_figure(F, entry, data_dir):
@@ -33,7 +77,7 @@ def family_figure(F, entry, data_dir):
     better = entry["better"].split(";")
     x = entry["x"]
     panels = list(dict.fromkeys(r["panel"] for r in rows))
-    lines = list(dict.fromkeys(r["line"] for r in rows))
+    lines = fold_groups(rows, cols)
     cells = [(c, u, b, p) for c, u, b in zip(cols, units, better) for p in panels]
     cells = [cell for cell in cells
              if any(num(r[cell[0]]) is not None for r in rows if r["panel"] == cell[3])]
@@ -46,20 +90,30 @@ def family_figure(F, entry, data_dir):
     n_chars = chars_for(0.7 * pw - 0.25, 8)  # the axes: the panel less its tick labels
     axis_in = pw * 0.72 - 0.4  # the panel's height less its title lines
     for i, (ax, (col, unit, bt, panel)) in enumerate(zip(axes, cells)):
-        values = []
-        for k, line in enumerate(lines):
+        values, shown = [], []  # shown: the point lists drawn in this panel
+        hidden = 0
+        for k, (label, line) in enumerate(lines):
             pts = sorted((num(r["x"]), num(r[col])) for r in rows
                          if r["panel"] == panel and r["line"] == line
                          and num(r["x"]) is not None and num(r[col]) is not None)
             if not pts:
                 continue
+            # a line equal to one drawn already (within 0.1%) would hide under it: counted
+            if any(len(o) == len(pts) and all(a[0] == b[0] and close(a[1], b[1])
+                                              for a, b in zip(o, pts)) for o in shown):
+                hidden += 1
+                continue
+            shown.append(pts)
             values += [v for _, v in pts]
             ax.plot([p[0] for p in pts], [p[1] for p in pts], color=PALETTE[k % len(PALETTE)],
                     marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)], lw=1.0, ms=3,
                     alpha=0.9, zorder=3 + (len(lines) - k) * 0.01)
+        if hidden:  # said in the panel: which lines lie under the one drawn
+            ax.text(0.02, 0.97, f"{hidden + 1} settings coincide: one line drawn",
+                    transform=ax.transAxes, fontsize=6, va="top", ha="left", color="0.35")
         title = ellipsize(col, n_chars)
         if panel:
-            title = fit(panel, 0.7 * pw - 0.25, 8, 2) + "\n" + title
+            title = wrap_keys(panel, n_chars) + "\n" + title
         ax.set_title(title, fontsize=8)
         if unit:
             ax.set_ylabel(ellipsize(unit, chars_for(pw * 0.6, 7)), fontsize=7)
@@ -90,14 +144,15 @@ def family_figure(F, entry, data_dir):
             ax.set_xlabel(x_label(x, thetas))
     handles = [mlines.Line2D([], [], color=PALETTE[k % len(PALETTE)],
                              marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)],
-                             label=ellipsize(line or "(one series)", chars_for(F.width - 0.6, 7)))
-               for k, line in enumerate(lines)]
+                             label=fit(label, F.width - 0.6, 7, 2))
+               for k, (label, _) in enumerate(lines)]
     legend = F.legend(fig, handles)
     # the statistic, named as in every family figure: the mean over the rows at each x
     fig.suptitle(fit(entry["title"] + "; each point: the mean over its rows", F.width - 0.2, 8,
                      2), fontsize=8)
     name = entry["family"] + "_vs_" + (x[:-4] if x.endswith("_deg") else x)
-    F.save(fig, name, panels=[c[3] + " " + c[0] for c in cells], series=lines, legend=legend,
+    F.save(fig, name, panels=[c[3] + " " + c[0] for c in cells],
+           series=[label for label, _ in lines], legend=legend,
            family=entry["family"], x=x)
 
 
