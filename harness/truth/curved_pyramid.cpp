@@ -1,0 +1,495 @@
+// The pyramid tracer of the curved truth: see curved_pyramid.h, and docs/internals/tracers.md
+// ("Curved bases: the pyramid tracer") for why no crossing is missed.
+#include "harness/truth/curved_pyramid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace pxh {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kEps = 2.220446049250313e-16;
+
+int64_t floor_div(int64_t a, int64_t n) {
+    int64_t q = a / n;
+    if ((a % n != 0) && ((a < 0) != (n < 0))) --q;
+    return q;
+}
+
+// The first (smallest) root > 0 of A x^2 + 2 B x + C = 0 whose point passes `ok`, or inf.
+template <typename Ok>
+double first_root(double A, double B, double C, Ok&& ok) {
+    double r[2];
+    int n = 0;
+    if (A == 0) {
+        if (B != 0) r[n++] = -C / (2 * B);
+    } else {
+        const double disc = B * B - A * C;
+        if (!(disc >= 0)) return kInf;
+        const double q = -(B + std::copysign(std::sqrt(disc), B));
+        r[n++] = q / A;
+        r[n++] = q != 0 ? C / q : 0.0;
+        if (r[0] > r[1]) std::swap(r[0], r[1]);
+    }
+    for (int i = 0; i < n; ++i)
+        if (std::isfinite(r[i]) && ok(r[i])) return r[i];
+    return kInf;
+}
+
+}  // namespace
+
+bool CurvedPyramid::supports(const BaseSurface& base) {
+    const std::string n = base.name();
+    return n == "cylinder" || n == "sphere" || n == "plane";
+}
+
+CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
+                             const BaseSurface& base)
+    : hf_(hf), s_(scale), b_(bias), W_(hf.width), H_(hf.height) {
+    const std::string n = base.name();
+    if (n == "cylinder") kind_ = Kind::cylinder;
+    else if (n == "sphere") kind_ = Kind::sphere;
+    else if (n == "plane") kind_ = Kind::plane;
+    else throw std::invalid_argument("the pyramid tracer has no closed form for base '" + n + "'");
+    R_ = kind_ == Kind::plane ? 0.0 : base.radius();
+    rmin_ = R_ - s_ * b_;  // the bottom shell: R > s b (the curved bases require it)
+    margin_ = 16 * kEps * (R_ + std::abs(s_) * (1 + std::abs(b_)) + 1);
+    tiny_ = 1e-10 / double(std::max(W_, H_));
+    floor_ = 0.25e-9 / double(std::max(W_, H_));
+    // level 0: per cell (its corners texels i, i + 1 and j, j + 1, wrapped), the largest corner
+    // over the cell dilated by one cell on each side: texels i - 1 .. i + 2, j - 1 .. j + 2
+    const int W = W_, H = H_;
+    std::vector<float> rowmax(size_t(W) * H);
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            float m = -kInf;
+            for (int di = -1; di <= 2; ++di) m = std::max(m, hf.wrapped(int64_t(i) + di, j));
+            rowmax[size_t(j) * W + i] = m;
+        }
+    std::vector<float> l0(size_t(W) * H);
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            float m = -kInf;
+            for (int dj = -1; dj <= 2; ++dj)
+                m = std::max(m, rowmax[size_t(wrap_index(int64_t(j) + dj, H)) * W + i]);
+            l0[size_t(j) * W + i] = m;
+        }
+    max_.push_back(std::move(l0));
+    nx_.push_back(W);
+    ny_.push_back(H);
+    while (nx_.back() > 1 || ny_.back() > 1) {
+        const int px = nx_.back(), py = ny_.back();
+        const int qx = (px + 1) / 2, qy = (py + 1) / 2;
+        const std::vector<float>& lower = max_.back();
+        std::vector<float> up(size_t(qx) * qy, -kInf);
+        for (int j = 0; j < py; ++j)
+            for (int i = 0; i < px; ++i) {
+                float& m = up[size_t(j / 2) * qx + size_t(i / 2)];
+                m = std::max(m, lower[size_t(j) * px + i]);
+            }
+        max_.push_back(std::move(up));
+        nx_.push_back(qx);
+        ny_.push_back(qy);
+    }
+}
+
+void CurvedPyramid::break_for_test(const Breakage& b) {
+    breakage_ = b;
+    for (auto& level : max_)
+        for (float& m : level)
+            for (int k = 0; k < b.shrink_ulps; ++k)
+                m = std::nextafter(m, -std::numeric_limits<float>::infinity());
+}
+
+CurvedPyramid::Geo CurvedPyramid::geo(Vec3d p) const {
+    // BaseSurface::coords of the three bases, the same expressions (so the same doubles)
+    switch (kind_) {
+        case Kind::plane:
+            return {p.x, p.y, p.z};
+        case Kind::cylinder: {
+            const double x = p.x - 0.5, z = p.z + R_;
+            return {0.5 + R_ * std::atan2(x, z), p.y, std::hypot(x, z) - R_};
+        }
+        case Kind::sphere:
+        default: {
+            const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+            const double r = std::sqrt(v3_dot(q, q));
+            const double e = std::asin(std::clamp(q.y / r, -1.0, 1.0));
+            return {0.5 + R_ * std::atan2(q.x, q.z), 0.5 + R_ * e, r - R_};
+        }
+    }
+}
+
+double CurvedPyramid::g_at(const WorldRay& r, double t) const {
+    const Geo c = geo(v3_add(r.o, v3_scale(r.d, t)));
+    HeightSampler<double> hs(hf_, s_, b_);
+    return c.height - hs.z({c.u, c.v});
+}
+
+// g and dg/dt at t; (ci, cj) is the cell whose bilinear patch gave them.
+CurvedPyramid::Eval CurvedPyramid::eval(const WorldRay& r, double t, int64_t& ci,
+                                        int64_t& cj) const {
+    const Vec3d p = v3_add(r.o, v3_scale(r.d, t));
+    const Vec3d d = r.d;
+    double height, du, dv, dheight;
+    Geo c{};
+    switch (kind_) {
+        case Kind::plane:
+            c = {p.x, p.y, p.z};
+            du = d.x;
+            dv = d.y;
+            dheight = d.z;
+            break;
+        case Kind::cylinder: {
+            const double x = p.x - 0.5, z = p.z + R_;
+            const double rho = std::hypot(x, z);
+            c = {0.5 + R_ * std::atan2(x, z), p.y, rho - R_};
+            dheight = (x * d.x + z * d.z) / rho;
+            du = R_ * (z * d.x - x * d.z) / (rho * rho);
+            dv = d.y;
+            break;
+        }
+        case Kind::sphere:
+        default: {
+            const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+            const double r2 = v3_dot(q, q), rr = std::sqrt(r2);
+            const double e = std::asin(std::clamp(q.y / rr, -1.0, 1.0));
+            c = {0.5 + R_ * std::atan2(q.x, q.z), 0.5 + R_ * e, rr - R_};
+            const double qd = v3_dot(q, d), rho2 = q.x * q.x + q.z * q.z;
+            const double rho = std::sqrt(rho2);
+            dheight = qd / rr;
+            du = R_ * (q.z * d.x - q.x * d.z) / rho2;
+            dv = R_ * (d.y * r2 - q.y * qd) / (r2 * rho);
+            break;
+        }
+    }
+    height = c.height;
+    // bilinear_texels, the same operations, with its derivatives
+    const double x = c.u * double(W_) - 0.5, y = c.v * double(H_) - 0.5;
+    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    const double fx = x - fx0, fy = y - fy0;
+    ci = bilinear_index(fx0);
+    cj = bilinear_index(fy0);
+    const int i0 = int(wrap_index(ci, W_));
+    const int j0 = int(wrap_index(cj, H_));
+    const int i1 = i0 + 1 == W_ ? 0 : i0 + 1, j1 = j0 + 1 == H_ ? 0 : j0 + 1;
+    const float* row0 = hf_.texels.data() + size_t(j0) * W_;
+    const float* row1 = hf_.texels.data() + size_t(j1) * W_;
+    const double h00 = row0[i0], h10 = row0[i1], h01 = row1[i0], h11 = row1[i1];
+    const double a = h00 + (h10 - h00) * fx;
+    const double b = h01 + (h11 - h01) * fx;
+    const double h = a + (b - a) * fy;
+    const double hx = (h10 - h00) + ((h11 - h01) - (h10 - h00)) * fy;
+    const double hy = b - a;
+    Eval out;
+    out.g = height - s_ * (h - b_);
+    out.dg = dheight - s_ * (hx * double(W_) * du + hy * double(H_) * dv);
+    return out;
+}
+
+CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) const {
+    // the height field's differences over the cell dilated by one cell (texels ci - 1 .. ci + 2)
+    double gx = 0, gy = 0, gxy = 0;
+    double t[4][4];
+    for (int dj = 0; dj < 4; ++dj)
+        for (int di = 0; di < 4; ++di) t[dj][di] = hf_.wrapped(ci - 1 + di, cj - 1 + dj);
+    for (int dj = 0; dj < 4; ++dj)
+        for (int di = 0; di < 3; ++di) gx = std::max(gx, std::abs(t[dj][di + 1] - t[dj][di]));
+    for (int dj = 0; dj < 3; ++dj)
+        for (int di = 0; di < 4; ++di) gy = std::max(gy, std::abs(t[dj + 1][di] - t[dj][di]));
+    for (int dj = 0; dj < 3; ++dj)
+        for (int di = 0; di < 3; ++di)
+            gxy = std::max(gxy,
+                           std::abs(t[dj][di] - t[dj][di + 1] - t[dj + 1][di] + t[dj + 1][di + 1]));
+    const double W = W_, H = H_;
+    // bounds over the segment (above the bottom shell, r >= rmin): speeds |u'|, |v'|, second
+    // derivatives |u''|, |v''| and of the height over the base |height''|
+    double su = 1, sv = 1, uu = 0, vv = 0, hh = 0;
+    if (kind_ == Kind::cylinder) {
+        su = R_ / rmin_;
+        uu = 2 * R_ / (rmin_ * rmin_);
+        hh = 1 / rmin_;
+    } else if (kind_ == Kind::sphere) {
+        const double e0 = ((double(cj) - 0.5) / H - 0.5) / R_;
+        const double e1 = ((double(cj) + 2.5) / H - 0.5) / R_;
+        const double emax = std::min(std::max(std::abs(e0), std::abs(e1)), kPi / 2);
+        const double c = std::max(std::cos(emax), 1e-3);
+        const double rho = rmin_ * c, r2 = rmin_ * rmin_;
+        su = R_ / rho;
+        sv = R_ / rmin_;
+        uu = 2 * R_ / (rho * rho);
+        vv = R_ * (3 / (r2 * c) + 1 / (r2 * c * c * c));
+        hh = 1 / rmin_;
+    }
+    const double as = std::abs(s_);
+    CellBounds cb;
+    cb.L = (1 + as * (W * gx * su + H * gy * sv)) * (1 + 1e-12);
+    cb.K = (hh + as * (W * gx * uu + H * gy * vv + 2 * W * H * gxy * su * sv)) * (1 + 1e-12);
+    return cb;
+}
+
+double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, double phi_now,
+                                 double phi_f, double sigma) const {
+    // the plane through the axis at angle phi_f: f = x cos - z sin = rho sin(phi - phi_f);
+    // the angle moves in the direction sigma (monotone along a line), so the ray leaves
+    // through it where sigma f rises through 0 (the half-plane of phi_f, not its opposite)
+    const double delta = sigma * (phi_f - phi_now);
+    if (delta >= kPi) return kInf;  // a line sweeps less than pi in all
+    if (delta <= 0) return 0;
+    const double cs = std::cos(phi_f), sn = std::sin(phi_f);
+    const double f0 = sigma * (x * cs - z * sn), f1 = sigma * (dx * cs - dz * sn);
+    if (!(f1 > 0)) return kInf;
+    return std::max(-f0 / f1, 0.0);
+}
+
+double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
+    // latitude e: q_y cos e = rho sin e; left upward (lat rising) through the upper
+    // boundary, downward through the lower one
+    auto rising = [&](double tau) {
+        const Vec3d a = v3_add(q, v3_scale(d, tau));
+        return d.y * v3_dot(a, a) - a.y * v3_dot(a, d) > 0;
+    };
+    const double tol = -0.5 * tiny_;
+    if (e == 0) {
+        if (d.y == 0) return kInf;
+        const double tau = -q.y / d.y;
+        if (!(tau > tol) || (d.y > 0) != upward) return kInf;
+        return std::max(tau, 0.0);
+    }
+    const double c2 = std::cos(e) * std::cos(e), s2 = std::sin(e) * std::sin(e);
+    const double A = d.y * d.y * c2 - (d.x * d.x + d.z * d.z) * s2;
+    const double B = q.y * d.y * c2 - (q.x * d.x + q.z * d.z) * s2;
+    const double C = q.y * q.y * c2 - (q.x * q.x + q.z * q.z) * s2;
+    const double tau = first_root(A, B, C, [&](double t) {
+        if (!(t > tol)) return false;
+        const double y = q.y + t * d.y;
+        if ((y > 0) != (e > 0)) return false;  // the other nappe
+        return rising(t) == upward;
+    });
+    return std::isfinite(tau) ? std::max(tau, 0.0) : kInf;
+}
+
+double CurvedPyramid::node_exit(const WorldRay& r, Vec3d p, const Geo& c, double u0, double u1,
+                                double v0, double v1) const {
+    const Vec3d d = r.d;
+    double tu = kInf, tv = kInf;
+    if (kind_ == Kind::plane) {
+        if (d.x > 0) tu = std::max((u1 - p.x) / d.x, 0.0);
+        if (d.x < 0) tu = std::max((u0 - p.x) / d.x, 0.0);
+        if (d.y > 0) tv = std::max((v1 - p.y) / d.y, 0.0);
+        if (d.y < 0) tv = std::max((v0 - p.y) / d.y, 0.0);
+        return std::min(tu, tv);
+    }
+    // u: the azimuth about the axis (y), monotone along the ray in the direction of its
+    // angular momentum; the sector is clipped to (-pi, pi], where coords wraps
+    const double x = p.x - 0.5, z = p.z + R_;
+    const double L = z * d.x - x * d.z;
+    const double lo = -kPi * R_ + 0.5, hi = kPi * R_ + 0.5;
+    if (L != 0 && !(u0 <= lo && u1 >= hi)) {
+        const double sigma = L > 0 ? 1.0 : -1.0;
+        const double phi_now = (c.u - 0.5) / R_;
+        const double phi_f =
+            sigma > 0 ? std::min((u1 - 0.5) / R_, kPi) : std::max((u0 - 0.5) / R_, -kPi);
+        tu = angle_exit(x, z, d.x, d.z, phi_now, phi_f, sigma);
+    }
+    if (kind_ == Kind::cylinder) {
+        if (d.y > 0) tv = std::max((v1 - p.y) / d.y, 0.0);
+        if (d.y < 0) tv = std::max((v0 - p.y) / d.y, 0.0);
+    } else {
+        const Vec3d q{x, p.y - 0.5, z};
+        const double e0 = (v0 - 0.5) / R_, e1 = (v1 - 0.5) / R_;
+        if (e1 < kPi / 2) tv = std::min(tv, cone_exit(q, d, e1, true));
+        if (e0 > -kPi / 2) tv = std::min(tv, cone_exit(q, d, e0, false));
+    }
+    return std::min(tu, tv);
+}
+
+double CurvedPyramid::shell_entry(const WorldRay& r, Vec3d p, double height_now,
+                                  double offset) const {
+    if (height_now <= offset) return 0;
+    const Vec3d d = r.d;
+    if (kind_ == Kind::plane) return d.z < 0 ? (height_now - offset) / -d.z : kInf;
+    // |q + tau d|^2 = (R + offset)^2 from outside: c = (rho - r)(rho + r) without cancellation
+    Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+    Vec3d dd = d;
+    if (kind_ == Kind::cylinder) q.y = dd.y = 0;
+    const double A = v3_dot(dd, dd), B = v3_dot(q, dd);
+    if (!(B < 0)) return kInf;  // moving away from the axis (centre): never nearer
+    const double rho = R_ + height_now, rr = R_ + offset;
+    const double C = (height_now - offset) * (rho + rr);
+    const double disc = B * B - A * C;
+    if (!(disc >= 0)) return kInf;
+    const double q2 = -B + std::sqrt(disc);  // > 0
+    return (C / q2) * (1 - 4 * kEps);        // the nearer root, taken a little early
+}
+
+double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi) const {
+    // as the walk: g(lo) > 0 (or lo is where the walk started), g(hi) <= 0
+    for (int i = 0; i < 200 && hi - lo > 0; ++i) {
+        const double mid = lo + 0.5 * (hi - lo);
+        if (mid <= lo || mid >= hi) break;
+        (g_at(r, mid) <= 0 ? hi : lo) = mid;
+    }
+    return hi;
+}
+
+CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_steps) const {
+    One out;
+    const double top = s_ * (1 - b_), bottom = -s_ * b_;
+    const Vec3d o = r.o, d = r.d;
+    auto at = [&](double t) { return v3_add(o, v3_scale(d, t)); };
+    // the walk's chord: enter the shell under the top (or start in it), end where the ray
+    // leaves it through the top again or meets the bottom
+    double t0 = 0;
+    auto base_hit = [&](double offset, double t_min, bool leaving) {
+        // BaseSurface::hit of the three bases (the walk calls the base's own)
+        if (kind_ == Kind::plane) {
+            if (d.z == 0) return double(NAN);
+            const double t = (offset - o.z) / d.z;
+            if (!(t > t_min)) return double(NAN);
+            if (leaving != (d.z > 0)) return double(NAN);
+            return t;
+        }
+        Vec3d q{o.x - 0.5, o.y - 0.5, o.z + R_};
+        Vec3d dd = d;
+        if (kind_ == Kind::cylinder) q.y = dd.y = 0;
+        const double rr = R_ + offset;
+        const QuadRoots qr = quad_roots(v3_dot(dd, dd), v3_dot(q, dd), v3_dot(q, q) - rr * rr);
+        const double t = leaving ? qr.t1 : qr.t0;
+        return t > t_min ? t : double(NAN);
+    };
+    if (geo(o).height > top) {
+        t0 = base_hit(top, 0, false);
+        if (!std::isfinite(t0)) return out;
+    }
+    const double t_leave = base_hit(top, t0, true);
+    const double t_floor = base_hit(bottom, t0, false);
+    double t_end = std::isfinite(t_floor) ? t_floor : t_leave;
+    if (std::isfinite(t_floor) && std::isfinite(t_leave)) t_end = std::min(t_floor, t_leave);
+    if (!std::isfinite(t_end)) return out;
+    const bool floor_ends = std::isfinite(t_floor) && t_end == t_floor;
+
+    const int top_level = levels() - 1;
+    int k = top_level;
+    double t = t0;
+    double t_safe = t0;  // g > 0 on (t_safe, t) or t_safe is the start: a bisection's lo
+    auto finish = [&](double lo, double hi) {
+        out.hit = true;
+        out.t = bisect(r, lo, hi);
+        out.residual = std::abs(g_at(r, out.t));
+    };
+    while (t < t_end) {
+        if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
+        const Vec3d p = at(t);
+        const Geo c = geo(p);
+        const int64_t ci = bilinear_index(std::floor(c.u * double(W_) - 0.5));
+        const int64_t cj = bilinear_index(std::floor(c.v * double(H_) - 0.5));
+        // the node of level k holding the point, in unwrapped cells [c0, c1) x [d0, d1)
+        const int64_t TI = floor_div(ci, W_), TJ = floor_div(cj, H_);
+        const int64_t ni = (ci - TI * W_) >> k, nj = (cj - TJ * H_) >> k;
+        const double hi = s_ * (double(node_max(k, ni, nj)) - b_) + margin_;
+        const double tiny = tiny_ + 4 * kEps * std::abs(t);
+        double t_exit = kInf;  // the top level's bound holds everywhere (every tile)
+        if (k < top_level) {
+            const int64_t c0 = TI * W_ + (ni << k),
+                          c1 = TI * W_ + std::min((ni + 1) << k, int64_t(W_));
+            const int64_t d0 = TJ * H_ + (nj << k),
+                          d1 = TJ * H_ + std::min((nj + 1) << k, int64_t(H_));
+            t_exit = t + node_exit(r, p, c, (double(c0) + 0.5) / W_, (double(c1) + 0.5) / W_,
+                                   (double(d0) + 0.5) / H_, (double(d1) + 0.5) / H_);
+        }
+        const double t_low = t + shell_entry(r, p, c.height, hi);
+        const bool skip = k == breakage_.skip_level && (ni + nj) % 5 == 0;
+        if ((t_low > t && t_low >= t_exit + tiny) || skip) {
+            // the ray stays above the node's relief until it leaves the node: cleared
+            t = std::max(t_exit, t) + tiny;
+            t_safe = t;
+            k = std::min(k + 1, top_level);
+            continue;
+        }
+        if (k > 0) {
+            if (t_low > t && t_low < t_end) {
+                t = t_low;
+                t_safe = t;
+            }
+            --k;
+            continue;
+        }
+        // a cell still in question: steps that never pass a crossing, to its exit
+        const double ta = std::max(t, std::min(t_low, t_exit));
+        const double tb = std::min(std::max(t_exit, ta), t_end);
+        const CellBounds cb = cell_bounds(ci, cj);
+        double tt = ta;
+        bool done = false;
+        for (;;) {
+            int64_t ei, ej;
+            if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
+            const Eval ev = eval(r, tt, ei, ej);
+            if (ev.g <= 0) {
+                finish(t_safe, tt);
+                return out;
+            }
+            t_safe = tt;
+            double step = ev.g / cb.L;  // Lipschitz: across cells too (dilated bounds)
+            if (ei == ci && ej == cj) {
+                // the quadratic lower bound, within this cell's patch only
+                const double den = std::sqrt(ev.dg * ev.dg + 2 * cb.K * ev.g) - ev.dg;
+                const double newton = den > 0 ? 2 * ev.g / den : (den == 0 ? kInf : 0.0);
+                step = std::max(step, std::min(newton, tb - tt));
+            }
+            if (tt + step >= tb) {
+                if (ev.g / cb.L >= tb + tiny - tt) {
+                    tt = tb + tiny;  // certified past the cell's exit
+                    break;
+                }
+                if (tb >= t_end) {  // certified to the end of the chord
+                    tt = t_end;
+                    done = true;
+                    break;
+                }
+                if (tt < tb) {  // to the exit, evaluated there
+                    tt = tb;
+                    continue;
+                }
+                if (ei != ci || ej != cj) break;  // past it: the traversal goes on from here
+                tt += std::max(floor_, tiny);     // still in it by rounding: the floor step
+                break;
+            }
+            if (step < floor_) {  // the walk's floor: a step taken as it is
+                const double t2 = std::min(tt + floor_, t_end);
+                if (g_at(r, t2) <= 0) {
+                    finish(tt, t2);
+                    return out;
+                }
+                tt = t2;
+                if (tt >= t_end) {
+                    done = true;
+                    break;
+                }
+                t_safe = tt;
+                continue;
+            }
+            tt += step;
+        }
+        t = tt;
+        k = std::min(1, top_level);
+        if (done) break;
+    }
+    if (floor_ends) {
+        // as the walk: its last step ends on the bottom shell, where the relief is met
+        if (g_at(r, t_end) <= 0) finish(t_safe, t_end);
+        else {
+            out.hit = true;
+            out.t = t_end;
+            out.residual = std::abs(g_at(r, t_end));
+        }
+    }
+    return out;
+}
+
+}  // namespace pxh
