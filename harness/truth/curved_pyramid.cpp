@@ -106,14 +106,17 @@ void CurvedPyramid::break_for_test(const Breakage& b) {
                 m = std::nextafter(m, -std::numeric_limits<float>::infinity());
 }
 
-CurvedPyramid::Geo CurvedPyramid::geo(Vec3d p) const {
-    // BaseSurface::coords of the three bases, the same expressions (so the same doubles)
+CurvedPyramid::Geo CurvedPyramid::geo(Vec3d p, bool fast) const {
+    // BaseSurface::coords of the three bases, the same expressions (so the same doubles);
+    // `fast`: the cylinder's height by sqrt, not hypot (within an ulp or two of R: the
+    // traversal's, whose shells carry a margin)
     switch (kind_) {
         case Kind::plane:
             return {p.x, p.y, p.z};
         case Kind::cylinder: {
             const double x = p.x - 0.5, z = p.z + R_;
-            return {0.5 + R_ * std::atan2(x, z), p.y, std::hypot(x, z) - R_};
+            const double rho = fast ? std::sqrt(x * x + z * z) : std::hypot(x, z);
+            return {0.5 + R_ * std::atan2(x, z), p.y, rho - R_};
         }
         case Kind::sphere:
         default: {
@@ -383,17 +386,31 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
         out.t = bisect(r, lo, hi);
         out.residual = std::abs(g_at(r, out.t));
     };
+    // the point's coordinates, kept while t stays (descents at one point)
+    Vec3d p{};
+    Geo c{};
+    int64_t ci = 0, cj = 0;
+    double t_geo = NAN;
     while (t < t_end) {
         if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
-        const Vec3d p = at(t);
-        const Geo c = geo(p);
-        const int64_t ci = bilinear_index(std::floor(c.u * double(W_) - 0.5));
-        const int64_t cj = bilinear_index(std::floor(c.v * double(H_) - 0.5));
+        if (t != t_geo) {
+            p = at(t);
+            c = geo(p, true);
+            ci = bilinear_index(std::floor(c.u * double(W_) - 0.5));
+            cj = bilinear_index(std::floor(c.v * double(H_) - 0.5));
+            t_geo = t;
+        }
         // the node of level k holding the point, in unwrapped cells [c0, c1) x [d0, d1)
         const int64_t TI = floor_div(ci, W_), TJ = floor_div(cj, H_);
         const int64_t ni = (ci - TI * W_) >> k, nj = (cj - TJ * H_) >> k;
         const double hi = s_ * (double(node_max(k, ni, nj)) - b_) + margin_;
         const double tiny = tiny_ + 4 * kEps * std::abs(t);
+        const double t_low = t + shell_entry(r, p, c.height, hi);
+        const bool skip = k == breakage_.skip_level && (ni + nj) % 5 == 0;
+        if (t_low == t && k > 0 && !skip) {  // at or under the node's bound here: down
+            --k;
+            continue;
+        }
         double t_exit = kInf;  // the top level's bound holds everywhere (every tile)
         if (k < top_level) {
             const int64_t c0 = TI * W_ + (ni << k),
@@ -403,8 +420,6 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
             t_exit = t + node_exit(r, p, c, (double(c0) + 0.5) / W_, (double(c1) + 0.5) / W_,
                                    (double(d0) + 0.5) / H_, (double(d1) + 0.5) / H_);
         }
-        const double t_low = t + shell_entry(r, p, c.height, hi);
-        const bool skip = k == breakage_.skip_level && (ni + nj) % 5 == 0;
         if ((t_low > t && t_low >= t_exit + tiny) || skip) {
             // the ray stays above the node's relief until it leaves the node: cleared
             t = std::max(t_exit, t) + tiny;

@@ -63,7 +63,7 @@ class CurvedPyramid {
     struct Geo {  // a point in the base's coordinates
         double u, v, height;
     };
-    Geo geo(Vec3d p) const;
+    Geo geo(Vec3d p, bool fast = false) const;
     // g and dg/dt at t; (ci, cj) the cell whose bilinear patch gave them
     Eval eval(const WorldRay& r, double t, int64_t& ci, int64_t& cj) const;
     double g_at(const WorldRay& r, double t) const;
