@@ -16,6 +16,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kEps = 2.220446049250313e-16;
 
 int64_t floor_div(int64_t a, int64_t n) {
+    if (a >= 0 && a < n) return 0;  // the common case: no division
     int64_t q = a / n;
     if ((a % n != 0) && ((a < 0) != (n < 0))) --q;
     return q;
@@ -199,8 +200,15 @@ CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) con
     // the height field's differences over the cell dilated by one cell (texels ci - 1 .. ci + 2)
     double gx = 0, gy = 0, gxy = 0;
     double t[4][4];
-    for (int dj = 0; dj < 4; ++dj)
-        for (int di = 0; di < 4; ++di) t[dj][di] = hf_.wrapped(ci - 1 + di, cj - 1 + dj);
+    const int64_t i0 = wrap_index(ci, W_), j0 = wrap_index(cj, H_);
+    if (i0 >= 1 && i0 + 2 < W_ && j0 >= 1 && j0 + 2 < H_) {  // inside the tile: no wrapping
+        const float* row = hf_.texels.data() + size_t(j0 - 1) * size_t(W_) + size_t(i0 - 1);
+        for (int dj = 0; dj < 4; ++dj, row += W_)
+            for (int di = 0; di < 4; ++di) t[dj][di] = row[di];
+    } else {
+        for (int dj = 0; dj < 4; ++dj)
+            for (int di = 0; di < 4; ++di) t[dj][di] = hf_.wrapped(i0 - 1 + di, j0 - 1 + dj);
+    }
     for (int dj = 0; dj < 4; ++dj)
         for (int di = 0; di < 3; ++di) gx = std::max(gx, std::abs(t[dj][di + 1] - t[dj][di]));
     for (int dj = 0; dj < 3; ++dj)
@@ -236,18 +244,34 @@ CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) con
     return cb;
 }
 
-double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, double phi_now,
-                                 double phi_f, double sigma) const {
-    // the plane through the axis at angle phi_f: f = x cos - z sin = rho sin(phi - phi_f);
-    // the angle moves in the direction sigma (monotone along a line), so the ray leaves
-    // through it where sigma f rises through 0 (the half-plane of phi_f, not its opposite)
-    const double delta = sigma * (phi_f - phi_now);
-    if (delta >= kPi) return kInf;  // a line sweeps less than pi in all
+double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, double L,
+                                 double delta) const {
+    // The azimuth phi about the axis moves monotonically along a line, in the direction of the
+    // ray's angular momentum L = z dx - x dz, and sweeps less than pi in all. The ray leaves
+    // through the half-plane at phi_f = phi + sign(L) delta where
+    //   rho sin(delta') = 0 for the angle delta' it has turned, i.e. (rotating the point's own
+    //   direction by delta) tau = rho^2 sin(delta) / (|L| cos(delta) - B sin(delta)),
+    // B = x dx + z dz (rho rho'), a closed form with no cancellation; a denominator <= 0: the
+    // line never turns that far.
+    if (delta >= kPi) return kInf;
     if (delta <= 0) return 0;
-    const double cs = std::cos(phi_f), sn = std::sin(phi_f);
-    const double f0 = sigma * (x * cs - z * sn), f1 = sigma * (dx * cs - dz * sn);
-    if (!(f1 > 0)) return kInf;
-    return std::max(-f0 / f1, 0.0);
+    double sn, cs;
+    if (delta < 0.25) {  // Taylor to delta^13: below 1e-17 relative
+        const double d2 = delta * delta;
+        sn = delta *
+             (1 -
+              d2 / 6 *
+                  (1 - d2 / 20 * (1 - d2 / 42 * (1 - d2 / 72 * (1 - d2 / 110 * (1 - d2 / 156))))));
+        cs = 1 - d2 / 2 *
+                     (1 - d2 / 12 * (1 - d2 / 30 * (1 - d2 / 56 * (1 - d2 / 90 * (1 - d2 / 132)))));
+    } else {
+        sn = std::sin(delta);
+        cs = std::cos(delta);
+    }
+    const double rho2 = x * x + z * z, B = x * dx + z * dz;
+    const double den = std::abs(L) * cs - B * sn;
+    if (!(den > 0)) return kInf;
+    return rho2 * sn / den;
 }
 
 double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
@@ -295,10 +319,8 @@ double CurvedPyramid::node_exit(const WorldRay& r, Vec3d p, const Geo& c, double
     const double lo = -kPi * R_ + 0.5, hi = kPi * R_ + 0.5;
     if (L != 0 && !(u0 <= lo && u1 >= hi)) {
         const double sigma = L > 0 ? 1.0 : -1.0;
-        const double phi_now = (c.u - 0.5) / R_;
-        const double phi_f =
-            sigma > 0 ? std::min((u1 - 0.5) / R_, kPi) : std::max((u0 - 0.5) / R_, -kPi);
-        tu = angle_exit(x, z, d.x, d.z, phi_now, phi_f, sigma);
+        const double u_f = sigma > 0 ? std::min(u1, hi) : std::max(u0, lo);
+        tu = angle_exit(x, z, d.x, d.z, L, sigma * (u_f - c.u) / R_);
     }
     if (kind_ == Kind::cylinder) {
         if (d.y > 0) tv = std::max((v1 - p.y) / d.y, 0.0);
@@ -406,7 +428,8 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
         const double hi = s_ * (double(node_max(k, ni, nj)) - b_) + margin_;
         const double tiny = tiny_ + 4 * kEps * std::abs(t);
         const double t_low = t + shell_entry(r, p, c.height, hi);
-        const bool skip = k == breakage_.skip_level && (ni + nj) % 5 == 0;
+        const bool skip =
+            breakage_.skip_level >= 0 && k == breakage_.skip_level && (ni + nj) % 5 == 0;
         if (t_low == t && k > 0 && !skip) {  // at or under the node's bound here: down
             --k;
             continue;

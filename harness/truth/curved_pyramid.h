@@ -73,8 +73,7 @@ class CurvedPyramid {
                      double v1) const;
     // from p, how far along the ray it first is at or below `offset` over the base (inf: never)
     double shell_entry(const WorldRay& r, Vec3d p, double height_now, double offset) const;
-    double angle_exit(double x, double z, double dx, double dz, double phi_now, double phi_f,
-                      double sigma) const;
+    double angle_exit(double x, double z, double dx, double dz, double L, double delta) const;
     double cone_exit(Vec3d q, Vec3d d, double e, bool upward) const;
     struct CellBounds {
         double L, K;  // bounds of |g'| and |g''| over the cell dilated by one cell
