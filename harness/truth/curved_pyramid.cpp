@@ -61,7 +61,6 @@ CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
     rmin_ = R_ - s_ * b_;  // the bottom shell: R > s b (the curved bases require it)
     margin_ = 16 * kEps * (R_ + std::abs(s_) * (1 + std::abs(b_)) + 1);
     tiny_ = 1e-10 / double(std::max(W_, H_));
-    floor_ = 0.25e-9 / double(std::max(W_, H_));
     // level 0: per cell (its corners texels i, i + 1 and j, j + 1, wrapped), the largest corner
     // over the cell dilated by one cell on each side: texels i - 1 .. i + 2, j - 1 .. j + 2
     const int W = W_, H = H_;
@@ -469,7 +468,10 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
             if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
             const Eval ev = eval(r, tt, ei, ej);
             if (ev.g <= 0) {
-                finish(t_safe, tt);
+                // after a safe step, at or below only by rounding: the crossing is within a
+                // few ulp before tt (else anywhere after t_safe)
+                const double lo = tt - 8 * kEps * std::abs(tt);
+                finish(lo > t_safe && g_at(r, lo) > 0 ? lo : t_safe, tt);
                 return out;
             }
             t_safe = tt;
@@ -495,11 +497,15 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
                     continue;
                 }
                 if (ei != ci || ej != cj) break;  // past it: the traversal goes on from here
-                tt += std::max(floor_, tiny);     // still in it by rounding: the floor step
+                tt += tiny;  // still in it by rounding: past the exit by 1e-10 texel
                 break;
             }
-            if (step < floor_) {  // the walk's floor: a step taken as it is
-                const double t2 = std::min(tt + floor_, t_end);
+            const double ulps = 8 * kEps * std::abs(tt);
+            if (step < ulps) {
+                // the safe step is down to a few ulp of t (at a crossing it is Newton's, so the
+                // root lies just past it): a step of 8 ulp taken as it is, bisected if it ends
+                // at or below the surface
+                const double t2 = std::min(tt + ulps, t_end);
                 if (g_at(r, t2) <= 0) {
                     finish(tt, t2);
                     return out;

@@ -91,7 +91,6 @@ class CurvedPyramid {
     int W_, H_;
     double margin_;                        // tiles: the shells' rounding margin
     double tiny_;                          // tiles: past a node's exit (1e-10 texel)
-    double floor_;                         // tiles: the shortest step (the walk's floor)
     double rmin_;                          // R + s (0 - b): no point of the segments is nearer
     std::vector<std::vector<float>> max_;  // per level, per node: max corner height, dilated
     std::vector<int> nx_, ny_;
