@@ -489,9 +489,11 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
             continue;
         }
         if (k > 0) {
-            if (t_low > t && t_low < t_end) {
+            if (t_low > t && t_low < t_end) {  // moved down to the shell: two levels down
                 t = t_low;
                 t_safe = t;
+                k = std::max(k - 2, 0);
+                continue;
             }
             --k;
             continue;
