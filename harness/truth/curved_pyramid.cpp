@@ -278,12 +278,12 @@ CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) con
 double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, double L,
                                  double delta) const {
     // The azimuth phi about the axis moves monotonically along a line, in the direction of the
-    // ray's angular momentum L = z dx - x dz, and sweeps less than pi in all. The ray leaves
-    // through the half-plane at phi_f = phi + sign(L) delta where
-    //   rho sin(delta') = 0 for the angle delta' it has turned, i.e. (rotating the point's own
-    //   direction by delta) tau = rho^2 sin(delta) / (|L| cos(delta) - B sin(delta)),
-    // B = x dx + z dz (rho rho'), a closed form with no cancellation; a denominator <= 0: the
-    // line never turns that far.
+    // ray's angular momentum L = z dx - x dz, and sweeps less than pi in all, so the ray leaves
+    // the wedge only through the half-plane at phi_f = phi + sign(L) delta ahead of it. In the
+    // frame of the point's own direction (sin phi, cos phi) = (x, z) / rho, the ray's offset
+    // across that half-plane is -rho sin(delta) + tau (|L| cos(delta) - B sin(delta)) / rho
+    // (B = x dx + z dz), zero at tau = rho^2 sin(delta) / (|L| cos(delta) - B sin(delta)): a
+    // closed form with no cancellation. A denominator <= 0: the line never turns that far.
     if (delta >= kPi) return kInf;
     if (delta <= 0) return 0;
     double sn, cs;

@@ -15,10 +15,12 @@
 // - in a cell (level 0) still in question, steps that never pass a crossing: each is the
 //   larger of g / L (L bounds |g'| over the cell) and the first root of the quadratic lower
 //   bound g + g' dt - K dt^2 / 2 (K bounds |g''|): a Newton step taken from the safe side, so a
-//   transversal crossing is approached quadratically. A step shorter than 1e-9 of a texel (as
-//   the walk's floor) is taken as it is and bisected where it ends at or below the surface.
+//   transversal crossing is approached quadratically. Once the safe step is under 8 ulp of t,
+//   a step of 8 ulp is taken as it is and bisected where it ends at or below the surface.
 // The dilation by one cell absorbs rounding in (u, v) at node borders; the shells carry a
-// margin of a few ulp of R. Per ray, so the result does not depend on the thread count.
+// margin of a few ulp of R. The traversal and the safe steps take a table-reduced atan2 (a few
+// ulp); the bisection and the residual take the bases' own expressions, the walk's g to the bit.
+// Per ray, so the result does not depend on the thread count.
 #pragma once
 #include <cstdint>
 #include <string>

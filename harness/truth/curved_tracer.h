@@ -96,8 +96,9 @@ struct CurvedHits {
     std::vector<Vec3d> point;  // the hit in space; NaN on a miss
     std::vector<uint8_t> hit;  // 1 where the ray meets X
     double residual_max = 0;   // max |g| at the hits (tiles)
-    double steps_mean = 0;     // walk steps per ray (cost)
-    double steps = 0;          // walk steps of all the rays (counted against the budget)
+    double steps_mean = 0;     // walk steps per ray (cost; the pyramid's: node visits and
+                               // evaluations of g)
+    double steps = 0;          // steps of all the rays (counted against the budget)
 };
 
 class CurvedPyramid;  // harness/truth/curved_pyramid.h
