@@ -312,17 +312,25 @@ double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, doubl
 }
 
 double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
-    // latitude e: q_y cos e = rho sin e; left upward (lat rising) through the upper
-    // boundary, downward through the lower one
-    auto rising = [&](double tau) {
+    // Latitude e: q_y cos e = rho sin e (squared: both nappes). The ray leaves upward (latitude
+    // rising) through the upper boundary, downward through the lower one. A root is refused
+    // only where it is clearly on the other nappe or crossed the wrong way: where rounding
+    // leaves that in doubt (a boundary within rounding of the equator, a ray parallel to it)
+    // the root counts as an exit, which is conservative. A boundary at the equator to within
+    // 1e-14 rad (node borders at v = 0.5, rounded) is the equatorial plane.
+    const double qq = v3_dot(q, q), scale = std::sqrt(qq);
+    const double tol_y = 64 * kEps * (scale + 1);
+    const double tol_r = 64 * kEps * (qq + 1);
+    auto wrong_way = [&](double tau) {
         const Vec3d a = v3_add(q, v3_scale(d, tau));
-        return d.y * v3_dot(a, a) - a.y * v3_dot(a, d) > 0;
+        const double rate = d.y * v3_dot(a, a) - a.y * v3_dot(a, d);  // r^2 cos(lat) lat'
+        return upward ? rate < -tol_r : rate > tol_r;
     };
     const double tol = -0.5 * tiny_;
-    if (e == 0) {
+    if (std::abs(e) < 1e-14) {
         if (d.y == 0) return kInf;
         const double tau = -q.y / d.y;
-        if (!(tau > tol) || (d.y > 0) != upward) return kInf;
+        if (!(tau > tol) || wrong_way(tau)) return kInf;
         return std::max(tau, 0.0);
     }
     const double c2 = std::cos(e) * std::cos(e), s2 = std::sin(e) * std::sin(e);
@@ -332,8 +340,8 @@ double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
     const double tau = first_root(A, B, C, [&](double t) {
         if (!(t > tol)) return false;
         const double y = q.y + t * d.y;
-        if ((y > 0) != (e > 0)) return false;  // the other nappe
-        return rising(t) == upward;
+        if (e > 0 ? y < -tol_y : y > tol_y) return false;  // the other nappe
+        return !wrong_way(t);
     });
     return std::isfinite(tau) ? std::max(tau, 0.0) : kInf;
 }
