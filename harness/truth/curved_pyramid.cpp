@@ -80,7 +80,7 @@ bool CurvedPyramid::supports(const BaseSurface& base) {
 
 CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
                              const BaseSurface& base)
-    : hf_(hf), s_(scale), b_(bias), W_(hf.width), H_(hf.height) {
+    : hf_(hf), s_(scale), b_(bias), base_(base), W_(hf.width), H_(hf.height) {
     const std::string n = base.name();
     if (n == "cylinder") kind_ = Kind::cylinder;
     else if (n == "sphere") kind_ = Kind::sphere;
@@ -417,23 +417,9 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
     // leaves it through the top again or meets the bottom
     double t0 = 0;
     auto base_hit = [&](double offset, double t_min, bool leaving) {
-        // BaseSurface::hit of the three bases (the walk calls the base's own)
-        if (kind_ == Kind::plane) {
-            if (d.z == 0) return double(NAN);
-            const double t = (offset - o.z) / d.z;
-            if (!(t > t_min)) return double(NAN);
-            if (leaving != (d.z > 0)) return double(NAN);
-            return t;
-        }
-        Vec3d q{o.x - 0.5, o.y - 0.5, o.z + R_};
-        Vec3d dd = d;
-        if (kind_ == Kind::cylinder) q.y = dd.y = 0;
-        const double rr = R_ + offset;
-        const QuadRoots qr = quad_roots(v3_dot(dd, dd), v3_dot(q, dd), v3_dot(q, q) - rr * rr);
-        const double t = leaving ? qr.t1 : qr.t0;
-        return t > t_min ? t : double(NAN);
+        return base_.hit(o, d, offset, t_min, leaving);  // the walk's own calls
     };
-    if (geo(o).height > top) {
+    if (base_.coords(o).height > top) {
         t0 = base_hit(top, 0, false);
         if (!std::isfinite(t0)) return out;
     }

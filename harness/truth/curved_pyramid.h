@@ -88,6 +88,7 @@ class CurvedPyramid {
 
     const HeightField& hf_;
     double s_, b_;
+    const BaseSurface& base_;
     Kind kind_;
     double R_;
     int W_, H_;
