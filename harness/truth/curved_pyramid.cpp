@@ -398,12 +398,20 @@ double CurvedPyramid::shell_entry(const WorldRay& r, Vec3d p, double height_now,
     return (C / q2) * (1 - 4 * kEps);        // the nearer root, taken a little early
 }
 
-double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi) const {
-    // as the walk: g(lo) > 0 (or lo is where the walk started), g(hi) <= 0
+double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi, double& g_hi) const {
+    // as the walk: g(lo) > 0 (or lo is where the walk started), g(hi) <= 0; g_hi: g at the
+    // returned hi where the bisection evaluated it there, else NaN
+    g_hi = NAN;
     for (int i = 0; i < 200 && hi - lo > 0; ++i) {
         const double mid = lo + 0.5 * (hi - lo);
         if (mid <= lo || mid >= hi) break;
-        (g_at(r, mid) <= 0 ? hi : lo) = mid;
+        const double g = g_at(r, mid);
+        if (g <= 0) {
+            hi = mid;
+            g_hi = g;
+        } else {
+            lo = mid;
+        }
     }
     return hi;
 }
@@ -436,8 +444,9 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
     double t_safe = t0;  // g > 0 on (t_safe, t) or t_safe is the start: a bisection's lo
     auto finish = [&](double lo, double hi) {
         out.hit = true;
-        out.t = bisect(r, lo, hi);
-        out.residual = std::abs(g_at(r, out.t));
+        double g_hi;
+        out.t = bisect(r, lo, hi, g_hi);
+        out.residual = std::abs(std::isnan(g_hi) ? g_at(r, out.t) : g_hi);
     };
     // the point's coordinates, kept while t stays (descents at one point)
     Vec3d p{};

@@ -81,7 +81,7 @@ class CurvedPyramid {
         double L, K;  // bounds of |g'| and |g''| over the cell dilated by one cell
     };
     CellBounds cell_bounds(int64_t ci, int64_t cj) const;
-    double bisect(const WorldRay& r, double lo, double hi) const;
+    double bisect(const WorldRay& r, double lo, double hi, double& g_hi) const;
     float node_max(int k, int64_t ni, int64_t nj) const {
         return max_[size_t(k)][size_t(nj) * size_t(nx_[size_t(k)]) + size_t(ni)];
     }
