@@ -18,6 +18,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "harness/commands/bench_curved.h"
 #include "harness/core/error.h"
 #include "harness/core/safe_files.h"
 #include "harness/metrics/agreement.h"
@@ -318,56 +319,6 @@ void check_bench_out(const std::string& out, bool force) {
 
 // The walks pxh bench times on each view of a curved base: the warm-up and the repeats.
 double bench_walks(const BenchOptions& opt) { return 1.0 + std::max(opt.repeats, 0); }
-
-// --base: the curved truth's walk over the same camera's rays on the base (docs/conventions.md
-// section 12), timed as the exact tracer is (one warm-up, then the repeats), its line under the
-// view's and its fields in the view's JSON entry: throughput and its ratio to the exact tracer on
-// the plane over the same camera in the same run, walk steps per ray, rays that hit, residual.
-void time_curved(const BenchOptions& opt, const HeightField& hf, const BaseSurface& base,
-                 const Camera& camera, const std::string& at, double exact_mrays,
-                 nlohmann::json& row) {
-    const CurvedView cv = curved_view(camera, base, opt.scale * (1 - opt.bias));
-    const CurvedTracer walk(hf, opt.scale, opt.bias, base);
-    // Each walk's budget: the view's (kMaxCurvedWalkSteps, checked before any work with
-    // bench_walks() walks) shared by the warm-up and the repeats.
-    const double budget = kMaxCurvedWalkSteps / bench_walks(opt);
-    CurvedHits h;
-    std::vector<double> secs;
-    try {
-        h = walk.trace(cv.rays, budget);  // warm-up
-        for (int r = 0; r < opt.repeats; ++r)
-            secs.push_back(seconds([&] { h = walk.trace(cv.rays, budget); }));
-    } catch (const CurvedWalkTooLong& e) {
-        throw InputError("--base",
-                         "base " + base.name() + " radius " + format_number(base.radius()) +
-                             " on the " + std::to_string(hf.width) + " x " +
-                             std::to_string(hf.height) + " field at " + at + ": " + e.what() +
-                             " (kMaxCurvedWalkSteps shared by the warm-up and "
-                             "--repeats; rays that skim the relief step shorter than "
-                             "the quarter texel the estimate before the run assumes): "
-                             "lower --theta, --sizes, --samples or --repeats");
-    }
-    size_t hits = 0;
-    for (uint8_t x : h.hit) hits += x;
-    const double mrays = double(cv.rays.size()) / median(secs) / 1e6;
-    const auto [lo, hi] = std::minmax_element(secs.begin(), secs.end());
-    const double sprd = (*hi - *lo) / median(secs);  // as the view's sprdX
-    std::printf(
-        "       on %s R=%g: curved walk %.2f Mr/s (%.3f x exact on the plane), %.1f "
-        "steps/ray, %zu of %zu rays hit, residual %.2g, spread %.2f\n",
-        base.name().c_str(), base.radius(), mrays, mrays / exact_mrays, h.steps_mean, hits,
-        cv.rays.size(), h.residual_max, sprd);
-    std::fflush(stdout);
-    row["base"] = base.name();
-    row["radius"] = base.radius();
-    row["curved_mrays_per_s"] = mrays;
-    row["ratio_curved_over_exact"] = mrays / exact_mrays;
-    row["curved_seconds"] = secs;
-    row["curved_spread"] = sprd;
-    row["curved_steps_per_ray"] = h.steps_mean;
-    row["curved_rays_hit"] = hits;
-    row["curved_residual_max"] = h.residual_max;
-}
 
 int run_bench(const BenchOptions& options) {
     BenchOptions opt = options;

@@ -94,7 +94,7 @@ References make_references(const HeightField& hf, const HeightfieldSpec& spec) {
     r.exact = make_tracer(TracerRole::exact_reference, hf, spec.scale, spec.bias);
     if (spec.base != "plane") {
         r.base = make_base(spec.base, spec.radius);
-        r.curved = std::make_unique<CurvedTracer>(hf, spec.scale, spec.bias, *r.base);
+        r.curved = make_curved_truth(hf, spec.scale, spec.bias, *r.base);
         r.curved_check = std::make_unique<CurvedTracer>(hf, spec.scale, spec.bias, *r.base,
                                                         r.curved->step_texels() / 2);
     }

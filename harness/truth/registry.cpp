@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "harness/truth/curved_tracer.h"
 #include "harness/truth/tracer.h"
 
 namespace pxh {
@@ -34,6 +35,11 @@ std::unique_ptr<Tracer> make_tracer(TracerRole role, const HeightField& hf, doub
     for (const TracerEntry& e : tracer_registry())
         if (e.role == role) return e.make(hf, scale, bias);
     throw std::logic_error("no tracer of this role is registered");
+}
+
+std::unique_ptr<CurvedTracer> make_curved_truth(const HeightField& hf, double scale, double bias,
+                                                const BaseSurface& base) {
+    return std::make_unique<CurvedTracer>(hf, scale, bias, base, 0.25, CurvedMethod::pyramid);
 }
 
 bool Tracer::occluded(Vec2d, double, Vec3d) const {

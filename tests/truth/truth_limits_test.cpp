@@ -623,8 +623,10 @@ TEST_F(TruthLimitsCli, FarEyesAreRefusedByRunAndBench) {
     EXPECT_FALSE(std::filesystem::exists(json));
 }
 
-// --base: the curved truth's walk timed over the same rays, beside the exact tracer on the plane;
-// a curved base without a radius, or a radius on the plane, is refused before any work.
+// --base: the curved truth's tracers timed over the same rays, beside the exact tracer on the
+// plane: the pyramid tracer, Embree on a displaced grid and the walk (issue 62, item 3), the
+// pyramid's hits the walk's; a curved base without a radius, or a radius on the plane, is
+// refused before any work.
 TEST_F(TruthLimitsCli, BenchTimesTheCurvedWalk) {
     const std::string json = (dir / "c.json").string();
     test::CliResult r =
@@ -632,7 +634,9 @@ TEST_F(TruthLimitsCli, BenchTimesTheCurvedWalk) {
             "--radius 0.5 --out " +
             json);
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.out.find("on cylinder R=0.5: curved walk"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("on cylinder R=0.5 ("), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("pyramid / Embree "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("Embree grid ("), std::string::npos) << r.out;
     const auto doc = nlohmann::json::parse(slurp(json));
     ASSERT_EQ(doc["results"].size(), 2u);
     for (const auto& row : doc["results"]) {
@@ -645,6 +649,19 @@ TEST_F(TruthLimitsCli, BenchTimesTheCurvedWalk) {
         EXPECT_EQ(row["curved_seconds"].size(), 2u);
         EXPECT_GT(row["curved_rays_hit"].get<size_t>(), 0u);
         EXPECT_LT(row["curved_residual_max"].get<double>(), 1e-9);
+        EXPECT_GT(row["curved_pyramid_mrays_per_s"].get<double>(), 0);
+        EXPECT_EQ(row["curved_pyramid_seconds"].size(), 2u);
+        EXPECT_EQ(row["curved_pyramid_vs_walk_hit_miss"].get<size_t>(), 0u);
+        EXPECT_LT(row["curved_pyramid_vs_walk_uv_max"].get<double>(), 1e-9);
+        EXPECT_LT(row["curved_pyramid_residual_max"].get<double>(), 1e-9);
+        EXPECT_GT(row["curved_embree_mrays_per_s"].get<double>(), 0);
+        EXPECT_GT(row["curved_embree_vertices"].get<size_t>(), 0u);
+        EXPECT_NEAR(row["ratio_pyramid_over_embree"].get<double>(),
+                    row["curved_pyramid_mrays_per_s"].get<double>() /
+                        row["curved_embree_mrays_per_s"].get<double>(),
+                    1e-9);
+        // Embree's facets against the bilinear patches: within a texel at the median
+        EXPECT_LT(row["curved_embree_err_p50"].get<double>(), 1.0);
     }
     for (const char* args : {"--base sphere", "--radius 2", "--base cylinder --radius 0.01"}) {
         r = pxh_timeout(std::string("bench --sizes 16 --samples 4 --repeats 1 ") + args +

@@ -1,0 +1,583 @@
+// The pyramid tracer of the curved truth: see curved_pyramid.h, and docs/internals/tracers.md
+// ("Curved bases: the pyramid tracer") for why no crossing is missed.
+#include "harness/truth/curved_pyramid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace pxh {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kEps = 2.220446049250313e-16;
+
+int64_t floor_div(int64_t a, int64_t n) {
+    if (a >= 0 && a < n) return 0;  // the common case: no division
+    int64_t q = a / n;
+    if ((a % n != 0) && ((a < 0) != (n < 0))) --q;
+    return q;
+}
+
+// The first (smallest) root > 0 of A x^2 + 2 B x + C = 0 whose point passes `ok`, or inf.
+template <typename Ok>
+double first_root(double A, double B, double C, Ok&& ok) {
+    double r[2];
+    int n = 0;
+    if (A == 0) {
+        if (B != 0) r[n++] = -C / (2 * B);
+    } else {
+        const double disc = B * B - A * C;
+        if (!(disc >= 0)) return kInf;
+        const double q = -(B + std::copysign(std::sqrt(disc), B));
+        r[n++] = q / A;
+        r[n++] = q != 0 ? C / q : 0.0;
+        if (r[0] > r[1]) std::swap(r[0], r[1]);
+    }
+    for (int i = 0; i < n; ++i)
+        if (std::isfinite(r[i]) && ok(r[i])) return r[i];
+    return kInf;
+}
+
+// atan2(y, x) to a few ulp of the result (and to a few ulp relative to it below 1/128), about a
+// quarter of libm's cost: the ratio r in [0, 1] of the smaller to the larger magnitude, reduced
+// about the nearest c = i / 64 by atan(r) = atan(c) + atan((r - c) / (1 + r c)), whose argument
+// is under 1/128, where five odd terms of atan's series leave below 1e-24. The traversal's and
+// the safe steps' azimuth; the bisection and the residual take std::atan2, as the walk does.
+struct FastAtan2 {
+    double table[65];
+    FastAtan2() {
+        for (int i = 0; i <= 64; ++i) table[i] = std::atan(i / 64.0);
+    }
+    double operator()(double y, double x) const {
+        const double ay = std::abs(y), ax = std::abs(x);
+        const bool swap = ay > ax;
+        const double num = swap ? ax : ay, den = swap ? ay : ax;
+        if (!(den > 0)) return std::atan2(y, x);  // zeros, NaN
+        const double r = num / den;
+        const int i = int(r * 64 + 0.5);
+        const double c = i * (1.0 / 64);
+        const double w = i == 0 ? r : (r - c) / (1 + r * c);
+        const double w2 = w * w;
+        double a =
+            table[i] + w * (1 - w2 * (1.0 / 3 - w2 * (1.0 / 5 - w2 * (1.0 / 7 - w2 * (1.0 / 9)))));
+        if (swap) a = kPi / 2 - a;
+        if (x < 0) a = kPi - a;
+        return y < 0 ? -a : a;
+    }
+};
+const FastAtan2 fast_atan2;
+
+}  // namespace
+
+bool CurvedPyramid::supports(const BaseSurface& base) {
+    const std::string n = base.name();
+    return n == "cylinder" || n == "sphere" || n == "plane";
+}
+
+CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
+                             const BaseSurface& base)
+    : hf_(hf), s_(scale), b_(bias), base_(base), W_(hf.width), H_(hf.height) {
+    const std::string n = base.name();
+    if (n == "cylinder") kind_ = Kind::cylinder;
+    else if (n == "sphere") kind_ = Kind::sphere;
+    else if (n == "plane") kind_ = Kind::plane;
+    else throw std::invalid_argument("the pyramid tracer has no closed form for base '" + n + "'");
+    R_ = kind_ == Kind::plane ? 0.0 : base.radius();
+    rmin_ = R_ - s_ * b_;  // the bottom shell: R > s b (the curved bases require it)
+    margin_ = 16 * kEps * (R_ + std::abs(s_) * (1 + std::abs(b_)) + 1);
+    tiny_ = 1e-10 / double(std::max(W_, H_));
+    // level 0: per cell (its corners texels i, i + 1 and j, j + 1, wrapped), the largest corner
+    // over the cell dilated by one cell on each side: texels i - 1 .. i + 2, j - 1 .. j + 2
+    const int W = W_, H = H_;
+    std::vector<float> rowmax(size_t(W) * H);
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            float m = -kInf;
+            for (int di = -1; di <= 2; ++di) m = std::max(m, hf.wrapped(int64_t(i) + di, j));
+            rowmax[size_t(j) * W + i] = m;
+        }
+    std::vector<float> l0(size_t(W) * H);
+    for (int j = 0; j < H; ++j)
+        for (int i = 0; i < W; ++i) {
+            float m = -kInf;
+            for (int dj = -1; dj <= 2; ++dj)
+                m = std::max(m, rowmax[size_t(wrap_index(int64_t(j) + dj, H)) * W + i]);
+            l0[size_t(j) * W + i] = m;
+        }
+    max_.push_back(std::move(l0));
+    nx_.push_back(W);
+    ny_.push_back(H);
+    while (nx_.back() > 1 || ny_.back() > 1) {
+        const int px = nx_.back(), py = ny_.back();
+        const int qx = (px + 1) / 2, qy = (py + 1) / 2;
+        const std::vector<float>& lower = max_.back();
+        std::vector<float> up(size_t(qx) * qy, -kInf);
+        for (int j = 0; j < py; ++j)
+            for (int i = 0; i < px; ++i) {
+                float& m = up[size_t(j / 2) * qx + size_t(i / 2)];
+                m = std::max(m, lower[size_t(j) * px + i]);
+            }
+        max_.push_back(std::move(up));
+        nx_.push_back(qx);
+        ny_.push_back(qy);
+    }
+}
+
+void CurvedPyramid::break_for_test(const Breakage& b) {
+    breakage_ = b;
+    for (auto& level : max_)
+        for (float& m : level)
+            for (int k = 0; k < b.shrink_ulps; ++k)
+                m = std::nextafter(m, -std::numeric_limits<float>::infinity());
+}
+
+CurvedPyramid::Geo CurvedPyramid::geo(Vec3d p, bool fast) const {
+    // BaseSurface::coords of the three bases, the same expressions (so the same doubles);
+    // `fast`: the cylinder's height by sqrt, not hypot (within an ulp or two of R: the
+    // traversal's, whose shells carry a margin)
+    switch (kind_) {
+        case Kind::plane:
+            return {p.x, p.y, p.z};
+        case Kind::cylinder: {
+            const double x = p.x - 0.5, z = p.z + R_;
+            if (fast) return {0.5 + R_ * fast_atan2(x, z), p.y, std::sqrt(x * x + z * z) - R_};
+            return {0.5 + R_ * std::atan2(x, z), p.y, std::hypot(x, z) - R_};
+        }
+        case Kind::sphere:
+        default: {
+            const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+            const double r = std::sqrt(v3_dot(q, q));
+            if (fast) {
+                const double e = fast_atan2(q.y, std::sqrt(q.x * q.x + q.z * q.z));
+                return {0.5 + R_ * fast_atan2(q.x, q.z), 0.5 + R_ * e, r - R_};
+            }
+            const double e = std::asin(std::clamp(q.y / r, -1.0, 1.0));
+            return {0.5 + R_ * std::atan2(q.x, q.z), 0.5 + R_ * e, r - R_};
+        }
+    }
+}
+
+double CurvedPyramid::g_at(const WorldRay& r, double t) const {
+    const Geo c = geo(v3_add(r.o, v3_scale(r.d, t)));
+    HeightSampler<double> hs(hf_, s_, b_);
+    return c.height - hs.z({c.u, c.v});
+}
+
+// g and dg/dt at t; (ci, cj) is the cell whose bilinear patch gave them.
+CurvedPyramid::Eval CurvedPyramid::eval(const WorldRay& r, double t, int64_t& ci,
+                                        int64_t& cj) const {
+    const Vec3d p = v3_add(r.o, v3_scale(r.d, t));
+    const Vec3d d = r.d;
+    double height, du, dv, dheight;
+    Geo c{};
+    switch (kind_) {
+        case Kind::plane:
+            c = {p.x, p.y, p.z};
+            du = d.x;
+            dv = d.y;
+            dheight = d.z;
+            break;
+        case Kind::cylinder: {
+            const double x = p.x - 0.5, z = p.z + R_;
+            const double rho = std::sqrt(x * x + z * z);
+            c = {0.5 + R_ * fast_atan2(x, z), p.y, rho - R_};
+            dheight = (x * d.x + z * d.z) / rho;
+            du = R_ * (z * d.x - x * d.z) / (rho * rho);
+            dv = d.y;
+            break;
+        }
+        case Kind::sphere:
+        default: {
+            const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+            const double r2 = v3_dot(q, q), rr = std::sqrt(r2);
+            const double qd = v3_dot(q, d), rho2 = q.x * q.x + q.z * q.z;
+            const double rho = std::sqrt(rho2);
+            c = {0.5 + R_ * fast_atan2(q.x, q.z), 0.5 + R_ * fast_atan2(q.y, rho), rr - R_};
+            dheight = qd / rr;
+            du = R_ * (q.z * d.x - q.x * d.z) / rho2;
+            dv = R_ * (d.y * r2 - q.y * qd) / (r2 * rho);
+            break;
+        }
+    }
+    height = c.height;
+    // bilinear_texels, the same operations, with its derivatives
+    const double x = c.u * double(W_) - 0.5, y = c.v * double(H_) - 0.5;
+    const double fx0 = std::floor(x), fy0 = std::floor(y);
+    const double fx = x - fx0, fy = y - fy0;
+    ci = bilinear_index(fx0);
+    cj = bilinear_index(fy0);
+    const int i0 = int(wrap_index(ci, W_));
+    const int j0 = int(wrap_index(cj, H_));
+    const int i1 = i0 + 1 == W_ ? 0 : i0 + 1, j1 = j0 + 1 == H_ ? 0 : j0 + 1;
+    const float* row0 = hf_.texels.data() + size_t(j0) * W_;
+    const float* row1 = hf_.texels.data() + size_t(j1) * W_;
+    const double h00 = row0[i0], h10 = row0[i1], h01 = row1[i0], h11 = row1[i1];
+    const double a = h00 + (h10 - h00) * fx;
+    const double b = h01 + (h11 - h01) * fx;
+    const double h = a + (b - a) * fy;
+    const double hx = (h10 - h00) + ((h11 - h01) - (h10 - h00)) * fy;
+    const double hy = b - a;
+    Eval out;
+    out.g = height - s_ * (h - b_);
+    out.dg = dheight - s_ * (hx * double(W_) * du + hy * double(H_) * dv);
+    return out;
+}
+
+CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) const {
+    // the height field's differences over the cell dilated by one cell (texels ci - 1 .. ci + 2)
+    double gx = 0, gy = 0, gxy = 0;
+    double t[4][4];
+    const int64_t i0 = wrap_index(ci, W_), j0 = wrap_index(cj, H_);
+    if (i0 >= 1 && i0 + 2 < W_ && j0 >= 1 && j0 + 2 < H_) {  // inside the tile: no wrapping
+        const float* row = hf_.texels.data() + size_t(j0 - 1) * size_t(W_) + size_t(i0 - 1);
+        for (int dj = 0; dj < 4; ++dj, row += W_)
+            for (int di = 0; di < 4; ++di) t[dj][di] = row[di];
+    } else {
+        for (int dj = 0; dj < 4; ++dj)
+            for (int di = 0; di < 4; ++di) t[dj][di] = hf_.wrapped(i0 - 1 + di, j0 - 1 + dj);
+    }
+    for (int dj = 0; dj < 4; ++dj)
+        for (int di = 0; di < 3; ++di) gx = std::max(gx, std::abs(t[dj][di + 1] - t[dj][di]));
+    for (int dj = 0; dj < 3; ++dj)
+        for (int di = 0; di < 4; ++di) gy = std::max(gy, std::abs(t[dj + 1][di] - t[dj][di]));
+    for (int dj = 0; dj < 3; ++dj)
+        for (int di = 0; di < 3; ++di)
+            gxy = std::max(gxy,
+                           std::abs(t[dj][di] - t[dj][di + 1] - t[dj + 1][di] + t[dj + 1][di + 1]));
+    const double W = W_, H = H_;
+    // bounds over the segment (above the bottom shell, r >= rmin): speeds |u'|, |v'|, second
+    // derivatives |u''|, |v''| and of the height over the base |height''|
+    double su = 1, sv = 1, uu = 0, vv = 0, hh = 0;
+    if (kind_ == Kind::cylinder) {
+        su = R_ / rmin_;
+        uu = 2 * R_ / (rmin_ * rmin_);
+        hh = 1 / rmin_;
+    } else if (kind_ == Kind::sphere) {
+        const double e0 = ((double(cj) - 0.5) / H - 0.5) / R_;
+        const double e1 = ((double(cj) + 2.5) / H - 0.5) / R_;
+        const double emax = std::min(std::max(std::abs(e0), std::abs(e1)), kPi / 2);
+        const double c = std::max(std::cos(emax), 1e-3);
+        const double rho = rmin_ * c, r2 = rmin_ * rmin_;
+        su = R_ / rho;
+        sv = R_ / rmin_;
+        uu = 2 * R_ / (rho * rho);
+        vv = R_ * (3 / (r2 * c) + 1 / (r2 * c * c * c));
+        hh = 1 / rmin_;
+    }
+    const double as = std::abs(s_);
+    CellBounds cb;
+    cb.L = (1 + as * (W * gx * su + H * gy * sv)) * (1 + 1e-12);
+    cb.K = (hh + as * (W * gx * uu + H * gy * vv + 2 * W * H * gxy * su * sv)) * (1 + 1e-12);
+    return cb;
+}
+
+double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, double L,
+                                 double delta) const {
+    // The azimuth phi about the axis moves monotonically along a line, in the direction of the
+    // ray's angular momentum L = z dx - x dz, and sweeps less than pi in all, so the ray leaves
+    // the wedge only through the half-plane at phi_f = phi + sign(L) delta ahead of it. In the
+    // frame of the point's own direction (sin phi, cos phi) = (x, z) / rho, the ray's offset
+    // across that half-plane is -rho sin(delta) + tau (|L| cos(delta) - B sin(delta)) / rho
+    // (B = x dx + z dz), zero at tau = rho^2 sin(delta) / (|L| cos(delta) - B sin(delta)): a
+    // closed form with no cancellation. A denominator <= 0: the line never turns that far.
+    if (delta >= kPi) return kInf;
+    if (delta <= 0) return 0;
+    double sn, cs;
+    if (delta < 0.25) {  // Taylor to delta^13: below 1e-17 relative
+        const double d2 = delta * delta;
+        // (reciprocals multiplied: no division on this path)
+        constexpr double k3 = 1.0 / 6, k5 = 1.0 / 20, k7 = 1.0 / 42, k9 = 1.0 / 72, k11 = 1.0 / 110,
+                         k13 = 1.0 / 156;
+        constexpr double k2 = 0.5, k4 = 1.0 / 12, k6 = 1.0 / 30, k8 = 1.0 / 56, k10 = 1.0 / 90,
+                         k12 = 1.0 / 132;
+        sn = delta *
+             (1 -
+              d2 * k3 *
+                  (1 - d2 * k5 * (1 - d2 * k7 * (1 - d2 * k9 * (1 - d2 * k11 * (1 - d2 * k13))))));
+        cs =
+            1 - d2 * k2 *
+                    (1 - d2 * k4 * (1 - d2 * k6 * (1 - d2 * k8 * (1 - d2 * k10 * (1 - d2 * k12)))));
+    } else {
+        sn = std::sin(delta);
+        cs = std::cos(delta);
+    }
+    const double rho2 = x * x + z * z, B = x * dx + z * dz;
+    const double den = std::abs(L) * cs - B * sn;
+    if (!(den > 0)) return kInf;
+    return rho2 * sn / den;
+}
+
+double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
+    // Latitude e: q_y cos e = rho sin e (squared: both nappes). The ray leaves upward (latitude
+    // rising) through the upper boundary, downward through the lower one. A root is refused
+    // only where it is clearly on the other nappe or crossed the wrong way: where rounding
+    // leaves that in doubt (a boundary within rounding of the equator, a ray parallel to it)
+    // the root counts as an exit, which is conservative. A boundary at the equator to within
+    // 1e-14 rad (node borders at v = 0.5, rounded) is the equatorial plane.
+    const double qq = v3_dot(q, q), scale = std::sqrt(qq);
+    const double tol_y = 64 * kEps * (scale + 1);
+    const double tol_r = 64 * kEps * (qq + 1);
+    auto wrong_way = [&](double tau) {
+        const Vec3d a = v3_add(q, v3_scale(d, tau));
+        const double rate = d.y * v3_dot(a, a) - a.y * v3_dot(a, d);  // r^2 cos(lat) lat'
+        return upward ? rate < -tol_r : rate > tol_r;
+    };
+    const double tol = -0.5 * tiny_;
+    if (std::abs(e) < 1e-14) {
+        if (d.y == 0) return kInf;
+        const double tau = -q.y / d.y;
+        if (!(tau > tol) || wrong_way(tau)) return kInf;
+        return std::max(tau, 0.0);
+    }
+    const double c2 = std::cos(e) * std::cos(e), s2 = std::sin(e) * std::sin(e);
+    const double A = d.y * d.y * c2 - (d.x * d.x + d.z * d.z) * s2;
+    const double B = q.y * d.y * c2 - (q.x * d.x + q.z * d.z) * s2;
+    const double C = q.y * q.y * c2 - (q.x * q.x + q.z * q.z) * s2;
+    const double tau = first_root(A, B, C, [&](double t) {
+        if (!(t > tol)) return false;
+        const double y = q.y + t * d.y;
+        if (e > 0 ? y < -tol_y : y > tol_y) return false;  // the other nappe
+        return !wrong_way(t);
+    });
+    return std::isfinite(tau) ? std::max(tau, 0.0) : kInf;
+}
+
+double CurvedPyramid::node_exit(const WorldRay& r, Vec3d p, const Geo& c, double u0, double u1,
+                                double v0, double v1) const {
+    const Vec3d d = r.d;
+    double tu = kInf, tv = kInf;
+    if (kind_ == Kind::plane) {
+        if (d.x > 0) tu = std::max((u1 - p.x) / d.x, 0.0);
+        if (d.x < 0) tu = std::max((u0 - p.x) / d.x, 0.0);
+        if (d.y > 0) tv = std::max((v1 - p.y) / d.y, 0.0);
+        if (d.y < 0) tv = std::max((v0 - p.y) / d.y, 0.0);
+        return std::min(tu, tv);
+    }
+    // u: the azimuth about the axis (y), monotone along the ray in the direction of its
+    // angular momentum; the sector is clipped to (-pi, pi], where coords wraps
+    const double x = p.x - 0.5, z = p.z + R_;
+    const double L = z * d.x - x * d.z;
+    const double lo = -kPi * R_ + 0.5, hi = kPi * R_ + 0.5;
+    if (L != 0 && !(u0 <= lo && u1 >= hi)) {
+        const double sigma = L > 0 ? 1.0 : -1.0;
+        const double u_f = sigma > 0 ? std::min(u1, hi) : std::max(u0, lo);
+        tu = angle_exit(x, z, d.x, d.z, L, sigma * (u_f - c.u) / R_);
+    }
+    if (kind_ == Kind::cylinder) {
+        if (d.y > 0) tv = std::max((v1 - p.y) / d.y, 0.0);
+        if (d.y < 0) tv = std::max((v0 - p.y) / d.y, 0.0);
+    } else {
+        const Vec3d q{x, p.y - 0.5, z};
+        const double e0 = (v0 - 0.5) / R_, e1 = (v1 - 0.5) / R_;
+        if (e1 < kPi / 2) tv = std::min(tv, cone_exit(q, d, e1, true));
+        if (e0 > -kPi / 2) tv = std::min(tv, cone_exit(q, d, e0, false));
+    }
+    return std::min(tu, tv);
+}
+
+double CurvedPyramid::shell_entry(const WorldRay& r, Vec3d p, double height_now,
+                                  double offset) const {
+    if (height_now <= offset) return 0;
+    const Vec3d d = r.d;
+    if (kind_ == Kind::plane) return d.z < 0 ? (height_now - offset) / -d.z : kInf;
+    // |q + tau d|^2 = (R + offset)^2 from outside: c = (rho - r)(rho + r) without cancellation
+    Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+    Vec3d dd = d;
+    if (kind_ == Kind::cylinder) q.y = dd.y = 0;
+    const double A = v3_dot(dd, dd), B = v3_dot(q, dd);
+    if (!(B < 0)) return kInf;  // moving away from the axis (centre): never nearer
+    const double rho = R_ + height_now, rr = R_ + offset;
+    const double C = (height_now - offset) * (rho + rr);
+    const double disc = B * B - A * C;
+    if (!(disc >= 0)) return kInf;
+    const double q2 = -B + std::sqrt(disc);  // > 0
+    return (C / q2) * (1 - 4 * kEps);        // the nearer root, taken a little early
+}
+
+double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi, double& g_hi) const {
+    // as the walk: g(lo) > 0 (or lo is where the walk started), g(hi) <= 0; g_hi: g at the
+    // returned hi where the bisection evaluated it there, else NaN
+    g_hi = NAN;
+    for (int i = 0; i < 200 && hi - lo > 0; ++i) {
+        const double mid = lo + 0.5 * (hi - lo);
+        if (mid <= lo || mid >= hi) break;
+        const double g = g_at(r, mid);
+        if (g <= 0) {
+            hi = mid;
+            g_hi = g;
+        } else {
+            lo = mid;
+        }
+    }
+    return hi;
+}
+
+CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_steps) const {
+    One out;
+    const double top = s_ * (1 - b_), bottom = -s_ * b_;
+    const Vec3d o = r.o, d = r.d;
+    auto at = [&](double t) { return v3_add(o, v3_scale(d, t)); };
+    // the walk's chord: enter the shell under the top (or start in it), end where the ray
+    // leaves it through the top again or meets the bottom
+    double t0 = 0;
+    auto base_hit = [&](double offset, double t_min, bool leaving) {
+        return base_.hit(o, d, offset, t_min, leaving);  // the walk's own calls
+    };
+    if (base_.coords(o).height > top) {
+        t0 = base_hit(top, 0, false);
+        if (!std::isfinite(t0)) return out;
+    }
+    const double t_leave = base_hit(top, t0, true);
+    const double t_floor = base_hit(bottom, t0, false);
+    double t_end = std::isfinite(t_floor) ? t_floor : t_leave;
+    if (std::isfinite(t_floor) && std::isfinite(t_leave)) t_end = std::min(t_floor, t_leave);
+    if (!std::isfinite(t_end)) return out;
+    const bool floor_ends = std::isfinite(t_floor) && t_end == t_floor;
+
+    const int top_level = levels() - 1;
+    int k = top_level;
+    double t = t0;
+    double t_safe = t0;  // g > 0 on (t_safe, t) or t_safe is the start: a bisection's lo
+    auto finish = [&](double lo, double hi) {
+        out.hit = true;
+        double g_hi;
+        out.t = bisect(r, lo, hi, g_hi);
+        out.residual = std::abs(std::isnan(g_hi) ? g_at(r, out.t) : g_hi);
+    };
+    // the point's coordinates, kept while t stays (descents at one point)
+    Vec3d p{};
+    Geo c{};
+    int64_t ci = 0, cj = 0;
+    double t_geo = NAN;
+    while (t < t_end) {
+        if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
+        if (t != t_geo) {
+            p = at(t);
+            c = geo(p, true);
+            ci = bilinear_index(std::floor(c.u * double(W_) - 0.5));
+            cj = bilinear_index(std::floor(c.v * double(H_) - 0.5));
+            t_geo = t;
+        }
+        // the node of level k holding the point, in unwrapped cells [c0, c1) x [d0, d1)
+        const int64_t TI = floor_div(ci, W_), TJ = floor_div(cj, H_);
+        const int64_t ni = (ci - TI * W_) >> k, nj = (cj - TJ * H_) >> k;
+        const double hi = s_ * (double(node_max(k, ni, nj)) - b_) + margin_;
+        const double tiny = tiny_ + 4 * kEps * std::abs(t);
+        const double t_low = t + shell_entry(r, p, c.height, hi);
+        const bool skip =
+            breakage_.skip_level >= 0 && k == breakage_.skip_level && (ni + nj) % 5 == 0;
+        if (t_low == t && k > 0 && !skip) {  // at or under the node's bound here: down
+            --k;
+            continue;
+        }
+        double t_exit = kInf;  // the top level's bound holds everywhere (every tile)
+        if (k < top_level) {
+            const int64_t c0 = TI * W_ + (ni << k),
+                          c1 = TI * W_ + std::min((ni + 1) << k, int64_t(W_));
+            const int64_t d0 = TJ * H_ + (nj << k),
+                          d1 = TJ * H_ + std::min((nj + 1) << k, int64_t(H_));
+            const double iw = 1.0 / W_, ih = 1.0 / H_;
+            t_exit = t + node_exit(r, p, c, (double(c0) + 0.5) * iw, (double(c1) + 0.5) * iw,
+                                   (double(d0) + 0.5) * ih, (double(d1) + 0.5) * ih);
+        }
+        if ((t_low > t && t_low >= t_exit + tiny) || skip) {
+            // the ray stays above the node's relief until it leaves the node: cleared
+            t = std::max(t_exit, t) + tiny;
+            t_safe = t;
+            k = std::min(k + 1, top_level);
+            continue;
+        }
+        if (k > 0) {
+            if (t_low > t && t_low < t_end) {  // moved down to the shell: two levels down
+                t = t_low;
+                t_safe = t;
+                k = std::max(k - 2, 0);
+                continue;
+            }
+            --k;
+            continue;
+        }
+        // a cell still in question: steps that never pass a crossing, to its exit
+        const double ta = std::max(t, std::min(t_low, t_exit));
+        const double tb = std::min(std::max(t_exit, ta), t_end);
+        const CellBounds cb = cell_bounds(ci, cj);
+        double tt = ta;
+        bool done = false;
+        for (;;) {
+            int64_t ei, ej;
+            if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
+            const Eval ev = eval(r, tt, ei, ej);
+            if (ev.g <= 0) {
+                // after a safe step, at or below only by rounding: the crossing is within a
+                // few ulp before tt (else anywhere after t_safe)
+                const double lo = tt - 8 * kEps * std::abs(tt);
+                finish(lo > t_safe && g_at(r, lo) > 0 ? lo : t_safe, tt);
+                return out;
+            }
+            t_safe = tt;
+            double step = ev.g / cb.L;  // Lipschitz: across cells too (dilated bounds)
+            if (ei == ci && ej == cj) {
+                // the quadratic lower bound, within this cell's patch only
+                const double den = std::sqrt(ev.dg * ev.dg + 2 * cb.K * ev.g) - ev.dg;
+                const double newton = den > 0 ? 2 * ev.g / den : (den == 0 ? kInf : 0.0);
+                step = std::max(step, std::min(newton, tb - tt));
+            }
+            if (tt + step >= tb) {
+                if (ev.g / cb.L >= tb + tiny - tt) {
+                    tt = tb + tiny;  // certified past the cell's exit
+                    break;
+                }
+                if (tb >= t_end) {  // certified to the end of the chord
+                    tt = t_end;
+                    done = true;
+                    break;
+                }
+                if (tt < tb) {  // to the exit, evaluated there
+                    tt = tb;
+                    continue;
+                }
+                if (ei != ci || ej != cj) break;  // past it: the traversal goes on from here
+                tt += tiny;  // still in it by rounding: past the exit by 1e-10 texel
+                break;
+            }
+            const double ulps = 8 * kEps * std::abs(tt);
+            if (step < ulps) {
+                // the safe step is down to a few ulp of t (at a crossing it is Newton's, so the
+                // root lies just past it): a step of 8 ulp taken as it is, bisected if it ends
+                // at or below the surface
+                const double t2 = std::min(tt + ulps, t_end);
+                if (g_at(r, t2) <= 0) {
+                    finish(tt, t2);
+                    return out;
+                }
+                tt = t2;
+                if (tt >= t_end) {
+                    done = true;
+                    break;
+                }
+                t_safe = tt;
+                continue;
+            }
+            tt += step;
+        }
+        t = tt;
+        k = std::min(1, top_level);
+        if (done) break;
+    }
+    if (floor_ends) {
+        // as the walk: its last step ends on the bottom shell, where the relief is met
+        if (g_at(r, t_end) <= 0) finish(t_safe, t_end);
+        else {
+            out.hit = true;
+            out.t = t_end;
+            out.residual = std::abs(g_at(r, t_end));
+        }
+    }
+    return out;
+}
+
+}  // namespace pxh

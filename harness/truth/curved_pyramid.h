@@ -1,0 +1,103 @@
+// The accelerated exact curved truth (issue 62, item 1; docs/internals/tracers.md, "Curved
+// bases: the pyramid tracer"): the first hit of a ray with the displaced surface
+// X = B + s (h - b) N of a cylinder or sphere base, found with the same first-hit rule as the
+// curved walk (harness/truth/curved_tracer.h: the first t where
+//   g(t) = height(o + t d) - s (h(uv(o + t d)) - b)
+// is <= 0, bisected to the last bit of t), but without walking the relief in quarter texels:
+// - a min/max pyramid of the height field: per node of 2^k x 2^k cells, the largest corner
+//   height over the node dilated by one cell on each side (a bilinear patch's maximum is at its
+//   corners), so the node's relief lies under the shell of the base at offset s (max - b);
+// - an ordered traversal along the ray: at the current point the node of level k holding its
+//   (u, v) is cleared when the ray does not come down to that shell before it leaves the node's
+//   sector (a wedge between two planes through the axis in u, a slab in v on the cylinder and
+//   two latitude cones on the sphere, all met in closed form), then the walk moves to the exit
+//   and up a level; otherwise it moves to where the ray meets the shell and down a level;
+// - in a cell (level 0) still in question, steps that never pass a crossing: each is the
+//   larger of g / L (L bounds |g'| over the cell) and the first root of the quadratic lower
+//   bound g + g' dt - K dt^2 / 2 (K bounds |g''|): a Newton step taken from the safe side, so a
+//   transversal crossing is approached quadratically. Once the safe step is under 8 ulp of t,
+//   a step of 8 ulp is taken as it is and bisected where it ends at or below the surface.
+// The dilation by one cell absorbs rounding in (u, v) at node borders; the shells carry a
+// margin of a few ulp of R. The traversal and the safe steps take a table-reduced atan2 (a few
+// ulp); the bisection and the residual take the bases' own expressions, the walk's g to the bit.
+// Per ray, so the result does not depend on the thread count.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "harness/scene/base_surface.h"
+#include "harness/scene/heightfield.h"
+#include "harness/scene/view.h"
+
+namespace pxh {
+
+class CurvedPyramid {
+  public:
+    // The bases it knows in closed form: "cylinder", "sphere" and "plane".
+    static bool supports(const BaseSurface& base);
+    CurvedPyramid(const HeightField& hf, double scale, double bias, const BaseSurface& base);
+
+    struct One {
+        bool hit = false;
+        double t = 0, residual = 0;
+        long long steps = 0;  // node visits and cell evaluations
+    };
+    // One ray; it stops (no hit) once it has taken more than `max_steps` steps (the caller's
+    // budget left).
+    One trace_one(const WorldRay& r, long long max_steps) const;
+    int levels() const { return int(max_.size()); }
+
+    // Deliberate breakage, for the tests only: every node bound lowered by `shrink_ulps` float
+    // steps, and nodes of level `skip_level` whose indices (i + j) % 5 == 0 taken as cleared
+    // without a test.
+    struct Breakage {
+        int shrink_ulps = 0;
+        int skip_level = -1;
+    };
+    void break_for_test(const Breakage& b);
+
+  private:
+    enum class Kind { plane, cylinder, sphere };
+    struct Eval {
+        double g, dg;  // g and dg/dt at t
+    };
+    struct Geo {  // a point in the base's coordinates
+        double u, v, height;
+    };
+    Geo geo(Vec3d p, bool fast = false) const;
+    // g and dg/dt at t; (ci, cj) the cell whose bilinear patch gave them
+    Eval eval(const WorldRay& r, double t, int64_t& ci, int64_t& cj) const;
+    double g_at(const WorldRay& r, double t) const;
+    // from p (with its coordinates c), how far along the ray it leaves the node
+    // [u0, u1] x [v0, v1] (inf: never)
+    double node_exit(const WorldRay& r, Vec3d p, const Geo& c, double u0, double u1, double v0,
+                     double v1) const;
+    // from p, how far along the ray it first is at or below `offset` over the base (inf: never)
+    double shell_entry(const WorldRay& r, Vec3d p, double height_now, double offset) const;
+    double angle_exit(double x, double z, double dx, double dz, double L, double delta) const;
+    double cone_exit(Vec3d q, Vec3d d, double e, bool upward) const;
+    struct CellBounds {
+        double L, K;  // bounds of |g'| and |g''| over the cell dilated by one cell
+    };
+    CellBounds cell_bounds(int64_t ci, int64_t cj) const;
+    double bisect(const WorldRay& r, double lo, double hi, double& g_hi) const;
+    float node_max(int k, int64_t ni, int64_t nj) const {
+        return max_[size_t(k)][size_t(nj) * size_t(nx_[size_t(k)]) + size_t(ni)];
+    }
+
+    const HeightField& hf_;
+    double s_, b_;
+    const BaseSurface& base_;
+    Kind kind_;
+    double R_;
+    int W_, H_;
+    double margin_;                        // tiles: the shells' rounding margin
+    double tiny_;                          // tiles: past a node's exit (1e-10 texel)
+    double rmin_;                          // R + s (0 - b): no point of the segments is nearer
+    std::vector<std::vector<float>> max_;  // per level, per node: max corner height, dilated
+    std::vector<int> nx_, ny_;
+    Breakage breakage_;
+};
+
+}  // namespace pxh
