@@ -50,7 +50,7 @@ std::vector<ColumnSpec> reference_columns() {
         ColumnSpec{
             "gt_residual_max", kNum, kMeasured,
             "curved bases: max |height above the base - s (h - b)| at the true hits (tiles); the "
-            "gt_agree_* columns there compare the walk with itself at half the step"}
+            "gt_agree_* columns there compare the pyramid tracer with the walk at half the step"}
             .in("truth", "tiles")
             .lead(),
     };

@@ -352,7 +352,7 @@ void pictures(const ReportData& d) {
     // the [views] cut whose plane the pictures show (empty: none), the curved base and radius
     o << ",cut,base,radius\n";
     int n = 0;
-    for (size_t i : d.ok) {
+    for (size_t i : d.all_ok) {  // every depth mode and cut: the pictures differ
         const ResultRow& r = d.row(i);
         for (const char* c : {"picture", "picture_diff", "picture_truth"}) inside_path(d, i, c);
         if (r.text("picture").empty()) continue;
@@ -374,7 +374,7 @@ void pictures(const ReportData& d) {
 void images_table(const ReportData& d) {
     std::vector<std::string> views;  // "FIELD θ=T φ=P"
     std::map<std::string, std::map<std::string, std::string>> cell;
-    for (size_t i : d.ok) {
+    for (size_t i : d.all_ok) {
         const ResultRow& r = d.row(i);
         if (r.text("picture_use").find("montage") == std::string::npos) continue;
         const std::string cam = d.view_of(r);

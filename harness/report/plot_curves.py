@@ -202,16 +202,19 @@ def vs_theta_camera(F, st, rows, tag, cam):
     below), p50 solid, p95 hollow, a panel per field."""
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
     titles, common = field_titles(fields)
-    nc = F.columns(len(fields))
-    per = math.ceil(len(fields) / nc)
-    fig, grid = plt.subplots(2 * per, nc, figsize=(F.width, F.width / nc * 0.72 * 2 * per + 0.35),
+    # one field: its texel and pixel panels side by side (not two full-width panels stacked)
+    side = len(fields) == 1
+    nc = 2 if side else F.columns(len(fields))
+    per = 1 if side else math.ceil(len(fields) / nc)
+    nr = 1 if side else 2 * per
+    fig, grid = plt.subplots(nr, nc, figsize=(F.width, F.width / nc * 0.72 * nr + 0.35),
                              squeeze=False, constrained_layout=True)
     pw, ph = panel_size(F, nc, 0.72)
     folded_all, series, panels = {}, 0, 0
     for q, (p50, p95, what) in enumerate((("err_p50", "err_p95", "texel error"),
                                           ("err_px_p50", "err_px_p95", "pixel error"))):
-        for k in range(per * nc):
-            ax = grid[q * per + k // nc][k % nc]
+        for k in range(1 if side else per * nc):
+            ax = grid[0][q] if side else grid[q * per + k // nc][k % nc]
             if k >= len(fields):
                 ax.axis("off")
                 continue
@@ -224,9 +227,9 @@ def vs_theta_camera(F, st, rows, tag, cam):
             lin = linthresh_of(vals, 0.01)
             error_axis(ax, lin, top_of(vals, lin), ph)
             ax.set_title(fit(f"{what.split()[0]}: {titles[field]}", 0.8 * pw, 8, 2))
-            bottom = q == 1 and k >= len(fields) - nc
+            bottom = side or (q == 1 and k >= len(fields) - nc)
             theta_axis(ax, bottom)
-            if k % nc == 0:
+            if side or k % nc == 0:
                 ax.set_ylabel(what)
             if bottom:
                 ax.set_xlabel("view angle θ (°)")
@@ -234,7 +237,8 @@ def vs_theta_camera(F, st, rows, tag, cam):
     handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="p50"),
                 mlines.Line2D([], [], color="0.3", lw=0.7, marker="o", mfc="white",
                               label="p95")]
-    note = join_notes(f"camera: {cam}; top: texel error, below: pixel error |J⁻¹e|",
+    note = join_notes(f"camera: {cam}; " + ("left: texel error, right" if side else
+                                            "top: texel error, below") + ": pixel error |J⁻¹e|",
                       azimuth_note(rows), common, fold_note(folded_all))
     legend = F.legend(fig, handles, note)
     F.save(fig, "error_vs_theta" + tag, panels, series, legend, note=note)
@@ -256,8 +260,8 @@ def sweep_vs_theta(F, st, rows, tag="", cam=""):
     pw, ph = panel_size(F, nc, 0.72)
     folded_all, series, panels = {}, 0, 0
     for q, column in enumerate(("sliding", "shimmering")):
-        for k in range(per * nc):
-            ax = grid[q * per + k // nc][k % nc]
+        for k in range(1 if side else per * nc):
+            ax = grid[0][q] if side else grid[q * per + k // nc][k % nc]
             if k >= len(fields):
                 ax.axis("off")
                 continue

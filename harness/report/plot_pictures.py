@@ -70,6 +70,19 @@ def image_grid(width, ncols, pads, bottom, left=0.0):
     return fig, axes
 
 
+def telling_params(settings):
+    """{(method, params): "method k=v, ..."}: each setting's method and the parameters whose
+    values differ between the given settings of the same method ("off" ones left out)."""
+    kv = {s: dict(p.split("=", 1) for p in s[1].split(";") if "=" in p) for s in settings}
+    out = {}
+    for s in settings:
+        same = [o for o in settings if o[0] == s[0]]
+        keys = [k for k in kv[s] if len({kv[o].get(k) for o in same}) > 1]
+        parts = [f"{k}={kv[s][k]}" for k in keys if kv[s][k] != "off"]
+        out[s] = (s[0] + (" " + ", ".join(parts) if parts else "")).strip()
+    return out
+
+
 def picture_montage(F, st, results, rows):
     """One field and view: the truth's picture, then per method setting its picture over its
     difference from the truth (identical pictures of several groups shown once)."""
@@ -83,7 +96,11 @@ def picture_montage(F, st, results, rows):
     cell = F.width / nc - 0.06
     # a setting's name and every parameter's value: up to 4 lines (a method with many
     # parameters, e.g. silhouette_pom, would lose one in the middle at 3)
-    names = ["truth (ray traced)"] + [fit(st.full[s], cell, 6, 2 if multi else 4) + (
+    # Each tile is named by what tells it apart: its method and the parameters whose values
+    # differ between the montage's settings of that method (the others are the same on every
+    # tile: legend.md has them), so no fit() cuts the part that differs.
+    apart = telling_params([s for s, _, _ in tiles])
+    names = ["truth (ray traced)"] + [fit(apart[s], cell, 6, 2 if multi else 4) + (
         "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
@@ -91,7 +108,8 @@ def picture_montage(F, st, results, rows):
     cam = view_title(r0)
     cut = r0.get("cut") or ""
     base = (f" on a {r0['base']} of radius {num(r0['radius']):g}"
-            if r0.get("base") else "")
+            if r0.get("base") not in (None, "", "plane") and num(r0.get("radius")) is not None
+            else "")
     title = fit(f"{r0['heightfield']}{base}, θ = {num(r0['theta_deg']):g}°, "
                 f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
                 ": a numbered checkerboard through each "
