@@ -212,6 +212,9 @@ void check_backend_name(const std::string& name, const std::string& where);
 void read_backend_settings(const ParamDict& experiment, BackendSettings& settings);
 // Creates it (a GL backend creates its context here; its failure is a std::runtime_error).
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings);
+// The registry's reference backend (BackendEntry::reference), created: the float run every
+// other backend's rows are compared with.
+std::unique_ptr<Backend> make_reference_backend(const BackendSettings& settings);
 // The variants a backend would run under these settings (its rows per method setting).
 std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings);
 // Its timing (unit, meaning, counters); every registered backend's counters, in registry order.

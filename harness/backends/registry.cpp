@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "harness/backends/backend.h"
 
@@ -41,6 +42,12 @@ void read_backend_settings(const ParamDict& experiment, BackendSettings& setting
 
 std::unique_ptr<Backend> make_backend(const std::string& name, const BackendSettings& settings) {
     return find_entry(backend_registry(), name, "backend", "backend").make(settings);
+}
+
+std::unique_ptr<Backend> make_reference_backend(const BackendSettings& settings) {
+    for (const auto& e : backend_registry())
+        if (e.reference) return e.make(settings);
+    throw std::logic_error("no reference backend is registered");
 }
 
 std::vector<Variant> backend_variants(const std::string& name, const BackendSettings& settings) {

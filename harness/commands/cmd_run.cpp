@@ -73,7 +73,7 @@ int cmd_run(const RunArgs& a) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!a.quiet) end_progress();
 
-    write_file_synced(folder.partial() / "results.csv", results_csv(rows));
+    create_new_file(folder.partial() / "results.csv", results_csv(rows));
     nlohmann::json run = run_record(ex, {a.command_line, nthreads}, info);
     if (slice)
         run["shard"] = shard_record(

@@ -9,6 +9,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 namespace pxh {
@@ -42,6 +44,37 @@ void create_new_file(const fs::path& path, std::string_view bytes) {
         ::unlink(path.c_str());  // ours (created above): no partial file that looks whole
         throw std::runtime_error(path.string() + ": " + err);
     }
+}
+
+void copy_to_new_file(const fs::path& from, const fs::path& to) {
+    struct stat st;
+    if (::lstat(from.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
+        throw std::runtime_error(from.string() + ": cannot copy: not a regular file");
+    std::ifstream in(from, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof())
+        throw std::runtime_error(from.string() + ": cannot copy: read failed");
+    create_new_file(to, bytes);
+}
+
+void fsync_path(const fs::path& p, bool directory) {
+    const int fd = ::open(p.c_str(), (directory ? O_RDONLY | O_DIRECTORY : O_RDONLY) | O_CLOEXEC);
+    if (fd < 0)
+        throw std::runtime_error(p.string() + ": cannot open to sync: " + std::strerror(errno));
+    const int rc = ::fsync(fd);
+    const std::string err = rc != 0 ? std::strerror(errno) : "";
+    if (::close(fd) != 0 || rc != 0)
+        throw std::runtime_error(p.string() + ": sync failed: " +
+                                 (err.empty() ? std::string(std::strerror(errno)) : err));
+}
+
+void sync_tree(const fs::path& dir) {
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_symlink()) continue;
+        if (e.is_directory()) fsync_path(e.path(), true);
+        else if (e.is_regular_file()) fsync_path(e.path(), false);
+    }
+    fsync_path(dir, true);
 }
 
 void make_own_folder(const fs::path& path) {

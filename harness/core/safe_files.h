@@ -1,5 +1,6 @@
-// Files and folders pxh creates, created safely: never through a symbolic link and never over
-// something that exists (open with O_CREAT | O_EXCL | O_NOFOLLOW, mkdir that fails on an
+// Files and folders pxh creates, created safely (the one home of safe writing: the results
+// folder, run.json, merge and the commands write through these): never through a symbolic link and
+// never over something that exists (open with O_CREAT | O_EXCL | O_NOFOLLOW, mkdir that fails on an
 // existing name), every write, fsync and close checked. What pxh writes is then its own: a
 // name someone else prepared (a link, a file, a folder) makes the write fail, it is not adopted.
 #pragma once
@@ -14,6 +15,14 @@ namespace pxh {
 // "PATH: write failed: REASON" (a full disk, a file-size limit); a file that could not be
 // written whole is removed again.
 void create_new_file(const std::filesystem::path& path, std::string_view bytes);
+
+// Copies the regular file `from` (not a link) into `to` as create_new_file writes it.
+void copy_to_new_file(const std::filesystem::path& from, const std::filesystem::path& to);
+
+// fsyncs a file or (directory) a folder; std::runtime_error naming the path when it fails.
+void fsync_path(const std::filesystem::path& path, bool directory);
+// fsyncs every regular file and folder under (and including) `dir` (links are skipped).
+void sync_tree(const std::filesystem::path& dir);
 
 // A folder inside one of pxh's own folders: created with mkdir, or, when it exists already, it
 // must be a real folder (not a link to one). Throws std::runtime_error naming the path.

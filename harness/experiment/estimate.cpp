@@ -6,6 +6,7 @@
 #include "harness/experiment/experiment.h"
 #include "harness/experiment/view_grid.h"
 #include "harness/metrics/sweep.h"
+#include "harness/scene/base_surface.h"
 #include "harness/truth/exact_tracer.h"
 
 namespace pxh {
@@ -68,7 +69,7 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     // z 8, point 24, hit 1, and the per-ray record 32), the coverage (2) and per row the method's
     // shown uv for pictures (16).
     bool curved = false;
-    for (const HeightfieldSpec& h : ex.heightfields) curved = curved || h.base != "plane";
+    for (const HeightfieldSpec& h : ex.heightfields) curved = curved || base_entry(h.base).curved;
     const size_t curved_bytes =
         curved ? 16 + 24 + 32 + 1 + 48 + 1 + 2 * (16 + 8 + 24 + 1 + 32) + 2 + rows_per_view * 16
                : 0;

@@ -117,37 +117,27 @@ void hash_heightfield_file(HeightfieldSpec& base) {
     }
 }
 
-// The entry's base surfaces (`base`, a name or a list; default plane) and radii (`radius`, a
-// value or a list, for the curved ones), as (base, radius) pairs: the plane once (radius NaN),
-// each curved base at each radius. A curved base needs a radius; the plane alone refuses one.
+// The entry's base surfaces (`base`, a name or a list; default the registry's first, the
+// plane) and their settings as (base, radius) pairs: each base reads its own keys
+// (BaseEntry::read: the plane none, a curved base its radii, one setting each). A key that no
+// base of the list reads is refused here, naming the bases that read it.
 std::vector<std::pair<std::string, double>> heightfield_bases(const ParamDict& t) {
-    const std::vector<std::string> bases = t.strings("base", {"plane"});
-    const bool has_radius = t.has("radius");
-    const std::vector<double> radii = has_radius ? t.numbers("radius", {}) : std::vector<double>{};
+    const std::vector<std::string> bases = t.strings("base", {default_base_name()});
     std::vector<std::pair<std::string, double>> out;
-    bool curved = false;
+    bool takes_radius = false;
     for (const std::string& b : bases) {
-        const BaseEntry* e = find_base(b);
-        if (!e)
-            throw InputError(t.where("base"),
-                             "unknown base '" + b + "' (known: " + join_names(base_names()) + ")");
-        if (!e->curved) {
-            out.push_back({b, NAN});
-            continue;
-        }
-        curved = true;
-        if (!has_radius)
-            throw InputError(t.where("base"), "base '" + b + "' needs a radius (tiles)");
-        for (double r : radii) out.push_back({b, r});
+        const BaseEntry& e = base_entry(b, t.where("base"));
+        takes_radius = takes_radius || e.curved;
+        for (double r : e.read(t, b)) out.push_back({b, r});
     }
-    if (has_radius && !curved)
-        throw InputError(t.where("radius"),
-                         "radius applies to a curved base (base = \"cylinder\" "
-                         "or \"sphere\"); this entry's base is the plane");
-    for (double r : radii)
-        if (!(r > 0) || !std::isfinite(r))
-            throw InputError(t.where("radius"),
-                             "radius must be a finite number > 0 (got " + format_number(r) + ")");
+    if (t.has("radius") && !takes_radius) {
+        std::string curved;
+        for (const BaseEntry& e : base_registry())
+            if (e.curved)
+                curved += (curved.empty() ? "base = \"" : "\" or \"") + std::string(e.name);
+        throw InputError(t.where("radius"), "radius applies to a curved base (" + curved +
+                                                "\"); this entry's base is the " + bases.front());
+    }
     return out;
 }
 
@@ -204,12 +194,9 @@ void parse_heightfield(const ParamDict& t, Experiment& ex, LargeScales& large_sc
     for (const auto& [name, r] : bases)
         for (double s : scales)
             for (double b : biases)
-                if (std::isfinite(r) &&
-                    !(r > s * b))  // the relief's bottom shell has radius R - s b
-                    throw InputError(t.where("radius"),
-                                     "radius = " + format_number(r) + " on base '" + name +
-                                         "' must exceed scale * bias = " + format_number(s * b) +
-                                         " (the relief would reach the axis)");
+                if (base_entry(name).curved)
+                    if (const std::string why = radius_problem(name, r, s, b); !why.empty())
+                        throw InputError(t.where("radius"), why);
     Sweeps sweeps;  // the generator's parameters, in its order
     if (gen)
         for (const auto& p : gen->params)
@@ -299,7 +286,8 @@ void check_heightfield_names(const Experiment& ex) {
         const std::string what =
             describe_field(h) + " at scale " + format_number(h.scale) + ", bias " +
             format_number(h.bias) +
-            (h.base == "plane" ? "" : ", base " + h.base + " radius " + format_number(h.radius));
+            (base_entry(h.base).curved ? ", base " + h.base + " radius " + format_number(h.radius)
+                                       : "");
         if (b.where == h.where)
             throw InputError(h.where, "this entry lists " + what + " twice (a repeated value)");
         throw InputError(h.where, "duplicate height field: " + what + " is also the entry at " +

@@ -17,6 +17,7 @@
 #include "harness/experiment/only_rows.h"
 #include "harness/metrics/columns.h"
 #include "harness/metrics/row.h"
+#include "harness/scene/base_surface.h"
 
 namespace pxh {
 namespace {
@@ -78,7 +79,7 @@ void keep(List& list, Pred pred, const std::string& what, Name name_of) {
 // A field entry as --only lists them: "bricks (s=0.05 b=1)".
 std::string field_entry_name(const HeightfieldSpec& h) {
     return h.name + " (s=" + format_number(h.scale) + " b=" + format_number(h.bias) +
-           (h.base == "plane" ? "" : " " + h.base + " R=" + format_number(h.radius)) + ")";
+           (base_entry(h.base).curved ? " " + h.base + " R=" + format_number(h.radius) : "") + ")";
 }
 
 const std::map<std::string, Selector>& selectors() {
@@ -125,7 +126,7 @@ const std::map<std::string, Selector>& selectors() {
                  ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.bias); }, "bias",
                  field_entry_name);
          }}},
-        // The base surface (the plane's rows leave the column empty: "plane" selects them).
+        // The base surface, by name ("plane" selects the plane's rows).
         {"base", {[](Experiment& ex, const Want&, const Text& ok, const Num&) {
              keep(
                  ex.heightfields, [&](const HeightfieldSpec& h) { return ok(h.base); }, "base",
@@ -303,7 +304,7 @@ void apply_only(Experiment& ex, const std::string& spec) {
 }
 
 std::string empty_axis_means(const std::string& axis) {
-    if (axis == "base") return "plane";
+    if (axis == "base") return default_base_name();
     if (axis == "lod" || axis == "depth") return "base";
     if (axis == "camera") return "orthographic";
     return "";

@@ -9,9 +9,9 @@ namespace pxh {
 
 class ResultRow;
 
-// What an empty cell of a text axis stands for: "plane" for base, "base" for lod and depth,
-// "orthographic" for camera (results written before those columns, or the plane's rows); ""
-// for the others. pxh check's filters and pxh compare --only match against it.
+// What an empty cell of a text axis stands for: the default base (the plane) for base, "base"
+// for lod and depth, "orthographic" for camera (results written before those columns said so);
+// "" for the others. pxh check's filters and pxh compare --only match against it.
 std::string empty_axis_means(const std::string& axis);
 
 // The same spec as a test of result rows (pxh compare --only): a row matches when each key's

@@ -452,7 +452,7 @@ void check_camera_reach(Experiment& ex) {
 // Refused, naming the entry (the ground_truth key for Embree).
 void check_curved_bases(const Experiment& ex, const std::string& ground_truth_where) {
     for (const HeightfieldSpec& h : ex.heightfields) {
-        if (h.base == "plane") continue;
+        if (!base_entry(h.base).curved) continue;
         const std::string on = "on a curved base (base = \"" + h.base + "\")";
         if (ex.light)
             throw InputError(h.where, "[light] (true shadows) is not traced " + on + " yet");
@@ -477,7 +477,7 @@ void check_curved_bases(const Experiment& ex, const std::string& ground_truth_wh
 // --samples too (the estimate grows with the rays).
 void check_curved_walk(const Experiment& ex) {
     for (const HeightfieldSpec& h : ex.heightfields) {
-        if (h.base == "plane") continue;
+        if (!base_entry(h.base).curved) continue;
         const auto base = make_base(h.base, h.radius);
         const FieldSize size = field_size(h);
         for (const CameraSetting& c : ex.camera_settings)

@@ -34,7 +34,7 @@ std::vector<ColumnSpec> run_columns() {
         {"scale", kNum, kKey, "height scale s", kNamed, "s"},
         {"bias", kNum, kKey, "height bias b", kNamed, "b"},
         {"base", kText, kKey,
-         "the curved base surface the field displaces: cylinder | sphere (empty: the plane)",
+         "the base surface the field displaces: plane | cylinder | sphere (empty: the plane)",
          kNamed},
         {"radius", kNum, kKey, "curved bases: the radius R (tiles)", kNamed, "R"},
         {"theta_deg", kNum, kKey, "view angle from the normal (degrees)", kNamed, "theta"},

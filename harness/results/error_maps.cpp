@@ -144,7 +144,8 @@ ErrorMapName error_map_name(const ResultRow& r, size_t index) {
     const std::string& depth = r.text("depth");
     if (!depth.empty() && depth != "base") view += "_depth-" + depth;
     if (!r.cell("cut").empty()) view += "_cut" + r.cell("cut");
-    const std::string& base = r.text("base");  // a curved base (empty on the plane)
+    // A base with a radius (a curved one): the plane's names stay as they were before bases.
+    const std::string base = r.cell("radius").empty() ? "" : r.text("base");
     if (!base.empty()) view += "_" + base + "R" + r.cell("radius");
     char stem[512];
     std::snprintf(stem, sizeof stem, "%05zu_%s%s%s_%s_t%g_p%g%s_%s", index,

@@ -4,6 +4,7 @@
 
 #include "harness/core/error.h"
 #include "harness/results/csv_table.h"
+#include "harness/scene/base_surface.h"
 
 namespace pxh {
 
@@ -123,6 +124,9 @@ ResultRow parse_result_row(const std::vector<const ColumnSpec*>& specs,
                              "column '" + specs[c]->name + "': '" + cell + "' is not a number");
         row.set(name, *v);
     }
+    // results.csv written before every row stated its base left the plane's empty (or had no
+    // base column): read as the base it was.
+    if (row.text("base").empty()) row.set_text("base", default_base_name());
     return row;
 }
 
@@ -160,7 +164,14 @@ std::string field_of(const ResultRow& r) {
     return r.text("heightfield") + " s=" + r.cell("scale") + " b=" + r.cell("bias");
 }
 
-std::string row_name(const std::function<std::string(const std::string&)>& cell) {
+std::string row_name(const std::function<std::string(const std::string&)>& given) {
+    // A key at its default is left out of the name, as lod and depth at base are: the base at
+    // the default base (the plane), so a plane row is named as before every row stated it.
+    const std::string plain = default_base_name();
+    const auto cell = [&](const std::string& c) {
+        std::string v = given(c);
+        return c == "base" && v == plain ? std::string() : v;
+    };
     const std::string params = cell("params"), lod = cell("lod"), fmt = cell("texture_format");
     const std::string depth = cell("depth");
     return cell("method") + (params.empty() ? "" : " " + params) +

@@ -87,26 +87,6 @@ void install_signal_cleanup() {
     });
 }
 
-void fsync_path(const fs::path& p, bool directory) {
-    const int fd = ::open(p.c_str(), (directory ? O_RDONLY | O_DIRECTORY : O_RDONLY) | O_CLOEXEC);
-    if (fd < 0) throw std::runtime_error(p.string() + ": cannot open to sync: " + errno_text());
-    const int rc = ::fsync(fd);
-    const std::string err = rc != 0 ? errno_text() : "";
-    if (::close(fd) != 0 || rc != 0)
-        throw std::runtime_error(p.string() +
-                                 ": sync failed: " + (err.empty() ? errno_text() : err));
-}
-
-// fsync every regular file and folder under (and including) dir.
-void sync_tree(const fs::path& dir) {
-    for (const auto& e : fs::recursive_directory_iterator(dir)) {
-        if (e.is_symlink()) continue;
-        if (e.is_directory()) fsync_path(e.path(), true);
-        else if (e.is_regular_file()) fsync_path(e.path(), false);
-    }
-    fsync_path(dir, true);
-}
-
 // pid of a NAME.partial-PID[-HEX] / NAME.replaced-PID[-HEX] folder, or -1.
 long pid_suffix(const std::string& name, const std::string& kind) {
     const size_t at = name.rfind(kind);
@@ -283,10 +263,6 @@ int take_lock(const fs::path& lock_path, const std::string& out) {
 }
 
 }  // namespace
-
-void write_file_synced(const fs::path& path, const std::string& text) {
-    create_new_file(path, text);
-}
 
 RunFolder::RunFolder(const std::string& out, bool force) {
     if (out.empty()) throw InputError("--out", "is empty: name the results folder");

@@ -44,10 +44,6 @@ class RunFolder {
     bool replace_ = false;
 };
 
-// Creates `path` (it must not exist: never through a link, never over a file; see
-// harness/core/safe_files.h) with `text`, checking every write, fsync and close.
-void write_file_synced(const std::filesystem::path& path, const std::string& text);
-
 // The integrity record of a folder's files (every regular file under `dir` except run.json,
 // by path relative to `dir`): {"results.csv": {"bytes": N, "sha256": "..."}, ...}.
 nlohmann::json file_records(const std::filesystem::path& dir);

@@ -114,7 +114,7 @@ void finish_run_record(nlohmann::json& run, const std::vector<ResultRow>& rows, 
     run["seconds"] = seconds;
     // Written last: the sha256 of every file above (pxh check and report verify them).
     run["files"] = file_records(dir);
-    write_file_synced(dir / "run.json", run.dump(2) + "\n");
+    create_new_file(dir / "run.json", run.dump(2) + "\n");
 }
 
 void check_recordable(const std::string& out_dir, const std::string& command_line,

@@ -12,21 +12,11 @@
 #include "harness/experiment/view_grid.h"
 #include "harness/metrics/agreement.h"
 #include "harness/metrics/metric.h"
+#include "harness/metrics/score.h"
 #include "harness/results/results.h"
 #include "harness/truth/ground_truth.h"
 
 namespace pxh {
-
-// Scores one method output against the truth: every per-output metric
-// (harness/metrics/metric.h) and its shader column; samples flagged in `exclude` (when given)
-// are left out of the error statistics and counted in `excluded`.
-// `view` (when given): its outside samples are left out and counted, its footprints give the
-// pixel error.
-// `cover` (a curved base's): the errors are over the samples both show, and the coverage
-// columns are filled.
-ResultRow score(const MethodOutput& out, const GroundTruth& gt, int width, int height,
-                const std::vector<uint8_t>* exclude = nullptr, const View* view = nullptr,
-                const Coverage* cover = nullptr);
 
 // One view's rows and what they were scored on, as RunOptions::on_view gets them.
 struct ViewOutput {
@@ -37,9 +27,10 @@ struct ViewOutput {
     // Per row with a [views] cut, per sample: bit 0 the plane shows in truth, bit 1 it shows
     // for the method (metrics/depth.h's add_cut_flips); empty for rows without a cut.
     const std::vector<std::vector<uint8_t>>& cut_shows;
-    // A curved base's (empty on the plane): per row the method's own uv per sample (NaN where it
-    // shows nothing), and per sample whether the truth shows surface (docs/conventions.md
-    // section 12): its pictures are drawn from these, background where a side shows nothing.
+    // Where the truth reports coverage (a curved base's; empty on the plane): per row the
+    // method's own uv per sample (NaN where it shows nothing), and per sample whether the truth
+    // shows surface (docs/conventions.md section 12): its pictures are drawn from these,
+    // background where a side shows nothing.
     const std::vector<std::vector<Vec2d>>& shown_uv;
     const std::vector<uint8_t>& truth_hit;
     // The index the view's first row has in the whole run's results.csv (a slice's maps and

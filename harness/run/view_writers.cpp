@@ -116,8 +116,8 @@ std::string truth_picture_name(const ResultRow& r) {
     std::snprintf(name, sizeof name, "truth_%s_t%g_p%g", r.text("heightfield").c_str(),
                   r.num("theta_deg"), r.num("phi_deg"));
     std::string s = name + camera_name_part(r);
-    if (const std::string base = r.text("base"); !base.empty())
-        s += "_" + base + "R" + r.cell("radius");
+    if (const std::string radius = r.cell("radius"); !radius.empty())  // a curved base's
+        s += "_" + r.text("base") + "R" + radius;
     if (const std::string cut = r.cell("cut"); !cut.empty()) s += "_cut" + cut;
     for (char& ch : s)
         if (!std::isalnum((unsigned char)ch) && ch != '_' && ch != '-' && ch != '.') ch = '_';

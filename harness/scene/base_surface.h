@@ -7,7 +7,8 @@
 // with the base offset along N by a constant (the shells that bound the relief).
 //
 // Adding a base: one file harness/scene/bases/NAME.cpp defining a BaseSurface and a factory,
-// plus one line in base_registry() (harness/scene/bases/registry.cpp).
+// plus one line in base_registry() (harness/scene/bases/registry.cpp): its name, whether it
+// takes a radius, the factory, the reader of its keys, its view and its truth.
 #pragma once
 #include <cmath>
 #include <memory>
@@ -68,17 +69,57 @@ inline QuadRoots quad_roots(double a, double h, double c) {
     return {r0, r1};
 }
 
+class Camera;
+class ParamDict;
+struct BaseView;  // harness/scene/curved_view.h
+
+// A base's registry entry (harness/scene/bases/registry.cpp): everything the experiment's
+// reader and the runner ask of a base, so that neither names one.
 struct BaseEntry {
     const char* name;
-    bool curved;  // takes a radius
+    bool curved;  // takes a radius (`radius`, tiles) and bends: its settings are its radii
     std::unique_ptr<BaseSurface> (*make)(double radius);
+    // Reads its own keys of a [[heightfields]] entry (`t`; `name` is the base as given): its
+    // settings, one radius each (NaN for a base without one). An InputError at the key's line.
+    std::vector<double> (*read)(const ParamDict& t, const std::string& name);
+    // The view a camera sees of it (per sample P, V, footprint and frame; the world rays and
+    // base hits its truth traces); `top` = s (1 - b), the relief's top.
+    BaseView (*view)(const Camera& camera, const BaseSurface& base, double top);
+    // The truth that traces it, by name (harness/run/truth_stage.cpp): "exact", the tracer
+    // registry's references on the flat relief (harness/truth/registry.cpp), or "curved_walk",
+    // the walk through the displaced surface (harness/truth/curved_tracer.h) and its check.
+    const char* truth;
 };
 const std::vector<BaseEntry>& base_registry();
 std::vector<std::string> base_names();  // in registry order
+// The base a [[heightfields]] entry without `base` has, and an empty base cell of results
+// written before the column said it (the registry's first: the plane).
+std::string default_base_name();
 // nullptr for an unknown name.
 const BaseEntry* find_base(const std::string& name);
-// The base NAME (radius ignored by the plane); throws std::invalid_argument for an unknown
-// name or a radius that is not finite and positive on a curved base.
+// The entry called `name`; an InputError(where, "unknown base ...") otherwise.
+const BaseEntry& base_entry(const std::string& name, const std::string& where = "base");
+// The one check of a radius: "" when base `name` may take it over a relief of scale s and bias
+// b (finite, > 0 and > s b, the relief's bottom shell; s = b = 0: the radius alone), else the
+// reason. The precision bound over a field's size is the truth's (base_radius_problem,
+// harness/truth/curved_tracer.h).
+std::string radius_problem(const std::string& name, double radius, double scale = 0,
+                           double bias = 0);
+// The base NAME (radius ignored by a base without one); throws std::invalid_argument for an
+// unknown name or a radius radius_problem refuses.
 std::unique_ptr<BaseSurface> make_base(const std::string& name, double radius);
+
+// Registers a base for as long as it lives (tests; a base linked into another binary): it
+// joins the registry after the built-in ones.
+class BaseRegistration {
+  public:
+    explicit BaseRegistration(BaseEntry entry);
+    ~BaseRegistration();
+    BaseRegistration(const BaseRegistration&) = delete;
+    BaseRegistration& operator=(const BaseRegistration&) = delete;
+
+  private:
+    std::string name_;
+};
 
 }  // namespace pxh

@@ -69,4 +69,11 @@ CurvedView curved_view(const Camera& camera, const BaseSurface& base, double top
     return cv;
 }
 
+BaseView flat_view(const Camera& camera, const BaseSurface&, double) {
+    BaseView bv;
+    bv.view = camera.view();
+    bv.forward = bv.view.depth_axis();
+    return bv;
+}
+
 }  // namespace pxh

@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "harness/core/error.h"
@@ -63,6 +65,27 @@ TEST(SafeFiles, NewFilesNeverFollowLinksOrReplaceFiles) {
     std::set<std::string> made;
     for (int k = 0; k < 20; ++k) made.insert(pxh::make_unique_folder((d / "x.partial-1").string()));
     EXPECT_EQ(made.size(), 20u);
+    fs::remove_all(d);
+}
+
+// A copy is a new file like any other (never over a file or through a link) of the source's
+// bytes, and only a regular file is copied (a link is refused, not followed).
+TEST(SafeFiles, CopiesAreNewFilesOfRegularFiles) {
+    const fs::path d = fs::temp_directory_path() / ("pxh_copy_" + std::to_string(getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    const std::string bytes("a\0b\nc", 5);
+    pxh::create_new_file(d / "src.bin", bytes);
+    pxh::copy_to_new_file(d / "src.bin", d / "copy.bin");
+    std::ifstream f(d / "copy.bin", std::ios::binary);
+    const std::string got((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(got, bytes);
+    EXPECT_THROW(pxh::copy_to_new_file(d / "src.bin", d / "copy.bin"), std::runtime_error);
+    fs::create_symlink(d / "src.bin", d / "link");
+    EXPECT_THROW(pxh::copy_to_new_file(d / "link", d / "via_link.bin"), std::runtime_error);
+    EXPECT_FALSE(fs::exists(d / "via_link.bin"));
+    EXPECT_THROW(pxh::copy_to_new_file(d / "missing", d / "m.bin"), std::runtime_error);
+    pxh::sync_tree(d);  // every file and folder, the link skipped
     fs::remove_all(d);
 }
 

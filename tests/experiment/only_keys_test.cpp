@@ -37,7 +37,7 @@ TEST(OnlyKeys, BaseAndRadiusSelectTheFieldsOnTheirBases) {
     apply_only(a, "base=cylinder");
     EXPECT_EQ(fields(a), (std::vector<std::string>{"cylinderR1.5", "cylinderR4", "cylinderR8"}));
     Experiment b = ex;
-    apply_only(b, "base=plane");  // the plane's rows leave base empty; "plane" names them
+    apply_only(b, "base=plane");  // the plane, by its name
     EXPECT_EQ(fields(b), (std::vector<std::string>{"plane"}));
     Experiment c = ex;
     apply_only(c, "radius=4");  // the plane has no radius: not kept

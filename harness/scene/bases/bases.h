@@ -1,11 +1,4 @@
-// The base surfaces' factories, one per file in this folder (registry.cpp lists them).
+// What a base's file includes (one file per base in this folder; registry.cpp lists them, each
+// with its factory's declaration beside its line).
 #pragma once
 #include "harness/scene/base_surface.h"
-
-namespace pxh {
-
-std::unique_ptr<BaseSurface> make_plane_base(double radius);
-std::unique_ptr<BaseSurface> make_cylinder_base(double radius);
-std::unique_ptr<BaseSurface> make_sphere_base(double radius);
-
-}  // namespace pxh
