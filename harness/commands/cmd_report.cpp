@@ -9,9 +9,10 @@
 namespace pxh {
 
 Command add_report_command(CLI::App& app) {
-    auto* report = app.add_subcommand("report",
-                                      "tables (Markdown, LaTeX, CSV) and plots (PNG, SVG, PDF) "
-                                      "from a results folder, into DIR/report/");
+    auto* report =
+        app.add_subcommand("report",
+                           "tables (Markdown, LaTeX, CSV) and plots (PNG and PDF; SVG on request) "
+                           "from a results folder, into DIR/report/");
     struct Args {
         std::string dir;
         bool no_plots = false;
@@ -33,8 +34,12 @@ Command add_report_command(CLI::App& app) {
     report->add_option("--figure-width", a->figure_width,
                        "figure width: single (3.5 in), double (7 in, default) or inches in "
                        "[2, 20]; fonts stay 8 pt");
+    report->add_option("--formats", a->ro.formats,
+                       "figure files: a comma list of png, pdf, svg (default png,pdf: PNG for "
+                       "the screen, PDF for papers; the vector figure is written once)");
     return {report, [a] {
                 a->ro.figure_width = parse_figure_width(a->figure_width);
+                parse_figure_formats(a->ro.formats);
                 std::cout << verify_results_folder(a->dir, a->ro.accept_edited) << "\n";
                 a->ro.plots = !a->no_plots;
                 return run_report(a->dir, a->ro);

@@ -31,7 +31,7 @@ std::string sig(double v) {
 }
 
 const char* better_text(Better b) {
-    return b == Better::smaller ? "smaller is better"
+    return b == Better::smaller  ? "smaller is better"
            : b == Better::larger ? "larger is better"
                                  : "";
 }
@@ -139,11 +139,12 @@ void write_family(const ReportData& d, const FamilyData& f) {
        << "Means over the rows of each θ band of the per-row statistics (every φ and height "
           "field of the run pooled; fields.md has the texel error per field). A line per value "
           "of the keys that vary in the run and can change these numbers ("
-       << [&] {
-              std::string k;
-              for (const ColumnSpec* c : f.keys) k += (k.empty() ? "" : ", ") + c->shown_as();
-              return k;
-          }()
+       <<
+        [&] {
+            std::string k;
+            for (const ColumnSpec* c : f.keys) k += (k.empty() ? "" : ", ") + c->shown_as();
+            return k;
+        }()
        << ").\n\n";
     if (!f.held.empty()) {
         md << "Keys that cannot change these numbers are held at one value: ";
@@ -168,8 +169,7 @@ void write_family(const ReportData& d, const FamilyData& f) {
         // The backend, precision and texture format as one "backend" cell; a setting's
         // backends whose printed numbers agree are one line ("cpu/float = glsl/r32f").
         const auto is_group = [](const ColumnSpec* k) {
-            return k->name == "backend" || k->name == "precision" ||
-                   k->name == "texture_format";
+            return k->name == "backend" || k->name == "precision" || k->name == "texture_format";
         };
         TextTable t;
         bool group_cell = false;
@@ -198,8 +198,7 @@ void write_family(const ReportData& d, const FamilyData& f) {
             const auto& per_band = f.means.at(k);
             Line l;
             for (size_t i = 0; i < f.keys.size(); ++i)
-                if (!is_group(f.keys[i]))
-                    l.head.push_back(k.values[i].empty() ? "-" : k.values[i]);
+                if (!is_group(f.keys[i])) l.head.push_back(k.values[i].empty() ? "-" : k.values[i]);
             l.groups = group_of(d.row(f.first.at(k)));
             bool any = false;
             for (size_t b : bands) {
@@ -267,8 +266,35 @@ struct Figure {
     std::string file;
 };
 
-std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f) {
-    std::vector<std::string> xs = {"theta_deg"};
+// The families whose curves against θ the report's own figures draw already: error_vs_theta
+// (texel p50 and p95; a camera view's pixel error beside it) and sweep_vs_theta (sliding,
+// shimmering). Their FAMILY_vs_theta would draw the same numbers twice; their curves against
+// the run's other keys (a radius, a cut) are drawn.
+bool drawn_elsewhere(const std::string& family) {
+    return family == "texel" || family == "pixel" || family == "sliding";
+}
+
+// Whether every line of every panel is flat in x (all its points equal): a figure of flat
+// lines says nothing its table does not (a precompute time against θ).
+template <class Acc>
+bool all_flat(const Acc& acc) {
+    std::map<std::pair<std::string, std::string>, std::vector<double>> first;
+    for (const auto& [k, m] : acc) {
+        std::vector<double> v;
+        for (const Mean& x : m) v.push_back(x.get());
+        auto [it, fresh] = first.emplace(std::make_pair(std::get<0>(k), std::get<1>(k)), v);
+        if (fresh) continue;
+        for (size_t i = 0; i < v.size(); ++i)
+            if (!(v[i] == it->second[i]) && !(std::isnan(v[i]) && std::isnan(it->second[i])))
+                return false;
+    }
+    return true;
+}
+
+std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f,
+                                      bool theta_drawn_elsewhere) {
+    std::vector<std::string> xs;
+    if (!theta_drawn_elsewhere) xs.push_back("theta_deg");
     for (const ColumnSpec* c : f.keys) {
         if (!c->numeric()) continue;
         std::set<double> v;
@@ -292,8 +318,7 @@ std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f) 
             line += " [" + group_of(row) + "]";
             for (const ColumnSpec* c : f.keys) {
                 if (c->name == x || c->name == "method" || c->name == "params" ||
-                    c->name == "backend" || c->name == "precision" ||
-                    c->name == "texture_format")
+                    c->name == "backend" || c->name == "precision" || c->name == "texture_format")
                     continue;
                 const std::string v = row.cell(c->name);
                 if (v.empty()) continue;  // a key the row has no value of (a plane's radius)
@@ -306,6 +331,7 @@ std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f) 
             for (size_t i = 0; i < f.cols.size(); ++i) m[i].add(row.num(f.cols[i]->name));
             thetas[k].insert(row.num("theta_deg"));
         }
+        if (all_flat(acc)) continue;
         std::ostringstream o;
         o << "panel,line,x,rows,thetas";
         for (const ColumnSpec* c : f.cols) o << "," << csv_quote(c->name);
@@ -363,18 +389,18 @@ void write_families(const ReportData& d) {
             }
             columns += (columns.empty() ? "" : ";") + c->name;
             units += (units.empty() ? "" : ";") + unit;
-            better += std::string(better.empty() ? "" : ";") +
-                      (c->better == Better::smaller  ? "smaller"
-                       : c->better == Better::larger ? "larger"
-                                                     : "none");
+            better +=
+                std::string(better.empty() ? "" : ";") + (c->better == Better::smaller  ? "smaller"
+                                                          : c->better == Better::larger ? "larger"
+                                                                                        : "none");
         }
         // Values in two units (ns/sample and ms/frame) are not one axis: no figure (the
         // table has them per backend line; cost_vs_error draws each unit apart).
-        if (f.units.size() > 1 &&
-            std::any_of(cols.begin(), cols.end(),
-                        [](const ColumnSpec* c) { return c->unit == "time_unit"; }))
+        if (f.units.size() > 1 && std::any_of(cols.begin(), cols.end(), [](const ColumnSpec* c) {
+                return c->unit == "time_unit";
+            }))
             continue;
-        for (const Figure& fig : write_figure_data(d, f))
+        for (const Figure& fig : write_figure_data(d, f, drawn_elsewhere(name)))
             index << csv_quote(name) << "," << csv_quote(family_title(name)) << ","
                   << csv_quote(fig.x) << "," << csv_quote(fig.file) << "," << csv_quote(columns)
                   << "," << csv_quote(units) << "," << csv_quote(better) << "\n";

@@ -435,11 +435,11 @@ void write_plot_data(const ReportData& d) {
 // plot_report.py (shipped beside the binary: harness/core/shipped_files.h) on the report folder,
 // run by /usr/bin/python3 from an argument vector (no shell: any folder name is passed as it
 // is); waits and checks its exit status.
-void run_plotter(const fs::path& out, double figure_width) {
+void run_plotter(const fs::path& out, double figure_width, const std::string& formats) {
     const std::string python = "/usr/bin/python3";
     const std::string script = shipped_file("plot_report.py");
-    std::vector<std::string> args = {python, script, out.string(), "--width",
-                                     csv_num(figure_width)};
+    std::vector<std::string> args = {
+        python, script, out.string(), "--width", csv_num(figure_width), "--formats", formats};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

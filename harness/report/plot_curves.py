@@ -260,8 +260,8 @@ def sweep_vs_theta(F, st, rows, tag="", cam=""):
     pw, ph = panel_size(F, nc, 0.72)
     folded_all, series, panels = {}, 0, 0
     for q, column in enumerate(("sliding", "shimmering")):
-        for k in range(1 if side else per * nc):
-            ax = grid[0][q] if side else grid[q * per + k // nc][k % nc]
+        for k in range(per * nc):
+            ax = grid[q * per + k // nc][k % nc]
             if k >= len(fields):
                 ax.axis("off")
                 continue

@@ -118,10 +118,17 @@ class Figures:
 
     def save(self, fig, name, panels, series, legend, **extra):
         files = []
+        # The layout and the tight box once for every format (savefig's bbox_inches="tight"
+        # would lay the figure out and draw it twice per file); PNG at zlib level 3 (level 6
+        # costs a third more time for 10% smaller files).
+        fig.canvas.draw()
+        box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(0.02)
+        fig.set_layout_engine("none")
         for ext in self.formats:
             meta = {"svg": {"Date": None}, "pdf": {"CreationDate": None}}.get(ext)
+            kw = {"pil_kwargs": {"compress_level": 3}} if ext == "png" else {}
             self.own.write(f"{name}.{ext}", lambda f: fig.savefig(
-                f, format=ext, dpi=300, bbox_inches="tight", pad_inches=0.02, metadata=meta))
+                f, format=ext, dpi=300, bbox_inches=box, metadata=meta, **kw))
             files.append(f"{name}.{ext}")
         plt.close(fig)
         print(f"plot: {os.path.join(self.out, name)}." + "/.".join(self.formats))

@@ -70,6 +70,11 @@ def image_grid(width, ncols, pads, bottom, left=0.0):
     return fig, axes
 
 
+def curved(r):
+    """Whether a row lies on a curved base (a plane row's base is "plane", with no radius)."""
+    return r.get("base") not in (None, "", "plane") and num(r.get("radius")) is not None
+
+
 def telling_params(settings):
     """{(method, params): "method k=v, ..."}: each setting's method and the parameters whose
     values differ between the given settings of the same method ("off" ones left out)."""
@@ -107,9 +112,7 @@ def picture_montage(F, st, results, rows):
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
     cam = view_title(r0)
     cut = r0.get("cut") or ""
-    base = (f" on a {r0['base']} of radius {num(r0['radius']):g}"
-            if r0.get("base") not in (None, "", "plane") and num(r0.get("radius")) is not None
-            else "")
+    base = f" on a {r0['base']} of radius {num(r0['radius']):g}" if curved(r0) else ""
     title = fit(f"{r0['heightfield']}{base}, θ = {num(r0['theta_deg']):g}°, "
                 f"φ = {num(r0['phi_deg']):g}°" + (f", {cam}" if cam else "") +
                 ": a numbered checkerboard through each "
@@ -148,7 +151,7 @@ def picture_montage(F, st, results, rows):
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
                 + (r0.get("camera_tag") or "")
-                + (f"_{r0['base']}R{num(r0['radius']):g}" if r0.get("base") else "")
+                + (f"_{r0['base']}R{num(r0['radius']):g}" if curved(r0) else "")
                 + (f"_cut{num(cut):g}" if cut else ""))
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
@@ -185,7 +188,7 @@ def strip(F, st, results, rows):
                               fontsize=5 if small else 6, labelpad=2)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}"
-                + (f"_{r0['base']}R{num(r0['radius']):g}" if r0.get("base") else ""))
+                + (f"_{r0['base']}R{num(r0['radius']):g}" if curved(r0) else ""))
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
 
@@ -216,6 +219,31 @@ def animate(F, results, rows, name, what):
         f, format="GIF", save_all=True, append_images=frames[1:], duration=900, loop=0))
     print(f"plot: {path}")
     F.drawn[-1]["files"].append(name + ".gif")
+
+
+def picture_jobs(F, st, rows):
+    """A drawing job per montage and per strip (independent figures: drawn in parallel)."""
+    results = os.path.dirname(os.path.abspath(F.out))
+    views, strips = picture_groups(rows)
+    return ([lambda v=v: picture_montage(F, st, results, v) for v in views.values()] +
+            [lambda v=v: strip(F, st, results, v) for v in strips.values()])
+
+
+def picture_groups(rows):
+    """The montages (per view) and strips (per field, azimuth, view and setting) of the rows."""
+    views = {}
+    strips = {}
+    for r in rows:  # a montage per view (camera keys included: one truth each), a strip per
+        # field, azimuth, camera view and setting (its level mode: one strip each)
+        cam = r.get("camera_view", "")
+        if "montage" in r["picture_use"].split():  # a cut plane's own montage (its truth)
+            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam,
+                              r.get("cut") or "", r.get("base") or "", r.get("radius") or ""),
+                             []).append(r)
+        if "strip" in r["picture_use"].split():
+            strips.setdefault((r["heightfield"], r["phi_deg"], cam, r.get("base") or "",
+                               r.get("radius") or "", setting(r)), []).append(r)
+    return views, strips
 
 
 def pictures(F, st, rows):

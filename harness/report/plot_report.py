@@ -3,9 +3,9 @@
 
 Only drawing happens here: every value plotted was computed by pxh. Usage:
     /usr/bin/python3 harness/report/plot_report.py RESULTS_DIR/report [--width INCHES]
-                                                   [--formats png,svg,pdf]
+                                                   [--formats png,pdf]
 
-Every figure is written as PNG (300 dpi), SVG and PDF (TrueType fonts embedded: pdf.fonttype
+Every figure is written as PNG (300 dpi) and PDF (and SVG when --formats asks: TrueType fonts embedded: pdf.fonttype
 42), WIDTH inches wide (pxh report --figure-width: single = 3.5, double = 7) with 8 pt text.
 One method setting has one colour and one marker in every figure of a report (Paul Tol's
 colour-blind-safe "muted" palette plus black, markers cycling with it). Series of one setting
@@ -27,6 +27,7 @@ saving), plot_curves (against θ and distance), plot_fronts (cost against error)
 import argparse
 import json
 import math
+import multiprocessing
 import os
 import sys
 import traceback
@@ -42,14 +43,14 @@ from plot_curves import by_view, sweep_vs_theta, vs_distance, vs_theta  # noqa: 
 from plot_fronts import cost_figure, time_costs  # noqa: E402
 from plot_families import family_jobs  # noqa: E402
 from plot_maps import montage  # noqa: E402
-from plot_pictures import pictures  # noqa: E402
+from plot_pictures import picture_jobs  # noqa: E402
 
 
 def parse_args(argv):
     ap = argparse.ArgumentParser(prog="plot_report.py")
     ap.add_argument("report", help="RESULTS_DIR/report (with data/*.csv)")
     ap.add_argument("--width", type=float, default=7.0, help="figure width in inches, [2, 20]")
-    ap.add_argument("--formats", default="png,svg,pdf", help="comma list of png, svg, pdf")
+    ap.add_argument("--formats", default="png,pdf", help="comma list of png, svg, pdf")
     a = ap.parse_args(argv[1:])
     formats = a.formats.split(",")
     if not (math.isfinite(a.width) and 2 <= a.width <= 20):
@@ -64,12 +65,18 @@ def fail_os(e):
     return 1
 
 
-def _draw_share(F, jobs, w, workers, wfd):
-    """In a drawing process: jobs w, w + workers, ...; what each drew goes back through wfd
-    as JSON (figures.json keeps the jobs' order); exits with the first failure's status."""
+def _draw_share(F, jobs, counter, wfd):
+    """In a drawing process: the next job not taken yet, until none is left (a shared counter:
+    a long montage does not hold up the rest); what each drew goes back through wfd as JSON
+    (figures.json keeps the jobs' order); exits with the first failure's status."""
     status, out = 0, []
     try:
-        for i in range(w, len(jobs), workers):
+        while True:
+            with counter.get_lock():
+                i = counter.value
+                counter.value += 1
+            if i >= len(jobs):
+                break
             F.drawn = []
             jobs[i]()
             out.append([i, F.drawn])
@@ -100,12 +107,13 @@ def run_jobs(F, jobs):
     sys.stdout.flush()
     sys.stderr.flush()
     children = []
-    for w in range(workers):
+    counter = multiprocessing.Value("i", 0)  # the next job to draw, shared through fork
+    for _ in range(workers):
         r, wfd = os.pipe()
         pid = os.fork()
         if pid == 0:
             os.close(r)
-            _draw_share(F, jobs, w, workers, wfd)
+            _draw_share(F, jobs, counter, wfd)
         os.close(wfd)
         children.append((pid, r))
     drawn, status = {}, 0
@@ -133,7 +141,11 @@ def main():
     pics = os.path.join(data, "pictures.csv")
     extra = [read(p) for p in (maps, pics) if os.path.exists(p)]
     st = Styles([setting(r) for r in cost + vt + bands + [r for e in extra for r in e]], width)
-    jobs = []
+    jobs = []  # the long ones first: the drawing processes take them in this order
+    if os.path.exists(pics):
+        jobs += picture_jobs(F, st, read(pics))
+    if os.path.exists(maps):
+        jobs.append(lambda: montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv"))))
     for rows, tag, cam in by_view(vt):  # a camera run: a figure per camera view
         jobs.append(lambda rows=rows, tag=tag, cam=cam: vs_theta(F, st, rows, tag, cam))
         jobs.append(lambda rows=rows, tag=tag, cam=cam: sweep_vs_theta(F, st, rows, tag, cam))
@@ -145,10 +157,6 @@ def main():
             F, st, rows, "cost_vs_error" + tag, ["fetches_mean"], cam))
         jobs.append(lambda rows=rows, tag=tag, cam=cam: cost_figure(
             F, st, rows, "time_vs_error" + tag, time_costs(rows), cam))
-    if os.path.exists(maps):
-        jobs.append(lambda: montage(F, st, read(maps), read(os.path.join(data, "error_scale.csv"))))
-    if os.path.exists(pics):
-        jobs.append(lambda: pictures(F, st, read(pics)))
     jobs += family_jobs(F, data)
     run_jobs(F, jobs)
     F.manifest()

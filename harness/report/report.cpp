@@ -1,8 +1,10 @@
 #include "harness/report/report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <vector>
 
 #include "harness/core/error.h"
 #include "harness/report/families.h"
@@ -25,8 +27,25 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     write_budget(d);
     write_plot_data(d);
     write_families(d);
-    if (options.plots) run_plotter(d.out, options.figure_width);
+    if (options.plots) run_plotter(d.out, options.figure_width, options.formats);
     return 0;
+}
+
+void parse_figure_formats(const std::string& text) {
+    std::vector<std::string> seen;
+    size_t at = 0;
+    while (true) {
+        const size_t comma = text.find(',', at);
+        const std::string f = text.substr(at, comma == std::string::npos ? comma : comma - at);
+        if ((f != "png" && f != "pdf" && f != "svg") ||
+            std::find(seen.begin(), seen.end(), f) != seen.end())
+            throw InputError("--formats", "'" + text +
+                                              "' is not a comma list of png, pdf, svg (each at "
+                                              "most once)");
+        seen.push_back(f);
+        if (comma == std::string::npos) break;
+        at = comma + 1;
+    }
 }
 
 double parse_figure_width(const std::string& text) {

@@ -14,6 +14,7 @@ struct ReportOptions {
                                         //   over rows of err_p95 / err_p99) | frac_gt_1
                                         //   (mean fraction of samples more than 1 texel off)
     double figure_width = 7.0;          // inches: the figures' width (fonts stay 8 pt)
+    std::string formats = "png,pdf";    // the figures' files: a comma list of png, pdf, svg
     bool accept_edited = false;         // for the caller's verify_results_folder (main.cpp
                                         //   verifies the folder before run_report; run_report
                                         //   itself does not read run.json)
@@ -29,6 +30,10 @@ struct ReportOptions {
 // InputError (exit 2) on bad options or an unreadable results.csv.
 int run_report(const std::string& dir, const ReportOptions& options);
 int run_report(const std::string& dir, bool plots);  // default options but plots
+
+// --formats: a comma list of png, pdf and svg, each at most once; anything else is an
+// InputError naming --formats.
+void parse_figure_formats(const std::string& text);
 
 // --figure-width: "single" (3.5 in, one column of a two-column paper), "double" (7 in, the
 // full text width) or a number of inches in [2, 20]; anything else is an InputError.

@@ -173,6 +173,7 @@ void write_sweep(const ReportData& d);
 void write_precision(const ReportData& d);
 void write_budget(const ReportData& d);
 void write_plot_data(const ReportData& d);
-void run_plotter(const std::filesystem::path& out, double figure_width);
+void run_plotter(const std::filesystem::path& out, double figure_width,
+                 const std::string& formats = "png,pdf");
 
 }  // namespace pxh

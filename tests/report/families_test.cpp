@@ -195,7 +195,8 @@ layers = 16
         if (t.get(i, "band") != "all") continue;
         const std::string base = t.get(i, "base");
         ASSERT_TRUE(by_base.count(base)) << base;
-        EXPECT_NEAR(std::stod(t.get(i, "err_mean")), mean_of(by_base[base]), 1e-9 * mean_of(by_base[base]))
+        EXPECT_NEAR(std::stod(t.get(i, "err_mean")), mean_of(by_base[base]),
+                    1e-9 * mean_of(by_base[base]))
             << base;
         ++seen;
     }

@@ -138,9 +138,17 @@ TEST_F(ReportCheck, ReportTablesAndPlots) {
     ASSERT_EQ(run("report " + (dir / "res").string()), 0) << slurp(dir / "err.txt");
     const fs::path rep = dir / "res" / "report";
     for (const char* f : {"summary.csv", "summary.md", "summary.tex", "budget.md", "budget.tex",
-                          "sweep.md", "error_vs_theta.png", "error_vs_theta.svg",
-                          "sweep_vs_theta.png", "cost_vs_error.png", "cost_vs_error.svg"})
+                          "sweep.md", "error_vs_theta.png", "error_vs_theta.pdf",
+                          "sweep_vs_theta.png", "cost_vs_error.png", "cost_vs_error.pdf"})
         EXPECT_TRUE(fs::exists(rep / f)) << f;
+    // One vector copy of each figure by default: PDF, no SVG (--formats png,pdf,svg adds it)
+    EXPECT_FALSE(fs::exists(rep / "error_vs_theta.svg"));
+    EXPECT_EQ(run("report " + (dir / "res").string() + " --no-plots --formats png,jpg"), 2);
+    EXPECT_NE(slurp(dir / "err.txt")
+                  .find("--formats: 'png,jpg' is not a comma list of png, pdf, "
+                        "svg"),
+              std::string::npos)
+        << slurp(dir / "err.txt");
     int montages = 0;  // error_maps_FIELD_pPHI.png: one per field and azimuth
     for (const auto& e : fs::directory_iterator(rep))
         montages += e.path().filename().string().rfind("error_maps_", 0) == 0 &&
