@@ -15,8 +15,8 @@ pxh="$prefix/bin/pxh"
 "$pxh" run results/experiments/accuracy.toml --quiet --out "$prefix/run" >/dev/null
 "$pxh" report "$prefix/run" >"$prefix/report.log" || fail "pxh report failed: $(tail -3 "$prefix/report.log")"
 pngs=$(find "$prefix/run/report" -name '*.png' | wc -l)
-svgs=$(find "$prefix/run/report" -name '*.svg' | wc -l)
-[ "$pngs" -gt 0 ] && [ "$pngs" -eq "$svgs" ] || fail "expected PNG and SVG figures, got $pngs PNG, $svgs SVG"
+pdfs=$(find "$prefix/run/report" -name '*.pdf' | wc -l)
+[ "$pngs" -gt 0 ] && [ "$pngs" -eq "$pdfs" ] || fail "expected PNG and PDF figures (pxh report's default formats), got $pngs PNG, $pdfs PDF"
 # Without the script: one line naming where it was looked for, exit status 1, tables written.
 rm "$prefix/share/pxh/plot_report.py"
 rc=0

@@ -26,6 +26,23 @@ std::string time_cell(double v) {
     return os.str();
 }
 
+// Every column as wide as its widest cell: aligned whatever the parameters' lengths; the
+// columns from first_number on right-aligned.
+void print_aligned(const std::vector<std::vector<std::string>>& table, size_t first_number) {
+    std::vector<size_t> width(table.front().size(), 0);
+    for (const auto& line : table)
+        for (size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
+    for (const auto& line : table) {
+        std::string out;
+        for (size_t i = 0; i < line.size(); ++i) {
+            const std::string pad(width[i] - line[i].size(), ' ');
+            out += (i ? "  " : "") + (i < first_number ? line[i] + pad : pad + line[i]);
+        }
+        while (!out.empty() && out.back() == ' ') out.pop_back();
+        std::cout << out << "\n";
+    }
+}
+
 }  // namespace
 
 void print_summary(const std::vector<ResultRow>& rows) {
@@ -108,19 +125,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
         line.push_back(std::to_string(a.failed));
         table.push_back(line);
     }
-    // Every column as wide as its widest cell: aligned whatever the parameters' lengths.
-    std::vector<size_t> width(header.size(), 0);
-    for (const auto& line : table)
-        for (size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
-    for (const auto& line : table) {
-        std::string out;
-        for (size_t i = 0; i < line.size(); ++i) {
-            const std::string pad(width[i] - line[i].size(), ' ');
-            out += (i ? "  " : "") + (i < first_number ? line[i] + pad : pad + line[i]);
-        }
-        while (!out.empty() && out.back() == ' ') out.pop_back();
-        std::cout << out << "\n";
-    }
+    print_aligned(table, first_number);
     std::cout << "mean err: texel distance between the sampled and the truly visible point, "
                  "averaged over rows; worst p95: largest per-row 95th percentile;\n"
                  "time UNIT: mean over rows of the median timed repeat (cpu: single-thread "

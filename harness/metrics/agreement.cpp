@@ -91,12 +91,7 @@ ErrorStats reference_agreement(const std::vector<Vec2d>& a, const std::vector<Ve
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
 std::vector<ColumnSpec> agreement_columns() {
-    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
-                         kNum = ColumnType::number;
-    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
-    (void)kText;
-    (void)kInt;
-    (void)kKey;
+    using namespace column_decl;
     return {
         ColumnSpec{"cpu_diff_max", kNum, kMeasured, "GLSL: max |uv_glsl - uv_cpu_float| (texels)"}
             .in("agreement", "texels"),

@@ -9,6 +9,14 @@
 
 namespace pxh {
 
+// The short names the declarations use (`using namespace column_decl;` in a column list).
+namespace column_decl {
+inline constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
+                            kNum = ColumnType::number;
+inline constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
+inline constexpr ColumnAxis kQuiet = ColumnAxis::quiet;
+}  // namespace column_decl
+
 std::vector<ColumnSpec> error_stats_columns();  // error_stats.cpp: err_*, frac_*, err_px_*
 std::vector<ColumnSpec> fetches_columns();      // fetches.cpp: fetches_*
 std::vector<ColumnSpec> timing_columns();       // timing.cpp: time*

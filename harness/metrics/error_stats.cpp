@@ -70,12 +70,7 @@ const Metric& error_stats_metric() {
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
 std::vector<ColumnSpec> error_stats_columns() {
-    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
-                         kNum = ColumnType::number;
-    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
-    (void)kText;
-    (void)kInt;
-    (void)kKey;
+    using namespace column_decl;
     return {
         ColumnSpec{"err_mean", kNum, kMeasured, "mean texel error |e| over the finite samples"}
             .in("texel", "texels")

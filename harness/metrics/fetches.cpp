@@ -40,12 +40,7 @@ const Metric& fetches_metric() {
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
 std::vector<ColumnSpec> fetches_columns() {
-    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
-                         kNum = ColumnType::number;
-    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
-    (void)kText;
-    (void)kInt;
-    (void)kKey;
+    using namespace column_decl;
     return {
         ColumnSpec{"fetches_mean", kNum, kMeasured,
                    "filtered lookups (height map or precomputed map) per sample, mean"}

@@ -111,12 +111,7 @@ void apply_image_metrics(const ImageMetricInput& in, ResultRow& row) {
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
 std::vector<ColumnSpec> image_columns() {
-    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
-                         kNum = ColumnType::number;
-    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
-    (void)kText;
-    (void)kInt;
-    (void)kKey;
+    using namespace column_decl;
     return {
         ColumnSpec{"img_psnr_db", kNum, kMeasured,
                    "[render]: PSNR of its picture vs the truth's (dB; inf: =)"}

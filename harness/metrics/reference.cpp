@@ -19,13 +19,7 @@ void add_reference_columns(const ReferenceInfo& ref, ResultRow& row) {
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
 std::vector<ColumnSpec> reference_columns() {
-    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
-                         kNum = ColumnType::number;
-    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
-    (void)kText;
-    (void)kInt;
-    (void)kKey;
-    constexpr ColumnAxis kQuiet = ColumnAxis::quiet;
+    using namespace column_decl;
     return {
         ColumnSpec{"gt_on_filled", kNum, kMeasured,
                    "measured fields: fraction of true hits on a filled hole"}

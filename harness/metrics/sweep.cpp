@@ -61,12 +61,7 @@ std::vector<DistanceStep> distance_steps(const std::vector<CameraSetting>& setti
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
 std::vector<ColumnSpec> sweep_columns() {
-    constexpr ColumnType kText = ColumnType::text, kInt = ColumnType::integer,
-                         kNum = ColumnType::number;
-    constexpr ColumnRole kKey = ColumnRole::key, kMeasured = ColumnRole::measured;
-    (void)kText;
-    (void)kInt;
-    (void)kKey;
+    using namespace column_decl;
     return {
         ColumnSpec{"sliding", kNum, kMeasured, "|mean change of e| / dt (texels per degree)"}
             .in("sliding", "texels/degree")

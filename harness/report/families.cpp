@@ -130,6 +130,79 @@ FamilyData collect(const ReportData& d, const std::string& family,
 
 std::string key_header(const ColumnSpec* c) { return c->shown_as(); }
 
+// One headline column's table: a line per series (a setting's backends whose printed numbers
+// agree are one line, "cpu/float = glsl/r32f"), a column per band and all.
+TextTable family_table(const ReportData& d, const FamilyData& f, size_t ci,
+                       const std::vector<size_t>& bands) {
+    // The backend, precision and texture format as one "backend" cell; a setting's
+    // backends whose printed numbers agree are one line ("cpu/float = glsl/r32f").
+    const auto is_group = [](const ColumnSpec* k) {
+        return k->name == "backend" || k->name == "precision" || k->name == "texture_format";
+    };
+    TextTable t;
+    bool group_cell = false;
+    for (const ColumnSpec* k : f.keys) {
+        if (is_group(k)) {
+            if (!group_cell) t.header.push_back("backend");
+            if (!group_cell) t.align += 'l';
+            group_cell = true;
+            continue;
+        }
+        t.header.push_back(key_header(k));
+        t.align += 'l';
+    }
+    for (size_t b : bands) {
+        t.header.push_back(d.bands.label(b));
+        t.align += 'r';
+    }
+    t.header.push_back("all");
+    t.align += 'r';
+    struct Line {
+        std::vector<std::string> head, numbers;
+        std::string groups;
+    };
+    std::vector<Line> lines;
+    for (const Key& k : f.order) {
+        const auto& per_band = f.means.at(k);
+        Line l;
+        for (size_t i = 0; i < f.keys.size(); ++i)
+            if (!is_group(f.keys[i])) l.head.push_back(k.values[i].empty() ? "-" : k.values[i]);
+        l.groups = group_of(d.row(f.first.at(k)));
+        bool any = false;
+        for (size_t b : bands) {
+            auto it = per_band.find(b);
+            const double v = it == per_band.end() ? NAN : it->second[ci].get();
+            any = any || std::isfinite(v);
+            l.numbers.push_back(sig(v));
+        }
+        const double all = per_band.at(size_t(-1))[ci].get();
+        any = any || std::isfinite(all);
+        l.numbers.push_back(sig(all));
+        if (!any) continue;
+        auto same = std::find_if(lines.begin(), lines.end(), [&](const Line& o) {
+            return o.head == l.head && o.numbers == l.numbers;
+        });
+        if (group_cell && same != lines.end()) same->groups += " = " + l.groups;
+        else lines.push_back(l);
+    }
+    for (const Line& l : lines) {
+        std::vector<std::string> cells;
+        size_t h = 0;
+        bool grouped = false;
+        for (const ColumnSpec* k : f.keys) {
+            if (is_group(k)) {
+                if (!grouped) cells.push_back(l.groups);
+                grouped = true;
+            } else {
+                cells.push_back(l.head[h++]);
+            }
+        }
+        cells.insert(cells.end(), l.numbers.begin(), l.numbers.end());
+        t.rows.push_back(cells);
+    }
+    return t;
+}
+
 // FAMILY.md: one table per headline column, a line per series, a column per angle band and
 // all; FAMILY.csv: the same numbers, one line per series and band.
 void write_family(const ReportData& d, const FamilyData& f) {
@@ -166,72 +239,7 @@ void write_family(const ReportData& d, const FamilyData& f) {
         md << "## " << c.name << (unit.empty() ? "" : " (" + unit + ")") << "\n\n"
            << c.meaning << (c.better == Better::none ? "" : "; ") << better_text(c.better)
            << ".\n\n";
-        // The backend, precision and texture format as one "backend" cell; a setting's
-        // backends whose printed numbers agree are one line ("cpu/float = glsl/r32f").
-        const auto is_group = [](const ColumnSpec* k) {
-            return k->name == "backend" || k->name == "precision" || k->name == "texture_format";
-        };
-        TextTable t;
-        bool group_cell = false;
-        for (const ColumnSpec* k : f.keys) {
-            if (is_group(k)) {
-                if (!group_cell) t.header.push_back("backend");
-                if (!group_cell) t.align += 'l';
-                group_cell = true;
-                continue;
-            }
-            t.header.push_back(key_header(k));
-            t.align += 'l';
-        }
-        for (size_t b : bands) {
-            t.header.push_back(d.bands.label(b));
-            t.align += 'r';
-        }
-        t.header.push_back("all");
-        t.align += 'r';
-        struct Line {
-            std::vector<std::string> head, numbers;
-            std::string groups;
-        };
-        std::vector<Line> lines;
-        for (const Key& k : f.order) {
-            const auto& per_band = f.means.at(k);
-            Line l;
-            for (size_t i = 0; i < f.keys.size(); ++i)
-                if (!is_group(f.keys[i])) l.head.push_back(k.values[i].empty() ? "-" : k.values[i]);
-            l.groups = group_of(d.row(f.first.at(k)));
-            bool any = false;
-            for (size_t b : bands) {
-                auto it = per_band.find(b);
-                const double v = it == per_band.end() ? NAN : it->second[ci].get();
-                any = any || std::isfinite(v);
-                l.numbers.push_back(sig(v));
-            }
-            const double all = per_band.at(size_t(-1))[ci].get();
-            any = any || std::isfinite(all);
-            l.numbers.push_back(sig(all));
-            if (!any) continue;
-            auto same = std::find_if(lines.begin(), lines.end(), [&](const Line& o) {
-                return o.head == l.head && o.numbers == l.numbers;
-            });
-            if (group_cell && same != lines.end()) same->groups += " = " + l.groups;
-            else lines.push_back(l);
-        }
-        for (const Line& l : lines) {
-            std::vector<std::string> cells;
-            size_t h = 0;
-            bool grouped = false;
-            for (const ColumnSpec* k : f.keys) {
-                if (is_group(k)) {
-                    if (!grouped) cells.push_back(l.groups);
-                    grouped = true;
-                } else {
-                    cells.push_back(l.head[h++]);
-                }
-            }
-            cells.insert(cells.end(), l.numbers.begin(), l.numbers.end());
-            t.rows.push_back(cells);
-        }
+        const TextTable t = family_table(d, f, ci, bands);
         if (t.rows.empty()) continue;
         md << t.markdown() << "\n";
     }

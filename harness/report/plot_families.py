@@ -18,10 +18,8 @@ from plot_text import chars_for, ellipsize, fit, short_params, tick_text
 X_LABELS = {"theta_deg": "θ (degrees)"}
 
 
-def x_label(x, thetas):
-    if x in X_LABELS:
-        return X_LABELS[x]
-    return x + (" (mean over θ)" if thetas > 1 else "")
+def x_label(x):
+    return X_LABELS.get(x, x)
 
 
 def wrap_keys(panel, n):
@@ -109,7 +107,8 @@ def family_figure(F, entry, data_dir):
                     marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)], lw=1.0, ms=3,
                     alpha=0.9, zorder=3 + (len(lines) - k) * 0.01)
         if hidden:  # said in the panel: which lines lie under the one drawn
-            ax.text(0.02, 0.97, f"{hidden + 1} settings coincide: one line drawn",
+            ax.text(0.02, 0.97, (f"{hidden + 1} settings coincide: one line drawn"
+                                 if pw >= 3 else f"{hidden + 1} coincide"),
                     transform=ax.transAxes, fontsize=6, va="top", ha="left", color="0.35")
         title = ellipsize(col, n_chars)
         if panel:
@@ -137,19 +136,25 @@ def family_figure(F, entry, data_dir):
             theta_axis(ax, True)
         elif xs and min(xs) > 0 and max(xs) >= 10 * min(xs):  # radii, distances: decades
             ax.set_xscale("log")
+            ticks = sorted(set(xs))
+            if len(ticks) > 4:  # every value while they fit, else decades
+                ticks = log_ticks(min(xs), max(xs), 4)
+            ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
             ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
                 lambda v, _: tick_text(v)))
+            ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         last_row = i + nc >= len(cells)
         if last_row:
-            ax.set_xlabel(x_label(x, thetas))
+            ax.set_xlabel(x_label(x))
     handles = [mlines.Line2D([], [], color=PALETTE[k % len(PALETTE)],
                              marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)],
                              label=fit(label, F.width - 0.6, 7, 2))
                for k, (label, _) in enumerate(lines)]
     legend = F.legend(fig, handles)
     # the statistic, named as in every family figure: the mean over the rows at each x
-    fig.suptitle(fit(entry["title"] + "; each point: the mean over its rows", F.width - 0.2, 8,
-                     2), fontsize=8)
+    over = "" if x == "theta_deg" or thetas < 2 else f" (and over θ: x is {x})"
+    fig.suptitle(fit(entry["title"] + "; each point: the mean over its rows" + over,
+                     F.width - 0.2, 8, 3), fontsize=8)
     name = entry["family"] + "_vs_" + (x[:-4] if x.endswith("_deg") else x)
     F.save(fig, name, panels=[c[3] + " " + c[0] for c in cells],
            series=[label for label, _ in lines], legend=legend,

@@ -689,9 +689,10 @@ TEST_F(ReportFolder, ListsEveryFileEmptyCellsRelativeMaps) {
     }
     // summary x3, fields x3 (one field), legend x2, failed, sweep, precision, budget x2,
     // data x5 (maps: with the colour scale), manifest; the families present (texel, fetches,
-    // timing, sliding): families/F.md and .csv each, data/families/F_vs_theta_deg.csv but for
-    // timing (two units: no figure), and data/families/index.csv
-    EXPECT_EQ(files, 19u + 4 * 2 + 3 + 1);
+    // timing, sliding): families/F.md and .csv each, and data/families/index.csv, but no
+    // family figure's data: error_vs_theta and sweep_vs_theta draw texel and sliding against
+    // θ, fetches are flat in θ here, and timing is in two units
+    EXPECT_EQ(files, 19u + 4 * 2 + 1);
     for (const char* f : {"texel", "fetches", "timing", "sliding"})
         EXPECT_TRUE(fs::exists(rep / "families" / (std::string(f) + ".md"))) << f;
     EXPECT_TRUE(std::isnan(summary(rep, "pom layers=8 [glsl/r8]", "all", "time[ns/sample]")));
