@@ -247,20 +247,7 @@ def picture_groups(rows):
 
 
 def pictures(F, st, rows):
-    results = os.path.dirname(os.path.abspath(F.out))
-    views = {}
-    strips = {}
-    for r in rows:  # a montage per view (camera keys included: one truth each), a strip per
-        # field, azimuth, camera view and setting (its level mode: one strip each)
-        cam = r.get("camera_view", "")
-        if "montage" in r["picture_use"].split():  # a cut plane's own montage (its truth)
-            views.setdefault((r["heightfield"], r["theta_deg"], r["phi_deg"], cam,
-                              r.get("cut") or "", r.get("base") or "", r.get("radius") or ""),
-                             []).append(r)
-        if "strip" in r["picture_use"].split():
-            strips.setdefault((r["heightfield"], r["phi_deg"], cam, r.get("base") or "",
-                               r.get("radius") or "", setting(r)), []).append(r)
-    for v in views.values():
-        picture_montage(F, st, results, v)
-    for v in strips.values():
-        strip(F, st, results, v)
+    """Every montage and strip of the rows, drawn here (plot_report.py draws picture_jobs in
+    parallel instead)."""
+    for job in picture_jobs(F, st, rows):
+        job()
