@@ -64,15 +64,11 @@ std::vector<size_t> family_rows(const ReportData& d, const std::string& family,
         if (std::any_of(cols.begin(), cols.end(),
                         [&](const ColumnSpec* c) { return std::isfinite(d.row(r).num(c->name)); }))
             rows.push_back(r);
-    for (const ColumnSpec* c : row_axes()) {
-        if (c->can_change(family) || rows.empty()) continue;
-        const std::string first = d.row(rows.front()).cell(c->name);
-        std::vector<size_t> kept;
-        for (size_t r : rows)
-            if (d.row(r).cell(c->name) == first) kept.push_back(r);
-        if (kept.size() != rows.size())
-            held->push_back(c->shown_as() + " = " + (first.empty() ? "(none)" : first));
-        rows = std::move(kept);
+    std::vector<std::pair<std::string, std::string>> keys;
+    rows = d.held_rows(std::move(rows), family, &keys);
+    for (const auto& [name, value] : keys) {
+        const ColumnSpec* c = find_column(name);
+        held->push_back((c ? c->shown_as() : name) + " = " + (value.empty() ? "(none)" : value));
     }
     return rows;
 }

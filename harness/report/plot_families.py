@@ -34,6 +34,19 @@ def wrap_keys(panel, n):
     return "\n".join(out)
 
 
+def wrap_name(name, n):
+    """A column name on lines of at most n characters, broken after an "_" (never cut)."""
+    lines = [""]
+    for part in name.split("_"):
+        piece = part if not lines[-1] else "_" + part
+        if lines[-1] and len(lines[-1]) + len(piece) > n:
+            lines[-1] += "_"
+            lines.append(part)
+        else:
+            lines[-1] += piece
+    return "\n".join(lines)
+
+
 def split_line(line):
     """"pom layers=32;layers_min=off [cpu/float]" -> ("pom layers=32;layers_min=off",
     "cpu/float")."""
@@ -86,7 +99,6 @@ def family_figure(F, entry, data_dir):
     pw = F.width / nc
     thetas = max(int(num(r["thetas"]) or 1) for r in rows)
     n_chars = chars_for(0.7 * pw - 0.25, 8)  # the axes: the panel less its tick labels
-    axis_in = pw * 0.72 - 0.4  # the panel's height less its title lines
     for i, (ax, (col, unit, bt, panel)) in enumerate(zip(axes, cells)):
         values, shown = [], []  # shown: the point lists drawn in this panel
         hidden = 0
@@ -110,17 +122,19 @@ def family_figure(F, entry, data_dir):
             ax.text(0.02, 0.97, (f"{hidden + 1} settings coincide: one line drawn"
                                  if pw >= 3 else f"{hidden + 1} coincide"),
                     transform=ax.transAxes, fontsize=6, va="top", ha="left", color="0.35")
-        title = ellipsize(col, n_chars)
+        title = wrap_name(col, n_chars)  # wrapped at "_", never cut: the name tells panels apart
         if panel:
             title = wrap_keys(panel, n_chars) + "\n" + title
         ax.set_title(title, fontsize=8)
+        # the axes' height: the panel's less its title lines (8 pt) and the x tick labels
+        axis_in = max(0.3, pw * 0.72 - (title.count("\n") + 1) * 8 * 1.3 / 72 - 0.3)
         if unit:
             ax.set_ylabel(ellipsize(unit, chars_for(pw * 0.6, 7)), fontsize=7)
         if values and min(values) > 0 and max(values) >= 10 * min(values):
             ax.set_yscale("log")  # no zero to show: a log axis, ticks in 1-2-5 steps
             lo, hi = min(values) / 1.3, max(values) * 1.3
             ax.set_ylim(lo, hi)
-            ticks = log_ticks(lo, hi, max(2, int(axis_in * 72 / 20)))
+            ticks = log_ticks(lo, hi, max(2, int(axis_in * 72 / 24)))
             ax.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
             ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
                 lambda v, _: tick_text(v)))

@@ -86,6 +86,15 @@ double Acc::time_in(const std::string& unit) const {
     return t ? t->time.get() : NAN;
 }
 
+namespace {
+
+bool is_camera_key(const std::string& name) {
+    return std::any_of(camera_key_columns().begin(), camera_key_columns().end(),
+                       [&](const CameraKey& k) { return k.name == name; });
+}
+
+}  // namespace
+
 std::string ReportData::view_of(const ResultRow& r) const {
     std::string v;
     for (const std::string& k : context_keys) {
@@ -98,9 +107,7 @@ std::string ReportData::view_of(const ResultRow& r) const {
 std::string ReportData::tag_of(const ResultRow& r) const {
     std::string t = camera_name_part(r);
     for (const std::string& k : context_keys) {
-        if (std::any_of(camera_key_columns().begin(), camera_key_columns().end(),
-                        [&](const CameraKey& c) { return c.name == k; }))
-            continue;
+        if (is_camera_key(k)) continue;  // camera_name_part has them
         std::string c = r.cell(k);
         if (c.empty()) continue;
         for (char& ch : c)
@@ -147,9 +154,7 @@ ReportData::ReportData(const std::string& d, const ReportOptions& o)
 void ReportData::find_context() {
     for (const ColumnSpec* c : row_axes()) {
         if (!context_key(*c)) continue;
-        const bool camera_key =
-            std::any_of(camera_key_columns().begin(), camera_key_columns().end(),
-                        [&](const CameraKey& k) { return k.name == c->name; });
+        const bool camera_key = is_camera_key(c->name);
         std::set<std::string> values;
         for (size_t r : all_ok) values.insert(row(r).cell(c->name));
         const bool some = values.size() > 1 || !values.begin()->empty();
@@ -157,19 +162,22 @@ void ReportData::find_context() {
     }
 }
 
-void ReportData::filter_rows() {
-    std::vector<size_t> keep = all_ok;
+std::vector<size_t> ReportData::held_rows(
+    std::vector<size_t> rows, const std::string& family,
+    std::vector<std::pair<std::string, std::string>>* held) const {
     for (const ColumnSpec* c : row_axes()) {
-        if (c->can_change("texel")) continue;
+        if (c->can_change(family) || rows.empty()) continue;
+        const std::string first = row(rows.front()).cell(c->name);
         std::vector<size_t> kept;
-        const std::string first = keep.empty() ? "" : row(keep.front()).cell(c->name);
-        for (size_t r : keep)
+        for (size_t r : rows)
             if (row(r).cell(c->name) == first) kept.push_back(r);
-        if (kept.size() != keep.size()) filtered.emplace_back(c->name, first);
-        keep = std::move(kept);
+        if (kept.size() != rows.size()) held->emplace_back(c->name, first);
+        rows = std::move(kept);
     }
-    ok = std::move(keep);
+    return rows;
 }
+
+void ReportData::filter_rows() { ok = held_rows(all_ok, "texel", &filtered); }
 
 void ReportData::assign_bands() {
     size_t outside = 0;

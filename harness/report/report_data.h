@@ -132,6 +132,11 @@ struct ReportData {
     // precision / texture format of that backend, else the whole group ("glsl/r16").
     std::string short_group(const std::string& group) const;
 
+    // `rows` less those of a key that cannot change `family` (ColumnSpec::affects) at any but
+    // its first value; each key so held and its value appended to `held`.
+    std::vector<size_t> held_rows(std::vector<size_t> rows, const std::string& family,
+                                  std::vector<std::pair<std::string, std::string>>* held) const;
+
   private:
     void find_context();
     void filter_rows();
