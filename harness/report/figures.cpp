@@ -130,8 +130,8 @@ void vs_theta(const ReportData& d) {
 }
 
 // data/vs_distance.csv, when some row has a camera distance and the run has more than one:
-// texel and pixel error against the eye's distance per field, view angle and series (means
-// over phi and fov_deg).
+// texel and pixel error (p50 and p95, the statistics error_vs_theta draws) against the eye's
+// distance per field, view angle and series (means over phi and fov_deg).
 void vs_distance(const ReportData& d) {
     std::set<double> distances;
     for (size_t i : d.ok)
@@ -150,15 +150,15 @@ void vs_distance(const ReportData& d) {
             first[key] = i;
         }
         auto& a = acc[key];
-        a[0].add(r.num("err_mean"));
+        a[0].add(r.num("err_p50"));
         a[1].add(r.num("err_p95"));
-        a[2].add(r.num("err_px_mean"));
+        a[2].add(r.num("err_px_p50"));
         a[3].add(r.num("err_px_p95"));
         a[4].add(r.num("lod_mean"));
     }
     std::ostringstream o;
     o << "heightfield,theta_deg,series," << kKeyHeader
-      << ",distance,err_mean,err_p95,err_px_mean,err_px_p95,lod_mean\n";
+      << ",distance,err_p50,err_p95,err_px_p50,err_px_p95,lod_mean\n";
     for (const auto& k : order) {
         const auto& a = acc[k];
         o << csv_quote(std::get<0>(k)) << "," << csv_num(std::get<1>(k)) << ","

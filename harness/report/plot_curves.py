@@ -309,7 +309,7 @@ def distance_axis(ax, distances, show_labels, width_in):
 def vs_distance(F, st, rows):
     """error_vs_distance_FIELD: texel error (top row) and pixel error (bottom row) against the
     eye's distance, a column per view angle; one figure per field (named by it, as the error
-    maps and pictures are), means and p95 as in vs_theta."""
+    maps and pictures are), p50 and p95 as in vs_theta."""
     if not rows:
         return
     fields = list(dict.fromkeys(r["heightfield"] for r in rows))
@@ -342,10 +342,10 @@ def vs_distance_field(F, st, rows, name):
     fig, grid = plt.subplots(nr, nc, figsize=(F.width, ph * nr + 0.35), squeeze=False,
                              constrained_layout=True)
     folded_all, series, panels, y_ticks = {}, 0, 0, {}
-    quantities = (("err_mean", "err_p95", "texel error", 0.01),
-                  ("err_px_mean", "err_px_p95", "pixel error", 0.01))
+    quantities = (("err_p50", "err_p95", "texel error", 0.01),
+                  ("err_px_p50", "err_px_p95", "pixel error", 0.01))
     for f, field in enumerate(fields):
-        for q, (mean, p95, label, lin) in enumerate(quantities):
+        for q, (p50, p95, label, lin) in enumerate(quantities):
             for c, theta in enumerate(thetas):
                 ax = grid[2 * f + q][c]
                 per = {}
@@ -353,7 +353,7 @@ def vs_distance_field(F, st, rows, name):
                     if r["heightfield"] != field or num(r["theta_deg"]) != theta:
                         continue
                     x = num(r["distance"])
-                    vals = (num(r[mean]), num(r[p95]))
+                    vals = (num(r[p50]), num(r[p95]))
                     if x is None or all(v is None for v in vals):
                         continue
                     per.setdefault(setting(r), {}).setdefault(group(r), {})[x] = vals
@@ -362,7 +362,7 @@ def vs_distance_field(F, st, rows, name):
                 series += n
                 panels += 1
                 vals = [num(r[k]) for r in rows if r["heightfield"] == field
-                        for k in (mean, p95)]
+                        for k in (p50, p95)]
                 lin_q = linthresh_of(vals, lin)
                 top = top_of([num(r[p95]) for r in rows if r["heightfield"] == field], lin_q)
                 error_axis(ax, lin_q, top, ph)
@@ -379,7 +379,7 @@ def vs_distance_field(F, st, rows, name):
                 if last and c == nc // 2:  # one label under the middle column
                     ax.set_xlabel("eye distance (tiles)")
     handles = [st.handle(s) for s in st.order if s in folded_all] + group_handles(folded_all)
-    handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="mean"),
+    handles += [mlines.Line2D([], [], color="0.3", lw=1.1, marker="o", label="p50"),
                 mlines.Line2D([], [], color="0.3", lw=0.7, marker="o", mfc="white",
                               label="p95")]
     field_note = f"field: {fields[0]}" if len(fields) == 1 else common

@@ -5,8 +5,10 @@ import math
 import os
 import sys
 
+import matplotlib
 import matplotlib.image as mpimg
 import numpy as np
+from matplotlib.patches import Rectangle
 
 from plot_files import inside, num, safe
 from plot_text import ellipsize, fit, metrics_text, view_tag, view_title
@@ -44,30 +46,61 @@ def fold_pictures(results, rows):
     return out
 
 
-def show(ax, img):
-    ax.set_xticks([])
-    ax.set_yticks([])
-    for sp in ax.spines.values():
-        sp.set_linewidth(0.3)
-    if img is not None:
-        ax.imshow(img, interpolation="nearest")
+class Tile:
+    """A square image slot of an image_grid figure, in inches on the figure's one canvas axes
+    (one Axes per figure, not one per tile: a montage of 40 tiles would pay 40 axes' set-up,
+    layout and tight-box passes, most of its drawing time)."""
+
+    def __init__(self, ax, x, y, side):
+        self.ax, self.x, self.y, self.side = ax, x, y, side
+
+    def show(self, img):
+        """The image, nearest-neighbour, in a thin frame (a missing picture: the frame only)."""
+        if img is not None:
+            self.ax.imshow(img, interpolation="nearest", aspect="auto",
+                           extent=(self.x, self.x + self.side, self.y, self.y + self.side))
+        self.ax.add_patch(Rectangle((self.x, self.y), self.side, self.side, fill=False, lw=0.3,
+                                    ec="black"))
+
+    def title(self, text, fontsize):
+        """Above the tile, as an axes title sits (axes.titlepad points above it)."""
+        pad = matplotlib.rcParams["axes.titlepad"] / 72
+        self.ax.text(self.x + self.side / 2, self.y + self.side + pad, text, fontsize=fontsize,
+                     ha="center", va="bottom")
+
+    def below(self, text, drop, **kw):
+        """Centred under the tile, its top `drop` tile sides below the tile's lower edge."""
+        self.ax.text(self.x + self.side / 2, self.y - drop * self.side, text, ha="center",
+                     va="top", **kw)
+
+    def ylabel(self, text, fontsize, pad_pt=2):
+        """Left of the tile, turned a quarter, as an axes' y label sits."""
+        self.ax.text(self.x - pad_pt / 72, self.y + self.side / 2, text, fontsize=fontsize,
+                     rotation=90, rotation_mode="anchor", ha="center", va="bottom")
 
 
 def image_grid(width, ncols, pads, bottom, left=0.0):
-    """A figure of square image axes, ncols wide: pads[i] inches above row i (titles, labels),
+    """A figure of square image tiles, ncols wide: pads[i] inches above row i (titles, labels),
     `bottom` inches below the last row, `left` inches for row labels; exact positions, so the
-    images fill the width with no empty band."""
-    gap, margin = 0.04, 0.03  # margin: each side, so spines and labels stay inside the width
+    images fill the width with no empty band. Returns the figure and its tiles per row."""
+    gap, margin = 0.04, 0.03  # margin: each side, so frames and labels stay inside the width
     left += margin
     cell = (width - left - margin - (ncols - 1) * gap) / ncols
     height = sum(pads) + len(pads) * cell + bottom
     fig = plt.figure(figsize=(width, height))
-    axes, y = [], height
+    # the canvas spans the tiles only (its box is part of the saved tight box): data units are
+    # the figure's inches
+    x1, y0, y1 = width - margin, bottom, height - pads[0]
+    ax = fig.add_axes([left / width, y0 / height, (x1 - left) / width, (y1 - y0) / height])
+    ax.set_xlim(left, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_autoscale_on(False)
+    ax.axis("off")
+    tiles, y = [], height
     for pad in pads:
         y -= pad + cell
-        axes.append([fig.add_axes([(left + j * (cell + gap)) / width, y / height, cell / width,
-                                   cell / height]) for j in range(ncols)])
-    return fig, axes
+        tiles.append([Tile(ax, left + j * (cell + gap), y, cell) for j in range(ncols)])
+    return fig, tiles
 
 
 def curved(r):
@@ -132,22 +165,17 @@ def picture_montage(F, st, results, rows):
     pads = [p for k in range(blocks) for p in (
         ((title.count("\n") + 1) * line(7) + 0.06 if k == 0 else 2 * line(5.5) + 0.08) +
         lines_in(k) * line(6.5) + 0.06, 0.03)]
-    fig, axes = image_grid(F.width, nc, pads, 0.3)
-    for ax in (a for row in axes for a in row):
-        ax.axis("off")
+    fig, tiles = image_grid(F.width, nc, pads, 0.3)
     for k, (s, gs, r) in enumerate(cells):
-        top, bottom = axes[2 * (k // nc)][k % nc], axes[2 * (k // nc) + 1][k % nc]
-        top.axis("on")
+        top, bottom = tiles[2 * (k // nc)][k % nc], tiles[2 * (k // nc) + 1][k % nc]
         if s is None:
-            show(top, load(results, r["picture_truth"]))
-            top.set_title("truth (ray traced)", fontsize=6.5)
+            top.show(load(results, r["picture_truth"]))
+            top.title("truth (ray traced)", fontsize=6.5)
             continue
-        bottom.axis("on")
-        show(top, load(results, r["picture"]))
-        show(bottom, load(results, r["picture_diff"]))
-        top.set_title(names[k], fontsize=6)
-        bottom.text(0.5, -0.03, metrics_text(r).replace(", ", "\n"), fontsize=5.5,
-                    ha="center", va="top", transform=bottom.transAxes)
+        top.show(load(results, r["picture"]))
+        bottom.show(load(results, r["picture_diff"]))
+        top.title(names[k], fontsize=6)
+        bottom.below(metrics_text(r).replace(", ", "\n"), 0.03, fontsize=5.5)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
                 + (r0.get("camera_tag") or "")
@@ -170,22 +198,22 @@ def strip(F, st, results, rows):
                 "); under each: PSNR dB, SSIM", F.width, 7, 3)
     # above the tiles: the title's lines (7 pt) and the θ heads (6 pt); 0.45 in for two lines
     top = max(0.45, (title.count("\n") + 1) * 7 * 1.25 / 72 + 6 * 1.25 / 72 + 0.1)
-    fig, axes = image_grid(F.width, n, [top, 0.03, 0.03], 0.3, left=0.3)
+    fig, tiles = image_grid(F.width, n, [top, 0.03, 0.03], 0.3, left=0.3)
     for j, r in enumerate(rows):
         for i, key in enumerate(("picture_truth", "picture", "picture_diff")):
-            show(axes[i][j], load(results, r[key]))
+            tiles[i][j].show(load(results, r[key]))
         cell = (F.width - 0.3) / n
-        axes[0][j].set_title(fit(f"θ = {num(r['theta_deg']):g}°", cell, 6, 1), fontsize=6)
+        tiles[0][j].title(fit(f"θ = {num(r['theta_deg']):g}°", cell, 6, 1), fontsize=6)
         # PSNR over SSIM, alternate tiles a line lower when tiles are too narrow for them
         low = cell < 0.62 and j % 2 == 1
-        axes[2][j].text(0.5, -0.03 - (0.42 if low else 0), metrics_text(r).replace(", ", "\n")
-                        .replace("PSNR ", "").replace("SSIM ", ""), fontsize=5 if cell < 0.62
-                        else 5.5, ha="center", va="top", transform=axes[2][j].transAxes)
-    side = axes[0][0].get_position().height * fig.get_figheight()
+        tiles[2][j].below(metrics_text(r).replace(", ", "\n").replace("PSNR ", "")
+                          .replace("SSIM ", ""), 0.03 + (0.42 if low else 0),
+                          fontsize=5 if cell < 0.62 else 5.5)
+    side = tiles[0][0].side
     small = side < 0.6
     for i, lab in enumerate(("truth", st.labels[s], "|diff.|" if small else "|difference|")):
-        axes[i][0].set_ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
-                              fontsize=5 if small else 6, labelpad=2)
+        tiles[i][0].ylabel(fit(lab, side, 5 if small else 6, 3 if small else 2),
+                           fontsize=5 if small else 6)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}"
                 + (f"_{r0['base']}R{num(r0['radius']):g}" if curved(r0) else ""))
@@ -213,7 +241,10 @@ def animate(F, results, rows, name, what):
         text = ellipsize(text, img.width // 6).replace("…", "...")
         text = text.encode("latin-1", "replace").decode("latin-1")
         ImageDraw.Draw(canvas).text((4, 2), text, fill="black")
-        frames.append(canvas)
+        # a GIF frame's palette by fast octree, not Pillow's default median cut at save (a
+        # third of a strip's time); the pictures hold far fewer than 256 colours either way
+        frames.append(canvas.quantize(256, method=Image.Quantize.FASTOCTREE,
+                                      dither=Image.Dither.NONE))
     path = os.path.join(F.out, name + ".gif")
     F.own.write(name + ".gif", lambda f: frames[0].save(
         f, format="GIF", save_all=True, append_images=frames[1:], duration=900, loop=0))

@@ -120,28 +120,125 @@ int march_kmax(const MarchConfig& c, T n) {
     return c.first == MarchConfig::FirstSample ? k : std::max(k, 1);
 }
 
+// The offset search: one fetch at P (z_m: the surface at uv, MethodHit::z NaN).
+template <typename T>
+MethodHit<T> march_offset(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs, Vec2<T> P,
+                          Vec2<T> d) {
+    const T z = hs.z(P);
+    switch (c.offset_form) {
+        case MarchConfig::OffSin:
+            return {P + d * z};
+        case MarchConfig::OffSoft:
+            return {P + d * (z / (sc.V.z + T(c.offset_soften)))};
+        case MarchConfig::OffSinCos:
+            return {P + d * (z * sc.V.z)};
+        default:
+            return {P + d * (z / sc.V.z)};
+    }
+}
+
+// The layered search's line: layer position x lies at uv0 + duv x, on the ray at depth
+// z0 - dz x; the sign test g against the surface sample zs, `lag` layers behind.
+template <typename T>
+struct MarchLine {
+    const MarchConfig& c;
+    Vec2<T> uv0, duv;
+    T z0, dz, n, s, b, lag;
+    Vec2<T> uv_at(T x) const { return uv0 + duv * x; }
+    T ray_z(T x) const { return z0 - dz * x; }
+    // An answer that is a layer position (clamp_depth: inside the slab).
+    MethodHit<T> answer(T x) const {
+        const T xc = c.clamp_depth ? std::clamp(x, T(0), n) : x;
+        return MethodHit<T>{uv_at(xc), ray_z(xc)};
+    }
+    T g_of(T x, T zs) const { return ray_z(x - lag) - zs; }
+    bool hit(T g) const { return c.compare == MarchConfig::Lt ? g < T(0) : g <= T(0); }
+};
+
+// Where the search stopped: layer k, its sample zs and the layer before's (if fetched).
+template <typename T>
+struct MarchStop {
+    int k = 0;
+    T zs = T(0), zs_prev = T(0);
+    bool has_prev = false;
+};
+
+template <typename T>
+MethodHit<T> march_lerp(const MarchLine<T>& L, HeightSampler<T>& hs, MarchStop<T> st, T gk) {
+    const int k = st.k;
+    if (!st.has_prev || L.c.refetch) st.zs_prev = hs.z(L.uv_at(T(k - 1)));
+    const T gp = L.g_of(T(k - 1), st.zs_prev);
+    const T denom = gk - gp;
+    T w = gk / denom;
+    if (L.c.clamp_weight) {
+        if (!(denom < T(0))) return {L.uv_at(T(k)), L.ray_z(T(k))};
+        w = std::clamp(w, T(0), T(1));
+    }
+    return {L.uv_at(T(k - 1)) * w + L.uv_at(T(k)) * (T(1) - w),
+            L.ray_z(T(k - 1)) * w + L.ray_z(T(k)) * (T(1) - w)};
+}
+
+template <typename T>
+MethodHit<T> march_bisect(const MarchLine<T>& L, HeightSampler<T>& hs, int k, T gk) {
+    T x = T(k), step = T(1), g = gk;
+    for (int i = 0; i <= L.c.iterations; ++i) {
+        step = step * T(0.5);
+        if (g > T(0)) x = x + step;
+        else if (g < T(0) || L.c.tie == MarchConfig::TieBack) x = x - step;
+        if (i < L.c.iterations) g = L.g_of(x, hs.z(L.uv_at(x)));
+    }
+    if (L.c.probe_last) (void)hs.z(L.uv_at(x));
+    return L.answer(x);
+}
+
+template <typename T>
+MethodHit<T> march_secant(const MarchLine<T>& L, HeightSampler<T>& hs, MarchStop<T> st, T gk) {
+    const int k = st.k;
+    const T s = L.s, b = L.b;
+    if (!st.has_prev) st.zs_prev = hs.z(L.uv_at(T(k - 1)));
+    const T xp = T(k - 1) - L.lag, xk = T(k) - L.lag;  // the ray depths the search compared
+    T r0 = L.ray_z(xp) / s + b, d0 = L.g_of(T(k - 1), st.zs_prev) / s;
+    T r1 = L.ray_z(xk) / s + b, d1 = gk / s;
+    T x = T(k);
+    for (int i = 0; i < L.c.iterations; ++i) {
+        const T ih = (r0 * d1 - r1 * d0) / (d1 - d0);
+        x = (L.z0 - s * (ih - b)) / L.dz;
+        const T delta = ih - hs.height(L.uv_at(x));
+        if (std::abs(delta) <= T(L.c.tolerance)) break;
+        if (delta < T(0)) {
+            r1 = ih;
+            d1 = delta;
+        } else {
+            r0 = ih;
+            d0 = delta;
+        }
+    }
+    return L.answer(x);
+}
+
+template <typename T>
+MethodHit<T> march_contact(const MarchLine<T>& L, HeightSampler<T>& hs, MarchStop<T> st) {
+    const T base = T(st.k - 1), sub = T(1) / L.n;
+    if (!st.has_prev) st.zs_prev = hs.z(L.uv_at(base));
+    T x = base, g = L.g_of(base, st.zs_prev);
+    const int jmax = march_kmax(MarchConfig{}, L.n) + 1;
+    for (int j = 1; !L.hit(g) && j <= jmax; ++j) {
+        x = base + sub * T(j);
+        g = L.g_of(x, hs.z(L.uv_at(x)));
+    }
+    return L.answer(x);
+}
+
 // The search and its refinement (the knobs up to tolerance); march() below adds what the
 // engines do around it. The layered search hands back its answer's height on its own line
 // (z = z0 - dz x at the answer's layer position x: the layer's, or the refined one's); the
-// offset search is one fetch (z_m: the surface at uv, MethodHit::z NaN).
+// offset search is one fetch (march_offset).
 template <typename T>
 MethodHit<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSampler<T>& hs,
                           Vec2<T> P) {
     Vec2<T> d = sc.V.xy();
     if (c.mirror_v) d.y = -d.y;
-    if (c.search == MarchConfig::Offset) {
-        const T z = hs.z(P);
-        switch (c.offset_form) {
-            case MarchConfig::OffSin:
-                return {P + d * z};
-            case MarchConfig::OffSoft:
-                return {P + d * (z / (sc.V.z + T(c.offset_soften)))};
-            case MarchConfig::OffSinCos:
-                return {P + d * (z * sc.V.z)};
-            default:
-                return {P + d * (z / sc.V.z)};
-        }
-    }
+    if (c.search == MarchConfig::Offset) return march_offset(c, sc, hs, P, d);
     const T s = sc.scale, b = sc.bias;
     d = march_direction(c, sc);
     const T texels =
@@ -150,104 +247,44 @@ MethodHit<T> march_search(const MarchConfig& c, const Scene<T>& sc, HeightSample
             : T(0);
     const T n = march_layer_count(c, sc, texels);
     const T dz = s / n;
-    const Vec2<T> duv = d * (-dz);
     const T z0 = sc.z_top();
-    const Vec2<T> uv0 = P + d * z0;
-    auto uv_at = [&](T x) { return uv0 + duv * x; };
-    // The uv of an answer that is a layer (clamp_depth: inside the slab).
-    auto ray_z = [&](T x) { return z0 - dz * x; };
-    auto answer = [&](T x) {
-        const T xc = c.clamp_depth ? std::clamp(x, T(0), n) : x;
-        return MethodHit<T>{uv_at(xc), ray_z(xc)};
-    };
-    T lag = c.lag ? T(1) : T(0);
-    auto g_of = [&](T x, T zs) { return ray_z(x - lag) - zs; };
-    auto hit = [&](T g) { return c.compare == MarchConfig::Lt ? g < T(0) : g <= T(0); };
+    MarchLine<T> L{c, P + d * z0, d * (-dz), z0, dz, n, s, b, c.lag ? T(1) : T(0)};
     const int kmax = march_kmax(c, n);
 
-    int k = 0;
-    T zs = T(0), zs_prev = T(0);
-    bool has_prev = false;
+    MarchStop<T> st;
     if (c.first == MarchConfig::FirstSample) {
-        zs = hs.z(uv0);
+        st.zs = hs.z(L.uv0);
     } else {
-        zs_prev = s * ((c.first == MarchConfig::FirstTop ? T(1) : T(0)) - b);
-        has_prev = true;
-        k = 1;
-        zs = hs.z(uv_at(T(1)));
+        st.zs_prev = s * ((c.first == MarchConfig::FirstTop ? T(1) : T(0)) - b);
+        st.has_prev = true;
+        st.k = 1;
+        st.zs = hs.z(L.uv_at(T(1)));
     }
-    while (!hit(g_of(T(k), zs)) && k < kmax) {
-        ++k;
-        zs_prev = zs;
-        has_prev = true;
-        zs = hs.z(uv_at(T(k)));
+    while (!L.hit(L.g_of(T(st.k), st.zs)) && st.k < kmax) {
+        ++st.k;
+        st.zs_prev = st.zs;
+        st.has_prev = true;
+        st.zs = hs.z(L.uv_at(T(st.k)));
     }
-    if (!hit(g_of(T(k), zs))) {
-        if (c.on_miss == MarchConfig::MissLast) return answer(T(k));
-        if (c.on_miss == MarchConfig::MissNext) return answer(T(k + 1));
-        lag = T(0);
+    if (!L.hit(L.g_of(T(st.k), st.zs))) {
+        if (c.on_miss == MarchConfig::MissLast) return L.answer(T(st.k));
+        if (c.on_miss == MarchConfig::MissNext) return L.answer(T(st.k + 1));
+        L.lag = T(0);
     }
-    if (c.refine == MarchConfig::RefineNone) return answer(T(k));
-    if (k == 0 && !c.refine_at_k0) return answer(T(0));
-    const T gk = g_of(T(k), zs);
+    if (c.refine == MarchConfig::RefineNone) return L.answer(T(st.k));
+    if (st.k == 0 && !c.refine_at_k0) return L.answer(T(0));
+    const T gk = L.g_of(T(st.k), st.zs);
     switch (c.refine) {
-        case MarchConfig::Lerp: {
-            if (!has_prev || c.refetch) zs_prev = hs.z(uv_at(T(k - 1)));
-            const T gp = g_of(T(k - 1), zs_prev);
-            const T denom = gk - gp;
-            T w = gk / denom;
-            if (c.clamp_weight) {
-                if (!(denom < T(0))) return {uv_at(T(k)), ray_z(T(k))};
-                w = std::clamp(w, T(0), T(1));
-            }
-            return {uv_at(T(k - 1)) * w + uv_at(T(k)) * (T(1) - w),
-                    ray_z(T(k - 1)) * w + ray_z(T(k)) * (T(1) - w)};
-        }
-        case MarchConfig::Bisect: {
-            T x = T(k), step = T(1), g = gk;
-            for (int i = 0; i <= c.iterations; ++i) {
-                step = step * T(0.5);
-                if (g > T(0)) x = x + step;
-                else if (g < T(0) || c.tie == MarchConfig::TieBack) x = x - step;
-                if (i < c.iterations) g = g_of(x, hs.z(uv_at(x)));
-            }
-            if (c.probe_last) (void)hs.z(uv_at(x));
-            return answer(x);
-        }
-        case MarchConfig::Secant: {
-            if (!has_prev) zs_prev = hs.z(uv_at(T(k - 1)));
-            const T xp = T(k - 1) - lag, xk = T(k) - lag;  // the ray depths the search compared
-            T r0 = ray_z(xp) / s + b, d0 = g_of(T(k - 1), zs_prev) / s;
-            T r1 = ray_z(xk) / s + b, d1 = gk / s;
-            T x = T(k);
-            for (int i = 0; i < c.iterations; ++i) {
-                const T ih = (r0 * d1 - r1 * d0) / (d1 - d0);
-                x = (z0 - s * (ih - b)) / dz;
-                const T delta = ih - hs.height(uv_at(x));
-                if (std::abs(delta) <= T(c.tolerance)) break;
-                if (delta < T(0)) {
-                    r1 = ih;
-                    d1 = delta;
-                } else {
-                    r0 = ih;
-                    d0 = delta;
-                }
-            }
-            return answer(x);
-        }
-        case MarchConfig::Contact: {
-            const T base = T(k - 1), sub = T(1) / n;
-            if (!has_prev) zs_prev = hs.z(uv_at(base));
-            T x = base, g = g_of(base, zs_prev);
-            const int jmax = march_kmax(MarchConfig{}, n) + 1;
-            for (int j = 1; !hit(g) && j <= jmax; ++j) {
-                x = base + sub * T(j);
-                g = g_of(x, hs.z(uv_at(x)));
-            }
-            return answer(x);
-        }
+        case MarchConfig::Lerp:
+            return march_lerp(L, hs, st, gk);
+        case MarchConfig::Bisect:
+            return march_bisect(L, hs, st.k, gk);
+        case MarchConfig::Secant:
+            return march_secant(L, hs, st, gk);
+        case MarchConfig::Contact:
+            return march_contact(L, hs, st);
         default:
-            return answer(T(k));
+            return L.answer(T(st.k));
     }
 }
 

@@ -269,7 +269,7 @@ TEST_F(PlotScript, CostFiguresPerCameraView) {
 TEST_F(PlotScript, ErrorVsDistanceNamedByFieldAndTickedToItsValues) {
     std::string csv =
         "heightfield,theta_deg,series,method,params,backend,precision,texture_format,distance,"
-        "err_mean,err_p95,err_px_mean,err_px_p95,lod_mean\n";
+        "err_p50,err_p95,err_px_p50,err_px_p95,lod_mean\n";
     for (const char* f : {"bricks s=0.05 b=1", "fbm s=0.05 b=1"})
         for (const char* th : {"30", "60"})
             for (const auto& [d, px] : std::vector<std::pair<const char*, const char*>>{
