@@ -36,9 +36,10 @@ std::vector<ColumnSpec> run_columns() {
         {"base", kText, kKey,
          "the base surface the field displaces: plane | cylinder | sphere (empty: the plane)",
          kNamed},
-        {"radius", kNum, kKey, "curved bases: the radius R (tiles)", kNamed, "R"},
-        {"theta_deg", kNum, kKey, "view angle from the normal (degrees)", kNamed, "theta"},
-        {"phi_deg", kNum, kKey, "view azimuth (degrees)", kNamed, "phi"},
+        {"radius", kNum, kKey, "curved bases: the radius R (tiles)", kNamed, "R", "", "tiles"},
+        {"theta_deg", kNum, kKey, "view angle from the normal (degrees)", kNamed, "theta", "",
+         "degrees"},
+        {"phi_deg", kNum, kKey, "view azimuth (degrees)", kNamed, "phi", "", "degrees"},
         {"samples", kInt, kKey,
          "samples per side: the N x N grid, or the N x N pixels measured of a camera's image",
          kQuiet},
@@ -177,7 +178,9 @@ struct Registry {
                 for (const CameraEntry& cam : camera_registry())
                     for (const CameraKey& k : cam.keys) {
                         if (ids.count(k.name)) continue;  // two cameras may share a key
-                        add({k.name, kNum, kKey, k.meaning, kNamed}, order.size());
+                        ColumnSpec spec{k.name, kNum, kKey, k.meaning, kNamed};
+                        spec.unit = k.unit;
+                        add(spec, order.size());
                         camera_keys.push_back(k);
                     }
         }

@@ -301,8 +301,10 @@ std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f,
     if (!theta_drawn_elsewhere) xs.push_back("theta_deg");
     for (const ColumnSpec* c : f.keys) {
         if (!c->numeric()) continue;
-        std::set<double> v;
-        for (size_t r : f.rows) v.insert(d.row(r).num(c->name));
+        std::set<double> v;  // the key's values (NaN, a plane's radius, is no value: in a
+                             // std::set it would compare equal to every later one)
+        for (size_t r : f.rows)
+            if (std::isfinite(d.row(r).num(c->name))) v.insert(d.row(r).num(c->name));
         if (v.size() >= 3) xs.push_back(c->name);
     }
     std::vector<Figure> figures;
@@ -314,6 +316,7 @@ std::vector<Figure> write_figure_data(const ReportData& d, const FamilyData& f,
         std::vector<PKey> order;
         for (size_t r : f.rows) {
             const ResultRow& row = d.row(r);
+            if (!std::isfinite(row.num(x))) continue;  // no value of x (a plane's radius)
             // line: the setting (method, params) and its backend group; panel: every other
             // key that varies (lod, depth, cut too: a figure keeps one line per setting and
             // backend, so its legend stays readable)
@@ -374,7 +377,7 @@ void write_families(const ReportData& d) {
     report_folder(d.out, "families");
     report_folder(d.out, "data/families");
     std::ostringstream index;
-    index << "family,title,x,file,columns,units,better\n";
+    index << "family,title,x,x_unit,file,columns,units,better\n";
     for (const std::string& name : names) {
         std::vector<const ColumnSpec*> cols;
         for (const ColumnSpec* c : result_column_specs())
@@ -406,7 +409,8 @@ void write_families(const ReportData& d) {
             continue;
         for (const Figure& fig : write_figure_data(d, f, drawn_elsewhere(name)))
             index << csv_quote(name) << "," << csv_quote(family_title(name)) << ","
-                  << csv_quote(fig.x) << "," << csv_quote(fig.file) << "," << csv_quote(columns)
+                  << csv_quote(fig.x) << "," << csv_quote(find_column(fig.x) ? find_column(fig.x)->unit : "") << ","
+                  << csv_quote(fig.file) << "," << csv_quote(columns)
                   << "," << csv_quote(units) << "," << csv_quote(better) << "\n";
     }
     d.write("data/families/index.csv", index.str());

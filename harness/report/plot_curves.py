@@ -118,7 +118,10 @@ def error_axis(ax, linthresh, top, height_in):
     ticks = [0.0] + decade_ticks(linthresh, top, max_n - 1)  # linthresh's decade labelled
     ax.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
     ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: tick_text(v)))
-    ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+    # every decade marked, labelled or not (a label per decade does not fit a small panel;
+    # without the marks two decades read as a linear axis)
+    ax.yaxis.set_minor_locator(matplotlib.ticker.FixedLocator(decade_ticks(linthresh, top, 100)))
+    ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.grid(True, which="major", alpha=0.3, lw=0.4)
 
 

@@ -4,6 +4,7 @@ data/families/index.csv (harness/report/families.cpp): a panel per headline colu
 line per series, the same statistic named on every axis: the mean over the rows at each x of
 the per-row column. Families, columns, units and views come from the data alone: a family a
 component brings is drawn without a line here."""
+import math
 import os
 
 import matplotlib.ticker
@@ -11,15 +12,32 @@ import matplotlib.ticker
 import matplotlib.lines as mlines
 
 from plot_files import num, read
-from plot_figures import MARKERS, PALETTE, plt
-from plot_curves import close, error_axis, linthresh_of, log_ticks, theta_axis, top_of
+from plot_figures import GROUP_STYLES, MARKERS, PALETTE, REL_TOL, plt
+from plot_curves import error_axis, linthresh_of, log_ticks, theta_axis, top_of
 from plot_text import chars_for, ellipsize, fit, short_params, tick_text
 
-X_LABELS = {"theta_deg": "θ (degrees)"}
+X_LABELS = {"theta_deg": "θ"}
 
 
-def x_label(x):
-    return X_LABELS.get(x, x)
+def x_label(x, unit):
+    """The key's name (θ for theta_deg) and its unit from the key registry (index.csv)."""
+    return X_LABELS.get(x, x) + (f" ({unit})" if unit else "")
+
+
+def same(a, b):
+    """Two points agree: within REL_TOL of each other, relatively only (the families' axes are
+    logarithmic: 2e-8 and 7e-8 are two values, not one), or both missing."""
+    if a is None or b is None:
+        return a is None and b is None
+    return a == b or abs(a - b) <= REL_TOL * max(abs(a), abs(b))
+
+
+def nice_125(v, up):
+    """The 1-2-5 value (1, 2, 5 times a power of ten) next to v > 0, above it (up) or below."""
+    e = math.floor(math.log10(v))
+    steps = [m * 10.0 ** k for k in (e - 1, e, e + 1) for m in (1, 2, 5)]
+    return min(s for s in steps if s >= v * (1 - 1e-9)) if up else max(
+        s for s in steps if s <= v * (1 + 1e-9))
 
 
 def wrap_keys(panel, n):
@@ -66,7 +84,7 @@ def fold_groups(rows, cols):
         setting, group = split_line(line)
         for d in drawn:
             if d[0] == setting and points[d[2]].keys() == pts.keys() and all(
-                    close(a, b) for k in pts for a, b in zip(pts[k], points[d[2]][k])):
+                    same(a, b) for k in pts for a, b in zip(pts[k], points[d[2]][k])):
                 d[1].append(group)
                 break
         else:
@@ -75,11 +93,27 @@ def fold_groups(rows, cols):
     for setting, groups, line in drawn:
         method, _, params = setting.partition(" ")
         label = (method + " " + short_params(params)).strip()
-        out.append((label + " [" + " = ".join(groups) + "]", line))
+        out.append((label + " [" + " = ".join(groups) + "]", line, (method, params)))
     return out
 
 
-def family_figure(F, entry, data_dir):
+def line_styles(st, lines):
+    """{line: (colour, marker, linestyle)}: the setting's colour and marker as every figure of
+    the report draws it (st: plot_figures.Styles over the report's settings; a setting only
+    this family has comes after them), its backend groups drawn apart by line style."""
+    extra, seen, out = [], {}, {}
+    for _, line, s in lines:
+        if s not in st.order and s not in extra:
+            extra.append(s)
+        i = st.order.index(s) if s in st.order else len(st.order) + extra.index(s)
+        style = GROUP_STYLES[seen.setdefault(s, 0) % len(GROUP_STYLES)]
+        seen[s] += 1
+        out[line] = (PALETTE[i % len(PALETTE)], MARKERS[(i + i // len(PALETTE)) % len(MARKERS)],
+                     style)
+    return out
+
+
+def family_figure(F, st, entry, data_dir):
     rows = read(os.path.join(os.path.dirname(data_dir), entry["file"]))
     if not rows:
         return
@@ -89,9 +123,10 @@ def family_figure(F, entry, data_dir):
     x = entry["x"]
     panels = list(dict.fromkeys(r["panel"] for r in rows))
     lines = fold_groups(rows, cols)
+    styles = line_styles(st, lines)
     cells = [(c, u, b, p) for c, u, b in zip(cols, units, better) for p in panels]
-    cells = [cell for cell in cells
-             if any(num(r[cell[0]]) is not None for r in rows if r["panel"] == cell[3])]
+    cells = [cell for cell in cells if any(num(r[cell[0]]) is not None and num(r["x"]) is not None
+                                           for r in rows if r["panel"] == cell[3])]
     if not cells:
         return
     nc = max(1, min(len(panels), F.columns(len(cells))))
@@ -99,46 +134,52 @@ def family_figure(F, entry, data_dir):
     pw = F.width / nc
     thetas = max(int(num(r["thetas"]) or 1) for r in rows)
     n_chars = chars_for(0.7 * pw - 0.25, 8)  # the axes: the panel less its tick labels
+    drawn, under = set(), {}  # lines drawn in some panel; a hidden line: the lines it lay under
     for i, (ax, (col, unit, bt, panel)) in enumerate(zip(axes, cells)):
-        values, shown = [], []  # shown: the point lists drawn in this panel
+        values, shown = [], []  # shown: (points, line) drawn in this panel
         hidden = 0
-        for k, (label, line) in enumerate(lines):
+        for k, (label, line, _) in enumerate(lines):
             pts = sorted((num(r["x"]), num(r[col])) for r in rows
                          if r["panel"] == panel and r["line"] == line
                          and num(r["x"]) is not None and num(r[col]) is not None)
             if not pts:
                 continue
             # a line equal to one drawn already (within 0.1%) would hide under it: counted
-            if any(len(o) == len(pts) and all(a[0] == b[0] and close(a[1], b[1])
-                                              for a, b in zip(o, pts)) for o in shown):
+            top = next((o_line for o, o_line in shown if len(o) == len(pts) and all(
+                a[0] == b[0] and same(a[1], b[1]) for a, b in zip(o, pts))), None)
+            if top is not None:
                 hidden += 1
+                under.setdefault(line, set()).add(top)
                 continue
-            shown.append(pts)
+            shown.append((pts, line))
+            drawn.add(line)
             values += [v for _, v in pts]
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], color=PALETTE[k % len(PALETTE)],
-                    marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)], lw=1.0, ms=3,
-                    alpha=0.9, zorder=3 + (len(lines) - k) * 0.01)
-        if hidden:  # said in the panel: which lines lie under the one drawn
-            ax.text(0.02, 0.97, (f"{hidden + 1} settings coincide: one line drawn"
-                                 if pw >= 3 else f"{hidden + 1} coincide"),
-                    transform=ax.transAxes, fontsize=6, va="top", ha="left", color="0.35")
+            colour, marker, style = styles[line]
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour, marker=marker,
+                    ls=style, lw=1.0, ms=3, alpha=0.9, zorder=3 + (len(lines) - k) * 0.01)
         title = wrap_name(col, n_chars)  # wrapped at "_", never cut: the name tells panels apart
         if panel:
             title = wrap_keys(panel, n_chars) + "\n" + title
+        if hidden:  # said under the title, off the data: lines that lie under the one drawn
+            title += f"\n({hidden + 1} lines coincide: drawn once)"
         ax.set_title(title, fontsize=8)
         # the axes' height: the panel's less its title lines (8 pt) and the x tick labels
         axis_in = max(0.3, pw * 0.72 - (title.count("\n") + 1) * 8 * 1.3 / 72 - 0.3)
         if unit:
             ax.set_ylabel(ellipsize(unit, chars_for(pw * 0.6, 7)), fontsize=7)
         if values and min(values) > 0 and max(values) >= 10 * min(values):
-            ax.set_yscale("log")  # no zero to show: a log axis, ticks in 1-2-5 steps
-            lo, hi = min(values) / 1.3, max(values) * 1.3
+            # no zero to show: a log axis from and to 1-2-5 values (markers off the frame),
+            # ticks in 1-2-5 steps, every decade marked
+            ax.set_yscale("log")
+            lo, hi = nice_125(min(values) / 1.15, False), nice_125(max(values) * 1.15, True)
             ax.set_ylim(lo, hi)
             ticks = log_ticks(lo, hi, max(2, int(axis_in * 72 / 24)))
             ax.yaxis.set_major_locator(matplotlib.ticker.FixedLocator(ticks))
             ax.yaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
                 lambda v, _: tick_text(v)))
-            ax.yaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+            ax.yaxis.set_minor_locator(matplotlib.ticker.FixedLocator(
+                [10.0 ** e for e in range(math.floor(math.log10(lo)), math.ceil(math.log10(hi)) + 1)]))
+            ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
             ax.grid(True, alpha=0.3, lw=0.4)
         elif bt == "smaller" and values and min(values) == 0:
             lin = linthresh_of(values, 0.01)
@@ -157,13 +198,21 @@ def family_figure(F, entry, data_dir):
             ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
                 lambda v, _: tick_text(v)))
             ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        elif xs and len(set(xs)) <= 6:  # a few values (cut heights): ticked at each
+            ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator(sorted(set(xs))))
+            ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(
+                lambda v, _: tick_text(v)))
         last_row = i + nc >= len(cells)
         if last_row:
-            ax.set_xlabel(x_label(x))
-    handles = [mlines.Line2D([], [], color=PALETTE[k % len(PALETTE)],
-                             marker=MARKERS[(k + k // len(PALETTE)) % len(MARKERS)],
-                             label=fit(label, F.width - 0.6, 7, 2))
-               for k, (label, _) in enumerate(lines)]
+            ax.set_xlabel(x_label(x, entry.get("x_unit", "")))
+    # a setting drawn in no panel (always under another's line): its legend entry says whose
+    name_of = {line: label.split(" ")[0] for label, line, _ in lines}
+    handles = [mlines.Line2D([], [], color=styles[line][0], marker=styles[line][1],
+                             ls=styles[line][2], label=fit(label + (
+                                 " (under " + ", ".join(sorted({name_of[t] for t in under[line]}))
+                                 + ")" if line not in drawn and line in under else ""),
+                                 F.width - 0.6, 7, 2))
+               for label, line, _ in lines]
     legend = F.legend(fig, handles)
     # the statistic, named as in every family figure: the mean over the rows at each x
     over = "" if x == "theta_deg" or thetas < 2 else f" (and over θ: x is {x})"
@@ -171,13 +220,14 @@ def family_figure(F, entry, data_dir):
                      F.width - 0.2, 8, 3), fontsize=8)
     name = entry["family"] + "_vs_" + (x[:-4] if x.endswith("_deg") else x)
     F.save(fig, name, panels=[c[3] + " " + c[0] for c in cells],
-           series=[label for label, _ in lines], legend=legend,
+           series=[label for label, _, _ in lines], legend=legend,
            family=entry["family"], x=x)
 
 
-def family_jobs(F, data_dir):
-    """A drawing job per entry of data/families/index.csv."""
+def family_jobs(F, st, data_dir):
+    """A drawing job per entry of data/families/index.csv (st: the report's Styles, so a
+    setting has the colour and marker of every other figure)."""
     index = os.path.join(data_dir, "families", "index.csv")
     if not os.path.exists(index):
         return []
-    return [lambda entry=entry: family_figure(F, entry, data_dir) for entry in read(index)]
+    return [lambda entry=entry: family_figure(F, st, entry, data_dir) for entry in read(index)]

@@ -157,7 +157,7 @@ def main():
             F, st, rows, "cost_vs_error" + tag, ["fetches_mean"], cam))
         jobs.append(lambda rows=rows, tag=tag, cam=cam: cost_figure(
             F, st, rows, "time_vs_error" + tag, time_costs(rows), cam))
-    jobs += family_jobs(F, data)
+    jobs += family_jobs(F, st, data)
     run_jobs(F, jobs)
     F.manifest()
 

@@ -221,10 +221,12 @@ std::string perspective_samples_problem(const CameraSetting& setting, int sample
 }
 
 std::vector<CameraKey> perspective_keys() {
-    return {{"distance", "perspective: eye distance from the look-at point (tiles)", "d", "", true},
-            {"fov_deg", "perspective: full field of view of the square image (degrees)", "f"},
+    return {{"distance", "perspective: eye distance from the look-at point (tiles)", "d", "", true,
+             "tiles"},
+            {"fov_deg", "perspective: full field of view of the square image (degrees)", "f", "",
+             false, "degrees"},
             {"resolution", "perspective: the image's pixels per side (samples picks N x N of them)",
-             "r", "samples"}};
+             "r", "samples", false, "pixels"}};
 }
 
 namespace {

@@ -152,6 +152,8 @@ struct CameraKey {
     // and the next one that differs only in it, at a larger value, pair pixel by pixel
     // (sliding_dist, shimmering_dist: the perspective camera's distance). At most one key.
     bool sweep_pairs = false;
+    // Its unit, where it has one ("tiles", "degrees"): figures label their axes with it.
+    std::string unit = {};
 };
 
 // The registry (camera_registry() in harness/scene/view.cpp): one line per camera.
