@@ -78,6 +78,8 @@ bool CurvedPyramid::supports(const BaseSurface& base) {
     return n == "cylinder" || n == "sphere" || n == "plane";
 }
 
+std::string CurvedPyramid::path_name() { return "scalar double"; }
+
 CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
                              const BaseSurface& base)
     : hf_(hf), s_(scale), b_(bias), base_(base), W_(hf.width), H_(hf.height) {

@@ -36,6 +36,8 @@ class CurvedPyramid {
   public:
     // The bases it knows in closed form: "cylinder", "sphere" and "plane".
     static bool supports(const BaseSurface& base);
+    // The path trace_one takes on this CPU, in words (pxh bench prints it).
+    static std::string path_name();
     CurvedPyramid(const HeightField& hf, double scale, double bias, const BaseSurface& base);
 
     struct One {
