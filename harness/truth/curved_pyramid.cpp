@@ -170,6 +170,21 @@ CurvedPyramid::Geo CurvedPyramid::geo(Vec3d p, bool fast) const {
     }
 }
 
+double CurvedPyramid::height_exact(Vec3d p) const {
+    // BaseSurface::coords(p).height of the three bases, the same expressions (no azimuth)
+    switch (kind_) {
+        case Kind::plane:
+            return p.z;
+        case Kind::cylinder:
+            return std::hypot(p.x - 0.5, p.z + R_) - R_;
+        case Kind::sphere:
+        default: {
+            const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+            return std::sqrt(v3_dot(q, q)) - R_;
+        }
+    }
+}
+
 double CurvedPyramid::g_at(const WorldRay& r, double t) const {
     const Geo c = geo(v3_add(r.o, v3_scale(r.d, t)));
     HeightSampler<double> hs(hf_, s_, b_);
@@ -451,7 +466,7 @@ CurvedPyramid::Chord CurvedPyramid::chord(const WorldRay& r) const {
     // leaves it through the top again or meets the bottom (the walk's own calls)
     Chord c;
     const double top = s_ * (1 - b_), bottom = -s_ * b_;
-    if (base_.coords(r.o).height > top) {
+    if (height_exact(r.o) > top) {
         c.t0 = base_.hit(r.o, r.d, top, 0, false);
         if (!std::isfinite(c.t0)) return c;
     }

@@ -68,6 +68,7 @@ class CurvedPyramid {
         double u, v, height;
     };
     Geo geo(Vec3d p, bool fast = false) const;
+    double height_exact(Vec3d p) const;  // geo(p).height, without the coordinates
     // g and dg/dt at t; (ci, cj) the cell whose bilinear patch gave them
     Eval eval(const WorldRay& r, double t, int64_t& ci, int64_t& cj) const;
     double g_at(const WorldRay& r, double t) const;
