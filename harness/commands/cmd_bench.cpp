@@ -1,8 +1,8 @@
-// `pxh bench`: its options (the measurement itself is bench.cpp).
+// `pxh bench`: its options (the measurement itself is harness/bench/).
 #include <cmath>
 #include <memory>
 
-#include "harness/commands/bench.h"
+#include "harness/bench/bench.h"
 #include "harness/commands/commands.h"
 #include "harness/core/error.h"
 #include "harness/core/params.h"

@@ -78,6 +78,8 @@ bool CurvedPyramid::supports(const BaseSurface& base) {
     return n == "cylinder" || n == "sphere" || n == "plane";
 }
 
+std::string CurvedPyramid::path_name() { return "scalar double"; }
+
 CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
                              const BaseSurface& base)
     : hf_(hf), s_(scale), b_(bias), base_(base), W_(hf.width), H_(hf.height) {
@@ -108,6 +110,13 @@ CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
                 m = std::max(m, rowmax[size_t(wrap_index(int64_t(j) + dj, H)) * W + i]);
             l0[size_t(j) * W + i] = m;
         }
+    if (kind_ == Kind::sphere) {
+        // the rows' latitudes over the sphere (from pole to pole, within 4 tiles of the field)
+        const double half = kPi / 2 * R_ * H + 2;
+        lat_lo_ = std::max<int64_t>(int64_t(std::floor(0.5 * H - half)), -4 * int64_t(H));
+        const int64_t hi = std::min<int64_t>(int64_t(std::ceil(0.5 * H + half)), 5 * int64_t(H));
+        for (int64_t d = lat_lo_; d <= hi; ++d) lat_.push_back(make_latitude(d));
+    }
     max_.push_back(std::move(l0));
     nx_.push_back(W);
     ny_.push_back(H);
@@ -157,6 +166,21 @@ CurvedPyramid::Geo CurvedPyramid::geo(Vec3d p, bool fast) const {
             }
             const double e = std::asin(std::clamp(q.y / r, -1.0, 1.0));
             return {0.5 + R_ * std::atan2(q.x, q.z), 0.5 + R_ * e, r - R_};
+        }
+    }
+}
+
+double CurvedPyramid::height_exact(Vec3d p) const {
+    // BaseSurface::coords(p).height of the three bases, the same expressions (no azimuth)
+    switch (kind_) {
+        case Kind::plane:
+            return p.z;
+        case Kind::cylinder:
+            return std::hypot(p.x - 0.5, p.z + R_) - R_;
+        case Kind::sphere:
+        default: {
+            const Vec3d q{p.x - 0.5, p.y - 0.5, p.z + R_};
+            return std::sqrt(v3_dot(q, q)) - R_;
         }
     }
 }
@@ -257,10 +281,7 @@ CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) con
         uu = 2 * R_ / (rmin_ * rmin_);
         hh = 1 / rmin_;
     } else if (kind_ == Kind::sphere) {
-        const double e0 = ((double(cj) - 0.5) / H - 0.5) / R_;
-        const double e1 = ((double(cj) + 2.5) / H - 0.5) / R_;
-        const double emax = std::min(std::max(std::abs(e0), std::abs(e1)), kPi / 2);
-        const double c = std::max(std::cos(emax), 1e-3);
+        const double c = latitude(cj).cos_cell;
         const double rho = rmin_ * c, r2 = rmin_ * rmin_;
         su = R_ / rho;
         sv = R_ / rmin_;
@@ -311,7 +332,8 @@ double CurvedPyramid::angle_exit(double x, double z, double dx, double dz, doubl
     return rho2 * sn / den;
 }
 
-double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
+double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, const Latitude& lat, bool upward) const {
+    const double e = lat.e;
     // Latitude e: q_y cos e = rho sin e (squared: both nappes). The ray leaves upward (latitude
     // rising) through the upper boundary, downward through the lower one. A root is refused
     // only where it is clearly on the other nappe or crossed the wrong way: where rounding
@@ -333,7 +355,7 @@ double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
         if (!(tau > tol) || wrong_way(tau)) return kInf;
         return std::max(tau, 0.0);
     }
-    const double c2 = std::cos(e) * std::cos(e), s2 = std::sin(e) * std::sin(e);
+    const double c2 = lat.c2, s2 = lat.s2;
     const double A = d.y * d.y * c2 - (d.x * d.x + d.z * d.z) * s2;
     const double B = q.y * d.y * c2 - (q.x * d.x + q.z * d.z) * s2;
     const double C = q.y * q.y * c2 - (q.x * q.x + q.z * q.z) * s2;
@@ -346,8 +368,31 @@ double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, double e, bool upward) const {
     return std::isfinite(tau) ? std::max(tau, 0.0) : kInf;
 }
 
-double CurvedPyramid::node_exit(const WorldRay& r, Vec3d p, const Geo& c, double u0, double u1,
-                                double v0, double v1) const {
+CurvedPyramid::Latitude CurvedPyramid::latitude(int64_t d) const {
+    if (d >= lat_lo_ && d - lat_lo_ < int64_t(lat_.size())) return lat_[size_t(d - lat_lo_)];
+    return make_latitude(d);
+}
+
+CurvedPyramid::Latitude CurvedPyramid::make_latitude(int64_t d) const {
+    // the node border between rows d - 1 and d of cells: v = (d + 0.5) / H, e = (v - 0.5) / R
+    Latitude l;
+    const double v = (double(d) + 0.5) * (1.0 / H_);
+    l.e = (v - 0.5) / R_;
+    l.c2 = std::cos(l.e) * std::cos(l.e);
+    l.s2 = std::sin(l.e) * std::sin(l.e);
+    // cell_bounds' least cos(latitude) over cell row d dilated by one cell
+    const double e0 = ((double(d) - 0.5) / H_ - 0.5) / R_;
+    const double e1 = ((double(d) + 2.5) / H_ - 0.5) / R_;
+    const double emax = std::min(std::max(std::abs(e0), std::abs(e1)), kPi / 2);
+    l.cos_cell = std::max(std::cos(emax), 1e-3);
+    return l;
+}
+
+double CurvedPyramid::node_exit(const WorldRay& r, Vec3d p, const Geo& c, int64_t c0, int64_t c1,
+                                int64_t d0, int64_t d1) const {
+    const double iw = 1.0 / W_, ih = 1.0 / H_;
+    const double u0 = (double(c0) + 0.5) * iw, u1 = (double(c1) + 0.5) * iw;
+    const double v0 = (double(d0) + 0.5) * ih, v1 = (double(d1) + 0.5) * ih;
     const Vec3d d = r.d;
     double tu = kInf, tv = kInf;
     if (kind_ == Kind::plane) {
@@ -372,9 +417,9 @@ double CurvedPyramid::node_exit(const WorldRay& r, Vec3d p, const Geo& c, double
         if (d.y < 0) tv = std::max((v0 - p.y) / d.y, 0.0);
     } else {
         const Vec3d q{x, p.y - 0.5, z};
-        const double e0 = (v0 - 0.5) / R_, e1 = (v1 - 0.5) / R_;
-        if (e1 < kPi / 2) tv = std::min(tv, cone_exit(q, d, e1, true));
-        if (e0 > -kPi / 2) tv = std::min(tv, cone_exit(q, d, e0, false));
+        const Latitude l0 = latitude(d0), l1 = latitude(d1);
+        if (l1.e < kPi / 2) tv = std::min(tv, cone_exit(q, d, l1, true));
+        if (l0.e > -kPi / 2) tv = std::min(tv, cone_exit(q, d, l0, false));
     }
     return std::min(tu, tv);
 }
@@ -416,38 +461,101 @@ double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi, double& g_
     return hi;
 }
 
+CurvedPyramid::Chord CurvedPyramid::chord(const WorldRay& r) const {
+    // the walk's chord: enter the shell under the top (or start in it), end where the ray
+    // leaves it through the top again or meets the bottom (the walk's own calls)
+    Chord c;
+    const double top = s_ * (1 - b_), bottom = -s_ * b_;
+    if (height_exact(r.o) > top) {
+        c.t0 = base_.hit(r.o, r.d, top, 0, false);
+        if (!std::isfinite(c.t0)) return c;
+    }
+    const double t_leave = base_.hit(r.o, r.d, top, c.t0, true);
+    const double t_floor = base_.hit(r.o, r.d, bottom, c.t0, false);
+    c.t_end = std::isfinite(t_floor) ? t_floor : t_leave;
+    if (std::isfinite(t_floor) && std::isfinite(t_leave)) c.t_end = std::min(t_floor, t_leave);
+    c.ok = std::isfinite(c.t_end);
+    c.floor_ends = std::isfinite(t_floor) && c.t_end == t_floor;
+    return c;
+}
+
+void CurvedPyramid::finish(const WorldRay& r, double lo, double hi, One& out) const {
+    out.hit = true;
+    double g_hi;
+    out.t = bisect(r, lo, hi, g_hi);
+    out.residual = std::abs(std::isnan(g_hi) ? g_at(r, out.t) : g_hi);
+}
+
+CurvedPyramid::CellEnd CurvedPyramid::cell_steps(const WorldRay& r, const CellWalk& w, double& tt,
+                                                 double& t_safe, One& out,
+                                                 long long max_steps) const {
+    // steps that never pass a crossing, from tt to the cell's exit tb
+    const CellBounds cb = cell_bounds(w.ci, w.cj);
+    const double tb = w.tb;
+    for (;;) {
+        int64_t ei, ej;
+        if (++out.steps > max_steps) return CellEnd::over_budget;
+        const Eval ev = eval(r, tt, ei, ej);
+        if (ev.g <= 0) {
+            // after a safe step, at or below only by rounding: the crossing is within a few
+            // ulp before tt (else anywhere after t_safe)
+            const double lo = tt - 8 * kEps * std::abs(tt);
+            finish(r, lo > t_safe && g_at(r, lo) > 0 ? lo : t_safe, tt, out);
+            return CellEnd::hit;
+        }
+        t_safe = tt;
+        double step = ev.g / cb.L;  // Lipschitz: across cells too (dilated bounds)
+        if (ei == w.ci && ej == w.cj) {
+            // the quadratic lower bound, within this cell's patch only
+            const double den = std::sqrt(ev.dg * ev.dg + 2 * cb.K * ev.g) - ev.dg;
+            const double newton = den > 0 ? 2 * ev.g / den : (den == 0 ? kInf : 0.0);
+            step = std::max(step, std::min(newton, tb - tt));
+        }
+        if (tt + step >= tb) {
+            if (ev.g / cb.L >= tb + w.tiny - tt) {
+                tt = tb + w.tiny;  // certified past the cell's exit
+                return CellEnd::left;
+            }
+            if (tb >= w.t_end) {  // certified to the end of the chord
+                tt = w.t_end;
+                return CellEnd::chord_end;
+            }
+            if (tt < tb) {  // to the exit, evaluated there
+                tt = tb;
+                continue;
+            }
+            if (ei != w.ci || ej != w.cj) return CellEnd::left;  // past it: the traversal goes on
+            tt += w.tiny;  // still in it by rounding: past the exit by 1e-10 texel
+            return CellEnd::left;
+        }
+        const double ulps = 8 * kEps * std::abs(tt);
+        if (step < ulps) {
+            // the safe step is down to a few ulp of t (at a crossing it is Newton's, so the
+            // root lies just past it): a step of 8 ulp taken as it is, bisected if it ends at
+            // or below the surface
+            const double t2 = std::min(tt + ulps, w.t_end);
+            if (g_at(r, t2) <= 0) {
+                finish(r, tt, t2, out);
+                return CellEnd::hit;
+            }
+            tt = t2;
+            if (tt >= w.t_end) return CellEnd::chord_end;
+            t_safe = tt;
+            continue;
+        }
+        tt += step;
+    }
+}
+
 CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_steps) const {
     One out;
-    const double top = s_ * (1 - b_), bottom = -s_ * b_;
-    const Vec3d o = r.o, d = r.d;
-    auto at = [&](double t) { return v3_add(o, v3_scale(d, t)); };
-    // the walk's chord: enter the shell under the top (or start in it), end where the ray
-    // leaves it through the top again or meets the bottom
-    double t0 = 0;
-    auto base_hit = [&](double offset, double t_min, bool leaving) {
-        return base_.hit(o, d, offset, t_min, leaving);  // the walk's own calls
-    };
-    if (base_.coords(o).height > top) {
-        t0 = base_hit(top, 0, false);
-        if (!std::isfinite(t0)) return out;
-    }
-    const double t_leave = base_hit(top, t0, true);
-    const double t_floor = base_hit(bottom, t0, false);
-    double t_end = std::isfinite(t_floor) ? t_floor : t_leave;
-    if (std::isfinite(t_floor) && std::isfinite(t_leave)) t_end = std::min(t_floor, t_leave);
-    if (!std::isfinite(t_end)) return out;
-    const bool floor_ends = std::isfinite(t_floor) && t_end == t_floor;
-
+    const Chord ch = chord(r);
+    if (!ch.ok) return out;
+    const double t_end = ch.t_end;
     const int top_level = levels() - 1;
     int k = top_level;
-    double t = t0;
-    double t_safe = t0;  // g > 0 on (t_safe, t) or t_safe is the start: a bisection's lo
-    auto finish = [&](double lo, double hi) {
-        out.hit = true;
-        double g_hi;
-        out.t = bisect(r, lo, hi, g_hi);
-        out.residual = std::abs(std::isnan(g_hi) ? g_at(r, out.t) : g_hi);
-    };
+    double t = ch.t0;
+    double t_safe = ch.t0;  // g > 0 on (t_safe, t) or t_safe is the start: a bisection's lo
     // the point's coordinates, kept while t stays (descents at one point)
     Vec3d p{};
     Geo c{};
@@ -456,7 +564,7 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
     while (t < t_end) {
         if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
         if (t != t_geo) {
-            p = at(t);
+            p = v3_add(r.o, v3_scale(r.d, t));
             c = geo(p, true);
             ci = bilinear_index(std::floor(c.u * double(W_) - 0.5));
             cj = bilinear_index(std::floor(c.v * double(H_) - 0.5));
@@ -480,9 +588,7 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
                           c1 = TI * W_ + std::min((ni + 1) << k, int64_t(W_));
             const int64_t d0 = TJ * H_ + (nj << k),
                           d1 = TJ * H_ + std::min((nj + 1) << k, int64_t(H_));
-            const double iw = 1.0 / W_, ih = 1.0 / H_;
-            t_exit = t + node_exit(r, p, c, (double(c0) + 0.5) * iw, (double(c1) + 0.5) * iw,
-                                   (double(d0) + 0.5) * ih, (double(d1) + 0.5) * ih);
+            t_exit = t + node_exit(r, p, c, c0, c1, d0, d1);
         }
         if ((t_low > t && t_low >= t_exit + tiny) || skip) {
             // the ray stays above the node's relief until it leaves the node: cleared
@@ -503,74 +609,18 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
         }
         // a cell still in question: steps that never pass a crossing, to its exit
         const double ta = std::max(t, std::min(t_low, t_exit));
-        const double tb = std::min(std::max(t_exit, ta), t_end);
-        const CellBounds cb = cell_bounds(ci, cj);
+        const CellWalk w{ci, cj, std::min(std::max(t_exit, ta), t_end), t_end, tiny};
         double tt = ta;
-        bool done = false;
-        for (;;) {
-            int64_t ei, ej;
-            if (++out.steps > max_steps) return One{false, 0, 0, out.steps};
-            const Eval ev = eval(r, tt, ei, ej);
-            if (ev.g <= 0) {
-                // after a safe step, at or below only by rounding: the crossing is within a
-                // few ulp before tt (else anywhere after t_safe)
-                const double lo = tt - 8 * kEps * std::abs(tt);
-                finish(lo > t_safe && g_at(r, lo) > 0 ? lo : t_safe, tt);
-                return out;
-            }
-            t_safe = tt;
-            double step = ev.g / cb.L;  // Lipschitz: across cells too (dilated bounds)
-            if (ei == ci && ej == cj) {
-                // the quadratic lower bound, within this cell's patch only
-                const double den = std::sqrt(ev.dg * ev.dg + 2 * cb.K * ev.g) - ev.dg;
-                const double newton = den > 0 ? 2 * ev.g / den : (den == 0 ? kInf : 0.0);
-                step = std::max(step, std::min(newton, tb - tt));
-            }
-            if (tt + step >= tb) {
-                if (ev.g / cb.L >= tb + tiny - tt) {
-                    tt = tb + tiny;  // certified past the cell's exit
-                    break;
-                }
-                if (tb >= t_end) {  // certified to the end of the chord
-                    tt = t_end;
-                    done = true;
-                    break;
-                }
-                if (tt < tb) {  // to the exit, evaluated there
-                    tt = tb;
-                    continue;
-                }
-                if (ei != ci || ej != cj) break;  // past it: the traversal goes on from here
-                tt += tiny;  // still in it by rounding: past the exit by 1e-10 texel
-                break;
-            }
-            const double ulps = 8 * kEps * std::abs(tt);
-            if (step < ulps) {
-                // the safe step is down to a few ulp of t (at a crossing it is Newton's, so the
-                // root lies just past it): a step of 8 ulp taken as it is, bisected if it ends
-                // at or below the surface
-                const double t2 = std::min(tt + ulps, t_end);
-                if (g_at(r, t2) <= 0) {
-                    finish(tt, t2);
-                    return out;
-                }
-                tt = t2;
-                if (tt >= t_end) {
-                    done = true;
-                    break;
-                }
-                t_safe = tt;
-                continue;
-            }
-            tt += step;
-        }
+        const CellEnd e = cell_steps(r, w, tt, t_safe, out, max_steps);
+        if (e == CellEnd::over_budget) return One{false, 0, 0, out.steps};
+        if (e == CellEnd::hit) return out;
         t = tt;
         k = std::min(1, top_level);
-        if (done) break;
+        if (e == CellEnd::chord_end) break;
     }
-    if (floor_ends) {
+    if (ch.floor_ends) {
         // as the walk: its last step ends on the bottom shell, where the relief is met
-        if (g_at(r, t_end) <= 0) finish(t_safe, t_end);
+        if (g_at(r, t_end) <= 0) finish(r, t_safe, t_end, out);
         else {
             out.hit = true;
             out.t = t_end;

@@ -36,6 +36,8 @@ class CurvedPyramid {
   public:
     // The bases it knows in closed form: "cylinder", "sphere" and "plane".
     static bool supports(const BaseSurface& base);
+    // The path trace_one takes on this CPU, in words (pxh bench prints it).
+    static std::string path_name();
     CurvedPyramid(const HeightField& hf, double scale, double bias, const BaseSurface& base);
 
     struct One {
@@ -66,22 +68,49 @@ class CurvedPyramid {
         double u, v, height;
     };
     Geo geo(Vec3d p, bool fast = false) const;
+    double height_exact(Vec3d p) const;  // geo(p).height, without the coordinates
     // g and dg/dt at t; (ci, cj) the cell whose bilinear patch gave them
     Eval eval(const WorldRay& r, double t, int64_t& ci, int64_t& cj) const;
     double g_at(const WorldRay& r, double t) const;
-    // from p (with its coordinates c), how far along the ray it leaves the node
-    // [u0, u1] x [v0, v1] (inf: never)
-    double node_exit(const WorldRay& r, Vec3d p, const Geo& c, double u0, double u1, double v0,
-                     double v1) const;
+    // from p (with its coordinates c), how far along the ray it leaves the node of unwrapped
+    // cells [c0, c1) x [d0, d1) (inf: never)
+    double node_exit(const WorldRay& r, Vec3d p, const Geo& c, int64_t c0, int64_t c1, int64_t d0,
+                     int64_t d1) const;
+    // the sphere's latitude e of the border below cell row d (v = (d + 0.5) / H), its cos^2 and
+    // sin^2, and cell_bounds' least cos(latitude) over row d dilated by a cell: from a table
+    // made once (make_latitude, the same expressions) within 4 tiles of the field
+    struct Latitude {
+        double e, c2, s2, cos_cell;
+    };
+    Latitude latitude(int64_t d) const;
+    Latitude make_latitude(int64_t d) const;
     // from p, how far along the ray it first is at or below `offset` over the base (inf: never)
     double shell_entry(const WorldRay& r, Vec3d p, double height_now, double offset) const;
     double angle_exit(double x, double z, double dx, double dz, double L, double delta) const;
-    double cone_exit(Vec3d q, Vec3d d, double e, bool upward) const;
+    double cone_exit(Vec3d q, Vec3d d, const Latitude& lat, bool upward) const;
     struct CellBounds {
         double L, K;  // bounds of |g'| and |g''| over the cell dilated by one cell
     };
     CellBounds cell_bounds(int64_t ci, int64_t cj) const;
     double bisect(const WorldRay& r, double lo, double hi, double& g_hi) const;
+    // the walk's chord through the shell: [t0, t_end]; ok: the ray enters it
+    struct Chord {
+        double t0 = 0, t_end = 0;
+        bool ok = false, floor_ends = false;
+    };
+    Chord chord(const WorldRay& r) const;
+    // a hit bisected in [lo, hi] (g(lo) > 0 or lo the start, g(hi) <= 0) into out
+    void finish(const WorldRay& r, double lo, double hi, One& out) const;
+    // a cell (ci, cj) still in question, its exit tb, the chord's end, 1e-10 texel past t
+    struct CellWalk {
+        int64_t ci, cj;
+        double tb, t_end, tiny;
+    };
+    enum class CellEnd { hit, left, chord_end, over_budget };
+    // certified steps from tt through the cell: a hit (in out), past its exit, the chord's end
+    // (tt there) or the budget spent
+    CellEnd cell_steps(const WorldRay& r, const CellWalk& w, double& tt, double& t_safe, One& out,
+                       long long max_steps) const;
     float node_max(int k, int64_t ni, int64_t nj) const {
         return max_[size_t(k)][size_t(nj) * size_t(nx_[size_t(k)]) + size_t(ni)];
     }
@@ -97,6 +126,8 @@ class CurvedPyramid {
     double rmin_;                          // R + s (0 - b): no point of the segments is nearer
     std::vector<std::vector<float>> max_;  // per level, per node: max corner height, dilated
     std::vector<int> nx_, ny_;
+    std::vector<Latitude> lat_;  // the sphere's rows from lat_lo_
+    int64_t lat_lo_ = 0;
     Breakage breakage_;
 };
 

@@ -11,7 +11,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "harness/commands/bench.h"
+#include "harness/bench/bench.h"
 #include "harness/core/error.h"
 #include "harness/experiment/experiment.h"
 #include "harness/metrics/metrics.h"

@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "harness/commands/bench.h"
+#include "harness/bench/bench.h"
 #include "harness/scene/base_surface.h"
 #include "harness/scene/heightfield.h"
 #include "harness/scene/view.h"
