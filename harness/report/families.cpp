@@ -409,9 +409,10 @@ void write_families(const ReportData& d) {
             continue;
         for (const Figure& fig : write_figure_data(d, f, drawn_elsewhere(name)))
             index << csv_quote(name) << "," << csv_quote(family_title(name)) << ","
-                  << csv_quote(fig.x) << "," << csv_quote(find_column(fig.x) ? find_column(fig.x)->unit : "") << ","
-                  << csv_quote(fig.file) << "," << csv_quote(columns)
-                  << "," << csv_quote(units) << "," << csv_quote(better) << "\n";
+                  << csv_quote(fig.x) << ","
+                  << csv_quote(find_column(fig.x) ? find_column(fig.x)->unit : "") << ","
+                  << csv_quote(fig.file) << "," << csv_quote(columns) << "," << csv_quote(units)
+                  << "," << csv_quote(better) << "\n";
     }
     d.write("data/families/index.csv", index.str());
 }
