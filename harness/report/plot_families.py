@@ -161,7 +161,8 @@ def family_figure(F, st, entry, data_dir):
         if panel:
             title = wrap_keys(panel, n_chars) + "\n" + title
         if hidden:  # said under the title, off the data: lines that lie under the one drawn
-            title += f"\n({hidden + 1} lines coincide: drawn once)"
+            note = f"({hidden + 1} lines coincide: drawn once)"
+            title += "\n" + (note if len(note) <= n_chars else f"({hidden + 1} coincide)")
         ax.set_title(title, fontsize=8)
         # the axes' height: the panel's less its title lines (8 pt) and the x tick labels
         axis_in = max(0.3, pw * 0.72 - (title.count("\n") + 1) * 8 * 1.3 / 72 - 0.3)
