@@ -349,8 +349,9 @@ void pictures(const ReportData& d) {
       << ",img_psnr_db,img_ssim,picture,picture_diff,picture_truth,picture_use," << kViewHeader;
     // the camera's keys as numbers too (empty on a row without them)
     for (const CameraKey& k : camera_key_columns()) o << "," << csv_quote(k.name);
-    // the [views] cut whose plane the pictures show (empty: none), the curved base and radius
-    o << ",cut,base,radius\n";
+    // the [views] cut whose plane the pictures show (empty: none), the curved base and radius,
+    // the depth mode (a montage's tiles of one setting told apart by it)
+    o << ",cut,base,radius,depth\n";
     int n = 0;
     for (size_t i : d.all_ok) {  // every depth mode and cut: the pictures differ
         const ResultRow& r = d.row(i);
@@ -364,7 +365,7 @@ void pictures(const ReportData& d) {
         o << "," << view_fields(d, r);
         for (const CameraKey& k : camera_key_columns()) o << "," << csv_num(r.num(k.name));
         o << "," << csv_num(r.num("cut")) << "," << csv_quote(r.text("base")) << ","
-          << csv_num(r.num("radius")) << "\n";
+          << csv_num(r.num("radius")) << "," << csv_quote(r.text("depth")) << "\n";
         ++n;
     }
     if (n) d.write("data/pictures.csv", o.str());

@@ -108,6 +108,15 @@ def curved(r):
     return r.get("base") not in (None, "", "plane") and num(r.get("radius")) is not None
 
 
+def base_tag(r):
+    """A curved row's base and radius in a file name ("_sphereR0.25"), unless the run's view tag
+    (camera_tag: the context keys that vary in the run) names them already."""
+    tag = r.get("camera_tag") or ""
+    if not curved(r) or "base-" in tag or "_R-" in tag:
+        return ""
+    return f"_{r['base']}R{num(r['radius']):g}"
+
+
 def telling_params(settings):
     """{(method, params): "method k=v, ..."}: each setting's method and the parameters whose
     values differ between the given settings of the same method ("off" ones left out)."""
@@ -138,12 +147,19 @@ def picture_montage(F, st, results, rows):
     # differ between the montage's settings of that method (the others are the same on every
     # tile: legend.md has them), so no fit() cuts the part that differs.
     apart = telling_params([s for s, _, _ in tiles])
-    names = ["truth (ray traced)"] + [fit(apart[s], cell, 6, 2 if multi else 4) + (
-        "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, _ in tiles]
+    # the series keys that tell the tiles apart besides the setting (a depth mode, a level mode)
+    modes = [k for k in ("lod", "depth") if len({r.get(k) or "" for _, _, r in tiles}) > 1]
+    def named(s, r):  # the setting's telling parameters, then the modes it does not name
+        extra = [f"{k}={r.get(k)}" for k in modes if f"{k}=" not in apart[s]]
+        return apart[s] + ((" " if apart[s] == s[0] else ", ") + ", ".join(extra)
+                           if extra else "")
+
+    names = ["truth (ray traced)"] + [fit(named(s, r), cell, 6, 2 if multi else 4) + (
+        "\n" + fit(f"[{' = '.join(gs)}]", cell, 6, 1) if multi else "") for s, gs, r in tiles]
     groups = sorted({g for t in tiles for g in t[1]})
     note = None if multi or len(groups) < 2 else (
         " and ".join(groups) + " pictures identical, pixel for pixel: shown once")
-    cam = view_title(r0)
+    cam = view_title(r0, skip=("base", "radius") if curved(r0) else ())
     cut = r0.get("cut") or ""
     base = f" on a {r0['base']} of radius {num(r0['radius']):g}" if curved(r0) else ""
     title = fit(f"{r0['heightfield']}{base}, θ = {num(r0['theta_deg']):g}°, "
@@ -179,7 +195,7 @@ def picture_montage(F, st, results, rows):
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"picture_{r0['heightfield']}_t{num(r0['theta_deg']):g}_p{num(r0['phi_deg']):g}"
                 + (r0.get("camera_tag") or "")
-                + (f"_{r0['base']}R{num(r0['radius']):g}" if curved(r0) else "")
+                + base_tag(r0)
                 + (f"_cut{num(cut):g}" if cut else ""))
     F.save(fig, name, 1 + 2 * len(tiles), len(tiles), [], note=note)
 
@@ -216,7 +232,7 @@ def strip(F, st, results, rows):
                            fontsize=5 if small else 6)
     fig.suptitle(title, fontsize=7, y=1.0, va="top")
     name = safe(f"strip_{r0['heightfield']}_p{num(r0['phi_deg']):g}{view_tag(r0)}"
-                + (f"_{r0['base']}R{num(r0['radius']):g}" if curved(r0) else ""))
+                + base_tag(r0))
     F.save(fig, name, 3 * n, 1, [])
     animate(F, results, rows, name, f"{st.labels[s]} [{g}] on {r0['heightfield']}")
 

@@ -63,12 +63,13 @@ def tick_text(v):
     return f"{v:g}"
 
 
-def view_title(r):
+def view_title(r, skip=()):
     """A row's camera view as a title part, from its camera_view field (data/pictures.csv,
     data/maps.csv: the camera's own keys, "distance=4 fov_deg=45"): "distance = 4,
-    fov_deg = 45"; "" for a camera without keys (orthographic) or data without the field."""
+    fov_deg = 45"; "" for a camera without keys (orthographic) or data without the field.
+    skip: keys the title says otherwise (a montage's "on a sphere of radius R")."""
     kv = [p.split("=", 1) for p in (r.get("camera_view") or "").split() if "=" in p]
-    return ", ".join(f"{k} = {v}" for k, v in kv)
+    return ", ".join(f"{k} = {v}" for k, v in kv if k not in skip)
 
 
 def view_tag(r):
