@@ -20,6 +20,7 @@
 // (max of the edge and point differences over sqrt 2, to the q_f = 0.5) gives the final
 // per-pixel error: colour difference ^ (1 - feature difference).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -61,6 +62,12 @@ FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, double pp
 FlipResult flip_ldr(const std::vector<uint8_t>& reference, const std::vector<uint8_t>& test, int w,
                     int h, double ppd = kFlipDefaultPpd, const std::vector<uint8_t>* mask = nullptr,
                     std::vector<float>* map = nullptr);
+
+// The FLIP map's colours (flip_magma.cpp): the magma colour map of the paper and the authors'
+// tool, 8-bit sRGB, entry int(v 255 + 0.5) of 256 (v clamped to [0, 1]; NaN as 0); the image
+// of a whole map (3 bytes a pixel, row-major) for a PNG beside the pictures.
+std::array<uint8_t, 3> flip_magma(float v);
+std::vector<uint8_t> flip_magma_image(const std::vector<float>& map);
 
 // Pieces of the colour pipeline (for tests that work the formulas by hand).
 struct FlipColor {

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -218,6 +219,23 @@ TEST(Flip, SameMapForAnyThreadCount) {
     pxh::flip_ldr(p.reference, p.test, p.w, p.h, 67.02, nullptr, &many);
     ASSERT_EQ(one.size(), many.size());
     for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], many[i]) << i;
+}
+
+// The colour map: entries of BIDS/colormap's _magma_data (CC0) worked by hand, entry
+// int(v 255 + 0.5), each channel round(255 c). pxh's magma images of the five pairs of
+// flip_pairs.h were byte-identical to the PNGs the authors' tool wrote (flip -r REF.png
+// -t TEST.png -ppd 67.02) when this was recorded.
+TEST(Flip, MagmaColourMap) {
+    using A = std::array<uint8_t, 3>;
+    EXPECT_EQ(pxh::flip_magma(0.0f), (A{0, 0, 4}));       // entry 0: 0.001462 0.000466 0.013866
+    EXPECT_EQ(pxh::flip_magma(0.5f), (A{183, 55, 121}));  // entry 128: 0.716387 0.214982 0.475290
+    EXPECT_EQ(pxh::flip_magma(0.96836f), (A{252, 238, 176}));  // entry 247
+    EXPECT_EQ(pxh::flip_magma(1.0f), (A{252, 253, 191}));  // entry 255: 0.987053 0.991438 0.749504
+    EXPECT_EQ(pxh::flip_magma(2.0f), pxh::flip_magma(1.0f));
+    EXPECT_EQ(pxh::flip_magma(-1.0f), pxh::flip_magma(0.0f));
+    EXPECT_EQ(pxh::flip_magma(NAN), pxh::flip_magma(0.0f));
+    const auto img = pxh::flip_magma_image({0.0f, 1.0f});
+    EXPECT_EQ(img, (std::vector<uint8_t>{0, 0, 4, 252, 253, 191}));
 }
 
 TEST(Flip, RejectsMismatchedInput) {
