@@ -152,7 +152,8 @@ std::array<uint8_t, 3> flip_magma(float v) {
     // then each channel to 8 bits by rounding.
     const float c = std::isnan(v) ? 0.0f : std::min(std::max(v, 0.0f), 1.0f);
     const float* e = kMagma[int(c * 255.0f + 0.5f)];
-    return {uint8_t(255.0f * e[0] + 0.5f), uint8_t(255.0f * e[1] + 0.5f), uint8_t(255.0f * e[2] + 0.5f)};
+    return {uint8_t(255.0f * e[0] + 0.5f), uint8_t(255.0f * e[1] + 0.5f),
+            uint8_t(255.0f * e[2] + 0.5f)};
 }
 
 std::vector<uint8_t> flip_magma_image(const std::vector<float>& map) {

@@ -4,11 +4,15 @@
 //
 // The authors' values: NVlabs/flip at commit 1eb247cabcf2862c2c8207ab15314304394132b9 (version
 // 1.6), its src/cpp/FLIP.h, built with g++ 12 -std=c++17 -O2 -march=x86-64-v2 (no OpenMP) into a
-// driver that fills a FLIP::image<FLIP::color3> from each pair's bytes (color3(const unsigned
-// char*), i.e. / 255), calls sRGBToLinearRGB() on both (as the authors' tool does after loading
-// a PNG) and FLIP::evaluate(reference, test, false, parameters, errorMap) with parameters.PPD =
-// 67.02f; the mean is the map's mean in double. (pxh's map was bit-identical to theirs on all
-// four pairs when recorded.)
+// driver (kept outside pxh, like scripts/flip_bench_authors.cpp) that fills a
+// FLIP::image<FLIP::color3> from each pair's bytes (color3(const unsigned char*), i.e. / 255),
+// calls sRGBToLinearRGB() on both (as the authors' tool does after loading a PNG) and
+// FLIP::evaluate(reference, test, false, parameters, errorMap) with parameters.PPD = 67.02f;
+// the mean is the map's mean in double, the pixels the map's values. Cross-checked with the
+// authors' own tool on the pairs written as PNG: `flip -r REF.png -t TEST.png -ppd 67.02`
+// printed Mean 0.273859 / 0.003360 / 0.143162 / 0.142443 and Max 0.968360 / 0.378682 /
+// 0.272755 / 0.628552 (edge, point, ramp, checker). pxh's maps were bit-identical to the
+// driver's on all four pairs when recorded.
 #include "harness/metrics/flip.h"
 
 #include <gtest/gtest.h>
@@ -157,12 +161,14 @@ TEST(Flip, AuthorsValuesOnARamp) {
 }
 
 TEST(Flip, AuthorsValuesOnACheckerboardShiftedAPixel) {
-    expect_authors(flip_pairs::checker_shift(), 0.1381062, 0.6285521,
+    expect_authors(flip_pairs::checker_shift(), 0.1424432, 0.6285522,
                    {{0, 0, 0.628552f},
                     {4, 8, 0.145558f},
                     {5, 8, 0.111828f},
                     {23, 20, 0.104217f},
-                    {47, 39, 0.154046f}});
+                    {44, 36, 0.313522f},
+                    {43, 36, 0.218855f},
+                    {44, 35, 0.263522f}});
 }
 
 // --- Pooling, encodings, threads, errors. ----------------------------------------------------
