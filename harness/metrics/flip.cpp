@@ -14,6 +14,7 @@
 #include <cmath>
 #include <memory>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "harness/metrics/metrics.h"
@@ -267,8 +268,8 @@ Features features(const Plane& ylab, int w, int h, const FeatureFilters& f) {
 }
 
 // The final error, colour ^ (1 - feature) (paper eq. 10; FLIP.h:1944-2043), in place.
-void apply_features(const Plane& ref_y, const Plane& test_y, int w, int h, float ppd, Plane& err) {
-    const FeatureFilters f = feature_filters(ppd);
+void apply_features(const Plane& ref_y, const Plane& test_y, int w, int h, const FeatureFilters& f,
+                    Plane& err) {
     const Features a = features(ref_y, w, h, f), b = features(test_y, w, h, f);
     const float norm = 1.0f / std::sqrt(2.0f);
     for_rows(h, [&](int y) {
@@ -347,9 +348,18 @@ FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, double pp
         throw std::invalid_argument("flip_ldr: ppd must be a positive number");
     if (mask && mask->size() != n)
         throw std::invalid_argument("flip_ldr: the mask is not the images' size");
+    // Below about 1.7 pixels per degree the feature Gaussian (sigma 0.041 ppd pixels) is zero
+    // at its first neighbours in float and its derivatives cannot be normalised (the authors'
+    // code gives NaN there).
+    const FeatureFilters f = feature_filters(float(ppd));
+    for (const Taps* t : {&f.g, &f.dg, &f.ddg})
+        for (float v : *t)
+            if (!std::isfinite(v))
+                throw std::invalid_argument("flip_ldr: ppd " + std::to_string(ppd) +
+                                            " is too small for FLIP's feature filters");
     const Ycxcz a = to_ycxcz(reference), b = to_ycxcz(test);
     Plane err = color_difference(a, b, w, h, float(ppd));
-    apply_features(a.y, b.y, w, h, float(ppd), err);
+    apply_features(a.y, b.y, w, h, f, err);
     FlipResult r = pool(err, mask);
     if (map) map->assign(err.begin(), err.end());
     return r;

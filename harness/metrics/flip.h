@@ -53,7 +53,8 @@ struct FlipResult {
 // p95 and max; the filters still see the whole image. `map`, when given, receives the per-pixel
 // FLIP values (w * h, row-major, in [0, 1]). Float arithmetic as the authors'; each pixel
 // independent of the order of work, so the result is the same for any thread count.
-// std::invalid_argument when the sizes disagree, an image is empty, or ppd is not positive.
+// std::invalid_argument when the sizes disagree, an image is empty, or ppd is not a finite
+// number from about 1.7 up (below it FLIP's feature filters vanish in float).
 FlipResult flip_ldr(const FlipImage& reference, const FlipImage& test, double ppd = kFlipDefaultPpd,
                     const std::vector<uint8_t>* mask = nullptr, std::vector<float>* map = nullptr);
 

@@ -250,6 +250,8 @@ TEST(Flip, RejectsMismatchedInput) {
     EXPECT_THROW(pxh::flip_ldr(a, a, 0, 0), std::invalid_argument);
     EXPECT_THROW(pxh::flip_ldr(a, a, 4, 4, 0.0), std::invalid_argument);
     EXPECT_THROW(pxh::flip_ldr(a, a, 4, 4, NAN), std::invalid_argument);
+    EXPECT_THROW(pxh::flip_ldr(a, a, 4, 4, 0.5), std::invalid_argument);  // feature filters vanish
+    EXPECT_TRUE(std::isfinite(pxh::flip_ldr(a, a, 4, 4, 2.0).mean));
     const std::vector<uint8_t> mask(3);
     EXPECT_THROW(pxh::flip_ldr(a, a, 4, 4, 67.02, &mask), std::invalid_argument);
     // A 1 x 1 image: the filters are clamped to its one pixel.
