@@ -198,6 +198,16 @@ reference = "parallax"
     }
 }
 
+// pxh list methods shows the release each preset follows.
+TEST_F(EngineShader, ListMethodsShowsTheReleaseAPresetFollows) {
+    const auto r = pxh("list methods");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const size_t at = r.out.find("playcanvas_basic  -- ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const size_t next = r.out.find("\n", r.out.find("    source: ", at));
+    EXPECT_EQ(r.out.substr(next + 1, 42), "    follows: PlayCanvas 2.22.0 and later (") << r.out;
+}
+
 // Refusals, each one line at the engine file's FILE:LINE (or the entry's line).
 TEST_F(EngineShader, RefusalsNameTheEngineFileAndLine) {
     fs::create_directories(dir / "inc");
