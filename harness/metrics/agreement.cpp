@@ -40,7 +40,7 @@ OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fe
     }
     for (size_t k : r.first) {
         char buf[160];
-        std::snprintf(buf, sizeof buf, "%zu: %.7g %.7g | %.7g %.7g, fetches %d | %d", k, uv_a[k].x,
+        std::snprintf(buf, sizeof buf, "%zu: %.7g %.7g | %.7g %.7g fetches %d | %d", k, uv_a[k].x,
                       uv_a[k].y, uv_b[k].x, uv_b[k].y, fetches_a[k], fetches_b[k]);
         r.first_text += (r.first_text.empty() ? "" : "; ") + std::string(buf);
     }
@@ -132,7 +132,7 @@ std::vector<ColumnSpec> agreement_columns() {
             .in("agreement", "sample index", Better::none),
         ColumnSpec{"cpu_diff_first", kText, kMeasured,
                    "GLSL: the first samples (at most 8, in sample order) more than 1e-3 texel "
-                   "from the CPU float twin or with another fetch count: 'k: GLSL uv | CPU uv, "
+                   "from the CPU float twin or with another fetch count: 'k: GLSL uv | CPU uv "
                    "fetches GLSL | CPU', '; ' between them"},
         ColumnSpec{"decision_mismatch", kInt, kMeasured,
                    "GLSL: samples whose fetch count differs from CPU"}

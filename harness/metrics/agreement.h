@@ -27,7 +27,7 @@ struct OutputDiff {
     // kDiffShown texel or in fetch count, at most kFirstDiffs, in sample order.
     long long worst = -1;
     std::vector<size_t> first;
-    // Those samples in words: "k: uv_a | uv_b, fetches a | b" each, "; " between them.
+    // Those samples in words: "k: uv_a | uv_b fetches a | b" (no comma) each, "; " between them.
     std::string first_text;
 };
 inline constexpr double kDiffShown = 1e-3;

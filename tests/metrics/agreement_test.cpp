@@ -30,7 +30,7 @@ TEST(Agreement, MeanP95WorstAndFirstDiffs) {
     EXPECT_EQ(d.worst, 9);
     // Beyond 1e-3 texel: every sample from 1 on but the skipped one.
     EXPECT_EQ(d.first, (std::vector<size_t>{1, 2, 4, 5, 6, 7, 8, 9}));
-    EXPECT_NE(d.first_text.find("7: 0.5 0.25 | 0.507 0.25, fetches 4 | 5"), std::string::npos)
+    EXPECT_NE(d.first_text.find("7: 0.5 0.25 | 0.507 0.25 fetches 4 | 5"), std::string::npos)
         << d.first_text;
     // Equal outputs: nothing differs, the worst is the first sample compared.
     const OutputDiff same = compare_uv(a, fa, a, fa, 100, 100);
