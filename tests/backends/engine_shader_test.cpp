@@ -79,6 +79,30 @@ TEST_F(EngineShader, WebglExampleMatchesThreejsPresets) {
             {"web_basic", 30}, {"web_occlusion", 30}, {"web_relief", 30}, {"web_steep", 30}}));
 }
 
+// The example's string-mode chunk (#if PARALLAX_MODE == OCCLUSION, {NAME} chunk parameters,
+// #include <name>) against the PlayCanvas 2.22+ presets: both modes within float rounding of
+// their CPU twins on every sample (the chunk computes what the presets do in the same order),
+// every fetch count equal, the occlusion mode at the levels it derives itself.
+TEST_F(EngineShader, WebglModesExampleMatchesPlayCanvasPresets) {
+    const fs::path ex = fs::path(PXH_SOURCE_DIR) / "examples/engines/webgl/modes.toml";
+    const auto r = pxh("run " + ex.string() + " --quiet --out " + (dir / "r").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
+    ASSERT_EQ(t.rows.size(), 60u);
+    double steps = 0;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const std::string at = t.get(i, "method") + " " + t.get(i, "heightfield") + " theta " +
+                               t.get(i, "theta_deg") + " phi " + t.get(i, "phi_deg");
+        EXPECT_EQ(t.get(i, "status"), "ok") << at;
+        EXPECT_LE(num(t, i, "cpu_diff_max"), 1e-4) << at;
+        EXPECT_EQ(t.get(i, "decision_mismatch"), "0") << at;
+        EXPECT_EQ(t.get(i, "cpu_diff_first"), "") << at;
+        if (t.get(i, "method") == "modes_occlusion")
+            steps = std::max(steps, num(t, i, "fetches_max"));
+    }
+    EXPECT_EQ(steps, 22) << "the occlusion mode marches (16 steps and 5 taps at its longest)";
+}
+
 // texture2DLod at an explicit level reads that level: at level 2 it is pxh's parallax at
 // lod = level (lambda = 2 here) sample by sample; at level 0 it is not.
 TEST_F(EngineShader, ExplicitLevelReadsThatLevel) {
