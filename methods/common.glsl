@@ -70,6 +70,21 @@ float pxh_height(vec2 uv) {
 #endif
 }
 float pxh_z(vec2 uv) { return u_scale * (pxh_height(uv) - u_bias); }
+
+// The height at an explicit texture level lod (one counted fetch, whatever the row's lod mode):
+// what an engine's textureLod / texture2DLod on its height sampler reads (a plug-in's
+// height_sampler). Levels above 0 exist where the row's lod is not base.
+float pxh_height_lod(vec2 uv, float lod) {
+    pxh_fetches += 1;
+    return textureLod(u_height, uv, lod).r;
+}
+// The height with explicit derivatives (one counted fetch): an engine's textureGrad.
+float pxh_height_grad(vec2 uv, vec2 dx, vec2 dy) {
+    pxh_fetches += 1;
+    return textureGrad(u_height, uv, dx, dy).r;
+}
+// The height texture's size at level lod (no fetch): an engine's textureSize.
+ivec2 pxh_height_size(int lod) { return max(u_size >> lod, ivec2(1)); }
 // A method resource (methods/resource.h: `uniform sampler2D r_NAME;` in the method's file),
 // at mip level `level`, with the filter and wrap the resource declares; counted like heights.
 vec4 pxh_texture(sampler2D r, vec2 uv, int level) {

@@ -135,6 +135,9 @@ struct MethodInfo {
     // recorded, never the file read again; and its path as the user reaches it (messages).
     std::string plugin_source{};
     std::string plugin_display{};
+    // The other files its text was made from, as the user reaches them (its #includes, then
+    // pxh's engine adapter: harness/backends/engine_shader.h); file k is #line source 2 + k.
+    std::vector<std::string> plugin_files{};
     // Where it places its hit's height (methods/depth.h; the `hit` depth mode), for a setting
     // of its parameters; nullptr: surface (a plug-in shader: shader).
     HitHeight (*hit_height)(const ParamValues&) = nullptr;
@@ -144,6 +147,8 @@ struct MethodInfo {
     // The `engine` depth mode: depth(X_w) of the point its engine writes the depth of
     // (methods/depth.h); nullptr: the engine writes none (engine = base).
     double (*engine_depth)(const ParamValues&, const EngineDepthInput&) = nullptr;
+    // An engine preset: the engine release it follows (methods/march/preset.h); "" otherwise.
+    std::string engine_version{};
     HitHeight hit_height_of(const ParamValues& p) const {
         if (!plugin_shader.empty()) return HitHeight::shader;
         return hit_height ? hit_height(p) : HitHeight::surface;

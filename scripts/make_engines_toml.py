@@ -7,7 +7,7 @@ groups = [  # (s, b, presets, how s follows from the engine's default)
  (0.005, 1.0, ["threejs_basic","threejs_steep","threejs_occlusion","threejs_relief"], "three.js example: parallaxScale 0.005 (as a depth map)"),
  (0.05, 0.0, ["babylon_parallax"], "Babylon.js parallaxScaleBias 0.05, parallax offset (b = 0)"),
  (0.05, 1.0, ["babylon_pom","godot_parallax","godot_deep","o3de_basic","o3de_steep","o3de_pom","o3de_relief","o3de_contact"], "Babylon.js POM 0.05; Godot heightmap_scale 5 x 0.01; O3DE factor 0.05"),
- (0.025, 0.5, ["playcanvas_basic"], "PlayCanvas heightMapFactor 1 x 0.025"),
+ (0.025, 0.5, ["playcanvas_basic_v2_21"], "PlayCanvas 2.21 heightMapFactor 1 x 0.025"),
  (0.1, 0.5, ["playcanvas_occlusion"], "PlayCanvas occlusion: heightMapFactor 1 x 0.1, heightMapBase 0.5"),
  (0.1, 1.0, ["bevy_occlusion","bevy_relief"], "Bevy parallax_depth_scale 0.1"),
  (0.02, 0.5, ["unity_parallax_offset"], "Unity Standard _Parallax 0.02"),

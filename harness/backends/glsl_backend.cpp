@@ -37,6 +37,7 @@ GlslMethod GlslMethod::of(const MethodInfo& m) {
     g.plugin_shader = m.plugin_shader;
     g.plugin_source = m.plugin_source;
     g.plugin_display = m.plugin_display;
+    g.plugin_files = m.plugin_files;
     for (const ResourceSpec& r : m.resources) {
         ResourceSpec c;
         c.name = r.name;

@@ -33,7 +33,8 @@ struct GlslMethod {
     std::string builtin_text;  // MethodInfo::shader_text (a method registered outside pxh)
     std::string declarations;  // MethodInfo::shader_declarations
     std::string plugin_shader, plugin_source, plugin_display;  // a plug-in's (MethodInfo)
-    std::vector<ResourceSpec> resources;  // name, format, filter, wrap (not built here)
+    std::vector<std::string> plugin_files;  // its other files: includes, pxh's engine adapter
+    std::vector<ResourceSpec> resources;    // name, format, filter, wrap (not built here)
     static GlslMethod of(const MethodInfo& m);
 };
 

@@ -44,8 +44,11 @@ std::vector<std::string> located(const std::string& log, const std::map<int, std
         }
         ok = ok && i < line.size() && line[i++] == ':';
         if (ln > kBodyLine) {  // the method's file, whatever string number Mesa gives
-            src = 2;
-            ln = body.file_line(ln - kBodyLine);
+            // k > 0: a plug-in's k-th other file (an include, pxh's engine adapter), numbered
+            // from kBodyLine (k + 1) + 1 (harness/backends/engine_shader.h).
+            const long k = ln / kBodyLine - 1;
+            src = 2 + k;
+            ln = k == 0 ? body.file_line(ln - kBodyLine) : ln - (k + 1) * kBodyLine;
         } else if (src == 0) {
             src = 1;
         }

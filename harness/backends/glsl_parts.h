@@ -24,7 +24,8 @@ std::string raw_log(unsigned object, bool program);
 
 // The driver's messages, one per line, with Mesa's "S:L(C): " (source string S, line L, column
 // C) or "S:L: " written as "FILE:L:C: " for the files the source strings are (`files`, by
-// string number: 1 = common.glsl, 2 = the method's file, after pxh's #line directives).
+// string number: 1 = common.glsl, 2 = the method's file, after pxh's #line directives; a
+// plug-in's k-th other file is 2 + k, its lines numbered from kBodyLine (k + 1) + 1).
 std::vector<std::string> located(const std::string& log, const std::map<int, std::string>& files,
                                  const BodyLines& body = {});
 

@@ -4,7 +4,9 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include "harness/backends/glsl_backend.h"
@@ -66,6 +68,49 @@ MethodSources method_sources(const GlslMethod& m, const std::string& shader_dir)
     return s;
 }
 
+// "FILE:LINE:COL" of a plug-in's declaration of uniform `name` in the file it was written in
+// ("" when none): its place in the compiled text, mapped through the text's #line directives
+// (an engine shader's includes and pxh's adapter: harness/backends/engine_shader.h).
+std::string plugin_declaration(const GlslMethod& m, const std::string& name) {
+    const std::string lc = uniform_declaration(m.plugin_source, name);
+    if (lc.empty()) return "";
+    const long target = std::stol(lc);
+    long logical = kBodyLine + 1;  // program_for's #line before the plug-in's text
+    std::istringstream in(m.plugin_source);
+    std::string l;
+    for (long n = 1; n < target && std::getline(in, l); ++n) {
+        long x = 0, s = 0;
+        if (std::sscanf(l.c_str(), "#line %ld %ld", &x, &s) == 2) logical = x;
+        else ++logical;
+    }
+    const long k = logical / kBodyLine - 1;
+    if (k < 0 || size_t(k) > m.plugin_files.size()) return "";
+    const std::string& file = k == 0 ? m.plugin_display : m.plugin_files[size_t(k) - 1];
+    return file + ":" + std::to_string(logical - (k + 1) * kBodyLine) + lc.substr(lc.find(':'));
+}
+
+// A plug-in's interface problem at its declaration, with the fix for a uniform nothing sets.
+std::string plugin_problem(const GlslMethod& m, const std::string& why, const std::string& what) {
+    const size_t q = why.find(" uniform '");
+    if (q == std::string::npos) return why;
+    const size_t start = q + 10, end = why.find('\'', start);
+    const std::string name = why.substr(start, end - start);
+    std::string line = why;
+    if (why.find("nothing sets it") != std::string::npos) {
+        const bool sampler = why.find("sampler") < q;
+        line += sampler ? ": pxh binds no texture but the height map (name the engine's height "
+                          "sampler in the entry: height_sampler = \"" +
+                              name + "\")"
+                : name.rfind("p_", 0) == 0
+                    ? ": give it in the entry: uniforms = { " + name + " = VALUE }"
+                    : ": bind it in the entry: bind = { " + name +
+                          " = VALUE } (a number, a list of them, or \"scale\", \"bias\")";
+    }
+    const std::string at = plugin_declaration(m, name);
+    if (at.empty()) return line;
+    return at + line.substr(std::min(line.size(), what.size()));
+}
+
 }  // namespace
 
 std::string glsl_shader_description(const GlslMethod& m, const std::string& shader_dir) {
@@ -86,7 +131,9 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m, Progra
     if (kind.lod == LodMode::level) defines += "#define PXH_LOD_LEVEL\n";
     if (kind.lod == LodMode::grad) defines += "#define PXH_LOD_GRAD\n";
     if (kind.lod == LodMode::implicit) defines += "#define PXH_LOD_IMPLICIT\n";
-    const std::string base_key = m.name + "\n" + defines;
+    // A plug-in's settings of its defines are programs of their own (one name, other texts).
+    const std::string base_key =
+        m.name + "\n" + defines + (m.plugin_source.empty() ? "" : sha256_hex(m.plugin_source));
     if (auto it = programs_.find(base_key); it != programs_.end()) return it->second;
     const MethodSources ms = method_sources(m, opt_.shader_dir);
     // Each sample's lambda: what lod = level fetches at, and what pxh_lod() returns to a
@@ -110,8 +157,9 @@ const GlslBackend::Program& GlslBackend::program_for(const GlslMethod& m, Progra
     GLuint fs = 0;
     try {
         // The driver's locations, mapped to the files: a plug-in's as the user reaches it.
-        const std::map<int, std::string> files = {
+        std::map<int, std::string> files = {
             {1, common_name}, {2, m.plugin_display.empty() ? body_name : m.plugin_display}};
+        for (size_t k = 0; k < m.plugin_files.size(); ++k) files[int(k) + 3] = m.plugin_files[k];
         fs = compile(GL_FRAGMENT_SHADER, src, what, files, ms.body_lines);
     } catch (...) {
         glDeleteShader(vs);
@@ -161,16 +209,19 @@ std::vector<std::string> GlslBackend::check_program(const GlslMethod& m, const G
         for (const GlUniform& u : uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
         for (const ResourceSpec& r : m.resources) declared.push_back({r.name, "sampler2D"});
         const std::string what = m.plugin_display.empty() ? program.what : m.plugin_display;
-        if (const std::string why = interface_problem(program.active, declared, what);
-            !why.empty()) {
-            // A plug-in's: at the shader's declaration of the uniform named, when it has one.
-            const size_t q = why.find(" uniform '");
-            if (m.plugin_display.empty() || q == std::string::npos) return {why};
-            const size_t start = q + 10, end = why.find('\'', start);
-            const std::string at =
-                uniform_declaration(m.plugin_source, why.substr(start, end - start));
-            if (at.empty()) return {why};
-            return {m.plugin_display + ":" + at + why.substr(m.plugin_display.size())};
+        if (m.plugin_display.empty()) {
+            if (const std::string why = interface_problem(program.active, declared, what);
+                !why.empty())
+                return {why};
+        } else {
+            // A plug-in's, every one: each at the shader's declaration of the uniform named. An
+            // engine uniform bound by the entry (not p_NAME) may be unused: one of the engine's
+            // modes reads it, another does not.
+            std::vector<std::string> out;
+            for (const std::string& why : interface_problems(
+                     program.active, required_uniforms(program.active, declared, true), what))
+                out.push_back(plugin_problem(m, why, what));
+            return out;
         }
     } catch (const GlslProgramError& e) {
         return e.lines;

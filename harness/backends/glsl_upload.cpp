@@ -264,7 +264,10 @@ void GlslBackend::set_uniforms(const Program& program, const GlslDraw& f) {
     std::vector<DeclaredUniform> declared;
     for (const GlUniform& u : f.uniforms) declared.push_back({u.name, glsl_type_name(u.type)});
     for (const ResourceSpec& r : f.method.resources) declared.push_back({r.name, "sampler2D"});
-    if (const std::string why = interface_problem(program.active, declared, program.what);
+    if (const std::string why = interface_problem(
+            program.active,
+            required_uniforms(program.active, declared, !f.method.plugin_display.empty()),
+            program.what);
         !why.empty())
         throw std::runtime_error(why);
     set_method_uniforms(prog, f.uniforms);

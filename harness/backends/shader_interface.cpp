@@ -50,6 +50,15 @@ std::map<std::string, ActiveUniform> active_uniforms(unsigned program) {
     return out;
 }
 
+std::vector<DeclaredUniform> required_uniforms(const std::map<std::string, ActiveUniform>& active,
+                                               const std::vector<DeclaredUniform>& declared,
+                                               bool plugin) {
+    std::vector<DeclaredUniform> out;
+    for (const DeclaredUniform& d : declared)
+        if (!plugin || d.name.rfind("p_", 0) == 0 || active.count(d.name)) out.push_back(d);
+    return out;
+}
+
 std::string gl_type_name(unsigned t) {
     switch (t) {
         case GL_FLOAT:
@@ -82,25 +91,38 @@ std::string gl_type_name(unsigned t) {
 std::string interface_problem(const std::map<std::string, ActiveUniform>& active,
                               const std::vector<DeclaredUniform>& declared,
                               const std::string& what) {
+    const std::vector<std::string> all = interface_problems(active, declared, what);
+    return all.empty() ? "" : all[0];
+}
+
+std::vector<std::string> interface_problems(const std::map<std::string, ActiveUniform>& active,
+                                            const std::vector<DeclaredUniform>& declared,
+                                            const std::string& what) {
+    std::vector<std::string> out;
     std::set<std::string> seen;
     for (const auto& d : declared) {
-        if (!seen.insert(d.name).second)
-            return what + ": uniform '" + d.name + "' is declared twice by the method";
+        if (!seen.insert(d.name).second) {
+            out.push_back(what + ": uniform '" + d.name + "' is declared twice by the method");
+            continue;
+        }
         const auto it = active.find(d.name);
         if (it == active.end())
-            return what + ": the method declares " + d.glsl_type + " uniform '" + d.name +
-                   "' but the shader does not use it (no active uniform of that name: "
-                   "misspelt, undeclared, or optimised away)";
-        if (gl_type_name(it->second.gl_type) != d.glsl_type)
-            return what + ": uniform '" + d.name + "' is " + gl_type_name(it->second.gl_type) +
-                   " in the shader but the method declares it " + d.glsl_type;
+            out.push_back(what + ": the method declares " + d.glsl_type + " uniform '" + d.name +
+                          "' but the shader does not use it (no active uniform of that name: "
+                          "misspelt, undeclared, or optimised away)");
+        else if (gl_type_name(it->second.gl_type) != d.glsl_type)
+            out.push_back(what + ": uniform '" + d.name + "' is " +
+                          gl_type_name(it->second.gl_type) +
+                          " in the shader but the method declares it " + d.glsl_type);
     }
     for (const auto& h : harness_uniforms()) seen.insert(h);
     for (const auto& [name, u] : active)
         if (!seen.count(name))
-            return what + ": the shader reads " + gl_type_name(u.gl_type) + " uniform '" + name +
-                   "' but nothing sets it (not declared by the method, not the harness's)";
-    return "";
+            out.push_back(what + ": the shader reads " + gl_type_name(u.gl_type) + " uniform '" +
+                          name +
+                          "' but nothing sets it (not declared by the method, not the "
+                          "harness's)");
+    return out;
 }
 
 void set_method_uniforms(unsigned program, const GlUniforms& uniforms) {

@@ -40,6 +40,19 @@ std::string interface_problem(const std::map<std::string, ActiveUniform>& active
                               const std::vector<DeclaredUniform>& declared,
                               const std::string& what);
 
+// Every problem with a program's interface, in the order interface_problem finds the first:
+// one line each (each unset active uniform its own).
+std::vector<std::string> interface_problems(const std::map<std::string, ActiveUniform>& active,
+                                            const std::vector<DeclaredUniform>& declared,
+                                            const std::string& what);
+
+// What must be active of a method's declared uniforms: all of them, except for a plug-in the
+// engine uniforms its entry binds (names not p_NAME): one of the engine's modes reads such a
+// uniform, another does not.
+std::vector<DeclaredUniform> required_uniforms(const std::map<std::string, ActiveUniform>& active,
+                                               const std::vector<DeclaredUniform>& declared,
+                                               bool plugin);
+
 // The GLSL type name of a GL type enum ("float", "int", "bool", "sampler2D", "vec3", ...).
 std::string gl_type_name(unsigned gl_type);
 

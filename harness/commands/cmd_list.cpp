@@ -15,6 +15,7 @@ namespace {
 void list_methods() {
     for (const auto& m : all_methods()) {
         std::cout << m.name << "  -- " << m.summary << "\n    source: " << m.citation << "\n";
+        if (!m.engine_version.empty()) std::cout << "    follows: " << m.engine_version << "\n";
         if (m.exact_on_flat) std::cout << "    exact on flat fields\n";
         if (!std::isnan(m.required_bias))
             std::cout << "    needs bias = " << format_number(m.required_bias) << " ("

@@ -5,10 +5,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "harness/backends/engine_shader.h"
 #include "harness/core/param_dict.h"
 #include "harness/experiment/experiment.h"
 
@@ -73,6 +75,24 @@ void parse_heightfield(const ParamDict& entry, Experiment& ex, LargeScales& larg
                        ParseState& state);
 void warn_large_scales(const LargeScales& large_scales, Experiment& ex);
 void check_heightfield_names(const Experiment& ex);
+
+// A plug-in entry's engine keys (plugin_entry.cpp): the adapter without its defines' values,
+// each define's sweep (a parameter of the rows, not a uniform), the bind table and its keys
+// bound to values (uniforms, typed as the shader declares them).
+struct PluginEngine {
+    EngineAdapter base;
+    std::vector<ParamSpec> define_specs;
+    Sweeps define_sweeps;
+    std::optional<ParamDict> binds;
+    std::vector<std::pair<std::string, std::string>> bound_values;  // name, its FILE:LINE
+};
+PluginEngine read_plugin_engine(const ParamDict& t);
+// The parameters of the values bound (each typed as `shader` declares its uniform).
+std::vector<ParamSpec> bound_value_specs(const PluginEngine& e, const EngineShader& shader);
+// The defines of one setting, `given` holding a value for each.
+std::vector<std::pair<std::string, std::string>> define_setting(const PluginEngine& e,
+                                                                const GivenParams& given,
+                                                                const std::string& where);
 
 // [[methods]] (method_entries.cpp): one entry (a built-in method or a plug-in shader),
 // expanded into ex.methods.

@@ -47,12 +47,77 @@ std::vector<ParamValue> param_values(const ParamDict& entry, const std::string& 
 
 namespace {
 
+// What parse_method needs of a plug-in entry besides its method: the tables its parameters are
+// read from, its engine keys, its program per setting of its defines (the defines' values,
+// joined) and where its text reads an explicit texture level.
+struct PluginParts {
+    ParamDict uniforms;
+    PluginEngine engine;
+    std::map<std::string, const MethodInfo*> variants;
+    std::string explicit_level;
+};
+
+std::string define_key(const std::vector<std::pair<std::string, std::string>>& defines) {
+    std::string key;
+    for (const auto& [k, v] : defines) key += k + "=" + v + "\x1f";
+    return key;
+}
+
+// The uniforms table's parameters (each p_NAME; a number, bool or a list sweeping them; an
+// integer value makes an int uniform).
+std::vector<ParamSpec> plugin_uniform_specs(const ParamDict& uniforms) {
+    std::vector<ParamSpec> out;
+    for (const std::string& key : uniforms.keys()) {
+        bool ident = key.size() > 2 && key.rfind("p_", 0) == 0;
+        for (char c : key)
+            ident = ident && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+        if (!ident)
+            throw InputError(uniforms.where(key),
+                             "uniform '" + key +
+                                 "': plug-in uniforms are named p_NAME (letters, digits, _); an "
+                                 "engine's own uniform is bound instead: bind = { " +
+                                 key + " = VALUE }");
+        const ParamDict::Element first = uniforms.elements(key)[0];
+        ParamSpec spec = first.value && first.value->is_bool()
+                             ? ParamSpec::boolean(key, false, "plug-in uniform")
+                         : first.integer
+                             ? ParamSpec::integer(key, std::nullopt, -2147483647.0, 2147483647.0,
+                                                  "plug-in uniform")
+                             // What a GLSL float holds: 1e300 would reach the shader as inf.
+                             : ParamSpec::real(key, std::nullopt, -double(FLT_MAX), double(FLT_MAX),
+                                               "plug-in uniform (a GLSL float)");
+        spec.default_value.reset();
+        spec.to_uniform(key);
+        out.push_back(spec);
+    }
+    return out;
+}
+
+// One program per setting of the entry's defines: `proto` with the adapted text of each (the
+// engine's text as written: harness/backends/engine_shader.h), all in ex.plugins.
+void plugin_variants(const MethodInfo& proto, const std::string& rel, const PluginSource& src,
+                     Experiment& ex, PluginParts& parts, const std::string& where) {
+    for (const GivenParams& setting : expand(parts.engine.define_sweeps)) {
+        EngineAdapter a = parts.engine.base;
+        a.defines = define_setting(parts.engine, setting, where);
+        const EngineShader sh = adapt_engine_shader(ex.path, rel, src.text, src.display, a, where);
+        auto info = std::make_shared<MethodInfo>(proto);
+        info->plugin_source = sh.text;
+        info->plugin_files.assign(sh.files.begin() + 1, sh.files.end());
+        for (ParamSpec& spec : bound_value_specs(parts.engine, sh))
+            info->params.push_back(std::move(spec));
+        for (const ParamSpec& spec : parts.engine.define_specs) info->params.push_back(spec);
+        if (parts.explicit_level.empty()) parts.explicit_level = sh.explicit_level;
+        parts.variants[define_key(a.defines)] = info.get();
+        ex.plugins.push_back(info);
+    }
+}
+
 // A [[methods]] entry with `shader = FILE`: a GLSL-only method from the user's file (relative
-// to the experiment), its uniforms from the `uniforms` table (each p_NAME; a number, bool or a
-// list sweeping them; an integer value makes an int uniform), its declared fetch bound.
-// `uniforms` is set to the table its parameters are read from.
+// to the experiment), its uniforms (`uniforms`, `bind`), defines, includes and height sampler,
+// its declared fetch bound; one program per setting of its defines (its first returned).
 const MethodInfo* make_plugin(const ParamDict& t, const std::string& name, Experiment& ex,
-                              ParamDict& uniforms) {
+                              PluginParts& parts) {
     const std::string where = t.where("shader");
     if (find_method(name))
         throw InputError(t.where("name"), "'" + name +
@@ -81,43 +146,22 @@ const MethodInfo* make_plugin(const ParamDict& t, const std::string& name, Exper
         throw InputError(
             t.where("name"),
             "plug-in '" + name + "' needs max_fetches (its bound on texture fetches per sample)");
-    auto info = std::make_shared<MethodInfo>();
-    info->name = name;
-    info->citation = "plug-in shader " + rel + " (from " + ex.path + ")";
-    info->summary = "GLSL only: " + rel;
-    info->order = 1000;
-    info->plugin_shader = src.resolved;
-    info->shader_path = src.resolved;
-    info->plugin_source = std::move(src.text);
-    info->plugin_display = src.display;
-    info->declared_max_fetches = *t.integer("max_fetches", 1, 1000000);
+    MethodInfo info;
+    info.name = name;
+    info.citation = "plug-in shader " + rel + " (from " + ex.path + ")";
+    info.summary = "GLSL only: " + rel;
+    info.order = 1000;
+    info.plugin_shader = src.resolved;
+    info.shader_path = src.resolved;
+    info.plugin_display = src.display;
+    info.declared_max_fetches = *t.integer("max_fetches", 1, 1000000);
     if (auto u = t.table("uniforms", "'uniforms'", "'uniforms' must be a table")) {
-        uniforms = *u;
-        for (const std::string& key : uniforms.keys()) {
-            bool ident = key.size() > 2 && key.rfind("p_", 0) == 0;
-            for (char c : key)
-                ident = ident && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
-            if (!ident)
-                throw InputError(uniforms.where(key),
-                                 "uniform '" + key +
-                                     "': plug-in uniforms are named p_NAME (letters, digits, _)");
-            const ParamDict::Element first = uniforms.elements(key)[0];
-            ParamSpec spec =
-                first.value && first.value->is_bool()
-                    ? ParamSpec::boolean(key, false, "plug-in uniform")
-                : first.integer
-                    ? ParamSpec::integer(key, std::nullopt, -2147483647.0, 2147483647.0,
-                                         "plug-in uniform")
-                    // What a GLSL float holds: 1e300 would reach the shader as inf.
-                    : ParamSpec::real(key, std::nullopt, -double(FLT_MAX), double(FLT_MAX),
-                                      "plug-in uniform (a GLSL float)");
-            spec.default_value.reset();
-            spec.to_uniform(key);
-            info->params.push_back(spec);
-        }
+        parts.uniforms = *u;
+        info.params = plugin_uniform_specs(parts.uniforms);
     }
-    ex.plugins.push_back(info);
-    return info.get();
+    parts.engine = read_plugin_engine(t);
+    plugin_variants(info, rel, src, ex, parts, where);
+    return parts.variants.begin()->second;
 }
 
 // A plug-in's CPU twin to compare with: `reference = "NAME"`, `reference_params = { ... }`
@@ -258,6 +302,42 @@ void check_method_rows(const Sweeps& sweeps, const MethodSpec& proto,
     check_entry_rows(state.method_rows, rows, where, "[[methods]]", state.limits);
 }
 
+// The parameters in the table's order (the sweep's order), each read by its spec: a built-in's
+// from the entry, a plug-in's from its uniforms, then its bound values, then its defines.
+Sweeps entry_sweeps(const ParamDict& t, const MethodInfo& m, const PluginParts* parts) {
+    Sweeps sweeps;
+    const std::string owner = "method '" + m.name + "'";
+    if (!parts) {
+        for (const std::string& key : t.keys())
+            for (const auto& p : m.params)
+                if (p.name == key) sweeps.emplace_back(key, param_values(t, key, p, owner));
+        return sweeps;
+    }
+    std::vector<const ParamDict*> tables = {&parts->uniforms};
+    if (parts->engine.binds) tables.push_back(&*parts->engine.binds);
+    for (const ParamDict* pt : tables)
+        for (const std::string& key : pt->keys())
+            for (const auto& p : m.params)
+                if (p.name == key && p.uniform == key)
+                    sweeps.emplace_back(key, param_values(*pt, key, p, owner));
+    for (const auto& d : parts->engine.define_sweeps) sweeps.push_back(d);
+    return sweeps;
+}
+
+// An explicit texture level needs the field's levels: a plug-in that reads one is refused
+// rows at lod = "base" (level 0 alone), where it reads it.
+void check_explicit_level(const PluginParts& parts, const std::vector<LodMode>& lods) {
+    if (parts.explicit_level.empty() ||
+        std::find(lods.begin(), lods.end(), LodMode::base) == lods.end())
+        return;
+    const size_t colon = parts.explicit_level.rfind(": ");
+    throw InputError(parts.explicit_level.substr(0, colon),
+                     "'" + parts.explicit_level.substr(colon + 2) +
+                         "' reads the height at an explicit texture level, and the entry's lod "
+                         "\"base\" uploads level 0 alone: give it lod = \"level\" (or \"grad\", "
+                         "\"implicit\"), which uploads the field's levels");
+}
+
 }  // namespace
 
 void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
@@ -265,8 +345,8 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
     if (!t.has("name")) throw InputError(where, "a [[methods]] entry needs 'name'");
     const std::string name = *t.string("name");
     const bool plugin = t.has("shader");
-    ParamDict uniforms;  // a plug-in's parameters (a built-in's are the entry's other keys)
-    const MethodInfo* m = plugin ? make_plugin(t, name, ex, uniforms) : find_method(name);
+    PluginParts parts;  // a plug-in's parameter tables (a built-in's are the entry's other keys)
+    const MethodInfo* m = plugin ? make_plugin(t, name, ex, parts) : find_method(name);
     if (!m) {
         std::string names;
         std::vector<std::string> all;
@@ -278,17 +358,10 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
                                               did_you_mean(name, all) + " (known: " + names + ")");
     }
     const std::vector<std::string> fields = read_method_fields(t, name, *m, ex);
-    // The parameters in the table's order (the sweep's order), each read by its spec.
-    const ParamDict& pt = plugin ? uniforms : t;
-    Sweeps sweeps;
-    for (const std::string& key : pt.keys()) {
-        const ParamSpec* spec = nullptr;
-        for (const auto& p : m->params)
-            if (p.name == key) spec = &p;
-        if (spec) sweeps.emplace_back(key, param_values(pt, key, *spec, "method '" + name + "'"));
-    }
+    const Sweeps sweeps = entry_sweeps(t, *m, plugin ? &parts : nullptr);
     MethodSpec proto{m, {}, fields};
     const std::vector<LodMode> lods = read_lods(t, *m, ex);
+    if (plugin) check_explicit_level(parts, lods);
     const std::vector<DepthMode> depths = read_depths(t, *m);
     const std::vector<double> cuts = ex.cuts.empty() ? std::vector<double>{NAN} : ex.cuts;
     if (plugin) {
@@ -319,6 +392,9 @@ void parse_method(const ParamDict& t, Experiment& ex, ParseState& state) {
             const LodMode lod = lods[variant / (depths.size() * cuts.size())];
             MethodSpec ms = proto;
             ms.params = resolve_method_params(*m, given, where);
+            if (plugin)
+                ms.method =
+                    parts.variants.at(define_key(define_setting(parts.engine, given, where)));
             ms.lod = lod;
             ms.depth = depths[variant / cuts.size() % depths.size()];
             ms.cut = cuts[variant % cuts.size()];

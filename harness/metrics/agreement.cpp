@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "harness/metrics/column_groups.h"
@@ -16,6 +17,7 @@ OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fe
     const size_t n = std::min(uv_a.size(), uv_b.size());
     std::vector<double> d;
     d.reserve(n);
+    size_t worst_at = 0;  // index in d of the worst sample
     const bool masked = inside && inside->size() == n;
     for (size_t k = 0; k < n; ++k) {
         if (masked && !(*inside)[k]) continue;
@@ -28,11 +30,28 @@ OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fe
         const Vec2d e = texel_error(uv_a[k], uv_b[k], width, height);
         d.push_back(std::isfinite(e.x) ? std::hypot(e.x, e.y) : INFINITY);
         r.decision_mismatch += fetches_a[k] != fetches_b[k];
+        if (r.worst < 0 || d.back() > d[size_t(worst_at)]) {
+            r.worst = (long long)k;
+            worst_at = d.size() - 1;
+        }
+        if (r.first.size() < kFirstDiffs &&
+            (!(d.back() <= kDiffShown) || fetches_a[k] != fetches_b[k]))
+            r.first.push_back(k);
+    }
+    for (size_t k : r.first) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "%zu: %.7g %.7g | %.7g %.7g fetches %d | %d", k, uv_a[k].x,
+                      uv_a[k].y, uv_b[k].x, uv_b[k].y, fetches_a[k], fetches_b[k]);
+        r.first_text += (r.first_text.empty() ? "" : "; ") + std::string(buf);
     }
     if (d.empty()) return r;
+    double sum = 0;
+    for (double x : d) sum += x;
+    r.mean = sum / double(d.size());
     std::sort(d.begin(), d.end());
     r.max = d.back();
     r.p999 = percentile_sorted(d, 0.999);
+    r.p95 = percentile_sorted(d, 0.95);
     return r;
 }
 
@@ -66,6 +85,10 @@ void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput&
 void add_backend_agreement(const OutputDiff& d, ResultRow& row) {
     row.set("cpu_diff_max", d.max);
     row.set("cpu_diff_p999", d.p999);
+    row.set("cpu_diff_mean", d.mean);
+    row.set("cpu_diff_p95", d.p95);
+    row.set("cpu_diff_worst_sample", d.worst < 0 ? NAN : double(d.worst));
+    row.set_text("cpu_diff_first", d.first_text);
     row.set("decision_mismatch", double(d.decision_mismatch));
     row.set("cpu_diff_skipped", double(d.skipped));
 }
@@ -99,6 +122,18 @@ std::vector<ColumnSpec> agreement_columns() {
                    "GLSL: p99.9 |uv_glsl - uv_cpu_float| (texels)"}
             .in("agreement", "texels")
             .lead(),
+        ColumnSpec{"cpu_diff_mean", kNum, kMeasured, "GLSL: mean |uv_glsl - uv_cpu_float| (texels)"}
+            .in("agreement", "texels"),
+        ColumnSpec{"cpu_diff_p95", kNum, kMeasured, "GLSL: p95 |uv_glsl - uv_cpu_float| (texels)"}
+            .in("agreement", "texels"),
+        ColumnSpec{"cpu_diff_worst_sample", kInt, kMeasured,
+                   "GLSL: the sample with the largest |uv_glsl - uv_cpu_float| (index j N + i, "
+                   "the first of equal ones)"}
+            .in("agreement", "sample index", Better::none),
+        ColumnSpec{"cpu_diff_first", kText, kMeasured,
+                   "GLSL: the first samples (at most 8, in sample order) more than 1e-3 texel "
+                   "from the CPU float twin or with another fetch count: 'k: GLSL uv | CPU uv "
+                   "fetches GLSL | CPU', '; ' between them"},
         ColumnSpec{"decision_mismatch", kInt, kMeasured,
                    "GLSL: samples whose fetch count differs from CPU"}
             .in("agreement", "samples"),

@@ -19,10 +19,19 @@ namespace pxh {
 // given and not empty): only the samples it marks 1 are compared (a view's outside pixels are
 // left out, as from every statistic).
 struct OutputDiff {
-    double max = NAN, p999 = NAN;
+    double max = NAN, p999 = NAN, mean = NAN, p95 = NAN;
     long long decision_mismatch = 0;
     long long skipped = 0;  // samples neither side answered (no uv on both): not compared
+    // The sample (index k = j N + i, as uv_a is) with the largest difference (the first of
+    // equal ones), -1 when none was compared; and the first samples that differ by more than
+    // kDiffShown texel or in fetch count, at most kFirstDiffs, in sample order.
+    long long worst = -1;
+    std::vector<size_t> first;
+    // Those samples in words: "k: uv_a | uv_b fetches a | b" (no comma) each, "; " between them.
+    std::string first_text;
 };
+inline constexpr double kDiffShown = 1e-3;
+inline constexpr size_t kFirstDiffs = 8;
 OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fetches_a,
                       const std::vector<Vec2d>& uv_b, const std::vector<int>& fetches_b, int width,
                       int height, const std::vector<uint8_t>* inside = nullptr);

@@ -37,6 +37,7 @@ MethodInfo preset_info(const MarchPresetRow& row) {
     for (const PresetParam& pp : row.params) m.params.push_back(pp.spec);
     m.required_bias = row.required_bias;
     m.bias_reason = row.bias_reason;
+    m.engine_version = row.engine_version;
     m.shader_path = "methods/march/march.frag.glsl";
     m.shader_declarations = march_glsl_declarations();
     return m;

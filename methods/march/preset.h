@@ -37,6 +37,9 @@ struct MarchPresetRow {
     void (*derive)(MarchConfig&) = nullptr;
     // Input checks on the knobs, InputError(where, ...) (the `march` method's).
     void (*check)(const MarchConfig&, const std::string& where) = nullptr;
+    // The engine release (or, where none was checked, the source commit) the preset follows:
+    // what `pxh list methods` shows as "follows".
+    std::string engine_version{};
 };
 
 // The knobs a row gives for the parameters' values p.

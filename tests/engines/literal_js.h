@@ -216,8 +216,9 @@ inline EngineResult babylon_pom(const HeightField& hf, float s, Vec3<float> V, V
 // (src/scene/shader-lib/programs/standard.js). dViewDirW = normalize(camera - pos) = pxh V;
 // dTBN from vertex tangents with B along +v (engine-generated tangents), so viewDirT = pxh V.
 // (The derivative frame used without tangents has y = -v; not transcribed.) v2.21.4 has no
-// occlusion mode; the later one is playcanvas_occlusion below.
-inline EngineResult playcanvas_basic(const HeightField& hf, float s, Vec3<float> V, Vec2<float> P) {
+// occlusion mode; the later one is playcanvas_occlusion below. Preset: playcanvas_basic_v2_21.
+inline EngineResult playcanvas_basic_v2_21(const HeightField& hf, float s, Vec3<float> V,
+                                           Vec2<float> P) {
     using namespace js_glsl;
     HeightSampler<float> hs(hf, 1.0f, 0.0f);
     const float material_heightMapFactor = s;
@@ -232,6 +233,28 @@ inline EngineResult playcanvas_basic(const HeightField& hf, float s, Vec3<float>
         dUvOffset = div(viewDirT.xy(), viewDirT.z) * height;
     }
     return {uv0 + dUvOffset, hs.fetches};
+}
+
+// ---- PlayCanvas StandardMaterial 2.22.0+, parallaxMode PARALLAX_OFFSET (the default) --------
+// npm playcanvas@2.22.0 and @2.23.3, build/playcanvas.mjs: the chunk parallaxPS (getParallax,
+// the #else branch of STD_PARALLAX == OCCLUSION) and convertHeightMapFactor
+// (material_heightMapFactor = 0.1 heightMapFactor = s); material_heightMapBase = base (pxh's b,
+// default 0.5). viewDirT = normalize(dViewDirW * dTBN), viewDirUv = (viewDirT.x, -viewDirT.y)
+// in a frame whose y runs along -v: pxh's V.xy. Preset: playcanvas_basic.
+inline EngineResult playcanvas_offset(const HeightField& hf, float s, float base, Vec3<float> V,
+                                      Vec2<float> P) {
+    using namespace js_glsl;
+    HeightSampler<float> hs(hf, 1.0f, 0.0f);
+    const float material_heightMapFactor = s, material_heightMapBase = base;
+    Vec2<float> dUvOffset;
+    {  // getParallax()
+        const float parallaxScale = material_heightMapFactor;
+        const Vec2<float> viewDirUv = V.xy();
+        float height = hs.height(P);  // texture2DBias(heightMap, uv, bias).g
+        height = (height - material_heightMapBase) * parallaxScale;
+        dUvOffset = viewDirUv * height;
+    }
+    return {P + dUvOffset, hs.fetches};
 }
 
 // ---- PlayCanvas StandardMaterial, parallaxMode PARALLAX_OCCLUSION ---------------------------

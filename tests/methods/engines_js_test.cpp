@@ -212,13 +212,13 @@ TEST(Babylon, PomIsNaNAtNormalIncidence) {
 
 // ---- PlayCanvas -----------------------------------------------------------------------------
 
-TEST(PlayCanvas, BasicIsTheSlopeCappedOffsetAboutHalfHeight) {
+TEST(PlayCanvas, Basic221IsTheSlopeCappedOffsetAboutHalfHeight) {
     const float s = 0.025f;  // heightMapFactor 1
     for (float h : {0.1f, 0.5f, 0.9f}) {
         const HeightField hf = test::flat_field(16, 16, h);
         for (const auto& a : kAngles) {
             const Vec3<float> V = view(a[0], a[1]);
-            const EngineResult r = literal::playcanvas_basic(hf, s, V, kP);
+            const EngineResult r = literal::playcanvas_basic_v2_21(hf, s, V, kP);
             const double k = s * (h - 0.5) / (V.z + 0.42);
             expect_offset(r, kP, k * V.x, k * V.y, 1e-7, "playcanvas");
             EXPECT_EQ(r.fetches, 1);
@@ -227,7 +227,7 @@ TEST(PlayCanvas, BasicIsTheSlopeCappedOffsetAboutHalfHeight) {
     // theta 85, h = 1: the offset is s/2 |V.xy| / (V.z + 0.42) = 0.0245 uv, where the exact
     // b = 0.5 offset s/2 tan(theta) is 0.143.
     const HeightField top = test::flat_field(16, 16, 1.0f);
-    const EngineResult r = literal::playcanvas_basic(top, s, view(85, 0), kP);
+    const EngineResult r = literal::playcanvas_basic_v2_21(top, s, view(85, 0), kP);
     EXPECT_NEAR(r.uv.x - kP.x, 0.0245, 1e-4);
 }
 
@@ -356,13 +356,60 @@ TEST(EnginePresetsJs, ReferencePlanes) {
          {"threejs_basic", "threejs_steep", "threejs_occlusion", "threejs_relief", "babylon_pom"})
         EXPECT_EQ(method(n).required_bias, 1.0) << n;
     EXPECT_EQ(method("babylon_parallax").required_bias, 0.0);
-    EXPECT_EQ(method("playcanvas_basic").required_bias, 0.5);
-    // The occlusion mode reads the plane from heightMapBase: any b.
+    EXPECT_EQ(method("playcanvas_basic_v2_21").required_bias, 0.5);
+    // From 2.22 both modes read the plane from heightMapBase: any b.
+    EXPECT_TRUE(std::isnan(method("playcanvas_basic").required_bias));
     EXPECT_TRUE(std::isnan(method("playcanvas_occlusion").required_bias));
 }
 
-TEST(EnginePresetsJs, PlayCanvasBasic) {
-    test::expect_preset_matches("playcanvas_basic", literal::playcanvas_basic, js_sweep());
+// Every engine preset says which release it follows; PlayCanvas's the current stable one.
+TEST(EnginePresetsJs, EveryPresetSaysTheReleaseItFollows) {
+    int presets = 0;
+    for (const MethodInfo& m : all_methods()) {
+        if (m.shader_path != "methods/march/march.frag.glsl" || m.name == "march" ||
+            m.name.rfind("test_", 0) == 0)  // a test's own rows
+            continue;
+        ++presets;
+        EXPECT_FALSE(m.engine_version.empty()) << m.name;
+    }
+    EXPECT_EQ(presets, 25);  // ten engines' files
+    EXPECT_NE(method("playcanvas_basic").engine_version.find("2.22.0"), std::string::npos);
+    EXPECT_NE(method("playcanvas_occlusion").engine_version.find("2.22.0"), std::string::npos);
+    EXPECT_NE(method("playcanvas_basic_v2_21").engine_version.find("2.21.4"), std::string::npos);
+    EXPECT_NE(method("threejs_basic").engine_version.find("r131"), std::string::npos);
+}
+
+TEST(EnginePresetsJs, PlayCanvasBasic221) {
+    test::expect_preset_matches("playcanvas_basic_v2_21", literal::playcanvas_basic_v2_21,
+                                js_sweep());
+}
+
+// The 2.22+ offset mode against its literal at three planes: every sample within 1e-5 texel,
+// one fetch each; and not the 2.21 mode (37.5 texels apart at theta 85 on a 256-texel field,
+// the finding, is the order of what it gives here on h = 1).
+TEST(EnginePresetsJs, PlayCanvasBasicFollows222) {
+    const MethodInfo& m = method("playcanvas_basic");
+    const ParamValues p = params_for(m, {});
+    const auto P = test::random_points(300, 7);
+    for (const HeightField& hf : js_sweep().fields)
+        for (const double b : {0.5, 0.0, 1.0})
+            for (const double theta : {10.0, 50.0, 85.0})
+                for (const double phi : {0.0, 200.0}) {
+                    const Scene<double> sc = make_scene(hf, 0.1, b, theta, phi);
+                    std::vector<int> fetches;
+                    const auto uv = run_method<float>(m, p, sc, hf, P, &fetches);
+                    for (size_t i = 0; i < P.size(); ++i) {
+                        const EngineResult e = literal::playcanvas_offset(
+                            hf, 0.1f, float(b), Vec3<float>(sc.V), Vec2<float>(P[i]));
+                        EXPECT_LE(std::hypot(uv[i].x - e.uv.x, uv[i].y - e.uv.y) * hf.width, 1e-5)
+                            << "b " << b << " theta " << theta;
+                        EXPECT_EQ(fetches[i], 1);
+                    }
+                }
+    // h = 1, b = 0.5, theta 85: s/2 |V.xy| = 0.0498 uv (2.21: s/2 |V.xy| / (V.z + 0.42)).
+    const HeightField top = test::flat_field(16, 16, 1.0f);
+    EXPECT_NEAR(literal::playcanvas_offset(top, 0.1f, 0.5f, view(85, 0), kP).uv.x - kP.x,
+                0.05 * std::sin(85 * M_PI / 180), 1e-6);
 }
 
 }  // namespace

@@ -12,6 +12,9 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kBabylonVersion = "Babylon.js @ 769119fa (git; no release checked)";
+
 using M = MarchConfig;
 
 #define PXH_BABYLON_SOURCE                                                                      \
@@ -32,6 +35,7 @@ const MarchPresetRow kBabylonParallax{
     .required_bias = 0.0,
     .bias_reason =
         "Babylon.js' parallaxOffset moves uv by s h V.xy: the polygon is the bottom of the map",
+    .engine_version = kBabylonVersion,
 };
 PXH_REGISTER_PRESET(kBabylonParallax);
 
@@ -56,6 +60,7 @@ const MarchPresetRow kBabylonPom{
     .order = 345,
     .required_bias = 1.0,
     .bias_reason = "Babylon.js' parallaxOcclusion starts the ray at height 1 at the polygon",
+    .engine_version = kBabylonVersion,
 };
 PXH_REGISTER_PRESET(kBabylonPom);
 

@@ -10,6 +10,9 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kBevyVersion = "Bevy @ 1cb1d0dc and 4805ca79 (git; no release checked)";
+
 using M = MarchConfig;
 
 const char* const kBevySource =
@@ -57,6 +60,7 @@ const MarchPresetRow kBevyOcclusion{
     .order = 311,
     .required_bias = 1.0,
     .bias_reason = kBevyBias,
+    .engine_version = kBevyVersion,
 };
 PXH_REGISTER_PRESET(kBevyOcclusion);
 
@@ -83,6 +87,7 @@ const MarchPresetRow kBevyRelief{
     .order = 312,
     .required_bias = 1.0,
     .bias_reason = kBevyBias,
+    .engine_version = kBevyVersion,
 };
 PXH_REGISTER_PRESET(kBevyRelief);
 

@@ -21,6 +21,10 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kDxsdkVersion =
+    "DirectX SDK (June 2010) sample, as in walbourn/directx-sdk-legacy-samples @ f35ea763";
+
 using M = MarchConfig;
 
 // RenderScenePS: nNumSteps = (int)lerp(g_nMaxSamples, g_nMinSamples, V.z); layers 1 .. n,
@@ -56,6 +60,7 @@ const MarchPresetRow kDxsdkPom{
     .order = 366,
     .required_bias = 1.0,
     .bias_reason = "the sample's bound 1.0 is the polygon, heights go inward",
+    .engine_version = kDxsdkVersion,
 };
 PXH_REGISTER_PRESET(kDxsdkPom);
 

@@ -11,6 +11,9 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kGodotVersion = "Godot 4 @ 0059d788 (git; no release checked)";
+
 using M = MarchConfig;
 
 const char* const kGodotSource =
@@ -38,6 +41,7 @@ const MarchPresetRow kGodotParallax{
     .order = 301,
     .required_bias = 1.0,
     .bias_reason = kGodotBias,
+    .engine_version = kGodotVersion,
 };
 PXH_REGISTER_PRESET(kGodotParallax);
 
@@ -66,6 +70,7 @@ const MarchPresetRow kGodotDeep{
     .order = 302,
     .required_bias = 1.0,
     .bias_reason = kGodotBias,
+    .engine_version = kGodotVersion,
 };
 PXH_REGISTER_PRESET(kGodotDeep);
 

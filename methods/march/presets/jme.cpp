@@ -11,6 +11,9 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kJmeVersion = "jMonkeyEngine @ 7277b5d8 (git; no release checked)";
+
 using M = MarchConfig;
 
 // classicParallaxOffset: h = (h s - 0.6 s) normView.z; uv = P + h normView.xy.
@@ -26,6 +29,7 @@ const MarchPresetRow kJmeParallax{
     .order = 362,
     .required_bias = 0.6,
     .bias_reason = "classicParallaxOffset adds heightBias = -0.6 ParallaxHeight",
+    .engine_version = kJmeVersion,
 };
 PXH_REGISTER_PRESET(kJmeParallax);
 
@@ -53,6 +57,7 @@ const MarchPresetRow kJmeSteep{
     .order = 363,
     .required_bias = 1.0,
     .bias_reason = "steepParallaxOffset starts at bound 1.0 at the polygon",
+    .engine_version = kJmeVersion,
 };
 PXH_REGISTER_PRESET(kJmeSteep);
 

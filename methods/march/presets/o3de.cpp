@@ -11,6 +11,9 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kO3deVersion = "O3DE @ 354a2acc (git; no release checked)";
+
 using M = MarchConfig;
 
 const char* const kO3deSource =
@@ -39,6 +42,7 @@ const MarchPresetRow kO3deBasic{
     .order = 321,
     .required_bias = 1.0,
     .bias_reason = kO3deBias,
+    .engine_version = kO3deVersion,
 };
 PXH_REGISTER_PRESET(kO3deBasic);
 
@@ -58,6 +62,7 @@ const MarchPresetRow kO3deSteep{
     .order = 322,
     .required_bias = 1.0,
     .bias_reason = kO3deBias,
+    .engine_version = kO3deVersion,
 };
 PXH_REGISTER_PRESET(kO3deSteep);
 
@@ -79,6 +84,7 @@ const MarchPresetRow kO3dePom{
     .order = 323,
     .required_bias = 1.0,
     .bias_reason = kO3deBias,
+    .engine_version = kO3deVersion,
 };
 PXH_REGISTER_PRESET(kO3dePom);
 
@@ -101,6 +107,7 @@ const MarchPresetRow kO3deRelief{
     .required_bias = 1.0,
     .bias_reason = kO3deBias,
     .derive = [](MarchConfig& c) { c.iterations = int(c.layers) - 1; },
+    .engine_version = kO3deVersion,
 };
 PXH_REGISTER_PRESET(kO3deRelief);
 
@@ -120,6 +127,7 @@ const MarchPresetRow kO3deContact{
     .order = 325,
     .required_bias = 1.0,
     .bias_reason = kO3deBias,
+    .engine_version = kO3deVersion,
 };
 PXH_REGISTER_PRESET(kO3deContact);
 

@@ -10,6 +10,9 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kOgreVersion = "OGRE @ 3e955a16 (git; no release checked)";
+
 using M = MarchConfig;
 
 const char* const kOgreBias = "OGRE reads depth = 1 - alpha below the polygon";
@@ -29,6 +32,7 @@ const MarchPresetRow kOgreParallax{
     .order = 364,
     .required_bias = 1.0,
     .bias_reason = kOgreBias,
+    .engine_version = kOgreVersion,
 };
 PXH_REGISTER_PRESET(kOgreParallax);
 
@@ -57,6 +61,7 @@ const MarchPresetRow kOgrePom{
     .order = 365,
     .required_bias = 1.0,
     .bias_reason = kOgreBias,
+    .engine_version = kOgreVersion,
 };
 PXH_REGISTER_PRESET(kOgrePom);
 

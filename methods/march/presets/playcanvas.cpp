@@ -1,8 +1,16 @@
 // PlayCanvas StandardMaterial parallax as presets of the parametric marcher
-// (methods/march/preset.h): the single-tap offset of v2.21.4 (playcanvas_basic) and the occlusion
-// mode that followed it (playcanvas_occlusion: playcanvas/engine PRs 9213, 9219, 9245). Literal
-// transcriptions and the comparison: tests/engines/literal_js.h,
-// tests/methods/engines_js_test.cpp.
+// (methods/march/preset.h), following the current stable release (2.22.0 and later: its offset
+// mode, playcanvas_basic, and its occlusion mode, playcanvas_occlusion), with the offset mode of
+// 2.21 and earlier kept as playcanvas_basic_v2_21. Literal transcriptions and the comparison:
+// tests/engines/literal_js.h, tests/methods/engines_js_test.cpp.
+//
+// Sources read for 2.22+: npm playcanvas@2.22.0 and playcanvas@2.23.3, build/playcanvas.mjs,
+// the GLSL chunk parallaxPS (`parallax_default`: getParallax, the same text in both but for
+// the texture bias's spelling) and convertHeightMapFactor (material_heightMapFactor =
+// 0.1 heightMapFactor; registerProp heightMapBase 0.5, parallaxSamples 16). 2.22 reworked the
+// offset mode: uv = P + s (h - heightMapBase) viewDirUv, no division by V.z, no 0.42, and
+// the plane at heightMapBase (any b); viewDirUv = (viewDirT.x, -viewDirT.y) in a frame whose y
+// runs along -v, pxh's V.xy.
 //
 // Texture levels. playcanvas_basic reads texture2DBias(.., textureBias), the hardware's level
 // plus the material's bias (`lod = "implicit"` on the GLSL backend at bias 0). The occlusion mode
@@ -19,8 +27,27 @@ namespace {
 
 using M = MarchConfig;
 
+// getParallax, STD_PARALLAX == OFFSET (2.22.0+): height = (h - heightMapBase) s; dUvOffset =
+// height viewDirUv: the offset search with f = 1 (sin), one fetch, any plane b.
 const MarchPresetRow kPlayCanvasBasic{
     .name = "playcanvas_basic",
+    .citation =
+        "PlayCanvas StandardMaterial getParallax (parallaxMode PARALLAX_OFFSET, the default): "
+        "npm playcanvas@2.22.0 and @2.23.3 build/playcanvas.mjs, chunk parallaxPS and "
+        "convertHeightMapFactor (playcanvas/engine src/scene/shader-lib/glsl/chunks/standard/"
+        "frag/parallax.js, src/scene/materials/standard-material.js); s = 0.1 heightMapFactor "
+        "(default 1), b = heightMapBase (default 0.5), heightMapChannel g",
+    .summary =
+        "PlayCanvas parallax offset: uv = P + s (h(P) - b) V.xy (one fetch, no division by "
+        "V.z)",
+    .knobs = {.search = M::Offset, .offset_form = M::OffSin},
+    .order = 346,
+    .engine_version = "PlayCanvas 2.22.0 and later (checked: npm 2.22.0, 2.23.3)",
+};
+PXH_REGISTER_PRESET(kPlayCanvasBasic);
+
+const MarchPresetRow kPlayCanvasBasicV221{
+    .name = "playcanvas_basic_v2_21",
     .citation =
         "PlayCanvas StandardMaterial getParallax: playcanvas/engine "
         "src/scene/shader-lib/glsl/chunks/standard/frag/parallax.js and "
@@ -28,15 +55,18 @@ const MarchPresetRow kPlayCanvasBasic{
         "e287e0c67f3c20c689a52b7c53d2b7fedbe887da (v2.21.4); s = 0.025 heightMapFactor "
         "(default 1), heightMapChannel g",
     .summary =
-        "PlayCanvas parallax: uv = P + s (h(P) - 0.5) V.xy / (V.z + 0.42) (one fetch); "
-        "there is no occlusion mode",
+        "PlayCanvas 2.21 parallax: uv = P + s (h(P) - 0.5) V.xy / (V.z + 0.42) (one fetch); "
+        "that release has no occlusion mode",
     .knobs = {.search = M::Offset, .offset_form = M::OffSoft, .offset_soften = 0.42},
-    .order = 346,
+    .order = 348,
     .required_bias = 0.5,
     .bias_reason =
         "PlayCanvas offsets by height * s - s * 0.5: the map's mid-grey stays at the polygon",
+    .engine_version =
+        "PlayCanvas 2.21.4 (tag v2.21.4; checked: npm playcanvas@2.21.4); "
+        "replaced in 2.22.0 (playcanvas_basic)",
 };
-PXH_REGISTER_PRESET(kPlayCanvasBasic);
+PXH_REGISTER_PRESET(kPlayCanvasBasicV221);
 
 // getParallax, STD_PARALLAX == OCCLUSION: march = -s V.xy / V.z limited to length
 // parallaxMaxSlope s (5 s); the volume entered at depth 0, extrapolated back from the geometry
@@ -77,6 +107,9 @@ const MarchPresetRow kPlayCanvasOcclusion{
                                 "StandardMaterial#parallaxSamples: the cap on the march's steps"),
                 MarchKnob::layers_max}},
     .order = 347,
+    .engine_version =
+        "PlayCanvas 2.22.0 and later (checked: npm 2.22.0, 2.23.3, chunk "
+        "parallaxPS, the same loop as the commit cited)",
 };
 PXH_REGISTER_PRESET(kPlayCanvasOcclusion);
 

@@ -11,6 +11,11 @@
 namespace pxh {
 namespace {
 
+// The release the presets of this file follow (`pxh list methods`: "follows").
+const char* const kThreeVersion =
+    "three.js r131 (npm three@0.131.3, checked: the last release whose package ships "
+    "examples/jsm/shaders/ParallaxShader.js; three.js now ships the TSL node parallaxUV)";
+
 using M = MarchConfig;
 
 #define PXH_THREEJS_SOURCE                                                                   \
@@ -43,6 +48,7 @@ const MarchPresetRow kThreeJsBasic{
     .order = 340,
     .required_bias = 1.0,
     .bias_reason = kThreeBias,
+    .engine_version = kThreeVersion,
 };
 PXH_REGISTER_PRESET(kThreeJsBasic);
 
@@ -64,6 +70,7 @@ const MarchPresetRow kThreeJsSteep{
     .order = 341,
     .required_bias = 1.0,
     .bias_reason = kThreeBias,
+    .engine_version = kThreeVersion,
 };
 PXH_REGISTER_PRESET(kThreeJsSteep);
 
@@ -89,6 +96,7 @@ const MarchPresetRow kThreeJsOcclusion{
     .order = 342,
     .required_bias = 1.0,
     .bias_reason = kThreeBias,
+    .engine_version = kThreeVersion,
 };
 PXH_REGISTER_PRESET(kThreeJsOcclusion);
 
@@ -115,6 +123,7 @@ const MarchPresetRow kThreeJsRelief{
     .order = 343,
     .required_bias = 1.0,
     .bias_reason = kThreeBias,
+    .engine_version = kThreeVersion,
 };
 PXH_REGISTER_PRESET(kThreeJsRelief);
 

@@ -36,6 +36,9 @@ const MarchPresetRow kUnityParallaxOffset{
     .order = 360,
     .required_bias = 0.5,
     .bias_reason = "ParallaxOffset centres heights on 0.5 (h _Parallax - _Parallax / 2)",
+    .engine_version =
+        "Unity built-in render pipeline shaders @ 6a63f93b (TwoTailsGames/Unity-Built-in-Shaders) "
+        "and URP @ 3b0efc39 (git; no release checked)",
 };
 PXH_REGISTER_PRESET(kUnityParallaxOffset);
 
@@ -82,6 +85,9 @@ const MarchPresetRow kHdrpPom{
     .order = 361,
     .required_bias = 1.0,
     .bias_reason = "HDRP pixel displacement goes inward only (height 1 at the polygon)",
+    .engine_version =
+        "HDRP (Unity-Technologies/Graphics) @ c8df1d81, d679af29, ba62a598 (git; no release "
+        "checked)",
 };
 PXH_REGISTER_PRESET(kHdrpPom);
 
