@@ -436,33 +436,54 @@ void write_plot_data(const ReportData& d) {
 // plot_report.py (shipped beside the binary: harness/core/shipped_files.h) on the report folder,
 // run by /usr/bin/python3 from an argument vector (no shell: any folder name is passed as it
 // is); waits and checks its exit status.
-void run_plotter(const fs::path& out, double figure_width, const std::string& formats) {
-    const std::string python = "/usr/bin/python3";
-    const std::string script = shipped_file("plot_report.py");
+namespace {
+const char* const kPython = "/usr/bin/python3";
+const char* const kPlotAdvice =
+    "; the tables are written. Is python3-matplotlib installed? (./run.sh installs it)";
+}  // namespace
+
+Plotter::Plotter(const fs::path& out, double figure_width, const std::string& formats)
+    : script_(shipped_file("plot_report.py")) {
     std::vector<std::string> args = {
-        python, script, out.string(), "--width", csv_num(figure_width), "--formats", formats};
+        kPython, script_, out.string(), "--width", csv_num(figure_width), "--formats", formats};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
-    const std::string advice =
-        "; the tables are written. Is python3-matplotlib installed? "
-        "(./run.sh installs it)";
     std::cout << std::flush;
-    pid_t pid = 0;
-    if (const int e = posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ))
-        throw std::runtime_error("cannot start " + python + ": " + std::strerror(e) + advice);
+    if (const int e = posix_spawn(&pid_, kPython, nullptr, nullptr, argv.data(), environ))
+        throw std::runtime_error(std::string("cannot start ") + kPython + ": " + std::strerror(e) +
+                                 kPlotAdvice);
+}
+
+int Plotter::wait_status() {
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR)
+    while (waitpid(pid_, &status, 0) < 0)
+        if (errno != EINTR) {
+            pid_ = 0;
             throw std::runtime_error(std::string("waitpid: ") + std::strerror(errno));
+        }
+    pid_ = 0;
+    return status;
+}
+
+void Plotter::finish() {
+    const int status = wait_status();
     if (WIFEXITED(status) && WEXITSTATUS(status) == 2)  // it said why on one line
-        throw InputError(script, "refused its input (the line above); the tables are written");
+        throw InputError(script_, "refused its input (the line above); the tables are written");
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw std::runtime_error("plotting failed (" + python + " " + script + ": " +
+        throw std::runtime_error(std::string("plotting failed (") + kPython + " " + script_ + ": " +
                                  (WIFEXITED(status)
                                       ? "exit status " + std::to_string(WEXITSTATUS(status))
                                       : "killed by signal " + std::to_string(WTERMSIG(status))) +
-                                 ")" + advice);
+                                 ")" + kPlotAdvice);
+}
+
+Plotter::~Plotter() {
+    if (pid_ <= 0) return;
+    try {  // a table failed while the figures were drawn: the drawing ends before pxh does
+        (void)wait_status();
+    } catch (const std::exception&) {
+    }
 }
 
 }  // namespace pxh

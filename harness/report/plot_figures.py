@@ -162,7 +162,7 @@ class Figures:
         fig.set_layout_engine("none")
         for ext in self.formats:
             meta = {"svg": {"Date": None}, "pdf": {"CreationDate": None}}.get(ext)
-            kw = {"pil_kwargs": {"compress_level": 3}} if ext == "png" else {}
+            kw = {"pil_kwargs": {"compress_level": 1}} if ext == "png" else {}
             self.own.write(f"{name}.{ext}", lambda f: fig.savefig(
                 f, format=ext, dpi=300, bbox_inches=box, metadata=meta, **kw))
             files.append(f"{name}.{ext}")

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "harness/core/error.h"
@@ -18,6 +19,11 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     std::signal(SIGXFSZ, SIG_IGN);
     open_report_folder(d.out);
     report_folder(d.out, "data");
+    // The figures' data first; the plot script draws while the tables are written.
+    write_plot_data(d);
+    write_families(d);
+    std::optional<Plotter> plotter;
+    if (options.plots) plotter.emplace(d.out, options.figure_width, options.formats);
     write_summary(d);
     write_fields(d);
     write_legend(d);
@@ -25,9 +31,7 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     write_sweep(d);
     write_precision(d);
     write_budget(d);
-    write_plot_data(d);
-    write_families(d);
-    if (options.plots) run_plotter(d.out, options.figure_width, options.formats);
+    if (plotter) plotter->finish();
     return 0;
 }
 

@@ -2,6 +2,8 @@
 // by status, and per series (setting x backend/precision or format) and angle band the means
 // every table and figure draws on. Internal to harness/report.
 #pragma once
+#include <sys/types.h>
+
 #include <filesystem>
 #include <map>
 #include <set>
@@ -178,7 +180,22 @@ void write_sweep(const ReportData& d);
 void write_precision(const ReportData& d);
 void write_budget(const ReportData& d);
 void write_plot_data(const ReportData& d);
-void run_plotter(const std::filesystem::path& out, double figure_width,
-                 const std::string& formats = "png,pdf");
+// The plot script (plot_report.py), started on the data/ files written so far and drawing while
+// pxh writes the tables (a folder of files apart from the figures'); finish() waits for it and
+// throws its failure (InputError: it refused its input, exit 2). A Plotter destroyed unfinished
+// (a table's write failed) waits for the script before pxh goes on.
+class Plotter {
+  public:
+    Plotter(const std::filesystem::path& out, double figure_width, const std::string& formats);
+    Plotter(const Plotter&) = delete;
+    Plotter& operator=(const Plotter&) = delete;
+    ~Plotter();
+    void finish();
+
+  private:
+    int wait_status();
+    std::string script_;
+    pid_t pid_ = 0;
+};
 
 }  // namespace pxh
