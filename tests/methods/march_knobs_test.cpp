@@ -127,7 +127,9 @@ TEST(MarchKnobs, EveryPresetSetsEveryKnobUniform) {
         for (const GlUniform& u : method_uniforms(m, test::params_for(m))) names.push_back(u.name);
         EXPECT_EQ(names, knob_uniforms) << m.name;
     }
-    EXPECT_EQ(presets, 26);  // march, the 24 engine presets and the test's
+    EXPECT_EQ(
+        presets,
+        27);  // march, the 25 engine presets (playcanvas_basic_v2_21 among them) and the test's
 }
 
 TEST(MarchKnobs, ShaderGetsTheDeclarationsInPlaceOfItsMarkerLine) {

@@ -114,11 +114,12 @@ TEST_F(ReportFiles, RerunRemovesOnlyItsOwnFiles) {
 }
 
 // A full disk (here a file-size limit: the same failed write) leaves no 0-byte or truncated
-// summary.csv: the failure is reported, non-zero exit, and the name never holds a part file.
+// file: the failure is reported (the first file over the limit: the figures' data, written
+// first), non-zero exit, nothing written after it, and no name holds a part file.
 TEST_F(ReportFiles, FullDiskLeavesNoTruncatedFile) {
     const std::string res = make_run();
     const fs::path rep = fs::path(res) / "report";
-    // 1 block: the manifest's first line fits, summary.csv does not. SIGXFSZ ignored by the
+    // 1 block: the manifest's first line fits, data/vs_theta.csv does not. SIGXFSZ ignored by the
     // shell is ignored by pxh too (pxh report ignores it itself as well).
     const std::string cmd = "sh -c \"trap '' XFSZ; ulimit -f 1; exec " + std::string(PXH_BINARY) +
                             " report --no-plots " + res + "\" >" + (dir / "out.txt").string() +
@@ -127,10 +128,16 @@ TEST_F(ReportFiles, FullDiskLeavesNoTruncatedFile) {
     ASSERT_TRUE(WIFEXITED(rc));
     EXPECT_NE(WEXITSTATUS(rc), 0);
     const std::string err = slurp(dir / "err.txt");
-    EXPECT_NE(err.find("summary.csv: cannot write: File too large"), std::string::npos) << err;
-    EXPECT_FALSE(fs::exists(rep / "summary.csv"));
-    for (const auto& e : fs::directory_iterator(rep))
+    EXPECT_NE(err.find("data/vs_theta.csv: cannot write: File too large"), std::string::npos)
+        << err;
+    EXPECT_FALSE(fs::exists(rep / "data" / "vs_theta.csv"));
+    EXPECT_FALSE(fs::exists(rep / "summary.csv"));  // the report stopped at the first failure
+    for (const auto& e : fs::recursive_directory_iterator(rep)) {
         EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+        if (e.is_regular_file() && e.path().filename() != "manifest.txt") {
+            EXPECT_GT(fs::file_size(e.path()), 0u) << e.path();
+        }
+    }
 }
 
 TEST_F(ReportFiles, PicturePathsOutsideTheFolderRefused) {
