@@ -4,8 +4,8 @@
 // only when its median also grew beyond the --fail-on margin. Rows with too few repeats for a
 // verdict of their own are judged together (a signed-rank test over their median ratios, in
 // the same Holm family): unchanged code with a uniform 3% drift passes, 1.5x is caught.
-// TimingUnderLoad runs the same CPU experiment twice beside a busy loop (no time regression), and
-// its second run's repeats made 1.5x slower are caught.
+// TimingUnderLoad times a CPU experiment beside a busy loop: its repeats 1.05x slower (within the
+// margin) give no regression, 1.5x slower are caught.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -209,13 +209,16 @@ class TimingUnderLoad : public TimingFamily {
     }
 };
 
-// The same CPU experiment (90 rows, 10 single-thread repeats each) run twice while a busy loop
-// loads the machine: no time regression at a 20% margin (this machine's busy loop moved the
-// rows' medians by -3% to +3%; Holm may still call a few rows' shifts significant, the margin
-// absorbs them). The second run's repeats 1.5x (a method made 1.5x slower, timed under the same
-// load): caught on most rows. GLSL frames are no use here: llvmpipe's frame times under the same
-// loop moved by up to 2.4x between two runs (docs/guide/gates.md).
-TEST_F(TimingUnderLoad, UnchangedRunsPassAndASlowerMethodIsCaught) {
+// A CPU experiment (90 rows, 10 single-thread repeats each) timed while a busy loop loads the
+// machine. The gate's verdicts are tested on its own repeats, not on a second timed run: two
+// real runs differ by whatever the machine did meanwhile (a burst over one row's ten repeats
+// moved a row 1.7x on the 2-core CI machine), so asserting that two runs agree would be a timed
+// assertion, which the suite does not make (speed is measured by benchmarks). Every repeat
+// 1.05x (slower, mostly significantly, but within the 20% margin): no regression. Every repeat
+// 1.5x (a method made 1.5x slower): caught on most rows. GLSL frames are no use here:
+// llvmpipe's frame times under the same loop moved by up to 2.4x between two runs
+// (docs/guide/gates.md).
+TEST_F(TimingUnderLoad, AShiftWithinTheMarginPassesAndASlowerMethodIsCaught) {
     const std::string e =
         write("t.toml",
               "name = \"t\"\nsamples = 16\ntiming_repeats = 10\n"
@@ -225,20 +228,22 @@ TEST_F(TimingUnderLoad, UnchangedRunsPassAndASlowerMethodIsCaught) {
               "[[methods]]\nname = \"parallax\"\n[[methods]]\nname = \"pom\"\nlayers = 8\n");
     {
         BusyLoop busy(dir / "busy.pid");
-        for (const char* v : {"one", "two"}) {
-            const auto r = pxh("run " + e + " --quiet --out " + d(v));
-            ASSERT_EQ(r.status, 0) << r.out << r.err;
-        }
+        const auto r = pxh("run " + e + " --quiet --out " + d("one"));
+        ASSERT_EQ(r.status, 0) << r.out << r.err;
     }
-    const auto same =
-        pxh("compare " + d("one") + " " + d("two") + " --fail-on err_p95=+0,time=+20%");
+    const auto scaled = [&](double f) {
+        std::vector<std::vector<double>> rows = repeats_of("one");
+        for (auto& row : rows)
+            for (double& t : row) t *= f;
+        return rows;
+    };
+    timed_copy("one", "within", scaled(1.05));
+    const auto same = pxh("compare " + d("one") + " " + d("within") +
+                          " --accept-edited --fail-on err_p95=+0,time=+20%");
     EXPECT_EQ(same.status, 0) << same.out << same.err;
     EXPECT_NE(same.out.find("PASS: 0 regression(s)"), std::string::npos) << same.out;
     EXPECT_NE(same.out.find("Holm over the 90 rows tested"), std::string::npos) << same.out;
-    std::vector<std::vector<double>> slow = repeats_of("two");
-    for (auto& row : slow)
-        for (double& t : row) t *= 1.5;
-    timed_copy("two", "slow", slow);
+    timed_copy("one", "slow", scaled(1.5));
     const auto caught = pxh("compare " + d("one") + " " + d("slow") +
                             " --accept-edited --fail-on err_p95=+0,time=+20%");
     EXPECT_EQ(caught.status, 1) << caught.out << caught.err;
