@@ -72,6 +72,16 @@ inline HeightField generated_field(const std::string& generator, int w, int h = 
                                 resolve_params(g->params, {}, "test", generator));
 }
 
+// An experiment's [[heightfields]] entry for a generator at its default parameters, size x size
+// (scale and bias left at their defaults: the caller sets them).
+inline HeightfieldSpec generator_spec(const std::string& generator, int size) {
+    HeightfieldSpec hs;
+    hs.name = hs.generator = generator;
+    hs.width = hs.height = size;
+    hs.gen_params = resolve_params(find_generator(generator)->params, {}, "t", generator);
+    return hs;
+}
+
 inline HeightField flat_field(int w, int h, float level) {
     HeightField hf(w, h, "flat");
     for (auto& t : hf.texels) t = level;

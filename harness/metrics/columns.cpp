@@ -48,28 +48,12 @@ std::vector<ColumnSpec> run_columns() {
         {"camera", kText, kKey, "orthographic | perspective ([views] camera)", kQuiet},
         // Here: each camera's own keys (CameraEntry::keys, harness/scene/), in registry order.
         {"lod", kText, kKey, "texture level mode: base | level | grad | implicit", kNamed},
-        {"depth",
-         kText,
-         kKey,
-         "depth mode: the point whose depth is written: base | hit | engine",
-         kNamed,
-         "",
-         "",
-         "",
-         Better::none,
-         false,
-         {"depth", "cut", "timing", "agreement"}},
-        {"cut",
-         kNum,
-         kKey,
-         "[views] cut: height c of the opaque plane z = s (c - b) tested",
-         kNamed,
-         "",
-         "",
-         "",
-         Better::none,
-         false,
-         {"cut"}},
+        ColumnSpec{"depth", kText, kKey,
+                   "depth mode: the point whose depth is written: base | hit | engine", kNamed}
+            .affecting({"depth", "cut", "timing", "agreement"}),
+        ColumnSpec{"cut", kNum, kKey,
+                   "[views] cut: height c of the opaque plane z = s (c - b) tested", kNamed}
+            .affecting({"cut"}),
     };
 }
 

@@ -69,6 +69,10 @@ struct ColumnSpec {
         headline = true;
         return *this;
     }
+    ColumnSpec& affecting(std::vector<std::string> families) {
+        affects = std::move(families);
+        return *this;
+    }
     bool can_change(const std::string& fam) const {
         return affects.empty() || std::find(affects.begin(), affects.end(), fam) != affects.end();
     }

@@ -258,12 +258,9 @@ TEST_F(RegisteredMetric, ReachesResultsCsvAndIsReadBackTyped) {
     ex.samples = 24;
     ex.backend.timing_repeats = 0;
     ex.theta_deg = {0, 45, 70};
-    HeightfieldSpec hs;
-    hs.name = hs.generator = "sine";
-    hs.width = hs.height = 64;
+    HeightfieldSpec hs = test::generator_spec("sine", 64);
     hs.scale = 0.05;
     hs.bias = 1;
-    hs.gen_params = resolve_params(find_generator("sine")->params, {}, "t", "sine");
     ex.heightfields = {hs};
     ex.methods.push_back({find_method("pom"), test::params_for(*find_method("pom"))});
     std::vector<ResultRow> rows;

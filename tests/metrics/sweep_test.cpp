@@ -101,10 +101,7 @@ TEST(Sweep, RealMethodsOrderAsThePapersSay) {
     ex.theta_deg = {60, 75, 80};
     ex.phi_deg = {30};
     ex.sweep_dt_deg = 0.25;
-    HeightfieldSpec hs;
-    hs.name = hs.generator = "fbm";
-    hs.width = hs.height = 128;
-    hs.gen_params = resolve_params(find_generator("fbm")->params, {}, "t", "fbm");
+    HeightfieldSpec hs = test::generator_spec("fbm", 128);
     hs.bias = 0.5;
     for (double s : {0.02, 0.05}) {
         hs.scale = s;
@@ -156,10 +153,7 @@ TEST(Sweep, ConsecutiveViewsFillAllButTheLastRow) {
     ex.samples = 32;
     ex.backend.timing_repeats = 0;
     ex.theta_deg = {20, 40, 60};
-    HeightfieldSpec hs;
-    hs.name = hs.generator = "sine";
-    hs.width = hs.height = 64;
-    hs.gen_params = resolve_params(find_generator("sine")->params, {}, "t", "sine");
+    HeightfieldSpec hs = test::generator_spec("sine", 64);
     ex.heightfields = {hs};
     ex.methods.push_back({find_method("parallax"), test::params_for(*find_method("parallax"))});
     const auto rows = run_experiment(ex, RunOptions{});

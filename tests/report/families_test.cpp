@@ -43,12 +43,9 @@ TEST_F(RegisteredFamily, FlowsIntoEveryOutput) {
     ex.samples = 16;
     ex.backend.timing_repeats = 0;
     ex.theta_deg = {0, 30, 50, 70};
-    HeightfieldSpec hs;
-    hs.name = hs.generator = "sine";
-    hs.width = hs.height = 64;
+    HeightfieldSpec hs = test::generator_spec("sine", 64);
     hs.scale = 0.05;
     hs.bias = 1;
-    hs.gen_params = resolve_params(find_generator("sine")->params, {}, "t", "sine");
     ex.heightfields = {hs};
     ex.methods.push_back({find_method("pom"), test::params_for(*find_method("pom"))});
     ex.methods.push_back({find_method("parallax"), test::params_for(*find_method("parallax"))});
