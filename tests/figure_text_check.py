@@ -6,6 +6,7 @@ titles, colour-bar labels, annotations.
 
     /usr/bin/python3 tests/figure_text_check.py PLOT_REPORT.py RESULTS_DIR/report WIDTH [--save]
 
+The files are created in a new temporary folder (removed afterwards), never in the report.
 (--save: the figures are also written as PNG, as pxh report writes them, and their widths
 checked; without it they are only drawn, at 100 dpi, and checked, and the strips' animated
 GIFs, which hold no matplotlib text, are not made.)
@@ -19,7 +20,9 @@ Prints "checked N figures, M texts" when all pass.
 """
 import importlib.util
 import os
+import shutil
 import sys
+import tempfile
 
 import matplotlib
 
@@ -108,17 +111,25 @@ def main():
         pictures.animate = lambda *args, **kwargs: None
     # every figure drawn in this process, where the checks run (not in drawing processes)
     os.environ["PXH_PLOT_JOBS"] = "1"
-    sys.argv = [script, report, "--width", str(width), "--formats", "png"]
-    pr.main()
+    into = tempfile.mkdtemp(prefix="pxh_figure_check_")
+    sys.argv = [script, report, "--into", into, "--width", str(width), "--formats", "png"]
+    try:
+        pr.main()
+        return report_findings(findings, counts, into, width)
+    finally:
+        shutil.rmtree(into, ignore_errors=True)
+
+
+def report_findings(findings, counts, into, width):
     for line in findings:
         print("collision: " + line)
     print(f"checked {len(counts)} figures, {sum(counts)} texts, {len(findings)} findings "
           f"at {width:g} in")
     # the PNGs as saved: no wider than the width and savefig's pad_inches (0.02 in a side) at
     # 300 dpi, 3 px for rounding
-    for f in sorted(os.listdir(report)):
+    for f in sorted(os.listdir(into)):
         if f.endswith(".png"):
-            with open(os.path.join(report, f), "rb") as fh:
+            with open(os.path.join(into, f), "rb") as fh:
                 head = fh.read(24)
             w = int.from_bytes(head[16:20], "big")
             if w > (width + 0.04) * 300 + 3:

@@ -65,28 +65,6 @@ bool is_pxh_bench_file(const std::string& path) {
     }
 }
 
-// Writes `text` as `out`: a new file beside it, renamed over `out` only when `replace` (an
-// earlier pxh bench file, checked again now), else into a name that must still be free.
-void write_bench_file(const std::string& out, const std::string& text, bool replace) {
-    const std::string tmp = out + ".partial-" + std::to_string(::getpid()) + "-" + random_hex8();
-    create_new_file(tmp, text);
-    int rc = 0;
-    if (replace) {
-        if (!is_pxh_bench_file(out)) {
-            ::unlink(tmp.c_str());
-            throw InputError(out, "is no longer a pxh bench file; not replaced");
-        }
-        rc = ::rename(tmp.c_str(), out.c_str());
-    } else {
-        rc = ::renameat2(AT_FDCWD, tmp.c_str(), AT_FDCWD, out.c_str(), RENAME_NOREPLACE);
-    }
-    if (rc != 0) {
-        const std::string why = std::strerror(errno);
-        ::unlink(tmp.c_str());
-        throw std::runtime_error(out + ": cannot put the results in place: " + why);
-    }
-}
-
 // The CPU's flags (/proc/cpuinfo's first "flags" line), space-separated.
 std::string cpu_flags() {
     std::ifstream f("/proc/cpuinfo");
@@ -151,8 +129,10 @@ void write_bench(const BenchOptions& opt, const nlohmann::json& results, size_t 
     const std::string& out = opt.out;
     const auto parent = std::filesystem::path(out).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
-    std::error_code ec;
-    write_bench_file(out, doc.dump(2) + "\n", std::filesystem::exists(out, ec));
+    replace_own_file(
+        out, doc.dump(2) + "\n",
+        [](const std::filesystem::path& p) { return is_pxh_bench_file(p); }, out,
+        "is no longer a pxh bench file; not replaced");
     std::cout << "ratio = exact / Embree throughput (median of " << opt.repeats << " repeats, "
               << opt.threads << " threads, " << rays << " rays); agreement in texels"
               << (eye ? " over inside pixels" : "")

@@ -374,8 +374,8 @@ std::vector<std::string> family_names(const ReportData& d) {
 void write_families(const ReportData& d) {
     const std::vector<std::string> names = family_names(d);
     if (names.empty()) return;
-    report_folder(d.out, "families");
-    report_folder(d.out, "data/families");
+    d.folder().folder("families");
+    d.folder().folder("data/families");
     std::ostringstream index;
     index << "family,title,x,x_unit,file,columns,units,better\n";
     for (const std::string& name : names) {

@@ -442,17 +442,26 @@ const char* const kPlotAdvice =
     "; the tables are written. Is python3-matplotlib installed? (./run.sh installs it)";
 }  // namespace
 
-Plotter::Plotter(const fs::path& out, double figure_width, const std::string& formats)
-    : script_(shipped_file("plot_report.py")) {
-    std::vector<std::string> args = {
-        kPython, script_, out.string(), "--width", csv_num(figure_width), "--formats", formats};
+Plotter::Plotter(const OwnedFolder& folder, double figure_width, const std::string& formats)
+    : folder_(folder), staging_(folder.staging()), script_(shipped_file("plot_report.py")) {
+    std::vector<std::string> args = {kPython,
+                                     script_,
+                                     folder.dir().string(),
+                                     "--into",
+                                     staging_.string(),
+                                     "--width",
+                                     csv_num(figure_width),
+                                     "--formats",
+                                     formats};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
     std::cout << std::flush;
-    if (const int e = posix_spawn(&pid_, kPython, nullptr, nullptr, argv.data(), environ))
+    if (const int e = posix_spawn(&pid_, kPython, nullptr, nullptr, argv.data(), environ)) {
+        folder_.discard(staging_);
         throw std::runtime_error(std::string("cannot start ") + kPython + ": " + std::strerror(e) +
                                  kPlotAdvice);
+    }
 }
 
 int Plotter::wait_status() {
@@ -468,20 +477,30 @@ int Plotter::wait_status() {
 
 void Plotter::finish() {
     const int status = wait_status();
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        try {
+            folder_.adopt(staging_);
+        } catch (...) {  // a name taken by a file of the user's: what is left is not taken
+            folder_.discard(staging_);
+            throw;
+        }
+        return;
+    }
+    folder_.discard(staging_);
     if (WIFEXITED(status) && WEXITSTATUS(status) == 2)  // it said why on one line
         throw InputError(script_, "refused its input (the line above); the tables are written");
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw std::runtime_error(std::string("plotting failed (") + kPython + " " + script_ + ": " +
-                                 (WIFEXITED(status)
-                                      ? "exit status " + std::to_string(WEXITSTATUS(status))
-                                      : "killed by signal " + std::to_string(WTERMSIG(status))) +
-                                 ")" + kPlotAdvice);
+    throw std::runtime_error(std::string("plotting failed (") + kPython + " " + script_ + ": " +
+                             (WIFEXITED(status)
+                                  ? "exit status " + std::to_string(WEXITSTATUS(status))
+                                  : "killed by signal " + std::to_string(WTERMSIG(status))) +
+                             ")" + kPlotAdvice);
 }
 
 Plotter::~Plotter() {
     if (pid_ <= 0) return;
     try {  // a table failed while the figures were drawn: the drawing ends before pxh does
         (void)wait_status();
+        folder_.discard(staging_);
     } catch (const std::exception&) {
     }
 }

@@ -11,7 +11,7 @@ matplotlib.use("Agg")
 import matplotlib.lines as mlines  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
-from plot_files import Own
+from plot_files import NewFiles
 from plot_text import chars_for, ellipsize, fit, short_params
 
 matplotlib.rcParams.update({
@@ -113,9 +113,11 @@ class Styles:
 class Figures:
     """Figure size, legend and saving, with the manifest of what was drawn."""
 
-    def __init__(self, out, width, formats):
+    def __init__(self, out, width, formats, into=None):
+        """out: the report folder (data/ is read there); into: where the files are created
+        (pxh report's staging folder; out itself when the script is run by hand)."""
         self.out, self.width, self.formats, self.drawn = out, width, formats, []
-        self.own = Own(out)
+        self.files = NewFiles(into or out)
 
     def columns(self, n):
         return max(1, min(n, 3 if self.width >= 6 else 2))
@@ -163,16 +165,16 @@ class Figures:
         for ext in self.formats:
             meta = {"svg": {"Date": None}, "pdf": {"CreationDate": None}}.get(ext)
             kw = {"pil_kwargs": {"compress_level": 1}} if ext == "png" else {}
-            self.own.write(f"{name}.{ext}", lambda f: fig.savefig(
+            self.files.write(f"{name}.{ext}", lambda f: fig.savefig(
                 f, format=ext, dpi=300, bbox_inches=box, metadata=meta, **kw))
             files.append(f"{name}.{ext}")
         plt.close(fig)
-        print(f"plot: {os.path.join(self.out, name)}." + "/.".join(self.formats))
+        print(f"plot: {os.path.join(self.files.into, name)}." + "/.".join(self.formats))
         self.drawn.append(dict(name=name, files=files, panels=panels, series=series,
                                legend=legend, **extra))
 
     def manifest(self):
-        path = os.path.join(self.out, "figures.json")
+        path = os.path.join(self.files.into, "figures.json")
         text = json.dumps({"width_in": self.width, "figures": self.drawn}, indent=1)
-        self.own.write("figures.json", lambda f: f.write(text.encode("utf-8")))
+        self.files.write("figures.json", lambda f: f.write(text.encode("utf-8")))
         print(f"wrote {path}")

@@ -261,8 +261,7 @@ def animate(F, results, rows, name, what):
         # third of a strip's time); the pictures hold far fewer than 256 colours either way
         frames.append(canvas.quantize(256, method=Image.Quantize.FASTOCTREE,
                                       dither=Image.Dither.NONE))
-    path = os.path.join(F.out, name + ".gif")
-    F.own.write(name + ".gif", lambda f: frames[0].save(
+    path = F.files.write(name + ".gif", lambda f: frames[0].save(
         f, format="GIF", save_all=True, append_images=frames[1:], duration=900, loop=0))
     print(f"plot: {path}")
     F.drawn[-1]["files"].append(name + ".gif")

@@ -2,8 +2,8 @@
 """Draws the figures of `pxh report` from the numbers the harness computed (report/data/*.csv).
 
 Only drawing happens here: every value plotted was computed by pxh. Usage:
-    /usr/bin/python3 harness/report/plot_report.py RESULTS_DIR/report [--width INCHES]
-                                                   [--formats png,pdf]
+    /usr/bin/python3 harness/report/plot_report.py RESULTS_DIR/report [--into FOLDER]
+                                                   [--width INCHES] [--formats png,pdf]
 
 Every figure is written as PNG (300 dpi) and PDF (and SVG when --formats asks: TrueType fonts embedded: pdf.fonttype
 42), WIDTH inches wide (pxh report --figure-width: single = 3.5, double = 7) with 8 pt text.
@@ -13,14 +13,15 @@ whose numbers agree within 0.1% on every backend / precision / texture format ar
 and the legend says which agree; where they differ, each is drawn with its own line style.
 report/figures.json lists what was drawn: per figure its files, panels, series and legend.
 
-Files are written as pxh report writes them (report/manifest.txt lists every one): through a
-temporary name created exclusively, never following a link, then linked to their name; a name
-that exists and is not in the manifest is someone else's file and stops the script (exit 2).
+Files are created new in --into (default: the report folder), each exclusively and never through
+a link; a name that exists stops the script (exit 2). pxh report passes a staging folder of its
+own and then takes the files into the report folder as it takes its own tables
+(harness/core/safe_files.h: OwnedFolder), so safe writing has one home.
 Picture and map paths must lie inside the results folder with no link on the way (exit 2).
 Any field or method name draws: labels too long for the width are shortened in the middle (…).
 
 This file reads the data and calls the drawing; the modules beside it do the work: plot_files
-(safe writes, data files), plot_text (text fitted to the width), plot_figures (styles, layout,
+(new files, data files), plot_text (text fitted to the width), plot_figures (styles, layout,
 saving), plot_curves (against θ and distance), plot_fronts (cost against error), plot_maps
 (error-map montages) and plot_pictures (picture montages, strips, GIFs).
 """
@@ -49,6 +50,8 @@ from plot_pictures import picture_jobs  # noqa: E402
 def parse_args(argv):
     ap = argparse.ArgumentParser(prog="plot_report.py")
     ap.add_argument("report", help="RESULTS_DIR/report (with data/*.csv)")
+    ap.add_argument("--into", help="the folder the figures are created in (new files only; "
+                    "default: REPORT itself); pxh report passes a staging folder of its own")
     ap.add_argument("--width", type=float, default=7.0, help="figure width in inches, [2, 20]")
     ap.add_argument("--formats", default="png,pdf", help="comma list of png, svg, pdf")
     a = ap.parse_args(argv[1:])
@@ -57,7 +60,7 @@ def parse_args(argv):
         ap.error(f"--width {a.width:g}: not a width in inches in [2, 20]")
     if not formats or any(f not in ("png", "svg", "pdf") for f in formats):
         ap.error(f"--formats {a.formats}: not a comma list of png, svg, pdf")
-    return a.report, a.width, formats
+    return a.report, a.into, a.width, formats
 
 
 def fail_os(e):
@@ -131,9 +134,9 @@ def run_jobs(F, jobs):
 
 
 def main():
-    out, width, formats = parse_args(sys.argv)
+    out, into, width, formats = parse_args(sys.argv)
     data = os.path.join(out, "data")
-    F = Figures(out, width, formats)
+    F = Figures(out, width, formats, into)
     vt = read(os.path.join(data, "vs_theta.csv"))
     cost = read(os.path.join(data, "cost_vs_error.csv"))
     bands = read(os.path.join(data, "cost_vs_error_bands.csv"))

@@ -17,13 +17,13 @@ int run_report(const std::string& dir, const ReportOptions& options) {
     const ReportData d(dir, options);
     // A file-size limit fails the write (reported, non-zero exit) instead of killing pxh.
     std::signal(SIGXFSZ, SIG_IGN);
-    open_report_folder(d.out);
-    report_folder(d.out, "data");
+    const OwnedFolder folder = OwnedFolder::open(d.out, "pxh report");
+    folder.folder("data");
     // The figures' data first; the plot script draws while the tables are written.
     write_plot_data(d);
     write_families(d);
     std::optional<Plotter> plotter;
-    if (options.plots) plotter.emplace(d.out, options.figure_width, options.formats);
+    if (options.plots) plotter.emplace(folder, options.figure_width, options.formats);
     write_summary(d);
     write_fields(d);
     write_legend(d);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/core/safe_files.h"
 #include "harness/report/bands.h"
 #include "harness/report/report.h"
 #include "harness/report/text_table.h"
@@ -127,8 +128,10 @@ struct ReportData {
     std::vector<size_t> present_bands() const;
     // The notes every table carries: failed rows, and with band columns single-view bands.
     std::vector<std::string> notes(bool with_bands = true) const;
-    // Writes OUT/rel and says so (write_report_file).
+    // Writes OUT/rel and says so (OwnedFolder::write).
     void write(const std::string& rel, const std::string& text) const;
+    // DIR/report/, pxh report's own folder (harness/core/safe_files.h: OwnedFolder).
+    OwnedFolder folder() const { return OwnedFolder(out, "pxh report"); }
 
     // A group as LaTeX tables name it: the backend alone ("glsl") when the report has one
     // precision / texture format of that backend, else the whole group ("glsl/r16").
@@ -152,22 +155,6 @@ struct ReportData {
 std::vector<std::string> compact_labels(
     const std::vector<std::pair<std::string, std::string>>& settings);
 
-// DIR/report/ belongs to pxh report, and only what it wrote there: OUT/manifest.txt lists every
-// file (and folder) it created, one a line, relative to OUT. open_report_folder refuses an OUT
-// (or manifest) that is a symbolic link or not a folder, then removes exactly the files and
-// folders of the previous manifest (a regular file or empty folder of that name; anything else
-// is left alone, with a warning) and starts a new manifest. report_folder makes OUT/rel (a
-// folder) and records it. write_report_file writes OUT/rel through a temporary name created
-// exclusively (O_EXCL | O_NOFOLLOW: no link is followed), then links it to its name, which must
-// not exist (a file pxh did not write is never replaced: InputError); a failed write (a full
-// disk, a file-size limit) removes the temporary file and throws, so no name ever holds a
-// truncated file.
-extern const char* const kReportManifest;  // "manifest.txt"
-void open_report_folder(const std::filesystem::path& out);
-void report_folder(const std::filesystem::path& out, const std::string& rel);
-void write_report_file(const std::filesystem::path& out, const std::string& rel,
-                       const std::string& text);
-
 // Indices of the points on the lower-left Pareto front of (cost, error).
 std::vector<bool> pareto(const std::vector<double>& cost, const std::vector<double>& err);
 
@@ -181,12 +168,14 @@ void write_precision(const ReportData& d);
 void write_budget(const ReportData& d);
 void write_plot_data(const ReportData& d);
 // The plot script (plot_report.py), started on the data/ files written so far and drawing while
-// pxh writes the tables (a folder of files apart from the figures'); finish() waits for it and
-// throws its failure (InputError: it refused its input, exit 2). A Plotter destroyed unfinished
-// (a table's write failed) waits for the script before pxh goes on.
+// pxh writes the tables (a folder of files apart from the figures'). It creates its files in a
+// staging folder of the report's (OwnedFolder::staging); finish() waits for it, then takes its
+// files into the report folder (OwnedFolder::adopt), or throws its failure (InputError: it
+// refused its input, exit 2) and removes what it drew. A Plotter destroyed unfinished (a table's
+// write failed) waits for the script and removes its files before pxh goes on.
 class Plotter {
   public:
-    Plotter(const std::filesystem::path& out, double figure_width, const std::string& formats);
+    Plotter(const OwnedFolder& folder, double figure_width, const std::string& formats);
     Plotter(const Plotter&) = delete;
     Plotter& operator=(const Plotter&) = delete;
     ~Plotter();
@@ -194,6 +183,8 @@ class Plotter {
 
   private:
     int wait_status();
+    OwnedFolder folder_;
+    std::filesystem::path staging_;
     std::string script_;
     pid_t pid_ = 0;
 };

@@ -307,7 +307,7 @@ void write_fields(const ReportData& d) {
     csv << "heightfield," << summary_columns(d);
     md << "# Per height field\n\nThe summary table (summary.md) of each height field on its own "
           "rows.\n";
-    report_folder(d.out, "fields");
+    d.folder().folder("fields");
     std::set<std::string> names;
     for (const auto& field : d.field_order) {
         // a camera run: a table per view of the field (fields/FIELD_d4_f45_r256.tex)

@@ -101,33 +101,23 @@ std::string verdict_json(const Verdict& v) {
 }
 
 void write_verdict_file(const std::string& path, const std::string& text, const char* option) {
-    namespace fs = std::filesystem;
     if (path.empty()) throw InputError(option, "an empty file name");
-    std::error_code ec;
-    const fs::file_status st = fs::symlink_status(path, ec);
-    if (fs::exists(st)) {
-        if (!fs::is_regular_file(st))
-            throw InputError(option, path + " exists and is not a regular file: not replaced");
-        std::ifstream in(path, std::ios::binary);
+    const auto marked = [](const std::filesystem::path& p) {
+        std::ifstream in(p, std::ios::binary);
         std::string head(256, '\0');
         in.read(head.data(), std::streamsize(head.size()));
         head.resize(size_t(in.gcount()));
-        if (head.find(kMark) == std::string::npos)
-            throw InputError(option, path +
-                                         " exists and is not a verdict pxh wrote: not replaced "
-                                         "(name a new file, or remove it yourself)");
-    }
-    const fs::path p(path);
-    const fs::path tmp = p.parent_path() / (".pxh-verdict-" + random_hex8() + ".tmp");
+        return head.find(kMark) != std::string::npos;
+    };
     try {
-        create_new_file(tmp, text);
+        replace_own_file(path, text, marked, option,
+                         path +
+                             " exists and is not a verdict pxh wrote: not replaced (name a "
+                             "new file, or remove it yourself)");
+    } catch (const InputError&) {
+        throw;
     } catch (const std::exception& e) {
         throw InputError(option, e.what());
-    }
-    fs::rename(tmp, p, ec);
-    if (ec) {
-        fs::remove(tmp);
-        throw InputError(option, path + ": cannot write: " + ec.message());
     }
 }
 

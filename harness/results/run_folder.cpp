@@ -140,23 +140,18 @@ struct OwnEntries {
 template <class Refuse>
 void check_report_entries(const fs::path& report, const Refuse& refuse) {
     std::set<std::string> listed;
-    {
-        const fs::path m = report / "manifest.txt";
-        if (fs::exists(fs::symlink_status(m))) {
-            if (!fs::is_regular_file(fs::symlink_status(m)))
-                throw refuse(fs::path(kReportEntry) / "manifest.txt",
-                             "which is not the manifest pxh report writes");
-            std::ifstream f(m, std::ios::binary);
-            for (std::string line; std::getline(f, line);)
-                if (!line.empty()) listed.insert(line);
-        }
+    try {
+        listed = OwnedFolder::listed(report);
+    } catch (const InputError&) {
+        throw refuse(fs::path(kReportEntry) / OwnedFolder::kManifest,
+                     "which is not the manifest pxh report writes");
     }
     for (auto it = fs::recursive_directory_iterator(report);
          it != fs::recursive_directory_iterator(); ++it) {
         const std::string rel = it->path().lexically_relative(report).generic_string();
         const auto st = it->symlink_status();
         const fs::path shown = fs::path(kReportEntry) / rel;
-        if (rel == "manifest.txt") continue;
+        if (rel == OwnedFolder::kManifest) continue;
         if (fs::is_symlink(st)) throw refuse(shown, "a symbolic link pxh did not write");
         if (fs::is_directory(st) ? !listed.count(rel + "/") : !listed.count(rel))
             throw refuse(shown,
@@ -348,19 +343,12 @@ void RunFolder::commit() {
     OwnEntries own;
     if (replace_) {
         own = own_entries(final_);  // still only pxh's files (checked again: time has passed)
-        // Moved aside under a name of its own (renameat2 fails rather than replace anything).
-        for (int attempt = 0; attempt < 100 && aside.empty(); ++attempt) {
-            const fs::path a =
-                final_.string() + ".replaced-" + std::to_string(getpid()) + "-" + random_hex8();
-            if (::renameat2(AT_FDCWD, final_.c_str(), AT_FDCWD, a.c_str(), RENAME_NOREPLACE) == 0)
-                aside = a;
-            else if (errno != EEXIST)
-                throw std::runtime_error("cannot move " + final_.string() +
-                                         " aside: " + errno_text() +
-                                         " (the complete results stay in " + tmp_.string() + ")");
+        try {                       // moved aside under a name of its own (nothing is replaced)
+            aside = move_aside(final_, "replaced");
+        } catch (const std::exception& e) {
+            throw std::runtime_error(std::string(e.what()) + " (the complete results stay in " +
+                                     tmp_.string() + ")");
         }
-        if (aside.empty())
-            throw std::runtime_error("cannot move " + final_.string() + " aside (100 names taken)");
     }
     std::error_code ec;
     fs::rename(tmp_, final_, ec);  // replaces an empty folder; fails on a non-empty one

@@ -72,7 +72,8 @@ const char* kBands =
 
 class PlotScript : public ::testing::Test {
   protected:
-    fs::path dir;
+    fs::path dir, drawn;
+    int drawings = 0;
     void SetUp() override {
         dir =
             fs::temp_directory_path() / ("pxh_plot_test_" + std::to_string(::getpid())) / "report";
@@ -83,15 +84,18 @@ class PlotScript : public ::testing::Test {
         std::ofstream(dir / "data" / "cost_vs_error_bands.csv") << kBands;
     }
     void TearDown() override { fs::remove_all(dir.parent_path()); }
-    // Runs the script; returns its manifest's figures by name.
+    // Runs the script, drawing into a new folder (`drawn`: it creates only new files); returns
+    // its manifest's figures by name.
     std::map<std::string, nlohmann::json> plot(const std::string& width,
                                                const std::string& formats = "png,svg,pdf") {
+        drawn = dir / ("drawn" + std::to_string(++drawings));
+        fs::create_directories(drawn);
         const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) +
-                                "/harness/report/plot_report.py " + dir.string() + " --width " +
-                                width + " --formats " + formats + " >" +
-                                (dir / "out.txt").string() + " 2>&1";
+                                "/harness/report/plot_report.py " + dir.string() + " --into " +
+                                drawn.string() + " --width " + width + " --formats " + formats +
+                                " >" + (dir / "out.txt").string() + " 2>&1";
         EXPECT_EQ(std::system(cmd.c_str()), 0) << slurp(dir / "out.txt");
-        const auto manifest = nlohmann::json::parse(slurp(dir / "figures.json"));
+        const auto manifest = nlohmann::json::parse(slurp(drawn / "figures.json"));
         EXPECT_EQ(manifest.at("width_in").get<double>(), std::stod(width));
         std::map<std::string, nlohmann::json> out;
         for (const auto& f : manifest.at("figures")) out[f.at("name")] = f;
@@ -99,7 +103,7 @@ class PlotScript : public ::testing::Test {
     }
     // A PNG's width in pixels (IHDR, bytes 16..19, big-endian).
     int png_width(const std::string& name) {
-        const std::string b = slurp(dir / name);
+        const std::string b = slurp(drawn / name);
         if (b.size() < 24) return 0;
         return (uint8_t(b[16]) << 24) | (uint8_t(b[17]) << 16) | (uint8_t(b[18]) << 8) |
                uint8_t(b[19]);
@@ -111,7 +115,7 @@ TEST_F(PlotScript, EveryFigureWithItsPanelsAndSeries) {
     ASSERT_EQ(figs.size(), 4u);
     for (const auto& [name, f] : figs)
         for (const char* ext : {".png", ".svg", ".pdf"})
-            EXPECT_GT(fs::file_size(dir / (name + ext)), 1000u) << name << ext;
+            EXPECT_GT(fs::file_size(drawn / (name + ext)), 1000u) << name << ext;
     // error vs θ: a panel per field; sand: pom and parallax once each (GLSL = CPU within
     // 0.1%); rock: pom once, parallax twice (10% apart) -> 5 lines.
     EXPECT_EQ(figs["error_vs_theta"]["panels"], 2);
@@ -141,7 +145,7 @@ TEST_F(PlotScript, EveryFigureWithItsPanelsAndSeries) {
     EXPECT_GT(w, 0.85 * 7 * 300);
     EXPECT_LT(w, 1.05 * 7 * 300);
     // Fonts embedded as TrueType (Type 42): FontFile2 streams, no Type 3 fonts.
-    const std::string pdf = slurp(dir / "error_vs_theta.pdf");
+    const std::string pdf = slurp(drawn / "error_vs_theta.pdf");
     EXPECT_NE(pdf.find("/FontFile2"), std::string::npos);
     EXPECT_EQ(pdf.find("/Type3"), std::string::npos);
 }

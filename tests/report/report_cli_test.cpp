@@ -828,10 +828,11 @@ TEST_F(ReportFolder, FolderNamesReachThePlotterAsTheyAre) {
     }
     // The report of a moved folder still finds its error maps (paths relative to the folder).
     fs::rename(dir / "it's here", dir / "moved");
-    const std::string cmd = "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) +
-                            "/harness/report/plot_report.py " +
-                            quote((dir / "moved" / "report").string()) + " >/dev/null 2>" +
-                            quote((dir / "err.txt").string());
+    fs::create_directories(dir / "redrawn");
+    const std::string cmd =
+        "/usr/bin/python3 " + std::string(PXH_SOURCE_DIR) + "/harness/report/plot_report.py " +
+        quote((dir / "moved" / "report").string()) + " --into " +
+        quote((dir / "redrawn").string()) + " >/dev/null 2>" + quote((dir / "err.txt").string());
     EXPECT_EQ(std::system(cmd.c_str()), 0);
     EXPECT_EQ(slurp(dir / "err.txt").find("not found"), std::string::npos)
         << slurp(dir / "err.txt");

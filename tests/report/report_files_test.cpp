@@ -113,6 +113,47 @@ TEST_F(ReportFiles, RerunRemovesOnlyItsOwnFiles) {
     EXPECT_EQ(manifest(rep).find(".png"), std::string::npos);
 }
 
+// The plot script's figures reach the report folder only through pxh report (a staging folder
+// of its own, taken in after the script ends): a user's file of a figure's name stops the
+// report (exit 2, the file untouched), no staging folder or half a figure set is left, and a
+// staging folder that a killed report left behind (listed "NAME/**") goes with the next run.
+TEST_F(ReportFiles, FiguresTakenInOnlyOverNothing) {
+    const std::string res = make_run();
+    const fs::path rep = fs::path(res) / "report";
+    fs::create_directories(rep);
+    std::ofstream(rep / "cost_vs_error.png") << "the user's picture";
+    auto r = pxh("report --formats png " + res);
+    EXPECT_EQ(r.status, 2) << r.out << r.err;
+    EXPECT_NE(r.err.find("cost_vs_error.png: exists and pxh report did not write it"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(slurp(rep / "cost_vs_error.png"), "the user's picture");
+    for (const auto& e : fs::directory_iterator(rep)) {
+        EXPECT_EQ(e.path().filename().string().rfind(".staging", 0), std::string::npos) << e.path();
+        if (e.path().filename() != "cost_vs_error.png") {  // the user's
+            EXPECT_NE(e.path().extension(), ".png") << "half the figures taken in: " << e.path();
+        }
+    }
+    EXPECT_TRUE(fs::exists(rep / "summary.md"));  // the tables are written
+    fs::remove(rep / "cost_vs_error.png");
+    // A staging folder left by a report killed while drawing: in the manifest, with files.
+    fs::create_directories(rep / ".staging-0badf00d" / "sub");
+    std::ofstream(rep / ".staging-0badf00d" / "half.png") << "half";
+    std::ofstream(rep / ".staging-0badf00d" / "sub" / "x.png") << "x";
+    std::ofstream(rep / "manifest.txt", std::ios::app) << ".staging-0badf00d/**\n";
+    r = pxh("report --formats png " + res);
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_FALSE(fs::exists(rep / ".staging-0badf00d"));
+    EXPECT_TRUE(fs::is_regular_file(rep / "cost_vs_error.png"));
+    EXPECT_NE(r.out.find("wrote " + (rep / "cost_vs_error.png").string()), std::string::npos)
+        << r.out;
+    const std::string m = manifest(rep);
+    EXPECT_NE(m.find("\ncost_vs_error.png\n"), std::string::npos) << m;
+    EXPECT_NE(m.find("\nfigures.json\n"), std::string::npos) << m;
+    for (const auto& e : fs::directory_iterator(rep))
+        EXPECT_EQ(e.path().filename().string().rfind(".staging", 0), std::string::npos) << e.path();
+}
+
 // A full disk (here a file-size limit: the same failed write) leaves no 0-byte or truncated
 // file: the failure is reported (the first file over the limit: the figures' data, written
 // first), non-zero exit, nothing written after it, and no name holds a part file.
