@@ -21,15 +21,14 @@ constexpr const char* kAdapterFile = "pxh engine adapter (generated)";
 bool ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 
-// A GLSL token with its byte range and 1-based line and column (comments skipped).
-struct Tok {
-    std::string text;
-    size_t begin = 0, end = 0;
-    int line = 1, col = 1;
-};
+using Tok = ShaderToken;
 
-std::vector<Tok> tokenize(const std::string& s) {
-    std::vector<Tok> out;
+std::vector<Tok> tokenize(const std::string& s) { return shader_tokens(s); }
+
+}  // namespace
+
+std::vector<ShaderToken> shader_tokens(const std::string& s) {
+    std::vector<ShaderToken> out;
     int line = 1;
     size_t line_start = 0, i = 0;
     auto newline_at = [&](size_t k) {
@@ -59,6 +58,8 @@ std::vector<Tok> tokenize(const std::string& s) {
     }
     return out;
 }
+
+namespace {
 
 // The sampling calls pxh counts, by what they read: the row's lod, an explicit level,
 // explicit derivatives; and textureSize (no fetch).
@@ -339,8 +340,10 @@ void expand(Expansion& e, const std::string& rel, const std::string& text, size_
     }
 }
 
-std::string adapter_prelude(const EngineAdapter& a, const std::set<std::string>& code_names) {
-    std::string s = "// pxh's adapter of an engine's shader (docs/guide/plugin-shaders.md)\n";
+}  // namespace
+
+std::string engine_define_lines(const EngineAdapter& a, const std::set<std::string>& code_names) {
+    std::string s;
     for (const auto& [name, value] : a.defines) s += "#define " + name + " " + value + "\n";
     std::set<std::string> defined;
     for (const auto& [name, value] : a.defines) defined.insert(name);
@@ -348,6 +351,22 @@ std::string adapter_prelude(const EngineAdapter& a, const std::set<std::string>&
     for (const std::string& name : a.define_names)
         if (!defined.count(name) && !code_names.count(name))
             s += "#define " + name + " " + std::to_string(++n) + "\n";
+    return s;
+}
+
+std::set<std::string> engine_code_names(const std::string& text) {
+    std::set<std::string> out;
+    const std::vector<bool> conditional = conditional_lines(text);
+    for (const Tok& k : tokenize(text))
+        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) out.insert(k.text);
+    return out;
+}
+
+namespace {
+
+std::string adapter_prelude(const EngineAdapter& a, const std::set<std::string>& code_names) {
+    std::string s = "// pxh's adapter of an engine's shader (docs/guide/plugin-shaders.md)\n";
+    s += engine_define_lines(a, code_names);
     std::string v = a.depth ? "1.0 - h" : "h";
     if (a.channel >= 0) {
         s += "vec4 pxh_engine_texel(float h) {\n    vec4 t = vec4(0.0);\n    t[" +

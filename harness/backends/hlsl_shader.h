@@ -1,0 +1,48 @@
+// HLSL and WGSL plug-ins (docs/guide/plugin-shaders.md, "HLSL and WGSL"): the plug-in's file,
+// in the language the engine ships, converted to the GLSL a GLSL plug-in would be. HLSL goes
+// through glslang's HLSL front end to SPIR-V (glslangValidator, optimizer off, so functions
+// stay functions) and SPIRV-Cross back to GLSL 4.50; pxh's interface is an HLSL prelude,
+// methods/common.hlsl, whose stand-in functions are removed from the GLSL so that the calls
+// reach methods/common.glsl's (the same fetch counting as a GLSL plug-in). The GLSL is then
+// adapted like an engine's GLSL (bind, the height sampler's functions): engine_shader.h.
+#pragma once
+#include <string>
+
+#include "harness/backends/engine_shader.h"
+
+namespace pxh {
+
+// The GLSL of a converted plug-in and what the adaptation needs to know of its source.
+struct ConvertedShader {
+    std::string glsl;            // defines pxh_method; its uniforms as `uniform TYPE NAME;`
+    std::string display;         // how messages about the GLSL name it ("FILE (as GLSL)")
+    std::string explicit_level;  // "FILE:LINE:COL: CALL" of the first explicit level, or ""
+};
+
+// True for a file that pxh converts (.hlsl, .wgsl).
+bool converted_language(const std::string& path);
+
+// The GLSL of the HLSL `text` (the file `display`) for one setting of the adapter's defines:
+// its height sampler's sampling calls made pxh's, its defines written before it. Throws
+// InputError at the HLSL file's FILE:LINE[:COL] for what glslang refuses (its first error),
+// DX9 samplers, explicit 16-bit types and #include, and when the tools are missing.
+ConvertedShader hlsl_to_glsl(const std::string& text, const std::string& display,
+                             const EngineAdapter& a);
+
+// The same for WGSL (through naga; harness/backends/wgsl_shader.cpp).
+ConvertedShader wgsl_to_glsl(const std::string& text, const std::string& display,
+                             const EngineAdapter& a);
+
+// Any converted plug-in by its file's extension.
+ConvertedShader converted_to_glsl(const std::string& path, const std::string& text,
+                                  const std::string& display, const EngineAdapter& a);
+
+// SPIRV-Cross's GLSL of a whole fragment shader made a plug-in's: the preamble, the entry point
+// (main, _main), the in/out variables and the functions named in `stand_ins` removed, uniform
+// blocks written as plain uniforms (a bool member, which SPIR-V holds as uint, as a bool when
+// `bools` names it). Throws InputError at `display` when the text needs an extension.
+std::string spirv_cross_plugin_glsl(const std::string& glsl, const std::string& display,
+                                    const std::set<std::string>& stand_ins,
+                                    const std::set<std::string>& bools);
+
+}  // namespace pxh

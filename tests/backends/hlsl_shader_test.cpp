@@ -1,0 +1,175 @@
+// HLSL plug-ins (harness/backends/hlsl_shader.h) through the binary: the same POM in GLSL and
+// HLSL gives identical rows, half is computed as float, the engine's height texture's
+// SampleLevel reads that level, engine uniforms in a cbuffer bind, and the refusals land at the
+// HLSL file's FILE:LINE.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "harness/results/csv_table.h"
+#include "tests/cli_util.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class HlslShader : public pxh::test::CliTest {
+  protected:
+    pxh::CsvTable run_ok(const std::string& toml) {
+        write("exp.toml", toml);
+        const auto r =
+            pxh("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "r").string());
+        EXPECT_EQ(r.status, 0) << r.err;
+        return pxh::read_csv((dir / "r" / "results.csv").string());
+    }
+    std::string refused(const std::string& toml) {
+        write("exp.toml", toml);
+        const auto r =
+            pxh("run " + (dir / "exp.toml").string() + " --quiet --out " + (dir / "r").string());
+        EXPECT_EQ(r.status, 2) << r.out << r.err;
+        EXPECT_FALSE(fs::exists(dir / "r")) << "nothing written";
+        return r.err;
+    }
+    // A file of examples/shader_gate, copied beside the experiment.
+    std::string example(const std::string& name) {
+        std::ifstream f(fs::path(PXH_SOURCE_DIR) / "examples/shader_gate" / name);
+        std::ostringstream s;
+        s << f.rdbuf();
+        write(name, s.str());
+        return s.str();
+    }
+    static double num(const pxh::CsvTable& t, size_t r, const char* c) {
+        return std::stod(t.get(r, c));
+    }
+};
+
+std::string head() {
+    return pxh::test::ExperimentToml()
+        .samples(16)
+        .backends("\"glsl\"")
+        .theta("[0, 30, 60, 85]")
+        .phi("[0, 135]")
+        .field("fbm", 64, "scale = 0.05\nbias = 1.0")
+        .str();
+}
+
+std::string pom_entry(const std::string& name, const std::string& shader) {
+    return "[[methods]]\nname = \"" + name + "\"\nshader = \"" + shader +
+           "\"\nmax_fetches = 34\nuniforms = { p_steps = 32.0 }\nreference = \"pom\"\n"
+           "reference_params = { layers = 32 }\n";
+}
+
+// Every column a wrong uv or fetch count would move, equal as written in results.csv.
+const char* const kSampleColumns[] = {"status",         "err_mean",         "err_max",
+                                      "fetches_mean",   "fetches_max",      "cpu_diff_max",
+                                      "cpu_diff_mean",  "cpu_diff_p95",     "cpu_diff_worst_sample",
+                                      "cpu_diff_first", "decision_mismatch"};
+
+// examples/shader_gate's POM in GLSL and in HLSL (and the HLSL with half for float): one row
+// each per view, equal in every sample's statistics, and within float rounding of pom's twin.
+TEST_F(HlslShader, SamePomInGlslAndHlslGivesIdenticalRows) {
+    example("my_pom.frag.glsl");
+    std::string hlsl = example("my_pom.hlsl");
+    for (size_t at = hlsl.find("float"); at != std::string::npos; at = hlsl.find("float", at))
+        hlsl.replace(at, 5, "half");
+    write("my_pom_half.hlsl", hlsl);
+    const pxh::CsvTable t =
+        run_ok(head() + pom_entry("g", "my_pom.frag.glsl") + pom_entry("h", "my_pom.hlsl") +
+               pom_entry("half", "my_pom_half.hlsl"));
+    ASSERT_EQ(t.rows.size(), 24u);
+    std::map<std::string, std::map<std::string, std::string>> glsl;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const std::string view = t.get(i, "theta_deg") + "/" + t.get(i, "phi_deg");
+        if (t.get(i, "method") != "g") continue;
+        for (const char* c : kSampleColumns) glsl[view][c] = t.get(i, c);
+        EXPECT_LE(num(t, i, "cpu_diff_max"), 1e-3) << view;
+        EXPECT_GT(num(t, i, "fetches_mean"), 15.0) << view;
+    }
+    ASSERT_EQ(glsl.size(), 8u);
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const std::string view = t.get(i, "theta_deg") + "/" + t.get(i, "phi_deg");
+        if (t.get(i, "method") == "g") continue;
+        for (const char* c : kSampleColumns)
+            EXPECT_EQ(t.get(i, c), glsl[view][c]) << t.get(i, "method") << " " << view << " " << c;
+    }
+}
+
+// An engine's HLSL: the height texture sampled by SampleLevel at the level a cbuffer uniform
+// gives, the scale bound from the cbuffer; level 2 is the CPU twin's level on the 16 x 16 grid.
+TEST_F(HlslShader, SampleLevelReadsThatLevelAndCbufferUniformsBind) {
+    write("lod.hlsl", R"(Texture2D _HeightMap;
+SamplerState sampler_HeightMap;
+cbuffer UnityPerMaterial {
+    float _HeightAmplitude;
+    float _ReadLevel;
+    bool _Enabled;
+};
+float2 pxh_method(float2 P) {
+    float h = _HeightMap.SampleLevel(sampler_HeightMap, P, _ReadLevel).r;
+    if (!_Enabled) return P;
+    return P + pxh_V.xy * (_HeightAmplitude * (h - 1.0) / pxh_V.z);
+}
+)");
+    const auto entry = [](const char* name, const char* level, const char* on) {
+        return std::string("[[methods]]\nname = \"") + name +
+               "\"\nshader = \"lod.hlsl\"\nheight_sampler = \"_HeightMap\"\n"
+               "bind = { _HeightAmplitude = \"scale\", _ReadLevel = " +
+               level + ", _Enabled = " + on +
+               " }\nmax_fetches = 1\nlod = \"level\"\nreference = \"parallax\"\n";
+    };
+    const pxh::CsvTable t = run_ok(head() + entry("at2", "2.0", "true") +
+                                   entry("at0", "0.0", "true") + entry("off", "2.0", "false"));
+    ASSERT_EQ(t.rows.size(), 24u);
+    double worst2 = 0, worst0 = 0;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        ASSERT_EQ(t.get(i, "status"), "ok");
+        const std::string m = t.get(i, "method");
+        EXPECT_EQ(t.get(i, "fetches_max"), "1") << m;
+        if (m == "off" && t.get(i, "theta_deg") != "0") {
+            EXPECT_GT(num(t, i, "err_max"), 0.1) << "uv = P when _Enabled is false";
+        }
+        if (m == "off" || t.get(i, "theta_deg") == "0") continue;
+        double& w = m == "at2" ? worst2 : worst0;
+        w = std::max(w, num(t, i, "cpu_diff_max"));
+    }
+    EXPECT_LE(worst2, 1e-4) << "level 2 is the CPU twin's level";
+    EXPECT_GT(worst0, 0.05) << "level 0 differs from level 2 on fbm";
+}
+
+// Refusals at the HLSL file's FILE:LINE[:COL]: glslang's syntax error, explicit 16-bit types,
+// DX9 samplers, the height texture used otherwise than sampled, an unset engine uniform.
+TEST_F(HlslShader, RefusalsNameTheHlslFileAndLine) {
+    write("syntax.hlsl", "float2 pxh_method(float2 P) {\n    float2 uv = P\n    return uv;\n}\n");
+    write("f16.hlsl",
+          "float2 pxh_method(float2 P) {\n    float16_t2 q = P;\n    return (float2)q;\n}\n");
+    write("dx9.hlsl",
+          "sampler2D hm;\nfloat2 pxh_method(float2 P) { return P + tex2Dlod(hm, float4(P, 0, "
+          "0)).r; }\n");
+    write("load.hlsl",
+          "Texture2D hm;\nfloat2 pxh_method(float2 P) {\n    return P + hm.Load(int3(0, 0, "
+          "0)).r;\n}\n");
+    write("unset.hlsl", "float gain;\nfloat2 pxh_method(float2 P) { return P * gain; }\n");
+    const auto entry = [](const char* shader) {
+        return std::string("[[methods]]\nname = \"e\"\nshader = \"") + shader +
+               "\"\nheight_sampler = \"hm\"\nmax_fetches = 1\n";
+    };
+    const std::string syntax = refused(head() + entry("syntax.hlsl"));
+    EXPECT_NE(syntax.find("syntax.hlsl:3:10: error: ';' : Expected"), std::string::npos) << syntax;
+    EXPECT_NE(refused(head() + entry("f16.hlsl"))
+                  .find("f16.hlsl:2:5: 'float16_t2' is an explicit 16-bit type"),
+              std::string::npos);
+    EXPECT_NE(refused(head() + entry("dx9.hlsl"))
+                  .find("dx9.hlsl:1:1: 'sampler2D' is a DX9-style "
+                        "sampler"),
+              std::string::npos);
+    EXPECT_NE(refused(head() + entry("load.hlsl"))
+                  .find("load.hlsl:3:16: the height texture 'hm' is used here other than by a "
+                        "sampling call pxh counts"),
+              std::string::npos);
+    const std::string unset = refused(head() + entry("unset.hlsl"));
+    EXPECT_NE(unset.find("'gain' but nothing sets it"), std::string::npos) << unset;
+}
+
+}  // namespace
