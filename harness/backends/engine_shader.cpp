@@ -243,36 +243,6 @@ std::string line_directive(size_t k, long line) {
            "\n";
 }
 
-// The name of an `#include` line ("" when the line is none), its form (<> or ""), and the
-// problem when it is malformed.
-bool include_line(const std::string& line, std::string& name, bool& angle, std::string& problem) {
-    size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || line[i] != '#') return false;
-    i = line.find_first_not_of(" \t", i + 1);
-    if (i == std::string::npos || line.compare(i, 7, "include") != 0) return false;
-    i = line.find_first_not_of(" \t", i + 7);
-    const char open = i == std::string::npos ? '\0' : line[i];
-    if (open != '"' && open != '<') {
-        problem = "#include needs \"file\" or <name>";
-        return true;
-    }
-    angle = open == '<';
-    const size_t close = line.find(angle ? '>' : '"', i + 1);
-    if (close == std::string::npos) {
-        problem = std::string("#include: no closing ") + (angle ? ">" : "\"");
-        return true;
-    }
-    name = line.substr(i + 1, close - i - 1);
-    std::string rest = line.substr(close + 1);
-    if (const size_t c = rest.find("//"); c != std::string::npos) rest.resize(c);
-    if (rest.find_first_not_of(" \t\r") != std::string::npos)
-        problem = "#include " + line.substr(i, close - i + 1) +
-                  " is followed by more (an engine's include parameters, such as Babylon's "
-                  "[0..n] or (a,b), are not supported): write the included text out";
-    if (name.empty()) problem = "#include names nothing";
-    return true;
-}
-
 void expand(Expansion& e, const std::string& rel, const std::string& text, size_t k,
             std::string& out);
 
@@ -327,7 +297,7 @@ void expand(Expansion& e, const std::string& rel, const std::string& text, size_
         const std::string l = body.substr(start, end - start);
         std::string name, problem;
         bool angle = false;
-        if (include_line(l, name, angle, problem)) {
+        if (engine_include_line(l, name, angle, problem)) {
             const std::string where = display + ":" + std::to_string(line);
             if (!problem.empty()) throw InputError(where, problem);
             include_file(e, rel, name, angle, where, out, k, line);
@@ -360,6 +330,35 @@ std::set<std::string> engine_code_names(const std::string& text) {
     for (const Tok& k : tokenize(text))
         if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) out.insert(k.text);
     return out;
+}
+
+bool engine_include_line(const std::string& line, std::string& name, bool& angle,
+                         std::string& problem) {
+    size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || line[i] != '#') return false;
+    i = line.find_first_not_of(" \t", i + 1);
+    if (i == std::string::npos || line.compare(i, 7, "include") != 0) return false;
+    i = line.find_first_not_of(" \t", i + 7);
+    const char open = i == std::string::npos ? '\0' : line[i];
+    if (open != '"' && open != '<') {
+        problem = "#include needs \"file\" or <name>";
+        return true;
+    }
+    angle = open == '<';
+    const size_t close = line.find(angle ? '>' : '"', i + 1);
+    if (close == std::string::npos) {
+        problem = std::string("#include: no closing ") + (angle ? ">" : "\"");
+        return true;
+    }
+    name = line.substr(i + 1, close - i - 1);
+    std::string rest = line.substr(close + 1);
+    if (const size_t c = rest.find("//"); c != std::string::npos) rest.resize(c);
+    if (rest.find_first_not_of(" \t\r") != std::string::npos)
+        problem = "#include " + line.substr(i, close - i + 1) +
+                  " is followed by more (an engine's include parameters, such as Babylon's "
+                  "[0..n] or (a,b), are not supported): write the included text out";
+    if (name.empty()) problem = "#include names nothing";
+    return true;
 }
 
 namespace {

@@ -71,6 +71,11 @@ std::vector<ShaderToken> shader_tokens(const std::string& s);
 std::string engine_define_lines(const EngineAdapter& a, const std::set<std::string>& code_names);
 std::set<std::string> engine_code_names(const std::string& text);
 
+// Whether `line` is an `#include` line: its name, its form (<name> or "name"), and the problem
+// when it is malformed (an engine's include parameters, no closing bracket, ...).
+bool engine_include_line(const std::string& line, std::string& name, bool& angle,
+                         std::string& problem);
+
 // The GLSL of a bound quantity ("scale", "bias", "0.1 * scale", "scale / 0.1 + bias", ...):
 // numbers, scale, bias, + - * / and parentheses; "" and `problem` set when it is not one.
 std::string quantity_glsl(const std::string& q, std::string& problem);

@@ -1,9 +1,12 @@
 #include "harness/backends/hlsl_shader.h"
 
+#include <cctype>
+#include <filesystem>
 #include <map>
 #include <regex>
 #include <vector>
 
+#include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/backends/tool_process.h"
 #include "harness/core/error.h"
@@ -12,12 +15,21 @@ namespace pxh {
 namespace {
 
 using Toks = std::vector<ShaderToken>;
+namespace fs = std::filesystem;
 
 constexpr const char* kPrelude = "methods/common.hlsl";
 constexpr const char* kEntryFile = "pxh entry (generated)";
 
 std::string at(const std::string& display, const ShaderToken& t) {
     return display + ":" + std::to_string(t.line) + ":" + std::to_string(t.col);
+}
+
+// A file name as `#line N "NAME"` can hold it.
+std::string line_name(const std::string& display) {
+    std::string s = display;
+    for (char& c : s)
+        if (c == '"' || c == '\\') c = '_';
+    return s;
 }
 
 // What the engine's height texture's sampling calls read: the row's lod (Sample, SampleBias),
@@ -58,7 +70,7 @@ size_t next_comma(const Toks& t, size_t i) {
     return std::string::npos;
 }
 
-// What pxh refuses in an HLSL plug-in before glslang reads it, each at its FILE:LINE:COL.
+// What pxh refuses in an HLSL file before glslang reads it, each at its FILE:LINE:COL.
 void refuse(const Toks& t, const std::string& display) {
     static const std::map<std::string, std::string> dx9 = {
         {"sampler", ""},     {"sampler1D", ""}, {"sampler2D", ""}, {"sampler3D", ""},
@@ -79,10 +91,6 @@ void refuse(const Toks& t, const std::string& display) {
                                  "' is an explicit 16-bit type, which pxh's GLSL 4.50 target "
                                  "lacks: write float / int (half and min16float are computed as "
                                  "32-bit float)");
-        if (x == "#" && i + 1 < t.size() && t[i + 1].text == "include")
-            throw InputError(at(display, t[i]),
-                             "#include in an HLSL plug-in is not supported yet: write the "
-                             "included text into the file");
     }
 }
 
@@ -135,6 +143,60 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
     return out + text.substr(copied);
 }
 
+// One HLSL file and what it includes, expanded: each file checked (refuse) and its height
+// texture's calls rewritten, `#line N "FILE"` before each part so that glslang's messages name
+// the file and line the user wrote. Files as for GLSL engine shaders: "file" relative to the
+// including file, <name> and "name" through the entry's includes table, inside the experiment's
+// folder, at most 16 deep.
+struct HlslExpansion {
+    const std::string& experiment_path;
+    const EngineAdapter& a;
+    std::string explicit_level;
+    std::vector<std::string> stack;  // canonical paths being expanded
+};
+
+void expand_hlsl(HlslExpansion& e, const std::string& rel, const std::string& text,
+                 const std::string& display, std::string& out) {
+    refuse(shader_tokens(text), display);
+    const std::string body =
+        rewrite_height_calls(text, display, e.a.height_sampler, e.explicit_level);
+    out += "#line 1 \"" + line_name(display) + "\"\n";
+    size_t start = 0;
+    long line = 1;
+    while (start <= body.size()) {
+        size_t end = body.find('\n', start);
+        if (end == std::string::npos) end = body.size();
+        const std::string l = body.substr(start, end - start);
+        std::string name, problem;
+        bool angle = false;
+        if (!engine_include_line(l, name, angle, problem)) {
+            out += l + "\n";
+        } else {
+            const std::string where = display + ":" + std::to_string(line);
+            if (!problem.empty()) throw InputError(where, problem);
+            std::string inc;
+            if (const auto it = e.a.includes.find(name); it != e.a.includes.end()) inc = it->second;
+            else if (angle)
+                throw InputError(where, "#include <" + name +
+                                            ">: no such name in the entry's includes (map it to "
+                                            "a file: includes = { \"" +
+                                            name + "\" = \"FILE\" })");
+            else inc = (fs::path(rel).parent_path() / name).lexically_normal().string();
+            if (e.stack.size() >= 16) throw InputError(where, "#include nested deeper than 16");
+            const PluginSource src = read_plugin_source(e.experiment_path, inc, where);
+            for (const std::string& r : e.stack)
+                if (r == src.resolved)
+                    throw InputError(where, "#include \"" + name + "\" includes itself");
+            e.stack.push_back(src.resolved);
+            expand_hlsl(e, inc, src.text, src.display, out);
+            e.stack.pop_back();
+            out += "#line " + std::to_string(line + 1) + " \"" + line_name(display) + "\"\n";
+        }
+        start = end + 1;
+        ++line;
+    }
+}
+
 // Names declared `bool` (a uniform's bool becomes a uint in SPIR-V).
 std::set<std::string> bool_names(const Toks& t) {
     std::set<std::string> out;
@@ -145,7 +207,7 @@ std::set<std::string> bool_names(const Toks& t) {
 }
 
 // glslang's first error as FILE:LINE[:COL]: message.
-[[noreturn]] void glslang_error(const std::string& output, const std::string& display) {
+[[noreturn]] void glslang_error(const std::string& output) {
     static const std::regex error("ERROR: (.*):([0-9]+): (.*)");
     static const std::regex column("(.*)\\(([0-9]+)\\): error at column ([0-9]+).*");
     std::smatch m, c;
@@ -169,8 +231,7 @@ std::set<std::string> bool_names(const Toks& t) {
             col = c[3];
         }
     }
-    if (count == 0) throw InputError(display, "glslangValidator failed: " + output.substr(0, 400));
-    if (first_file != display && first_file != kEntryFile) first_file = "pxh's methods/common.hlsl";
+    if (count == 0) throw InputError("", "glslangValidator failed: " + output.substr(0, 400));
     throw InputError(
         first_file + ":" + first_line + (col.empty() ? "" : ":" + col),
         "error: " + message +
@@ -188,13 +249,6 @@ std::set<std::string> prelude_functions(const std::string& prelude) {
     return out;
 }
 
-std::string line_name(const std::string& display) {
-    std::string s = display;
-    for (char& c : s)
-        if (c == '"' || c == '\\') c = '_';
-    return s;
-}
-
 }  // namespace
 
 bool converted_language(const std::string& path) {
@@ -205,19 +259,22 @@ bool converted_language(const std::string& path) {
     return ends(".hlsl") || ends(".wgsl");
 }
 
-ConvertedShader hlsl_to_glsl(const std::string& text, const std::string& display_in,
+ConvertedShader hlsl_to_glsl(const std::string& experiment_path, const std::string& rel,
+                             const std::string& text, const std::string& display_in,
                              const EngineAdapter& a) {
     const std::string display = line_name(display_in);
-    const Toks t = shader_tokens(text);
-    refuse(t, display);
     ConvertedShader out;
     out.display = display + " (as GLSL)";
-    const std::string body =
-        rewrite_height_calls(text, display, a.height_sampler, out.explicit_level);
+    HlslExpansion e{experiment_path, a, "", {}};
+    std::string body;
+    expand_hlsl(e, rel, text, display_in, body);
+    out.explicit_level = e.explicit_level;
+    const Toks t = shader_tokens(body);
     const std::string prelude = shader_source(kPrelude, "").text;
-    const std::string program = prelude + engine_define_lines(a, engine_code_names(text)) +
-                                "#line 1 \"" + display + "\"\n" + body + "\n#line 1 \"" +
-                                kEntryFile +
+    const std::string program = "#line 1 \"pxh's methods/common.hlsl\"\n" + prelude +
+                                "#line 1 \"pxh's defines (generated)\"\n" +
+                                engine_define_lines(a, engine_code_names(body)) + body +
+                                "\n#line 1 \"" + kEntryFile +
                                 "\"\nfloat4 main(float4 pxh_frag : SV_Position) : SV_Target {\n"
                                 "    return float4(pxh_method(pxh_frag.xy), 0.0, 1.0);\n}\n";
     TempFolder dir;
@@ -230,7 +287,7 @@ ConvertedShader hlsl_to_glsl(const std::string& text, const std::string& display
         throw InputError(display_in,
                          "an HLSL plug-in needs glslangValidator (Debian's glslang-tools; "
                          "./run.sh installs it)");
-    if (g.exit_code != 0) glslang_error(g.output, display);
+    if (g.exit_code != 0) glslang_error(g.output);
     const ToolResult c = run_tool({"spirv-cross", "--version", "450", "--output",
                                    dir.path() + "/plugin.glsl", dir.path() + "/plugin.spv"},
                                   dir.path());
@@ -246,11 +303,12 @@ ConvertedShader hlsl_to_glsl(const std::string& text, const std::string& display
     return out;
 }
 
-ConvertedShader converted_to_glsl(const std::string& path, const std::string& text,
-                                  const std::string& display, const EngineAdapter& a) {
-    if (path.size() > 5 && path.compare(path.size() - 5, 5, ".wgsl") == 0)
-        return wgsl_to_glsl(text, display, a);
-    return hlsl_to_glsl(text, display, a);
+ConvertedShader converted_to_glsl(const std::string& experiment_path, const std::string& rel,
+                                  const std::string& text, const std::string& display,
+                                  const EngineAdapter& a) {
+    if (rel.size() > 5 && rel.compare(rel.size() - 5, 5, ".wgsl") == 0)
+        return wgsl_to_glsl(experiment_path, rel, text, display, a);
+    return hlsl_to_glsl(experiment_path, rel, text, display, a);
 }
 
 }  // namespace pxh

@@ -25,17 +25,22 @@ bool converted_language(const std::string& path);
 // The GLSL of the HLSL `text` (the file `display`) for one setting of the adapter's defines:
 // its height sampler's sampling calls made pxh's, its defines written before it. Throws
 // InputError at the HLSL file's FILE:LINE[:COL] for what glslang refuses (its first error),
-// DX9 samplers, explicit 16-bit types and #include, and when the tools are missing.
-ConvertedShader hlsl_to_glsl(const std::string& text, const std::string& display,
+// DX9 samplers and explicit 16-bit types, includes it cannot read, and missing tools.
+// `rel` is the file as the entry names it (includes are read relative to it, inside the
+// folder of `experiment_path`).
+ConvertedShader hlsl_to_glsl(const std::string& experiment_path, const std::string& rel,
+                             const std::string& text, const std::string& display,
                              const EngineAdapter& a);
 
 // The same for WGSL (through naga; harness/backends/wgsl_shader.cpp).
-ConvertedShader wgsl_to_glsl(const std::string& text, const std::string& display,
+ConvertedShader wgsl_to_glsl(const std::string& experiment_path, const std::string& rel,
+                             const std::string& text, const std::string& display,
                              const EngineAdapter& a);
 
 // Any converted plug-in by its file's extension.
-ConvertedShader converted_to_glsl(const std::string& path, const std::string& text,
-                                  const std::string& display, const EngineAdapter& a);
+ConvertedShader converted_to_glsl(const std::string& experiment_path, const std::string& rel,
+                                  const std::string& text, const std::string& display,
+                                  const EngineAdapter& a);
 
 // SPIRV-Cross's GLSL of a whole fragment shader made a plug-in's: the preamble, the entry point
 // (main, _main), the in/out variables and the functions named in `stand_ins` removed, uniform

@@ -3,7 +3,8 @@
 
 namespace pxh {
 
-ConvertedShader wgsl_to_glsl(const std::string&, const std::string& display, const EngineAdapter&) {
+ConvertedShader wgsl_to_glsl(const std::string&, const std::string&, const std::string&,
+                             const std::string& display, const EngineAdapter&) {
     throw InputError(display, "WGSL plug-ins are not supported yet");
 }
 

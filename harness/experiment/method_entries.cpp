@@ -103,7 +103,7 @@ void plugin_variants(const MethodInfo& proto, const std::string& rel, const Plug
         a.defines = define_setting(parts.engine, setting, where);
         EngineShader sh;
         if (converted_language(rel)) {  // HLSL, WGSL: converted, then adapted as GLSL
-            const ConvertedShader c = converted_to_glsl(rel, src.text, src.display, a);
+            const ConvertedShader c = converted_to_glsl(ex.path, rel, src.text, src.display, a);
             EngineAdapter g = a;
             g.defines.clear();
             g.define_names.clear();

@@ -96,6 +96,29 @@ TEST_F(HlslShader, SamePomInGlslAndHlslGivesIdenticalRows) {
     }
 }
 
+// examples/engines/hdrp as committed: the HDRP-style POM (three files, one included by HDRP's
+// package path through the entry's includes) against hdrp_pom's CPU twin, every sample within
+// float rounding and every fetch count equal.
+TEST_F(HlslShader, HdrpExampleMatchesHdrpPomPreset) {
+    const fs::path ex = fs::path(PXH_SOURCE_DIR) / "examples/engines/hdrp/experiment.toml";
+    const auto r = pxh("run " + ex.string() + " --quiet --out " + (dir / "r").string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
+    ASSERT_EQ(t.rows.size(), 30u);
+    double worst = 0, fetches = 0;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const std::string at = t.get(i, "heightfield") + " theta " + t.get(i, "theta_deg") +
+                               " phi " + t.get(i, "phi_deg");
+        EXPECT_EQ(t.get(i, "status"), "ok") << at;
+        EXPECT_EQ(t.get(i, "decision_mismatch"), "0") << at;
+        EXPECT_EQ(t.get(i, "cpu_diff_first"), "") << at;
+        worst = std::max(worst, num(t, i, "cpu_diff_max"));
+        fetches = std::max(fetches, num(t, i, "fetches_max"));
+    }
+    EXPECT_LE(worst, 1e-4) << "float rounding (measured: 2.8e-5 texel)";
+    EXPECT_EQ(fetches, 9) << "the most fetches of a sample (theta 85 on fbm), as the preset";
+}
+
 // An engine's HLSL: the height texture sampled by SampleLevel at the level a cbuffer uniform
 // gives, the scale bound from the cbuffer; level 2 is the CPU twin's level on the 16 x 16 grid.
 TEST_F(HlslShader, SampleLevelReadsThatLevelAndCbufferUniformsBind) {
