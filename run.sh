@@ -31,6 +31,17 @@ install_missing() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# WGSL plug-ins: naga (npm naga-wasm, the exact version and hash in tools/naga/package-lock.json)
+# run by node, installed into tools/naga/node_modules (git-ignored). Debian's nodejs and npm
+# only where no node or npm is installed (a NodeSource nodejs carries its own npm).
+install_naga() {
+  command -v node >/dev/null || install_missing nodejs
+  command -v npm >/dev/null || install_missing npm
+  [ -d tools/naga/node_modules/naga-wasm ] && return 0
+  echo "run.sh: installing naga-wasm (npm ci in tools/naga)" >&2
+  (cd tools/naga && npm ci --no-audit --no-fund --ignore-scripts --loglevel=error)
+}
+
 # The release presets of CMakePresets.json (build/, Ninja, Release).
 build() {
   cmake --preset release -DPXH_WERROR="${PXH_WERROR:-OFF}" >/dev/null
@@ -46,6 +57,7 @@ esac
 
 if [ "$mode" = test ]; then install_missing "${PACKAGES[@]}" "${TEST_PACKAGES[@]}"
 else install_missing "${PACKAGES[@]}"; fi
+install_naga
 build
 case "$mode" in
   run) ./build/pxh run results/experiments/default.toml ;;

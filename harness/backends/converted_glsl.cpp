@@ -138,6 +138,13 @@ std::string spirv_cross_plugin_glsl(const std::string& glsl_in, const std::strin
     std::map<std::string, std::string> access;    // "inst.member[.field]" -> its replacement
     std::map<std::string, std::string> declared;  // plain uniform -> its type
     std::vector<bool> drop(t.size(), false);
+    // A block member as a plain uniform: a uint (SPIR-V's bool, WGSL's u32) is declared bool
+    // when `bools` names it, else int (pxh sets float, int and bool uniforms), and read as uint.
+    auto declare = [&](const std::string& prefix, const std::string& type, const std::string& n) {
+        const bool u = type == "uint";
+        access[prefix + n] = u ? "uint(" + n + ")" : n;
+        declared[n] = !u ? type : bools.count(n) ? "bool" : "int";
+    };
     for (const Item& it : items(t)) {
         auto drop_item = [&] {
             for (size_t i = it.first; i <= it.last; ++i) drop[i] = true;
@@ -145,6 +152,10 @@ std::string spirv_cross_plugin_glsl(const std::string& glsl_in, const std::strin
         const std::string& first = t[it.first].text;
         if (it.function) {
             if (it.name == "main" || it.name == "_main" || stand_ins.count(it.name)) drop_item();
+            continue;
+        }
+        if (it.first + 1 <= it.last && stand_ins.count(t[it.first + 1].text)) {
+            drop_item();  // a stand-in variable (WGSL's pxh_V, u_scale, ...)
             continue;
         }
         if (first == "struct" && it.first + 2 < t.size() && t[it.first + 2].text == "{") {
@@ -162,15 +173,11 @@ std::string spirv_cross_plugin_glsl(const std::string& glsl_in, const std::strin
         const std::string inst = close + 1 < it.last ? t[close + 1].text + "." : "";
         for (const auto& [type, name] : members(t, open)) {
             if (const auto s = structs.find(type); s != structs.end()) {
-                for (const auto& [ftype, field] : s->second) {
-                    access[inst + name + "." + field] = field;
-                    declared[field] = ftype;
-                }
+                for (const auto& [ftype, field] : s->second)
+                    declare(inst + name + ".", ftype, field);
                 continue;
             }
-            const bool b = type == "uint" && bools.count(name);
-            access[inst + name] = b ? "uint(" + name + ")" : name;
-            declared[name] = b ? "bool" : type;
+            declare(inst, type, name);
         }
         drop_item();
     }

@@ -70,6 +70,16 @@ size_t next_comma(const Toks& t, size_t i) {
     return std::string::npos;
 }
 
+// Whether the call whose sampler argument ends at the comma `c` passes the literal level 0 as
+// its last argument (level 0 exists in every lod mode: no explicit level to refuse).
+bool level_zero(const Toks& t, size_t c) {
+    const size_t uv_end = next_comma(t, c + 1);
+    if (uv_end == std::string::npos || uv_end + 2 >= t.size() || t[uv_end + 2].text != ")")
+        return false;
+    const std::string& x = t[uv_end + 1].text;
+    return x.find_first_not_of("0.f") == std::string::npos && x.find('0') != std::string::npos;
+}
+
 // What pxh refuses in an HLSL file before glslang reads it, each at its FILE:LINE:COL.
 void refuse(const Toks& t, const std::string& display) {
     static const std::map<std::string, std::string> dx9 = {
@@ -106,8 +116,9 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
         out += text.substr(copied, t[from].begin - copied) + with;
         copied = t[to].end;
     };
-    auto note_level = [&](const SamplingCall& c, size_t i, const std::string& name) {
-        if (c.level && level.empty()) level = at(display, t[i]) + ": " + name;
+    auto note_level = [&](const SamplingCall& c, size_t i, const std::string& name, size_t comma) {
+        if (c.level && level.empty() && !level_zero(t, comma))
+            level = at(display, t[i]) + ": " + name;
     };
     for (size_t i = 0; i < t.size(); ++i) {
         const std::string& x = t[i].text;
@@ -116,7 +127,7 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
                                                      t[i + 2].text == tex && t[i + 3].text == ",") {
             const size_t c = next_comma(t, i + 4);
             if (c == std::string::npos) continue;
-            note_level(m->second, i, x);
+            note_level(m->second, i, x, c);
             replace(i, c, m->second.replacement);
             i = c;
             continue;
@@ -136,7 +147,7 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
                                  "SAMPLE_TEXTURE2D[_BIAS|_LOD|_GRAD](NAME, ...))");
         const size_t c = next_comma(t, i + 4);
         if (c == std::string::npos) continue;
-        note_level(m->second, i, tex + "." + t[i + 2].text);
+        note_level(m->second, i, tex + "." + t[i + 2].text, c);
         replace(i, c, m->second.replacement);
         i = c;
     }

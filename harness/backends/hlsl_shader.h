@@ -43,9 +43,10 @@ ConvertedShader converted_to_glsl(const std::string& experiment_path, const std:
                                   const EngineAdapter& a);
 
 // SPIRV-Cross's GLSL of a whole fragment shader made a plug-in's: the preamble, the entry point
-// (main, _main), the in/out variables and the functions named in `stand_ins` removed, uniform
-// blocks written as plain uniforms (a bool member, which SPIR-V holds as uint, as a bool when
-// `bools` names it). Throws InputError at `display` when the text needs an extension.
+// (main, _main), the in/out variables and the functions and variables named in `stand_ins`
+// removed, uniform blocks (and structs in them) written as plain uniforms (a uint member, which
+// is how SPIR-V holds a bool, as a bool when `bools` names it, else as an int). Throws InputError
+// at `display` when the text needs an extension.
 std::string spirv_cross_plugin_glsl(const std::string& glsl, const std::string& display,
                                     const std::set<std::string>& stand_ins,
                                     const std::set<std::string>& bools);

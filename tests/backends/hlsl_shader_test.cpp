@@ -1,5 +1,5 @@
-// HLSL plug-ins (harness/backends/hlsl_shader.h) through the binary: the same POM in GLSL and
-// HLSL gives identical rows, half is computed as float, the engine's height texture's
+// HLSL plug-ins (harness/backends/hlsl_shader.h) through the binary: the same POM in GLSL, HLSL
+// and WGSL gives identical rows, half is computed as float, the engine's height texture's
 // SampleLevel reads that level, engine uniforms in a cbuffer bind, and the refusals land at the
 // HLSL file's FILE:LINE.
 #include <gtest/gtest.h>
@@ -67,10 +67,11 @@ const char* const kSampleColumns[] = {"status",         "err_mean",         "err
                                       "cpu_diff_mean",  "cpu_diff_p95",     "cpu_diff_worst_sample",
                                       "cpu_diff_first", "decision_mismatch"};
 
-// examples/shader_gate's POM in GLSL and in HLSL (and the HLSL with half for float): one row
+// examples/shader_gate's POM in GLSL, HLSL and WGSL (and the HLSL with half for float): one row
 // each per view, equal in every sample's statistics, and within float rounding of pom's twin.
-TEST_F(HlslShader, SamePomInGlslAndHlslGivesIdenticalRows) {
+TEST_F(HlslShader, SamePomInGlslHlslAndWgslGivesIdenticalRows) {
     example("my_pom.frag.glsl");
+    example("my_pom.wgsl");
     std::string hlsl = example("my_pom.hlsl");
     for (size_t at = hlsl.find("float"); at != std::string::npos; at = hlsl.find("float", at))
         hlsl.replace(at, 5, "half");
