@@ -114,6 +114,7 @@ void plugin_variants(const MethodInfo& proto, const std::string& rel, const Plug
         }
         auto info = std::make_shared<MethodInfo>(proto);
         info->plugin_source = sh.text;
+        info->plugin_display = sh.files[0];  // a converted file's: "FILE (as GLSL)"
         info->plugin_files.assign(sh.files.begin() + 1, sh.files.end());
         for (ParamSpec& spec : bound_value_specs(parts.engine, sh))
             info->params.push_back(std::move(spec));
