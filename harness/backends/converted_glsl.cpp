@@ -1,9 +1,9 @@
 // A converter's GLSL of a whole fragment shader (SPIRV-Cross's, naga's) made a plug-in's text:
-// hlsl_shader.h, spirv_cross_plugin_glsl.
+// converted_shader.h, converted_plugin_glsl.
 #include <map>
 #include <vector>
 
-#include "harness/backends/hlsl_shader.h"
+#include "harness/backends/converted_shader.h"
 #include "harness/core/error.h"
 
 namespace pxh {
@@ -129,9 +129,28 @@ std::string squeezed(const std::string& body) {
 
 }  // namespace
 
-std::string spirv_cross_plugin_glsl(const std::string& glsl_in, const std::string& display,
-                                    const std::set<std::string>& stand_ins,
-                                    const std::set<std::string>& bools) {
+size_t next_argument(const std::vector<ShaderToken>& t, size_t i) {
+    int depth = 0;
+    for (; i < t.size(); ++i) {
+        const std::string& x = t[i].text;
+        if (x == "(" || x == "[") ++depth;
+        if ((x == ")" || x == "]") && --depth < 0) return std::string::npos;
+        if (x == "," && depth == 0) return i;
+    }
+    return std::string::npos;
+}
+
+bool literal_level_zero(const std::vector<ShaderToken>& t, size_t c) {
+    const size_t uv_end = next_argument(t, c + 1);
+    if (uv_end == std::string::npos || uv_end + 2 >= t.size() || t[uv_end + 2].text != ")")
+        return false;
+    const std::string& x = t[uv_end + 1].text;
+    return x.find_first_not_of("0.f") == std::string::npos && x.find('0') != std::string::npos;
+}
+
+std::string converted_plugin_glsl(const std::string& glsl_in, const std::string& display,
+                                  const std::set<std::string>& stand_ins,
+                                  const std::set<std::string>& bools) {
     const std::string glsl = without_directives(glsl_in, display);
     const Toks t = shader_tokens(glsl);
     std::map<std::string, std::vector<std::pair<std::string, std::string>>> structs;

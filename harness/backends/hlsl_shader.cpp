@@ -1,11 +1,11 @@
-#include "harness/backends/hlsl_shader.h"
-
 #include <cctype>
 #include <filesystem>
 #include <map>
 #include <regex>
+#include <set>
 #include <vector>
 
+#include "harness/backends/converted_shader.h"
 #include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/backends/tool_process.h"
@@ -56,36 +56,11 @@ const std::map<std::string, SamplingCall>& texture_macros() {
     return m;
 }
 
-// The index of the first ',' at the bracket depth of token `i` (inside the call), or npos.
-size_t next_comma(const Toks& t, size_t i) {
-    int depth = 0;
-    for (; i < t.size(); ++i) {
-        const std::string& x = t[i].text;
-        if (x == "(" || x == "[") ++depth;
-        if (x == ")" || x == "]") {
-            if (--depth < 0) return std::string::npos;
-        }
-        if (x == "," && depth == 0) return i;
-    }
-    return std::string::npos;
-}
-
-// Whether the call whose sampler argument ends at the comma `c` passes the literal level 0 as
-// its last argument (level 0 exists in every lod mode: no explicit level to refuse).
-bool level_zero(const Toks& t, size_t c) {
-    const size_t uv_end = next_comma(t, c + 1);
-    if (uv_end == std::string::npos || uv_end + 2 >= t.size() || t[uv_end + 2].text != ")")
-        return false;
-    const std::string& x = t[uv_end + 1].text;
-    return x.find_first_not_of("0.f") == std::string::npos && x.find('0') != std::string::npos;
-}
-
 // What pxh refuses in an HLSL file before glslang reads it, each at its FILE:LINE:COL.
 void refuse(const Toks& t, const std::string& display) {
-    static const std::map<std::string, std::string> dx9 = {
-        {"sampler", ""},     {"sampler1D", ""}, {"sampler2D", ""}, {"sampler3D", ""},
-        {"samplerCUBE", ""}, {"tex2D", ""},     {"tex2Dlod", ""},  {"tex2Dgrad", ""},
-        {"tex2Dbias", ""},   {"tex2Dproj", ""}};
+    static const std::set<std::string> dx9 = {"sampler",     "sampler1D", "sampler2D", "sampler3D",
+                                              "samplerCUBE", "tex2D",     "tex2Dlod",  "tex2Dgrad",
+                                              "tex2Dbias",   "tex2Dproj"};
     static const std::regex sixteen("(float|int|uint)16_t[1-4]?(x[1-4])?");
     for (size_t i = 0; i < t.size(); ++i) {
         const std::string& x = t[i].text;
@@ -117,7 +92,7 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
         copied = t[to].end;
     };
     auto note_level = [&](const SamplingCall& c, size_t i, const std::string& name, size_t comma) {
-        if (c.level && level.empty() && !level_zero(t, comma))
+        if (c.level && level.empty() && !literal_level_zero(t, comma))
             level = at(display, t[i]) + ": " + name;
     };
     for (size_t i = 0; i < t.size(); ++i) {
@@ -125,7 +100,7 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
         if (const auto m = texture_macros().find(x); m != texture_macros().end() &&
                                                      i + 3 < t.size() && t[i + 1].text == "(" &&
                                                      t[i + 2].text == tex && t[i + 3].text == ",") {
-            const size_t c = next_comma(t, i + 4);
+            const size_t c = next_argument(t, i + 4);
             if (c == std::string::npos) continue;
             note_level(m->second, i, x, c);
             replace(i, c, m->second.replacement);
@@ -145,7 +120,7 @@ std::string rewrite_height_calls(const std::string& text, const std::string& dis
                                  "' is used here other than by a sampling call pxh counts "
                                  "(NAME.Sample, SampleBias, SampleLevel, SampleGrad, or "
                                  "SAMPLE_TEXTURE2D[_BIAS|_LOD|_GRAD](NAME, ...))");
-        const size_t c = next_comma(t, i + 4);
+        const size_t c = next_argument(t, i + 4);
         if (c == std::string::npos) continue;
         note_level(m->second, i, tex + "." + t[i + 2].text, c);
         replace(i, c, m->second.replacement);
@@ -309,8 +284,8 @@ ConvertedShader hlsl_to_glsl(const std::string& experiment_path, const std::stri
     if (c.exit_code != 0)
         throw InputError(display_in, "spirv-cross failed: " + c.output.substr(0, 400));
     out.glsl = "// GLSL of " + display + " (glslang HLSL -> SPIR-V -> SPIRV-Cross), pxh\n" +
-               spirv_cross_plugin_glsl(dir.read("plugin.glsl"), out.display,
-                                       prelude_functions(prelude), bool_names(t));
+               converted_plugin_glsl(dir.read("plugin.glsl"), out.display,
+                                     prelude_functions(prelude), bool_names(t));
     return out;
 }
 

@@ -1,12 +1,12 @@
 // WGSL plug-ins: naga (npm naga-wasm, pinned in tools/naga/package.json, run by node through
 // tools/naga/wgsl_to_glsl.mjs) translates the file and pxh's methods/common.wgsl after it to
-// GLSL 4.50; the stand-ins are removed as for HLSL (hlsl_shader.h).
+// GLSL 4.50; the stand-ins are removed as for HLSL (converted_shader.h).
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <regex>
 
-#include "harness/backends/hlsl_shader.h"
+#include "harness/backends/converted_shader.h"
 #include "harness/backends/shaders.h"
 #include "harness/backends/tool_process.h"
 #include "harness/core/error.h"
@@ -34,28 +34,6 @@ const std::map<std::string, std::pair<const char*, bool>>& sampling_calls() {
     return m;
 }
 
-// The index of the first ',' at the depth of token `i`, or npos.
-size_t next_comma(const Toks& t, size_t i) {
-    int depth = 0;
-    for (; i < t.size(); ++i) {
-        const std::string& x = t[i].text;
-        if (x == "(" || x == "[") ++depth;
-        if ((x == ")" || x == "]") && --depth < 0) return std::string::npos;
-        if (x == "," && depth == 0) return i;
-    }
-    return std::string::npos;
-}
-
-// Whether the call whose sampler argument ends at the comma `c` passes the literal level 0 as
-// its last argument (level 0 exists in every lod mode: no explicit level to refuse).
-bool level_zero(const Toks& t, size_t c) {
-    const size_t uv_end = next_comma(t, c + 1);
-    if (uv_end == std::string::npos || uv_end + 2 >= t.size() || t[uv_end + 2].text != ")")
-        return false;
-    const std::string& x = t[uv_end + 1].text;
-    return x.find_first_not_of("0.f") == std::string::npos && x.find('0') != std::string::npos;
-}
-
 // The text with every sampling call on the height texture made pxh's counted call (same lines),
 // anything else done with the texture refused; `level`: the first explicit level.
 std::string rewrite(const std::string& text, const std::string& display, const std::string& tex,
@@ -74,9 +52,9 @@ std::string rewrite(const std::string& text, const std::string& display, const s
         const auto c = sampling_calls().find(t[i].text);
         if (c != sampling_calls().end() && i + 3 < t.size() && t[i + 1].text == "(" &&
             t[i + 2].text == tex && t[i + 3].text == ",") {
-            const size_t comma = next_comma(t, i + 4);
+            const size_t comma = next_argument(t, i + 4);
             if (comma == std::string::npos) continue;
-            if (c->second.second && level.empty() && !level_zero(t, comma))
+            if (c->second.second && level.empty() && !literal_level_zero(t, comma))
                 level = at(display, t[i]) + ": " + t[i].text;
             out += text.substr(copied, t[i].begin - copied) + c->second.first;
             copied = t[comma].end;
@@ -155,9 +133,8 @@ ConvertedShader wgsl_to_glsl(const std::string&, const std::string&, const std::
         throw InputError(display,
                          "a WGSL plug-in needs node (Debian's nodejs; ./run.sh installs it)");
     if (r.exit_code != 0) naga_error(r.output, display, lines);
-    out.glsl =
-        "// GLSL of " + display + " (naga WGSL -> GLSL), pxh\n" +
-        spirv_cross_plugin_glsl(dir.read("plugin.glsl"), out.display, stand_ins(prelude), {});
+    out.glsl = "// GLSL of " + display + " (naga WGSL -> GLSL), pxh\n" +
+               converted_plugin_glsl(dir.read("plugin.glsl"), out.display, stand_ins(prelude), {});
     if (!a.height_sampler.empty())
         out.glsl +=
             "vec4 pxh_engine_height_bias(vec2 uv, float bias) { return "

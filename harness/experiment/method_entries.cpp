@@ -9,7 +9,7 @@
 #include <memory>
 #include <optional>
 
-#include "harness/backends/hlsl_shader.h"
+#include "harness/backends/converted_shader.h"
 #include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"

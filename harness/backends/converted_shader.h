@@ -42,13 +42,21 @@ ConvertedShader converted_to_glsl(const std::string& experiment_path, const std:
                                   const std::string& text, const std::string& display,
                                   const EngineAdapter& a);
 
-// SPIRV-Cross's GLSL of a whole fragment shader made a plug-in's: the preamble, the entry point
+// The index of the first ',' at the bracket depth of token `i` of `t` (a call's next argument),
+// or npos when the call closes first.
+size_t next_argument(const std::vector<ShaderToken>& t, size_t i);
+// Whether the sampling call whose sampler argument ends at the comma `c` passes the literal level
+// 0 as its last argument (level 0 exists in every lod mode: no explicit level to refuse).
+bool literal_level_zero(const std::vector<ShaderToken>& t, size_t c);
+
+// A converter's GLSL of a whole fragment shader (SPIRV-Cross's, naga's) made a plug-in's: the
+// preamble, the entry point
 // (main, _main), the in/out variables and the functions and variables named in `stand_ins`
 // removed, uniform blocks (and structs in them) written as plain uniforms (a uint member, which
 // is how SPIR-V holds a bool, as a bool when `bools` names it, else as an int). Throws InputError
 // at `display` when the text needs an extension.
-std::string spirv_cross_plugin_glsl(const std::string& glsl, const std::string& display,
-                                    const std::set<std::string>& stand_ins,
-                                    const std::set<std::string>& bools);
+std::string converted_plugin_glsl(const std::string& glsl, const std::string& display,
+                                  const std::set<std::string>& stand_ins,
+                                  const std::set<std::string>& bools);
 
 }  // namespace pxh
