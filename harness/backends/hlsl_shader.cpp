@@ -79,12 +79,58 @@ void refuse(const Toks& t, const std::string& display) {
     }
 }
 
+// The lines of preprocessor directives (with their continuation lines): macro bodies such as
+// Unity's SAMPLE_TEXTURE2D_LOD definition are not calls.
+std::set<int> directive_lines(const std::string& text) {
+    std::set<int> out;
+    int line = 1;
+    bool directive = false;
+    size_t start = 0;
+    while (start <= text.size()) {
+        size_t end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        const size_t first = text.find_first_not_of(" \t", start);
+        if (!directive) directive = first < end && text[first] == '#';
+        if (directive) out.insert(line);
+        const size_t last = text.find_last_not_of(" \t\r", end == 0 ? 0 : end - 1);
+        directive = directive && last != std::string::npos && last >= start && text[last] == '\\';
+        start = end + 1;
+        ++line;
+    }
+    return out;
+}
+
+// A texture other than the height texture sampled in code: pxh binds the height map alone.
+void refuse_other_textures(const Toks& t, const std::string& text, const std::string& display,
+                           const std::string& tex) {
+    static const std::set<std::string> methods = {"Sample",     "SampleBias", "SampleLevel",
+                                                  "SampleGrad", "SampleCmp",  "SampleCmpLevelZero",
+                                                  "Load",       "Gather"};
+    const std::set<int> directives = directive_lines(text);
+    for (size_t i = 0; i + 3 < t.size(); ++i) {
+        if (directives.count(t[i].line)) continue;
+        const bool method = t[i + 1].text == "." && methods.count(t[i + 2].text) &&
+                            t[i + 3].text == "(" && t[i].text != tex;
+        const bool macro =
+            texture_macros().count(t[i].text) && t[i + 1].text == "(" && t[i + 2].text != tex;
+        if (!method && !macro) continue;
+        const std::string name = method ? t[i].text : t[i + 2].text;
+        throw InputError(at(display, t[i]),
+                         "texture '" + name +
+                             "' is sampled here, and pxh binds no texture but the height map: "
+                             "if it is the engine's height texture, name it in the entry "
+                             "(height_sampler = \"" +
+                             name + "\")");
+    }
+}
+
 // The text with every sampling call on the height texture made pxh's (counted) call, at the
 // same lines; `level` set to the first explicit level's FILE:LINE:COL.
 std::string rewrite_height_calls(const std::string& text, const std::string& display,
                                  const std::string& tex, std::string& level) {
-    if (tex.empty()) return text;
     const Toks t = shader_tokens(text);
+    refuse_other_textures(t, text, display, tex);
+    if (tex.empty()) return text;
     std::string out;
     size_t copied = 0;
     auto replace = [&](size_t from, size_t to, const std::string& with) {

@@ -45,6 +45,16 @@ std::string rewrite(const std::string& text, const std::string& display, const s
                              "a WGSL plug-in is plain WGSL: preprocessor lines (naga_oil's "
                              "#import, #define_import_path, #ifdef, as Bevy uses) are not read; "
                              "write the imported items into the file");
+    for (size_t i = 0; i + 2 < t.size(); ++i)
+        if ((sampling_calls().count(t[i].text) || t[i].text == "textureLoad" ||
+             t[i].text == "textureGather") &&
+            t[i + 1].text == "(" && t[i + 2].text != tex)
+            throw InputError(at(display, t[i]),
+                             "texture '" + t[i + 2].text +
+                                 "' is sampled here, and pxh binds no texture but the height "
+                                 "map: if it is the engine's height texture, name it in the "
+                                 "entry (height_sampler = \"" +
+                                 t[i + 2].text + "\")");
     if (tex.empty()) return text;
     std::string out;
     size_t copied = 0;

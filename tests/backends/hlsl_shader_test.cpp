@@ -163,7 +163,8 @@ float2 pxh_method(float2 P) {
 }
 
 // Refusals at the HLSL file's FILE:LINE[:COL]: glslang's syntax error, explicit 16-bit types,
-// DX9 samplers, an engine uniform nothing sets (located in the converted GLSL, with the fix).
+// DX9 samplers, a texture pxh does not bind, an engine uniform nothing sets (located in the
+// converted GLSL, with the fix).
 TEST_F(HlslShader, RefusalsNameTheHlslFileAndLine) {
     write("syntax.hlsl", "float2 pxh_method(float2 P) {\n    float2 uv = P\n    return uv;\n}\n");
     write("f16.hlsl",
@@ -172,6 +173,9 @@ TEST_F(HlslShader, RefusalsNameTheHlslFileAndLine) {
           "sampler2D hm;\nfloat2 pxh_method(float2 P) { return P + tex2Dlod(hm, float4(P, 0, "
           "0)).r; }\n");
     write("unset.hlsl", "float gain;\nfloat2 pxh_method(float2 P) { return P * gain; }\n");
+    write("other.hlsl",
+          "Texture2D bump;\nSamplerState s;\nfloat2 pxh_method(float2 P) {\n    return P + "
+          "bump.SampleLevel(s, P, 0.0).r;\n}\n");
     const auto entry = [](const char* shader) {
         return std::string("[[methods]]\nname = \"e\"\nshader = \"") + shader +
                "\"\nheight_sampler = \"hm\"\nmax_fetches = 1\n";
@@ -184,6 +188,11 @@ TEST_F(HlslShader, RefusalsNameTheHlslFileAndLine) {
     EXPECT_NE(refused(head() + entry("dx9.hlsl"))
                   .find("dx9.hlsl:1:1: 'sampler2D' is a DX9-style "
                         "sampler"),
+              std::string::npos);
+    EXPECT_NE(refused(head() + entry("other.hlsl"))
+                  .find("other.hlsl:4:16: texture 'bump' is sampled here, and pxh binds no "
+                        "texture but the height map: if it is the engine's height texture, name "
+                        "it in the entry (height_sampler = \"bump\")"),
               std::string::npos);
     const std::string unset = refused(head() + entry("unset.hlsl"));
     EXPECT_NE(unset.find("unset.hlsl (as GLSL):"), std::string::npos) << unset;
