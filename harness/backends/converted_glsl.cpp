@@ -202,7 +202,6 @@ std::string converted_plugin_glsl(const std::string& glsl_in, const std::string&
     }
     // The text without the dropped items, each access to a block's member made the plain name.
     std::string body;
-    std::set<std::string> used;
     size_t copied = 0;
     for (size_t i = 0; i < t.size(); ++i) {
         if (drop[i]) {
@@ -227,8 +226,6 @@ std::string converted_plugin_glsl(const std::string& glsl_in, const std::string&
         }
         if (best.empty()) continue;
         body += glsl.substr(copied, t[i].begin - copied) + access[best];
-        const size_t dot = best.rfind('.');
-        used.insert(dot == std::string::npos ? best : best.substr(dot + 1));
         copied = t[best_end].end;
         i = best_end;
     }
@@ -237,7 +234,7 @@ std::string converted_plugin_glsl(const std::string& glsl_in, const std::string&
         "#define SPIRV_CROSS_FLATTEN\n#define SPIRV_CROSS_BRANCH\n#define SPIRV_CROSS_UNROLL\n"
         "#define SPIRV_CROSS_LOOP\n";
     for (const auto& [name, type] : declared)
-        if (used.count(name)) out += "uniform " + type + " " + name + ";\n";
+        out += "uniform " + type + " " + name + ";\n";  // read or not (as a GLSL text declares)
     out +=
         "vec3 pxh_hlsl_V() { return pxh_V; }\nfloat pxh_hlsl_scale() { return u_scale; }\n"
         "float pxh_hlsl_bias() { return u_bias; }\nivec2 pxh_hlsl_size() { return u_size; }\n";

@@ -122,7 +122,7 @@ std::string substitute_braces(const std::string& s, const EngineAdapter& a) {
 struct Gathered {
     std::map<std::string, std::string> uniform_types;  // declared uniform -> its type
     std::string explicit_level;                        // the first explicit-level call
-    std::set<std::string> code_names;                  // identifiers outside #if / #elif lines
+    EngineNames names;                                 // identifiers off #if / #elif lines
 };
 
 // For each line (1-based), whether it is an #if or #elif directive.
@@ -170,7 +170,7 @@ std::string rewrite(const std::string& text, const std::string& display, const E
     const std::vector<Tok> t = tokenize(text);
     const std::vector<bool> conditional = conditional_lines(text);
     for (const Tok& k : t)
-        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) g.code_names.insert(k.text);
+        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) g.names.code.insert(k.text);
     std::string out;
     size_t copied = 0;
     auto replace = [&](size_t from, size_t to, const std::string& with) {
@@ -312,23 +312,27 @@ void expand(Expansion& e, const std::string& rel, const std::string& text, size_
 
 }  // namespace
 
-std::string engine_define_lines(const EngineAdapter& a, const std::set<std::string>& code_names) {
+std::string engine_define_lines(const EngineAdapter& a, const EngineNames& names) {
     std::string s;
     for (const auto& [name, value] : a.defines) s += "#define " + name + " " + value + "\n";
-    std::set<std::string> defined;
-    for (const auto& [name, value] : a.defines) defined.insert(name);
+    // Names not to define: the defines themselves, the code's names, and the values of the
+    // defines the code expands (CHANNEL = "g" in `.CHANNEL`: g is a swizzle, not a mode).
+    std::set<std::string> keep = names.code;
+    for (const auto& [name, value] : a.defines) {
+        keep.insert(name);
+        if (names.code.count(name)) keep.insert(value);
+    }
     int n = 0;
     for (const std::string& name : a.define_names)
-        if (!defined.count(name) && !code_names.count(name))
-            s += "#define " + name + " " + std::to_string(++n) + "\n";
+        if (!keep.count(name)) s += "#define " + name + " " + std::to_string(++n) + "\n";
     return s;
 }
 
-std::set<std::string> engine_code_names(const std::string& text) {
-    std::set<std::string> out;
+EngineNames engine_names(const std::string& text) {
+    EngineNames out;
     const std::vector<bool> conditional = conditional_lines(text);
     for (const Tok& k : tokenize(text))
-        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) out.insert(k.text);
+        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) out.code.insert(k.text);
     return out;
 }
 
@@ -363,9 +367,9 @@ bool engine_include_line(const std::string& line, std::string& name, bool& angle
 
 namespace {
 
-std::string adapter_prelude(const EngineAdapter& a, const std::set<std::string>& code_names) {
+std::string adapter_prelude(const EngineAdapter& a, const EngineNames& names) {
     std::string s = "// pxh's adapter of an engine's shader (docs/guide/plugin-shaders.md)\n";
-    s += engine_define_lines(a, code_names);
+    s += engine_define_lines(a, names);
     std::string v = a.depth ? "1.0 - h" : "h";
     if (a.channel >= 0) {
         s += "vec4 pxh_engine_texel(float h) {\n    vec4 t = vec4(0.0);\n    t[" +
@@ -445,7 +449,7 @@ EngineShader adapt_engine_shader(const std::string& experiment_path, const std::
                 where, "bind: '" + name + "' is not a uniform the shader or its includes declare");
     const size_t adapter = shader.files.size();
     shader.files.push_back(kAdapterFile);
-    std::string text = line_directive(adapter, 1) + adapter_prelude(a, e.g.code_names);
+    std::string text = line_directive(adapter, 1) + adapter_prelude(a, e.g.names);
     text += line_directive(0, 1) + body + "\n";
     if (!a.quantities.empty()) {
         text += line_directive(adapter, 1000) + "vec2 pxh_method(vec2 P) {\n";

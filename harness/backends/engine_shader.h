@@ -66,10 +66,17 @@ struct ShaderToken {
 };
 std::vector<ShaderToken> shader_tokens(const std::string& s);
 
-// The `#define` lines of the adapter's defines (and of the string values that `text`'s code,
-// `code_names`, does not name: engine_code_names), as written before the engine's text.
-std::string engine_define_lines(const EngineAdapter& a, const std::set<std::string>& code_names);
-std::set<std::string> engine_code_names(const std::string& text);
+// The identifiers of a text's code (its lines other than #if / #elif).
+struct EngineNames {
+    std::set<std::string> code;
+};
+EngineNames engine_names(const std::string& text);
+
+// The `#define` lines of the adapter's defines, and of each string value that the text's code
+// does not name (a distinct number, so `#if MODE == OCCLUSION` compares names), as written
+// before the engine's text; the value of a define that the code expands stays undefined (a
+// swizzle such as CHANNEL = "g" in `texture(..).CHANNEL`).
+std::string engine_define_lines(const EngineAdapter& a, const EngineNames& names);
 
 // Whether `line` is an `#include` line: its name, its form (<name> or "name"), and the problem
 // when it is malformed (an engine's include parameters, no closing bracket, ...).

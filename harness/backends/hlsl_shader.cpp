@@ -305,8 +305,8 @@ ConvertedShader hlsl_to_glsl(const std::string& experiment_path, const std::stri
     const std::string prelude = shader_source(kPrelude, "").text;
     const std::string program = "#line 1 \"pxh's methods/common.hlsl\"\n" + prelude +
                                 "#line 1 \"pxh's defines (generated)\"\n" +
-                                engine_define_lines(a, engine_code_names(body)) + body +
-                                "\n#line 1 \"" + kEntryFile +
+                                engine_define_lines(a, engine_names(body)) + body + "\n#line 1 \"" +
+                                kEntryFile +
                                 "\"\nfloat4 main(float4 pxh_frag : SV_Position) : SV_Target {\n"
                                 "    return float4(pxh_method(pxh_frag.xy), 0.0, 1.0);\n}\n";
     TempFolder dir;

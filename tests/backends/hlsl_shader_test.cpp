@@ -122,7 +122,25 @@ TEST_F(HlslShader, HdrpExampleMatchesHdrpPomPreset) {
 
 // An engine's HLSL: the height texture sampled by SampleLevel at the level a cbuffer uniform
 // gives, the scale bound from the cbuffer; level 2 is the CPU twin's level on the 16 x 16 grid.
+// In the same run, a define sweep: MODE compared by name in #if, CHANNEL a swizzle macro, a
+// bound uniform the NONE mode does not read.
 TEST_F(HlslShader, SampleLevelReadsThatLevelAndCbufferUniformsBind) {
+    write("modes.hlsl", R"(Texture2D heightTex;
+SamplerState samp;
+float parallaxScale;
+float2 pxh_method(float2 P) {
+#if MODE == OFFSET
+    return P + pxh_V.xy * (parallaxScale * (heightTex.Sample(samp, P).CHANNEL - 1.0) / pxh_V.z);
+#else
+    return P;
+#endif
+}
+)");
+    const std::string modes =
+        "[[methods]]\nname = \"modes\"\nshader = \"modes.hlsl\"\nheight_sampler = "
+        "\"heightTex\"\nheight_channel = \"g\"\nbind = { parallaxScale = \"scale\" }\n"
+        "defines = { MODE = [\"OFFSET\", \"NONE\"], CHANNEL = \"g\" }\nmax_fetches = 1\n"
+        "lod = \"level\"\nreference = \"parallax\"\n";
     write("lod.hlsl", R"(Texture2D _HeightMap;
 SamplerState sampler_HeightMap;
 cbuffer UnityPerMaterial {
@@ -143,13 +161,22 @@ float2 pxh_method(float2 P) {
                level + ", _Enabled = " + on +
                " }\nmax_fetches = 1\nlod = \"level\"\nreference = \"parallax\"\n";
     };
-    const pxh::CsvTable t = run_ok(head() + entry("at2", "2.0", "true") +
-                                   entry("at0", "0.0", "true") + entry("off", "2.0", "false"));
-    ASSERT_EQ(t.rows.size(), 24u);
+    const pxh::CsvTable t =
+        run_ok(head() + entry("at2", "2.0", "true") + entry("at0", "0.0", "true") +
+               entry("off", "2.0", "false") + modes);
+    ASSERT_EQ(t.rows.size(), 40u);
     double worst2 = 0, worst0 = 0;
     for (size_t i = 0; i < t.rows.size(); ++i) {
         ASSERT_EQ(t.get(i, "status"), "ok");
         const std::string m = t.get(i, "method");
+        if (m == "modes") {
+            const bool offset = t.get(i, "params").find("MODE=OFFSET") != std::string::npos;
+            EXPECT_EQ(t.get(i, "fetches_max"), offset ? "1" : "0") << t.get(i, "params");
+            if (offset) {
+                EXPECT_LE(num(t, i, "cpu_diff_max"), 1e-4) << t.get(i, "theta_deg");
+            }
+            continue;
+        }
         EXPECT_EQ(t.get(i, "fetches_max"), "1") << m;
         if (m == "off" && t.get(i, "theta_deg") != "0") {
             EXPECT_GT(num(t, i, "err_max"), 0.1) << "uv = P when _Enabled is false";
