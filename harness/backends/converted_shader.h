@@ -4,9 +4,13 @@
 // stay functions) and SPIRV-Cross back to GLSL 4.50; pxh's interface is an HLSL prelude,
 // methods/common.hlsl, whose stand-in functions are removed from the GLSL so that the calls
 // reach methods/common.glsl's (the same fetch counting as a GLSL plug-in). The GLSL is then
-// adapted like an engine's GLSL (bind, the height sampler's functions): engine_shader.h.
+// adapted like an engine's GLSL (bind, the height sampler's functions): engine_shader.h. WGSL
+// goes through naga (npm naga-wasm, pinned in tools/naga) straight to GLSL, with
+// methods/common.wgsl after the file. Files: hlsl_shader.cpp, wgsl_shader.cpp, converted_glsl.cpp.
 #pragma once
+#include <set>
 #include <string>
+#include <vector>
 
 #include "harness/backends/engine_shader.h"
 
@@ -50,11 +54,10 @@ size_t next_argument(const std::vector<ShaderToken>& t, size_t i);
 bool literal_level_zero(const std::vector<ShaderToken>& t, size_t c);
 
 // A converter's GLSL of a whole fragment shader (SPIRV-Cross's, naga's) made a plug-in's: the
-// preamble, the entry point
-// (main, _main), the in/out variables and the functions and variables named in `stand_ins`
-// removed, uniform blocks (and structs in them) written as plain uniforms (a uint member, which
-// is how SPIR-V holds a bool, as a bool when `bools` names it, else as an int). Throws InputError
-// at `display` when the text needs an extension.
+// preamble, the entry point (main, _main), the in/out variables and the functions and variables
+// named in `stand_ins` removed, uniform blocks (and structs in them) written as plain uniforms (a
+// uint member, which is how SPIR-V holds a bool, as a bool when `bools` names it, else as an int).
+// Throws InputError at `display` when the text needs an extension.
 std::string converted_plugin_glsl(const std::string& glsl, const std::string& display,
                                   const std::set<std::string>& stand_ins,
                                   const std::set<std::string>& bools);
