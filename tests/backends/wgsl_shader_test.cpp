@@ -1,9 +1,10 @@
 // WGSL plug-ins (harness/backends/wgsl_shader.cpp, naga) through the binary: the Bevy-style
-// example against bevy_occlusion sample by sample, and the refusals at the WGSL file's
-// FILE:LINE:COL. (The same POM in GLSL, HLSL and WGSL: HlslShader.)
+// example against bevy_occlusion and bevy_relief sample by sample, and the refusals at the WGSL
+// file's FILE:LINE:COL. (The same POM in GLSL, HLSL and WGSL: HlslShader.)
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
 
 #include "harness/results/csv_table.h"
 #include "tests/cli_util.h"
@@ -24,35 +25,37 @@ class WgslShader : public pxh::test::CliTest {
     }
 };
 
-// examples/engines/bevy as committed: every sample within float rounding of bevy_occlusion's CPU
-// twin (its unclamped interpolation weight multiplies rounding: measured 3.7e-4 texel at most,
-// as the preset against the literal loop), every fetch count equal.
-TEST_F(WgslShader, BevyExampleMatchesBevyOcclusionPreset) {
+// examples/engines/bevy as committed (three files joined through naga_oil's #import, the
+// relief mode through #ifdef RELIEF_MAPPING): every sample within float rounding of
+// bevy_occlusion's and bevy_relief's CPU twins (occlusion's unclamped interpolation weight
+// multiplies rounding: measured 3.7e-4 texel at most, as the preset against the literal loop;
+// relief 1.1e-4), every fetch count equal.
+TEST_F(WgslShader, BevyExampleMatchesBevyPresets) {
     const fs::path ex = fs::path(PXH_SOURCE_DIR) / "examples/engines/bevy/experiment.toml";
     const auto r = pxh("run " + ex.string() + " --quiet --out " + (dir / "r").string());
     ASSERT_EQ(r.status, 0) << r.err;
     const pxh::CsvTable t = pxh::read_csv((dir / "r" / "results.csv").string());
-    ASSERT_EQ(t.rows.size(), 30u);
-    double worst = 0, fetches = 0;
+    ASSERT_EQ(t.rows.size(), 60u);
+    std::map<std::string, double> worst, fetches;
     for (size_t i = 0; i < t.rows.size(); ++i) {
-        const std::string at = t.get(i, "heightfield") + " theta " + t.get(i, "theta_deg") +
-                               " phi " + t.get(i, "phi_deg");
+        const std::string m = t.get(i, "method");
+        const std::string at = m + " " + t.get(i, "heightfield") + " theta " +
+                               t.get(i, "theta_deg") + " phi " + t.get(i, "phi_deg");
         EXPECT_EQ(t.get(i, "status"), "ok") << at;
         EXPECT_EQ(t.get(i, "decision_mismatch"), "0") << at;
         EXPECT_EQ(t.get(i, "cpu_diff_first"), "") << at;
-        worst = std::max(worst, std::stod(t.get(i, "cpu_diff_max")));
-        fetches = std::max(fetches, std::stod(t.get(i, "fetches_max")));
-        if (t.get(i, "theta_deg") == "0") {
-            EXPECT_EQ(t.get(i, "fetches_max"), "3") << at << ": one layer head-on";
-        }
+        worst[m] = std::max(worst[m], std::stod(t.get(i, "cpu_diff_max")));
+        fetches[m] = std::max(fetches[m], std::stod(t.get(i, "fetches_max")));
     }
-    EXPECT_LE(worst, 1e-3);
-    EXPECT_GT(worst, 1e-6) << "the two twins differ in rounding somewhere";
-    EXPECT_EQ(fetches, 16) << "the most fetches of a sample (theta 85 on fbm), as the preset";
+    EXPECT_LE(worst["bevy_style_occlusion"], 1e-3);
+    EXPECT_LE(worst["bevy_style_relief"], 1e-3);
+    EXPECT_GT(worst["bevy_style_occlusion"], 1e-6) << "the twins differ in rounding somewhere";
+    EXPECT_EQ(fetches["bevy_style_occlusion"], 16) << "the most of a sample, as the preset";
+    EXPECT_EQ(fetches["bevy_style_relief"], 20) << "relief: 5 probes after the same search";
 }
 
-// Refusals at the WGSL file's FILE:LINE:COL: naga's parse error, naga_oil's preprocessor
-// lines, the height texture used otherwise than sampled; defines at the file.
+// Refusals at the WGSL file's FILE:LINE:COL: naga's parse error, a module the entry does not
+// map, a naga_oil directive pxh does not read, the height texture used otherwise than sampled.
 TEST_F(WgslShader, RefusalsNameTheWgslFileAndLine) {
     const std::string head = pxh::test::ExperimentToml()
                                  .samples(8)
@@ -77,15 +80,20 @@ TEST_F(WgslShader, RefusalsNameTheWgslFileAndLine) {
     EXPECT_NE(syntax.find("syntax.wgsl:3:5: error: expected `;`, found \"return\" (naga)"),
               std::string::npos)
         << syntax;
-    EXPECT_NE(
-        refused(head + entry("import.wgsl")).find("import.wgsl:1:1: a WGSL plug-in is plain WGSL"),
-        std::string::npos);
+    EXPECT_NE(refused(head + entry("import.wgsl"))
+                  .find("import.wgsl:1: #import bevy_pbr::pbr_bindings: no such module in the "
+                        "entry's includes (map it to a file: includes = { "
+                        "\"bevy_pbr::pbr_bindings\" = \"FILE\" })"),
+              std::string::npos);
     EXPECT_NE(refused(head + entry("load.wgsl"))
                   .find("load.wgsl:3:28: the height texture 'hm' is used here other than as the "
                         "first argument of a sampling call pxh counts"),
               std::string::npos);
-    EXPECT_NE(refused(head + entry("syntax.wgsl", "defines = { MODE = 1 }\n"))
-                  .find("defines and includes apply to GLSL and HLSL plug-ins"),
+    write("if.wgsl",
+          "#if MODE == 1\nfn pxh_method(P: vec2<f32>) -> vec2<f32> { return P; }\n#endif\n");
+    EXPECT_NE(refused(head + entry("if.wgsl"))
+                  .find("if.wgsl:1: #if: pxh reads naga_oil's #define_import_path, #import, "
+                        "#ifdef, #ifndef, #else and #endif"),
               std::string::npos);
 }
 
