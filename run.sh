@@ -37,8 +37,11 @@ install_missing() {
 install_naga() {
   command -v node >/dev/null || install_missing nodejs
   command -v npm >/dev/null || install_missing npm
-  [ -d tools/naga/node_modules/naga-wasm ] && return 0
-  echo "run.sh: installing naga-wasm (npm ci in tools/naga)" >&2
+  local want have
+  want=$(cd tools/naga && node -p "require('./package.json').dependencies['naga-wasm']")
+  have=$(cd tools/naga && node -p "require('./node_modules/naga-wasm/package.json').version" 2>/dev/null || true)
+  [ "$have" = "$want" ] && return 0
+  echo "run.sh: installing naga-wasm $want (npm ci in tools/naga)" >&2
   (cd tools/naga && npm ci --no-audit --no-fund --ignore-scripts --loglevel=error)
 }
 
