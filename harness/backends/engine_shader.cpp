@@ -21,15 +21,14 @@ constexpr const char* kAdapterFile = "pxh engine adapter (generated)";
 bool ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
 bool ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 
-// A GLSL token with its byte range and 1-based line and column (comments skipped).
-struct Tok {
-    std::string text;
-    size_t begin = 0, end = 0;
-    int line = 1, col = 1;
-};
+using Tok = ShaderToken;
 
-std::vector<Tok> tokenize(const std::string& s) {
-    std::vector<Tok> out;
+std::vector<Tok> tokenize(const std::string& s) { return shader_tokens(s); }
+
+}  // namespace
+
+std::vector<ShaderToken> shader_tokens(const std::string& s) {
+    std::vector<ShaderToken> out;
     int line = 1;
     size_t line_start = 0, i = 0;
     auto newline_at = [&](size_t k) {
@@ -59,6 +58,8 @@ std::vector<Tok> tokenize(const std::string& s) {
     }
     return out;
 }
+
+namespace {
 
 // The sampling calls pxh counts, by what they read: the row's lod, an explicit level,
 // explicit derivatives; and textureSize (no fetch).
@@ -121,7 +122,7 @@ std::string substitute_braces(const std::string& s, const EngineAdapter& a) {
 struct Gathered {
     std::map<std::string, std::string> uniform_types;  // declared uniform -> its type
     std::string explicit_level;                        // the first explicit-level call
-    std::set<std::string> code_names;                  // identifiers outside #if / #elif lines
+    EngineNames names;                                 // identifiers off #if / #elif lines
 };
 
 // For each line (1-based), whether it is an #if or #elif directive.
@@ -169,7 +170,7 @@ std::string rewrite(const std::string& text, const std::string& display, const E
     const std::vector<Tok> t = tokenize(text);
     const std::vector<bool> conditional = conditional_lines(text);
     for (const Tok& k : t)
-        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) g.code_names.insert(k.text);
+        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) g.names.code.insert(k.text);
     std::string out;
     size_t copied = 0;
     auto replace = [&](size_t from, size_t to, const std::string& with) {
@@ -242,36 +243,6 @@ std::string line_directive(size_t k, long line) {
            "\n";
 }
 
-// The name of an `#include` line ("" when the line is none), its form (<> or ""), and the
-// problem when it is malformed.
-bool include_line(const std::string& line, std::string& name, bool& angle, std::string& problem) {
-    size_t i = line.find_first_not_of(" \t");
-    if (i == std::string::npos || line[i] != '#') return false;
-    i = line.find_first_not_of(" \t", i + 1);
-    if (i == std::string::npos || line.compare(i, 7, "include") != 0) return false;
-    i = line.find_first_not_of(" \t", i + 7);
-    const char open = i == std::string::npos ? '\0' : line[i];
-    if (open != '"' && open != '<') {
-        problem = "#include needs \"file\" or <name>";
-        return true;
-    }
-    angle = open == '<';
-    const size_t close = line.find(angle ? '>' : '"', i + 1);
-    if (close == std::string::npos) {
-        problem = std::string("#include: no closing ") + (angle ? ">" : "\"");
-        return true;
-    }
-    name = line.substr(i + 1, close - i - 1);
-    std::string rest = line.substr(close + 1);
-    if (const size_t c = rest.find("//"); c != std::string::npos) rest.resize(c);
-    if (rest.find_first_not_of(" \t\r") != std::string::npos)
-        problem = "#include " + line.substr(i, close - i + 1) +
-                  " is followed by more (an engine's include parameters, such as Babylon's "
-                  "[0..n] or (a,b), are not supported): write the included text out";
-    if (name.empty()) problem = "#include names nothing";
-    return true;
-}
-
 void expand(Expansion& e, const std::string& rel, const std::string& text, size_t k,
             std::string& out);
 
@@ -326,7 +297,7 @@ void expand(Expansion& e, const std::string& rel, const std::string& text, size_
         const std::string l = body.substr(start, end - start);
         std::string name, problem;
         bool angle = false;
-        if (include_line(l, name, angle, problem)) {
+        if (engine_include_line(l, name, angle, problem)) {
             const std::string where = display + ":" + std::to_string(line);
             if (!problem.empty()) throw InputError(where, problem);
             include_file(e, rel, name, angle, where, out, k, line);
@@ -339,15 +310,66 @@ void expand(Expansion& e, const std::string& rel, const std::string& text, size_
     }
 }
 
-std::string adapter_prelude(const EngineAdapter& a, const std::set<std::string>& code_names) {
-    std::string s = "// pxh's adapter of an engine's shader (docs/guide/plugin-shaders.md)\n";
+}  // namespace
+
+std::string engine_define_lines(const EngineAdapter& a, const EngineNames& names) {
+    std::string s;
     for (const auto& [name, value] : a.defines) s += "#define " + name + " " + value + "\n";
-    std::set<std::string> defined;
-    for (const auto& [name, value] : a.defines) defined.insert(name);
+    // Names not to define: the defines themselves, the code's names, and the values of the
+    // defines the code expands (CHANNEL = "g" in `.CHANNEL`: g is a swizzle, not a mode).
+    std::set<std::string> keep = names.code;
+    for (const auto& [name, value] : a.defines) {
+        keep.insert(name);
+        if (names.code.count(name)) keep.insert(value);
+    }
     int n = 0;
     for (const std::string& name : a.define_names)
-        if (!defined.count(name) && !code_names.count(name))
-            s += "#define " + name + " " + std::to_string(++n) + "\n";
+        if (!keep.count(name)) s += "#define " + name + " " + std::to_string(++n) + "\n";
+    return s;
+}
+
+EngineNames engine_names(const std::string& text) {
+    EngineNames out;
+    const std::vector<bool> conditional = conditional_lines(text);
+    for (const Tok& k : tokenize(text))
+        if (ident_start(k.text[0]) && !conditional[size_t(k.line)]) out.code.insert(k.text);
+    return out;
+}
+
+bool engine_include_line(const std::string& line, std::string& name, bool& angle,
+                         std::string& problem) {
+    size_t i = line.find_first_not_of(" \t");
+    if (i == std::string::npos || line[i] != '#') return false;
+    i = line.find_first_not_of(" \t", i + 1);
+    if (i == std::string::npos || line.compare(i, 7, "include") != 0) return false;
+    i = line.find_first_not_of(" \t", i + 7);
+    const char open = i == std::string::npos ? '\0' : line[i];
+    if (open != '"' && open != '<') {
+        problem = "#include needs \"file\" or <name>";
+        return true;
+    }
+    angle = open == '<';
+    const size_t close = line.find(angle ? '>' : '"', i + 1);
+    if (close == std::string::npos) {
+        problem = std::string("#include: no closing ") + (angle ? ">" : "\"");
+        return true;
+    }
+    name = line.substr(i + 1, close - i - 1);
+    std::string rest = line.substr(close + 1);
+    if (const size_t c = rest.find("//"); c != std::string::npos) rest.resize(c);
+    if (rest.find_first_not_of(" \t\r") != std::string::npos)
+        problem = "#include " + line.substr(i, close - i + 1) +
+                  " is followed by more (an engine's include parameters, such as Babylon's "
+                  "[0..n] or (a,b), are not supported): write the included text out";
+    if (name.empty()) problem = "#include names nothing";
+    return true;
+}
+
+namespace {
+
+std::string adapter_prelude(const EngineAdapter& a, const EngineNames& names) {
+    std::string s = "// pxh's adapter of an engine's shader (docs/guide/plugin-shaders.md)\n";
+    s += engine_define_lines(a, names);
     std::string v = a.depth ? "1.0 - h" : "h";
     if (a.channel >= 0) {
         s += "vec4 pxh_engine_texel(float h) {\n    vec4 t = vec4(0.0);\n    t[" +
@@ -427,7 +449,7 @@ EngineShader adapt_engine_shader(const std::string& experiment_path, const std::
                 where, "bind: '" + name + "' is not a uniform the shader or its includes declare");
     const size_t adapter = shader.files.size();
     shader.files.push_back(kAdapterFile);
-    std::string text = line_directive(adapter, 1) + adapter_prelude(a, e.g.code_names);
+    std::string text = line_directive(adapter, 1) + adapter_prelude(a, e.g.names);
     text += line_directive(0, 1) + body + "\n";
     if (!a.quantities.empty()) {
         text += line_directive(adapter, 1000) + "vec2 pxh_method(vec2 P) {\n";

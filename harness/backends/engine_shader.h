@@ -10,6 +10,7 @@
 // pxh's generated adapter) at its line L (harness/backends/glsl_parts.h, located()).
 #pragma once
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +56,32 @@ struct EngineShader {
 EngineShader adapt_engine_shader(const std::string& experiment_path, const std::string& main_rel,
                                  const std::string& main_text, const std::string& main_display,
                                  const EngineAdapter& a, const std::string& where);
+
+// A token of GLSL (or HLSL, WGSL) text with its byte range and 1-based line and column:
+// identifiers, numbers, and each other character on its own (comments skipped).
+struct ShaderToken {
+    std::string text;
+    size_t begin = 0, end = 0;
+    int line = 1, col = 1;
+};
+std::vector<ShaderToken> shader_tokens(const std::string& s);
+
+// The identifiers of a text's code (its lines other than #if / #elif).
+struct EngineNames {
+    std::set<std::string> code;
+};
+EngineNames engine_names(const std::string& text);
+
+// The `#define` lines of the adapter's defines, and of each string value that the text's code
+// does not name (a distinct number, so `#if MODE == OCCLUSION` compares names), as written
+// before the engine's text; the value of a define that the code expands stays undefined (a
+// swizzle such as CHANNEL = "g" in `texture(..).CHANNEL`).
+std::string engine_define_lines(const EngineAdapter& a, const EngineNames& names);
+
+// Whether `line` is an `#include` line: its name, its form (<name> or "name"), and the problem
+// when it is malformed (an engine's include parameters, no closing bracket, ...).
+bool engine_include_line(const std::string& line, std::string& name, bool& angle,
+                         std::string& problem);
 
 // The GLSL of a bound quantity ("scale", "bias", "0.1 * scale", "scale / 0.1 + bias", ...):
 // numbers, scale, bias, + - * / and parentheses; "" and `problem` set when it is not one.

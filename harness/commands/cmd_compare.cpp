@@ -21,6 +21,7 @@ Command add_compare_command(CLI::App& app) {
         std::string base, now, fail_on, junit, json, only;
         bool markdown = false, accept_edited = false, common = false;
         std::vector<double> bands;
+        std::vector<std::string> pairs;
     };
     auto a = std::make_shared<Args>();
     cmp->add_option("base", a->base, "the baseline results folder")->required();
@@ -46,6 +47,10 @@ Command add_compare_command(CLI::App& app) {
                     "compare only the rows of both runs that match: KEY=VALUE[|VALUE],... with "
                     "the keys and ranges of pxh run --only (e.g. base=cylinder,radius=1.5..4, "
                     "depth=hit,cut=0.3, distance_max=4); the rows left out are counted");
+    cmp->add_option("--pair", a->pairs,
+                    "NEW=BASE: match NEW's rows of method NEW with BASE's rows of method BASE "
+                    "(a plug-in with the preset it reproduces; params are left out of the "
+                    "match, so each side needs one setting per remaining key); repeatable");
     cmp->add_flag("--accept-edited", a->accept_edited, kAcceptEditedHelp);
     cmp->add_option("--junit", a->junit,
                     "also write the verdict as JUnit XML to FILE (a testcase per method setting "
@@ -60,6 +65,7 @@ Command add_compare_command(CLI::App& app) {
                 opt.junit = a->junit;
                 opt.json = a->json;
                 opt.only = a->only;
+                for (const std::string& p : a->pairs) opt.pairs.push_back(parse_pair(p));
                 if (!a->only.empty()) OnlyRows check(a->only);  // a bad spec: exit 2 first
                 // Given is given: --fail-on "" is an error, not a gate switched off.
                 if (fail_on->count()) opt.fail_on = parse_fail_on(a->fail_on);

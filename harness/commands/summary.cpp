@@ -15,6 +15,7 @@
 #include "harness/core/error.h"
 #include "harness/core/params.h"
 #include "harness/metrics/columns.h"
+#include "harness/results/results.h"
 
 namespace pxh {
 namespace {
@@ -40,6 +41,42 @@ void print_aligned(const std::vector<std::vector<std::string>>& table, size_t fi
         }
         while (!out.empty() && out.back() == ' ') out.pop_back();
         std::cout << out << "\n";
+    }
+}
+
+// Per method, its row farthest from the CPU twin among those with differing samples: where the
+// first samples differ (cpu_diff_first: index, both uv, both fetch counts), so that a plug-in's
+// disagreement with its reference is seen without opening results.csv.
+void print_first_differences(const std::vector<ResultRow>& rows) {
+    std::map<std::string, const ResultRow*> worst;
+    std::map<std::string, int> count;
+    std::vector<std::string> order;
+    for (const ResultRow& r : rows) {
+        if (r.text("cpu_diff_first").empty()) continue;
+        const std::string m = r.text("method");
+        if (!count[m]++) order.push_back(m);
+        const ResultRow*& w = worst[m];
+        if (!w || r.num("cpu_diff_max") > w->num("cpu_diff_max")) w = &r;
+    }
+    if (order.empty()) return;
+    std::cout << "samples more than 1e-3 texel from the CPU twin or with another fetch count "
+                 "(cpu_diff_first: 'k: GLSL uv | CPU uv fetches GLSL | CPU'), the worst row "
+                 "per method:\n";
+    constexpr size_t kShownMethods = 8;
+    for (size_t i = 0; i < order.size(); ++i) {
+        if (i == kShownMethods) {
+            std::cout << "  ... and " << order.size() - i << " more method(s): results.csv\n";
+            break;
+        }
+        const std::string& m = order[i];
+        const ResultRow& r = *worst[m];
+        std::string first = r.text("cpu_diff_first");
+        size_t cut = 0;
+        for (int k = 0; k < 3 && cut != std::string::npos; ++k) cut = first.find("; ", cut + 1);
+        if (cut != std::string::npos) first = first.substr(0, cut) + "; ...";
+        std::cout << "  " << row_name(r) << " (" << count[m] << " row(s) with such samples; "
+                  << "cpu_diff_max " << time_cell(r.num("cpu_diff_max")) << " texel): " << first
+                  << "\n";
     }
 }
 
@@ -135,6 +172,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
                                   : ";\nrows that differ in a base, radius or camera setting "
                                     "are apart (never averaged together)")
               << "\n";
+    print_first_differences(rows);
 }
 
 }  // namespace pxh

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 
+#include "harness/backends/converted_shader.h"
 #include "harness/backends/plugin_source.h"
 #include "harness/backends/shaders.h"
 #include "harness/core/error.h"
@@ -100,9 +101,20 @@ void plugin_variants(const MethodInfo& proto, const std::string& rel, const Plug
     for (const GivenParams& setting : expand(parts.engine.define_sweeps)) {
         EngineAdapter a = parts.engine.base;
         a.defines = define_setting(parts.engine, setting, where);
-        const EngineShader sh = adapt_engine_shader(ex.path, rel, src.text, src.display, a, where);
+        EngineShader sh;
+        if (converted_language(rel)) {  // HLSL, WGSL: converted, then adapted as GLSL
+            const ConvertedShader c = converted_to_glsl(ex.path, rel, src.text, src.display, a);
+            EngineAdapter g = a;
+            g.defines.clear();
+            g.define_names.clear();
+            sh = adapt_engine_shader(ex.path, rel, c.glsl, c.display, g, where);
+            if (sh.explicit_level.empty()) sh.explicit_level = c.explicit_level;
+        } else {
+            sh = adapt_engine_shader(ex.path, rel, src.text, src.display, a, where);
+        }
         auto info = std::make_shared<MethodInfo>(proto);
         info->plugin_source = sh.text;
+        info->plugin_display = sh.files[0];  // a converted file's: "FILE (as GLSL)"
         info->plugin_files.assign(sh.files.begin() + 1, sh.files.end());
         for (ParamSpec& spec : bound_value_specs(parts.engine, sh))
             info->params.push_back(std::move(spec));

@@ -27,13 +27,16 @@ Capped missing_from_new(const Base& base) {
 [[noreturn]] void no_match(const std::string& base_dir, const std::string& new_dir,
                            const CompareOptions& opt, const Base& base, const KeyValues& new_values,
                            const Tally& tally) {
+    const std::string diff = key_differences(base.values, new_values);
+    const bool methods =
+        diff.rfind("method ", 0) == 0 || diff.find("; method ") != std::string::npos;
     const std::string why =
         "no row of NEW matches a row of BASE (" + std::to_string(base.rows.size()) +
         " rows in BASE, " + std::to_string(tally.only_new) + " in NEW): " +
-        (base.rows.empty() && tally.only_new == 0
-             ? std::string("both runs are empty")
-             : "their keys differ in " + key_differences(base.values, new_values)) +
-        "; nothing was compared, so there is no verdict";
+        (base.rows.empty() && tally.only_new == 0 ? std::string("both runs are empty")
+                                                  : "their keys differ in " + diff) +
+        "; nothing was compared, so there is no verdict" +
+        (methods ? " (rows of two methods are matched with --pair NEW=BASE)" : "");
     Verdict v{"pxh compare", base_dir + " -> " + new_dir, 2, "NO VERDICT: " + why, {}};
     v.cases.push_back({"rows matched", "pxh.compare", false, why, {}, {{"matched", 0}}});
     write_verdict_files(opt, v);
@@ -53,6 +56,16 @@ std::string verdict_line(const CompareOptions& opt, const Tally& tally) {
 }
 
 }  // namespace
+
+std::pair<std::string, std::string> parse_pair(const std::string& spec) {
+    const size_t eq = spec.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == spec.size() ||
+        spec.find('=', eq + 1) != std::string::npos)
+        throw InputError("--pair", "'" + spec +
+                                       "': NEW=BASE, two method names (e.g. my_pom=pom: NEW's "
+                                       "rows of my_pom matched with BASE's rows of pom)");
+    return {spec.substr(0, eq), spec.substr(eq + 1)};
+}
 
 int run_compare(const std::string& base_dir, const std::string& new_dir, const CompareOptions& opt,
                 std::ostream& out) {

@@ -35,7 +35,14 @@ struct CompareOptions {
     // --only KEY=V,...: only the rows of both runs that match (pxh run --only's keys and
     // syntax, harness/experiment/only_rows.h); the others are left out of everything, counted.
     std::string only;
+    // --pair NEW=BASE: NEW's rows of method NEW are matched with BASE's rows of method BASE (a
+    // plug-in with the preset it reproduces), their params left out of the match (each side
+    // then has one row per remaining key); both are named "NEW=BASE" in the report.
+    std::vector<std::pair<std::string, std::string>> pairs;
 };
+
+// "NEW=BASE" as a pair of method names; InputError("--pair", ...) otherwise.
+std::pair<std::string, std::string> parse_pair(const std::string& spec);
 
 // Writes the comparison to `out`; returns the exit status: 0, or 1 when --fail-on is given and
 // a matched row regresses beyond it (time: only when its repeats show it slower, or

@@ -32,6 +32,9 @@ const std::vector<std::string>& keys();
 // pixels a side.
 std::string key_cell(const ResultRow& r, const std::string& c);
 std::string key_of(const ResultRow& r);
+// --pair: a row of a paired method renamed "NEW=BASE", its params emptied (NEW's rows when
+// is_new, else BASE's), before it is keyed.
+void pair_row(ResultRow& row, const CompareOptions& opt, bool is_new);
 // The row's name from its key (row_name of the row the key was made of).
 std::string name_of_key(const std::string& key);
 

@@ -102,6 +102,17 @@ void check_alike(const Rec& b, const Rec& n, const std::string& name, const std:
 
 }  // namespace
 
+void pair_row(ResultRow& row, const CompareOptions& opt, bool is_new) {
+    if (opt.pairs.empty()) return;
+    const std::string method = row.text("method");
+    for (const auto& [now, base] : opt.pairs)
+        if (method == (is_new ? now : base)) {
+            row.set_text("method", now + "=" + base);
+            row.set_text("params", "");
+            return;
+        }
+}
+
 void read_base(const std::string& base_dir, const CompareOptions& opt, Base& base) {
     RowStream in(base_dir);
     base.csv = in.path();
@@ -114,6 +125,7 @@ void read_base(const std::string& base_dir, const CompareOptions& opt, Base& bas
             ++base.left_out;
             continue;
         }
+        pair_row(row, opt, false);
         base.values.add(row);
         if (!base.by_key.emplace(key_of(row), base.rows.size()).second)
             throw InputError(in.where(), "two rows with the same keys (" + row_name(row) + ")");
@@ -136,6 +148,7 @@ void timing_family(const std::string& new_dir, const CompareOptions& opt, const 
     const OnlyRows only(opt.only);
     while (in.next(row)) {
         if (!only.matches(row)) continue;
+        pair_row(row, opt, true);
         const auto it = base.by_key.find(key_of(row));
         if (it == base.by_key.end()) continue;
         const Rec n = rec_of(row, in.line(), in.where(), opt, pool);
@@ -183,6 +196,7 @@ KeyValues stream_new(const std::string& new_dir, const CompareOptions& opt, Base
             ++tally.new_left_out;
             continue;
         }
+        pair_row(row, opt, true);
         new_values.add(row);
         const Rec n = rec_of(row, in.line(), in.where(), opt, base.pool);
         const std::string key = key_of(row), name = row_name(row);

@@ -85,6 +85,32 @@ uniforms = { p_layers_adaptive = false, p_layers = 24.0, p_layers_min = 8.0, p_l
     EXPECT_NE(run_json.find("pxh_layer_search(P)"), std::string::npos) << "source not recorded";
 }
 
+// The run's summary names, per plug-in, the row farthest from its reference and that row's first
+// differing samples (index, both uv, both fetch counts): here the POM of examples/shader_gate
+// without its interpolation (layer decisions equal, so equal fetches; the uv a layer apart).
+TEST_F(Plugin, SummaryPrintsTheFirstDifferingSamples) {
+    std::string text = source("examples/shader_gate/my_pom.frag.glsl");
+    text.replace(text.find("return uv - duv * w;"), 20, "return uv;");
+    write("worse.frag.glsl", text);
+    write("exp.toml", kHead + R"([[methods]]
+name = "worse_pom"
+shader = "worse.frag.glsl"
+max_fetches = 34
+uniforms = { p_steps = 32.0 }
+reference = "pom"
+reference_params = { layers = 32 }
+)");
+    ASSERT_EQ(pxh("run " + (dir / "exp.toml").string() + " --out " + (dir / "r").string()), 0)
+        << slurp("err.txt");
+    const std::string out = slurp("out.txt");
+    const size_t at = out.find("the worst row per method:\n  worse_pom p_steps=32 [glsl/r32f] on ");
+    ASSERT_NE(at, std::string::npos) << out;
+    const std::string line = out.substr(at, out.find('\n', out.find("  worse_pom", at)) - at);
+    EXPECT_NE(line.find(" texel): 0: "), std::string::npos) << line;
+    EXPECT_NE(line.find(" fetches "), std::string::npos) << line;
+    EXPECT_NE(line.find("; ..."), std::string::npos) << "three samples shown, then '...': " << line;
+}
+
 // A shader that does not compile is found before any row runs: exit 2, the driver's message at
 // the user's FILE:LINE:COL (not Mesa's "2:2(14)"), and no results folder (it used to write a
 // folder of failed rows, exit 1).

@@ -36,12 +36,31 @@ class Compare : public pxh::test::SuiteCliTest<Compare> {
         // The parallax shader with half the offset: worse at every oblique view.
         write("worse/parallax.frag.glsl",
               "vec2 pxh_method(vec2 P) { return P + pxh_V.xy * (0.5 * pxh_z(P) / pxh_V.z); }\n");
+        // The parallax method as a plug-in (the same text), and its worse copy, for --pair.
+        write("plugin.toml",
+              pxh::test::ExperimentToml("cmp")
+                      .samples(32)
+                      .backends("\"glsl\"")
+                      .timing_repeats(2)
+                      .theta("[0, 40, 70]")
+                      .field("fbm", 64, "scale = 0.05\nbias = 1.0")
+                      .str() +
+                  "[[methods]]\nname = \"my_parallax\"\nshader = \"my_parallax.frag.glsl\"\n"
+                  "max_fetches = 1\n");
+        write("my_parallax.frag.glsl",
+              "vec2 pxh_method(vec2 P) { return P + pxh_V.xy * (pxh_z(P) / pxh_V.z); }\n");
+        fs::create_directories(dir / "worse_plugin");
+        write("worse_plugin/plugin.toml", slurp(dir / "plugin.toml"));
+        write("worse_plugin/my_parallax.frag.glsl",
+              "vec2 pxh_method(vec2 P) { return P + pxh_V.xy * (0.5 * pxh_z(P) / pxh_V.z); }\n");
         const std::string e = d("exp.toml");
         for (const std::string& args :
              {"run " + e + " --quiet --out " + d("base"),
               "run " + e + " --quiet --out " + d("same"),
               "run " + e + " --quiet --out " + d("worse_run") + " --shader-dir " + d("worse"),
-              "run " + d("fewer.toml") + " --quiet --out " + d("fewer_run")})
+              "run " + d("fewer.toml") + " --quiet --out " + d("fewer_run"),
+              "run " + d("plugin.toml") + " --quiet --out " + d("plugin_run"),
+              "run " + d("worse_plugin/plugin.toml") + " --quiet --out " + d("worse_plugin_run")})
             run_or_record(args);
     }
 };
@@ -58,6 +77,39 @@ TEST_F(Compare, IdenticalRunsPassTheGate) {
               std::string::npos)
         << out;
     EXPECT_NE(out.find("PASS: 0 regression(s)"), std::string::npos) << out;
+}
+
+// --pair NEW=BASE: a plug-in's rows matched with the preset's they reproduce (its 3 GLSL rows;
+// the preset's CPU rows and pom are BASE's only, left out by --common): the same text passes a
+// zero-tolerance gate, half its offset fails, named by the pair; without --pair nothing matches.
+TEST_F(Compare, PairMatchesAPlugInWithTheMethodItReproduces) {
+    const std::string gate = " --common --fail-on err_p95=+0,err_mean=+0,fetches_mean=+0";
+    EXPECT_EQ(
+        run("compare " + d("base") + " " + d("plugin_run") + " --pair my_parallax=parallax" + gate),
+        0)
+        << slurp(dir / "out.txt") << slurp(dir / "err.txt");
+    std::string out = slurp(dir / "out.txt");
+    EXPECT_NE(out.find("3 rows matched (0 with changed errors or status), 9 only in BASE, 0 only "
+                       "in NEW"),
+              std::string::npos)
+        << out;
+    EXPECT_EQ(run("compare " + d("base") + " " + d("worse_plugin_run") +
+                  " --pair my_parallax=parallax" + gate),
+              1);
+    out = slurp(dir / "out.txt");
+    EXPECT_NE(out.find("my_parallax=parallax [glsl/r32f] on fbm s=0.05 b=1 theta=40 phi=0: "
+                       "err_p95"),
+              std::string::npos)
+        << out;
+    // err_p95 and err_mean at theta 40 and 70 (theta 0 has no offset).
+    EXPECT_NE(out.find("FAIL: 4 regression(s)"), std::string::npos) << out;
+    EXPECT_EQ(run("compare " + d("base") + " " + d("plugin_run") + gate), 2);
+    EXPECT_NE(slurp(dir / "err.txt").find("their keys differ in method"), std::string::npos);
+    EXPECT_NE(slurp(dir / "err.txt").find("(rows of two methods are matched with --pair NEW=BASE)"),
+              std::string::npos);
+    EXPECT_EQ(run("compare " + d("base") + " " + d("plugin_run") + " --pair my_parallax"), 2);
+    EXPECT_NE(slurp(dir / "err.txt").find("--pair: 'my_parallax': NEW=BASE"), std::string::npos)
+        << slurp(dir / "err.txt");
 }
 
 TEST_F(Compare, WorseShaderFailsAndIsNamed) {
