@@ -83,7 +83,12 @@ std::vector<ColumnSpec> output_columns() {
              {"picture", kText, kMeasured, "[render]: its picture (PNG, relative to the folder)"},
              {"picture_diff", kText, kMeasured, "[render]: |its picture - the truth's| (PNG)"},
              {"picture_truth", kText, kMeasured, "[render]: the truth's picture of the view (PNG)"},
-             {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"}})
+             {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"},
+             // [shading] with [render]: the shaded images and the FLIP map (harness/run/
+             // shaded_images.cpp writes them).
+             {"shaded", kText, kMeasured, "[shading]+[render]: its shaded image (PNG, sRGB)"},
+             {"shaded_truth", kText, kMeasured, "[shading]+[render]: the truth's shaded image"},
+             {"flip_map", kText, kMeasured, "[shading]+[render]: its FLIP map (PNG, magma)"}})
         out.push_back(std::move(c));
     for (ColumnSpec& c : reference_columns()) out.push_back(std::move(c));  // metrics/reference
     // Here: the columns the per-output metrics declare (Metric::columns, in metric order:

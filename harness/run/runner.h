@@ -36,6 +36,11 @@ struct ViewOutput {
     // The index the view's first row has in the whole run's results.csv (a slice's maps and
     // pictures are named as the unsharded run names them).
     size_t first;
+    // Each sample's level of detail (its footprint's lambda, docs/conventions.md section 10.2),
+    // and the field's texture levels (built when a setting samples them or [shading] is given;
+    // nullptr otherwise): what the shaded images are read at.
+    const std::vector<double>& lambda;
+    const TextureLevels* levels;
 };
 
 struct RunOptions {

@@ -238,6 +238,7 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     job.out.truth_uv = std::move(job.truth.gt.uv);
     if (job.truth.cover) job.out.truth_hit = job.truth.cover->truth_hit;
     job.out.inside = view.inside;
+    job.out.lambda = std::move(job.lambda);
     return std::move(job.out);
 }
 
