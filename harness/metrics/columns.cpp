@@ -199,7 +199,7 @@ std::string family_title(const std::string& family) {
         {"cut", "Cut flips: the depth test against an opaque plane decided wrongly"},
         {"coverage", "Coverage: surface shown where the truth shows none, or missing"},
         {"sliding", "Sliding and shimmering: the error's change with the view"},
-        {"image", "Image quality of the [render] pictures"},
+        {"image", "What a viewer sees: [render] pictures (PSNR, SSIM), [shading] images (FLIP)"},
         {"fetches", "Height fetches per sample"},
         {"timing", "Time"},
         {"agreement", "Agreement between backends and precisions"},

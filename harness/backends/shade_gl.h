@@ -1,0 +1,29 @@
+// The GLSL twin of the shading (harness/scene/shading.h, docs/conventions.md section 13.1): the
+// same material, light and sRGB encoding in a fragment shader, drawn over an n x n RGBA8 target
+// and read back. The height field's levels and the albedo's levels are uploaded as mip chains
+// (LINEAR_MIPMAP_LINEAR, repeat), each pixel's uv, lambda and coverage as an RGBA32F texture
+// read with texelFetch; the gradient's central differences and their blend between two levels
+// are the CPU twin's, each level read with textureLod at its integer level.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "harness/gl/context.h"
+#include "harness/scene/shading.h"
+
+namespace pxh {
+
+struct ShadeGlInput {
+    const Material& material;
+    const std::vector<Vec2d>& uv;         // n x n, pixel (i, j) = sample j n + i
+    const std::vector<double>& lambda;    // per pixel (NaN: level 0, as the CPU twin)
+    const std::vector<uint8_t>& covered;  // empty: all; 0: the background
+    int n = 0;
+};
+
+// The sRGB image (3 floats a pixel, each an 8-bit value / 255), as shaded_image() followed by
+// quantize_8bit() computes it on the CPU. Makes `ctx` current; std::runtime_error when the
+// shader does not compile or a GL call fails.
+std::vector<float> shade_gl(GlContext& ctx, const ShadeGlInput& in);
+
+}  // namespace pxh
