@@ -1,0 +1,118 @@
+// [shading] through pxh run: every ok row gets flip_mean, flip_p95 and flip_max; a flat field
+// (every method shows the truth's uv) gives FLIP 0 up to 8-bit rounding, bricks do not; the
+// [render] views' shaded PNGs give the column's FLIP back when recomputed from the files; the
+// columns reach pxh check, budget.md and the image family's table; bad [shading] keys are one
+// line naming the file and line.
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+
+#include "harness/core/error.h"
+#include "harness/experiment/experiment.h"
+#include "harness/metrics/flip.h"
+#include "harness/results/csv_table.h"
+#include "tests/cli_util.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kExperiment = std::string(pxh::test::ExperimentToml("shading")
+                                                .samples(48)
+                                                .backends("\"cpu\"")
+                                                .theta("[0, 60]")
+                                                .field("bricks", 64)
+                                                .field("flat", 16)
+                                                .method("parallax")
+                                                .method("pom", "layers = 32")) +
+                                "[shading]\nalbedo_size = 128\n";
+
+std::vector<float> pixels(const fs::path& p) {
+    OIIO::ImageBuf b(p.string());
+    std::vector<float> v(size_t(b.spec().width) * size_t(b.spec().height) * 3);
+    EXPECT_TRUE(b.get_pixels(OIIO::ROI(0, b.spec().width, 0, b.spec().height, 0, 1, 0, 3),
+                             OIIO::TypeDesc::FLOAT, v.data()))
+        << p;
+    return v;
+}
+
+class ShadingRun : public pxh::test::CliTest {};
+
+TEST_F(ShadingRun, FlipColumnsFilesCheckAndBudget) {
+    const std::string exp = write("exp.toml", kExperiment + "[render]\nheightfields = "
+                                                            "[\"bricks\"]\ntheta_deg = [60]\n");
+    const fs::path res = dir / "res";
+    ASSERT_EQ(pxh("run " + exp + " --quiet --out " + res.string()).status, 0);
+    const pxh::CsvTable t = pxh::read_csv((res / "results.csv").string());
+    std::map<std::string, double> bricks60;
+    int files = 0;
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        const std::string what = t.get(r, "method") + " " + t.get(r, "heightfield") + " θ" +
+                                 t.get(r, "theta_deg");
+        const double mean = t.number(r, "flip_mean"), p95 = t.number(r, "flip_p95"),
+                     mx = t.number(r, "flip_max");
+        ASSERT_TRUE(std::isfinite(mean) && std::isfinite(p95) && std::isfinite(mx)) << what;
+        EXPECT_TRUE(mean >= 0 && mean <= p95 + 1e-12 && p95 <= mx && mx <= 1) << what;
+        if (t.get(r, "heightfield") == "flat" || t.number(r, "theta_deg") == 0)
+            EXPECT_LT(mean, 1e-3) << what;  // the method shows the truth's uv
+        if (t.get(r, "heightfield") == "bricks" && t.number(r, "theta_deg") == 60)
+            bricks60[t.get(r, "method")] = mean;
+        if (t.get(r, "flip_map").empty()) continue;
+        ++files;
+        // The files hold the values FLIP was computed on: recomputed from them, the column.
+        const auto img = pixels(res / t.get(r, "shaded"));
+        const auto truth = pixels(res / t.get(r, "shaded_truth"));
+        ASSERT_EQ(img.size(), 48u * 48u * 3u);
+        const pxh::FlipResult f =
+            pxh::flip_ldr({truth, 48, 48, pxh::FlipEncoding::srgb},
+                          {img, 48, 48, pxh::FlipEncoding::srgb}, pxh::kFlipDefaultPpd);
+        EXPECT_NEAR(f.mean, mean, 1e-5) << what;
+        EXPECT_NEAR(f.max, mx, 1e-5) << what;
+        EXPECT_TRUE(fs::is_regular_file(res / t.get(r, "flip_map"))) << what;
+    }
+    EXPECT_EQ(files, 2);  // bricks at 60: parallax and pom
+    EXPECT_GT(bricks60["parallax"], 2 * bricks60["pom"]);
+    // pxh check takes flip limits like any column's.
+    const std::string lim = write("lim.toml", "[[limit]]\nmethod = \"pom\"\ncolumn = "
+                                              "\"flip_mean\"\nmax = 0.5\n[[limit]]\nmethod = "
+                                              "\"parallax\"\ncolumn = \"flip_max\"\nmax = 1e-9\n");
+    const pxh::test::CliResult c = pxh("check " + res.string() + " --thresholds " + lim);
+    EXPECT_EQ(c.status, 1) << c.out << c.err;
+    EXPECT_NE(c.out.find("1 passed, 1 failed"), std::string::npos) << c.out;
+    // The report: budget.md ranks by flip_mean too; the image family tables it.
+    ASSERT_EQ(pxh("report --no-plots " + res.string()).status, 0);
+    const std::string budget = pxh::test::slurp(res / "report" / "budget.md");
+    EXPECT_NE(budget.find("# Perceptual budgets (flip_mean)"), std::string::npos) << budget;
+    EXPECT_NE(budget.find("| 0.05 |"), std::string::npos) << budget;
+    const std::string image = pxh::test::slurp(res / "report" / "families" / "image.md");
+    EXPECT_NE(image.find("## flip_mean"), std::string::npos) << image;
+}
+
+TEST(ShadingKeys, BadKeysAndFilesNameTheirLine) {
+    struct Case {
+        const char* shading;
+        const char* expect;
+    };
+    const Case cases[] = {
+        {"light = 3\n", "unknown key 'light' in [shading]"},
+        {"albedo = \"no_such_albedo.png\"\n", "albedo file"},
+        {"elevation_deg = 95\n", "elevation_deg = 95 must lie in [0, 90]"},
+        {"ppd = 1\n", "ppd = 1 must lie in [2, 1000]"},
+        {"albedo = \"tile.png\"\nalbedo_size = 64\n", "albedo_size is the checker's size"},
+    };
+    for (const auto& c : cases) {
+        const std::string base = kExperiment.substr(0, kExperiment.find("[shading]"));
+        const std::string text = base + "[shading]\n" + c.shading;
+        std::string err;
+        try {
+            pxh::parse_experiment(text, "bad.toml");
+        } catch (const pxh::InputError& e) {
+            err = e.what();
+        }
+        EXPECT_NE(err.find(c.expect), std::string::npos) << c.shading << ": " << err;
+        EXPECT_NE(err.find("bad.toml:"), std::string::npos) << err;
+        EXPECT_EQ(err.find('\n'), std::string::npos) << err;  // one line
+    }
+}
+
+}  // namespace
