@@ -26,28 +26,60 @@ uniform int u_last;          // q
 uniform float u_scale;       // s
 uniform vec3 u_light;
 uniform float u_albedo_lod;
+uniform int u_albedo_last;   // the albedo's last level
+uniform ivec2 u_height_size, u_albedo_size;  // level 0's texels
 out vec4 o_color;
 
+// Section 1's bilinear rule on one level, texel by texel (texelFetch, repeat wrapping): the
+// CPU twin's bilinear_texels, not the driver's filtering.
+ivec2 wrapped(ivec2 ij, ivec2 size) {
+    vec2 f = vec2(ij), s = vec2(size);
+    return ivec2(f - s * floor(f / s));
+}
+// A level's size from level 0's (GL's rule, max(1, n0 >> L)): textureSize with a level that
+// differs between the pixels of a SIMD group gave some of them another level's size on
+// llvmpipe.
+ivec2 level_size(ivec2 size0, int level) { return max(ivec2(1), size0 >> level); }
+vec4 bilinear(sampler2D t, ivec2 size0, int level, vec2 uv) {
+    ivec2 size = level_size(size0, level);
+    vec2 x = uv * vec2(size) - 0.5;
+    vec2 f0 = floor(x);
+    vec2 f = x - f0;
+    ivec2 i0 = wrapped(ivec2(f0), size);
+    ivec2 i1 = wrapped(i0 + ivec2(1, 1), size);
+    vec4 h00 = texelFetch(t, i0, level), h10 = texelFetch(t, ivec2(i1.x, i0.y), level);
+    vec4 h01 = texelFetch(t, ivec2(i0.x, i1.y), level), h11 = texelFetch(t, i1, level);
+    vec4 a = h00 + (h10 - h00) * f.x;
+    vec4 b = h01 + (h11 - h01) * f.x;
+    return a + (b - a) * f.y;
+}
+// level_fetch's rule without branches (llvmpipe gave wrong texels to some pixels of a SIMD
+// group whose pixels took different branches): lambda clamped to [0, last], the two levels
+// floor(l) and the next (the last twice at the end), blended by l - floor(l); at l = 0 or
+// l = last the blend's weight is 0 and the value the first level's, as level_fetch's.
+vec4 trilinear(sampler2D t, ivec2 size0, int last, vec2 uv, float lambda) {
+    float l = clamp(lambda, 0.0, float(last));
+    float d1f = floor(l);
+    int d1 = int(d1f);
+    vec4 b1 = bilinear(t, size0, d1, uv), b2 = bilinear(t, size0, min(d1 + 1, last), uv);
+    return b1 + (b2 - b1) * (l - d1f);
+}
+
 vec2 level_gradient(vec2 uv, int level) {
-    vec2 size = vec2(textureSize(u_height, level));
-    vec2 d = 1.0 / size;
-    float l = float(level);
-    float hu1 = textureLod(u_height, uv + vec2(d.x, 0.0), l).r;
-    float hu0 = textureLod(u_height, uv - vec2(d.x, 0.0), l).r;
-    float hv1 = textureLod(u_height, uv + vec2(0.0, d.y), l).r;
-    float hv0 = textureLod(u_height, uv - vec2(0.0, d.y), l).r;
+    vec2 d = 1.0 / vec2(level_size(u_height_size, level));
+    float hu1 = bilinear(u_height, u_height_size, level, uv + vec2(d.x, 0.0)).r;
+    float hu0 = bilinear(u_height, u_height_size, level, uv - vec2(d.x, 0.0)).r;
+    float hv1 = bilinear(u_height, u_height_size, level, uv + vec2(0.0, d.y)).r;
+    float hv0 = bilinear(u_height, u_height_size, level, uv - vec2(0.0, d.y)).r;
     return vec2((hu1 - hu0) / (2.0 * d.x), (hv1 - hv0) / (2.0 * d.y));
 }
 
 vec2 height_gradient(vec2 uv, float lambda) {
-    if (!(lambda > 0.0)) return level_gradient(uv, 0);
-    float l = min(lambda, float(u_last));
+    float l = clamp(lambda, 0.0, float(u_last));
     float d1f = floor(l);
     int d1 = int(d1f);
-    if (d1 >= u_last) return level_gradient(uv, u_last);
-    float tau = l - d1f;
-    vec2 g1 = level_gradient(uv, d1), g2 = level_gradient(uv, d1 + 1);
-    return g1 + (g2 - g1) * tau;
+    vec2 g1 = level_gradient(uv, d1), g2 = level_gradient(uv, min(d1 + 1, u_last));
+    return g1 + (g2 - g1) * (l - d1f);
 }
 
 float srgb_encode(float c) {
@@ -55,19 +87,17 @@ float srgb_encode(float c) {
     return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }
 
+// No early return for the background either: every pixel of a SIMD group takes one path.
 void main() {
     vec4 p = texelFetch(u_pixel, ivec2(gl_FragCoord.xy), 0);
-    if (p.w == 0.0) {
-        o_color = vec4(0.5, 0.5, 0.5, 1.0);
-        return;
-    }
     vec2 g = height_gradient(p.xy, p.z);
     float nx = -u_scale * g.x, ny = -u_scale * g.y;
     float ndotl = (nx * u_light.x + ny * u_light.y + u_light.z) / sqrt(nx * nx + ny * ny + 1.0);
     float light = 0.2 + 0.8 * max(0.0, ndotl);
-    vec3 a = textureLod(u_albedo, p.xy, p.z + u_albedo_lod).rgb;
+    vec3 a = trilinear(u_albedo, u_albedo_size, u_albedo_last, p.xy, p.z + u_albedo_lod).rgb;
     vec3 c = a * light;
-    o_color = vec4(srgb_encode(c.r), srgb_encode(c.g), srgb_encode(c.b), 1.0);
+    vec4 shaded = vec4(srgb_encode(c.r), srgb_encode(c.g), srgb_encode(c.b), 1.0);
+    o_color = p.w == 0.0 ? vec4(0.5, 0.5, 0.5, 1.0) : shaded;
 }
 )";
 
@@ -184,6 +214,7 @@ std::vector<float> shade_gl(GlContext& ctx, const ShadeGlInput& in) {
     });
     glActiveTexture(GL_TEXTURE2);
     tex[2] = pixel_texture(in);
+    glActiveTexture(GL_TEXTURE3);  // the target: not on the units the shader samples
     glGenTextures(1, &target);
     glBindTexture(GL_TEXTURE_2D, target);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, in.n, in.n, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
@@ -203,6 +234,10 @@ std::vector<float> shade_gl(GlContext& ctx, const ShadeGlInput& in) {
         glUniform3f(glGetUniformLocation(prog, "u_light"), float(m.light.x), float(m.light.y),
                     float(m.light.z));
         glUniform1f(glGetUniformLocation(prog, "u_albedo_lod"), float(m.albedo_lod));
+        glUniform1i(glGetUniformLocation(prog, "u_albedo_last"), al.channel[0].last());
+        glUniform2i(glGetUniformLocation(prog, "u_height_size"), hl.levels[0].width,
+                    hl.levels[0].height);
+        glUniform2i(glGetUniformLocation(prog, "u_albedo_size"), al.width, al.height);
         glDrawArrays(GL_TRIANGLES, 0, 3);
         glPixelStorei(GL_PACK_ALIGNMENT, 1);
         glReadPixels(0, 0, in.n, in.n, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());

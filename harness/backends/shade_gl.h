@@ -1,9 +1,11 @@
 // The GLSL twin of the shading (harness/scene/shading.h, docs/conventions.md section 13.1): the
 // same material, light and sRGB encoding in a fragment shader, drawn over an n x n RGBA8 target
 // and read back. The height field's levels and the albedo's levels are uploaded as mip chains
-// (LINEAR_MIPMAP_LINEAR, repeat), each pixel's uv, lambda and coverage as an RGBA32F texture
-// read with texelFetch; the gradient's central differences and their blend between two levels
-// are the CPU twin's, each level read with textureLod at its integer level.
+// (R32F, RGB32F), each pixel's uv, lambda and coverage as an RGBA32F texture; the shader reads
+// every level texel by texel (texelFetch) with section 1's bilinear rule and repeat wrapping,
+// and blends two levels as level_fetch does, so the twins differ by float against double only.
+// A level's size is computed from level 0's (textureSize with a level that differs between
+// the pixels of a SIMD group gave some pixels another level's size on llvmpipe).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -52,8 +52,8 @@ void print_summary(const std::vector<ResultRow>& rows) {
     const std::vector<std::string> context = varying_context_keys(
         rows.size(), [&](size_t r, const std::string& c) { return rows[r].cell(c); });
     struct Acc {
-        double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0;
-        int n = 0, n_shadow = 0, failed = 0;
+        double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0, flip = 0;
+        int n = 0, n_shadow = 0, n_flip = 0, failed = 0;
         std::map<std::string, std::pair<double, int>> time;  // time_unit -> sum, n
         std::vector<std::string> context;
     };
@@ -89,6 +89,10 @@ void print_summary(const std::vector<ResultRow>& rows) {
             a.shadow += r.num("shadow_err");
             ++a.n_shadow;
         }
+        if (std::isfinite(r.num("flip_mean"))) {  // [shading]
+            a.flip += r.num("flip_mean");
+            ++a.n_flip;
+        }
     }
     auto cell = [](double sum, int n, int prec) {
         std::ostringstream os;
@@ -97,7 +101,11 @@ void print_summary(const std::vector<ResultRow>& rows) {
         return os.str();
     };
     bool shadows = false;
-    for (const auto& [k, a] : acc) shadows = shadows || a.n_shadow > 0;
+    bool flips = false;
+    for (const auto& [k, a] : acc) {
+        shadows = shadows || a.n_shadow > 0;
+        flips = flips || a.n_flip > 0;
+    }
     std::vector<std::string> header = {"method [backend/precision or texture]"};
     for (const std::string& c : context) {
         const ColumnSpec* spec = find_column(c);
@@ -107,6 +115,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
     for (const char* h : {"mean err", "worst p95", "fetches"}) header.push_back(h);
     for (const std::string& u : units) header.push_back("time " + u);
     if (shadows) header.push_back("shadow");
+    if (flips) header.push_back("flip_mean");
     header.push_back("failed");
     std::vector<std::vector<std::string>> table = {header};
     for (const auto& k : order) {
@@ -122,6 +131,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
                                               : time_cell(it->second.first / it->second.second));
         }
         if (shadows) line.push_back(cell(a.shadow, a.n_shadow, 3));
+        if (flips) line.push_back(cell(a.flip, a.n_flip, 4));
         line.push_back(std::to_string(a.failed));
         table.push_back(line);
     }
@@ -131,6 +141,9 @@ void print_summary(const std::vector<ResultRow>& rows) {
                  "time UNIT: mean over rows of the median timed repeat (cpu: single-thread "
                  "ns/sample; glsl: ms/frame)"
               << (shadows ? "; shadow: fraction of samples with a wrong hard shadow" : "")
+              << (flips ? ";\nflip_mean: mean over rows of the mean LDR-FLIP of the shaded "
+                          "images ([shading]; 0: alike)"
+                        : "")
               << (context.empty() ? ""
                                   : ";\nrows that differ in a base, radius or camera setting "
                                     "are apart (never averaged together)")

@@ -39,22 +39,24 @@ std::vector<float> pixels(const fs::path& p) {
 class ShadingRun : public pxh::test::CliTest {};
 
 TEST_F(ShadingRun, FlipColumnsFilesCheckAndBudget) {
-    const std::string exp = write("exp.toml", kExperiment + "[render]\nheightfields = "
-                                                            "[\"bricks\"]\ntheta_deg = [60]\n");
+    const std::string exp = write("exp.toml", kExperiment +
+                                                  "[render]\nheightfields = "
+                                                  "[\"bricks\"]\ntheta_deg = [60]\n");
     const fs::path res = dir / "res";
     ASSERT_EQ(pxh("run " + exp + " --quiet --out " + res.string()).status, 0);
     const pxh::CsvTable t = pxh::read_csv((res / "results.csv").string());
     std::map<std::string, double> bricks60;
     int files = 0;
     for (size_t r = 0; r < t.rows.size(); ++r) {
-        const std::string what = t.get(r, "method") + " " + t.get(r, "heightfield") + " θ" +
-                                 t.get(r, "theta_deg");
+        const std::string what =
+            t.get(r, "method") + " " + t.get(r, "heightfield") + " θ" + t.get(r, "theta_deg");
         const double mean = t.number(r, "flip_mean"), p95 = t.number(r, "flip_p95"),
                      mx = t.number(r, "flip_max");
         ASSERT_TRUE(std::isfinite(mean) && std::isfinite(p95) && std::isfinite(mx)) << what;
-        EXPECT_TRUE(mean >= 0 && mean <= p95 + 1e-12 && p95 <= mx && mx <= 1) << what;
-        if (t.get(r, "heightfield") == "flat" || t.number(r, "theta_deg") == 0)
+        EXPECT_TRUE(mean >= 0 && mean <= mx && p95 <= mx && mx <= 1) << what;
+        if (t.get(r, "heightfield") == "flat" || t.number(r, "theta_deg") == 0) {
             EXPECT_LT(mean, 1e-3) << what;  // the method shows the truth's uv
+        }
         if (t.get(r, "heightfield") == "bricks" && t.number(r, "theta_deg") == 60)
             bricks60[t.get(r, "method")] = mean;
         if (t.get(r, "flip_map").empty()) continue;
@@ -73,9 +75,10 @@ TEST_F(ShadingRun, FlipColumnsFilesCheckAndBudget) {
     EXPECT_EQ(files, 2);  // bricks at 60: parallax and pom
     EXPECT_GT(bricks60["parallax"], 2 * bricks60["pom"]);
     // pxh check takes flip limits like any column's.
-    const std::string lim = write("lim.toml", "[[limit]]\nmethod = \"pom\"\ncolumn = "
-                                              "\"flip_mean\"\nmax = 0.5\n[[limit]]\nmethod = "
-                                              "\"parallax\"\ncolumn = \"flip_max\"\nmax = 1e-9\n");
+    const std::string lim = write("lim.toml",
+                                  "[[limit]]\nmethod = \"pom\"\ncolumn = "
+                                  "\"flip_mean\"\nmax = 0.5\n[[limit]]\nmethod = "
+                                  "\"parallax\"\ncolumn = \"flip_max\"\nmax = 1e-9\n");
     const pxh::test::CliResult c = pxh("check " + res.string() + " --thresholds " + lim);
     EXPECT_EQ(c.status, 1) << c.out << c.err;
     EXPECT_NE(c.out.find("1 passed, 1 failed"), std::string::npos) << c.out;
