@@ -43,6 +43,35 @@ void print_aligned(const std::vector<std::vector<std::string>>& table, size_t fi
     }
 }
 
+// One line of the summary: its rows' sums.
+struct Acc {
+    double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0, flip = 0;
+    int n = 0, n_shadow = 0, n_flip = 0, failed = 0;
+    std::map<std::string, std::pair<double, int>> time;  // time_unit -> sum, n
+    std::vector<std::string> context;
+    // An ok row; a time unit not yet in `units` is appended.
+    void add(const ResultRow& r, std::vector<std::string>& units) {
+        sum_mean += r.num("err_mean");
+        worst_p95 = std::max(worst_p95, r.num("err_p95"));
+        fetches += r.num("fetches_mean");
+        ++n;
+        const std::string& unit = r.text("time_unit");
+        if (!std::isnan(r.num("time")) && !unit.empty()) {
+            if (std::find(units.begin(), units.end(), unit) == units.end()) units.push_back(unit);
+            time[unit].first += r.num("time");
+            ++time[unit].second;
+        }
+        if (!std::isnan(r.num("shadow_err"))) {
+            shadow += r.num("shadow_err");
+            ++n_shadow;
+        }
+        if (std::isfinite(r.num("flip_mean"))) {  // [shading]
+            flip += r.num("flip_mean");
+            ++n_flip;
+        }
+    }
+};
+
 }  // namespace
 
 void print_summary(const std::vector<ResultRow>& rows) {
@@ -51,12 +80,6 @@ void print_summary(const std::vector<ResultRow>& rows) {
     // them.
     const std::vector<std::string> context = varying_context_keys(
         rows.size(), [&](size_t r, const std::string& c) { return rows[r].cell(c); });
-    struct Acc {
-        double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0, flip = 0;
-        int n = 0, n_shadow = 0, n_flip = 0, failed = 0;
-        std::map<std::string, std::pair<double, int>> time;  // time_unit -> sum, n
-        std::vector<std::string> context;
-    };
     std::vector<std::string> order, units;
     std::map<std::string, Acc> acc;
     for (const auto& r : rows) {
@@ -75,24 +98,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
             ++a.failed;
             continue;
         }
-        a.sum_mean += r.num("err_mean");
-        a.worst_p95 = std::max(a.worst_p95, r.num("err_p95"));
-        a.fetches += r.num("fetches_mean");
-        ++a.n;
-        const std::string& unit = r.text("time_unit");
-        if (!std::isnan(r.num("time")) && !unit.empty()) {
-            if (std::find(units.begin(), units.end(), unit) == units.end()) units.push_back(unit);
-            a.time[unit].first += r.num("time");
-            ++a.time[unit].second;
-        }
-        if (!std::isnan(r.num("shadow_err"))) {
-            a.shadow += r.num("shadow_err");
-            ++a.n_shadow;
-        }
-        if (std::isfinite(r.num("flip_mean"))) {  // [shading]
-            a.flip += r.num("flip_mean");
-            ++a.n_flip;
-        }
+        a.add(r, units);
     }
     auto cell = [](double sum, int n, int prec) {
         std::ostringstream os;
