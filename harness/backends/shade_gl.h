@@ -23,6 +23,8 @@ struct ShadeGlInput {
     int n = 0;
 };
 
+// GlslBackend::shade calls it in the GL process after a [shading] run's draw, on the uv the
+// draw read back.
 // The sRGB image (3 floats a pixel, each an 8-bit value / 255), as shaded_image() followed by
 // quantize_8bit() computes it on the CPU. Makes `ctx` current; std::runtime_error when the
 // shader does not compile or a GL call fails.

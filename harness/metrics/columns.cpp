@@ -88,7 +88,11 @@ std::vector<ColumnSpec> output_columns() {
              // shaded_images.cpp writes them).
              {"shaded", kText, kMeasured, "[shading]+[render]: its shaded image (PNG, sRGB)"},
              {"shaded_truth", kText, kMeasured, "[shading]+[render]: the truth's shaded image"},
-             {"flip_map", kText, kMeasured, "[shading]+[render]: its FLIP map (PNG, magma)"}})
+             {"flip_map", kText, kMeasured, "[shading]+[render]: its FLIP map (PNG, magma)"},
+             ColumnSpec{"shade_cpu_diff_max", kNum, kMeasured,
+                        "[shading], GLSL: largest |GLSL-shaded - CPU-shaded| of its uv (8-bit "
+                        "steps)"}
+                 .in("agreement", "8-bit steps")})
         out.push_back(std::move(c));
     for (ColumnSpec& c : reference_columns()) out.push_back(std::move(c));  // metrics/reference
     // Here: the columns the per-output metrics declare (Metric::columns, in metric order:

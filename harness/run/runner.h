@@ -41,6 +41,9 @@ struct ViewOutput {
     // nullptr otherwise): what the shaded images are read at.
     const std::vector<double>& lambda;
     const TextureLevels* levels;
+    // Per row, its image as the backend's own shader shaded it ([shading] on the GLSL backend:
+    // MethodOutput::shaded); empty: the writer shades it with the CPU twin.
+    const std::vector<std::vector<float>>& shaded;
 };
 
 struct RunOptions {

@@ -52,6 +52,14 @@ Shown method_shows(const ViewOutput& v, size_t i, bool curved) {
     return s;
 }
 
+// The largest difference of two 8-bit images (values / 255), in 8-bit steps.
+double max_step_difference(const std::vector<float>& a, const std::vector<float>& b) {
+    double worst = 0;
+    for (size_t k = 0; k < a.size() && k < b.size(); ++k)
+        worst = std::max(worst, std::fabs(double(a[k]) - double(b[k])) * 255.0);
+    return std::round(worst);
+}
+
 // A [views] cut's plane, the same colour on both sides where it shows (bit 1 truth, 2 method).
 void paint_cut(std::vector<float>& srgb, const std::vector<uint8_t>& shows, uint8_t bit) {
     for (size_t k = 0; k < shows.size() && 3 * k + 2 < srgb.size(); ++k)
@@ -101,6 +109,12 @@ void write_shaded(const ViewWriteContext& c, ViewOutput& v) {
         const Shown s = method_shows(v, i, curved);
         std::vector<float> img = shaded_image(m, s.uv, v.lambda, s.covered);
         quantize_8bit(img);
+        // A backend that shaded its image itself (GLSL): its image, and how far the CPU twin's
+        // shading of the same uv lies from it.
+        if (i < v.shaded.size() && v.shaded[i].size() == img.size()) {
+            row.set("shade_cpu_diff_max", max_step_difference(v.shaded[i], img));
+            img = v.shaded[i];
+        }
         std::vector<float> truth_cut;
         const bool cut = i < v.cut_shows.size() && !v.cut_shows[i].empty();
         if (cut) {

@@ -36,6 +36,8 @@ struct ViewJob {
         ViewInput in{scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
         in.levels = c.levels;
         in.lambda = &lambda;
+        // [shading]: the GLSL backend shades its image itself (not a sweep's companion view's)
+        in.shading = timed && c.ex.shading ? &*c.ex.shading : nullptr;
         return in;
     }
 
@@ -103,6 +105,7 @@ struct ViewJob {
                 if (!view.is_inside(k)) shown[k] = {NAN, NAN};
         }
         out.shown_uv.push_back(std::move(shown));
+        out.shaded.push_back(o ? o->shaded : std::vector<float>{});
         return out.rows.size() - 1;
     }
 };

@@ -91,6 +91,38 @@ TEST_F(ShadingRun, FlipColumnsFilesCheckAndBudget) {
     EXPECT_NE(image.find("## flip_mean"), std::string::npos) << image;
 }
 
+// The GLSL backend shades its rows with the GLSL twin in its GL process: every GLSL row's image
+// within one 8-bit step of the CPU twin's shading of the same uv (shade_cpu_diff_max), and its
+// FLIP next to the CPU row's.
+TEST_F(ShadingRun, GlslRowsShadeInTheirOwnShader) {
+    const std::string exp = write(
+        "exp.toml", std::string(pxh::test::ExperimentToml("shading_gl")
+                                    .samples(32)
+                                    .backends("\"cpu\", \"glsl\"")
+                                    .theta("[60]")
+                                    .view("camera", "\"perspective\"")
+                                    .view("distance", "[1.5]")
+                                    .field("bricks", 64)
+                                    .method("pom", "layers = 16\nlod = [\"base\", \"level\"]")) +
+                        "[shading]\nalbedo_size = 128\n");
+    const fs::path res = dir / "res";
+    ASSERT_EQ(pxh("run " + exp + " --quiet --out " + res.string()).status, 0);
+    const pxh::CsvTable t = pxh::read_csv((res / "results.csv").string());
+    std::map<std::string, double> cpu, glsl;
+    for (size_t r = 0; r < t.rows.size(); ++r) {
+        const std::string lod = t.get(r, "lod");
+        if (t.get(r, "backend") == "cpu") {
+            EXPECT_EQ(t.get(r, "shade_cpu_diff_max"), "") << lod;  // shaded by the CPU twin
+            cpu[lod] = t.number(r, "flip_mean");
+            continue;
+        }
+        EXPECT_LE(t.number(r, "shade_cpu_diff_max"), 1) << lod;
+        glsl[lod] = t.number(r, "flip_mean");
+    }
+    ASSERT_EQ(glsl.size(), 2u);
+    for (const auto& [lod, f] : glsl) EXPECT_NEAR(f, cpu[lod], 2e-3) << lod;
+}
+
 TEST(ShadingKeys, BadKeysAndFilesNameTheirLine) {
     struct Case {
         const char* shading;
