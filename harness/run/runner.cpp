@@ -108,7 +108,7 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& 
         if (opt.on_view) {
             ViewOutput out{view.rows,      view.errors,   view.truth_uv,  view.inside,
                            view.cut_shows, view.shown_uv, view.truth_hit, first,
-                           view.lambda,    ctx.levels,    view.shaded};
+                           view.lambda,    ctx.levels,    view.shaded,    view.whole.get()};
             opt.on_view(out);
         }
         if (info) info->views.push_back({{sw.at.field, p, c, t}, view.rows.size()});

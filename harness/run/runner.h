@@ -18,6 +18,8 @@
 
 namespace pxh {
 
+struct ViewRows;  // harness/run/view_rows.h
+
 // One view's rows and what they were scored on, as RunOptions::on_view gets them.
 struct ViewOutput {
     std::vector<ResultRow>& rows;
@@ -44,6 +46,10 @@ struct ViewOutput {
     // Per row, its image as the backend's own shader shaded it ([shading] on the GLSL backend:
     // MethodOutput::shaded); empty: the writer shades it with the CPU twin.
     const std::vector<std::vector<float>>& shaded;
+    // [shading] under a `samples` subset: the view's rows evaluated at every pixel of the
+    // camera's image (in the same row order), what the shaded images are made of; nullptr when
+    // the view measures the whole image.
+    const ViewRows* whole;
 };
 
 struct RunOptions {

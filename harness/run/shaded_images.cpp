@@ -9,6 +9,7 @@
 #include "harness/metrics/image_metrics.h"
 #include "harness/results/error_maps.h"
 #include "harness/results/pictures.h"
+#include "harness/run/view_rows.h"
 
 namespace pxh {
 
@@ -32,14 +33,36 @@ Material view_material(const ShadingSpec& sh, const ViewOutput& v) {
             std::log2(double(std::max(sh.levels->width, sh.levels->height)) / std::max(w, h))};
 }
 
+// What the shaded images are made of: the view's samples, or under a `samples` subset the
+// same rows evaluated over the camera's whole image (ViewOutput::whole).
+struct Pixels {
+    const std::vector<Vec2d>& truth;
+    const std::vector<uint8_t>& inside;
+    const std::vector<uint8_t>& truth_hit;
+    const std::vector<double>& lambda;
+    const std::vector<std::vector<Vec2d>>& errors;
+    const std::vector<std::vector<Vec2d>>& shown_uv;
+    const std::vector<std::vector<uint8_t>>& cut_shows;
+    const std::vector<std::vector<float>>& shaded;
+    int n;
+};
+Pixels pixels_of(const ViewOutput& v, int samples) {
+    if (!v.whole)
+        return {v.truth,    v.inside,    v.truth_hit, v.lambda, v.errors,
+                v.shown_uv, v.cut_shows, v.shaded,    samples};
+    const ViewRows& w = *v.whole;
+    return {w.truth_uv,  w.inside, w.truth_hit,
+            w.lambda,    w.errors, w.shown_uv,
+            w.cut_shows, w.shaded, int(std::lround(std::sqrt(double(w.truth_uv.size()))))};
+}
+
 // What one row's method shows: its uv per pixel (the truth's plus its wrapped error, or on a
 // curved base its own) and where it covers anything.
 struct Shown {
     std::vector<Vec2d> uv;
     std::vector<uint8_t> covered;
 };
-Shown method_shows(const ViewOutput& v, size_t i, bool curved) {
-    const ResultRow& row = v.rows[i];
+Shown method_shows(const Pixels& v, const ResultRow& row, size_t i, bool curved) {
     Shown s;
     s.uv =
         curved && i < v.shown_uv.size() && !v.shown_uv[i].empty()
@@ -87,11 +110,14 @@ bool rendered(const Experiment& ex, const ResultRow& row) {
 
 }  // namespace
 
-void write_shaded(const ViewWriteContext& c, ViewOutput& v) {
+void write_shaded(const ViewWriteContext& c, ViewOutput& view) {
     const ShadingSpec& sh = *c.ex.shading;
-    const int n = c.ex.samples;
-    if (v.rows.empty() || !v.levels || !shades_whole_image(v.rows.front(), n)) return;
-    const Material m = view_material(sh, v);
+    if (view.rows.empty() || !view.levels) return;
+    if (!view.whole && !shades_whole_image(view.rows.front(), c.ex.samples)) return;
+    const Pixels v = pixels_of(view, c.ex.samples);
+    if (v.errors.size() != view.rows.size()) return;  // not the view's rows: no numbers
+    const int n = v.n;
+    const Material m = view_material(sh, view);
     const bool curved = !v.truth_hit.empty();
     const bool as_seen = !camera_entry(c.ex.camera, "camera").parallel;
     std::vector<uint8_t> truth_covered = v.inside;
@@ -103,10 +129,11 @@ void write_shaded(const ViewWriteContext& c, ViewOutput& v) {
     quantize_8bit(truth_img);
     const fs::path dir = c.dir / "pictures";
     std::map<std::string, std::string> truth_files;  // per cut plane ("" without one)
-    for (size_t i = 0; i < v.rows.size(); ++i) {
-        if (v.errors[i].empty()) continue;  // a failed row: no image, no numbers
-        ResultRow& row = v.rows[i];
-        const Shown s = method_shows(v, i, curved);
+    for (size_t i = 0; i < view.rows.size(); ++i) {
+        // a failed row (measured, or over the whole image): no image, no numbers
+        if (view.errors[i].empty() || v.errors[i].empty()) continue;
+        ResultRow& row = view.rows[i];
+        const Shown s = method_shows(v, row, i, curved);
         std::vector<float> img = shaded_image(m, s.uv, v.lambda, s.covered);
         quantize_8bit(img);
         // A backend that shaded its image itself (GLSL): its image, and how far the CPU twin's
@@ -136,7 +163,7 @@ void write_shaded(const ViewWriteContext& c, ViewOutput& v) {
             truth_file = "shaded_" + truth_picture_name(row);
             write_picture(truth_shown, n, (dir / truth_file).string(), as_seen);
         }
-        const std::string stem = error_map_name(row, v.first + i).stem;
+        const std::string stem = error_map_name(row, view.first + i).stem;
         write_picture(img, n, (dir / (stem + "_shaded.png")).string(), as_seen);
         write_flip_map(map, n, (dir / (stem + "_flip.png")).string(), as_seen);
         row.set_text("shaded", "pictures/" + stem + "_shaded.png");

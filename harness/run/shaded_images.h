@@ -11,8 +11,8 @@ bool shading_wanted(const Experiment& ex);
 void write_shaded(const ViewWriteContext& c, ViewOutput& v);
 
 // Whether a view's rows see the camera's whole image: samples equal to the camera's
-// resolution (always for a camera without one). Under a `samples` subset the shaded image
-// would be a subsampled one: the flip columns are left empty (docs/conventions.md 13.2).
+// resolution (always for a camera without one). Under a `samples` subset the shaded images
+// are made of the view evaluated over the whole image (ViewOutput::whole).
 bool shades_whole_image(const ResultRow& row, int samples);
 
 }  // namespace pxh

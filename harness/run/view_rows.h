@@ -24,6 +24,9 @@ struct ViewRows {
     std::vector<uint8_t> truth_hit;          // ... and ViewOutput::truth_hit
     std::vector<double> lambda;              // each sample's level of detail: ViewOutput::lambda
     std::vector<std::vector<float>> shaded;  // per row: ViewOutput::shaded
+    // [shading] with `samples` below the camera's resolution: the same rows over the camera's
+    // whole image (ViewOutput::whole); nullptr otherwise.
+    std::shared_ptr<const ViewRows> whole;
 };
 
 // One field (with its s, b and base) and what every view of it shares.

@@ -136,6 +136,34 @@ TEST_F(ShadingRun, GlslRowsShadeInTheirOwnShader) {
     for (const auto& [lod, f] : glsl) EXPECT_NEAR(f, cpu[lod], 2e-3) << lod;
 }
 
+// Under a `samples` subset of a camera's image the whole image is shaded: the flip columns
+// are the full run's, to the digit, while the texel statistics are the subset's.
+TEST_F(ShadingRun, SubsetShadesTheWholeImage) {
+    const std::string exp =
+        write("exp.toml", std::string(pxh::test::ExperimentToml("shading_subset")
+                                          .samples(32)
+                                          .backends("\"cpu\"")
+                                          .theta("[60]")
+                                          .view("camera", "\"perspective\"")
+                                          .view("distance", "[1.5]")
+                                          .field("bricks", 64)
+                                          .method("parallax")
+                                          .method("pom", "layers = 16")) +
+                              "[shading]\nalbedo_size = 128\n");
+    ASSERT_EQ(pxh("run " + exp + " --quiet --out " + (dir / "all").string()).status, 0);
+    ASSERT_EQ(pxh("run " + exp + " --quiet --samples 16 --out " + (dir / "sub").string()).status,
+              0);
+    const pxh::CsvTable all = pxh::read_csv((dir / "all" / "results.csv").string());
+    const pxh::CsvTable sub = pxh::read_csv((dir / "sub" / "results.csv").string());
+    ASSERT_EQ(all.rows.size(), sub.rows.size());
+    for (size_t r = 0; r < all.rows.size(); ++r) {
+        EXPECT_EQ(sub.get(r, "samples"), "16");
+        EXPECT_NE(sub.get(r, "flip_mean"), "") << r;
+        for (const char* c : {"flip_mean", "flip_p95", "flip_max"})
+            EXPECT_EQ(sub.get(r, c), all.get(r, c)) << r << " " << c;
+    }
+}
+
 TEST(ShadingKeys, BadKeysAndFilesNameTheirLine) {
     struct Case {
         const char* shading;
