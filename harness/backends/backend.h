@@ -17,6 +17,7 @@
 #include "harness/core/limits.h"  // kDefaultGlTimeLimitS, kMaxGlTimeLimitS
 #include "harness/scene/heightfield.h"
 #include "harness/scene/scene.h"
+#include "harness/scene/shading.h"
 #include "harness/scene/texture_levels.h"
 #include "harness/scene/view.h"
 #include "methods/method.h"
@@ -90,6 +91,10 @@ struct MethodOutput {
     // nothing; the C++ twin of a may_discard method answered NaN); empty: none. Its fetches are
     // 0 and not counted (fetches_mean is over the answered samples); it is not in nonfinite.
     std::vector<uint8_t> discarded;
+    // GLSL with [shading]: its image shaded by the GLSL twin of the shading
+    // (harness/backends/shade_gl.h) from the uv it read back, sRGB 8-bit values / 255, 3 a
+    // sample; empty otherwise (the CPU's rows are shaded by the CPU twin in the run's writer).
+    std::vector<float> shaded;
 };
 
 // What a run asks of its backends (the experiment's keys and the command line's overrides).
@@ -133,6 +138,9 @@ struct ViewInput {
     // Each sample's lambda (footprint_lod of its footprint at the field's size), in sample
     // order; what lod = level samples at and what a shader's pxh_lod() returns.
     const std::vector<double>* lambda = nullptr;
+    // [shading] (harness/scene/shading.h): a backend that shades in its own shader (GLSL)
+    // shades its image with it; nullptr: none. Needs `levels` and `lambda`.
+    const ShadingSpec* shading = nullptr;
 };
 
 class Backend {

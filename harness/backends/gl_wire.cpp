@@ -37,6 +37,12 @@ void write_draw(Out& o, const GlslDraw& d) {
     if (d.J) o(*d.J);
     o(bool(d.axes));
     if (d.axes) o(*d.axes);
+    o(bool(d.albedo));
+    if (d.albedo) {
+        o(d.albedo->width), o(d.albedo->height);
+        for (const TextureLevels& c : d.albedo->channel) o(c.levels);
+        o(d.light_dir);
+    }
 }
 
 void read_draw(In& in, DrawData& x) {
@@ -99,6 +105,13 @@ void read_draw(In& in, DrawData& x) {
     if (has) {
         in(x.axes);
         d.axes = &x.axes;
+    }
+    in(has);
+    if (has) {
+        in(x.albedo.width), in(x.albedo.height);
+        for (TextureLevels& c : x.albedo.channel) in(c.levels);
+        in(d.light_dir);
+        d.albedo = &x.albedo;
     }
 }
 

@@ -163,10 +163,11 @@ void visit(A& a, MethodOutput& o) {
     a(o.shader), a(o.shader_sha256), a(o.samples_discarded);
     a(o.depth), a(o.depth_tol);
     a(o.hit_z), a(o.engine_z), a(o.depth_span), a(o.discarded);
+    a(o.shaded);
 }
 // A MethodOutput that grew without a line above would come back from the child without the
 // new field: update visit(MethodOutput) and then this size.
-static_assert(sizeof(MethodOutput) == 400, "MethodOutput changed: update visit(MethodOutput)");
+static_assert(sizeof(MethodOutput) == 424, "MethodOutput changed: update visit(MethodOutput)");
 
 // A draw as it travels: the request owns what GlslDraw points to.
 struct DrawData {
@@ -181,6 +182,7 @@ struct DrawData {
     std::vector<double> lambda;
     std::vector<Footprint> J;
     std::vector<Vec3d> axes;
+    AlbedoLevels albedo;
 };
 
 enum : uint8_t { kDraw = 1, kCheck = 2 };

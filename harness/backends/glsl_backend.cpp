@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "harness/backends/glsl_parts.h"
+#include "harness/backends/shade_gl.h"
 #include "harness/backends/shaders.h"
 #include "harness/backends/written_depth.h"
 #include "harness/core/error.h"
@@ -213,6 +214,18 @@ MethodOutput GlslBackend::run(const MethodSpec& m, const Scene<double>& scene,
     return draw(d);
 }
 
+// [shading]: the uv just read back shaded by the GLSL twin (harness/backends/shade_gl.h) in
+// this context, with its own program, textures and target (every draw binds its own again).
+void GlslBackend::shade(const GlslDraw& d, MethodOutput& out) {
+    const AlbedoLevels& al = *d.albedo;
+    const Material m{d.levels, &al, d.scene.scale, d.light_dir,
+                     std::log2(double(std::max(al.width, al.height)) /
+                               double(std::max(d.hf->width, d.hf->height)))};
+    std::vector<uint8_t> covered(out.uv.size(), 1);
+    if (d.inside && !d.inside->empty()) covered = *d.inside;
+    out.shaded = shade_gl(*ctx_, {m, out.uv, *d.lambda, covered, d.samples});
+}
+
 MethodOutput GlslBackend::draw(const GlslDraw& d) {
     const HeightField& hf = *d.hf;
     const int samples = d.samples;
@@ -254,6 +267,7 @@ MethodOutput GlslBackend::draw(const GlslDraw& d) {
                                  " while rendering");
     const std::vector<float> written = read_back(samples, light != nullptr, d.inside, out);
     read_depth(samples, d.depth.span, written, out);
+    if (d.albedo && d.levels && d.lambda) shade(d, out);
     out.shader = program.shader;
     out.shader_sha256 = program.sha256;
     return out;
@@ -312,6 +326,11 @@ GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant&
     d.J = rays.J.empty() ? nullptr : &rays.J;
     d.depth = glsl_depth_of(m, rays, view.scene.scale);
     d.axes = rays.axes.empty() ? nullptr : &rays.axes;
+    if (view.shading && view.levels && view.lambda) {  // shaded in GL too
+        d.levels = view.levels;  // uploaded as the height's mip chain only when lod is not base
+        d.albedo = view.shading->levels.get();
+        d.light_dir = light_direction(view.shading->elevation_deg, view.shading->azimuth_deg);
+    }
     return d;
 }
 

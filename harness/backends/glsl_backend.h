@@ -79,6 +79,10 @@ struct GlslDraw {
     GlslDepth depth{};
     // A curved base's per-sample depth axes (View::axes); nullptr: depth.axis for every sample.
     const std::vector<Vec3d>* axes = nullptr;
+    // [shading]: the albedo's levels and the light; with them (and `levels`, `lambda`) the
+    // draw also shades its uv with the GLSL twin of the shading (MethodOutput::shaded).
+    const AlbedoLevels* albedo = nullptr;
+    Vec3d light_dir{0, 0, 1};
 };
 // The draw of one method setting on one view (the Backend interface's arguments).
 GlslDraw glsl_draw_of(const MethodSpec& m, const ViewInput& view, const Variant& v);
@@ -189,6 +193,7 @@ class GlslBackend : public Backend {
     std::vector<float> read_back(int samples, bool light, const std::vector<uint8_t>* inside,
                                  MethodOutput& out);
     void read_depth(int samples, double span, const std::vector<float>& written, MethodOutput& out);
+    void shade(const GlslDraw& d, MethodOutput& out);
 
     GlslOptions opt_;
     std::unique_ptr<GlContext> ctx_;

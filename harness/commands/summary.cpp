@@ -80,6 +80,35 @@ void print_first_differences(const std::vector<ResultRow>& rows) {
     }
 }
 
+// One line of the summary: its rows' sums.
+struct Acc {
+    double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0, flip = 0;
+    int n = 0, n_shadow = 0, n_flip = 0, failed = 0;
+    std::map<std::string, std::pair<double, int>> time;  // time_unit -> sum, n
+    std::vector<std::string> context;
+    // An ok row; a time unit not yet in `units` is appended.
+    void add(const ResultRow& r, std::vector<std::string>& units) {
+        sum_mean += r.num("err_mean");
+        worst_p95 = std::max(worst_p95, r.num("err_p95"));
+        fetches += r.num("fetches_mean");
+        ++n;
+        const std::string& unit = r.text("time_unit");
+        if (!std::isnan(r.num("time")) && !unit.empty()) {
+            if (std::find(units.begin(), units.end(), unit) == units.end()) units.push_back(unit);
+            time[unit].first += r.num("time");
+            ++time[unit].second;
+        }
+        if (!std::isnan(r.num("shadow_err"))) {
+            shadow += r.num("shadow_err");
+            ++n_shadow;
+        }
+        if (std::isfinite(r.num("flip_mean"))) {  // [shading]
+            flip += r.num("flip_mean");
+            ++n_flip;
+        }
+    }
+};
+
 }  // namespace
 
 void print_summary(const std::vector<ResultRow>& rows) {
@@ -88,12 +117,6 @@ void print_summary(const std::vector<ResultRow>& rows) {
     // them.
     const std::vector<std::string> context = varying_context_keys(
         rows.size(), [&](size_t r, const std::string& c) { return rows[r].cell(c); });
-    struct Acc {
-        double sum_mean = 0, worst_p95 = 0, fetches = 0, shadow = 0;
-        int n = 0, n_shadow = 0, failed = 0;
-        std::map<std::string, std::pair<double, int>> time;  // time_unit -> sum, n
-        std::vector<std::string> context;
-    };
     std::vector<std::string> order, units;
     std::map<std::string, Acc> acc;
     for (const auto& r : rows) {
@@ -112,20 +135,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
             ++a.failed;
             continue;
         }
-        a.sum_mean += r.num("err_mean");
-        a.worst_p95 = std::max(a.worst_p95, r.num("err_p95"));
-        a.fetches += r.num("fetches_mean");
-        ++a.n;
-        const std::string& unit = r.text("time_unit");
-        if (!std::isnan(r.num("time")) && !unit.empty()) {
-            if (std::find(units.begin(), units.end(), unit) == units.end()) units.push_back(unit);
-            a.time[unit].first += r.num("time");
-            ++a.time[unit].second;
-        }
-        if (!std::isnan(r.num("shadow_err"))) {
-            a.shadow += r.num("shadow_err");
-            ++a.n_shadow;
-        }
+        a.add(r, units);
     }
     auto cell = [](double sum, int n, int prec) {
         std::ostringstream os;
@@ -134,7 +144,11 @@ void print_summary(const std::vector<ResultRow>& rows) {
         return os.str();
     };
     bool shadows = false;
-    for (const auto& [k, a] : acc) shadows = shadows || a.n_shadow > 0;
+    bool flips = false;
+    for (const auto& [k, a] : acc) {
+        shadows = shadows || a.n_shadow > 0;
+        flips = flips || a.n_flip > 0;
+    }
     std::vector<std::string> header = {"method [backend/precision or texture]"};
     for (const std::string& c : context) {
         const ColumnSpec* spec = find_column(c);
@@ -144,6 +158,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
     for (const char* h : {"mean err", "worst p95", "fetches"}) header.push_back(h);
     for (const std::string& u : units) header.push_back("time " + u);
     if (shadows) header.push_back("shadow");
+    if (flips) header.push_back("flip_mean");
     header.push_back("failed");
     std::vector<std::vector<std::string>> table = {header};
     for (const auto& k : order) {
@@ -159,6 +174,7 @@ void print_summary(const std::vector<ResultRow>& rows) {
                                               : time_cell(it->second.first / it->second.second));
         }
         if (shadows) line.push_back(cell(a.shadow, a.n_shadow, 3));
+        if (flips) line.push_back(cell(a.flip, a.n_flip, 4));
         line.push_back(std::to_string(a.failed));
         table.push_back(line);
     }
@@ -168,6 +184,9 @@ void print_summary(const std::vector<ResultRow>& rows) {
                  "time UNIT: mean over rows of the median timed repeat (cpu: single-thread "
                  "ns/sample; glsl: ms/frame)"
               << (shadows ? "; shadow: fraction of samples with a wrong hard shadow" : "")
+              << (flips ? ";\nflip_mean: mean over rows of the mean LDR-FLIP of the shaded "
+                          "images ([shading]; 0: alike)"
+                        : "")
               << (context.empty() ? ""
                                   : ";\nrows that differ in a base, radius or camera setting "
                                     "are apart (never averaged together)")

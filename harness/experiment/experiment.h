@@ -17,6 +17,7 @@
 #include "harness/core/param_dict.h"
 #include "harness/core/params.h"
 #include "harness/scene/heightfield.h"
+#include "harness/scene/shading.h"
 #include "heightfields/field_spec.h"
 #include "methods/method.h"
 
@@ -66,7 +67,10 @@ struct Experiment {
     // between phi_deg and theta_deg: field, phi, setting, theta.
     std::vector<CameraSetting> camera_settings{CameraSetting{}};
     std::optional<LightSpec> light;
-    std::optional<RenderSpec> render;           // [render]: pictures of these views
+    std::optional<RenderSpec> render;  // [render]: pictures of these views
+    // [shading]: every row's view shaded through its uv and the truth's, compared by FLIP
+    // (flip_mean, flip_p95, flip_max; docs/conventions.md section 13); its albedo already read.
+    std::optional<ShadingSpec> shading;
     std::vector<HeightfieldSpec> heightfields;  // arrays of scale/bias already expanded
     // Arrays of parameter values already expanded; a setting given twice (same method and
     // canonical parameters) is kept once, with a warning, its fields merged.

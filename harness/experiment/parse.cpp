@@ -16,6 +16,7 @@
 #include "harness/core/safe_files.h"
 #include "harness/experiment/entries.h"
 #include "harness/metrics/row.h"
+#include "harness/results/pictures.h"
 #include "harness/scene/base_surface.h"
 #include "harness/scene/view.h"
 #include "harness/truth/curved_tracer.h"
@@ -295,6 +296,46 @@ void parse_light(const ParamDict& lt, Experiment& ex) {
     ex.light = l;
 }
 
+// [shading]: the albedo (checker, or an image file relative to the experiment), the light and
+// FLIP's pixels per degree; the albedo file is read here, so a bad one is an error at its line.
+void parse_shading(const ParamDict& t, Experiment& ex) {
+    ShadingSpec s;
+    s.albedo = t.string("albedo", s.albedo);
+    s.albedo_size = t.integer("albedo_size", s.albedo_size, 1, 8192);
+    s.elevation_deg = t.number("elevation_deg", s.elevation_deg);
+    s.azimuth_deg = t.number("azimuth_deg", s.azimuth_deg);
+    s.ppd = t.number("ppd", s.ppd);
+    t.report_unused();
+    if (!(s.elevation_deg >= 0 && s.elevation_deg <= 90))
+        throw InputError(
+            t.where("elevation_deg"),
+            "[shading] elevation_deg = " + format_number(s.elevation_deg) + " must lie in [0, 90]");
+    if (!std::isfinite(s.azimuth_deg))
+        throw InputError(t.where("azimuth_deg"), "[shading] azimuth_deg must be finite");
+    // FLIP's feature filters vanish in float below about 1.7 pixels per degree (flip.h)
+    if (!(s.ppd >= 2 && s.ppd <= 1000))
+        throw InputError(t.where("ppd"), "[shading] ppd = " + format_number(s.ppd) +
+                                             " must lie in [2, 1000] pixels per degree");
+    if (s.albedo == "checker") {
+        s.image = std::make_shared<const RgbImage>(checker_albedo(s.albedo_size));
+    } else {
+        if (t.has("albedo_size"))
+            throw InputError(t.where("albedo_size"),
+                             "[shading] albedo_size is the checker's size: an albedo file has "
+                             "its own");
+        fs::path fp = s.albedo;
+        if (fp.is_relative()) fp = fs::path(ex.path).parent_path() / fp;
+        try {
+            s.image = std::make_shared<const RgbImage>(read_albedo_image(fp.string()));
+        } catch (const std::exception& e) {
+            throw InputError(t.where("albedo"),
+                             "[shading] albedo file '" + fp.string() + "' " + e.what());
+        }
+    }
+    s.levels = std::make_shared<const AlbedoLevels>(build_albedo_levels(*s.image));
+    ex.shading = s;
+}
+
 // [render], read after the fields and methods it names: every name, angle and method must be
 // one the experiment has.
 void parse_render(const ParamDict& t, Experiment& ex) {
@@ -523,6 +564,8 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     if (!views) throw InputError(path, "missing [views] table (theta_deg = [...])");
     const auto light = root.table("light", "[light]", "'light' must be a table ([light])");
     const auto render = root.table("render", "[render]", "'render' must be a table ([render])");
+    const auto shading =
+        root.table("shading", "[shading]", "'shading' must be a table ([shading])");
     const auto heightfields = root.tables("heightfields", "[[heightfields]]");
     const auto methods = root.tables("methods", "[[methods]]");
     root.report_unused();
@@ -535,6 +578,7 @@ Experiment parse_experiment(const std::string& text, const std::string& path,
     check_heightfield_names(ex);
     for (const auto& e : methods) parse_method(e, ex, state);
     if (render) parse_render(*render, ex);
+    if (shading) parse_shading(*shading, ex);
     check_curved_bases(ex, root.has("ground_truth") ? root.where("ground_truth") : "");
     check_ray_travel(ex);
     check_camera_scenes(ex);

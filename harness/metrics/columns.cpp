@@ -83,7 +83,16 @@ std::vector<ColumnSpec> output_columns() {
              {"picture", kText, kMeasured, "[render]: its picture (PNG, relative to the folder)"},
              {"picture_diff", kText, kMeasured, "[render]: |its picture - the truth's| (PNG)"},
              {"picture_truth", kText, kMeasured, "[render]: the truth's picture of the view (PNG)"},
-             {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"}})
+             {"picture_use", kText, kMeasured, "[render]: montage | strip | montage strip"},
+             // [shading] with [render]: the shaded images and the FLIP map (harness/run/
+             // shaded_images.cpp writes them).
+             {"shaded", kText, kMeasured, "[shading]+[render]: its shaded image (PNG, sRGB)"},
+             {"shaded_truth", kText, kMeasured, "[shading]+[render]: the truth's shaded image"},
+             {"flip_map", kText, kMeasured, "[shading]+[render]: its FLIP map (PNG, magma)"},
+             ColumnSpec{"shade_cpu_diff_max", kNum, kMeasured,
+                        "[shading], GLSL: largest |GLSL-shaded - CPU-shaded| of its uv (8-bit "
+                        "steps)"}
+                 .in("agreement", "8-bit steps")})
         out.push_back(std::move(c));
     for (ColumnSpec& c : reference_columns()) out.push_back(std::move(c));  // metrics/reference
     // Here: the columns the per-output metrics declare (Metric::columns, in metric order:
@@ -194,7 +203,7 @@ std::string family_title(const std::string& family) {
         {"cut", "Cut flips: the depth test against an opaque plane decided wrongly"},
         {"coverage", "Coverage: surface shown where the truth shows none, or missing"},
         {"sliding", "Sliding and shimmering: the error's change with the view"},
-        {"image", "Image quality of the [render] pictures"},
+        {"image", "What a viewer sees: [render] pictures (PSNR, SSIM), [shading] images (FLIP)"},
         {"fetches", "Height fetches per sample"},
         {"timing", "Time"},
         {"agreement", "Agreement between backends and precisions"},

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "harness/metrics/column_groups.h"
+#include "harness/metrics/flip.h"
 
 namespace pxh {
 
@@ -107,6 +108,15 @@ void apply_image_metrics(const ImageMetricInput& in, ResultRow& row) {
     for (const ImageMetric& m : image_metrics()) m.add(in, row);
 }
 
+void add_flip(const FlipInput& in, ResultRow& row, std::vector<float>* map) {
+    const FlipResult f = flip_ldr({in.truth, in.n, in.n, FlipEncoding::srgb},
+                                  {in.shaded, in.n, in.n, FlipEncoding::srgb}, in.ppd,
+                                  in.mask.empty() ? nullptr : &in.mask, map);
+    row.set("flip_mean", f.counted ? f.mean : NAN);
+    row.set("flip_p95", f.counted ? f.p95 : NAN);
+    row.set("flip_max", f.counted ? f.max : NAN);
+}
+
 // The [render] pictures' image quality.
 // Declared here, by the code that fills them; harness/metrics/columns.cpp places them in
 // results.csv's order.
@@ -121,6 +131,18 @@ std::vector<ColumnSpec> image_columns() {
                    "[render]: mean SSIM (Wang et al. 2004) of the pictures"}
             .in("image", "", Better::larger)
             .lead(),
+        // [shading]: what a viewer sees (docs/conventions.md section 13)
+        ColumnSpec{"flip_mean", kNum, kMeasured,
+                   "[shading]: mean LDR-FLIP of its shaded image vs the truth's (0: alike)"}
+            .in("image", "FLIP")
+            .lead(),
+        ColumnSpec{"flip_p95", kNum, kMeasured,
+                   "[shading]: 95th-percentile LDR-FLIP over the covered pixels"}
+            .in("image", "FLIP")
+            .lead(),
+        ColumnSpec{"flip_max", kNum, kMeasured,
+                   "[shading]: largest LDR-FLIP over the covered pixels"}
+            .in("image", "FLIP"),
     };
 }
 

@@ -7,6 +7,7 @@
 // A new one: a function `void add_NAME(const ImageMetricInput&, ResultRow&)`, its columns in
 // columns.cpp, one line in image_metrics() (image_metrics.cpp).
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "harness/metrics/row.h"
@@ -45,5 +46,18 @@ void add_psnr(const ImageMetricInput& in, ResultRow& row);  // img_psnr_db
 void add_ssim(const ImageMetricInput& in, ResultRow& row);  // img_ssim (on luma)
 const std::vector<ImageMetric>& image_metrics();            // psnr, ssim
 void apply_image_metrics(const ImageMetricInput& in, ResultRow& row);
+
+// [shading]: LDR-FLIP (flip.h) of a row's shaded image against the truth's (n x n, sRGB values
+// in [0, 1]) at `ppd`, counted over the pixels `mask` marks (either side covers them): the
+// columns flip_mean, flip_p95, flip_max (NaN when the mask counts none). `map`, when given,
+// receives the per-pixel FLIP.
+struct FlipInput {
+    const std::vector<float>& shaded;
+    const std::vector<float>& truth;
+    int n = 0;
+    double ppd = 0;
+    const std::vector<uint8_t>& mask;
+};
+void add_flip(const FlipInput& in, ResultRow& row, std::vector<float>* map = nullptr);
 
 }  // namespace pxh

@@ -10,6 +10,7 @@
 #include "harness/core/error.h"
 #include "harness/core/params.h"
 #include "harness/metrics/columns.h"
+#include "harness/report/perceptual_budget.h"
 #include "harness/report/report_data.h"
 #include "harness/results/error_maps.h"
 #include "harness/scene/view.h"
@@ -611,8 +612,9 @@ void write_budget(const ReportData& d) {
         tt.notes.push_back(budget_note(texel));
         tex.notes = tt.notes;
         tex.notes.push_back(kTexNote);
-        d.write("budget.md", tt.markdown());
-        d.write("budget.tex", tex.latex(d.dir + "/results.csv"));
+        const PerceptualBudget flip = perceptual_budget(d);
+        d.write("budget.md", tt.markdown() + flip.markdown);
+        d.write("budget.tex", tex.latex(d.dir + "/results.csv") + flip.latex);
         return;
     }
     const Ranking pixel{"p95 budget (pixels)",
@@ -645,6 +647,9 @@ void write_budget(const ReportData& d) {
     for (const auto& n : notes) md << n << "\n\n";
     for (const auto& n : notes) tex << tex_text(n) << "\n\n";
     tex << tex_text(kTexNote) << "\n";
+    const PerceptualBudget flip = perceptual_budget(d);  // [shading] runs
+    md << flip.markdown;
+    tex << flip.latex;
     d.write("budget.md", md.str());
     d.write("budget.tex", tex.str());
 }

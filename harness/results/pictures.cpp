@@ -1,6 +1,7 @@
 #include "harness/results/pictures.h"
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -56,6 +57,37 @@ void albedo(Vec2d uv, float rgb[3]) {
               gy = std::min(int(fy * kGlyph), kGlyph - 1);
     const float paint = border ? 0.1f : ink(cy * kCells + cx, gx, gy) ? (y > 0.5f ? 0 : 1) : -1;
     for (int k = 0; k < 3; ++k) rgb[k] = paint >= 0 ? paint : c[k];
+}
+
+RgbImage checker_albedo(int size) {
+    RgbImage img{size, size, std::vector<float>(size_t(size) * size_t(size) * 3)};
+    for (int j = 0; j < size; ++j)
+        for (int i = 0; i < size; ++i)
+            albedo({(i + 0.5) / size, (j + 0.5) / size}, &img.rgb[(size_t(j) * size + i) * 3]);
+    return img;
+}
+
+RgbImage read_albedo_image(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw std::runtime_error("cannot be read as an image (" + OIIO::geterror() + ")");
+    const OIIO::ImageSpec spec = in->spec();
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1)
+        throw std::runtime_error("holds no pixels");
+    if (spec.width > 16384 || spec.height > 16384)
+        throw std::runtime_error("is larger than 16384 pixels a side");
+    std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
+        throw std::runtime_error("has pixels that cannot be read (" + in->geterror() + ")");
+    const bool encoded = !spec.format.is_floating_point();
+    RgbImage img{spec.width, spec.height, std::vector<float>(size_t(spec.width) * spec.height * 3)};
+    for (size_t k = 0; k < size_t(spec.width) * size_t(spec.height); ++k)
+        for (size_t c = 0; c < 3; ++c) {
+            const int from = spec.nchannels >= 3 ? int(c) : 0;
+            const float raw = px[k * size_t(spec.nchannels) + size_t(from)];
+            const float v = std::isfinite(raw) ? std::clamp(raw, 0.0f, 1.0f) : 0.0f;
+            img.rgb[3 * k + c] = encoded ? srgb_decode(v) : v;
+        }
+    return img;
 }
 
 std::vector<float> picture(const std::vector<Vec2d>& uv, int n,

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "harness/core/vec.h"
+#include "harness/scene/shading.h"
 
 namespace pxh {
 
@@ -16,6 +17,16 @@ namespace pxh {
 // cells lighter and darker, a dark border line around each cell. Deterministic; linear RGB in
 // [0, 1]. Non-finite uv gives magenta (1, 0, 1).
 void albedo(Vec2d uv, float rgb[3]);
+
+// The checkerboard above as a size x size texture (each texel the albedo at its centre): the
+// `checker` albedo of [shading] (harness/scene/shading.h).
+RgbImage checker_albedo(int size);
+
+// An albedo image file read through OpenImageIO (any format it reads): 8- and 16-bit integer
+// values are sRGB-encoded and decoded to linear, float formats taken as linear; one channel is
+// grey, a fourth (alpha) is ignored. Row 0 of the file is v near 0. std::runtime_error saying
+// why when the file cannot be read or holds no pixels.
+RgbImage read_albedo_image(const std::string& path);
 
 // The n x n picture seen through per-sample uv (sample j * n + i is pixel (i, j)): 3 floats a
 // pixel. `inside` (empty: every sample): a sample it marks 0 is outside the view and neutral

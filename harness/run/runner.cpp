@@ -107,7 +107,8 @@ void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& 
         const size_t first = sw.first_row + t * sw.rows_per_view;
         if (opt.on_view) {
             ViewOutput out{view.rows,      view.errors,   view.truth_uv,  view.inside,
-                           view.cut_shows, view.shown_uv, view.truth_hit, first};
+                           view.cut_shows, view.shown_uv, view.truth_hit, first,
+                           view.lambda,    ctx.levels,    view.shaded,    view.whole.get()};
             opt.on_view(out);
         }
         if (info) info->views.push_back({{sw.at.field, p, c, t}, view.rows.size()});
@@ -207,8 +208,9 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     const HeightfieldSpec* built = nullptr;  // the entry `field` was built for
     std::optional<ResourceCache> resources;  // one per field, dropped with it
     std::optional<TextureLevels> levels;     // ... when a setting samples the levels
-    const bool any_levels = std::any_of(ex.methods.begin(), ex.methods.end(),
-                                        [](const MethodSpec& m) { return m.lod != LodMode::base; });
+    const bool any_levels =
+        ex.shading || std::any_of(ex.methods.begin(), ex.methods.end(),
+                                  [](const MethodSpec& m) { return m.lod != LodMode::base; });
     SweepPairer pairs(ex.theta_deg, ex.sweep_dt_deg, ex.camera_settings,
                       camera_entry(ex.camera, "camera").pair_key());
     for (size_t h = 0; h < ex.heightfields.size(); ++h) {

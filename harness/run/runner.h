@@ -18,6 +18,8 @@
 
 namespace pxh {
 
+struct ViewRows;  // harness/run/view_rows.h
+
 // One view's rows and what they were scored on, as RunOptions::on_view gets them.
 struct ViewOutput {
     std::vector<ResultRow>& rows;
@@ -36,6 +38,18 @@ struct ViewOutput {
     // The index the view's first row has in the whole run's results.csv (a slice's maps and
     // pictures are named as the unsharded run names them).
     size_t first;
+    // Each sample's level of detail (its footprint's lambda, docs/conventions.md section 10.2),
+    // and the field's texture levels (built when a setting samples them or [shading] is given;
+    // nullptr otherwise): what the shaded images are read at.
+    const std::vector<double>& lambda;
+    const TextureLevels* levels;
+    // Per row, its image as the backend's own shader shaded it ([shading] on the GLSL backend:
+    // MethodOutput::shaded); empty: the writer shades it with the CPU twin.
+    const std::vector<std::vector<float>>& shaded;
+    // [shading] under a `samples` subset: the view's rows evaluated at every pixel of the
+    // camera's image (in the same row order), what the shaded images are made of; nullptr when
+    // the view measures the whole image.
+    const ViewRows* whole;
 };
 
 struct RunOptions {

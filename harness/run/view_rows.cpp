@@ -31,11 +31,14 @@ struct ViewJob {
     std::vector<double> lambda;  // each sample's level of detail (its footprint's)
     double lod_mean = NAN;       // mean max(lambda, 0) over the inside samples
     FloatSpacing spacing;        // float's coarsest spacing at the inside samples
+    bool shade = false;          // [shading]: a backend with its own shading shades its image
 
     ViewInput input() const {
         ViewInput in{scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
         in.levels = c.levels;
         in.lambda = &lambda;
+        // [shading]: the GLSL backend shades its image itself (not a sweep's companion view's)
+        in.shading = shade && c.ex.shading ? &*c.ex.shading : nullptr;
         return in;
     }
 
@@ -103,6 +106,7 @@ struct ViewJob {
                 if (!view.is_inside(k)) shown[k] = {NAN, NAN};
         }
         out.shown_uv.push_back(std::move(shown));
+        out.shaded.push_back(o ? o->shaded : std::vector<float>{});
         return out.rows.size() - 1;
     }
 };
@@ -216,9 +220,14 @@ void set_lambda(ViewJob& job) {
 
 }  // namespace
 
-ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t camera, bool timed) {
+namespace {
+
+// One view at `samples` of the camera's pixels; `shade`: the backends with their own shading
+// shade their images ([shading]).
+ViewRows evaluate(const FieldContext& c, double theta, double phi, size_t camera, bool timed,
+                  int samples, bool shade) {
     const auto cam =
-        Camera::create(c.ex.camera, c.ex.camera_settings[camera], {theta, phi, c.ex.samples});
+        Camera::create(c.ex.camera, c.ex.camera_settings[camera], {theta, phi, samples});
     // The methods' view of the base (P, V, footprint, frame per sample) and its truth's rays.
     const BaseView bv = c.base_entry.view(*cam, c.base, c.spec.scale * (1 - c.spec.bias));
     const View& view = bv.view;
@@ -229,6 +238,7 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
                               c.hf.width,   c.hf.height, c.base.curvature()};
     ViewJob job{c,  theta,   phi, camera, timed, view, scene, c.truth.trace(bv, theta, phi, timed),
                 {}, nullptr, {},  {},     NAN,   {}};
+    job.shade = shade;
     set_lambda(job);
     job.spacing = float_spacing(view, c.hf.width, c.hf.height);
     job.holes = hole_mask(c.hf, job.truth.gt);
@@ -238,7 +248,21 @@ ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t c
     job.out.truth_uv = std::move(job.truth.gt.uv);
     if (job.truth.cover) job.out.truth_hit = job.truth.cover->truth_hit;
     job.out.inside = view.inside;
+    job.out.lambda = std::move(job.lambda);
     return std::move(job.out);
+}
+
+}  // namespace
+
+ViewRows evaluate_view(const FieldContext& c, double theta, double phi, size_t camera, bool timed) {
+    ViewRows out = evaluate(c, theta, phi, camera, timed, c.ex.samples, timed);
+    // [shading] under a `samples` subset of the camera's image: the whole image's uv for the
+    // shaded images (every setting run again at every pixel, untimed; its numbers unused).
+    const double resolution = c.ex.camera_settings[camera].get("resolution");
+    if (timed && c.ex.shading && std::isfinite(resolution) && int(resolution) > c.ex.samples)
+        out.whole = std::make_shared<ViewRows>(
+            evaluate(c, theta, phi, camera, false, int(resolution), true));
+    return out;
 }
 
 }  // namespace pxh

@@ -21,7 +21,12 @@ struct ViewRows {
     std::vector<std::vector<uint8_t>> cut_shows;  // per row: ViewOutput::cut_shows
     // per row, where the truth reports coverage (a curved base's): ViewOutput::shown_uv
     std::vector<std::vector<Vec2d>> shown_uv;
-    std::vector<uint8_t> truth_hit;  // ... and ViewOutput::truth_hit
+    std::vector<uint8_t> truth_hit;          // ... and ViewOutput::truth_hit
+    std::vector<double> lambda;              // each sample's level of detail: ViewOutput::lambda
+    std::vector<std::vector<float>> shaded;  // per row: ViewOutput::shaded
+    // [shading] with `samples` below the camera's resolution: the same rows over the camera's
+    // whole image (ViewOutput::whole); nullptr otherwise.
+    std::shared_ptr<const ViewRows> whole;
 };
 
 // One field (with its s, b and base) and what every view of it shares.

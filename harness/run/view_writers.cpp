@@ -10,6 +10,7 @@
 #include "harness/metrics/image_metrics.h"
 #include "harness/results/error_maps.h"
 #include "harness/results/pictures.h"
+#include "harness/run/shaded_images.h"
 
 namespace pxh {
 
@@ -128,6 +129,7 @@ const std::vector<ViewWriter>& view_writers() {
     static const std::vector<ViewWriter> writers = {
         {"maps", &maps_wanted, &write_maps},
         {"pictures", &pictures_wanted, &write_pictures},
+        {"shading", &shading_wanted, &write_shaded},
     };
     return writers;
 }

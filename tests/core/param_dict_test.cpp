@@ -106,7 +106,7 @@ TEST(ParamsUnread, ExperimentTopLevelKeyAtItsLine) {
               "name, description, "
               "samples, backends, sweep_dt_deg, maps, exclude_filled, ground_truth, "
               "timing_repeats, precision, gl, gl_time_limit_s, texture_format, views, light, "
-              "render, heightfields, methods)");
+              "render, shading, heightfields, methods)");
 }
 
 TEST(ParamsUnread, MethodEntryKeyAtItsLine) {
