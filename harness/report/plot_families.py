@@ -129,7 +129,10 @@ def family_figure(F, st, entry, data_dir):
                                            for r in rows if r["panel"] == cell[3])]
     if not cells:
         return
-    nc = max(1, min(len(panels), F.columns(len(cells))))
+    # columns: the panels (a statistic a row) where the run has several; one panel's statistics
+    # side by side, as many as the width takes (not stacked in one column)
+    nc = max(1, min(len(panels), F.columns(len(cells)))) if len(panels) > 1 else \
+        F.columns(len(cells))
     fig, axes = F.grid(len(cells), aspect=0.72, ncols=nc)
     pw = F.width / nc
     thetas = max(int(num(r["thetas"]) or 1) for r in rows)
