@@ -138,6 +138,10 @@ struct MethodInfo {
     // The other files its text was made from, as the user reaches them (its #includes, then
     // pxh's engine adapter: harness/backends/engine_shader.h); file k is #line source 2 + k.
     std::vector<std::string> plugin_files{};
+    // An HLSL or WGSL plug-in's own file and text (plugin_source is the GLSL made of it): where
+    // a message about one of its names points.
+    std::string plugin_original{};
+    std::string plugin_original_display{};
     // Where it places its hit's height (methods/depth.h; the `hit` depth mode), for a setting
     // of its parameters; nullptr: surface (a plug-in shader: shader).
     HitHeight (*hit_height)(const ParamValues&) = nullptr;

@@ -135,6 +135,7 @@ template <class A>
 void visit(A& a, GlslMethod& m) {
     a(m.name), a(m.shader_file), a(m.has_builtin_text), a(m.builtin_text), a(m.declarations);
     a(m.plugin_shader), a(m.plugin_source), a(m.plugin_display), a(m.plugin_files);
+    a(m.plugin_original), a(m.plugin_original_display);
     a(m.resources);
 }
 

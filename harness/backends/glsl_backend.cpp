@@ -39,6 +39,8 @@ GlslMethod GlslMethod::of(const MethodInfo& m) {
     g.plugin_source = m.plugin_source;
     g.plugin_display = m.plugin_display;
     g.plugin_files = m.plugin_files;
+    g.plugin_original = m.plugin_original;
+    g.plugin_original_display = m.plugin_original_display;
     for (const ResourceSpec& r : m.resources) {
         ResourceSpec c;
         c.name = r.name;

@@ -34,7 +34,8 @@ struct GlslMethod {
     std::string declarations;  // MethodInfo::shader_declarations
     std::string plugin_shader, plugin_source, plugin_display;  // a plug-in's (MethodInfo)
     std::vector<std::string> plugin_files;  // its other files: includes, pxh's engine adapter
-    std::vector<ResourceSpec> resources;    // name, format, filter, wrap (not built here)
+    std::string plugin_original, plugin_original_display;  // an HLSL/WGSL file's (MethodInfo)
+    std::vector<ResourceSpec> resources;  // name, format, filter, wrap (not built here)
     static GlslMethod of(const MethodInfo& m);
 };
 

@@ -106,7 +106,11 @@ std::string plugin_problem(const GlslMethod& m, const std::string& why, const st
                     : ": bind it in the entry: bind = { " + name +
                           " = VALUE } (a number, a list of them, or \"scale\", \"bias\")";
     }
-    const std::string at = plugin_declaration(m, name);
+    // An HLSL or WGSL plug-in: where its own text first names the uniform (its declaration)
+    const std::string own =
+        m.plugin_original.empty() ? "" : identifier_position(m.plugin_original, name);
+    const std::string at =
+        own.empty() ? plugin_declaration(m, name) : m.plugin_original_display + ":" + own;
     if (at.empty()) return line;
     return at + line.substr(std::min(line.size(), what.size()));
 }

@@ -194,6 +194,12 @@ std::string uniform_declaration(const std::string& text, const std::string& name
     return "";
 }
 
+std::string identifier_position(const std::string& text, const std::string& name) {
+    for (const Token& k : tokens(text))
+        if (k.text == name) return std::to_string(k.line) + ":" + std::to_string(k.col);
+    return "";
+}
+
 std::vector<std::string> common_uniform_names(const std::string& common) {
     std::vector<std::string> out;
     const std::vector<Token> t = tokens(common);

@@ -42,6 +42,9 @@ std::vector<std::string> plugin_source_problems(const std::string& display, cons
 
 // "LINE:COL" of the uniform declaration of `name` in `text` (`uniform TYPE name`), "" if none.
 std::string uniform_declaration(const std::string& text, const std::string& name);
+// "LINE:COL" of the first token `name` in `text` (comments skipped; C-like tokens, so HLSL and
+// WGSL too), "" when there is none.
+std::string identifier_position(const std::string& text, const std::string& name);
 
 // The names common.glsl declares at global scope as uniforms (u_*, p_layers*).
 std::vector<std::string> common_uniform_names(const std::string& common);

@@ -116,6 +116,10 @@ void plugin_variants(const MethodInfo& proto, const std::string& rel, const Plug
         info->plugin_source = sh.text;
         info->plugin_display = sh.files[0];  // a converted file's: "FILE (as GLSL)"
         info->plugin_files.assign(sh.files.begin() + 1, sh.files.end());
+        if (converted_language(rel)) {
+            info->plugin_original = src.text;
+            info->plugin_original_display = src.display;
+        }
         for (ParamSpec& spec : bound_value_specs(parts.engine, sh))
             info->params.push_back(std::move(spec));
         for (const ParamSpec& spec : parts.engine.define_specs) info->params.push_back(spec);
