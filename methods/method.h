@@ -33,6 +33,7 @@
 // (real: float, integer: int, bool: bool, choice: int, the index of the name). The shader reads
 // a resource with pxh_texture(NAME, uv, level) (counted like pxh_height).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -106,6 +107,10 @@ struct MethodInfo {
     std::string discard_test{};
     void (*check)(const ParamValues&, const std::string& where) = nullptr;
     int (*max_fetches)(const ParamValues&, const Scene<double>&) = nullptr;
+    // The largest max_fetches over the scene seen along each of `Vs` (a perspective view's
+    // rays), its parameters read once; nullptr exactly when max_fetches is.
+    int (*max_fetches_over)(const ParamValues&, const Scene<double>&,
+                            const std::vector<Vec3d>& Vs) = nullptr;
     // The uniforms the method computes (M::gl_uniforms); nullptr: none. The backend sets
     // method_uniforms(), which adds the parameters that name a uniform.
     GlUniforms (*gl_uniforms)(const ParamValues&) = nullptr;
@@ -264,6 +269,17 @@ MethodInfo make_method_info() {
     info.check = [](const ParamValues& p, const std::string& where) { M::configure(p, where); };
     info.max_fetches = [](const ParamValues& p, const Scene<double>& sc) {
         return M::max_fetches(M::configure(p, ""), sc);
+    };
+    info.max_fetches_over = [](const ParamValues& p, const Scene<double>& sc,
+                               const std::vector<Vec3d>& Vs) {
+        const typename M::Config c = M::configure(p, "");
+        Scene<double> s = sc;
+        int bound = 0;
+        for (const Vec3d& V : Vs) {
+            s.V = V;
+            bound = std::max(bound, M::max_fetches(c, s));
+        }
+        return bound;
     };
     if constexpr (requires(const typename M::Config& c) { M::gl_uniforms(c); })
         info.gl_uniforms = [](const ParamValues& p) { return M::gl_uniforms(M::configure(p, "")); };

@@ -240,14 +240,23 @@ int run_bench(const BenchOptions& options) {
     const bool eye = !camera_entry(opt.camera, "--camera").parallel;
     const BaseEntry& base_kind = base_entry(opt.base, "--base");
     const BenchFields fields = bench_fields(opt);
-    check_bench(opt, fields, cam, base_kind.curved);
+    // a curved base: each radius in turn, every one checked before any measurement
+    const std::vector<double> radii =
+        base_kind.curved ? opt.radii : std::vector<double>{double(NAN)};
+    for (double r : radii) {
+        opt.radius = r;
+        check_bench(opt, fields, cam, base_kind.curved);
+    }
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(opt.threads));
     print_header(opt, eye);
-    // a curved base: its curved tracers also time the same camera's rays (the plane: none)
-    const std::unique_ptr<BaseSurface> base =
-        base_kind.curved ? make_base(opt.base, opt.radius) : nullptr;
     nlohmann::json results = nlohmann::json::array();
-    for (int size : fields.sizes) bench_field(opt, fields.make(size), cam, base.get(), results);
+    for (double r : radii) {
+        opt.radius = r;
+        // a curved base: its curved tracers also time the same camera's rays (the plane: none)
+        const std::unique_ptr<BaseSurface> base =
+            base_kind.curved ? make_base(opt.base, opt.radius) : nullptr;
+        for (int size : fields.sizes) bench_field(opt, fields.make(size), cam, base.get(), results);
+    }
     write_bench(opt, results, size_t(opt.samples) * size_t(opt.samples));
     return 0;
 }

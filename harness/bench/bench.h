@@ -24,9 +24,10 @@ struct BenchOptions {
     // A curved base (docs/conventions.md section 12): also time the curved truth's walk over the
     // same camera's rays on it ("plane": not timed).
     std::string base = "plane";
-    double radius = NAN;
-    std::string out;     // JSON file (default: results/runs/bench-DATE.json)
-    bool force = false;  // replace `out` when it is an earlier pxh bench file (only then)
+    std::vector<double> radii;  // a curved base's radii (tiles), each timed in turn
+    double radius = NAN;        // the one being timed (run_bench sets it from radii)
+    std::string out;            // JSON file (default: results/runs/bench-DATE.json)
+    bool force = false;         // replace `out` when it is an earlier pxh bench file (only then)
 };
 
 // The bench's JSON is a new file of its own: `out` must not exist, or be (with force) an

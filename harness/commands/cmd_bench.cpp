@@ -48,7 +48,9 @@ Command add_bench_command(CLI::App& app) {
                          "; default plane): a curved one also times the curved truth's walk "
                          "over the same rays, as a ratio to the exact tracer on the plane")
         ->check(CLI::IsMember(base_names()));
-    auto* radius = bench->add_option("--radius", bo->radius, "a curved base's radius in tiles");
+    auto* radius = bench->add_option("--radius", bo->radii,
+                                     "a curved base's radii in tiles, each timed in turn (e.g. "
+                                     "--radius 1.5 4)");
     auto* out = bench->add_option("--out", bo->out,
                                   "JSON output, a new file (default results/runs/bench-DATE.json)");
     bench->add_flag("--force", bo->force,
@@ -58,10 +60,16 @@ Command add_bench_command(CLI::App& app) {
             if (out->count() && bo->out.empty())
                 throw InputError("--out", "is empty: name the JSON file");
             const bool curved = find_base(bo->base) && find_base(bo->base)->curved;
-            if (curved && !(std::isfinite(bo->radius) && bo->radius > bo->scale * bo->bias))
-                throw InputError(
-                    radius->count() ? "--radius" : "--base",
-                    "--base " + bo->base + " needs --radius R, a finite number above scale * bias");
+            if (curved && bo->radii.empty())
+                throw InputError("--base", "--base " + bo->base +
+                                               " needs --radius R, a finite number above scale * "
+                                               "bias");
+            for (double r : bo->radii)
+                if (curved && !(std::isfinite(r) && r > bo->scale * bo->bias))
+                    throw InputError("--radius", "radius " + format_number(r) +
+                                                     " is not a finite number above scale * "
+                                                     "bias (" +
+                                                     format_number(bo->scale * bo->bias) + ")");
             if (!curved && radius->count())
                 throw InputError("--radius", "applies to a curved --base (cylinder, sphere)");
             // An eye distance and field of view: a camera whose rays are not parallel.

@@ -51,6 +51,12 @@ struct Experiment {
     // --backend may pick another. The command line's overrides are the runner's.
     BackendSettings backend;
     std::string ground_truth = "exact";
+    // truth_check: which rays of a timed view the truth's cross-check traces for the gt_agree_*
+    // columns (the other reference on the plane, the walk at half the step on a curved base):
+    // "all", "subset" (the samples (i, j) with i % 4 == j % 4 == 2 of the N x N view: one in
+    // 16) or "none" (the columns empty). "": each truth's own default ("all" on the plane,
+    // kCurvedTruthCheck = "subset" on a curved base: harness/run/truth_stage.cpp).
+    std::string truth_check;
     double sweep_dt_deg = 0;      // > 0: sliding/shimmering from a companion view dt away
     bool maps = false;            // write per-row error maps
     bool exclude_filled = false;  // leave samples whose truth lands on filled holes out  // the

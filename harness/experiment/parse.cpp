@@ -139,6 +139,14 @@ void parse_settings(const ParamDict& root, Experiment& ex) {
     if (std::find(known.begin(), known.end(), ex.ground_truth) == known.end())
         throw InputError(root.where("ground_truth"), "unknown ground_truth '" + ex.ground_truth +
                                                          "' (known: " + join_names(known) + ")");
+    if (auto c = root.string("truth_check")) {
+        if (*c != "all" && *c != "subset" && *c != "none")
+            throw InputError(root.where("truth_check"),
+                             "unknown truth_check '" + *c +
+                                 "' (known: all, subset, none: which rays of each view the "
+                                 "truth's cross-check traces for the gt_agree_* columns)");
+        ex.truth_check = *c;
+    }
 }
 
 // [views] theta_deg: in degrees, [0, 90), increasing, each once (warned and fixed otherwise).
@@ -525,10 +533,18 @@ void check_curved_walk(const Experiment& ex) {
             for (double th : measured_thetas(ex))
                 for (double phi : ex.phi_deg) {
                     const auto cam = Camera::create(ex.camera, c, {th, phi, ex.samples});
-                    const CurvedWalkEstimate e =
-                        curved_walk_estimate(*base, h.scale, h.bias, int(size.width),
-                                             int(size.height), *cam, cam->view().size());
-                    if (const std::string why = curved_walk_problem(e); !why.empty()) {
+                    const double walks = curved_walks(ex.truth_check, cam->view().size());
+                    const CurvedWalkEstimate e = curved_walk_estimate(
+                        *base, h.scale, h.bias, int(size.width), int(size.height), *cam,
+                        cam->view().size(), 0.25, walks);
+                    const std::string said =
+                        "the truth, and the check walk at half the step on " +
+                        std::string(ex.truth_check == "all"    ? "every ray (truth_check = \"all\")"
+                                    : ex.truth_check == "none" ? "no ray (truth_check = \"none\")"
+                                                               : "one ray in 16 (truth_check = "
+                                                                 "\"subset\")") +
+                        ": " + format_number(walks) + " walks";
+                    if (const std::string why = curved_walk_problem(e, said); !why.empty()) {
                         std::string view = c.label();
                         view += (view.empty() ? "" : " ") + std::string("theta ") +
                                 format_number(th) + " phi " + format_number(phi);

@@ -1,5 +1,7 @@
 #include "harness/metrics/reference.h"
 
+#include <cmath>
+
 #include "harness/metrics/column_groups.h"
 
 namespace pxh {
@@ -11,6 +13,7 @@ void add_reference_columns(const ReferenceInfo& ref, ResultRow& row) {
     row.set("gt_agree_p99", ref.agreement.p99);
     row.set("gt_agree_max", ref.agreement.max);
     row.set("gt_agree_frac_gt_0_5", ref.agreement.frac_gt_0_5);
+    row.set("gt_agree_rays", ref.agreement.count > 0 ? double(ref.agreement.count) : std::nan(""));
     row.set("gt_on_filled", ref.on_filled);
     row.set("gt_residual_max", ref.residual_max);
 }
@@ -41,10 +44,15 @@ std::vector<ColumnSpec> reference_columns() {
         ColumnSpec{"gt_agree_frac_gt_0_5", kNum, kMeasured,
                    "fraction of samples where they differ > 0.5 texel"}
             .in("truth", "fraction"),
+        ColumnSpec{"gt_agree_rays", kInt, kMeasured,
+                   "rays the gt_agree_* columns compare (both references hit; truth_check picks "
+                   "the rays: every one on the plane, one in 16 on a curved base by default)"}
+            .in("truth", "rays", Better::none),
         ColumnSpec{
             "gt_residual_max", kNum, kMeasured,
             "curved bases: max |height above the base - s (h - b)| at the true hits (tiles); the "
-            "gt_agree_* columns there compare the pyramid tracer with the walk at half the step"}
+            "gt_agree_* columns there compare the pyramid tracer with the walk at half the step "
+            "(truth_check)"}
             .in("truth", "tiles")
             .lead(),
     };

@@ -1,6 +1,9 @@
 #include "harness/run/truth_stage.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "harness/core/error.h"
 #include "harness/core/params.h"
@@ -13,7 +16,27 @@ namespace pxh {
 
 namespace {
 
-void no_agreement(ErrorStats& a) { a.p50 = a.p99 = a.max = a.frac_gt_0_5 = NAN; }
+void no_agreement(ErrorStats& a) {
+    a.p50 = a.p99 = a.max = a.frac_gt_0_5 = NAN;
+    a.count = 0;
+}
+
+// The view of the samples `ks` of `v` (their P, V, footprints, inside flags and depth axes).
+View sub_view(const View& v, const std::vector<size_t>& ks) {
+    View s;
+    s.parallel = v.parallel;
+    s.forward = v.forward;
+    for (size_t k : ks) {
+        s.P.push_back(v.P[k]);
+        if (!v.parallel) s.V.push_back(v.V[k]);
+        if (v.J.size() > 1) s.J.push_back(v.J[k]);
+        if (!v.inside.empty()) s.inside.push_back(v.inside[k]);
+        if (!v.axes.empty()) s.axes.push_back(v.axes[k]);
+    }
+    if (v.parallel) s.V = v.V;
+    if (v.J.size() == 1) s.J = v.J;
+    return s;
+}
 
 // The flat relief's truth: the tracer registry's two references, the exact one (heights, true
 // shadows, cost) and the cross-check (gt_agree_*); the experiment's ground_truth names which of
@@ -34,11 +57,25 @@ class ExactTruth final : public FieldTruth {
         t.gt = trace_ground_truth(*exact_, view, ex_.light ? &L : nullptr);
         no_agreement(t.agree);
         const bool other_is_truth = ex_.ground_truth == other_->name();
-        if (timed || other_is_truth) {
+        if (other_is_truth) {  // the other reference gives the uv: traced on every ray
             Hits other;
             other_->trace(view, other);
             t.agree = reference_agreement(other.uv, t.gt.uv, hf_.width, hf_.height);
-            if (other_is_truth) t.gt.uv = std::move(other.uv);
+            t.gt.uv = std::move(other.uv);
+        } else if (timed) {
+            const std::vector<size_t> ks =
+                truth_check_rays(view.size(), ex_.truth_check.empty() ? "all" : ex_.truth_check);
+            if (ks.empty()) return t;
+            Hits other;
+            std::vector<Vec2d> mine;
+            if (ks.size() == view.size()) {
+                other_->trace(view, other);
+                mine = t.gt.uv;
+            } else {
+                other_->trace(sub_view(view, ks), other);
+                for (size_t k : ks) mine.push_back(t.gt.uv[k]);
+            }
+            t.agree = reference_agreement(other.uv, mine, hf_.width, hf_.height);
         }
         return t;
     }
@@ -55,7 +92,8 @@ class ExactTruth final : public FieldTruth {
 class CurvedWalkTruth final : public FieldTruth {
   public:
     explicit CurvedWalkTruth(const TruthSetting& s)
-        : spec_(s.spec),
+        : ex_(s.ex),
+          spec_(s.spec),
           hf_(s.hf),
           base_(s.base),
           walk_(make_curved_truth(s.hf, s.spec.scale, s.spec.bias, s.base)),
@@ -107,24 +145,34 @@ class CurvedWalkTruth final : public FieldTruth {
         t.residual_max = h.residual_max;
         t.cover = Coverage{cv.base_hit, std::move(h.hit)};
         no_agreement(t.agree);
-        if (timed) {
+        // The check walk costs about twice a whole walk (the pyramid's own steps are a few
+        // percent of that): by default it walks one ray in 16 (kCurvedTruthCheck).
+        const std::vector<size_t> ks =
+            timed ? truth_check_rays(cv.rays.size(),
+                                     ex_.truth_check.empty() ? kCurvedTruthCheck : ex_.truth_check)
+                  : std::vector<size_t>{};
+        if (!ks.empty()) {
+            std::vector<WorldRay> rays;
+            rays.reserve(ks.size());
+            for (size_t k : ks) rays.push_back(cv.rays[k]);
             CurvedHits fine;
             try {
-                fine = check_.trace(cv.rays, check_budget);
+                fine = check_.trace(rays, check_budget);
             } catch (const CurvedWalkTooLong& e) {  // the view's steps: both walks'
                 throw CurvedWalkTooLong(e.what(), h.steps + e.steps, kMaxCurvedWalkSteps);
             }
             std::vector<Vec2d> a, b;
-            for (size_t k = 0; k < fine.uv.size(); ++k)
-                if (t.cover->truth_hit[k] && fine.hit[k]) {
-                    a.push_back(fine.uv[k]);
-                    b.push_back(t.gt.uv[k]);
+            for (size_t m = 0; m < ks.size(); ++m)
+                if (t.cover->truth_hit[ks[m]] && fine.hit[m]) {
+                    a.push_back(fine.uv[m]);
+                    b.push_back(t.gt.uv[ks[m]]);
                 }
             t.agree = reference_agreement(a, b, hf_.width, hf_.height);
         }
         return t;
     }
 
+    const Experiment& ex_;
     const HeightfieldSpec& spec_;
     const HeightField& hf_;
     const BaseSurface& base_;

@@ -57,13 +57,7 @@ struct ViewJob {
     int fetches_bound(const MethodSpec& m) const {
         if (!m.method->max_fetches) return m.method->declared_max_fetches;  // a plug-in's
         if (view.parallel) return m.method->max_fetches(m.params, scene);
-        int bound = 0;
-        Scene<double> s = scene;
-        for (const Vec3d& V : view.V) {
-            s.V = V;
-            bound = std::max(bound, m.method->max_fetches(m.params, s));
-        }
-        return bound;
+        return m.method->max_fetches_over(m.params, scene, view.V);
     }
 
     // The keys and the view-wide columns of a row; returns its index in the view.

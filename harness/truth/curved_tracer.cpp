@@ -86,6 +86,31 @@ CurvedWalkEstimate curved_walk_estimate(const BaseSurface& base, double scale, d
     return e;
 }
 
+std::vector<size_t> truth_check_rays(size_t n, const std::string& mode) {
+    std::vector<size_t> ks;
+    if (mode == "none" || n == 0) return ks;
+    if (mode == "all") {
+        ks.resize(n);
+        for (size_t k = 0; k < n; ++k) ks[k] = k;
+        return ks;
+    }
+    const auto side = size_t(std::llround(std::sqrt(double(n))));
+    if (side * side == n) {
+        const size_t o = std::min<size_t>(2, side - 1);  // views under 3 x 3: one ray
+        for (size_t j = o; j < side; j += 4)
+            for (size_t i = o; i < side; i += 4) ks.push_back(j * side + i);
+    } else {
+        for (size_t k = std::min<size_t>(8, n - 1); k < n; k += 16) ks.push_back(k);
+    }
+    return ks;
+}
+
+double curved_walks(const std::string& mode, size_t rays) {
+    if (rays == 0) return 1;
+    const std::string m = mode.empty() ? std::string(kCurvedTruthCheck) : mode;
+    return 1 + 2 * double(truth_check_rays(rays, m).size()) / double(rays);
+}
+
 std::string curved_walk_problem(const CurvedWalkEstimate& e, const std::string& walks_said,
                                 const std::string& knobs) {
     if (e.steps <= kMaxCurvedWalkSteps) return "";

@@ -10,8 +10,9 @@
 // bilinear |grad h|, S the speed of (u, v) per unit of distance: BaseSurface::uv_speed), so no
 // crossing is stepped over, and at most `step_texels` texels of (u, v) long (a bracket for the
 // bisection); a step never shrinks below 10^-9 of that (a ray grazing the surface closer than
-// that for its whole way could slip through). The gt_agree_* columns compare it with the same
-// walk at half the step, and gt_residual_max is max |g| at the hits (tiles).
+// that for its whole way could slip through). The gt_agree_* columns compare the truth (the
+// pyramid tracer, same rule) with the same walk at half the step on the rays truth_check picks
+// (one in 16 by default), and gt_residual_max is max |g| at the hits (tiles).
 //
 // On the plane base this reproduces section 4's exact hits up to those two (tests/truth/
 // curved_truth_test.cpp); the runner uses the exact tracers there.
@@ -65,6 +66,19 @@ std::string base_radius_problem(const std::string& base, double radius, int widt
 // are 10 to 25 s of one core, half that on 2 (the rays of a view are walked in parallel, even 4
 // of them). Lower theta, the scale, the field's size or the samples to lower a view's estimate.
 inline constexpr double kMaxCurvedWalkSteps = 268435456.0;  // 2^28
+// The curved truth's check walk (the gt_agree_* columns) by default walks one ray in 16 of a
+// timed view (truth_check = "subset"; harness/run/truth_stage.cpp): the pyramid is the truth, and
+// the walk at half the step costs about 50 times the pyramid on every ray.
+inline constexpr const char* kCurvedTruthCheck = "subset";
+// The rays of an n-ray view that a truth's cross-check traces under truth_check `mode`: "all",
+// every one; "subset", one in 16: the samples (i, j) with i % 4 == j % 4 == 2 of the N x N view
+// (n = N^2; (1, 1) under 3 x 3; a view of another shape: k % 16 == 8); "none", none.
+std::vector<size_t> truth_check_rays(size_t n, const std::string& mode);
+// The walks the estimate of an n-ray view counts under truth_check `mode` ("": the default,
+// kCurvedTruthCheck): the truth (a walk's steps bound the pyramid's) plus the check walk at half
+// the step (two walks' steps) on the share of the rays it walks: 3 for "all", 1 + 2 / 16 for
+// "subset" on a 4N x 4N view (more on a small one), 1 for "none".
+double curved_walks(const std::string& mode, size_t rays);
 struct CurvedWalkEstimate {
     double steps = 0;       // the view's estimated walk steps (all its walks)
     double walk_steps = 0;  // one walk's at step_texels

@@ -75,19 +75,22 @@ TEST(Bench, ACurvedBaseOfAnyNameTimesTheCurvedTracers) {
     const BaseRegistration reg(cylinder_twin_entry());
     BenchOptions o = tiny(scratch("curved.json"));
     o.base = "cylinder_twin";
-    o.radius = 2;
+    o.radii = {2, 3};  // --radius 2 3: each radius in turn
     testing::internal::CaptureStdout();
     const int rc = run_bench(o);
     const std::string out = testing::internal::GetCapturedStdout();
     ASSERT_EQ(rc, 0);
     const auto doc = read_json(o.out);
-    ASSERT_EQ(doc["results"].size(), 1u);
-    const auto& row = doc["results"][0];
-    EXPECT_EQ(row["base"], "cylinder");  // the surface the entry makes
-    EXPECT_EQ(row["radius"].get<double>(), 2.0);
-    EXPECT_EQ(row["curved_pyramid_vs_walk_hit_miss"].get<size_t>(), 0u);
-    EXPECT_EQ(row["curved_pyramid_path"], "scalar double");
+    ASSERT_EQ(doc["results"].size(), 2u);
+    for (int i = 0; i < 2; ++i) {
+        const auto& row = doc["results"][size_t(i)];
+        EXPECT_EQ(row["base"], "cylinder");  // the surface the entry makes
+        EXPECT_EQ(row["radius"].get<double>(), 2.0 + i);
+        EXPECT_EQ(row["curved_pyramid_vs_walk_hit_miss"].get<size_t>(), 0u);
+        EXPECT_EQ(row["curved_pyramid_path"], "scalar double");
+    }
     EXPECT_NE(out.find("on cylinder R=2 ("), std::string::npos) << out;
+    EXPECT_NE(out.find("on cylinder R=3 ("), std::string::npos) << out;
     std::filesystem::remove(o.out);
 }
 

@@ -104,7 +104,7 @@ TEST(ParamsUnread, ExperimentTopLevelKeyAtItsLine) {
     EXPECT_EQ(experiment_error(with_line(kExperiment, "samples = 8\n", "sampels = 8")),
               "e.toml:3: unknown key 'sampels' (did you mean 'samples'?) in the experiment (known: "
               "name, description, "
-              "samples, backends, sweep_dt_deg, maps, exclude_filled, ground_truth, "
+              "samples, backends, sweep_dt_deg, maps, exclude_filled, ground_truth, truth_check, "
               "timing_repeats, precision, gl, gl_time_limit_s, texture_format, views, light, "
               "render, shading, heightfields, methods)");
 }

@@ -218,6 +218,68 @@ TEST(CurvedBase, LargeRadiusConvergesToThePlane) {
     }
 }
 
+// Issue 62: the curved truth is the pyramid tracer, and the walk at half the step that its
+// gt_agree_* columns compare it with walks one ray in 16 by default (truth_check = "subset":
+// the samples (i, j) with i % 4 == j % 4 == 2), every ray with "all", none with "none"; the
+// rays compared are gt_agree_rays, and nothing else in a row moves. The plane's cross-check
+// (Embree) takes every ray by default and the same subset when asked.
+TEST(CurvedBase, TruthCheckPicksTheRaysOfTheAgreementColumns) {
+    const std::string fields = field("base = \"cylinder\"\nradius = 0.5\n") +
+                               "[[heightfields]]\nname = \"p\"\ngenerator = \"bricks\"\n"
+                               "size = 64\nscale = 0.05\nbias = 1.0\n";
+    const auto by_default = run(kHead + fields + kMethods);
+    const auto all = run("truth_check = \"all\"\n" + kHead + fields + kMethods);
+    const auto subset = run("truth_check = \"subset\"\n" + kHead + fields + kMethods);
+    const auto none = run("truth_check = \"none\"\n" + kHead + fields + kMethods);
+    ASSERT_EQ(all.size(), by_default.size());
+    ASSERT_EQ(subset.size(), by_default.size());
+    ASSERT_EQ(none.size(), by_default.size());
+    int curved = 0, plane = 0;
+    for (size_t i = 0; i < all.size(); ++i) {
+        ASSERT_TRUE(all[i].ok()) << all[i].text("error");
+        const bool is_curved = all[i].text("heightfield") == "f";
+        // the default: a subset on the cylinder, every ray on the plane
+        const auto& d = by_default[i];
+        const auto& same = is_curved ? subset[i] : all[i];
+        for (const char* c : {"gt_agree_rays", "gt_agree_p50", "gt_agree_max"})
+            EXPECT_EQ(d.cell(c), same.cell(c)) << i << " " << c;
+        for (const char* c : {"err_mean", "err_max", "err_px_mean", "cover_extra_frac",
+                              "cover_missing_frac", "gt_residual_max", "depth_err_mean"})
+            for (const auto* rows : {&all, &subset, &none})
+                EXPECT_EQ((*rows)[i].cell(c), d.cell(c)) << i << " " << c;
+        // 32 x 32 samples: the subset is 8 x 8 of them, less those no reference hits
+        const double n_all = all[i].num("gt_agree_rays"), n_sub = subset[i].num("gt_agree_rays");
+        EXPECT_GT(n_sub, 0) << i;
+        EXPECT_LE(n_sub, 64) << i;
+        EXPECT_GT(n_all, 8 * n_sub) << i;
+        EXPECT_LE(n_all, 32 * 32) << i;
+        if (!is_curved) {
+            EXPECT_EQ(n_all, 32 * 32) << i;  // every ray hits the plane's relief
+        }
+        // the subset's statistics are of rays the whole check saw
+        EXPECT_LE(subset[i].num("gt_agree_max"), all[i].num("gt_agree_max")) << i;
+        if (is_curved) {  // the walk and the pyramid: rounding apart (Embree: its facets)
+            EXPECT_LT(all[i].num("gt_agree_max"), 1e-6) << i;
+        }
+        EXPECT_TRUE(std::isnan(none[i].num("gt_agree_max"))) << i;
+        EXPECT_TRUE(std::isnan(none[i].num("gt_agree_rays"))) << i;
+        ++(is_curved ? curved : plane);
+    }
+    EXPECT_GT(curved, 0);
+    EXPECT_GT(plane, 0);
+    const std::string err = parse_error("truth_check = \"some\"\n" + kHead + fields + kMethods);
+    EXPECT_EQ(err.rfind("e.toml:1", 0), 0u) << err;
+    EXPECT_NE(err.find("unknown truth_check 'some' (known: all, subset, none"), std::string::npos)
+        << err;
+    // the estimate counts the truth and the check walk's share of the rays at twice a walk
+    EXPECT_EQ(curved_walks("all", 1024), 3);
+    EXPECT_EQ(curved_walks("subset", 1024), 1 + 2.0 / 16);
+    EXPECT_EQ(curved_walks("", 1024), curved_walks("subset", 1024));
+    EXPECT_EQ(curved_walks("subset", 4), 1 + 2.0 / 4);  // 2 x 2 samples: one ray checked
+    EXPECT_EQ(curved_walks("none", 1024), 1);
+    EXPECT_EQ(truth_check_rays(64, "subset"), (std::vector<size_t>{18, 22, 50, 54}));
+}
+
 TEST(CurvedBase, AVanishingReliefIsExactEverywhere) {
     for (const char* name : {"cylinder", "sphere"}) {
         const auto rows = run(
@@ -398,7 +460,7 @@ TEST(CurvedBase, CurvedWalkIsEstimatedAndBounded) {
         "scale = 100\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n" +
         kMethods);
     EXPECT_EQ(err.rfind("e.toml:7", 0), 0u) << err;
-    EXPECT_NE(err.find("theta 88.9 phi 90: the curved truth's walk would take about 1.68e+13 steps "
+    EXPECT_NE(err.find("theta 88.9 phi 90: the curved truth's walk would take about 6.29e+12 steps "
                        "for the 65536 rays"),
               std::string::npos)
         << err;
@@ -450,11 +512,15 @@ TEST(CurvedBase, GrazingCylinderWithFourRaysIsRefusedBeforeTheRun) {
     };
     const std::string err = parse_error(toml("2", "100"));
     EXPECT_EQ(err.rfind("e.toml:7: heightfield 'f' (base cylinder radius 1000, s = 100) at theta "
-                        "88.9 phi 90: the curved truth's walk would take about 1.0",
+                        "88.9 phi 90: the curved truth's walk would take about 5.1",
                         0),
               0u)
         << err;
-    EXPECT_NE(err.find("e+09 steps for the 4 rays of this view"), std::string::npos) << err;
+    EXPECT_NE(err.find("e+08 steps for the 4 rays of this view"), std::string::npos) << err;
+    EXPECT_NE(err.find("the check walk at half the step on one ray in 16 (truth_check = "
+                       "\"subset\"): 1.5 walks"),
+              std::string::npos)
+        << err;
     EXPECT_NE(err.find("over the limit of 2^28 = 2.68e+08 steps a view (kMaxCurvedWalkSteps"),
               std::string::npos)
         << err;
@@ -477,11 +543,13 @@ TEST(CurvedBase, GrazingCylinderWithFourRaysIsRefusedBeforeTheRun) {
 // estimate's 1180) stops once both walks together pass 2^28 steps, and the run is refused at the
 // field's entry with the count, the limit and the knobs, never a walk of unbounded length (the
 // old budget, 2^32 for each walk, let it run to its end). About 2^28 steps of work: 10 to 25 s
-// on 2 cores, hence a suite of its own labelled slow.
+// on 2 cores, hence a suite of its own labelled slow. The check walk takes every ray here
+// (truth_check = "all"): on its default subset the view stays within its budget.
 TEST(CurvedBudget, WalkOverItsBudgetStopsTheRun) {
     const std::string toml =
-        "samples = 192\ntiming_repeats = 0\nbackends = [\"cpu\"]\n[views]\ntheta_deg = [80]\n"
-        "phi_deg = [90]\n[[heightfields]]\nname = \"f\"\ngenerator = \"step\"\nsize = 1024\n"
+        "samples = 192\ntiming_repeats = 0\nbackends = [\"cpu\"]\ntruth_check = \"all\"\n"
+        "[views]\ntheta_deg = [80]\nphi_deg = [90]\n[[heightfields]]\nname = \"f\"\n"
+        "generator = \"step\"\nsize = 1024\n"
         "scale = 0.05\nbias = 1.0\nbase = \"cylinder\"\nradius = 1000\n[[methods]]\n"
         "name = \"parallax\"\n";
     const Experiment ex = parse_experiment(toml, "e.toml");  // within the estimate
@@ -495,7 +563,7 @@ TEST(CurvedBudget, WalkOverItsBudgetStopsTheRun) {
     } catch (const InputError& x) {
         const std::string err = x.what();
         const std::string head =
-            "e.toml:7: heightfield 'f' (base cylinder radius 1000) at theta 80 phi 90: the curved "
+            "e.toml:8: heightfield 'f' (base cylinder radius 1000) at theta 80 phi 90: the curved "
             "truth's walk stopped after ";
         ASSERT_EQ(err.rfind(head, 0), 0u) << err;
         const double steps = std::stod(err.substr(head.size()));
