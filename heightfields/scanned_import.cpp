@@ -2,7 +2,6 @@
 // package each comes from and the one whose copyright covers it; convert(): its converter),
 // each source converted and written as NAME.png, NAME.mask.png and NAME.json, and --check's
 // comparison with the committed files.
-#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "harness/core/image_codec.h"
 #include "heightfields/heightfields.h"
 #include "heightfields/scan_convert.h"
 #include "heightfields/scanned.h"
@@ -124,11 +124,10 @@ void import_all(const std::string& out, const std::string& cache) {
 }
 
 std::vector<float> pixels(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return {};
-    std::vector<float> px(size_t(in->spec().width) * in->spec().height * in->spec().nchannels);
-    in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, px.data());
-    return px;
+    ImagePixels img;
+    std::string why;
+    if (!read_image_pixels(path, img, why, 1 << 20)) return {};
+    return img.px;
 }
 
 }  // namespace

@@ -14,7 +14,6 @@
 // Formats: .npz (NumPy), .gtx (PROJ's NOAA vertical grid format: header of 4 big-endian
 // doubles and 2 int32, then rows from the south), GeoTIFF tags 33550 (ModelPixelScale),
 // 34737 (GeoAsciiParams) and GDAL's 42113 (GDAL_NODATA, ASCII), read by heightfields/scan_io.
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -22,6 +21,7 @@
 #include <string>
 
 #include "harness/core/error.h"
+#include "harness/core/image_codec.h"
 #include "heightfields/scan_convert.h"
 #include "heightfields/scan_io.h"
 
@@ -31,26 +31,32 @@ namespace {
 using nlohmann::json;
 
 // Channel 0 of a single-image raster as stored (no normalisation of integers): the file's own
-// pixel type must be `type` (UINT8, INT16 or FLOAT).
-Grid read_raster(const std::string& path, OIIO::TypeDesc type) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw InputError(path, "cannot read: " + OIIO::geterror());
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.format != type || spec.nchannels != 1)
-        throw InputError(path, "expected 1 channel of " + std::string(type.c_str()) + ", found " +
-                                   std::to_string(spec.nchannels) + " of " + spec.format.c_str());
+// pixel type must be `type` ("uint8", "int16" or "float").
+Grid read_raster(const std::string& path, const std::string& type) {
+    const ImageCodec& codec = image_codec();
+    ImageFileInfo spec;
+    std::string why;
+    ImageReader* in = codec.open_path(path, spec, why);
+    if (!in) throw InputError(path, "cannot read: " + why);
+    if (spec.type != type || spec.channels != 1) {
+        codec.close(in, why);
+        throw InputError(path, "expected 1 channel of " + type + ", found " +
+                                   std::to_string(spec.channels) + " of " + spec.type);
+    }
     Grid g;
     g.w = spec.width;
     g.h = spec.height;
     const size_t n = size_t(g.w) * size_t(g.h);
-    std::vector<unsigned char> raw(n * type.size());
-    if (!in->read_image(0, 0, 0, 1, type, raw.data()))
-        throw InputError(path, "cannot read pixels: " + in->geterror());
+    std::vector<unsigned char> raw(n * spec.pixel_bytes);
+    const bool ok = codec.read(in, 0, 1, true, raw.data(), why);
+    std::string ignored;
+    codec.close(in, ignored);
+    if (!ok) throw InputError(path, "cannot read pixels: " + why);
     g.v.resize(n);
     for (size_t k = 0; k < n; ++k) {
-        const unsigned char* p = raw.data() + k * type.size();
-        if (type == OIIO::TypeDesc::UINT8) g.v[k] = *p;
-        else if (type == OIIO::TypeDesc::INT16) {
+        const unsigned char* p = raw.data() + k * spec.pixel_bytes;
+        if (type == "uint8") g.v[k] = *p;
+        else if (type == "int16") {
             int16_t x;
             std::memcpy(&x, p, 2);
             g.v[k] = x;
@@ -157,7 +163,7 @@ Converted convert_olinda(const Package& pkg) {
     const std::string rel = "/usr/lib/R/site-library/stars/tif/olinda_dem_utm25s.tif";
     const std::string path = pkg.root + rel;
     Converted c;
-    c.grid = read_raster(path, OIIO::TypeDesc::FLOAT);
+    c.grid = read_raster(path, "float");
     const TiffTag scale = read_tiff_tag(path, 33550), nodata = read_tiff_tag(path, 42113);
     if (scale.values.size() < 2) throw InputError(path, "no GeoTIFF pixel scale (tag 33550)");
     if (nodata.found) throw InputError(path, "declares no-data '" + nodata.ascii + "'");
@@ -187,7 +193,7 @@ Converted convert_luxembourg(const Package& pkg) {
     const std::string rel = "/usr/lib/R/site-library/terra/ex/elev.tif";
     const std::string path = pkg.root + rel;
     Converted c;
-    c.grid = read_raster(path, OIIO::TypeDesc::INT16);
+    c.grid = read_raster(path, "int16");
     const TiffTag scale = read_tiff_tag(path, 33550), nodata = read_tiff_tag(path, 42113);
     if (scale.values.size() < 2) throw InputError(path, "no GeoTIFF pixel scale (tag 33550)");
     if (!nodata.found) throw InputError(path, "no GDAL_NODATA tag (42113)");
@@ -217,7 +223,7 @@ Converted convert_luxembourg(const Package& pkg) {
 Converted convert_aloe(const Package& pkg) {
     const std::string rel = "/usr/share/doc/opencv-doc/examples/data/aloeGT.png";
     Converted c;
-    c.grid = read_raster(pkg.root + rel, OIIO::TypeDesc::UINT8);
+    c.grid = read_raster(pkg.root + rel, "uint8");
     mark_nodata(c.grid, 0);
     const auto [lo, hi] = finite_range(c.grid.v);
     fill_holes(c.grid);

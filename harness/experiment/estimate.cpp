@@ -13,10 +13,14 @@ namespace pxh {
 
 RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& backends_override) {
     // The model's constants (see experiment.h), measured on this project's machine (peak
-    // RSS of pxh run, fbm, samples 8: 181 MiB at 16^2; +52 to +55 bytes per texel from 1024^2
-    // to 8192^2, of which 10 are the field and its mipmap; samples 2048, 6 rows per view:
-    // 290 bytes per sample, which the terms below overestimate by a third).
-    constexpr size_t kBaseBytes = size_t(192) << 20;
+    // RSS of pxh run, fbm, samples 4: 62 MiB at 16^2, and 187 MiB once an image is read or
+    // written (maps = true), which loads OpenImageIO's module (harness/core/image_codec.h); +52
+    // to +55 bytes per texel from 1024^2 to 8192^2, of which 10 are the field and its mipmap;
+    // samples 2048, 6 rows per view: 290 bytes per sample, which the terms below overestimate
+    // by a third).
+    bool images = ex.maps || ex.render || ex.shading;
+    for (const HeightfieldSpec& h : ex.heightfields) images = images || h.generator.empty();
+    const size_t kBaseBytes = (size_t(64) << 20) + (images ? size_t(128) << 20 : 0);
     constexpr size_t kEmbreeBytesPerTexel = 45;
     // The exact tracer's square tables where the CPU has its AVX-512 path (ray_walk_simd.cpp):
     // 2.33 bytes per texel kept, and two float levels while they are built (peak 10.4; 13

@@ -170,7 +170,8 @@ BackendSettings backend_settings(const Experiment& ex);
 //   rows = height field entries (scale/bias expanded) x theta x phi x method settings x
 //          (precisions if cpu runs + texture formats if glsl runs)
 //   peak_bytes, with fields built one at a time (only the largest matters):
-//     kBaseBytes (the process: libraries, Embree's and TBB's threads; 192 MiB)
+//     kBaseBytes (the process: libraries, Embree's and TBB's threads; 64 MiB, 192 MiB once
+//     an image is read or written: OpenImageIO's module)
 //     + per texel of the largest field: 4 (its floats) + 1 (filled mask, scans only)
 //       + 6 (the exact tracer's maximum mipmap: 4/3 of a float per cell)
 //       + kEmbreeBytesPerTexel (Embree's GRID vertices and BVH, measured)

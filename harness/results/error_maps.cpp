@@ -1,8 +1,5 @@
 #include "harness/results/error_maps.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -34,6 +31,24 @@ void ramp(double t, float rgb[3]) {
 
 const char* kFont = "DejaVuSans";
 
+// An 8-bit RGB picture being drawn (floats 0..1, encoded as 8 bits when written).
+struct Canvas {
+    int width, height;
+    std::vector<float> px;
+    Canvas(int w, int h) : width(w), height(h), px(size_t(w) * size_t(h) * 3, 1.0f) {}
+    // [x0, x1) x [y0, y1), clipped
+    void fill(const float rgb[3], int x0, int x1, int y0, int y1) {
+        for (int y = std::max(y0, 0); y < std::min(y1, height); ++y)
+            for (int x = std::max(x0, 0); x < std::min(x1, width); ++x)
+                for (int c = 0; c < 3; ++c) px[(size_t(y) * width + size_t(x)) * 3 + c] = rgb[c];
+    }
+    void text(int x, int y, const std::string& s, int size, const float rgb[3]) {
+        std::string why;
+        if (!image_codec().render_text(px, width, height, x, y, s, size, kFont, rgb, why))
+            throw std::runtime_error("error map: cannot draw text '" + s + "': " + why);
+    }
+};
+
 }  // namespace
 
 void error_colour(double e, float rgb[3]) {
@@ -58,23 +73,22 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
     namespace fs = std::filesystem;
     make_own_folder(dir);  // inside the run's own partial folder: never through a link
     // Data: N x N x 3 floats.
-    OIIO::ImageBuf data(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::FLOAT));
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const Vec2d e = errors[size_t(j) * n + i];
-            const float px[3] = {float(e.x), float(e.y), float(std::hypot(e.x, e.y))};
-            data.setpixel(i, j, px);
-        }
+    std::vector<float> data(size_t(n) * size_t(n) * 3);
+    for (size_t at = 0; at < size_t(n) * size_t(n); ++at) {
+        const Vec2d e = errors[at];
+        data[3 * at] = float(e.x);
+        data[3 * at + 1] = float(e.y);
+        data[3 * at + 2] = float(std::hypot(e.x, e.y));
+    }
     const std::string exr = (fs::path(dir) / (stem + ".exr")).string();
-    write_new_image(data, exr);
+    write_new_image(data, n, n, 3, "float", exr);
 
     // Picture: the map scaled up (nearest) to at least 384 px, a title above, legend below.
     const ErrorMapBox box = error_map_box(n);
     const int side = box.side, k = side / n, top = box.y0, x0 = box.x0, legend = 64;
     const int width = std::max(side, 420);
-    OIIO::ImageBuf pic(OIIO::ImageSpec(width, top + side + legend, 3, OIIO::TypeDesc::UINT8));
-    const float white[3] = {1, 1, 1}, black[3] = {0, 0, 0};
-    OIIO::ImageBufAlgo::fill(pic, white);
+    Canvas pic(width, top + side + legend);  // white
+    const float black[3] = {0, 0, 0};
     bool outside = false;
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
@@ -84,31 +98,28 @@ std::string write_error_map(const std::vector<Vec2d>& errors, int n, const std::
             if (at < inside.size() && !inside[at]) outside = true;
             else error_colour(std::hypot(e.x, e.y), rgb);
             const int row = as_seen ? n - 1 - j : j;
-            OIIO::ImageBufAlgo::fill(
-                pic, rgb,
-                OIIO::ROI(x0 + i * k, x0 + (i + 1) * k, top + row * k, top + (row + 1) * k));
+            pic.fill(rgb, x0 + i * k, x0 + (i + 1) * k, top + row * k, top + (row + 1) * k);
         }
-    OIIO::ImageBufAlgo::render_text(pic, 6, 19, title, 14, kFont, black);
+    pic.text(6, 19, title, 14, black);
     // Legend: the colour bar from 1/16 to 16 texels (log2), ticks labelled.
     const int bx0 = 30, bx1 = width - 30, by0 = top + side + 10, by1 = by0 + 14;
     for (int x = bx0; x < bx1; ++x) {
         float rgb[3];
         ramp(double(x - bx0) / double(bx1 - bx0 - 1), rgb);
-        OIIO::ImageBufAlgo::fill(pic, rgb, OIIO::ROI(x, x + 1, by0, by1));
+        pic.fill(rgb, x, x + 1, by0, by1);
     }
     const char* labels[] = {"1/16", "1/4", "1", "4", "16"};
     for (int t = 0; t < 5; ++t) {
         const int x = bx0 + int(std::lround(double(t) / 4 * (bx1 - bx0 - 1)));
-        OIIO::ImageBufAlgo::fill(pic, black, OIIO::ROI(x, x + 1, by1, by1 + 4));
-        OIIO::ImageBufAlgo::render_text(pic, x - 8, by1 + 17, labels[t], 12, kFont, black);
+        pic.fill(black, x, x + 1, by1, by1 + 4);
+        pic.text(x - 8, by1 + 17, labels[t], 12, black);
     }
-    OIIO::ImageBufAlgo::render_text(pic, bx0, by1 + 34,
-                                    outside
-                                        ? "texel error (log; magenta: non-finite; grey: outside)"
-                                        : "texel error (log scale; magenta: non-finite)",
-                                    12, kFont, black);
+    pic.text(bx0, by1 + 34,
+             outside ? "texel error (log; magenta: non-finite; grey: outside)"
+                     : "texel error (log scale; magenta: non-finite)",
+             12, black);
     const std::string png = (fs::path(dir) / (stem + ".png")).string();
-    write_new_image(pic, png);
+    write_new_image(pic.px, pic.width, pic.height, 3, "uint8", png);
     return stem + ".png";
 }
 

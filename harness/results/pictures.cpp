@@ -1,8 +1,5 @@
 #include "harness/results/pictures.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -68,22 +65,20 @@ RgbImage checker_albedo(int size) {
 }
 
 RgbImage read_albedo_image(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw std::runtime_error("cannot be read as an image (" + OIIO::geterror() + ")");
-    const OIIO::ImageSpec spec = in->spec();
-    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1)
-        throw std::runtime_error("holds no pixels");
-    if (spec.width > 16384 || spec.height > 16384)
-        throw std::runtime_error("is larger than 16384 pixels a side");
-    std::vector<float> px(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, px.data()))
-        throw std::runtime_error("has pixels that cannot be read (" + in->geterror() + ")");
-    const bool encoded = !spec.format.is_floating_point();
+    ImagePixels in;
+    std::string why;
+    if (!read_image_pixels(path, in, why)) {
+        if (why == "holds no pixels" || why.rfind("is larger than", 0) == 0)
+            throw std::runtime_error(why);
+        throw std::runtime_error("cannot be read as an image (" + why + ")");
+    }
+    const ImageFileInfo& spec = in.info;
+    const bool encoded = !spec.floating;
     RgbImage img{spec.width, spec.height, std::vector<float>(size_t(spec.width) * spec.height * 3)};
     for (size_t k = 0; k < size_t(spec.width) * size_t(spec.height); ++k)
         for (size_t c = 0; c < 3; ++c) {
-            const int from = spec.nchannels >= 3 ? int(c) : 0;
-            const float raw = px[k * size_t(spec.nchannels) + size_t(from)];
+            const int from = spec.channels >= 3 ? int(c) : 0;
+            const float raw = in.px[k * size_t(spec.channels) + size_t(from)];
             const float v = std::isfinite(raw) ? std::clamp(raw, 0.0f, 1.0f) : 0.0f;
             img.rgb[3 * k + c] = encoded ? srgb_decode(v) : v;
         }
@@ -124,15 +119,15 @@ std::vector<float> difference(const std::vector<float>& a, const std::vector<flo
 }
 
 void write_picture(const std::vector<float>& rgb, int n, const std::string& path, bool as_seen) {
-    OIIO::ImageBuf img(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::UINT8));
+    std::vector<float> img(size_t(n) * size_t(n) * 3);
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
-            float px[3];
+            const size_t to = (size_t(as_seen ? n - 1 - j : j) * size_t(n) + size_t(i)) * 3;
             for (int c = 0; c < 3; ++c)
-                px[c] = std::clamp(rgb[(size_t(j) * n + size_t(i)) * 3 + size_t(c)], 0.0f, 1.0f);
-            img.setpixel(i, as_seen ? n - 1 - j : j, px);
+                img[to + size_t(c)] =
+                    std::clamp(rgb[(size_t(j) * n + size_t(i)) * 3 + size_t(c)], 0.0f, 1.0f);
         }
-    write_new_image(img, path);
+    write_new_image(img, n, n, 3, "uint8", path);
 }
 
 }  // namespace pxh

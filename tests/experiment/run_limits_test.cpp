@@ -54,9 +54,9 @@ TEST_F(RunLimits, RowsAndMemoryAreBoundedBeforeAnyWork) {
     EXPECT_NE(r.err.find("24000 rows"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("need more than --max-memory 1.0 MiB"), std::string::npos) << r.err;
     // Rows that fit, a run that does not (the process and the fields): the estimate's message.
-    r = pxh("run " + exp + " --max-memory 100M --out " + (dir / "res").string());
+    r = pxh("run " + exp + " --max-memory 50M --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
-    EXPECT_NE(r.err.find("of memory, over the limit of 100.0 MiB"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("of memory, over the limit of 50.0 MiB"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
     r = pxh("run " + exp + " --max-memory 12parsecs --out " + (dir / "res").string());
     EXPECT_EQ(r.status, 2) << r.err;
