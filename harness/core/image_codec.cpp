@@ -55,8 +55,7 @@ const ImageCodec& image_codec() {
     return *codec;
 }
 
-bool read_image_pixels(const std::string& path, ImagePixels& out, std::string& why,
-                       int max_side) {
+bool read_image_pixels(const std::string& path, ImagePixels& out, std::string& why, int max_side) {
     const ImageCodec& c = image_codec();
     ImageReader* r = c.open_path(path, out.info, why);
     if (!r) return false;

@@ -49,8 +49,8 @@ struct ImageCodec {
     bool (*write_file)(const std::string& path, int width, int height, int channels,
                        const char* type, const float* px, std::string& why);
     // The same image encoded in memory (the format of `path`'s extension) into `bytes`.
-    bool (*encode)(const std::string& path, int width, int height, int channels,
-                   const char* type, const float* px, std::string& bytes, std::string& why);
+    bool (*encode)(const std::string& path, int width, int height, int channels, const char* type,
+                   const float* px, std::string& bytes, std::string& why);
     // `text` drawn at (x, y) (the baseline's left end) in `font` at `size` pixels, colour `rgb`
     // (0..1), onto W x H pixels of 3 float channels.
     bool (*render_text)(std::vector<float>& px, int width, int height, int x, int y,

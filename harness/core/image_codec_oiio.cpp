@@ -173,8 +173,8 @@ bool render_text(std::vector<float>& px, int width, int height, int x, int y,
     return false;
 }
 
-const ImageCodec kCodec = {open_file, open_path,  read,   close_reader,
-                           write_file, encode, render_text};
+const ImageCodec kCodec = {open_file,  open_path, read,       close_reader,
+                           write_file, encode,    render_text};
 
 }  // namespace
 }  // namespace pxh
