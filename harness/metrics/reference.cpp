@@ -33,14 +33,18 @@ std::vector<ColumnSpec> reference_columns() {
                    "exact tracer: cells per ray given to the solver"}
             .in("truth", "cells/ray", Better::none),
         {"ground_truth", kText, kKey, "exact | embree: the reference of the err_* columns", kQuiet},
-        ColumnSpec{"gt_agree_p50", kNum, kMeasured, "|hit_exact - hit_embree| median (texels)"}.in(
-            "truth", "texels"),
+        ColumnSpec{"gt_agree_p50", kNum, kMeasured,
+                   "|hit_exact - hit_check| median (texels; the check: Embree on the plane, the "
+                   "walk at half "
+                   "the step on a curved base; over the rays gt_agree_rays counts)"}
+            .in("truth", "texels"),
         ColumnSpec{"gt_agree_p99", kNum, kMeasured,
-                   "|hit_exact - hit_embree| 99th percentile (texels)"}
+                   "|hit_exact - hit_check| 99th percentile (texels; over gt_agree_rays rays)"}
             .in("truth", "texels")
             .lead(),
-        ColumnSpec{"gt_agree_max", kNum, kMeasured, "|hit_exact - hit_embree| max (texels)"}.in(
-            "truth", "texels"),
+        ColumnSpec{"gt_agree_max", kNum, kMeasured,
+                   "|hit_exact - hit_check| max (texels; over gt_agree_rays rays)"}
+            .in("truth", "texels"),
         ColumnSpec{"gt_agree_frac_gt_0_5", kNum, kMeasured,
                    "fraction of samples where they differ > 0.5 texel"}
             .in("truth", "fraction"),

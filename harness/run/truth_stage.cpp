@@ -67,15 +67,16 @@ class ExactTruth final : public FieldTruth {
                 truth_check_rays(view.size(), ex_.truth_check.empty() ? "all" : ex_.truth_check);
             if (ks.empty()) return t;
             Hits other;
-            std::vector<Vec2d> mine;
             if (ks.size() == view.size()) {
                 other_->trace(view, other);
-                mine = t.gt.uv;
+                t.agree = reference_agreement(other.uv, t.gt.uv, hf_.width, hf_.height);
             } else {
                 other_->trace(sub_view(view, ks), other);
+                std::vector<Vec2d> mine;
+                mine.reserve(ks.size());
                 for (size_t k : ks) mine.push_back(t.gt.uv[k]);
+                t.agree = reference_agreement(other.uv, mine, hf_.width, hf_.height);
             }
-            t.agree = reference_agreement(other.uv, mine, hf_.width, hf_.height);
         }
         return t;
     }
