@@ -9,7 +9,7 @@ cd "$(dirname "$0")"
 
 # glslang-tools, spirv-cross: HLSL plug-ins (docs/guide/plugin-shaders.md, "HLSL and WGSL").
 PACKAGES=(
-  g++ cmake ninja-build pkg-config git zlib1g-dev
+  g++ cmake ninja-build pkg-config git zlib1g-dev libpng-dev
   libembree-dev libopenimageio-dev openimageio-tools libeigen3-dev libgtest-dev
   libosmesa6-dev libegl-dev libegl-mesa0 libgl1-mesa-dri python3-glad fonts-dejavu-core python3-matplotlib libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libtbb-dev
   clang-format

@@ -1,6 +1,8 @@
 // Height maps from image files: the file opened and its format recognised here, then read by
-// OpenImageIO (PNG, TIFF, OpenEXR, JPEG: image_oiio.cpp) or by pxh (the netpbm family, PGM,
-// PPM, PBM and PFM: image_netpbm.cpp). Nothing else is accepted.
+// OpenImageIO (PNG, TIFF, OpenEXR, JPEG: image_oiio.cpp), by libpng (the plain PNG layouts,
+// grey or RGB at 8 or 16 bits without transparency, to the same floats as OpenImageIO:
+// image_png.cpp) or by pxh (the netpbm family, PGM, PPM, PBM and PFM: image_netpbm.cpp).
+// Nothing else is accepted.
 //
 // Every file is treated as possibly hostile. Before a reader sees it:
 // - it must be a regular file (after following symlinks): a FIFO would block forever and
@@ -138,8 +140,9 @@ HeightField load_heightfield_file(const std::string& path, int channel) {
             pnm_space(m[2])) {
             hf = read_netpbm(reader, name, channel);
         } else if (starts("\x89PNG\r\n\x1a\n", 8)) {
-            check_png_chunks(reader);
-            hf = read_with_oiio(file.get(), "png", path, where, name, channel);
+            const PngLayout layout = check_png_chunks(reader);
+            hf = png_plain(layout) ? read_png_plain(file.get(), layout, where, name, channel)
+                                   : read_with_oiio(file.get(), "png", path, where, name, channel);
         } else if (starts("II*\0", 4) || starts("MM\0*", 4) || starts("II+\0", 4) ||
                    starts("MM\0+", 4)) {
             hf = read_with_oiio(file.get(), "tiff", path, where, name, channel);

@@ -178,8 +178,10 @@ void check_exr_header(Reader& r) {
 // PNG: every chunk's length must fit in the file before libpng sees it (libpng allocates what
 // a tEXt/zTXt/iTXt/iCCP chunk's length claims: a 344-byte file claiming 2 GB made it allocate
 // 2 GB; found by scripts/fuzz.sh, fuzz/corpus/image/png_text_chunk_length_2gb).
-void check_png_chunks(Reader& r) {
+PngLayout check_png_chunks(Reader& r) {
+    PngLayout p;
     r.skip(8, "PNG signature");
+    bool first = true;
     while (r.left() > 0) {
         unsigned char h[8];
         r.read(h, 8, "PNG chunk header");
@@ -188,10 +190,29 @@ void check_png_chunks(Reader& r) {
         const std::string type(reinterpret_cast<const char*>(h + 4), 4);
         if (len > 0x7fffffffULL)
             r.fail("PNG chunk '" + one_line(type) + "' has an impossible length");
-        r.skip((long long)len + 4,
-               "PNG chunk '" + one_line(type) + "' (" + std::to_string(len) + " bytes)");
+        const std::string what =
+            "PNG chunk '" + one_line(type) + "' (" + std::to_string(len) + " bytes)";
+        if (first && type == "IHDR" && len == 13) {  // the layout; its CRC is libpng's to check
+            unsigned char d[13];
+            r.read(d, 13, what);
+            auto be32 = [&](int o) {
+                return (long long)d[o] << 24 | (long long)d[o + 1] << 16 |
+                       (long long)d[o + 2] << 8 | (long long)d[o + 3];
+            };
+            p.width = be32(0);
+            p.height = be32(4);
+            p.bit_depth = d[8];
+            p.color_type = d[9];
+            p.interlace = d[12];
+            r.skip(4, what);
+        } else {
+            r.skip((long long)len + 4, what);
+        }
+        first = false;
+        if (type == "tRNS") p.trns = true;
         if (type == "IEND") break;
     }
+    return p;
 }
 
 }  // namespace pxh::image_detail

@@ -157,6 +157,11 @@ class Backend {
     virtual bool runs(const MethodSpec&) const { return true; }
     // The results' shader column for this method ("" where there is no shader).
     virtual std::string shader_of(const MethodInfo&) const { return ""; }
+    // Whether its rows are drawn in a process of its own (the GLSL backend's GL worker; not
+    // when it draws in this one): where nothing is timed, the runner draws them on a thread of
+    // its own beside the truth and the other backends' rows (harness/run/side_lane.h). Such a
+    // backend's run is then called from that one thread; shader_of from any.
+    virtual bool own_process() const { return false; }
     // Facts for run.json (e.g. gl_renderer, gl_version); empty by default.
     virtual std::map<std::string, std::string> facts() const { return {}; }
     // Every source compiled so far -> sha256 (run.json); empty by default.

@@ -60,6 +60,7 @@ class GlslChildBackend : public Backend {
     std::vector<Variant> variants() const override;
     MethodOutput run(const MethodSpec& m, const ViewInput& view, const Variant& v) override;
     std::string shader_of(const MethodInfo& m) const override;
+    bool own_process() const override { return local_ == nullptr; }
     std::map<std::string, std::string> facts() const override { return facts_; }
     std::map<std::string, std::string> sources() const override {
         return local_ ? local_->compiled_sources() : sources_;

@@ -525,18 +525,23 @@ void check_curved_bases(const Experiment& ex, const std::string& ground_truth_wh
 // InputError at the field's entry naming the view and the estimate otherwise. Run after
 // --samples too (the estimate grows with the rays).
 void check_curved_walk(const Experiment& ex) {
+    // each view's ray count, made once (a view does not depend on the field)
+    std::vector<size_t> view_rays;
     for (const HeightfieldSpec& h : ex.heightfields) {
         if (!base_entry(h.base).curved) continue;
         const auto base = make_base(h.base, h.radius);
         const FieldSize size = field_size(h);
+        size_t v = 0;
         for (const CameraSetting& c : ex.camera_settings)
             for (double th : measured_thetas(ex))
                 for (double phi : ex.phi_deg) {
                     const auto cam = Camera::create(ex.camera, c, {th, phi, ex.samples});
-                    const double walks = curved_walks(ex.truth_check, cam->view().size());
-                    const CurvedWalkEstimate e = curved_walk_estimate(
-                        *base, h.scale, h.bias, int(size.width), int(size.height), *cam,
-                        cam->view().size(), 0.25, walks);
+                    if (v == view_rays.size()) view_rays.push_back(cam->view().size());
+                    const size_t rays = view_rays[v++];
+                    const double walks = curved_walks(ex.truth_check, rays);
+                    const CurvedWalkEstimate e =
+                        curved_walk_estimate(*base, h.scale, h.bias, int(size.width),
+                                             int(size.height), *cam, rays, 0.25, walks);
                     const std::string said =
                         "the truth, and the check walk at half the step on " +
                         std::string(ex.truth_check == "all"    ? "every ray (truth_check = \"all\")"

@@ -48,10 +48,10 @@ OutputDiff compare_uv(const std::vector<Vec2d>& uv_a, const std::vector<int>& fe
     double sum = 0;
     for (double x : d) sum += x;
     r.mean = sum / double(d.size());
-    std::sort(d.begin(), d.end());
-    r.max = d.back();
-    r.p999 = percentile_sorted(d, 0.999);
-    r.p95 = percentile_sorted(d, 0.95);
+    const std::vector<double> p = percentiles_of(d, {0.95, 0.999, 1.0});
+    r.p95 = p[0];
+    r.p999 = p[1];
+    r.max = p[2];
     return r;
 }
 
@@ -72,8 +72,7 @@ double depth_diff_p999(const std::vector<double>& a, const std::vector<double>& 
         d.push_back(std::isfinite(a[k] - b[k]) ? std::abs(a[k] - b[k]) : INFINITY);
     }
     if (d.empty()) return NAN;
-    std::sort(d.begin(), d.end());
-    return percentile_sorted(d, 0.999);
+    return percentiles_of(d, {0.999})[0];
 }
 
 void add_agreement(ResultRow& row, const MethodOutput& glsl, const MethodOutput& cpu_float,

@@ -62,10 +62,10 @@ void add_depth_errors(const MetricInput& in, ResultRow& row) {
     const double count = double(mag.size());
     double sum = 0;
     for (double m : mag) sum += m;
-    std::sort(mag.begin(), mag.end());
+    const std::vector<double> p = percentiles_of(mag, {0.95, 1.0});
     row.set("depth_err_mean", sum / count);
-    row.set("depth_err_p95", percentile_sorted(mag, 0.95));
-    row.set("depth_err_max", mag.back());
+    row.set("depth_err_p95", p[0]);
+    row.set("depth_err_max", p[1]);
     row.set("depth_bias_mean", bias / count);
     row.set("depth_toward_frac", toward / count);
 }

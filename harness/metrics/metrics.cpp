@@ -32,6 +32,40 @@ double percentile_sorted(const std::vector<double>& s, double q) {
     return s[i] + (s[i + 1] - s[i]) * f;
 }
 
+std::vector<double> percentiles_of(std::vector<double>& v, const std::vector<double>& qs) {
+    std::vector<double> out;
+    out.reserve(qs.size());
+    const size_t n = v.size();
+    // [from, n) not yet ordered; everything before `from` is in its sorted place
+    size_t from = 0;
+    auto at = [&](size_t i) {  // the i-th smallest, put in its place
+        if (i >= from) {
+            std::nth_element(v.begin() + long(from), v.begin() + long(i), v.end());
+            from = i + 1;
+        }
+        return v[i];
+    };
+    for (double q : qs) {
+        const double pos = q * double(n - 1);
+        const size_t i = size_t(std::floor(pos));
+        if (i + 1 >= n) {
+            out.push_back(at(n - 1));
+            continue;
+        }
+        const double lo = at(i);
+        // the next order statistic: the least of what lies above i (put at i + 1)
+        if (i + 1 >= from) {
+            std::iter_swap(v.begin() + long(i + 1),
+                           std::min_element(v.begin() + long(i + 1), v.end()));
+            from = i + 2;
+        }
+        const double hi = v[i + 1];
+        const double f = pos - double(i);
+        out.push_back(lo + (hi - lo) * f);
+    }
+    return out;
+}
+
 SweepMetrics sweep_metrics(const std::vector<Vec2d>& e0, const std::vector<Vec2d>& e1, double step,
                            int width, int height) {
     SweepMetrics m;
@@ -87,11 +121,11 @@ ErrorStats error_stats(const std::vector<double>& magnitudes) {
     st.rms = std::sqrt(sum2 / n);
     st.frac_gt_0_5 = double(gt05) / n;
     st.frac_gt_1 = double(gt1) / n;
-    std::sort(v.begin(), v.end());
-    st.p50 = percentile_sorted(v, 0.50);
-    st.p95 = percentile_sorted(v, 0.95);
-    st.p99 = percentile_sorted(v, 0.99);
-    st.max = v.back();
+    const std::vector<double> p = percentiles_of(v, {0.50, 0.95, 0.99, 1.0});
+    st.p50 = p[0];
+    st.p95 = p[1];
+    st.p99 = p[2];
+    st.max = p[3];
     return st;
 }
 

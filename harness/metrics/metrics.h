@@ -22,6 +22,11 @@ struct ErrorStats {
 // position q (N - 1) in the sorted values. `sorted` must be ascending and non-empty.
 double percentile_sorted(const std::vector<double>& sorted, double q);
 
+// percentile_sorted(sorted v, q) for each q of `qs` (ascending, in [0, 1]), by selection rather
+// than a sort (the same two order statistics, the same arithmetic: the same doubles); v is
+// reordered. v must be non-empty and hold no NaN.
+std::vector<double> percentiles_of(std::vector<double>& v, const std::vector<double>& qs);
+
 // Sliding and shimmering (docs/conventions.md section 5.3) from the error vectors of two views a
 // sweep step apart (dt degrees of theta, or dd tiles of eye distance): d(P) = e1(P) - e0(P)
 // (wrapped to the half-open tile range, in texels); sliding = |mean_P d| / step (coherent drift,

@@ -1,6 +1,8 @@
 #include "harness/run/runner.h"
 
 #include <algorithm>
+#include <functional>
+#include <future>
 #include <memory>
 #include <optional>
 #include <set>
@@ -32,13 +34,18 @@ std::vector<std::unique_ptr<Backend>> make_backends(const Experiment& ex, const 
     return out;
 }
 
-// Image files and scans are loaded once up front and dropped, so that a bad file fails before
-// any work.
+// Image files and scans are loaded once and dropped, so that a bad file fails before any row
+// is returned (run_experiment: on a thread of its own, beside the fields that need no file).
 void check_field_files(const Experiment& ex) {
     std::set<std::string> checked;
     for (const auto& spec : ex.heightfields)
         if (spec.generator.empty() && checked.insert(spec.file + "|" + spec.scan).second)
             (void)make_heightfield(spec);
+}
+
+bool needs_files(const Experiment& ex) {
+    return std::any_of(ex.heightfields.begin(), ex.heightfields.end(),
+                       [](const HeightfieldSpec& h) { return h.generator.empty(); });
 }
 
 bool same_field(const HeightfieldSpec& a, const HeightfieldSpec& b) {
@@ -189,7 +196,15 @@ std::vector<std::string> preflight_backends(const Experiment& ex, const RunOptio
 
 std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& opt, RunInfo* info) {
     const BackendSettings settings = settings_of(ex, opt);
+    // The lane is made before the backends, so that it outlives them: a GL worker it started
+    // again dies with its thread (harness/run/side_lane.h).
+    std::optional<SideLane> lane;
     const auto backends = make_backends(ex, opt, settings);
+    bool times_nothing = true;
+    for (const auto& b : backends) {
+        if (b->own_process() && !lane) lane.emplace();
+        if (backend_repeats(b->name(), settings) > 0) times_nothing = false;
+    }
     if (opt.warning)
         for (const auto& b : backends)
             if (const BackendEntry& e = backend_entry(b->name()); e.warnings)
@@ -197,8 +212,16 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     const std::unique_ptr<Backend> reference = make_reference_backend(settings);
     // Height fields are built one at a time (a sweep of thousands of fields, or of scales on
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
-    // reuse it.
-    check_field_files(ex);
+    // reuse it. The image files are checked first, on a thread of their own (reading the first
+    // one loads OpenImageIO, 0.3 s or more): the fields made by generators go on meanwhile,
+    // and the check is waited for before a field read from a file is built, and before the
+    // rows are returned (a bad file: nothing returned, the run folder never completed).
+    std::future<void> files_checked;
+    if (needs_files(ex))
+        files_checked = std::async(std::launch::async, check_field_files, std::cref(ex));
+    auto files_ok = [&] {
+        if (files_checked.valid()) files_checked.get();  // rethrows the check's error
+    };
     const ViewGrid grid(ex);
     size_t steps = 0;
     const std::vector<SweepPlace> places = plan_sweeps(ex, opt, backends, steps);
@@ -221,6 +244,7 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             }))
             continue;  // another slice's field
         if (!field || !same_field(spec, *built)) {
+            if (spec.generator.empty()) files_ok();
             if (info && resources) info->resource_builds += resources->builds();
             resources.reset();
             levels.reset();
@@ -235,14 +259,24 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         const std::unique_ptr<BaseSurface> surface = base.make(spec.radius);
         const std::unique_ptr<FieldTruth> truth =
             make_field_truth(base.truth, {ex, *field, spec, *surface});
-        const FieldContext ctx{
-            ex,   backends, *reference, *field, spec, *resources, levels ? &*levels : nullptr,
-            base, *surface, *truth};
+        const FieldContext ctx{ex,
+                               backends,
+                               *reference,
+                               *field,
+                               spec,
+                               *resources,
+                               levels ? &*levels : nullptr,
+                               base,
+                               *surface,
+                               *truth,
+                               lane ? &*lane : nullptr,
+                               times_nothing};
         pairs.start_field();
         for (auto sw = sweeps; sw != sweeps + long(grid.sweeps_per_field()); ++sw)
             if (std::count(sw->runs.begin(), sw->runs.end(), true))
                 run_sweep(ctx, *sw, opt, step, steps, rows, info, pairs);
     }
+    files_ok();
     if (info && resources) info->resource_builds += resources->builds();
     if (info)
         for (const auto& b : backends) info->backends[b->name()] = b->record(settings);

@@ -32,6 +32,9 @@ struct ViewJob {
     double lod_mean = NAN;       // mean max(lambda, 0) over the inside samples
     FloatSpacing spacing;        // float's coarsest spacing at the inside samples
     bool shade = false;          // [shading]: a backend with its own shading shades its image
+    // The rows of backends in a process of their own, drawn on the run's lane (FieldContext::
+    // lane) in row order; nullptr: drawn here.
+    SideRows* side = nullptr;
 
     ViewInput input() const {
         ViewInput in{scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
@@ -155,6 +158,9 @@ void run_method(ViewJob& job, const MethodSpec& m) {
         const bool is_reference = backend_entry(backend->name()).reference;
         if (!backend->runs(m)) continue;
         for (const Variant& v : backend->variants()) {
+            // drawn on the lane: taken first, whatever happens to the row here
+            std::optional<SideRows::Row> drawn;
+            if (job.side && backend->own_process()) drawn = job.side->take();
             try {
                 // Built on first use, then shared by every view and backend (a failed build
                 // fails this row).
@@ -163,7 +169,15 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                                         job.scene.bias, &m.params);
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
-                MethodOutput o = backend->run(m, vin, v);
+                MethodOutput o;
+                if (drawn && !drawn->out) {  // it failed there: the same row as failing here
+                    ResultRow row;
+                    row.fail(drawn->error);
+                    row.set_text("shader", drawn->shader);
+                    job.emit(std::move(row), {}, m, backend->name(), v);
+                    continue;
+                }
+                o = drawn ? std::move(*drawn->out) : backend->run(m, vin, v);
                 std::vector<uint8_t> shows;
                 ResultRow row = scored_row(job, m, o, v, res, shows);
                 if (is_reference) {
@@ -192,6 +206,31 @@ void run_method(ViewJob& job, const MethodSpec& m) {
             add_precision_agreement(
                 compare_outputs(*ref_float, *ref_double, hf.width, hf.height, inside),
                 job.out.rows[*float_row]);
+    }
+}
+
+// The view's rows of the backends in a process of their own, posted to the lane in the order
+// run_method takes them (methods x those backends x variants).
+void post_side_rows(const ViewJob& job, SideRows& side) {
+    const FieldContext& c = job.c;
+    const ViewInput in = job.input();
+    for (const auto& m : c.ex.methods) {
+        if (!m.runs_on(c.spec.name)) continue;
+        for (const auto& backend : c.backends) {
+            if (!backend->own_process() || !backend->runs(m)) continue;
+            Backend* b = backend.get();
+            for (const Variant& v : b->variants())
+                side.add(
+                    [&c, &m, &job, b, in, v] {
+                        const MethodResources res =
+                            c.resources.get(m.method->name, m.method->resources, job.scene.scale,
+                                            job.scene.bias, &m.params);
+                        ViewInput vin = in;
+                        if (!res.items.empty()) vin.resources = &res;
+                        return b->run(m, vin, v);
+                    },
+                    [&m, b] { return b->shader_of(*m.method); });
+        }
     }
 }
 
@@ -230,10 +269,19 @@ ViewRows evaluate(const FieldContext& c, double theta, double phi, size_t camera
     // V: the view's direction; a camera whose rays are not parallel gives each sample its own.
     const Scene<double> scene{c.spec.scale, c.spec.bias, view_vector(theta, phi),
                               c.hf.width,   c.hf.height, c.base.curvature()};
-    ViewJob job{c,  theta,   phi, camera, timed, view, scene, c.truth.trace(bv, theta, phi, timed),
-                {}, nullptr, {},  {},     NAN,   {}};
+    ViewJob job{c, theta, phi, camera, timed, view, scene, {}, {}, nullptr, {}, {}, NAN, {}};
     job.shade = shade;
     set_lambda(job);
+    // Where nothing is timed, the rows of backends in a process of their own are drawn on the
+    // run's lane while this thread traces the truth and runs the other rows (declared after
+    // `job`: it waits for the lane before what the drawing reads is gone).
+    std::optional<SideRows> side;
+    if (c.lane && (!timed || c.times_nothing)) {
+        side.emplace(*c.lane);
+        job.side = &*side;
+        post_side_rows(job, *side);
+    }
+    job.truth = c.truth.trace(bv, theta, phi, timed);
     job.spacing = float_spacing(view, c.hf.width, c.hf.height);
     job.holes = hole_mask(c.hf, job.truth.gt);
     if (c.ex.exclude_filled && !job.holes.on_filled.empty()) job.exclude = &job.holes.on_filled;

@@ -6,6 +6,7 @@
 
 #include "harness/backends/backend.h"
 #include "harness/experiment/experiment.h"
+#include "harness/run/side_lane.h"
 #include "harness/run/truth_stage.h"
 #include "harness/scene/texture_levels.h"
 
@@ -41,6 +42,11 @@ struct FieldContext {
     const BaseEntry& base_entry;  // the base's entry: its views
     const BaseSurface& base;      // the base itself (its curvature: the methods' scene)
     const FieldTruth& truth;      // the base's truth
+    // The thread the rows of backends in a process of their own are drawn on, beside the truth
+    // and the other rows (harness/run/side_lane.h); nullptr: every row on the calling thread.
+    // Used in untimed views, and in every view when the run times nothing (`times_nothing`).
+    SideLane* lane = nullptr;
+    bool times_nothing = false;
 };
 
 // The rows of one view (theta, phi, the experiment's camera setting `camera`). timed = false

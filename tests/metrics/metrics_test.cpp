@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <vector>
 
 namespace pxh {
 namespace {
@@ -65,6 +68,33 @@ TEST(ErrorStats, AllNonFiniteGivesNaNStatsNotZero) {
     const ErrorStats s = error_stats({NAN, NAN});
     EXPECT_EQ(s.nonfinite, 2);
     EXPECT_TRUE(std::isnan(s.mean));
+}
+
+// The selection gives what a sort gives, to the bit: ties, infinities, every size up to 40 and
+// the quantiles' edges (0, 1, a rank exactly, between two ranks).
+TEST(Percentiles, SelectionEqualsTheSortedArray) {
+    std::mt19937 rng(7);
+    const std::vector<double> qs = {0.0, 0.25, 0.5, 0.5, 0.95, 0.99, 0.999, 1.0};
+    for (size_t n = 1; n <= 40; ++n)
+        for (int trial = 0; trial < 20; ++trial) {
+            std::vector<double> v(n);
+            for (double& x : v) {
+                const unsigned r = rng() % 10;
+                x = r == 0 ? INFINITY : r < 3 ? double(rng() % 4) : double(rng()) / 7.0;
+            }
+            std::vector<double> sorted = v;
+            std::sort(sorted.begin(), sorted.end());
+            const std::vector<double> got = percentiles_of(v, qs);
+            ASSERT_EQ(got.size(), qs.size());
+            for (size_t i = 0; i < qs.size(); ++i) {
+                const double want = percentile_sorted(sorted, qs[i]);
+                if (std::isnan(want)) {
+                    EXPECT_TRUE(std::isnan(got[i])) << "n " << n << " q " << qs[i];
+                } else {
+                    EXPECT_EQ(got[i], want) << "n " << n << " q " << qs[i];
+                }
+            }
+        }
 }
 
 }  // namespace
