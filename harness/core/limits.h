@@ -17,6 +17,10 @@ constexpr int kMaxSamples = 8192;
 constexpr size_t kDefaultMaxRows = 1000000;
 constexpr size_t kDefaultMaxMemoryBytes = size_t(8) << 30;  // 8 GiB
 constexpr size_t kBytesPerRow = 1024;
+// Rows of a backend in a process of its own that the side lane draws ahead of the rows scored
+// (harness/run/side_lane.h): their outputs are held meanwhile (the memory estimate counts them,
+// and the one being drawn).
+constexpr size_t kSideRowsAhead = 4;
 
 // gl_time_limit_s, pxh run --gl-time-limit: the default and the largest accepted (one day).
 constexpr double kDefaultGlTimeLimitS = 120;

@@ -77,9 +77,15 @@ RunEstimate estimate_run(const Experiment& ex, const std::vector<std::string>& b
     const size_t curved_bytes =
         curved ? 16 + 24 + 32 + 1 + 48 + 1 + 2 * (16 + 8 + 24 + 1 + 32) + 2 + rows_per_view * 16
                : 0;
+    // Outputs alive at once: the reference's float and double and the row being scored, and
+    // with another backend (the GLSL backend, whose rows may be drawn in its own process) the
+    // side lane's rows ahead and the one it draws.
+    bool own_process = false;
+    for (const std::string& b : backends) own_process = own_process || !backend_entry(b).reference;
+    const size_t outputs = 3 + (own_process ? kSideRowsAhead + 1 : 0);
     const size_t view =
         n2 * (kViewBytesPerSample + camera_bytes + curved_bytes + rows_per_view * 16 * views_alive +
-              3 * kOutputBytesPerSample + (ex.maps ? 16 : 0));
+              outputs * kOutputBytesPerSample + (ex.maps ? 16 : 0));
     const size_t results = est.rows * kBytesPerRow;
     est.peak_bytes = kBaseBytes + field + view + results;
     est.detail = "process " + format_bytes(kBaseBytes) +

@@ -23,6 +23,7 @@
 #include <thread>
 
 #include "harness/backends/backend.h"
+#include "harness/core/limits.h"
 
 namespace pxh {
 
@@ -45,9 +46,9 @@ class SideLane {
 };
 
 // One view's rows of the own-process backends, drawn on the lane in row order, at most
-// `window` outputs ahead of the rows taken (a view's outputs are not all held at once). The
-// destructor waits for the lane to finish this view's work (rows not yet begun are skipped), so
-// nothing the work reads outlives it.
+// `window` outputs ahead of the rows taken (kSideRowsAhead) (a view's outputs are not all held at
+// once). The destructor waits for the lane to finish this view's work (rows not yet begun are
+// skipped), so nothing the work reads outlives it.
 class SideRows {
   public:
     struct Row {
@@ -55,7 +56,7 @@ class SideRows {
         std::string error;
         std::string shader;  // the results' shader column of a failed row
     };
-    SideRows(SideLane& lane, size_t window = 2) : lane_(lane), window_(window) {}
+    SideRows(SideLane& lane, size_t window = kSideRowsAhead) : lane_(lane), window_(window) {}
     ~SideRows();
     SideRows(const SideRows&) = delete;
     SideRows& operator=(const SideRows&) = delete;
