@@ -99,15 +99,16 @@ TEST_F(SideLaneRun, UntimedRunsGiveTheTimedRunsRowsAndNumbers) {
             .theta("[0, 50, 75]")
             .view("camera", "\"perspective\"")
             .view("distance", "2")
-            .field("bricks", 32, "scale = 0.05\nbias = 1.0\nbase = [\"plane\", \"cylinder\"]\nradius = 0.5")
+            .field("bricks", 32,
+                   "scale = 0.05\nbias = 1.0\nbase = [\"plane\", \"cylinder\"]\nradius = 0.5")
             .method("parallax")
             .method("pom", "layers = 16")
             .method("relief", "layers = 16")
             .method("curved_relief")
             .str();
     };
-    ASSERT_EQ(pxh("run " + write("timed.toml", experiment(1)) + " --out " + (dir / "timed").string() +
-                  " --quiet")
+    ASSERT_EQ(pxh("run " + write("timed.toml", experiment(1)) + " --out " +
+                  (dir / "timed").string() + " --quiet")
                   .status,
               0);
     ASSERT_EQ(pxh("run " + write("untimed.toml", experiment(0)) + " --out " +
