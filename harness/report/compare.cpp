@@ -74,6 +74,7 @@ int run_compare(const std::string& base_dir, const std::string& new_dir, const C
     read_base(base_dir, opt, base);
     Bands bands(opt.band_edges);
     Tally tally;
+    tally.band_context = varying_context(base.values);
     // The timing tests' family first (NEW read once more): each row's verdict is Holm's.
     timing_family(new_dir, opt, base, tally);
     tally.base_left_out = base.left_out;

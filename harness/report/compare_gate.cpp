@@ -131,7 +131,10 @@ void add_to_band(const Rec& b, const Rec& n, const ResultRow& now, const Timing&
     const int band = bands.of(b.theta);
     if (band < 0) return;
     bands.add_view(band, b.theta);
-    BandAcc& a = tally.bands[{series_of(now), band}];
+    std::string series = series_of(now);  // and its context: rows of two bases never pooled
+    for (const std::string& k : tally.band_context)
+        if (const std::string v = key_cell(now, k); !v.empty()) series += " " + k + "=" + v;
+    BandAcc& a = tally.bands[{series, band}];
     ++a.rows;
     for (int i = 0; i < kNumErrors; ++i) a.d[i].add(n.err[i] - b.err[i]);
     if (std::isfinite(timing.ratio) && timing.ratio > 0) {

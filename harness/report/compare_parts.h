@@ -48,6 +48,9 @@ struct KeyValues {
 };
 // "samples 64 vs 32; lod base vs level": the keys whose values differ between the runs.
 std::string key_differences(const KeyValues& b, const KeyValues& n);
+// The context keys (columns.h: base, radius, samples, the cameras' keys, a component's own)
+// that take more than one value in these rows, in key order: the band table splits by them.
+std::vector<std::string> varying_context(const KeyValues& v);
 
 // Four significant digits, "-" when missing.
 std::string sig(double v);
@@ -200,8 +203,11 @@ struct Tally {
     Capped only_new_names;
     Ranked regressions;
     std::map<std::string, GroupAcc> groups;
+    // Per series, the context keys varying in BASE (base, radius, a camera's keys, ...; see
+    // band_context) and theta band: the band table never averages across a context key.
     std::map<std::pair<std::string, int>, BandAcc> bands;
-    std::vector<Changed> rows;  // kept to the kShown largest (trimmed as it grows)
+    std::vector<std::string> band_context;  // the context keys whose values vary in BASE
+    std::vector<Changed> rows;              // kept to the kShown largest (trimmed as it grows)
     size_t rows_changed = 0;
     int t_slower = 0, t_faster = 0, t_noise = 0, t_too_few = 0, t_no_repeats = 0;
     Holm family;               // the timing tests' (timing_family)

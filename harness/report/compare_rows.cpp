@@ -86,6 +86,16 @@ std::string name_of_key(const std::string& key) {
     });
 }
 
+std::vector<std::string> varying_context(const KeyValues& v) {
+    std::vector<std::string> out;
+    for (size_t i = 0; i < keys().size(); ++i) {
+        if (v.values[i].size() < 2) continue;
+        for (const ColumnSpec* axis : row_axes())
+            if (axis->name == keys()[i] && context_key(*axis)) out.push_back(keys()[i]);
+    }
+    return out;
+}
+
 std::string key_differences(const KeyValues& b, const KeyValues& n) {
     std::string s;
     for (size_t i = 0; i < keys().size(); ++i) {

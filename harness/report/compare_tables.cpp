@@ -62,7 +62,10 @@ TextTable band_table(const Tally& tally, const Bands& bands) {
                           signed_sig(a.d[5].get()), signed_sig(a.d[3].get()), ratio});
     }
     t.notes.push_back(
-        "d: mean over the band's rows of NEW - BASE (err: texels; err_px: screen pixels; "
+        "method [backend] names KEY=VALUE for each context key whose values vary between "
+        "BASE's rows (base, radius, a camera's keys, ...): rows that differ in one are never "
+        "pooled; d: mean over the band's rows of NEW - BASE (err: texels; err_px: screen "
+        "pixels; "
         "fetches per sample); time ratio: "
         "geometric mean of NEW / BASE medians of time (each row in its backend's time_unit); a row "
         "is "

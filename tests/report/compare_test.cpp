@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <set>
+#include <sstream>
 
 #include "harness/core/error.h"
 #include "tests/cli_util.h"
@@ -154,6 +156,48 @@ TEST_F(Compare, RowsInOneRunOnly) {
     // Rows new in NEW are listed, not a regression.
     EXPECT_EQ(run("compare " + d("fewer_run") + " " + d("base") + " --fail-on err_mean=+0"), 0);
     EXPECT_NE(slurp(dir / "out.txt").find("Rows only in NEW (6)"), std::string::npos);
+}
+
+// The band table keeps rows of two bases apart (and names the radius where a base has one):
+// a mean of NEW - BASE over a plane row and a cylinder row would be no row's change.
+TEST_F(Compare, BandTableNeverPoolsTwoBases) {
+    const std::string exp = pxh::test::ExperimentToml("bases")
+                                .samples(16)
+                                .backends("\"cpu\"")
+                                .theta("[0, 40]")
+                                .field("fbm", 32,
+                                       "scale = 0.05\nbias = 1.0\nbase = [\"plane\", "
+                                       "\"cylinder\"]\nradius = 0.5")
+                                .method("parallax");
+    write("bases.toml", exp);
+    ASSERT_EQ(run("run " + d("bases.toml") + " --quiet --out " + d("bases_a")), 0);
+    ASSERT_EQ(run("run " + d("bases.toml") + " --quiet --out " + d("bases_b")), 0);
+    const auto r = pxh("compare " + d("bases_a") + " " + d("bases_b"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    // The band lines: series, band and row count, columns apart by two spaces or more.
+    std::set<std::string> lines;
+    std::istringstream in(r.out);
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("parallax [cpu/float]", 0) != 0) continue;
+        std::string cells;
+        for (size_t k = 0, n = 0; k < line.size() && n < 3; ++k) {
+            const bool gap = line.compare(k, 2, "  ") == 0;
+            if (gap) {
+                while (k + 1 < line.size() && line[k + 1] == ' ') ++k;
+                if (++n < 3) cells += " | ";
+            } else {
+                cells += line[k];
+            }
+        }
+        lines.insert(cells);
+    }
+    const std::set<std::string> want = {
+        "parallax [cpu/float] base=cylinder radius=0.5 | 0 <= θ < 30 | 1",
+        "parallax [cpu/float] base=cylinder radius=0.5 | 30 <= θ < 60 | 1",
+        "parallax [cpu/float] base=plane | 0 <= θ < 30 | 1",
+        "parallax [cpu/float] base=plane | 30 <= θ < 60 | 1"};
+    EXPECT_EQ(lines, want) << r.out;
+    EXPECT_EQ(r.out.find("base=plane radius="), std::string::npos) << r.out;
 }
 
 TEST_F(Compare, BadInputIsOneLineExit2) {
