@@ -1,6 +1,7 @@
 #include "harness/run/runner.h"
 
 #include <algorithm>
+#include <chrono>
 #include <functional>
 #include <future>
 #include <memory>
@@ -88,13 +89,15 @@ void check_view_place(const ViewRows& view, const SweepPlace& sw, size_t t, bool
 // their sliding and shimmering pairs through `pairs` (a view that pairs with one this run does
 // not make, a slice's, is traced as a companion, timed = false: the unsharded numbers).
 void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& opt, size_t& step,
-               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, SweepPairer& pairs) {
+               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, SweepPairer& pairs,
+               const std::function<void()>& files_poll) {
     const Experiment& ex = ctx.ex;
     const size_t p = sw.at.phi, c = sw.at.camera;
     const double phi = ex.phi_deg[p];
     pairs.start_sweep();
     for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
         if (!sw.runs[t]) continue;
+        files_poll();  // a bad image file stops the run as soon as its check says so
         const double theta = ex.theta_deg[t];
         ++step;
         if (opt.progress)
@@ -222,6 +225,11 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     auto files_ok = [&] {
         if (files_checked.valid()) files_checked.get();  // rethrows the check's error
     };
+    const std::function<void()> files_poll = [&] {
+        if (files_checked.valid() &&
+            files_checked.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
+            files_checked.get();
+    };
     const ViewGrid grid(ex);
     size_t steps = 0;
     const std::vector<SweepPlace> places = plan_sweeps(ex, opt, backends, steps);
@@ -274,7 +282,7 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         pairs.start_field();
         for (auto sw = sweeps; sw != sweeps + long(grid.sweeps_per_field()); ++sw)
             if (std::count(sw->runs.begin(), sw->runs.end(), true))
-                run_sweep(ctx, *sw, opt, step, steps, rows, info, pairs);
+                run_sweep(ctx, *sw, opt, step, steps, rows, info, pairs, files_poll);
     }
     files_ok();
     if (info && resources) info->resource_builds += resources->builds();
