@@ -57,10 +57,13 @@ bool read_rows(FILE* f, const PngLayout& p, png_bytep* rows, PngError* err) {
         png_get_bit_depth(png, info) != p.bit_depth ||
         png_get_color_type(png, info) != p.color_type)
         png_error(png, "the header libpng read disagrees with the IHDR chunk");
-    if (p.bit_depth == 16) png_set_swap(png);  // to this machine's byte order
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    if (p.bit_depth == 16) png_set_swap(png);  // PNG's big-endian samples to this machine's order
+#endif
     (void)png_set_interlace_handling(png);
     png_read_update_info(png, info);
     png_read_image(png, rows);
+    png_read_end(png, nullptr);  // the chunks after the pixels checked too (as OpenImageIO's)
     png_destroy_read_struct(&png, &info, nullptr);
     return true;
 }

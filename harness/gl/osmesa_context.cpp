@@ -35,7 +35,10 @@ OsmesaApi load_osmesa() {
     }
     auto sym = [&](const char* name) {
         void* f = dlsym(h, name);
-        if (!f) throw std::runtime_error(std::string("OSMesa: libOSMesa.so.8 has no ") + name);
+        if (!f) {
+            dlclose(h);
+            throw std::runtime_error(std::string("OSMesa: libOSMesa.so.8 has no ") + name);
+        }
         return f;
     };
     OsmesaApi a;

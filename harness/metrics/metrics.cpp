@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace pxh {
 
@@ -36,7 +37,11 @@ std::vector<double> percentiles_of(std::vector<double>& v, const std::vector<dou
     std::vector<double> out;
     out.reserve(qs.size());
     const size_t n = v.size();
-    // [from, n) not yet ordered; everything before `from` is in its sorted place
+    if (!std::is_sorted(qs.begin(), qs.end()))
+        throw std::logic_error("percentiles_of: the quantiles must be ascending");
+    // v is partitioned at `from`: everything in [0, from) is at most everything in [from, n),
+    // and the order statistics taken so far (at from - 1, and from - 2 after a `hi`) are in
+    // their sorted places; the next ones, at ranks >= from, are selected from [from, n)
     size_t from = 0;
     auto at = [&](size_t i) {  // the i-th smallest, put in its place
         if (i >= from) {

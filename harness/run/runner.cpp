@@ -1,9 +1,6 @@
 #include "harness/run/runner.h"
 
 #include <algorithm>
-#include <chrono>
-#include <functional>
-#include <future>
 #include <memory>
 #include <optional>
 #include <set>
@@ -35,18 +32,13 @@ std::vector<std::unique_ptr<Backend>> make_backends(const Experiment& ex, const 
     return out;
 }
 
-// Image files and scans are loaded once and dropped, so that a bad file fails before any row
-// is returned (run_experiment: on a thread of its own, beside the fields that need no file).
+// Image files and scans are loaded once up front and dropped, so that a bad file fails before
+// any work.
 void check_field_files(const Experiment& ex) {
     std::set<std::string> checked;
     for (const auto& spec : ex.heightfields)
         if (spec.generator.empty() && checked.insert(spec.file + "|" + spec.scan).second)
             (void)make_heightfield(spec);
-}
-
-bool needs_files(const Experiment& ex) {
-    return std::any_of(ex.heightfields.begin(), ex.heightfields.end(),
-                       [](const HeightfieldSpec& h) { return h.generator.empty(); });
 }
 
 bool same_field(const HeightfieldSpec& a, const HeightfieldSpec& b) {
@@ -89,15 +81,13 @@ void check_view_place(const ViewRows& view, const SweepPlace& sw, size_t t, bool
 // their sliding and shimmering pairs through `pairs` (a view that pairs with one this run does
 // not make, a slice's, is traced as a companion, timed = false: the unsharded numbers).
 void run_sweep(const FieldContext& ctx, const SweepPlace& sw, const RunOptions& opt, size_t& step,
-               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, SweepPairer& pairs,
-               const std::function<void()>& files_poll) {
+               size_t steps, std::vector<ResultRow>& rows, RunInfo* info, SweepPairer& pairs) {
     const Experiment& ex = ctx.ex;
     const size_t p = sw.at.phi, c = sw.at.camera;
     const double phi = ex.phi_deg[p];
     pairs.start_sweep();
     for (size_t t = 0; t < ex.theta_deg.size(); ++t) {
         if (!sw.runs[t]) continue;
-        files_poll();  // a bad image file stops the run as soon as its check says so
         const double theta = ex.theta_deg[t];
         ++step;
         if (opt.progress)
@@ -215,21 +205,8 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
     const std::unique_ptr<Backend> reference = make_reference_backend(settings);
     // Height fields are built one at a time (a sweep of thousands of fields, or of scales on
     // a large one, holds one field in memory); entries that share a field (a scale/bias sweep)
-    // reuse it. The image files are checked first, on a thread of their own (reading the first
-    // one loads OpenImageIO, 0.3 s or more): the fields made by generators go on meanwhile,
-    // and the check is waited for before a field read from a file is built, and before the
-    // rows are returned (a bad file: nothing returned, the run folder never completed).
-    std::future<void> files_checked;
-    if (needs_files(ex))
-        files_checked = std::async(std::launch::async, check_field_files, std::cref(ex));
-    auto files_ok = [&] {
-        if (files_checked.valid()) files_checked.get();  // rethrows the check's error
-    };
-    const std::function<void()> files_poll = [&] {
-        if (files_checked.valid() &&
-            files_checked.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
-            files_checked.get();
-    };
+    // reuse it. The image files are checked first, so that a bad file fails before any work.
+    check_field_files(ex);
     const ViewGrid grid(ex);
     size_t steps = 0;
     const std::vector<SweepPlace> places = plan_sweeps(ex, opt, backends, steps);
@@ -252,7 +229,6 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
             }))
             continue;  // another slice's field
         if (!field || !same_field(spec, *built)) {
-            if (spec.generator.empty()) files_ok();
             if (info && resources) info->resource_builds += resources->builds();
             resources.reset();
             levels.reset();
@@ -282,9 +258,8 @@ std::vector<ResultRow> run_experiment(const Experiment& ex, const RunOptions& op
         pairs.start_field();
         for (auto sw = sweeps; sw != sweeps + long(grid.sweeps_per_field()); ++sw)
             if (std::count(sw->runs.begin(), sw->runs.end(), true))
-                run_sweep(ctx, *sw, opt, step, steps, rows, info, pairs, files_poll);
+                run_sweep(ctx, *sw, opt, step, steps, rows, info, pairs);
     }
-    files_ok();
     if (info && resources) info->resource_builds += resources->builds();
     if (info)
         for (const auto& b : backends) info->backends[b->name()] = b->record(settings);

@@ -67,8 +67,7 @@ void SideRows::add(std::function<MethodOutput()> run, std::function<std::string(
             row->error = e.what();
             row->shader = shader();
         } catch (...) {
-            row->error = "unknown error";
-            row->shader = shader();
+            row->fatal = std::current_exception();
         }
     }));
 }
@@ -88,6 +87,7 @@ SideRows::Row SideRows::take() {
         ++taken_;
     }
     room_.notify_all();
+    if (r.fatal) std::rethrow_exception(r.fatal);
     return r;
 }
 

@@ -15,6 +15,7 @@
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <future>
 #include <mutex>
@@ -55,6 +56,9 @@ class SideRows {
         std::optional<MethodOutput> out;  // empty: the row failed, `error` says why
         std::string error;
         std::string shader;  // the results' shader column of a failed row
+        // Not a std::exception: rethrown by take() on the calling thread, as the same throw
+        // would leave the view there (a std::exception fails the row, as run_method does).
+        std::exception_ptr fatal;
     };
     SideRows(SideLane& lane, size_t window = kSideRowsAhead) : lane_(lane), window_(window) {}
     ~SideRows();

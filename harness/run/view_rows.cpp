@@ -161,6 +161,13 @@ void run_method(ViewJob& job, const MethodSpec& m) {
             // drawn on the lane: taken first, whatever happens to the row here
             std::optional<SideRows::Row> drawn;
             if (job.side && backend->own_process()) drawn = job.side->take();
+            if (drawn && !drawn->out) {  // it failed there: the row it fails with here
+                ResultRow row;
+                row.fail(drawn->error);
+                row.set_text("shader", drawn->shader);
+                job.emit(std::move(row), {}, m, backend->name(), v);
+                continue;
+            }
             try {
                 // Built on first use, then shared by every view and backend (a failed build
                 // fails this row).
@@ -169,15 +176,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
                                         job.scene.bias, &m.params);
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
-                MethodOutput o;
-                if (drawn && !drawn->out) {  // it failed there: the same row as failing here
-                    ResultRow row;
-                    row.fail(drawn->error);
-                    row.set_text("shader", drawn->shader);
-                    job.emit(std::move(row), {}, m, backend->name(), v);
-                    continue;
-                }
-                o = drawn ? std::move(*drawn->out) : backend->run(m, vin, v);
+                MethodOutput o = drawn ? std::move(*drawn->out) : backend->run(m, vin, v);
                 std::vector<uint8_t> shows;
                 ResultRow row = scored_row(job, m, o, v, res, shows);
                 if (is_reference) {
