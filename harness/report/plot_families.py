@@ -133,10 +133,19 @@ def family_figure(F, st, entry, data_dir):
     # side by side, as many as the width takes (not stacked in one column)
     nc = max(1, min(len(panels), F.columns(len(cells)))) if len(panels) > 1 else \
         F.columns(len(cells))
-    fig, axes = F.grid(len(cells), aspect=0.72, ncols=nc)
     pw = F.width / nc
     thetas = max(int(num(r["thetas"]) or 1) for r in rows)
     n_chars = chars_for(0.7 * pw - 0.25, 8)  # the axes: the panel less its tick labels
+
+    def title_of(col, panel):  # wrapped at "_", never cut: the name tells panels apart
+        title = wrap_name(col, n_chars)
+        return wrap_keys(panel, n_chars) + "\n" + title if panel else title
+
+    # the titles' lines are added to the panels' height, not taken from the plot (at one
+    # column's width a key and a long column name take three or four lines)
+    title_lines = max(title_of(c[0], c[3]).count("\n") + 1 for c in cells)
+    fig, axes = F.grid(len(cells), aspect=0.72, ncols=nc,
+                       extra_row_in=max(0, title_lines - 1) * 8 * 1.3 / 72)
     drawn, under = set(), {}  # lines drawn in some panel; a hidden line: the lines it lay under
     for i, (ax, (col, unit, bt, panel)) in enumerate(zip(axes, cells)):
         values, shown = [], []  # shown: (points, line) drawn in this panel
@@ -160,15 +169,15 @@ def family_figure(F, st, entry, data_dir):
             colour, marker, style = styles[line]
             ax.plot([p[0] for p in pts], [p[1] for p in pts], color=colour, marker=marker,
                     ls=style, lw=1.0, ms=3, alpha=0.9, zorder=3 + (len(lines) - k) * 0.01)
-        title = wrap_name(col, n_chars)  # wrapped at "_", never cut: the name tells panels apart
-        if panel:
-            title = wrap_keys(panel, n_chars) + "\n" + title
+        title = title_of(col, panel)
         if hidden:  # said under the title, off the data: lines that lie under the one drawn
             note = f"({hidden + 1} lines coincide: drawn once)"
             title += "\n" + (note if len(note) <= n_chars else f"({hidden + 1} coincide)")
         ax.set_title(title, fontsize=8)
-        # the axes' height: the panel's less its title lines (8 pt) and the x tick labels
-        axis_in = max(0.3, pw * 0.72 - (title.count("\n") + 1) * 8 * 1.3 / 72 - 0.3)
+        # the axes' height: the panel's (its title's lines beyond one added to it) less one
+        # title line (8 pt) and the x tick labels
+        axis_in = max(0.3, pw * 0.72 - (title.count("\n") + 1 - (title_lines - 1)) * 8 * 1.3 / 72
+                      - 0.3)
         if unit:
             ax.set_ylabel(ellipsize(unit, chars_for(pw * 0.6, 7)), fontsize=7)
         if values and min(values) > 0 and max(values) >= 10 * min(values):

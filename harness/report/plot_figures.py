@@ -122,11 +122,14 @@ class Figures:
     def columns(self, n):
         return max(1, min(n, 3 if self.width >= 6 else 2))
 
-    def grid(self, n, aspect=0.72, ncols=None):
+    def grid(self, n, aspect=0.72, ncols=None, extra_row_in=0.0):
+        """n panels, ncols a row, each pw * aspect tall plus extra_row_in (its title's lines,
+        which would otherwise come out of the plot's height)."""
         nc = ncols or self.columns(n)
         nr = max(1, math.ceil(n / nc))
         pw = self.width / nc
-        fig, axes = plt.subplots(nr, nc, figsize=(self.width, pw * aspect * nr + 0.35),
+        fig, axes = plt.subplots(nr, nc, figsize=(self.width, (pw * aspect + extra_row_in) * nr
+                                                  + 0.35),
                                  squeeze=False, constrained_layout=True)
         for ax in list(axes.flat)[n:]:
             ax.axis("off")
