@@ -36,6 +36,13 @@ struct ViewJob {
     // lane) in row order; nullptr: drawn here.
     SideRows* side = nullptr;
 
+    // Setting m's resources at this view's s, b: built on first use, then shared by every
+    // view and backend (thread-safe: the side lane fetches them too).
+    MethodResources resources_of(const MethodSpec& m) const {
+        return c.resources.get(m.method->name, m.method->resources, scene.scale, scene.bias,
+                               &m.params);
+    }
+
     ViewInput input() const {
         ViewInput in{scene, c.hf, view, c.ex.light ? &*c.ex.light : nullptr, timed};
         in.levels = c.levels;
@@ -171,9 +178,7 @@ void run_method(ViewJob& job, const MethodSpec& m) {
             try {
                 // Built on first use, then shared by every view and backend (a failed build
                 // fails this row).
-                const MethodResources res =
-                    job.c.resources.get(m.method->name, m.method->resources, job.scene.scale,
-                                        job.scene.bias, &m.params);
+                const MethodResources res = job.resources_of(m);
                 ViewInput vin = in;
                 if (!res.items.empty()) vin.resources = &res;
                 MethodOutput o = drawn ? std::move(*drawn->out) : backend->run(m, vin, v);
@@ -220,10 +225,8 @@ void post_side_rows(const ViewJob& job, SideRows& side) {
             Backend* b = backend.get();
             for (const Variant& v : b->variants())
                 side.add(
-                    [&c, &m, &job, b, in, v] {
-                        const MethodResources res =
-                            c.resources.get(m.method->name, m.method->resources, job.scene.scale,
-                                            job.scene.bias, &m.params);
+                    [&m, &job, b, in, v] {
+                        const MethodResources res = job.resources_of(m);
                         ViewInput vin = in;
                         if (!res.items.empty()) vin.resources = &res;
                         return b->run(m, vin, v);
