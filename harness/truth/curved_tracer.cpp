@@ -221,18 +221,27 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
     // the threads); each ray's walk is its own, so the hits do not depend on the chunks
     const size_t grain = std::clamp<size_t>(n / 256, 1, 64);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const auto& rg) {
+        if (pyramid_) {
+            // a ray's steps are few: up to 64 rays at a time, in vector lanes where the CPU has
+            // them, may take what the budget had left when they began (each ray what was left
+            // of that when it began, plus 4096), and are charged after them
+            CurvedPyramid::One o[64];
+            const size_t m = rg.end() - rg.begin();
+            for (size_t at = 0; at < m; at += 64) {
+                if (budget.over.load(std::memory_order_relaxed)) return;
+                const double left = budget.max_steps - double(budget.used.load());
+                const size_t c = std::min<size_t>(64, m - at);
+                pyramid_->trace_many(&rays[rg.begin() + at], c, o,
+                                     (long long)std::clamp(left, 0.0, 4e18));
+                for (size_t i = 0; i < c; ++i) {
+                    one[rg.begin() + at + i] = {o[i].hit, o[i].t, o[i].residual, o[i].steps};
+                    budget.spend(o[i].steps);
+                }
+            }
+            return;
+        }
         for (size_t k = rg.begin(); k != rg.end(); ++k) {
             if (budget.over.load(std::memory_order_relaxed)) return;
-            if (pyramid_) {
-                // a ray's steps are few: each ray may take what the budget had left when it
-                // began (plus 4096), and is charged after it
-                const double left = budget.max_steps - double(budget.used.load());
-                const CurvedPyramid::One o =
-                    pyramid_->trace_one(rays[k], (long long)std::clamp(left, 0.0, 4e18) + 4096);
-                one[k] = {o.hit, o.t, o.residual, o.steps};
-                budget.spend(o.steps);
-                continue;
-            }
             one[k] = trace_one(rays[k], budget);
             budget.spend(one[k].steps & 4095);
         }

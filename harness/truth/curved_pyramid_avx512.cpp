@@ -1,0 +1,47 @@
+// The pyramid tracer's avx512 path: curved_pyramid_lanes.h's kernel, 8 rays to a vector
+// (CurvedPyramid::trace_many picks it where the CPU has avx512). Every header this file takes
+// from the library and the standard library is included before the target pragma, so their
+// inline functions stay compiled for every CPU; only the kernel and the lane type after it
+// are compiled for avx512. GCC 12's AVX-512 headers start some conversions from
+// _mm512_undefined_*(), which its -Wmaybe-uninitialized reports once inlined (a known false
+// positive, as in ray_walk_simd.cpp).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+#include <immintrin.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "harness/scene/heightfield.h"
+#include "harness/truth/curved_pyramid.h"
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512dq")
+#define PXH_LANES_AVX512 1
+#include "harness/truth/curved_pyramid_lanes.h"
+#endif
+
+namespace pxh {
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+void CurvedPyramid::trace_avx512(const WorldRay* rays, size_t n, One* out,
+                                 long long max_steps) const {
+    PyramidLanes<Lanes8> lanes(*this, atan_table());
+    lanes.run(rays, n, out, max_steps);
+}
+#else
+void CurvedPyramid::trace_avx512(const WorldRay* rays, size_t n, One* out,
+                                 long long max_steps) const {
+    trace_many(rays, n, out, max_steps, Path::scalar);  // no avx512 code on this compiler
+}
+#endif
+
+}  // namespace pxh
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#pragma GCC pop_options
+#endif
