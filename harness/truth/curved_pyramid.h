@@ -57,7 +57,7 @@ class CurvedPyramid {
     // `max_steps` (over the n rays) when it began, plus 4096.
     void trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
                     Path path = default_path()) const;
-    int levels() const { return int(max_.size()); }
+    int levels() const { return int(nx_.size()); }
 
     // Deliberate breakage, for the tests only: every node bound lowered by `shrink_ulps` float
     // steps, and nodes of level `skip_level` whose indices (i + j) % 5 == 0 taken as cleared
@@ -126,7 +126,7 @@ class CurvedPyramid {
     CellEnd cell_steps(const WorldRay& r, const CellWalk& w, double& tt, double& t_safe, One& out,
                        long long max_steps) const;
     float node_max(int k, int64_t ni, int64_t nj) const {
-        return max_[size_t(k)][size_t(nj) * size_t(nx_[size_t(k)]) + size_t(ni)];
+        return max_[size_t(off_[size_t(k)]) + size_t(nj) * size_t(nx_[size_t(k)]) + size_t(ni)];
     }
 
     const HeightField& hf_;
@@ -135,10 +135,13 @@ class CurvedPyramid {
     Kind kind_;
     double R_;
     int W_, H_;
-    double margin_;                        // tiles: the shells' rounding margin
-    double tiny_;                          // tiles: past a node's exit (1e-10 texel)
-    double rmin_;                          // R + s (0 - b): no point of the segments is nearer
-    std::vector<std::vector<float>> max_;  // per level, per node: max corner height, dilated
+    double margin_;  // tiles: the shells' rounding margin
+    double tiny_;    // tiles: past a node's exit (1e-10 texel)
+    double rmin_;    // R + s (0 - b): no point of the segments is nearer
+    // per level (from off_[k], nx_[k] x ny_[k] nodes, row by row), per node: the largest corner
+    // height, dilated
+    std::vector<float> max_;
+    std::vector<int64_t> off_;
     std::vector<int> nx_, ny_;
     std::vector<Latitude> lat_;  // the sphere's rows from lat_lo_
     int64_t lat_lo_ = 0;

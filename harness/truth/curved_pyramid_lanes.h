@@ -66,13 +66,15 @@ struct PyramidLanes {
     alignas(64) double g[N], gL[N], newton[N];
     // the level (a whole number), and per visit: the node has a sector (below the top), is
     // skipped (break_for_test), the cell's patch is the walk's (1 or 0)
-    alignas(64) double kd[N], hasx[N], skipf[N], own[N];
+    alignas(64) double kd[N], hasx[N], skipf[N], own[N], cid[N], cjd[N];
     int64_t ci[N], cj[N];
     uint8_t mode[N], floor_ends[N];
     // the pyramid's levels, and the sphere's latitude table
     const float* lev[64];
     int64_t lnx[64];
     int top;
+    // per level k: 2^-k, 2^k, the nodes in a row, the level's offset in the pyramid
+    alignas(64) double inv_pow2[64], pow2[64], nxd[64], offd[64];
     long long steps[N], cap[N];
     size_t ray[N];
 
@@ -91,9 +93,14 @@ struct PyramidLanes {
             ray[l] = 0;
         }
         top = P.levels() - 1;
-        for (int i = 0; i <= top && i < 64; ++i) {
-            lev[i] = P.max_[size_t(i)].data();
-            lnx[i] = P.nx_[size_t(i)];
+        for (int i = 0; i < 64; ++i) {
+            const int li = std::min(i, top);
+            lev[i] = P.max_.data() + P.off_[size_t(li)];
+            lnx[i] = P.nx_[size_t(li)];
+            inv_pow2[i] = std::ldexp(1.0, -i);
+            pow2[i] = std::ldexp(1.0, i);
+            nxd[i] = double(lnx[i]);
+            offd[i] = double(P.off_[size_t(li)]);
         }
     }
 
@@ -435,6 +442,8 @@ struct PyramidLanes {
         const int64_t W = P.W_, Hh = P.H_;
         ci[l] = bilinear_index(fx0[l]);
         cj[l] = bilinear_index(fy0[l]);
+        cid[l] = double(ci[l]);
+        cjd[l] = double(cj[l]);
         const int kk = int(kd[l]);
         const int64_t TI = floor_div(ci[l], W), TJ = floor_div(cj[l], Hh);
         const int64_t ni = (ci[l] - TI * W) >> kk, nj = (cj[l] - TJ * Hh) >> kk;
@@ -444,6 +453,60 @@ struct PyramidLanes {
         nj_[l] = nj;
         hi[l] =
             P.s_ * (double(lev[kk][size_t(nj) * size_t(lnx[kk]) + size_t(ni)]) - P.b_) + P.margin_;
+    }
+
+    // traverse_bound and traverse_node in lanes, for the vector's lanes in `act` whose cell lies
+    // in the tile (TI = TJ = 0, the node's indices ci 2^-k and cj 2^-k exactly) and, on the sphere,
+    // whose borders' latitudes are in the table; the others are returned, for the scalar code
+    unsigned traverse_nodes(int o, unsigned act_bits) {
+        const M act = L::from_bits(act_bits);
+        const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K = ld(kd + o), T = ld(t + o);
+        const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
+        M in = L::mand(act, L::mand(L::mand(L::ge(X0, c(0)), L::lt(X0, Wd)),
+                                    L::mand(L::ge(Y0, c(0)), L::lt(Y0, Hd))));
+        const D sk = L::lookup(inv_pow2, K), pk = L::lookup(pow2, K);
+        const D ni = L::floor(L::mul(X0, sk)), nj = L::floor(L::mul(Y0, sk));
+        const M below_top = L::lt(K, c(double(top)));
+        L::store(hasx + o, L::select(below_top, c(1), c(0)));
+        L::store(tiny + o, L::add(c(P.tiny_), L::mul(c(4 * kEps), L::abs(T))));
+        L::store(cid + o, X0);
+        L::store(cjd + o, Y0);
+        const D c0 = L::mul(ni, pk), c1 = smin(L::mul(L::add(ni, c(1)), pk), Wd);
+        const D d0 = L::mul(nj, pk), d1 = smin(L::mul(L::add(nj, c(1)), pk), Hd);
+        L::store(u0 + o, L::select(below_top, L::mul(L::add(c0, c(0.5)), c(iw)), c(-kInf)));
+        L::store(u1 + o, L::select(below_top, L::mul(L::add(c1, c(0.5)), c(iw)), c(kInf)));
+        L::store(v0 + o, L::mul(L::add(d0, c(0.5)), c(ih)));
+        L::store(v1 + o, L::mul(L::add(d1, c(0.5)), c(ih)));
+        if (P.kind_ == Kind::sphere) {
+            static_assert(sizeof(CurvedPyramid::Latitude) == 4 * sizeof(double));
+            const D lo = c(double(P.lat_lo_)), rows = c(double(P.lat_.size()));
+            const D i0 = L::sub(d0, lo), i1 = L::sub(d1, lo);
+            const M ok0 = L::mand(L::ge(i0, c(0)), L::lt(i0, rows));
+            const M ok1 = L::mand(L::ge(i1, c(0)), L::lt(i1, rows));
+            in = L::mand(in, L::mor(L::mand(ok0, ok1), L::mnot(below_top)));
+            const M get = L::mand(in, below_top);
+            const D j0 = L::select(get, L::mul(i0, c(4)), c(0));
+            const D j1 = L::select(get, L::mul(i1, c(4)), c(0));
+            const double* base = &P.lat_[0].e;
+            L::store(e0 + o, L::select(get, L::lookup(base, j0), c(-kPi)));
+            L::store(e1 + o, L::select(get, L::lookup(base, j1), c(kPi)));
+            L::store(c20 + o, L::lookup(base + 1, j0));
+            L::store(s20 + o, L::lookup(base + 2, j0));
+            L::store(c21 + o, L::lookup(base + 1, j1));
+            L::store(s21 + o, L::lookup(base + 2, j1));
+        }
+        const D idx = L::add(L::add(L::lookup(offd, K), L::mul(nj, L::lookup(nxd, K))), ni);
+        const D mx = L::lookup(P.max_.data(), L::select(in, idx, c(0)));
+        L::store(hi + o, L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_)));
+        if (P.breakage_.skip_level >= 0) {
+            alignas(64) double na[V], nb[V];
+            L::store(na, ni);
+            L::store(nb, nj);
+            for (int i = 0; i < V; ++i)
+                skipf[o + i] = int(kd[o + i]) == P.breakage_.skip_level &&
+                               (int64_t(na[i]) + int64_t(nb[i])) % 5 == 0;
+        }
+        return L::bits(L::mandnot(act, in));
     }
 
     // the node's sector
@@ -649,13 +712,20 @@ struct PyramidLanes {
             }
             if (tr) {
                 for (int o = 0; o < N; o += V) traverse_coords(o);
-                for (unsigned b = tr; b; b &= b - 1) traverse_bound(__builtin_ctz(b));
-                for (unsigned b = tr; b; b &= b - 1) traverse_node(__builtin_ctz(b));
+                for (int o = 0; o < N; o += V) {
+                    const unsigned rest = traverse_nodes(o, (tr >> o) & kVectorBits);
+                    for (unsigned b = rest; b; b &= b - 1) {
+                        traverse_bound(o + __builtin_ctz(b));
+                        traverse_node(o + __builtin_ctz(b));
+                    }
+                }
                 for (int o = 0; o < N; o += V) traverse_bounds(o);
                 for (int o = 0; o < N; o += V) {
                     const unsigned enter = traverse_decide(o, (tr >> o) & kVectorBits);
                     for (unsigned b = enter; b; b &= b - 1) {
                         const int l = o + __builtin_ctz(b);
+                        ci[l] = int64_t(cid[l]);
+                        cj[l] = int64_t(cjd[l]);
                         const CurvedPyramid::CellBounds cb = P.cell_bounds(ci[l], cj[l]);
                         cL[l] = cb.L;
                         cK[l] = cb.K;

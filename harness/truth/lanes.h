@@ -69,6 +69,10 @@ struct Lanes8 {
     static D lookup(const double* table, D i) {
         return _mm512_i64gather_pd(_mm512_cvttpd_epi64(i), table, 8);
     }
+    // double(table[i]) (i under 2^31)
+    static D lookup(const float* table, D i) {
+        return _mm512_cvtps_pd(_mm512_i64gather_ps(_mm512_cvttpd_epi64(i), table, 4));
+    }
 };
 #endif
 
@@ -113,6 +117,9 @@ struct Lanes4 {
     static D select(M m, D a, D b) { return _mm256_blendv_pd(b, a, m); }
     static D lookup(const double* table, D i) {
         return _mm256_i32gather_pd(table, _mm256_cvttpd_epi32(i), 8);
+    }
+    static D lookup(const float* table, D i) {
+        return _mm256_cvtps_pd(_mm_i32gather_ps(table, _mm256_cvttpd_epi32(i), 4));
     }
 };
 #endif
