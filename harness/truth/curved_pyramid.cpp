@@ -172,7 +172,9 @@ CurvedPyramid::CurvedPyramid(const HeightField& hf, double scale, double bias,
         lat_lo_ = std::max<int64_t>(int64_t(std::floor(0.5 * H - half)), -4 * int64_t(H));
         const int64_t hi = std::min<int64_t>(int64_t(std::ceil(0.5 * H + half)), 5 * int64_t(H));
         for (int64_t d = lat_lo_; d <= hi; ++d) lat_.push_back(make_latitude(d));
+        for (int64_t d = lat_lo_; d <= hi; ++d) row_speeds_.push_back(make_speeds(d));
     }
+    speeds_ = make_speeds(0);
     // the levels one after another in max_ (level k from off_[k])
     nx_.push_back(W);
     ny_.push_back(H);
@@ -335,22 +337,8 @@ CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) con
             gxy = std::max(gxy,
                            std::abs(t[dj][di] - t[dj][di + 1] - t[dj + 1][di] + t[dj + 1][di + 1]));
     const double W = W_, H = H_;
-    // bounds over the segment (above the bottom shell, r >= rmin): speeds |u'|, |v'|, second
-    // derivatives |u''|, |v''| and of the height over the base |height''|
-    double su = 1, sv = 1, uu = 0, vv = 0, hh = 0;
-    if (kind_ == Kind::cylinder) {
-        su = R_ / rmin_;
-        uu = 2 * R_ / (rmin_ * rmin_);
-        hh = 1 / rmin_;
-    } else if (kind_ == Kind::sphere) {
-        const double c = latitude(cj).cos_cell;
-        const double rho = rmin_ * c, r2 = rmin_ * rmin_;
-        su = R_ / rho;
-        sv = R_ / rmin_;
-        uu = 2 * R_ / (rho * rho);
-        vv = R_ * (3 / (r2 * c) + 1 / (r2 * c * c * c));
-        hh = 1 / rmin_;
-    }
+    const Speeds sp = speeds(cj);
+    const double su = sp.su, sv = sp.sv, uu = sp.uu, vv = sp.vv, hh = sp.hh;
     const double as = std::abs(s_);
     CellBounds cb;
     cb.L = (1 + as * (W * gx * su + H * gy * sv)) * (1 + 1e-12);
@@ -428,6 +416,33 @@ double CurvedPyramid::cone_exit(Vec3d q, Vec3d d, const Latitude& lat, bool upwa
         return !wrong_way(t);
     });
     return std::isfinite(tau) ? std::max(tau, 0.0) : kInf;
+}
+
+CurvedPyramid::Speeds CurvedPyramid::speeds(int64_t cj) const {
+    if (kind_ != Kind::sphere) return speeds_;
+    if (cj >= lat_lo_ && cj - lat_lo_ < int64_t(row_speeds_.size()))
+        return row_speeds_[size_t(cj - lat_lo_)];
+    return make_speeds(cj);
+}
+
+CurvedPyramid::Speeds CurvedPyramid::make_speeds(int64_t cj) const {
+    // bounds over the segment (above the bottom shell, r >= rmin): speeds |u'|, |v'|, second
+    // derivatives |u''|, |v''| and of the height over the base |height''|
+    Speeds sp;
+    if (kind_ == Kind::cylinder) {
+        sp.su = R_ / rmin_;
+        sp.uu = 2 * R_ / (rmin_ * rmin_);
+        sp.hh = 1 / rmin_;
+    } else if (kind_ == Kind::sphere) {
+        const double c = latitude(cj).cos_cell;
+        const double rho = rmin_ * c, r2 = rmin_ * rmin_;
+        sp.su = R_ / rho;
+        sp.sv = R_ / rmin_;
+        sp.uu = 2 * R_ / (rho * rho);
+        sp.vv = R_ * (3 / (r2 * c) + 1 / (r2 * c * c * c));
+        sp.hh = 1 / rmin_;
+    }
+    return sp;
 }
 
 CurvedPyramid::Latitude CurvedPyramid::latitude(int64_t d) const {

@@ -105,6 +105,14 @@ class CurvedPyramid {
     struct CellBounds {
         double L, K;  // bounds of |g'| and |g''| over the cell dilated by one cell
     };
+    // cell_bounds' bounds over the segment above the bottom shell, for cells of row cj: the
+    // speeds |u'|, |v'|, the second derivatives |u''|, |v''| and |height''| (per row on the
+    // sphere, from a table made once with the same expressions; one set on the other bases)
+    struct Speeds {
+        double su = 1, sv = 1, uu = 0, vv = 0, hh = 0;
+    };
+    Speeds speeds(int64_t cj) const;
+    Speeds make_speeds(int64_t cj) const;
     CellBounds cell_bounds(int64_t ci, int64_t cj) const;
     double bisect(const WorldRay& r, double lo, double hi, double& g_hi) const;
     // the walk's chord through the shell: [t0, t_end]; ok: the ray enters it
@@ -143,7 +151,9 @@ class CurvedPyramid {
     std::vector<float> max_;
     std::vector<int64_t> off_;
     std::vector<int> nx_, ny_;
-    std::vector<Latitude> lat_;  // the sphere's rows from lat_lo_
+    std::vector<Latitude> lat_;       // the sphere's rows from lat_lo_
+    std::vector<Speeds> row_speeds_;  // the sphere's rows from lat_lo_, as lat_
+    Speeds speeds_;                   // the cylinder's and the plane's
     int64_t lat_lo_ = 0;
     Breakage breakage_;
 };

@@ -6,6 +6,7 @@
 // -Wmaybe-uninitialized reports once inlined (a known false positive, as in ray_walk_simd.cpp).
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #endif
 #include <immintrin.h>
 

@@ -496,6 +496,16 @@ struct PyramidLanes {
             L::store(s21 + o, L::lookup(base + 2, j1));
         }
         const D idx = L::add(L::add(L::lookup(offd, K), L::mul(nj, L::lookup(nxd, K))), ni);
+        {  // the level below at the same point, read next where the lane goes down a level
+            const D K1 = smax(L::sub(K, c(1)), c(0)), s1 = L::lookup(inv_pow2, K1);
+            const D below = L::add(
+                L::add(L::lookup(offd, K1), L::mul(L::floor(L::mul(Y0, s1)), L::lookup(nxd, K1))),
+                L::floor(L::mul(X0, s1)));
+            alignas(64) double at[V];
+            L::store(at, below);
+            for (unsigned b = L::bits(in); b; b &= b - 1)
+                __builtin_prefetch(P.max_.data() + int64_t(at[__builtin_ctz(b)]));
+        }
         const D mx = L::lookup(P.max_.data(), L::select(in, idx, c(0)));
         L::store(hi + o, L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_)));
         if (P.breakage_.skip_level >= 0) {
@@ -710,8 +720,15 @@ struct PyramidLanes {
                     tr &= ~(1u << l);
                 }
             }
+#ifdef PXH_LANES_PROFILE
+            extern long long g_cnt[8];
+            ++g_cnt[0];
+            g_cnt[1] += __builtin_popcount(tr);
+            g_cnt[2] += __builtin_popcount(lanes_in(in_cell));
+#endif
             if (tr) {
-                for (int o = 0; o < N; o += V) traverse_coords(o);
+                for (int o = 0; o < N; o += V)
+                    if ((tr >> o) & kVectorBits) traverse_coords(o);
                 for (int o = 0; o < N; o += V) {
                     const unsigned rest = traverse_nodes(o, (tr >> o) & kVectorBits);
                     for (unsigned b = rest; b; b &= b - 1) {
@@ -719,7 +736,8 @@ struct PyramidLanes {
                         traverse_node(o + __builtin_ctz(b));
                     }
                 }
-                for (int o = 0; o < N; o += V) traverse_bounds(o);
+                for (int o = 0; o < N; o += V)
+                    if ((tr >> o) & kVectorBits) traverse_bounds(o);
                 for (int o = 0; o < N; o += V) {
                     const unsigned enter = traverse_decide(o, (tr >> o) & kVectorBits);
                     for (unsigned b = enter; b; b &= b - 1) {
@@ -744,13 +762,15 @@ struct PyramidLanes {
                 }
             }
             if (ce) {
-                for (int o = 0; o < N; o += V) cell_coords(o);
+                for (int o = 0; o < N; o += V)
+                    if ((ce >> o) & kVectorBits) cell_coords(o);
                 for (unsigned b = ce; b; b &= b - 1) {
                     const int l = __builtin_ctz(b);
                     int64_t ei, ej;
                     cell_texels(l, ei, ej);
                 }
-                for (int o = 0; o < N; o += V) cell_values(o);
+                for (int o = 0; o < N; o += V)
+                    if ((ce >> o) & kVectorBits) cell_values(o);
                 for (int o = 0; o < N; o += V) {
                     const CellOut r = cell_decide(o, (ce >> o) & kVectorBits);
                     for (unsigned b = r.leave; b; b &= b - 1) {

@@ -217,26 +217,26 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
     const size_t n = rays.size();
     std::vector<One> one(n);
     Budget budget{max_steps};
-    // chunks of up to 64 rays, finer for small views (a handful of long rays still spread over
-    // the threads); each ray's walk is its own, so the hits do not depend on the chunks
-    const size_t grain = std::clamp<size_t>(n / 256, 1, 64);
+    // chunks of up to 64 rays (the pyramid's: up to kPyramidChunk, which its vector lanes fill),
+    // finer for small views (a handful of long rays still spread over the threads); each ray's
+    // walk is its own, so the hits do not depend on the chunks
+    constexpr size_t kPyramidChunk = 1024;
+    const size_t grain = pyramid_ ? std::clamp<size_t>(n / 32, 1, kPyramidChunk)
+                                  : std::clamp<size_t>(n / 256, 1, 64);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, grain), [&](const auto& rg) {
         if (pyramid_) {
-            // a ray's steps are few: up to 64 rays at a time, in vector lanes where the CPU has
-            // them, may take what the budget had left when they began (each ray what was left
-            // of that when it began, plus 4096), and are charged after them
-            CurvedPyramid::One o[64];
+            // a ray's steps are few: the chunk's rays, in vector lanes where the CPU has them,
+            // may take what the budget had left when they began (each ray what was left of that
+            // when it began, plus 4096), and are charged after them
+            if (budget.over.load(std::memory_order_relaxed)) return;
+            const double left = budget.max_steps - double(budget.used.load());
             const size_t m = rg.end() - rg.begin();
-            for (size_t at = 0; at < m; at += 64) {
-                if (budget.over.load(std::memory_order_relaxed)) return;
-                const double left = budget.max_steps - double(budget.used.load());
-                const size_t c = std::min<size_t>(64, m - at);
-                pyramid_->trace_many(&rays[rg.begin() + at], c, o,
-                                     (long long)std::clamp(left, 0.0, 4e18));
-                for (size_t i = 0; i < c; ++i) {
-                    one[rg.begin() + at + i] = {o[i].hit, o[i].t, o[i].residual, o[i].steps};
-                    budget.spend(o[i].steps);
-                }
+            std::vector<CurvedPyramid::One> o(m);
+            pyramid_->trace_many(&rays[rg.begin()], m, o.data(),
+                                 (long long)std::clamp(left, 0.0, 4e18));
+            for (size_t i = 0; i < m; ++i) {
+                one[rg.begin() + i] = {o[i].hit, o[i].t, o[i].residual, o[i].steps};
+                budget.spend(o[i].steps);
             }
             return;
         }

@@ -1,0 +1,141 @@
+// The pyramid tracer's vector paths (issue 62, item 2: harness/truth/curved_pyramid_lanes.h on
+// the lane types of harness/truth/lanes.h) against its scalar trace_one: every ray's hit, t,
+// residual and step count bit for bit, on every path this CPU has (AVX-512: 8 doubles to a
+// vector, AVX2: 4), over random views of random fields (plateaus, spikes), both bases, R from
+// 0.1 to 1e6, orthographic and perspective cameras, with breakages of the pyramid, which the
+// lanes must follow as the scalar code does.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "harness/scene/base_surface.h"
+#include "harness/scene/curved_view.h"
+#include "harness/scene/perspective_camera.h"
+#include "harness/truth/curved_pyramid.h"
+#include "tests/test_util.h"
+
+namespace pxh {
+namespace {
+
+using test::generated_field;
+using test::random_field;
+
+// The vector paths this CPU runs (PXH_TRACER_PATH may lower the widest, never raise it).
+std::vector<CurvedPyramid::Path> vector_paths() {
+    std::vector<CurvedPyramid::Path> p;
+    if (__builtin_cpu_supports("avx2")) p.push_back(CurvedPyramid::Path::avx2);
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq"))
+        p.push_back(CurvedPyramid::Path::avx512);
+    return p;
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// The rays on `path` in batches of `batch` against trace_one; the first ray that differs.
+std::string differs(const CurvedPyramid& pyr, const std::vector<WorldRay>& rays,
+                    CurvedPyramid::Path path, size_t batch, size_t& hits) {
+    std::vector<CurvedPyramid::One> got(rays.size());
+    for (size_t at = 0; at < rays.size(); at += batch)
+        pyr.trace_many(&rays[at], std::min(batch, rays.size() - at), &got[at], 1LL << 40, path);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const CurvedPyramid::One want = pyr.trace_one(rays[k], (1LL << 40) + 4096);
+        hits += want.hit;
+        if (want.hit != got[k].hit || !same_bits(want.t, got[k].t) ||
+            !same_bits(want.residual, got[k].residual) || want.steps != got[k].steps)
+            return "ray " + std::to_string(k) + ": trace_one hit " + std::to_string(want.hit) +
+                   " t " + std::to_string(want.t) + " steps " + std::to_string(want.steps) + ", " +
+                   CurvedPyramid::path_name(path) + " hit " + std::to_string(got[k].hit) + " t " +
+                   std::to_string(got[k].t) + " steps " + std::to_string(got[k].steps);
+    }
+    return "";
+}
+
+TEST(CurvedPyramidLanes, RandomViewsBitForBitTraceOne) {
+    const auto paths = vector_paths();
+    if (paths.empty()) GTEST_SKIP() << "this CPU has no vector path (AVX2 or AVX-512)";
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> U(0, 1);
+    size_t rays = 0, hits = 0;
+    for (int view = 0; view < 240; ++view) {
+        const int W = 3 + int(U(rng) * 60), H = 3 + int(U(rng) * 60);
+        HeightField hf = random_field(W, H, uint32_t(rng()));
+        if (U(rng) < 0.3)
+            for (float& t : hf.texels) t = t > 0.7f ? t : 0.2f;
+        const char* name = U(rng) < 0.5 ? "cylinder" : "sphere";
+        const double s = std::exp(std::log(0.005) + U(rng) * std::log(0.5 / 0.005));
+        const double b = U(rng) < 0.5 ? 1.0 : U(rng);
+        double R = std::exp(std::log(0.1) + U(rng) * std::log(1e6 / 0.1));
+        if (R <= s * b * 1.05) R = s * b * 1.05 + 0.01;
+        const auto base = make_base(name, R);
+        const double theta = U(rng) * 89, phi = U(rng) * 360;
+        std::unique_ptr<Camera> cam;
+        if (U(rng) < 0.5) {
+            cam = std::make_unique<OrthographicCamera>(theta, phi, 16);
+        } else {
+            PerspectiveParams p;
+            p.theta_deg = theta;
+            p.phi_deg = phi;
+            p.distance = 0.6 + U(rng) * 4;
+            p.fov_deg = 20 + U(rng) * 60;
+            p.samples = 16;
+            if (p.distance * std::cos(theta * M_PI / 180) <= s * (1 - b) + 0.05) continue;
+            cam = std::make_unique<PerspectiveCamera>(p);
+        }
+        const CurvedView cv = curved_view(*cam, *base, s * (1 - b));
+        const CurvedPyramid pyr(hf, s, b, *base);
+        // batches of 1 (one lane busy), 37 (lanes left idle at the end) and the whole view
+        const size_t batch = view % 3 == 0 ? 1 : (view % 3 == 1 ? 37 : cv.rays.size());
+        for (CurvedPyramid::Path path : paths) {
+            const std::string d = differs(pyr, cv.rays, path, batch, hits);
+            EXPECT_EQ(d, "") << "view " << view << ": " << name << " R " << R << " theta " << theta;
+        }
+        rays += cv.rays.size();
+    }
+    EXPECT_GT(rays, 50000u);
+    EXPECT_GT(hits, 40000u * paths.size());
+}
+
+// Fields of the bench (fbm 128^2) at the bench's angles, grazing views, the bounds lowered by a
+// float step and nodes skipped (break_for_test): the lanes take the broken pyramid's steps too.
+TEST(CurvedPyramidLanes, FbmGrazingAndBrokenPyramids) {
+    const auto paths = vector_paths();
+    if (paths.empty()) GTEST_SKIP() << "this CPU has no vector path (AVX2 or AVX-512)";
+    const HeightField hf = generated_field("fbm", 128);
+    size_t hits = 0;
+    for (const char* name : {"cylinder", "sphere"})
+        for (double R : {0.3, 1.5, 4.0})
+            for (double theta : {0.0, 60.0, 85.0, 89.0})
+                for (int breakage = 0; breakage < 3; ++breakage) {
+                    const auto base = make_base(name, R);
+                    const OrthographicCamera cam(theta, 20, 24);
+                    const CurvedView cv = curved_view(cam, *base, 0);
+                    CurvedPyramid pyr(hf, 0.05, 1, *base);
+                    if (breakage == 1) pyr.break_for_test({1, -1});
+                    if (breakage == 2) pyr.break_for_test({0, 2});
+                    for (CurvedPyramid::Path path : paths)
+                        EXPECT_EQ(differs(pyr, cv.rays, path, 256, hits), "")
+                            << name << " R " << R << " theta " << theta << " breakage " << breakage;
+                }
+    EXPECT_GT(hits, 3000u * paths.size());
+}
+
+// The path in words, and PXH_TRACER_PATH's choice (the tests run with it unset or at the
+// widest path, as CI does): the default path is the widest this CPU has.
+TEST(CurvedPyramidLanes, DefaultPathIsTheWidest) {
+    const auto paths = vector_paths();
+    const char* env = std::getenv("PXH_TRACER_PATH");
+    if (env && *env) GTEST_SKIP() << "PXH_TRACER_PATH is set";
+    const CurvedPyramid::Path want = paths.empty() ? CurvedPyramid::Path::scalar : paths.back();
+    EXPECT_EQ(CurvedPyramid::default_path(), want);
+    EXPECT_EQ(CurvedPyramid::path_name(CurvedPyramid::Path::avx512),
+              "avx512: 8 rays to a vector, double");
+    EXPECT_EQ(CurvedPyramid::path_name(CurvedPyramid::Path::scalar), "scalar double");
+}
+
+}  // namespace
+}  // namespace pxh
