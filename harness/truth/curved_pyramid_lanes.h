@@ -39,6 +39,7 @@ struct PyramidLanes {
     static constexpr int kSets = 4;  // vectors stepped in turn, so that their chains overlap
     static constexpr int N = V * kSets;
     static constexpr unsigned kVectorBits = (1u << V) - 1;
+    static_assert(N <= 32, "the lanes are tracked in 32-bit masks");
     static constexpr double kInf = std::numeric_limits<double>::infinity();
     static constexpr double kPi = 3.14159265358979323846;
     static constexpr double kEps = 2.220446049250313e-16;
@@ -455,6 +456,49 @@ struct PyramidLanes {
             P.s_ * (double(lev[kk][size_t(nj) * size_t(lnx[kk]) + size_t(ni)]) - P.b_) + P.margin_;
     }
 
+    // Prefetches, for the vector's lanes, what the next phase reads at their cell (fx0, fy0):
+    // the pyramid's node at level k and at the level below (where a lane goes down at the same
+    // point), or the cell's two texel rows; every set's before any set reads them, so that the
+    // reads of a round overlap.
+    void prefetch_nodes(int o) {
+        const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K = ld(kd + o);
+        const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
+        const D xl = L::sub(X0, L::mul(L::floor(L::div(X0, Wd)), Wd));
+        const D yl = L::sub(Y0, L::mul(L::floor(L::div(Y0, Hd)), Hd));
+        const M ok = L::mand(L::mand(L::ge(xl, c(0)), L::lt(xl, Wd)),
+                             L::mand(L::ge(yl, c(0)), L::lt(yl, Hd)));
+        alignas(64) double at[2][V];
+        for (int lower = 0; lower < 2; ++lower) {
+            const D k = lower ? smax(L::sub(K, c(1)), c(0)) : K, sk = L::lookup(inv_pow2, k);
+            const D idx = L::add(
+                L::add(L::lookup(offd, k), L::mul(L::floor(L::mul(yl, sk)), L::lookup(nxd, k))),
+                L::floor(L::mul(xl, sk)));
+            L::store(at[lower], L::select(ok, idx, c(0)));
+        }
+        for (int i = 0; i < V; ++i) {
+            __builtin_prefetch(P.max_.data() + int64_t(at[0][i]));
+            __builtin_prefetch(P.max_.data() + int64_t(at[1][i]));
+        }
+    }
+
+    void prefetch_texels(int o) {
+        const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o);
+        const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
+        const D i0 = L::sub(X0, L::mul(L::floor(L::div(X0, Wd)), Wd));
+        const D j0 = L::sub(Y0, L::mul(L::floor(L::div(Y0, Hd)), Hd));
+        const M ok = L::mand(L::mand(L::ge(i0, c(0)), L::lt(i0, Wd)),
+                             L::mand(L::ge(j0, c(0)), L::lt(j0, Hd)));
+        const D j1 = L::select(L::eq(L::add(j0, c(1)), Hd), c(0), L::add(j0, c(1)));
+        alignas(64) double r0[V], r1[V];
+        L::store(r0, L::select(ok, L::add(L::mul(j0, Wd), i0), c(0)));
+        L::store(r1, L::select(ok, L::add(L::mul(j1, Wd), i0), c(0)));
+        const float* tex = P.hf_.texels.data();
+        for (int i = 0; i < V; ++i) {
+            __builtin_prefetch(tex + int64_t(r0[i]));
+            __builtin_prefetch(tex + int64_t(r1[i]));
+        }
+    }
+
     // traverse_bound and traverse_node in lanes, for the vector's lanes in `act` whose cell lies
     // in the tile (TI = TJ = 0, the node's indices ci 2^-k and cj 2^-k exactly) and, on the sphere,
     // whose borders' latitudes are in the table; the others are returned, for the scalar code
@@ -462,17 +506,25 @@ struct PyramidLanes {
         const M act = L::from_bits(act_bits);
         const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K = ld(kd + o), T = ld(t + o);
         const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
-        M in = L::mand(act, L::mand(L::mand(L::ge(X0, c(0)), L::lt(X0, Wd)),
-                                    L::mand(L::ge(Y0, c(0)), L::lt(Y0, Hd))));
+        // the tile (TI, TJ) and the cell in it: floor(ci / W) is exact below 2^52
+        const D TI = L::floor(L::div(X0, Wd)), TJ = L::floor(L::div(Y0, Hd));
+        const D xl = L::sub(X0, L::mul(TI, Wd)), yl = L::sub(Y0, L::mul(TJ, Hd));
+        M in = L::mand(act, L::mand(L::lt(L::abs(X0), c(0x1p51)), L::lt(L::abs(Y0), c(0x1p51))));
+        in = L::mand(in, L::mand(L::mand(L::ge(xl, c(0)), L::lt(xl, Wd)),
+                                 L::mand(L::ge(yl, c(0)), L::lt(yl, Hd))));
         const D sk = L::lookup(inv_pow2, K), pk = L::lookup(pow2, K);
-        const D ni = L::floor(L::mul(X0, sk)), nj = L::floor(L::mul(Y0, sk));
+        const D ni = L::floor(L::mul(xl, sk)), nj = L::floor(L::mul(yl, sk));
         const M below_top = L::lt(K, c(double(top)));
         L::store(hasx + o, L::select(below_top, c(1), c(0)));
-        L::store(tiny + o, L::add(c(P.tiny_), L::mul(c(4 * kEps), L::abs(T))));
-        L::store(cid + o, X0);
-        L::store(cjd + o, Y0);
-        const D c0 = L::mul(ni, pk), c1 = smin(L::mul(L::add(ni, c(1)), pk), Wd);
-        const D d0 = L::mul(nj, pk), d1 = smin(L::mul(L::add(nj, c(1)), pk), Hd);
+        L::store(tiny + o,
+                 L::select(act, L::add(c(P.tiny_), L::mul(c(4 * kEps), L::abs(T))), ld(tiny + o)));
+        L::store(cid + o, L::select(act, X0, ld(cid + o)));
+        L::store(cjd + o, L::select(act, Y0, ld(cjd + o)));
+        const D tw = L::mul(TI, Wd), th = L::mul(TJ, Hd);
+        const D c0 = L::add(tw, L::mul(ni, pk)),
+                c1 = L::add(tw, smin(L::mul(L::add(ni, c(1)), pk), Wd));
+        const D d0 = L::add(th, L::mul(nj, pk)),
+                d1 = L::add(th, smin(L::mul(L::add(nj, c(1)), pk), Hd));
         L::store(u0 + o, L::select(below_top, L::mul(L::add(c0, c(0.5)), c(iw)), c(-kInf)));
         L::store(u1 + o, L::select(below_top, L::mul(L::add(c1, c(0.5)), c(iw)), c(kInf)));
         L::store(v0 + o, L::mul(L::add(d0, c(0.5)), c(ih)));
@@ -496,16 +548,6 @@ struct PyramidLanes {
             L::store(s21 + o, L::lookup(base + 2, j1));
         }
         const D idx = L::add(L::add(L::lookup(offd, K), L::mul(nj, L::lookup(nxd, K))), ni);
-        {  // the level below at the same point, read next where the lane goes down a level
-            const D K1 = smax(L::sub(K, c(1)), c(0)), s1 = L::lookup(inv_pow2, K1);
-            const D below = L::add(
-                L::add(L::lookup(offd, K1), L::mul(L::floor(L::mul(Y0, s1)), L::lookup(nxd, K1))),
-                L::floor(L::mul(X0, s1)));
-            alignas(64) double at[V];
-            L::store(at, below);
-            for (unsigned b = L::bits(in); b; b &= b - 1)
-                __builtin_prefetch(P.max_.data() + int64_t(at[__builtin_ctz(b)]));
-        }
         const D mx = L::lookup(P.max_.data(), L::select(in, idx, c(0)));
         L::store(hi + o, L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_)));
         if (P.breakage_.skip_level >= 0) {
@@ -584,6 +626,30 @@ struct PyramidLanes {
         L::store(tt + o, L::select(cell, ta, ld(tt + o)));
         L::store(tb + o, L::select(cell, smin(smax(TE, ta), TEND), ld(tb + o)));
         return L::bits(cell);
+    }
+
+    // cell_texels in lanes, for the vector's lanes in `act` with the cell's indices under 2^51
+    // (the others are returned, for the scalar code)
+    unsigned cell_texels(int o, unsigned act_bits) {
+        const M act = L::from_bits(act_bits);
+        const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o);
+        const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
+        const M in =
+            L::mand(act, L::mand(L::lt(L::abs(X0), c(0x1p51)), L::lt(L::abs(Y0), c(0x1p51))));
+        const D i0 = L::sub(X0, L::mul(L::floor(L::div(X0, Wd)), Wd));
+        const D j0 = L::sub(Y0, L::mul(L::floor(L::div(Y0, Hd)), Hd));
+        const D i1 = L::select(L::eq(L::add(i0, c(1)), Wd), c(0), L::add(i0, c(1)));
+        const D j1 = L::select(L::eq(L::add(j0, c(1)), Hd), c(0), L::add(j0, c(1)));
+        const D r0 = L::select(in, L::mul(j0, Wd), c(0)), r1 = L::select(in, L::mul(j1, Wd), c(0));
+        const D a0 = L::select(in, i0, c(0)), a1 = L::select(in, i1, c(0));
+        const float* tex = P.hf_.texels.data();
+        L::store(h00 + o, L::lookup(tex, L::add(r0, a0)));
+        L::store(h10 + o, L::lookup(tex, L::add(r0, a1)));
+        L::store(h01 + o, L::lookup(tex, L::add(r1, a0)));
+        L::store(h11 + o, L::lookup(tex, L::add(r1, a1)));
+        const M mine = L::mand(L::eq(X0, ld(cid + o)), L::eq(Y0, ld(cjd + o)));
+        L::store(own + o, L::select(mine, c(1), c(0)));
+        return L::bits(L::mandnot(act, in));
     }
 
     void cell_texels(int l, int64_t& ei, int64_t& ej) {
@@ -728,7 +794,10 @@ struct PyramidLanes {
 #endif
             if (tr) {
                 for (int o = 0; o < N; o += V)
-                    if ((tr >> o) & kVectorBits) traverse_coords(o);
+                    if ((tr >> o) & kVectorBits) {
+                        traverse_coords(o);
+                        prefetch_nodes(o);
+                    }
                 for (int o = 0; o < N; o += V) {
                     const unsigned rest = traverse_nodes(o, (tr >> o) & kVectorBits);
                     for (unsigned b = rest; b; b &= b - 1) {
@@ -763,11 +832,16 @@ struct PyramidLanes {
             }
             if (ce) {
                 for (int o = 0; o < N; o += V)
-                    if ((ce >> o) & kVectorBits) cell_coords(o);
-                for (unsigned b = ce; b; b &= b - 1) {
-                    const int l = __builtin_ctz(b);
-                    int64_t ei, ej;
-                    cell_texels(l, ei, ej);
+                    if ((ce >> o) & kVectorBits) {
+                        cell_coords(o);
+                        prefetch_texels(o);
+                    }
+                for (int o = 0; o < N; o += V) {
+                    const unsigned rest = cell_texels(o, (ce >> o) & kVectorBits);
+                    for (unsigned b = rest; b; b &= b - 1) {
+                        int64_t ei, ej;
+                        cell_texels(o + __builtin_ctz(b), ei, ej);
+                    }
                 }
                 for (int o = 0; o < N; o += V)
                     if ((ce >> o) & kVectorBits) cell_values(o);
