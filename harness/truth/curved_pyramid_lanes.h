@@ -68,6 +68,7 @@ struct PyramidLanes {
     // the level (a whole number), and per visit: the node has a sector (below the top), is
     // skipped (break_for_test), the cell's patch is the walk's (1 or 0)
     alignas(64) double kd[N], hasx[N], skipf[N], own[N], cid[N], cjd[N];
+    alignas(64) double roomd[N];  // steps left in the budget after this visit
     int64_t ci[N], cj[N];
     uint8_t mode[N], floor_ends[N];
     // the pyramid's levels, and the sphere's latitude table
@@ -504,7 +505,7 @@ struct PyramidLanes {
     // whose borders' latitudes are in the table; the others are returned, for the scalar code
     unsigned traverse_nodes(int o, unsigned act_bits) {
         const M act = L::from_bits(act_bits);
-        const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K = ld(kd + o), T = ld(t + o);
+        const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K0 = ld(kd + o), T = ld(t + o);
         const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
         // the tile (TI, TJ) and the cell in it: floor(ci / W) is exact below 2^52
         const D TI = L::floor(L::div(X0, Wd)), TJ = L::floor(L::div(Y0, Hd));
@@ -512,6 +513,40 @@ struct PyramidLanes {
         M in = L::mand(act, L::mand(L::lt(L::abs(X0), c(0x1p51)), L::lt(L::abs(Y0), c(0x1p51))));
         in = L::mand(in, L::mand(L::mand(L::ge(xl, c(0)), L::lt(xl, Wd)),
                                  L::mand(L::ge(yl, c(0)), L::lt(yl, Hd))));
+        // the node's bound at level k, and where trace_one would go down at this point (the point
+        // at or under the bound: the shell's entry is t itself), the levels below, each a visit
+        // (a step) of its own as there, as long as the budget allows: the lane's next visit is
+        // at the first level whose bound lies under the point, or at level 0
+        auto bound_at = [&](D k, M m) {
+            const D sk = L::lookup(inv_pow2, k);
+            const D idx = L::add(
+                L::add(L::lookup(offd, k), L::mul(L::floor(L::mul(yl, sk)), L::lookup(nxd, k))),
+                L::floor(L::mul(xl, sk)));
+            const D mx = L::lookup(P.max_.data(), L::select(m, idx, c(0)));
+            return L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_));
+        };
+        D K = K0, bound = bound_at(K0, in);
+        if (P.breakage_.skip_level < 0) {
+            const D height = ld(gh + o), room = ld(roomd + o);
+            D extra = c(0);
+            auto more = [&](M m) {
+                return L::mand(m, L::mand(L::mand(L::le(height, bound), L::gt(K, c(0))),
+                                          L::le(L::add(extra, c(1)), room)));
+            };
+            M down = more(in);
+            if (L::any(down)) {
+                do {
+                    K = L::select(down, L::sub(K, c(1)), K);
+                    extra = L::select(down, L::add(extra, c(1)), extra);
+                    bound = L::select(down, bound_at(K, down), bound);
+                    down = more(down);
+                } while (L::any(down));
+                alignas(64) double ex[V];
+                L::store(ex, extra);
+                for (int i = 0; i < V; ++i) steps[o + i] += (long long)ex[i];
+                L::store(kd + o, K);
+            }
+        }
         const D sk = L::lookup(inv_pow2, K), pk = L::lookup(pow2, K);
         const D ni = L::floor(L::mul(xl, sk)), nj = L::floor(L::mul(yl, sk));
         const M below_top = L::lt(K, c(double(top)));
@@ -547,9 +582,7 @@ struct PyramidLanes {
             L::store(c21 + o, L::lookup(base + 1, j1));
             L::store(s21 + o, L::lookup(base + 2, j1));
         }
-        const D idx = L::add(L::add(L::lookup(offd, K), L::mul(nj, L::lookup(nxd, K))), ni);
-        const D mx = L::lookup(P.max_.data(), L::select(in, idx, c(0)));
-        L::store(hi + o, L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_)));
+        L::store(hi + o, bound);
         if (P.breakage_.skip_level >= 0) {
             alignas(64) double na[V], nb[V];
             L::store(na, ni);
@@ -784,6 +817,8 @@ struct PyramidLanes {
                     over_budget(l, out);
                     charge(l);
                     tr &= ~(1u << l);
+                } else {
+                    roomd[l] = double(cap[l] - steps[l]);
                 }
             }
 #ifdef PXH_LANES_PROFILE
