@@ -336,6 +336,11 @@ CurvedPyramid::CellBounds CurvedPyramid::cell_bounds(int64_t ci, int64_t cj) con
         for (int di = 0; di < 3; ++di)
             gxy = std::max(gxy,
                            std::abs(t[dj][di] - t[dj][di + 1] - t[dj + 1][di] + t[dj + 1][di + 1]));
+    return bounds_of(cj, gx, gy, gxy);
+}
+
+CurvedPyramid::CellBounds CurvedPyramid::bounds_of(int64_t cj, double gx, double gy,
+                                                   double gxy) const {
     const double W = W_, H = H_;
     const Speeds sp = speeds(cj);
     const double su = sp.su, sv = sp.sv, uu = sp.uu, vv = sp.vv, hh = sp.hh;

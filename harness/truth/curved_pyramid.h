@@ -114,6 +114,9 @@ class CurvedPyramid {
     Speeds speeds(int64_t cj) const;
     Speeds make_speeds(int64_t cj) const;
     CellBounds cell_bounds(int64_t ci, int64_t cj) const;
+    // the bounds from the cell's largest differences of the field (|h_u|, |h_v| and |h_uv| over
+    // a texel, over the dilated cell) on row cj
+    CellBounds bounds_of(int64_t cj, double gx, double gy, double gxy) const;
     double bisect(const WorldRay& r, double lo, double hi, double& g_hi) const;
     // the walk's chord through the shell: [t0, t_end]; ok: the ray enters it
     struct Chord {

@@ -40,6 +40,7 @@ struct PyramidLanes {
     static constexpr int N = V * kSets;
     static constexpr unsigned kVectorBits = (1u << V) - 1;
     static_assert(N <= 32, "the lanes are tracked in 32-bit masks");
+    static constexpr unsigned kAllLanes = N == 32 ? ~0u : (1u << N) - 1;
     static constexpr double kInf = std::numeric_limits<double>::infinity();
     static constexpr double kPi = 3.14159265358979323846;
     static constexpr double kEps = 2.220446049250313e-16;
@@ -661,6 +662,37 @@ struct PyramidLanes {
         return L::bits(cell);
     }
 
+    // CurvedPyramid::cell_bounds, its 4 x 4 texels a row to a vector of 4 doubles where the
+    // dilated cell lies inside the tile (the scalar function elsewhere): the same differences
+    // (|a - b| and ((a - b) - c) + d are the scalar's operations lane by lane) and their maxima
+    // (exact in any order), so the same bounds
+    static __m256d shifted(__m256d a) { return _mm256_permute4x64_pd(a, 0xF9); }  // a1 a2 a3 a3
+    static double largest(__m256d a) {
+        alignas(32) double v[4];
+        _mm256_store_pd(v, a);
+        return std::max(std::max(v[0], v[1]), std::max(v[2], v[3]));
+    }
+    CurvedPyramid::CellBounds cell_bounds(int64_t cell_i, int64_t cell_j) const {
+        const int64_t W = P.W_, Hh = P.H_;
+        const int64_t i0 = wrap_index(cell_i, W), j0 = wrap_index(cell_j, Hh);
+        if (!(i0 >= 1 && i0 + 2 < W && j0 >= 1 && j0 + 2 < Hh))
+            return P.cell_bounds(cell_i, cell_j);
+        const float* row = P.hf_.texels.data() + size_t(j0 - 1) * size_t(W) + size_t(i0 - 1);
+        __m256d r[4];
+        for (int dj = 0; dj < 4; ++dj) r[dj] = _mm256_cvtps_pd(_mm_loadu_ps(row + dj * W));
+        const __m256d sign = _mm256_set1_pd(-0.0);
+        __m256d gx = _mm256_setzero_pd(), gy = gx, gxy = gx;
+        for (int dj = 0; dj < 4; ++dj)
+            gx = _mm256_max_pd(gx, _mm256_andnot_pd(sign, _mm256_sub_pd(shifted(r[dj]), r[dj])));
+        for (int dj = 0; dj < 3; ++dj) {
+            gy = _mm256_max_pd(gy, _mm256_andnot_pd(sign, _mm256_sub_pd(r[dj + 1], r[dj])));
+            const __m256d e = _mm256_add_pd(
+                _mm256_sub_pd(_mm256_sub_pd(r[dj], shifted(r[dj])), r[dj + 1]), shifted(r[dj + 1]));
+            gxy = _mm256_max_pd(gxy, _mm256_andnot_pd(sign, e));
+        }
+        return P.bounds_of(cell_j, largest(gx), largest(gy), largest(gxy));
+    }
+
     // cell_texels in lanes, for the vector's lanes in `act` with the cell's indices under 2^51
     // (the others are returned, for the scalar code)
     unsigned cell_texels(int o, unsigned act_bits) {
@@ -797,10 +829,19 @@ struct PyramidLanes {
     void run(const WorldRay* rays, size_t n, One* out, long long max_steps) {
         size_t next = 0;
         long long spent = 0;
-        auto lanes_in = [&](uint8_t m) {
-            unsigned b = 0;
-            for (int l = 0; l < N; ++l) b |= unsigned(mode[l] == m) << l;
-            return b;
+        auto lanes_in = [&](uint8_t m) {  // the lanes in mode m, a bit each
+            if constexpr (N == 32) {
+                const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(mode));
+                return unsigned(
+                    _mm256_movemask_epi8(_mm256_cmpeq_epi8(v, _mm256_set1_epi8(char(m)))));
+            } else if constexpr (N == 16) {
+                const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(mode));
+                return unsigned(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_set1_epi8(char(m)))));
+            } else {
+                unsigned b = 0;
+                for (int l = 0; l < N; ++l) b |= unsigned(mode[l] == m) << l;
+                return b;
+            }
         };
         auto charge = [&](int l) { spent += steps[l]; };
         for (int l = 0; l < N; ++l) start(l, rays, n, next, out, max_steps, spent);
@@ -848,7 +889,7 @@ struct PyramidLanes {
                         const int l = o + __builtin_ctz(b);
                         ci[l] = int64_t(cid[l]);
                         cj[l] = int64_t(cjd[l]);
-                        const CurvedPyramid::CellBounds cb = P.cell_bounds(ci[l], cj[l]);
+                        const CurvedPyramid::CellBounds cb = cell_bounds(ci[l], cj[l]);
                         cL[l] = cb.L;
                         cK[l] = cb.K;
                         mode[l] = in_cell;
@@ -901,12 +942,10 @@ struct PyramidLanes {
                     }
                 }
             }
-            bool busy = false;
-            for (int l = 0; l < N; ++l) {
-                if (mode[l] == free_lane) start(l, rays, n, next, out, max_steps, spent);
-                busy = busy || mode[l] != free_lane;
-            }
-            if (!busy) return;
+            if (next < n)
+                for (unsigned b = lanes_in(free_lane); b; b &= b - 1)
+                    start(__builtin_ctz(b), rays, n, next, out, max_steps, spent);
+            if (lanes_in(free_lane) == kAllLanes) return;
         }
     }
 };
