@@ -1,22 +1,24 @@
 // The pyramid tracer's rays in vector lanes (issue 62, item 2): CurvedPyramid::trace_one,
-// L::N rays at a time, each lane's result bit for bit trace_one's (hit, t, residual and steps).
+// L::N rays to a vector, each lane's result bit for bit trace_one's (hit, t, residual, steps).
 //
 // Each lane is one ray's walk through the same states as trace_one: the traversal (a node of
 // the pyramid at the current t) or the certified steps in a cell. A round takes one traversal
-// visit for every lane in the traversal and one cell step for every lane in a cell:
-// - in lanes, over all L::N rays at once: the point and its base coordinates (the table
-//   atan2), the shell's entry root and the node's sector exit (the wedge and, on the sphere,
-//   the two latitude cones; on the cylinder the slab), g and g' in the cell and the two safe
-//   steps (g / L and the quadratic bound's root): the divisions, square roots and atan2s that
-//   make most of a visit's time;
-// - per lane, in scalar code: the integer work (the cell, the node, the reads of the pyramid
-//   and of the texels) and every decision, operation for operation trace_one's;
-// - per lane, through CurvedPyramid's own functions: the chord at a ray's start, a cell's
-//   bounds, and the bisection at a hit (the bases' own expressions, with libm).
+// visit for every lane in the traversal and one cell step for every lane in a cell, kSets
+// vectors of lanes in turn:
+// - in lanes: the point and its base coordinates (the table atan2), the node's tile, cell and
+//   indices (exact in doubles), its bound and the sphere's latitude borders (gathers), the
+//   shell's entry root and the node's exit (the wedge; the cylinder's slab or the sphere's two
+//   latitude cones), trace_one's decision as masks; in a cell, g and g' from the gathered
+//   texels, the two safe steps (g / L and the quadratic bound's root) and the step's outcome;
+// - per lane, in scalar code: the chord at a ray's start, a cell's bounds (its texels a row to
+//   a vector), the bisection at a hit (CurvedPyramid::finish: the bases' own expressions, with
+//   libm) and the rare cases (a cell index beyond 2^51, a latitude outside the table).
 // A lane whose ray is done takes the next one. Every lane operation is the scalar expression's
 // IEEE operation (lanes.h: no fused multiply-add, min and max as std's), and the rare lanes
 // that take libm there (sin and cos of a wedge over 0.25 rad, atan2 of a point on the axis)
-// take the same call, so the lanes' doubles are the scalar code's.
+// take the same call, so the lanes' doubles are the scalar code's
+// (tests/truth/curved_pyramid_lanes_test.cpp; docs/internals/tracers.md, "Issue 62, sixth
+// session").
 //
 // Included only by the translation units of one vector width each (curved_pyramid_avx512.cpp,
 // curved_pyramid_avx2.cpp), after their `#pragma GCC target`.
@@ -48,10 +50,8 @@ struct PyramidLanes {
     using One = CurvedPyramid::One;
 
     const CurvedPyramid& P;
-    const double* atan_table;
-    const double iw = 1.0 / P.W_,
-                 ih = 1.0 /
-                      P.H_;  // node_exit's  // atan(i / 64), i = 0 .. 64: the scalar code's table
+    const double* atan_table;                       // atan(i / 64), i = 0 .. 64: fast_atan2's
+    const double iw = 1.0 / P.W_, ih = 1.0 / P.H_;  // node_exit's
     enum Mode : uint8_t { free_lane, traverse, in_cell };
 
     // the lanes' state, a ray each
@@ -82,10 +82,11 @@ struct PyramidLanes {
     size_t ray[N];
 
     PyramidLanes(const CurvedPyramid& p, const double* table) : P(p), atan_table(table) {
-        for (double* a : {ox, oy, oz,  dx,  dy, dz,  t,   t_safe, t_end,  tb,   tiny,  cL,  cK,
-                          tt, px, py,  pz,  gu, gv,  gh,  fx0,    fy0,    hi,   u0,    u1,  v0,
-                          v1, e0, c20, s20, e1, c21, s21, t_low,  t_exit, h00,  h10,   h01, h11,
-                          fx, fy, dh,  du,  dv, g,   gL,  newton, kd,     hasx, skipf, own})
+        for (double* a :
+             {ox,  oy,  oz, dx,  dy,     dz,    t,      t_safe, t_end, tb,  tiny, cL,   cK, tt,
+              px,  py,  pz, gu,  gv,     gh,    fx0,    fy0,    hi,    u0,  u1,   v0,   v1, e0,
+              c20, s20, e1, c21, s21,    t_low, t_exit, h00,    h10,   h01, h11,  fx,   fy, dh,
+              du,  dv,  g,  gL,  newton, kd,    hasx,   skipf,  own,   cid, cjd,  roomd})
             for (int l = 0; l < N; ++l) a[l] = 0;
         for (int l = 0; l < N; ++l) {
             dz[l] = -1;
