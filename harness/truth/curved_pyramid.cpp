@@ -29,7 +29,9 @@ void ask_huge_pages(const void* p, size_t bytes) {
     constexpr uintptr_t kHuge = uintptr_t(2) << 20;
     const uintptr_t a = (reinterpret_cast<uintptr_t>(p) + kHuge - 1) & ~(kHuge - 1);
     const uintptr_t b = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHuge - 1);
-    if (b > a) (void)madvise(reinterpret_cast<void*>(a), b - a, 25 /* MADV_COLLAPSE */);
+    // (synchronous: the kernel copies the pages; above 512 MB left to 4 KB pages)
+    if (b > a && b - a <= (uintptr_t(512) << 20))
+        (void)madvise(reinterpret_cast<void*>(a), b - a, 25 /* MADV_COLLAPSE */);
 #else
     (void)p;
     (void)bytes;
@@ -123,14 +125,42 @@ std::string CurvedPyramid::path_name(Path p) {
 
 const double* CurvedPyramid::atan_table() { return fast_atan2.table; }
 
+CurvedPyramid::Path CurvedPyramid::cpu_path() {
+    switch (ExactTracer::cpu_best_path()) {
+        case ExactTracer::RayPath::avx512:
+            return Path::avx512;
+        case ExactTracer::RayPath::avx2:
+            return Path::avx2;
+        default:
+            return Path::scalar;
+    }
+}
+
+bool CurvedPyramid::lanes_compiled() {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    return true;
+#else
+    return false;
+#endif
+}
+
 void CurvedPyramid::trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
-                               Path path) const {
-    // the plane keeps the scalar path (the runner's plane truth is the exact tracer)
-    if (kind_ != Kind::plane && path == Path::avx512) return trace_avx512(rays, n, out, max_steps);
-    if (kind_ != Kind::plane && path == Path::avx2) return trace_avx2(rays, n, out, max_steps);
+                               Path path, const std::atomic<bool>* stop) const {
+    // never above what the CPU has; the plane keeps the scalar path (the runner's plane truth is
+    // the exact tracer); AVX2's gathers take 32-bit indices
+    path = std::min(path, cpu_path());
+    const bool small = max_.size() < (size_t(1) << 31) && hf_.texels.size() < (size_t(1) << 31);
+    if (kind_ != Kind::plane && path == Path::avx512)
+        return trace_avx512(rays, n, out, max_steps, stop);
+    if (kind_ != Kind::plane && path == Path::avx2 && small)
+        return trace_avx2(rays, n, out, max_steps, stop);
     long long spent = 0;
     for (size_t k = 0; k < n; ++k) {
-        out[k] = trace_one(rays[k], std::max<long long>(max_steps - spent, 0) + 4096);
+        if (spent > max_steps || (stop && stop->load(std::memory_order_relaxed))) {
+            out[k] = One{};  // not started: the budget is spent (the caller throws)
+            continue;
+        }
+        out[k] = trace_one(rays[k], max_steps - spent + 4096);
         spent += out[k].steps;
     }
 }

@@ -23,6 +23,7 @@
 // Per ray, so the result does not depend on the thread count. trace_many takes rays 8 (AVX-512)
 // or 4 (AVX2) to a vector (curved_pyramid_lanes.h), each ray's result trace_one's bit for bit.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -41,6 +42,8 @@ class CurvedPyramid {
     // avx2, avx512: ExactTracer::default_path), and its name in words (pxh bench prints it).
     enum class Path { scalar, avx2, avx512 };
     static Path default_path();
+    static Path cpu_path();        // the widest this CPU has, whatever PXH_TRACER_PATH says
+    static bool lanes_compiled();  // this build has the vector paths (GCC on x86-64)
     static std::string path_name(Path p = default_path());
     CurvedPyramid(const HeightField& hf, double scale, double bias, const BaseSurface& base);
 
@@ -53,10 +56,13 @@ class CurvedPyramid {
     // budget left).
     One trace_one(const WorldRay& r, long long max_steps) const;
     // rays[0 .. n) into out[0 .. n), each trace_one's result on the ray, bit for bit, taken on
-    // `path` (the scalar path: trace_one itself); each ray may take what was left of
-    // `max_steps` (over the n rays) when it began, plus 4096.
+    // `path` (never above what the CPU has; the scalar path: trace_one itself). Each ray may
+    // take what was left of `max_steps` (over the n rays) when it began, plus 4096; once the
+    // rays' steps pass max_steps + 4096, or `stop` is set, the rays under way end over budget
+    // (hit false, their steps) and the others are left unstarted (One{}): the caller's budget
+    // is spent, and it throws.
     void trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
-                    Path path = default_path()) const;
+                    Path path = default_path(), const std::atomic<bool>* stop = nullptr) const;
     int levels() const { return int(nx_.size()); }
 
     // Deliberate breakage, for the tests only: every node bound lowered by `shrink_ulps` float
@@ -71,8 +77,10 @@ class CurvedPyramid {
   private:
     template <class L>
     friend struct PyramidLanes;  // the vector paths (curved_pyramid_lanes.h)
-    void trace_avx512(const WorldRay* rays, size_t n, One* out, long long max_steps) const;
-    void trace_avx2(const WorldRay* rays, size_t n, One* out, long long max_steps) const;
+    void trace_avx512(const WorldRay* rays, size_t n, One* out, long long max_steps,
+                      const std::atomic<bool>* stop) const;
+    void trace_avx2(const WorldRay* rays, size_t n, One* out, long long max_steps,
+                    const std::atomic<bool>* stop) const;
     static const double* atan_table();  // atan(i / 64), i = 0 .. 64: fast_atan2's
     enum class Kind { plane, cylinder, sphere };
     struct Eval {

@@ -12,6 +12,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -29,15 +30,15 @@
 namespace pxh {
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-void CurvedPyramid::trace_avx512(const WorldRay* rays, size_t n, One* out,
-                                 long long max_steps) const {
+void CurvedPyramid::trace_avx512(const WorldRay* rays, size_t n, One* out, long long max_steps,
+                                 const std::atomic<bool>* stop) const {
     PyramidLanes<Lanes8> lanes(*this, atan_table());
-    lanes.run(rays, n, out, max_steps);
+    lanes.run(rays, n, out, max_steps, stop);
 }
 #else
-void CurvedPyramid::trace_avx512(const WorldRay* rays, size_t n, One* out,
-                                 long long max_steps) const {
-    trace_many(rays, n, out, max_steps, Path::scalar);  // no avx512 code on this compiler
+void CurvedPyramid::trace_avx512(const WorldRay* rays, size_t n, One* out, long long max_steps,
+                                 const std::atomic<bool>* stop) const {
+    trace_many(rays, n, out, max_steps, Path::scalar, stop);  // no avx512 code on this compiler
 }
 #endif
 

@@ -24,6 +24,7 @@
 // curved_pyramid_avx2.cpp), after their `#pragma GCC target`.
 #pragma once
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -502,9 +503,10 @@ struct PyramidLanes {
         }
     }
 
-    // traverse_bound and traverse_node in lanes, for the vector's lanes in `act` whose cell lies
-    // in the tile (TI = TJ = 0, the node's indices ci 2^-k and cj 2^-k exactly) and, on the sphere,
-    // whose borders' latitudes are in the table; the others are returned, for the scalar code
+    // traverse_bound and traverse_node in lanes, for the vector's lanes in `act` whose cell
+    // index is under 2^51 (its tile and its place in the tile exact in doubles, the node's indices
+    // too) and, on the sphere, whose borders' latitudes are in the table; the others are
+    // returned, for the scalar code
     unsigned traverse_nodes(int o, unsigned act_bits) {
         const M act = L::from_bits(act_bits);
         const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K0 = ld(kd + o), T = ld(t + o);
@@ -589,9 +591,11 @@ struct PyramidLanes {
             alignas(64) double na[V], nb[V];
             L::store(na, ni);
             L::store(nb, nj);
-            for (int i = 0; i < V; ++i)
+            for (unsigned b = L::bits(in); b; b &= b - 1) {
+                const int i = __builtin_ctz(b);
                 skipf[o + i] = int(kd[o + i]) == P.breakage_.skip_level &&
                                (int64_t(na[i]) + int64_t(nb[i])) % 5 == 0;
+            }
         }
         return L::bits(L::mandnot(act, in));
     }
@@ -827,7 +831,17 @@ struct PyramidLanes {
         return false;
     }
 
-    void run(const WorldRay* rays, size_t n, One* out, long long max_steps) {
+    // the rays' steps, done and under way, past max_steps + 4096, or the caller's stop set
+    bool over(long long spent, long long max_steps, const std::atomic<bool>* stop) const {
+        if (stop && stop->load(std::memory_order_relaxed)) return true;
+        long long all = spent;
+        for (int l = 0; l < N; ++l)
+            if (mode[l] != free_lane) all += steps[l];
+        return all > max_steps + 4096;
+    }
+
+    void run(const WorldRay* rays, size_t n, One* out, long long max_steps,
+             const std::atomic<bool>* stop) {
         size_t next = 0;
         long long spent = 0;
         auto lanes_in = [&](uint8_t m) {  // the lanes in mode m, a bit each
@@ -942,6 +956,13 @@ struct PyramidLanes {
                         if (mode[l] == free_lane) charge(l);
                     }
                 }
+            }
+            if (over(spent, max_steps, stop)) {
+                // the budget is spent: the rays under way end over it, the rest unstarted
+                for (unsigned b = ~lanes_in(free_lane) & kAllLanes; b; b &= b - 1)
+                    over_budget(__builtin_ctz(b), out);
+                for (; next < n; ++next) out[next] = One{};
+                return;
             }
             if (next < n)
                 for (unsigned b = lanes_in(free_lane); b; b &= b - 1)

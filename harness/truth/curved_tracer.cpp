@@ -233,7 +233,8 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
             const size_t m = rg.end() - rg.begin();
             std::vector<CurvedPyramid::One> o(m);
             pyramid_->trace_many(&rays[rg.begin()], m, o.data(),
-                                 (long long)std::clamp(left, 0.0, 4e18));
+                                 (long long)std::clamp(left, 0.0, 4e18),
+                                 CurvedPyramid::default_path(), &budget.over);
             for (size_t i = 0; i < m; ++i) {
                 one[rg.begin() + i] = {o[i].hit, o[i].t, o[i].residual, o[i].steps};
                 budget.spend(o[i].steps);

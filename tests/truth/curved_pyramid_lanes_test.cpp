@@ -6,7 +6,10 @@
 // lanes must follow as the scalar code does.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <random>
@@ -17,6 +20,7 @@
 #include "harness/scene/curved_view.h"
 #include "harness/scene/perspective_camera.h"
 #include "harness/truth/curved_pyramid.h"
+#include "harness/truth/curved_tracer.h"
 #include "tests/test_util.h"
 
 namespace pxh {
@@ -124,17 +128,58 @@ TEST(CurvedPyramidLanes, FbmGrazingAndBrokenPyramids) {
     EXPECT_GT(hits, 3000u * paths.size());
 }
 
-// The path in words, and PXH_TRACER_PATH's choice (the tests run with it unset or at the
-// widest path, as CI does): the default path is the widest this CPU has.
+// The path in words, and PXH_TRACER_PATH's choice (the tests run with it unset, as CI does):
+// the default path is the widest this CPU has (AVX-512F and DQ; AVX2 with FMA, as the exact
+// tracer's), and this build (GCC on x86-64) has the lanes.
 TEST(CurvedPyramidLanes, DefaultPathIsTheWidest) {
-    const auto paths = vector_paths();
-    const char* env = std::getenv("PXH_TRACER_PATH");
-    if (env && *env) GTEST_SKIP() << "PXH_TRACER_PATH is set";
-    const CurvedPyramid::Path want = paths.empty() ? CurvedPyramid::Path::scalar : paths.back();
-    EXPECT_EQ(CurvedPyramid::default_path(), want);
+    const CurvedPyramid::Path widest =
+        __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq")
+            ? CurvedPyramid::Path::avx512
+            : (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")
+                   ? CurvedPyramid::Path::avx2
+                   : CurvedPyramid::Path::scalar);
+    EXPECT_EQ(CurvedPyramid::cpu_path(), widest);
     EXPECT_EQ(CurvedPyramid::path_name(CurvedPyramid::Path::avx512),
               "avx512: 8 rays to a vector, double");
     EXPECT_EQ(CurvedPyramid::path_name(CurvedPyramid::Path::scalar), "scalar double");
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    EXPECT_TRUE(CurvedPyramid::lanes_compiled());
+#endif
+    const char* env = std::getenv("PXH_TRACER_PATH");
+    if (env && *env) GTEST_SKIP() << "PXH_TRACER_PATH is set";
+    EXPECT_EQ(CurvedPyramid::default_path(), widest);
+}
+
+// The budget: a caller's stop (another thread spent the view's budget) ends the rays under way
+// as over budget and leaves the rest unstarted, on every path; through CurvedTracer, a view
+// over its budget is refused with CurvedWalkTooLong, as the walk's.
+TEST(CurvedPyramidLanes, StopAndBudget) {
+    const HeightField hf = generated_field("fbm", 64);
+    const auto base = make_base("cylinder", 1.5);
+    const OrthographicCamera cam(60, 20, 32);
+    const CurvedView cv = curved_view(cam, *base, 0);
+    const CurvedPyramid pyr(hf, 0.05, 1, *base);
+    const std::atomic<bool> stop{true};
+    std::vector<CurvedPyramid::Path> paths = vector_paths();
+    paths.push_back(CurvedPyramid::Path::scalar);
+    for (CurvedPyramid::Path path : paths) {
+        std::vector<CurvedPyramid::One> got(cv.rays.size());
+        pyr.trace_many(cv.rays.data(), got.size(), got.data(), 1LL << 40, path, &stop);
+        size_t hits = 0, started = 0;
+        long long most = 0;
+        for (const auto& o : got) {
+            hits += o.hit;
+            started += o.steps > 0;
+            most = std::max(most, o.steps);
+        }
+        EXPECT_EQ(hits, 0u) << CurvedPyramid::path_name(path);
+        EXPECT_LE(started, 32u) << CurvedPyramid::path_name(path);  // one round of the lanes
+        EXPECT_LE(most, 2 + pyr.levels()) << CurvedPyramid::path_name(path);
+    }
+    // the whole view takes about 18 steps a ray: a budget of 1000 steps is refused
+    const CurvedTracer truth(hf, 0.05, 1, *base, 0.25, CurvedMethod::pyramid);
+    EXPECT_THROW(truth.trace(cv.rays, 1000), CurvedWalkTooLong);
+    EXPECT_NO_THROW(truth.trace(cv.rays, 1e6));
 }
 
 }  // namespace
