@@ -101,16 +101,17 @@ bool CurvedPyramid::supports(const BaseSurface& base) {
     return n == "cylinder" || n == "sphere" || n == "plane";
 }
 
-CurvedPyramid::Path CurvedPyramid::default_path() {
-    switch (ExactTracer::default_path()) {
-        case ExactTracer::RayPath::avx512:
-            return Path::avx512;
-        case ExactTracer::RayPath::avx2:
-            return Path::avx2;
-        default:
-            return Path::scalar;
-    }
+namespace {
+CurvedPyramid::Path path_of(ExactTracer::RayPath p) {
+    if (p == ExactTracer::RayPath::avx512) return CurvedPyramid::Path::avx512;
+    if (p == ExactTracer::RayPath::avx2) return CurvedPyramid::Path::avx2;
+    return CurvedPyramid::Path::scalar;
 }
+}  // namespace
+
+CurvedPyramid::Path CurvedPyramid::default_path() { return path_of(ExactTracer::default_path()); }
+
+CurvedPyramid::Path CurvedPyramid::cpu_path() { return path_of(ExactTracer::cpu_best_path()); }
 
 std::string CurvedPyramid::path_name(Path p) {
     switch (p) {
@@ -124,17 +125,6 @@ std::string CurvedPyramid::path_name(Path p) {
 }
 
 const double* CurvedPyramid::atan_table() { return fast_atan2.table; }
-
-CurvedPyramid::Path CurvedPyramid::cpu_path() {
-    switch (ExactTracer::cpu_best_path()) {
-        case ExactTracer::RayPath::avx512:
-            return Path::avx512;
-        case ExactTracer::RayPath::avx2:
-            return Path::avx2;
-        default:
-            return Path::scalar;
-    }
-}
 
 bool CurvedPyramid::lanes_compiled() {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)

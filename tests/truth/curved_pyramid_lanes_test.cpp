@@ -22,12 +22,12 @@
 #include "harness/truth/curved_pyramid.h"
 #include "harness/truth/curved_tracer.h"
 #include "tests/test_util.h"
+#include "tests/truth/random_curved_view.h"
 
 namespace pxh {
 namespace {
 
 using test::generated_field;
-using test::random_field;
 
 // The vector paths this CPU runs (PXH_TRACER_PATH may lower the widest, never raise it).
 std::vector<CurvedPyramid::Path> vector_paths() {
@@ -63,40 +63,18 @@ TEST(CurvedPyramidLanes, RandomViewsBitForBitTraceOne) {
     const auto paths = vector_paths();
     if (paths.empty()) GTEST_SKIP() << "this CPU has no vector path (AVX2 or AVX-512)";
     std::mt19937 rng(11);
-    std::uniform_real_distribution<double> U(0, 1);
     size_t rays = 0, hits = 0;
     for (int view = 0; view < 240; ++view) {
-        const int W = 3 + int(U(rng) * 60), H = 3 + int(U(rng) * 60);
-        HeightField hf = random_field(W, H, uint32_t(rng()));
-        if (U(rng) < 0.3)
-            for (float& t : hf.texels) t = t > 0.7f ? t : 0.2f;
-        const char* name = U(rng) < 0.5 ? "cylinder" : "sphere";
-        const double s = std::exp(std::log(0.005) + U(rng) * std::log(0.5 / 0.005));
-        const double b = U(rng) < 0.5 ? 1.0 : U(rng);
-        double R = std::exp(std::log(0.1) + U(rng) * std::log(1e6 / 0.1));
-        if (R <= s * b * 1.05) R = s * b * 1.05 + 0.01;
-        const auto base = make_base(name, R);
-        const double theta = U(rng) * 89, phi = U(rng) * 360;
-        std::unique_ptr<Camera> cam;
-        if (U(rng) < 0.5) {
-            cam = std::make_unique<OrthographicCamera>(theta, phi, 16);
-        } else {
-            PerspectiveParams p;
-            p.theta_deg = theta;
-            p.phi_deg = phi;
-            p.distance = 0.6 + U(rng) * 4;
-            p.fov_deg = 20 + U(rng) * 60;
-            p.samples = 16;
-            if (p.distance * std::cos(theta * M_PI / 180) <= s * (1 - b) + 0.05) continue;
-            cam = std::make_unique<PerspectiveCamera>(p);
-        }
-        const CurvedView cv = curved_view(*cam, *base, s * (1 - b));
-        const CurvedPyramid pyr(hf, s, b, *base);
+        const auto v = test::random_curved_view(rng);
+        if (!v) continue;
+        const CurvedView& cv = v->cv;
+        const CurvedPyramid pyr(v->hf, v->s, v->b, *v->base);
         // batches of 1 (one lane busy), 37 (lanes left idle at the end) and the whole view
         const size_t batch = view % 3 == 0 ? 1 : (view % 3 == 1 ? 37 : cv.rays.size());
         for (CurvedPyramid::Path path : paths) {
             const std::string d = differs(pyr, cv.rays, path, batch, hits);
-            EXPECT_EQ(d, "") << "view " << view << ": " << name << " R " << R << " theta " << theta;
+            EXPECT_EQ(d, "") << "view " << view << ": " << v->name << " R " << v->R << " theta "
+                             << v->theta;
         }
         rays += cv.rays.size();
     }

@@ -19,6 +19,7 @@
 #include "harness/scene/perspective_camera.h"
 #include "harness/truth/curved_tracer.h"
 #include "tests/test_util.h"
+#include "tests/truth/random_curved_view.h"
 
 namespace pxh {
 namespace {
@@ -187,37 +188,16 @@ TEST(CurvedPyramid, SphereNodesBorderingTheEquator) {
 // a stretch below the surface (docs/internals/tracers.md).
 TEST(CurvedPyramid, RandomViewsAreTheWalk) {
     std::mt19937 rng(7);
-    std::uniform_real_distribution<double> U(0, 1);
     size_t rays = 0, hits = 0;
     for (int view = 0; view < 400; ++view) {
-        const int W = 3 + int(U(rng) * 60), H = 3 + int(U(rng) * 60);
-        HeightField hf = random_field(W, H, uint32_t(rng()));
-        if (U(rng) < 0.3)
-            for (float& t : hf.texels) t = t > 0.7f ? t : 0.2f;
-        const char* name = U(rng) < 0.5 ? "cylinder" : "sphere";
-        const double s = std::exp(std::log(0.005) + U(rng) * std::log(0.5 / 0.005));
-        const double b = U(rng) < 0.5 ? 1.0 : U(rng);
-        double R = std::exp(std::log(0.1) + U(rng) * std::log(1e6 / 0.1));
-        if (R <= s * b * 1.05) R = s * b * 1.05 + 0.01;
-        const auto base = make_base(name, R);
-        const double theta = U(rng) * 89, phi = U(rng) * 360;
-        std::unique_ptr<Camera> cam;
-        if (U(rng) < 0.5) {
-            cam = std::make_unique<OrthographicCamera>(theta, phi, 16);
-        } else {
-            PerspectiveParams p;
-            p.theta_deg = theta;
-            p.phi_deg = phi;
-            p.distance = 0.6 + U(rng) * 4;
-            p.fov_deg = 20 + U(rng) * 60;
-            p.samples = 16;
-            if (p.distance * std::cos(theta * M_PI / 180) <= s * (1 - b) + 0.05) continue;
-            cam = std::make_unique<PerspectiveCamera>(p);
-        }
-        const CurvedView cv = curved_view(*cam, *base, s * (1 - b));
-        const Compared c = compare(hf, s, b, *base, cv.rays, tolerance(R, std::max(W, H), 89));
-        EXPECT_EQ(c.hit_mismatch, 0u) << "view " << view << ": " << what(name, R, theta, c);
-        EXPECT_EQ(c.uv_over, 0u) << "view " << view << ": " << what(name, R, theta, c);
+        const auto v = test::random_curved_view(rng);
+        if (!v) continue;
+        const int n = std::max(v->hf.width, v->hf.height);
+        const Compared c = compare(v->hf, v->s, v->b, *v->base, v->cv.rays, tolerance(v->R, n, 89));
+        EXPECT_EQ(c.hit_mismatch, 0u)
+            << "view " << view << ": " << what(v->name.c_str(), v->R, v->theta, c);
+        EXPECT_EQ(c.uv_over, 0u) << "view " << view << ": "
+                                 << what(v->name.c_str(), v->R, v->theta, c);
         rays += c.rays;
         hits += c.hits;
     }
