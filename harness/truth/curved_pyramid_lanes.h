@@ -122,6 +122,10 @@ struct PyramidLanes {
     static D smin(D a, D b) { return L::select(L::lt(b, a), b, a); }
     static D smax(D a, D b) { return L::select(L::lt(a, b), b, a); }
     static M isfinite(D a) { return L::lt(L::abs(a), c(kInf)); }
+    // a per-level table's entry at level k: a permute where the pyramid has at most 16 levels
+    D level(const double* table, D k) const {
+        return top < 16 ? L::lookup16(table, k) : L::lookup(table, k);
+    }
 
     template <class F>
     static void each(M m, F&& f) {
@@ -473,10 +477,10 @@ struct PyramidLanes {
                              L::mand(L::ge(yl, c(0)), L::lt(yl, Hd)));
         alignas(64) double at[2][V];
         for (int lower = 0; lower < 2; ++lower) {
-            const D k = lower ? smax(L::sub(K, c(1)), c(0)) : K, sk = L::lookup(inv_pow2, k);
-            const D idx = L::add(
-                L::add(L::lookup(offd, k), L::mul(L::floor(L::mul(yl, sk)), L::lookup(nxd, k))),
-                L::floor(L::mul(xl, sk)));
+            const D k = lower ? smax(L::sub(K, c(1)), c(0)) : K, sk = level(inv_pow2, k);
+            const D idx =
+                L::add(L::add(level(offd, k), L::mul(L::floor(L::mul(yl, sk)), level(nxd, k))),
+                       L::floor(L::mul(xl, sk)));
             L::store(at[lower], L::select(ok, idx, c(0)));
         }
         for (int i = 0; i < V; ++i) {
@@ -522,10 +526,10 @@ struct PyramidLanes {
         // (a step) of its own as there, as long as the budget allows: the lane's next visit is
         // at the first level whose bound lies under the point, or at level 0
         auto bound_at = [&](D k, M m) {
-            const D sk = L::lookup(inv_pow2, k);
-            const D idx = L::add(
-                L::add(L::lookup(offd, k), L::mul(L::floor(L::mul(yl, sk)), L::lookup(nxd, k))),
-                L::floor(L::mul(xl, sk)));
+            const D sk = level(inv_pow2, k);
+            const D idx =
+                L::add(L::add(level(offd, k), L::mul(L::floor(L::mul(yl, sk)), level(nxd, k))),
+                       L::floor(L::mul(xl, sk)));
             const D mx = L::lookup(P.max_.data(), L::select(m, idx, c(0)));
             return L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_));
         };
@@ -551,7 +555,7 @@ struct PyramidLanes {
                 L::store(kd + o, K);
             }
         }
-        const D sk = L::lookup(inv_pow2, K), pk = L::lookup(pow2, K);
+        const D sk = level(inv_pow2, K), pk = level(pow2, K);
         const D ni = L::floor(L::mul(xl, sk)), nj = L::floor(L::mul(yl, sk));
         const M below_top = L::lt(K, c(double(top)));
         L::store(hasx + o, L::select(below_top, c(1), c(0)));
