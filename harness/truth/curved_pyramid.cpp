@@ -10,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "harness/truth/cell_solver.h"
 #include "harness/truth/exact_tracer.h"
 
 namespace pxh {
@@ -36,13 +37,6 @@ void ask_huge_pages(const void* p, size_t bytes) {
     (void)p;
     (void)bytes;
 #endif
-}
-
-int64_t floor_div(int64_t a, int64_t n) {
-    if (a >= 0 && a < n) return 0;  // the common case: no division
-    int64_t q = a / n;
-    if ((a % n != 0) && ((a < 0) != (n < 0))) --q;
-    return q;
 }
 
 // The first (smallest) root > 0 of A x^2 + 2 B x + C = 0 whose point passes `ok`, or inf.
@@ -126,24 +120,20 @@ std::string CurvedPyramid::path_name(Path p) {
 
 const double* CurvedPyramid::atan_table() { return fast_atan2.table; }
 
-bool CurvedPyramid::lanes_compiled() {
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    return true;
-#else
-    return false;
-#endif
-}
-
 void CurvedPyramid::trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
                                Path path, const std::atomic<bool>* stop) const {
     // never above what the CPU has; the plane keeps the scalar path (the runner's plane truth is
     // the exact tracer); AVX2's gathers take 32-bit indices
     path = std::min(path, cpu_path());
     const bool small = max_.size() < (size_t(1) << 31) && hf_.texels.size() < (size_t(1) << 31);
+#if PXH_PYRAMID_LANES
     if (kind_ != Kind::plane && path == Path::avx512)
         return trace_avx512(rays, n, out, max_steps, stop);
     if (kind_ != Kind::plane && path == Path::avx2 && small)
         return trace_avx2(rays, n, out, max_steps, stop);
+#else
+    (void)small;
+#endif
     long long spent = 0;
     for (size_t k = 0; k < n; ++k) {
         if (spent > max_steps || (stop && stop->load(std::memory_order_relaxed))) {
@@ -673,7 +663,7 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
             t_geo = t;
         }
         // the node of level k holding the point, in unwrapped cells [c0, c1) x [d0, d1)
-        const int64_t TI = floor_div(ci, W_), TJ = floor_div(cj, H_);
+        const int64_t TI = cell_solver::floor_div(ci, W_), TJ = cell_solver::floor_div(cj, H_);
         const int64_t ni = (ci - TI * W_) >> k, nj = (cj - TJ * H_) >> k;
         const double hi = s_ * (double(node_max(k, ni, nj)) - b_) + margin_;
         const double tiny = tiny_ + 4 * kEps * std::abs(t);

@@ -32,6 +32,14 @@
 #include "harness/scene/heightfield.h"
 #include "harness/scene/view.h"
 
+// The vector paths are compiled with GCC on x86-64 (curved_pyramid_avx512.cpp and
+// curved_pyramid_avx2.cpp, each after its `#pragma GCC target`); elsewhere trace_many is scalar.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PXH_PYRAMID_LANES 1
+#else
+#define PXH_PYRAMID_LANES 0
+#endif
+
 namespace pxh {
 
 class CurvedPyramid {
@@ -42,8 +50,7 @@ class CurvedPyramid {
     // avx2, avx512: ExactTracer::default_path), and its name in words (pxh bench prints it).
     enum class Path { scalar, avx2, avx512 };
     static Path default_path();
-    static Path cpu_path();        // the widest this CPU has, whatever PXH_TRACER_PATH says
-    static bool lanes_compiled();  // this build has the vector paths (GCC on x86-64)
+    static Path cpu_path();  // the widest this CPU has, whatever PXH_TRACER_PATH says
     static std::string path_name(Path p = default_path());
     CurvedPyramid(const HeightField& hf, double scale, double bias, const BaseSurface& base);
 

@@ -17,32 +17,24 @@
 #include <limits>
 
 #include "harness/scene/heightfield.h"
+#include "harness/truth/cell_solver.h"
 #include "harness/truth/curved_pyramid.h"
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if PXH_PYRAMID_LANES
 #pragma GCC push_options
 #pragma GCC target("avx2")
 #define PXH_LANES_AVX2 1
 #include "harness/truth/curved_pyramid_lanes.h"
-#endif
 
 namespace pxh {
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 void CurvedPyramid::trace_avx2(const WorldRay* rays, size_t n, One* out, long long max_steps,
                                const std::atomic<bool>* stop) const {
     PyramidLanes<Lanes4> lanes(*this, atan_table());
     lanes.run(rays, n, out, max_steps, stop);
 }
-#else
-void CurvedPyramid::trace_avx2(const WorldRay* rays, size_t n, One* out, long long max_steps,
-                               const std::atomic<bool>* stop) const {
-    trace_many(rays, n, out, max_steps, Path::scalar, stop);  // no avx2 code on this compiler
-}
-#endif
 
 }  // namespace pxh
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #pragma GCC pop_options
 #endif

@@ -29,6 +29,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "harness/truth/cell_solver.h"
 #include "harness/truth/curved_pyramid.h"
 #include "harness/truth/lanes.h"
 
@@ -61,7 +62,7 @@ struct PyramidLanes {
     // a cell's walk: its exit, 1e-10 texel (and a few ulp of t), the steps' bounds, t there
     alignas(64) double tb[N], tiny[N], cL[N], cK[N], tt[N];
     // scratch between the lanes' arithmetic and the scalar decisions
-    alignas(64) double px[N], py[N], pz[N], gu[N], gv[N], gh[N], fx0[N], fy0[N];
+    alignas(64) double px[N], py[N], pz[N], gu[N], gh[N], fx0[N], fy0[N];
     alignas(64) double hi[N], u0[N], u1[N], v0[N], v1[N];
     alignas(64) double e0[N], c20[N], s20[N], e1[N], c21[N], s21[N];
     alignas(64) double t_low[N], t_exit[N];
@@ -84,10 +85,10 @@ struct PyramidLanes {
 
     PyramidLanes(const CurvedPyramid& p, const double* table) : P(p), atan_table(table) {
         for (double* a :
-             {ox,  oy,  oz, dx,  dy,     dz,    t,      t_safe, t_end, tb,  tiny, cL,   cK, tt,
-              px,  py,  pz, gu,  gv,     gh,    fx0,    fy0,    hi,    u0,  u1,   v0,   v1, e0,
-              c20, s20, e1, c21, s21,    t_low, t_exit, h00,    h10,   h01, h11,  fx,   fy, dh,
-              du,  dv,  g,  gL,  newton, kd,    hasx,   skipf,  own,   cid, cjd,  roomd})
+             {ox,  oy, oz,  dx,     dy,    dz,     t,     t_safe, t_end, tb,  tiny, cL, cK, tt,
+              px,  py, pz,  gu,     gh,    fx0,    fy0,   hi,     u0,    u1,  v0,   v1, e0, c20,
+              s20, e1, c21, s21,    t_low, t_exit, h00,   h10,    h01,   h11, fx,   fy, dh, du,
+              dv,  g,  gL,  newton, kd,    hasx,   skipf, own,    cid,   cjd, roomd})
             for (int l = 0; l < N; ++l) a[l] = 0;
         for (int l = 0; l < N; ++l) {
             dz[l] = -1;
@@ -109,12 +110,6 @@ struct PyramidLanes {
         }
     }
 
-    CurvedPyramid::Latitude latitude(int64_t d) const {
-        if (d >= P.lat_lo_ && d - P.lat_lo_ < int64_t(P.lat_.size()))
-            return P.lat_[size_t(d - P.lat_lo_)];
-        return P.make_latitude(d);
-    }
-
     // ---- lane arithmetic ----
     static D c(double a) { return L::set(a); }
     static D ld(const double* a) { return L::load(a); }
@@ -122,6 +117,14 @@ struct PyramidLanes {
     static D smin(D a, D b) { return L::select(L::lt(b, a), b, a); }
     static D smax(D a, D b) { return L::select(L::lt(a, b), b, a); }
     static M isfinite(D a) { return L::lt(L::abs(a), c(kInf)); }
+    // a cell index's place in its tile, i - floor(i / n) n: exact for |i| under 2^52
+    static D in_tile(D i, D n) { return L::sub(i, L::mul(L::floor(L::div(i, n)), n)); }
+    // the pyramid's index of the node of level k over the tile's cell (xl, yl)
+    D node_index(D k, D xl, D yl) const {
+        const D sk = level(inv_pow2, k);
+        return L::add(L::add(level(offd, k), L::mul(L::floor(L::mul(yl, sk)), level(nxd, k))),
+                      L::floor(L::mul(xl, sk)));
+    }
     // a per-level table's entry at level k: a permute where the pyramid has at most 16 levels
     D level(const double* table, D k) const {
         return top < 16 ? L::lookup16(table, k) : L::lookup(table, k);
@@ -190,7 +193,6 @@ struct PyramidLanes {
             h = L::sub(r, R);
         }
         L::store(gu + o, u);
-        L::store(gv + o, v);
         L::store(gh + o, h);
         L::store(fx0 + o, L::floor(L::sub(L::mul(u, c(double(P.W_))), c(0.5))));
         L::store(fy0 + o, L::floor(L::sub(L::mul(v, c(double(P.H_))), c(0.5))));
@@ -412,13 +414,6 @@ struct PyramidLanes {
     }
 
     // ---- scalar, per lane: trace_one's decisions ----
-    static int64_t floor_div(int64_t a, int64_t n) {
-        if (a >= 0 && a < n) return 0;
-        int64_t q = a / n;
-        if ((a % n != 0) && ((a < 0) != (n < 0))) --q;
-        return q;
-    }
-
     WorldRay ray_of(int l) const { return WorldRay{{ox[l], oy[l], oz[l]}, {dx[l], dy[l], dz[l]}}; }
 
     // the ray's walk is over: as trace_one after its loop (the bottom shell ends the chord)
@@ -454,7 +449,7 @@ struct PyramidLanes {
         cid[l] = double(ci[l]);
         cjd[l] = double(cj[l]);
         const int kk = int(kd[l]);
-        const int64_t TI = floor_div(ci[l], W), TJ = floor_div(cj[l], Hh);
+        const int64_t TI = cell_solver::floor_div(ci[l], W), TJ = cell_solver::floor_div(cj[l], Hh);
         const int64_t ni = (ci[l] - TI * W) >> kk, nj = (cj[l] - TJ * Hh) >> kk;
         TI_[l] = TI;
         TJ_[l] = TJ;
@@ -471,17 +466,13 @@ struct PyramidLanes {
     void prefetch_nodes(int o) {
         const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o), K = ld(kd + o);
         const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
-        const D xl = L::sub(X0, L::mul(L::floor(L::div(X0, Wd)), Wd));
-        const D yl = L::sub(Y0, L::mul(L::floor(L::div(Y0, Hd)), Hd));
+        const D xl = in_tile(X0, Wd), yl = in_tile(Y0, Hd);
         const M ok = L::mand(L::mand(L::ge(xl, c(0)), L::lt(xl, Wd)),
                              L::mand(L::ge(yl, c(0)), L::lt(yl, Hd)));
         alignas(64) double at[2][V];
         for (int lower = 0; lower < 2; ++lower) {
-            const D k = lower ? smax(L::sub(K, c(1)), c(0)) : K, sk = level(inv_pow2, k);
-            const D idx =
-                L::add(L::add(level(offd, k), L::mul(L::floor(L::mul(yl, sk)), level(nxd, k))),
-                       L::floor(L::mul(xl, sk)));
-            L::store(at[lower], L::select(ok, idx, c(0)));
+            const D k = lower ? smax(L::sub(K, c(1)), c(0)) : K;
+            L::store(at[lower], L::select(ok, node_index(k, xl, yl), c(0)));
         }
         for (int i = 0; i < V; ++i) {
             __builtin_prefetch(P.max_.data() + int64_t(at[0][i]));
@@ -492,8 +483,7 @@ struct PyramidLanes {
     void prefetch_texels(int o) {
         const D X0 = ld(fx0 + o), Y0 = ld(fy0 + o);
         const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
-        const D i0 = L::sub(X0, L::mul(L::floor(L::div(X0, Wd)), Wd));
-        const D j0 = L::sub(Y0, L::mul(L::floor(L::div(Y0, Hd)), Hd));
+        const D i0 = in_tile(X0, Wd), j0 = in_tile(Y0, Hd);
         const M ok = L::mand(L::mand(L::ge(i0, c(0)), L::lt(i0, Wd)),
                              L::mand(L::ge(j0, c(0)), L::lt(j0, Hd)));
         const D j1 = L::select(L::eq(L::add(j0, c(1)), Hd), c(0), L::add(j0, c(1)));
@@ -526,11 +516,7 @@ struct PyramidLanes {
         // (a step) of its own as there, as long as the budget allows: the lane's next visit is
         // at the first level whose bound lies under the point, or at level 0
         auto bound_at = [&](D k, M m) {
-            const D sk = level(inv_pow2, k);
-            const D idx =
-                L::add(L::add(level(offd, k), L::mul(L::floor(L::mul(yl, sk)), level(nxd, k))),
-                       L::floor(L::mul(xl, sk)));
-            const D mx = L::lookup(P.max_.data(), L::select(m, idx, c(0)));
+            const D mx = L::lookup(P.max_.data(), L::select(m, node_index(k, xl, yl), c(0)));
             return L::add(L::mul(c(P.s_), L::sub(mx, c(P.b_))), c(P.margin_));
         };
         D K = K0, bound = bound_at(K0, in);
@@ -628,7 +614,7 @@ struct PyramidLanes {
         v0[l] = (double(d0) + 0.5) * ih;
         v1[l] = (double(d1) + 0.5) * ih;
         if (P.kind_ == Kind::sphere) {
-            const CurvedPyramid::Latitude a = latitude(d0), b = latitude(d1);
+            const CurvedPyramid::Latitude a = P.latitude(d0), b = P.latitude(d1);
             e0[l] = a.e;
             c20[l] = a.c2;
             s20[l] = a.s2;
@@ -710,8 +696,7 @@ struct PyramidLanes {
         const D Wd = c(double(P.W_)), Hd = c(double(P.H_));
         const M in =
             L::mand(act, L::mand(L::lt(L::abs(X0), c(0x1p51)), L::lt(L::abs(Y0), c(0x1p51))));
-        const D i0 = L::sub(X0, L::mul(L::floor(L::div(X0, Wd)), Wd));
-        const D j0 = L::sub(Y0, L::mul(L::floor(L::div(Y0, Hd)), Hd));
+        const D i0 = in_tile(X0, Wd), j0 = in_tile(Y0, Hd);
         const D i1 = L::select(L::eq(L::add(i0, c(1)), Wd), c(0), L::add(i0, c(1)));
         const D j1 = L::select(L::eq(L::add(j0, c(1)), Hd), c(0), L::add(j0, c(1)));
         const D r0 = L::select(in, L::mul(j0, Wd), c(0)), r1 = L::select(in, L::mul(j1, Wd), c(0));
@@ -726,9 +711,8 @@ struct PyramidLanes {
         return L::bits(L::mandnot(act, in));
     }
 
-    void cell_texels(int l, int64_t& ei, int64_t& ej) {
-        ei = bilinear_index(fx0[l]);
-        ej = bilinear_index(fy0[l]);
+    void cell_texels(int l) {
+        const int64_t ei = bilinear_index(fx0[l]), ej = bilinear_index(fy0[l]);
         const int W = P.W_, Hh = P.H_;
         const int i0 = int(wrap_index(ei, W)), j0 = int(wrap_index(ej, Hh));
         const int i1 = i0 + 1 == W ? 0 : i0 + 1, j1 = j0 + 1 == Hh ? 0 : j0 + 1;
@@ -933,10 +917,7 @@ struct PyramidLanes {
                     }
                 for (int o = 0; o < N; o += V) {
                     const unsigned rest = cell_texels(o, (ce >> o) & kVectorBits);
-                    for (unsigned b = rest; b; b &= b - 1) {
-                        int64_t ei, ej;
-                        cell_texels(o + __builtin_ctz(b), ei, ej);
-                    }
+                    for (unsigned b = rest; b; b &= b - 1) cell_texels(o + __builtin_ctz(b));
                 }
                 for (int o = 0; o < N; o += V)
                     if ((ce >> o) & kVectorBits) cell_values(o);

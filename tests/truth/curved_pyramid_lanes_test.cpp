@@ -121,7 +121,7 @@ TEST(CurvedPyramidLanes, DefaultPathIsTheWidest) {
               "avx512: 8 rays to a vector, double");
     EXPECT_EQ(CurvedPyramid::path_name(CurvedPyramid::Path::scalar), "scalar double");
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    EXPECT_TRUE(CurvedPyramid::lanes_compiled());
+    EXPECT_EQ(PXH_PYRAMID_LANES, 1);  // the project's compiler builds the lanes
 #endif
     const char* env = std::getenv("PXH_TRACER_PATH");
     if (env && *env) GTEST_SKIP() << "PXH_TRACER_PATH is set";
