@@ -1,4 +1,6 @@
 // Every ray of an orthographic view on the sample grid at once: the band tracer (trace_grid).
+#include <emmintrin.h>
+#include <smmintrin.h>
 #include <tbb/parallel_for.h>
 #include <xmmintrin.h>
 
@@ -79,7 +81,9 @@ class ViewTracer {
     void use_level(int l) {
         l_ = std::min(l, int(t_.level_max_t_.size()) - 1);
         nmin_l_ = major_x_ ? t_.level_h_[size_t(l_)] : t_.level_w_[size_t(l_)];
-        cmax_ = (major_x_ ? t_.level_max_t_ : t_.level_max_)[size_t(l_)].data();
+        const auto& table = (major_x_ ? t_.level_max_t_ : t_.level_max_)[size_t(l_)];
+        cmax_ = table.data();
+        cmax_size_ = int64_t(table.size());
         // Blocks a quarter of a chunk long (256 runs of 2^l columns): a chunk's coarse bound
         // reads about 4 block columns by the few block rows its band crosses there.
         coarse_ = std::min(l_ + 6, int(t_.level_max_.size()) - 1);
@@ -227,18 +231,49 @@ class ViewTracer {
         const int64_t len = int64_t(1) << l_;
         double* U = band.U.data() + (size_t(k) << 8);  // run q at U[q - begin]
         const int64_t begin = c << 8, end = begin + 256;
+        // Where runs are aligned to the blocks (nmaj a multiple of 2^l), a run reads one block
+        // column, and where its blocks (at most 4) neither wrap nor end the table, they are read
+        // as one vector of 4 whose lanes past them are set to -inf: the same maximum, without
+        // range_max's branches on the count (which varies from run to run). First every run's
+        // place in the table (asked of the memory system at once: consecutive runs read block
+        // columns nmin_l_ floats apart, a cache line each), then the maxima.
+        const bool aligned = (nmaj_ & (len - 1)) == 0;
+        int64_t at[256];
+        int32_t count[256];  // 0: the general path
         for (int64_t q = begin; q < end; ++q) {
             const int64_t ca = band.base + (q << l_), cb = ca + len;  // columns [ca, cb)
             const auto [j0, n] = minor_cells(band, ca, cb);
-            // The run's cell columns: len consecutive ones from t (mod nmaj), through every
-            // block column they touch (one when nmaj is a multiple of 2^l: runs are aligned).
-            int64_t t = wrap_index(sa_ > 0 ? ca : -cb, nmaj_);
+            const int64_t t = wrap_index(sa_ > 0 ? ca : -cb, nmaj_);
+            const int64_t jw = wrap_index(j0, nmin_), jl = jw + n - 1;
+            const int64_t a = (t >> l_) * nmin_l_ + (jw >> l_);
+            const int64_t m = (jl >> l_) - (jw >> l_) + 1;
+            const bool fast = aligned && n < nmin_ && jl < nmin_ && m <= 4 && a + 4 <= cmax_size_;
+            at[q - begin] = fast ? a : 0;
+            count[q - begin] = fast ? int32_t(m) : 0;
+            _mm_prefetch(reinterpret_cast<const char*>(cmax_ + at[q - begin]), _MM_HINT_T0);
+        }
+        const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
+        const __m128 none = _mm_set1_ps(-std::numeric_limits<float>::infinity());
+        for (int64_t q = begin; q < end; ++q) {
+            const int64_t ca = band.base + (q << l_), cb = ca + len;  // columns [ca, cb)
             float mx = -std::numeric_limits<float>::infinity();
-            for (int64_t left = std::min(len, nmaj_); left > 0;) {
-                const int64_t I = t >> l_, next = std::min((I + 1) << l_, nmaj_);
-                mx = std::max(mx, block_column_max(I, j0, n));
-                left -= next - t;
-                t = next == nmaj_ ? 0 : next;
+            if (count[q - begin] > 0) {
+                const __m128 in =
+                    _mm_castsi128_ps(_mm_cmplt_epi32(lane, _mm_set1_epi32(count[q - begin])));
+                __m128 v = _mm_blendv_ps(none, _mm_loadu_ps(cmax_ + at[q - begin]), in);
+                v = _mm_max_ps(v, _mm_movehl_ps(v, v));
+                mx = _mm_cvtss_f32(_mm_max_ss(v, _mm_shuffle_ps(v, v, 1)));
+            } else {
+                // The run's cell columns: len consecutive ones from t (mod nmaj), through every
+                // block column they touch.
+                const auto [j0, n] = minor_cells(band, ca, cb);
+                int64_t t = wrap_index(sa_ > 0 ? ca : -cb, nmaj_);
+                for (int64_t left = std::min(len, nmaj_); left > 0;) {
+                    const int64_t I = t >> l_, next = std::min((I + 1) << l_, nmaj_);
+                    mx = std::max(mx, block_column_max(I, j0, n));
+                    left -= next - t;
+                    t = next == nmaj_ ? 0 : next;
+                }
             }
             U[q - begin] = s * (double(mx) - b) + k_ * double(cb);
         }
@@ -281,9 +316,18 @@ class ViewTracer {
                 q = (q | 15) + 1;
                 continue;
             }
-            const double* U = band.U.data() + at;  // run q at U[q & 255]
-            for (const int64_t e = std::min(q | 15, q_last); q <= e; ++q)
-                if (U[q & 255] >= Cm) return q;
+            // the block's 16 runs against Cm at once (a bit per run), those from q to e kept:
+            // the first is the first run whose bound reaches Cm, without a branch per run
+            const double* u = band.U.data() + at + size_t(q & 240);
+            const __m128d cm = _mm_set1_pd(Cm);
+            unsigned bits = 0;
+            for (int i = 0; i < 8; ++i)
+                bits |= unsigned(_mm_movemask_pd(_mm_cmpge_pd(_mm_loadu_pd(u + 2 * i), cm)))
+                        << (2 * i);
+            const int64_t e = std::min(q | 15, q_last);
+            bits &= (~0u << (q & 15)) & ((2u << (e & 15)) - 1);
+            if (bits) return (q & ~int64_t(15)) + __builtin_ctz(bits);
+            q = e + 1;
         }
         return q_last + 1;
     }
@@ -454,6 +498,7 @@ class ViewTracer {
     int coarse_ = 0;                         // the level of the chunks' coarse bounds
     int64_t nmin_l_ = 0;                     // its blocks along the minor axis
     const float* cmax_;  // its block maxima, minor-contiguous: [major block * nmin_l + minor block]
+    int64_t cmax_size_ = 0;  // their number
 };
 
 namespace {

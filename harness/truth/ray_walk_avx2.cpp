@@ -348,6 +348,12 @@ PXH_AVX2_INLINE void fetch(DdaGroup& G, const SquareScene& sc) {
     }
 }
 
+// A column's values for the rays vi: four consecutive ones (seq) by a plain load.
+PXH_AVX2_INLINE V ray_lanes(const std::vector<double>& a, __m128i vi, bool seq) {
+    return seq ? _mm256_loadu_pd(a.data() + _mm_cvtsi128_si32(vi))
+               : _mm256_i32gather_pd(a.data(), vi, 8);
+}
+
 // The group of rays list[g0 ..], from their t_safe: the DDA's cell at t_safe, its exits.
 PXH_AVX2_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColumns& rays,
                                const int* list, const double* t_safe, int g0, int n) {
@@ -358,16 +364,20 @@ PXH_AVX2_INLINE void dda_start(DdaGroup& G, const SquareScene& sc, const RayColu
     const V valid = lanes_mask((1 << m) - 1);
     for (int q = 0; q < 4; ++q) G.idx[q] = list[g0 + std::min(q, m - 1)];
     const __m128i vi = _mm_load_si128(reinterpret_cast<const __m128i*>(G.idx));
-    G.X0 = _mm256_i32gather_pd(rays.X0.data(), vi, 8);
-    G.Y0 = _mm256_i32gather_pd(rays.Y0.data(), vi, 8);
-    G.dX = _mm256_i32gather_pd(rays.dX.data(), vi, 8);
-    G.dY = _mm256_i32gather_pd(rays.dY.data(), vi, 8);
-    G.iX = _mm256_i32gather_pd(rays.iX.data(), vi, 8);
-    G.iY = _mm256_i32gather_pd(rays.iY.data(), vi, 8);
-    G.vz = _mm256_i32gather_pd(rays.vz.data(), vi, 8);
-    G.tm = _mm256_i32gather_pd(rays.tm.data(), vi, 8);
+    // four consecutive rays (the band tracer's first pass lists them in order): plain loads
+    const bool seq =
+        _mm_movemask_epi8(_mm_cmpeq_epi32(
+            vi, _mm_add_epi32(_mm_set1_epi32(G.idx[0]), _mm_setr_epi32(0, 1, 2, 3)))) == 0xFFFF;
+    G.X0 = ray_lanes(rays.X0, vi, seq);
+    G.Y0 = ray_lanes(rays.Y0, vi, seq);
+    G.dX = ray_lanes(rays.dX, vi, seq);
+    G.dY = ray_lanes(rays.dY, vi, seq);
+    G.iX = ray_lanes(rays.iX, vi, seq);
+    G.iY = ray_lanes(rays.iY, vi, seq);
+    G.vz = ray_lanes(rays.vz, vi, seq);
+    G.tm = ray_lanes(rays.tm, vi, seq);
     const V t = _mm256_maskload_pd(t_safe + g0, _mm256_castpd_si256(valid));
-    G.counted = _mm256_i32gather_pd(rays.counted.data(), vi, 8);
+    G.counted = ray_lanes(rays.counted, vi, seq);
     G.px = gt(G.dX, zero);
     G.py = gt(G.dY, zero);
     G.mx = ne(G.dX, zero);
