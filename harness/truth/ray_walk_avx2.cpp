@@ -327,7 +327,8 @@ struct DdaGroup {
     V X0, Y0, dX, dY, iX, iY, vz, tm, sx, sy, ci, cj, li, lj, xl, yl, ex, ey;
     V counted, answer, last_exit;
     __m256i walked;
-    __m128i a00;  // the first corner of cell (li, lj) in the texels (fetch)
+    __m128i a00;                // the first corner of cell (li, lj) in the texels (fetch)
+    alignas(16) int32_t at[4];  // a00's lanes
     V px, py, mx, my, active, done;
     int m, steps, active_bits;
     alignas(16) int32_t idx[4];
@@ -340,7 +341,7 @@ PXH_AVX2_INLINE void fetch(DdaGroup& G, const SquareScene& sc) {
     const __m128i a00 =
         _mm_add_epi32(_mm_mullo_epi32(to_i32(G.lj), _mm_set1_epi32(sc.up)), to_i32(G.li));
     G.a00 = a00;
-    alignas(16) int32_t a[4];
+    int32_t* a = G.at;
     _mm_store_si128(reinterpret_cast<__m128i*>(a), a00);
     for (int q = 0; q < 4; ++q) {
         _mm_prefetch(reinterpret_cast<const char*>(sc.texels + a[q]), _MM_HINT_T0);
@@ -497,10 +498,17 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     G.walked = _mm256_sub_epi64(G.walked, _mm256_castpd_si256(fresh));  // + 1 where fresh
     G.counted = blend(fresh, G.counted, tau_out);
     // Each corner pair (i, i + 1) of the cell's rows as one 8-byte element.
-    const __m256i row0 =
-        _mm256_i32gather_epi64(reinterpret_cast<const long long*>(sc.texels), G.a00, 4);
-    const __m256i row1 =
-        _mm256_i32gather_epi64(reinterpret_cast<const long long*>(sc.texels + sc.up), G.a00, 4);
+    auto pair = [](const float* p) {
+        long long v;
+        __builtin_memcpy(&v, p, sizeof v);
+        return v;
+    };
+    const float* t0 = sc.texels;
+    const float* t1 = sc.texels + sc.up;
+    const __m256i row0 = _mm256_setr_epi64x(pair(t0 + G.at[0]), pair(t0 + G.at[1]),
+                                            pair(t0 + G.at[2]), pair(t0 + G.at[3]));
+    const __m256i row1 = _mm256_setr_epi64x(pair(t1 + G.at[0]), pair(t1 + G.at[1]),
+                                            pair(t1 + G.at[2]), pair(t1 + G.at[3]));
     // Even dwords (the first corner) to the low half, odd ones to the high half.
     const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);
     const __m256 r0 = _mm256_castsi256_ps(_mm256_permutevar8x32_epi32(row0, split));

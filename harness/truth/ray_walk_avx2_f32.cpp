@@ -90,6 +90,7 @@ struct Lanes {
     F active;
     int active_bits;
     int slot[8];
+    alignas(32) int32_t at[8];  // square_read's entries, for square_step's loads
 };
 
 struct Consts {
@@ -139,7 +140,7 @@ PXH_AVX2_INLINE I square_read(const Consts& c, Lanes& L) {
             _mm256_add_epi32(lookup(c.base, level), _mm256_mullo_epi32(Jy, lookup(c.cols, level))),
             Ix),
         c.last);
-    alignas(32) int32_t a[8];
+    int32_t* a = L.at;
     _mm256_store_si256(reinterpret_cast<I*>(a), at);
     for (int q = 0; q < 8; ++q)
         _mm_prefetch(reinterpret_cast<const char*>(c.squares + a[q]), _MM_HINT_T0);
@@ -150,9 +151,11 @@ PXH_AVX2_INLINE I square_read(const Consts& c, Lanes& L) {
 PXH_AVX2_INLINE F square_step(const Consts& c, Lanes& L, I at) {
     const F zero = _mm256_setzero_ps(), one = set1(1);
     const F t = L.t, te = L.te;
-    const I code =
-        _mm256_and_si256(_mm256_i32gather_epi32(reinterpret_cast<const int*>(c.squares), at, 1),
-                         _mm256_set1_epi32(0xff));
+    (void)at;
+    const uint8_t* sq = c.squares;
+    const int32_t* a = L.at;
+    const I code = _mm256_setr_epi32(sq[a[0]], sq[a[1]], sq[a[2]], sq[a[3]], sq[a[4]], sq[a[5]],
+                                     sq[a[6]], sq[a[7]]);
     const F M = add(c.lo, mul(_mm256_cvtepi32_ps(code), c.step));
     const F zM = add(mul(c.s, sub(M, c.b)), c.zmargin);  // above s (M - b) by the margin
     const F clear = and_(L.active, gt(sub(c.zt, mul(te, L.vz)), zM));
