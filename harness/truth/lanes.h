@@ -120,11 +120,16 @@ struct Lanes4 {
         return _mm256_castsi256_pd(_mm256_cmpeq_epi64(m, lane));
     }
     static D select(M m, D a, D b) { return _mm256_blendv_pd(b, a, m); }
+    // four loads, not a gather (on AMD's Zen 3 the quicker, measured)
     static D lookup(const double* table, D i) {
-        return _mm256_i32gather_pd(table, _mm256_cvttpd_epi32(i), 8);
+        alignas(16) int32_t k[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(k), _mm256_cvttpd_epi32(i));
+        return _mm256_setr_pd(table[k[0]], table[k[1]], table[k[2]], table[k[3]]);
     }
     static D lookup(const float* table, D i) {
-        return _mm256_cvtps_pd(_mm_i32gather_ps(table, _mm256_cvttpd_epi32(i), 4));
+        alignas(16) int32_t k[4];
+        _mm_store_si128(reinterpret_cast<__m128i*>(k), _mm256_cvttpd_epi32(i));
+        return _mm256_cvtps_pd(_mm_setr_ps(table[k[0]], table[k[1]], table[k[2]], table[k[3]]));
     }
     static D lookup16(const double* table, D i) { return lookup(table, i); }
 };
