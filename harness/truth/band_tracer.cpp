@@ -589,6 +589,11 @@ class BandDdaRun {
         }
         vt_.start(band_, P, lb_, buf_.st[size_t(n_)]);
         buf_.key[size_t(n_++)] = k;
+        // the ray's places in the output, written once its walk ends (end): their lines
+        // asked for now, so that those writes do not wait on the memory system
+        _mm_prefetch(reinterpret_cast<const char*>(out_.uv.data() + k), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(out_.z.data() + k), _MM_HINT_T0);
+        _mm_prefetch(reinterpret_cast<const char*>(out_.cells.data() + k), _MM_HINT_T0);
     }
     void end() {
         const int l = vt_.level();
