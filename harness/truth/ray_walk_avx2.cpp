@@ -9,7 +9,9 @@
 //   - each square walk step is split in two halves over all lane sets: the first prefetches each
 //     lane's table entry, the second reads it; the DDA prefetches its next cell's two rows a step
 //     ahead (a gather holds up the instructions after it until memory answers, a prefetch does
-//     not, so every lane's request is under way at once);
+//     not, so every lane's request is under way at once); the reads themselves are scalar
+//     loads, not gathers, and so are the DDA's rays where four are consecutive (on AMD's Zen 3,
+//     quicker: docs/internals/tracers.md, "Issue 62, seventh session");
 //   - a lane set takes the next rays into its free lanes by a permute from a table of the 16
 //     masks (AVX-512's expand), and 8 lane sets (4 DDA groups) are stepped in turn, not 4 (2);
 //   - arithmetic that the AVX-512 code does on 64-bit integers is done on 32-bit ones (indices
@@ -497,7 +499,8 @@ PXH_AVX2_INLINE void dda_step(DdaGroup& G, const SquareScene& sc) {
     const V fresh = and_(G.active, gt(tau_out, G.counted));
     G.walked = _mm256_sub_epi64(G.walked, _mm256_castpd_si256(fresh));  // + 1 where fresh
     G.counted = blend(fresh, G.counted, tau_out);
-    // Each corner pair (i, i + 1) of the cell's rows as one 8-byte element.
+    // Each corner pair (i, i + 1) of the cell's rows as one 8-byte element, by scalar loads
+    // from the places fetch stored (quicker than a gather on Zen 3).
     auto pair = [](const float* p) {
         long long v;
         __builtin_memcpy(&v, p, sizeof v);
