@@ -329,8 +329,7 @@ struct DdaGroup {
     V X0, Y0, dX, dY, iX, iY, vz, tm, sx, sy, ci, cj, li, lj, xl, yl, ex, ey;
     V counted, answer, last_exit;
     __m256i walked;
-    __m128i a00;                // the first corner of cell (li, lj) in the texels (fetch)
-    alignas(16) int32_t at[4];  // a00's lanes
+    alignas(16) int32_t at[4];  // the first corner of cell (li, lj) in the texels (fetch)
     V px, py, mx, my, active, done;
     int m, steps, active_bits;
     alignas(16) int32_t idx[4];
@@ -342,7 +341,6 @@ struct DdaGroup {
 PXH_AVX2_INLINE void fetch(DdaGroup& G, const SquareScene& sc) {
     const __m128i a00 =
         _mm_add_epi32(_mm_mullo_epi32(to_i32(G.lj), _mm_set1_epi32(sc.up)), to_i32(G.li));
-    G.a00 = a00;
     int32_t* a = G.at;
     _mm_store_si128(reinterpret_cast<__m128i*>(a), a00);
     for (int q = 0; q < 4; ++q) {

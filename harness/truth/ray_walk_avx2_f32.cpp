@@ -115,7 +115,7 @@ PXH_AVX2_INLINE void set_signs(Lanes& L) {
 
 // The step's first half: the square, its far lines' time te (a lower bound), and a prefetch of
 // each lane's table entry.
-PXH_AVX2_INLINE I square_read(const Consts& c, Lanes& L) {
+PXH_AVX2_INLINE void square_read(const Consts& c, Lanes& L) {
     const F inf = set1(std::numeric_limits<float>::infinity());
     const F t = L.t;
     const F gx = floor_ps(add(add(L.Xf, mul(t, L.dX)), L.hx));  // relative to Xi
@@ -144,15 +144,13 @@ PXH_AVX2_INLINE I square_read(const Consts& c, Lanes& L) {
     _mm256_store_si256(reinterpret_cast<I*>(a), at);
     for (int q = 0; q < 8; ++q)
         _mm_prefetch(reinterpret_cast<const char*>(c.squares + a[q]), _MM_HINT_T0);
-    return at;
 }
 
 // The step's second half: returns the lanes whose walk ended (t is their t_safe). The entries
 // are read by 8 byte loads from the places square_read stored (a gather is slower on Zen 3).
-PXH_AVX2_INLINE F square_step(const Consts& c, Lanes& L, I at) {
+PXH_AVX2_INLINE F square_step(const Consts& c, Lanes& L) {
     const F zero = _mm256_setzero_ps(), one = set1(1);
     const F t = L.t, te = L.te;
-    (void)at;
     const uint8_t* sq = c.squares;
     const int32_t* a = L.at;
     const I code = _mm256_setr_epi32(sq[a[0]], sq[a[1]], sq[a[2]], sq[a[3]], sq[a[4]], sq[a[5]],
@@ -299,10 +297,9 @@ PXH_AVX2 void square_pass(const SquareScene& sc, const RayColumns& rays, const d
             any |= L.active_bits != 0;
         }
         if (!any) return;
-        I entry[kLaneSetsF];
-        for (int v = 0; v < kLaneSetsF; ++v) entry[v] = square_read(c, lanes[v]);
+        for (int v = 0; v < kLaneSetsF; ++v) square_read(c, lanes[v]);
         F done[kLaneSetsF];
-        for (int v = 0; v < kLaneSetsF; ++v) done[v] = square_step(c, lanes[v], entry[v]);
+        for (int v = 0; v < kLaneSetsF; ++v) done[v] = square_step(c, lanes[v]);
         for (int v = 0; v < kLaneSetsF; ++v) {
             const int d = bits(done[v]);
             if (!d) continue;
