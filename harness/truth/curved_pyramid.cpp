@@ -123,7 +123,7 @@ const double* CurvedPyramid::atan_table() { return fast_atan2.table; }
 void CurvedPyramid::trace_many(const WorldRay* rays, size_t n, One* out, long long max_steps,
                                Path path, const std::atomic<bool>* stop) const {
     // never above what the CPU has; the plane keeps the scalar path (the runner's plane truth is
-    // the exact tracer); AVX2's gathers take 32-bit indices
+    // the exact tracer); AVX2's lookups take 32-bit indices
     path = std::min(path, cpu_path());
     const bool small = max_.size() < (size_t(1) << 31) && hf_.texels.size() < (size_t(1) << 31);
 #if PXH_PYRAMID_LANES

@@ -6,7 +6,7 @@
 // visit for every lane in the traversal and one cell step for every lane in a cell, kSets
 // vectors of lanes in turn:
 // - in lanes: the point and its base coordinates (the table atan2), the node's tile, cell and
-//   indices (exact in doubles), its bound and the sphere's latitude borders (gathers), the
+//   indices (exact in doubles), its bound and the sphere's latitude borders (L::lookup), the
 //   shell's entry root and the node's exit (the wedge; the cylinder's slab or the sphere's two
 //   latitude cones), trace_one's decision as masks; in a cell, g and g' from the gathered
 //   texels, the two safe steps (g / L and the quadratic bound's root) and the step's outcome;
@@ -865,12 +865,6 @@ struct PyramidLanes {
                     roomd[l] = double(cap[l] - steps[l]);
                 }
             }
-#ifdef PXH_LANES_PROFILE
-            extern long long g_cnt[8];
-            ++g_cnt[0];
-            g_cnt[1] += __builtin_popcount(tr);
-            g_cnt[2] += __builtin_popcount(lanes_in(in_cell));
-#endif
             if (tr) {
                 for (int o = 0; o < N; o += V)
                     if ((tr >> o) & kVectorBits) {

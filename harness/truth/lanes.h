@@ -69,7 +69,7 @@ struct Lanes8 {
     static D lookup(const double* table, D i) {
         return _mm512_i64gather_pd(_mm512_cvttpd_epi64(i), table, 8);
     }
-    // double(table[i]) (i under 2^31)
+    // double(table[i])
     static D lookup(const float* table, D i) {
         return _mm512_cvtps_pd(_mm512_i64gather_ps(_mm512_cvttpd_epi64(i), table, 4));
     }
