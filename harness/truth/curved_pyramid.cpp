@@ -259,8 +259,9 @@ double CurvedPyramid::height_exact(Vec3d p) const {
     }
 }
 
-double CurvedPyramid::g_at(const WorldRay& r, double t) const {
+double CurvedPyramid::g_at(const WorldRay& r, double t, Geo* at) const {
     const Geo c = geo(v3_add(r.o, v3_scale(r.d, t)));
+    if (at) *at = c;
     HeightSampler<double> hs(hf_, s_, b_);
     return c.height - hs.z({c.u, c.v});
 }
@@ -535,17 +536,20 @@ double CurvedPyramid::shell_entry(const WorldRay& r, Vec3d p, double height_now,
     return (C / q2) * (1 - 4 * kEps);        // the nearer root, taken a little early
 }
 
-double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi, double& g_hi) const {
-    // as the walk: g(lo) > 0 (or lo is where the walk started), g(hi) <= 0; g_hi: g at the
-    // returned hi where the bisection evaluated it there, else NaN
+double CurvedPyramid::bisect(const WorldRay& r, double lo, double hi, double& g_hi,
+                             Geo& c_hi) const {
+    // as the walk: g(lo) > 0 (or lo is where the walk started), g(hi) <= 0; g_hi and c_hi: g
+    // and the coordinates at the returned hi where the bisection evaluated it there, else NaN
     g_hi = NAN;
     for (int i = 0; i < 200 && hi - lo > 0; ++i) {
         const double mid = lo + 0.5 * (hi - lo);
         if (mid <= lo || mid >= hi) break;
-        const double g = g_at(r, mid);
+        Geo c;
+        const double g = g_at(r, mid, &c);
         if (g <= 0) {
             hi = mid;
             g_hi = g;
+            c_hi = c;
         } else {
             lo = mid;
         }
@@ -571,11 +575,34 @@ CurvedPyramid::Chord CurvedPyramid::chord(const WorldRay& r) const {
     return c;
 }
 
-void CurvedPyramid::finish(const WorldRay& r, double lo, double hi, One& out) const {
+void CurvedPyramid::finish(const WorldRay& r, double lo, double hi, One& out, double g_hi,
+                           const Geo* c_hi) const {
     out.hit = true;
-    double g_hi;
-    out.t = bisect(r, lo, hi, g_hi);
-    out.residual = std::abs(std::isnan(g_hi) ? g_at(r, out.t) : g_hi);
+    double g;
+    Geo c{};
+    out.t = bisect(r, lo, hi, g, c);
+    if (std::isnan(g)) {  // at hi itself: the caller's evaluation there, or a new one
+        if (c_hi && !std::isnan(g_hi)) {
+            g = g_hi;
+            c = *c_hi;
+        } else {
+            g = g_at(r, out.t, &c);
+        }
+    }
+    out.residual = std::abs(g);
+    out.u = c.u;
+    out.v = c.v;
+}
+
+void CurvedPyramid::floor_end(const WorldRay& r, double t_safe, double t_end, One& out) const {
+    Geo c;
+    const double g = g_at(r, t_end, &c);
+    if (g <= 0) return finish(r, t_safe, t_end, out, g, &c);
+    out.hit = true;
+    out.t = t_end;
+    out.residual = std::abs(g);
+    out.u = c.u;
+    out.v = c.v;
 }
 
 CurvedPyramid::CellEnd CurvedPyramid::cell_steps(const WorldRay& r, const CellWalk& w, double& tt,
@@ -626,8 +653,10 @@ CurvedPyramid::CellEnd CurvedPyramid::cell_steps(const WorldRay& r, const CellWa
             // root lies just past it): a step of 8 ulp taken as it is, bisected if it ends at
             // or below the surface
             const double t2 = std::min(tt + ulps, w.t_end);
-            if (g_at(r, t2) <= 0) {
-                finish(r, tt, t2, out);
+            Geo c2;
+            const double g2 = g_at(r, t2, &c2);
+            if (g2 <= 0) {
+                finish(r, tt, t2, out, g2, &c2);
                 return CellEnd::hit;
             }
             tt = t2;
@@ -710,15 +739,8 @@ CurvedPyramid::One CurvedPyramid::trace_one(const WorldRay& r, long long max_ste
         k = std::min(1, top_level);
         if (e == CellEnd::chord_end) break;
     }
-    if (ch.floor_ends) {
-        // as the walk: its last step ends on the bottom shell, where the relief is met
-        if (g_at(r, t_end) <= 0) finish(r, t_safe, t_end, out);
-        else {
-            out.hit = true;
-            out.t = t_end;
-            out.residual = std::abs(g_at(r, t_end));
-        }
-    }
+    // as the walk: its last step ends on the bottom shell, where the relief is met
+    if (ch.floor_ends) floor_end(r, t_safe, t_end, out);
     return out;
 }
 

@@ -24,6 +24,7 @@
 // or 4 (AVX2) to a vector (curved_pyramid_lanes.h), each ray's result trace_one's bit for bit.
 #pragma once
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -58,6 +59,9 @@ class CurvedPyramid {
         bool hit = false;
         double t = 0, residual = 0;
         long long steps = 0;  // node visits and cell evaluations
+        // a hit's texture coordinates: BaseSurface::coords(o + t d).uv, the same expressions
+        // (the bisection's own evaluation there, kept)
+        double u = 0, v = 0;
     };
     // One ray; it stops (no hit) once it has taken more than `max_steps` steps (the caller's
     // budget left).
@@ -100,7 +104,8 @@ class CurvedPyramid {
     double height_exact(Vec3d p) const;  // geo(p).height, without the coordinates
     // g and dg/dt at t; (ci, cj) the cell whose bilinear patch gave them
     Eval eval(const WorldRay& r, double t, int64_t& ci, int64_t& cj) const;
-    double g_at(const WorldRay& r, double t) const;
+    // g at t (the bases' own expressions); with c, the point's coordinates there
+    double g_at(const WorldRay& r, double t, Geo* c = nullptr) const;
     // from p (with its coordinates c), how far along the ray it leaves the node of unwrapped
     // cells [c0, c1) x [d0, d1) (inf: never)
     double node_exit(const WorldRay& r, Vec3d p, const Geo& c, int64_t c0, int64_t c1, int64_t d0,
@@ -132,15 +137,20 @@ class CurvedPyramid {
     // the bounds from the cell's largest differences of the field (|h_u|, |h_v| and |h_uv| over
     // a texel, over the dilated cell) on row cj
     CellBounds bounds_of(int64_t cj, double gx, double gy, double gxy) const;
-    double bisect(const WorldRay& r, double lo, double hi, double& g_hi) const;
+    double bisect(const WorldRay& r, double lo, double hi, double& g_hi, Geo& c_hi) const;
     // the walk's chord through the shell: [t0, t_end]; ok: the ray enters it
     struct Chord {
         double t0 = 0, t_end = 0;
         bool ok = false, floor_ends = false;
     };
     Chord chord(const WorldRay& r) const;
-    // a hit bisected in [lo, hi] (g(lo) > 0 or lo the start, g(hi) <= 0) into out
-    void finish(const WorldRay& r, double lo, double hi, One& out) const;
+    // a hit bisected in [lo, hi] (g(lo) > 0 or lo the start, g(hi) <= 0) into out; g_hi and
+    // c_hi: g_at's values at hi where the caller has them (else NaN, null)
+    void finish(const WorldRay& r, double lo, double hi, One& out, double g_hi = NAN,
+                const Geo* c_hi = nullptr) const;
+    // the walk's last step on the bottom shell, at t_end: a hit there (bisected from t_safe
+    // where g <= 0 at t_end)
+    void floor_end(const WorldRay& r, double t_safe, double t_end, One& out) const;
     // a cell (ci, cj) still in question, its exit tb, the chord's end, 1e-10 texel past t
     struct CellWalk {
         int64_t ci, cj;

@@ -1,10 +1,13 @@
 // The pyramid tracer's rays in vector lanes (issue 62, item 2): CurvedPyramid::trace_one,
-// L::N rays to a vector, each lane's result bit for bit trace_one's (hit, t, residual, steps).
+// L::N rays to a vector, each lane's result bit for bit trace_one's (hit, t, residual, steps,
+// the hit's u and v).
 //
 // Each lane is one ray's walk through the same states as trace_one: the traversal (a node of
 // the pyramid at the current t) or the certified steps in a cell. A round takes one traversal
-// visit for every lane in the traversal and one cell step for every lane in a cell, kSets
-// vectors of lanes in turn:
+// visit for every lane in the traversal and one cell step for every lane in a cell, over 32
+// lanes (kSets vectors) in turn; after each round the lanes trade rays (compact) so that those in
+// the traversal sit in the first vectors and those in a cell in the last, since each phase steps
+// every vector holding one of its lanes:
 // - in lanes: the point and its base coordinates (the table atan2), the node's tile, cell and
 //   indices (exact in doubles), its bound and the sphere's latitude borders (L::lookup), the
 //   shell's entry root and the node's exit (the wedge; the cylinder's slab or the sphere's two
@@ -39,8 +42,9 @@ template <class L>
 struct PyramidLanes {
     using D = typename L::D;
     using M = typename L::M;
-    static constexpr int V = L::N;   // lanes to a vector
-    static constexpr int kSets = 4;  // vectors stepped in turn, so that their chains overlap
+    static constexpr int V = L::N;  // lanes to a vector
+    static constexpr int kSets =
+        32 / V;  // vectors stepped in turn (32 lanes), so that their chains overlap
     static constexpr int N = V * kSets;
     static constexpr unsigned kVectorBits = (1u << V) - 1;
     static_assert(N <= 32, "the lanes are tracked in 32-bit masks");
@@ -420,16 +424,7 @@ struct PyramidLanes {
     void end_of_chord(int l, One* out) {
         One o;
         o.steps = steps[l];
-        if (floor_ends[l]) {
-            const WorldRay r = ray_of(l);
-            const double te = t_end[l];
-            if (P.g_at(r, te) <= 0) P.finish(r, t_safe[l], te, o);
-            else {
-                o.hit = true;
-                o.t = te;
-                o.residual = std::abs(P.g_at(r, te));
-            }
-        }
+        if (floor_ends[l]) P.floor_end(ray_of(l), t_safe[l], t_end[l], o);
         out[ray[l]] = o;
         mode[l] = free_lane;
     }
@@ -761,10 +756,11 @@ struct PyramidLanes {
         return {L::bits(L::mor(leave1, r4)), L::bits(chord), L::bits(below), L::bits(small)};
     }
 
-    void hit(int l, double lo, double hi_t, One* out) {
+    void hit(int l, double lo, double hi_t, One* out, double g_hi = NAN,
+             const CurvedPyramid::Geo* c_hi = nullptr) {
         One r;
         r.steps = steps[l];
-        P.finish(ray_of(l), lo, hi_t, r);
+        P.finish(ray_of(l), lo, hi_t, r, g_hi, c_hi);
         out[ray[l]] = r;
         mode[l] = free_lane;
     }
@@ -780,7 +776,9 @@ struct PyramidLanes {
         const double te = t_end[l];
         const double ulps = 8 * kEps * std::abs(T);
         const double t2 = std::min(T + ulps, te);
-        if (P.g_at(r, t2) <= 0) return hit(l, T, t2, out);
+        CurvedPyramid::Geo c2;
+        const double g2 = P.g_at(r, t2, &c2);
+        if (g2 <= 0) return hit(l, T, t2, out, g2, &c2);
         T = t2;
         if (T >= te) {
             t[l] = T;
@@ -826,6 +824,45 @@ struct PyramidLanes {
         for (int l = 0; l < N; ++l)
             if (mode[l] != free_lane) all += steps[l];
         return all > max_steps + 4096;
+    }
+
+    // Lanes a and b trade rays: the state a lane keeps from round to round (the rest is
+    // written in a round before it is read). A lane's result does not depend on its place, so
+    // only which vector does the work changes.
+    void swap_lanes(int a, int b) {
+        for (double* x :
+             {ox, oy, oz, dx, dy, dz, t, t_safe, t_end, tb, tiny, cL, cK, tt, kd, cid, cjd})
+            std::swap(x[a], x[b]);
+        std::swap(ci[a], ci[b]);
+        std::swap(cj[a], cj[b]);
+        std::swap(mode[a], mode[b]);
+        std::swap(floor_ends[a], floor_ends[b]);
+        std::swap(steps[a], steps[b]);
+        std::swap(cap[a], cap[b]);
+        std::swap(ray[a], ray[b]);
+    }
+    // Lanes in the traversal to the first places, lanes in a cell to the last, so that a round
+    // steps as few vectors as it can: each phase steps every vector holding a lane in it.
+    void compact(unsigned tr, unsigned ce) {
+        const int nt = __builtin_popcount(tr), nc = __builtin_popcount(ce);
+        const unsigned want_t = nt == 32 ? ~0u : (1u << nt) - 1;
+        const unsigned want_c = (nc == 0 ? 0u : (kAllLanes >> (N - nc)) << (N - nc)) & ~want_t;
+        // a vector count to gain: rounds where the phases already sit apart are left alone
+        auto vectors = [](unsigned m) {
+            int v = 0;
+            for (int o = 0; o < N; o += V) v += ((m >> o) & kVectorBits) != 0;
+            return v;
+        };
+        if (vectors(tr) + vectors(ce) <= vectors(want_t) + vectors(want_c)) return;
+        unsigned out_t = tr & ~want_t, in_t = want_t & ~tr;
+        for (; out_t; out_t &= out_t - 1, in_t &= in_t - 1) {
+            const int a = __builtin_ctz(out_t), b = __builtin_ctz(in_t);
+            swap_lanes(a, b);
+            if ((ce >> b) & 1) ce = (ce & ~(1u << b)) | (1u << a);
+        }
+        unsigned out_c = ce & ~want_c, in_c = want_c & ~ce;
+        for (; out_c; out_c &= out_c - 1, in_c &= in_c - 1)
+            swap_lanes(__builtin_ctz(out_c), __builtin_ctz(in_c));
     }
 
     void run(const WorldRay* rays, size_t n, One* out, long long max_steps,
@@ -947,6 +984,7 @@ struct PyramidLanes {
                 for (unsigned b = lanes_in(free_lane); b; b &= b - 1)
                     start(__builtin_ctz(b), rays, n, next, out, max_steps, spent);
             if (lanes_in(free_lane) == kAllLanes) return;
+            compact(lanes_in(traverse), lanes_in(in_cell));
         }
     }
 };

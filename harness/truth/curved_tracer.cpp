@@ -236,7 +236,8 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
                                  (long long)std::clamp(left, 0.0, 4e18),
                                  CurvedPyramid::default_path(), &budget.over);
             for (size_t i = 0; i < m; ++i) {
-                one[rg.begin() + i] = {o[i].hit, o[i].t, o[i].residual, o[i].steps};
+                one[rg.begin() + i] = {
+                    o[i].hit, o[i].t, o[i].residual, o[i].steps, {o[i].u, o[i].v}};
                 budget.spend(o[i].steps);
             }
             return;
@@ -265,7 +266,9 @@ CurvedHits CurvedTracer::trace(const std::vector<WorldRay>& rays, double max_ste
         if (!one[k].hit) continue;
         const Vec3d p = v3_add(rays[k].o, v3_scale(rays[k].d, one[k].t));
         h.point[k] = p;
-        h.uv[k] = base_.coords(p).uv;
+        // the pyramid's own coordinates of its hit (base_.coords(p).uv, the same expressions
+        // on the same point), else the base's
+        h.uv[k] = std::isnan(one[k].uv.x) ? base_.coords(p).uv : one[k].uv;
         h.z[k] = hs.z(h.uv[k]);
         h.hit[k] = 1;
         h.residual_max = std::max(h.residual_max, one[k].residual);

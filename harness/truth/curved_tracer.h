@@ -17,6 +17,7 @@
 // On the plane base this reproduces section 4's exact hits up to those two (tests/truth/
 // curved_truth_test.cpp); the runner uses the exact tracers there.
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -147,6 +148,7 @@ class CurvedTracer {
         bool hit = false;
         double t = 0, residual = 0;
         long long steps = 0;
+        Vec2d uv{NAN, NAN};  // the hit's coordinates where the tracer kept them (the pyramid)
     };
     struct Budget;
     One trace_one(const WorldRay& r, Budget& budget) const;

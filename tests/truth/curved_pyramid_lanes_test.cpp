@@ -1,7 +1,7 @@
 // The pyramid tracer's vector paths (issue 62, item 2: harness/truth/curved_pyramid_lanes.h on
 // the lane types of harness/truth/lanes.h) against its scalar trace_one: every ray's hit, t,
-// residual and step count bit for bit, on every path this CPU has (AVX-512: 8 doubles to a
-// vector, AVX2: 4), over random views of random fields (plateaus, spikes), both bases, R from
+// residual, step count and hit's (u, v) bit for bit, on every path this CPU has (AVX-512: 8 doubles
+// to a vector, AVX2: 4), over random views of random fields (plateaus, spikes), both bases, R from
 // 0.1 to 1e6, orthographic and perspective cameras, with breakages of the pyramid, which the
 // lanes must follow as the scalar code does.
 #include <gtest/gtest.h>
@@ -40,16 +40,25 @@ std::vector<CurvedPyramid::Path> vector_paths() {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// The rays on `path` in batches of `batch` against trace_one; the first ray that differs.
-std::string differs(const CurvedPyramid& pyr, const std::vector<WorldRay>& rays,
-                    CurvedPyramid::Path path, size_t batch, size_t& hits) {
+// The rays on `path` in batches of `batch` against trace_one (and trace_one's texture
+// coordinates of a hit against the base's, BaseSurface::coords at o + t d); the first ray that
+// differs.
+std::string differs(const CurvedPyramid& pyr, const BaseSurface& base,
+                    const std::vector<WorldRay>& rays, CurvedPyramid::Path path, size_t batch,
+                    size_t& hits) {
     std::vector<CurvedPyramid::One> got(rays.size());
     for (size_t at = 0; at < rays.size(); at += batch)
         pyr.trace_many(&rays[at], std::min(batch, rays.size() - at), &got[at], 1LL << 40, path);
     for (size_t k = 0; k < rays.size(); ++k) {
         const CurvedPyramid::One want = pyr.trace_one(rays[k], (1LL << 40) + 4096);
         hits += want.hit;
-        if (want.hit != got[k].hit || !same_bits(want.t, got[k].t) ||
+        if (want.hit) {
+            const Vec2d uv = base.coords(v3_add(rays[k].o, v3_scale(rays[k].d, want.t))).uv;
+            if (!same_bits(uv.x, want.u) || !same_bits(uv.y, want.v))
+                return "ray " + std::to_string(k) + ": trace_one's uv is not the base's at its t";
+        }
+        if (want.hit != got[k].hit || !same_bits(want.u, got[k].u) ||
+            !same_bits(want.v, got[k].v) || !same_bits(want.t, got[k].t) ||
             !same_bits(want.residual, got[k].residual) || want.steps != got[k].steps)
             return "ray " + std::to_string(k) + ": trace_one hit " + std::to_string(want.hit) +
                    " t " + std::to_string(want.t) + " steps " + std::to_string(want.steps) + ", " +
@@ -72,7 +81,7 @@ TEST(CurvedPyramidLanes, RandomViewsBitForBitTraceOne) {
         // batches of 1 (one lane busy), 37 (lanes left idle at the end) and the whole view
         const size_t batch = view % 3 == 0 ? 1 : (view % 3 == 1 ? 37 : cv.rays.size());
         for (CurvedPyramid::Path path : paths) {
-            const std::string d = differs(pyr, cv.rays, path, batch, hits);
+            const std::string d = differs(pyr, *v->base, cv.rays, path, batch, hits);
             EXPECT_EQ(d, "") << "view " << view << ": " << v->name << " R " << v->R << " theta "
                              << v->theta;
         }
@@ -100,7 +109,7 @@ TEST(CurvedPyramidLanes, FbmGrazingAndBrokenPyramids) {
                     if (breakage == 1) pyr.break_for_test({1, -1});
                     if (breakage == 2) pyr.break_for_test({0, 2});
                     for (CurvedPyramid::Path path : paths)
-                        EXPECT_EQ(differs(pyr, cv.rays, path, 256, hits), "")
+                        EXPECT_EQ(differs(pyr, *base, cv.rays, path, 256, hits), "")
                             << name << " R " << R << " theta " << theta << " breakage " << breakage;
                 }
     EXPECT_GT(hits, 3000u * paths.size());
