@@ -909,6 +909,7 @@ struct PyramidLanes {
                         prefetch_nodes(o);
                     }
                 for (int o = 0; o < N; o += V) {
+                    if (!((tr >> o) & kVectorBits)) continue;
                     const unsigned rest = traverse_nodes(o, (tr >> o) & kVectorBits);
                     for (unsigned b = rest; b; b &= b - 1) {
                         traverse_bound(o + __builtin_ctz(b));
@@ -918,6 +919,7 @@ struct PyramidLanes {
                 for (int o = 0; o < N; o += V)
                     if ((tr >> o) & kVectorBits) traverse_bounds(o);
                 for (int o = 0; o < N; o += V) {
+                    if (!((tr >> o) & kVectorBits)) continue;
                     const unsigned enter = traverse_decide(o, (tr >> o) & kVectorBits);
                     for (unsigned b = enter; b; b &= b - 1) {
                         const int l = o + __builtin_ctz(b);
@@ -947,12 +949,14 @@ struct PyramidLanes {
                         prefetch_texels(o);
                     }
                 for (int o = 0; o < N; o += V) {
+                    if (!((ce >> o) & kVectorBits)) continue;
                     const unsigned rest = cell_texels(o, (ce >> o) & kVectorBits);
                     for (unsigned b = rest; b; b &= b - 1) cell_texels(o + __builtin_ctz(b));
                 }
                 for (int o = 0; o < N; o += V)
                     if ((ce >> o) & kVectorBits) cell_values(o);
                 for (int o = 0; o < N; o += V) {
+                    if (!((ce >> o) & kVectorBits)) continue;
                     const CellOut r = cell_decide(o, (ce >> o) & kVectorBits);
                     for (unsigned b = r.leave; b; b &= b - 1) {
                         const int l = o + __builtin_ctz(b);
