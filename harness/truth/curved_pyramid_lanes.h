@@ -43,8 +43,8 @@ struct PyramidLanes {
     using D = typename L::D;
     using M = typename L::M;
     static constexpr int V = L::N;  // lanes to a vector
-    static constexpr int kSets =
-        32 / V;  // vectors stepped in turn (32 lanes), so that their chains overlap
+    // vectors stepped in turn (32 lanes in all), so that their chains overlap
+    static constexpr int kSets = 32 / V;
     static constexpr int N = V * kSets;
     static constexpr unsigned kVectorBits = (1u << V) - 1;
     static_assert(N <= 32, "the lanes are tracked in 32-bit masks");
